@@ -1,0 +1,33 @@
+// Fault identifiers, severities and the actuators a fault acts on.
+#pragma once
+#include <cstdint>
+
+namespace bms {
+
+enum class FaultId : uint8_t {
+  CellOverVoltage = 0,
+  CellUnderVoltage,
+  OverCurrentDischarge,
+  OverCurrentCharge,
+  OverTemperature,
+  Count
+};
+constexpr uint8_t kFaultCount = static_cast<uint8_t>(FaultId::Count);
+
+// Three tiers as in foxBMS: operating limit (info), recommended safety limit (warning),
+// maximum safety limit (fatal: isolates the pack and latches).
+enum class Severity : uint8_t { Info = 0, Warning = 1, Fatal = 2 };
+
+// Bit masks of the actuators a fault opens.
+enum ActuatorBits : uint8_t {
+  kActRelay = 1u << 0,
+  kActDischargeFet = 1u << 1,
+  kActChargeFet = 1u << 2,
+};
+
+constexpr uint32_t faultBit(FaultId id) { return 1u << static_cast<uint8_t>(id); }
+
+// Short stable name for logs and the events table ("cell_overvoltage", ...).
+const char* faultName(FaultId id);
+
+}  // namespace bms

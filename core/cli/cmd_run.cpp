@@ -1,0 +1,31 @@
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+#include "core/cli/commands.hpp"
+#include "core/io/hdf5_writer.hpp"
+#include "core/scenario/load_scenario.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
+
+namespace packsim {
+
+std::string bundledScenarioDir() {
+  if (const char* env = std::getenv("PACKSIM_SCENARIOS")) return env;
+  return PACKSIM_SCENARIO_DIR;
+}
+
+std::string defaultScenarioPath() { return bundledScenarioDir() + "/eco_marathon_12s.yaml"; }
+
+int cmdRun(const RunOptions& o) {
+  const std::string path = o.scenario.empty() ? defaultScenarioPath() : o.scenario;
+  Scenario s = loadScenarioFile(path);
+  if (o.seed) s.run.seed = *o.seed;
+  const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
+  const RunResult r = runScenario(s);
+  writeResultHdf5(out, s, r);
+  if (!o.quiet) std::cout << formatSummary(s, r) << "result          " << out << "\n";
+  return 0;
+}
+
+}  // namespace packsim

@@ -1,0 +1,218 @@
+#include "core/io/hdf5_writer.hpp"
+
+#include <bms/bms_core.hpp>
+#include <bms/bms_faults.hpp>
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+#include <vector>
+
+#include "core/version.hpp"
+
+namespace packsim {
+
+namespace {
+
+// RAII for one hid_t with its matching close function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const char* what) : id_(id), close_(close) {
+    if (id_ < 0) throw std::runtime_error(std::string("HDF5: cannot create ") + what);
+  }
+  ~Handle() {
+    if (id_ >= 0) close_(id_);
+  }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+void checked(herr_t e, const std::string& what) {
+  if (e < 0) throw std::runtime_error("HDF5: failed to write " + what);
+}
+
+template <typename T>
+hid_t nativeType();
+template <> hid_t nativeType<double>() { return H5T_NATIVE_DOUBLE; }
+template <> hid_t nativeType<uint8_t>() { return H5T_NATIVE_UINT8; }
+template <> hid_t nativeType<int16_t>() { return H5T_NATIVE_INT16; }
+template <> hid_t nativeType<uint16_t>() { return H5T_NATIVE_UINT16; }
+template <> hid_t nativeType<int32_t>() { return H5T_NATIVE_INT32; }
+template <> hid_t nativeType<uint32_t>() { return H5T_NATIVE_UINT32; }
+
+class Writer {
+ public:
+  explicit Writer(hid_t file) : file_(file) {
+    dcpl_ = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_obj_track_times(dcpl_, 0);
+    gcpl_ = H5Pcreate(H5P_GROUP_CREATE);
+    H5Pset_obj_track_times(gcpl_, 0);
+  }
+  ~Writer() {
+    H5Pclose(dcpl_);
+    H5Pclose(gcpl_);
+  }
+
+  void group(const char* name) {
+    Handle g(H5Gcreate2(file_, name, H5P_DEFAULT, gcpl_, H5P_DEFAULT), H5Gclose, name);
+  }
+
+  template <typename T>
+  void dataset(const std::string& name, const std::vector<T>& data, size_t rows, size_t cols, const char* units) {
+    hsize_t dims[2] = {rows, cols};
+    Handle space(H5Screate_simple(cols == 0 ? 1 : 2, dims, nullptr), H5Sclose, name.c_str());
+    Handle ds(H5Dcreate2(file_, name.c_str(), nativeType<T>(), space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose,
+              name.c_str());
+    if (!data.empty()) checked(H5Dwrite(ds, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), name);
+    if (units) attr(ds, "units", units);
+  }
+
+  void attr(hid_t obj, const char* name, const std::string& value) {
+    Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    H5Tset_size(type, value.empty() ? 1 : value.size());
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose, name);
+    Handle a(H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+    checked(H5Awrite(a, type, value.empty() ? "" : value.c_str()), name);
+  }
+  void attr(hid_t obj, const char* name, double value) {
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose, name);
+    Handle a(H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+    checked(H5Awrite(a, H5T_NATIVE_DOUBLE, &value), name);
+  }
+  void attrInt(hid_t obj, const char* name, long long value) {
+    Handle space(H5Screate(H5S_SCALAR), H5Sclose, name);
+    Handle a(H5Acreate2(obj, name, H5T_NATIVE_LLONG, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
+    checked(H5Awrite(a, H5T_NATIVE_LLONG, &value), name);
+  }
+  void attrOn(const char* path, const char* name, const std::string& value) {
+    Handle o(H5Oopen(file_, path, H5P_DEFAULT), H5Oclose, path);
+    attr(o, name, value);
+  }
+
+  void events(const std::vector<Event>& ev) {
+    struct Row {
+      double time_s;
+      const char* kind;
+      const char* detail;
+    };
+    std::vector<Row> rows;
+    for (const Event& e : ev) rows.push_back({e.time_s, e.kind.c_str(), e.detail.c_str()});
+    Handle str(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    H5Tset_size(str, H5T_VARIABLE);
+    H5Tset_cset(str, H5T_CSET_UTF8);
+    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "events type");
+    H5Tinsert(type, "time_s", HOFFSET(Row, time_s), H5T_NATIVE_DOUBLE);
+    H5Tinsert(type, "kind", HOFFSET(Row, kind), str);
+    H5Tinsert(type, "detail", HOFFSET(Row, detail), str);
+    hsize_t dims[1] = {rows.size()};
+    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "events");
+    Handle ds(H5Dcreate2(file_, "/events", type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose, "events");
+    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "events");
+  }
+
+ private:
+  hid_t file_;
+  hid_t dcpl_;
+  hid_t gcpl_;
+};
+
+std::string faultNames() {
+  std::string s;
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+    s += (i ? "," : "") + std::string(bms::faultName(static_cast<bms::FaultId>(i)));
+  return s;
+}
+
+void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
+  Writer w(file);
+  const Recording& rec = r.rec;
+  const size_t n = rec.samples();
+  const size_t cells = static_cast<size_t>(rec.cells);
+
+  w.attr(file, "packsim_version", kVersion);
+  w.attr(file, "scenario_name", s.name);
+  w.attr(file, "scenario_file", s.file);
+  w.attr(file, "scenario_yaml", s.text);
+  w.attrInt(file, "seed", static_cast<long long>(s.run.seed));
+  w.attr(file, "solver", "cvode");
+  w.attr(file, "tick_s", s.bms.tick_s);
+  w.attr(file, "sign_convention", "positive current discharges the pack");
+
+  w.dataset("/time_s", rec.time_s, n, 0, "s");
+  w.group("/truth");
+  w.dataset("/truth/cell_voltage_V", rec.cell_voltage_V, n, cells, "V");
+  w.dataset("/truth/cell_current_A", rec.cell_current_A, n, cells, "A");
+  w.dataset("/truth/cell_soc", rec.cell_soc, n, cells, "1");
+  w.dataset("/truth/cell_temp_C", rec.cell_temp_C, n, cells, "degC");
+  w.dataset("/truth/pack_voltage_V", rec.pack_voltage_V, n, 0, "V");
+  w.dataset("/truth/pack_current_A", rec.pack_current_A, n, 0, "A");
+
+  w.group("/measured");
+  w.dataset("/measured/cell_voltage_mV", rec.meas_cell_voltage_mV, n, static_cast<size_t>(rec.groups), "mV");
+  w.dataset("/measured/temperature_dC", rec.meas_temperature_dC, n, static_cast<size_t>(rec.thermistors), "0.1 degC");
+  w.dataset("/measured/current_mA", rec.meas_current_mA, n, 0, "mA");
+  std::string therm;
+  for (int c : s.hardware.thermistor_cells) therm += (therm.empty() ? "" : ",") + std::to_string(c + 1);
+  w.attrOn("/measured", "thermistor_cells", therm);
+  w.attrOn("/measured/temperature_dC", "invalid_value", "-32768 (sensor open or shorted)");
+
+  w.group("/bms");
+  w.dataset("/bms/state", rec.bms_state, n, 0, nullptr);
+  w.attrOn("/bms/state", "names", "0=init,1=standby,2=normal,3=error");
+  w.dataset("/bms/fault_active", rec.fault_active, n, 0, nullptr);
+  w.dataset("/bms/fault_latched", rec.fault_latched, n, 0, nullptr);
+  w.attrOn("/bms", "fault_bits", faultNames());
+  w.dataset("/bms/relay_closed", rec.relay_closed, n, 0, nullptr);
+  w.dataset("/bms/discharge_fet_on", rec.discharge_fet_on, n, 0, nullptr);
+  w.dataset("/bms/charge_fet_on", rec.charge_fet_on, n, 0, nullptr);
+
+  w.events(r.events);
+
+  w.group("/summary");
+  Handle g(H5Oopen(file, "/summary", H5P_DEFAULT), H5Oclose, "summary");
+  const Summary& sm = r.summary;
+  w.attr(g, "duration_s", sm.duration_s);
+  w.attr(g, "charge_delivered_Ah", sm.charge_delivered_Ah);
+  w.attr(g, "energy_delivered_Wh", sm.energy_delivered_Wh);
+  w.attr(g, "heat_Wh", sm.heat_Wh);
+  w.attr(g, "min_cell_V", sm.min_cell_V);
+  w.attrInt(g, "min_cell", sm.min_cell);
+  w.attr(g, "min_cell_time_s", sm.min_cell_time_s);
+  w.attr(g, "max_temp_C", sm.max_temp_C);
+  w.attrInt(g, "hottest_cell", sm.hottest_cell);
+  w.attr(g, "hottest_time_s", sm.hottest_time_s);
+  w.attrInt(g, "tripped", sm.tripped ? 1 : 0);
+  w.attr(g, "trip_time_s", sm.trip_time_s);
+  w.attr(g, "trip_reason", sm.trip_reason);
+  w.attr(g, "final_soc_min", sm.final_soc_min);
+  w.attr(g, "final_soc_max", sm.final_soc_max);
+}
+
+}  // namespace
+
+void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  if (target.has_parent_path()) fs::create_directories(target.parent_path());
+  const std::string tmp = path + ".tmp";
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
+  try {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
+    H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
+    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose, tmp.c_str());
+    writeAll(file, s, r);
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  fs::rename(tmp, target);
+}
+
+}  // namespace packsim

@@ -1,0 +1,25 @@
+// Writes one run to an HDF5 file:
+//
+//   /                 attrs: packsim_version, scenario_name, scenario_yaml, seed, solver,
+//                            tick_s, sign_convention
+//   /time_s           [n]
+//   /truth/…          per-cell arrays [n, cells] and pack voltage/current [n] (SI units)
+//   /measured/…       what the BMS core saw, in its units (mV, deci-degC, mA)
+//   /bms/…            state, fault bits, relay and FET commands [n]
+//   /events           table (time_s, kind, detail)
+//   /summary          attrs: the run summary
+//
+// The file is written under a temporary name and renamed when complete, so a failed
+// run never leaves a partial result behind. Object timestamps are off: the same run
+// gives the same bytes.
+#pragma once
+#include <string>
+
+#include "core/scenario/scenario.hpp"
+#include "core/sim/result.hpp"
+
+namespace packsim {
+
+void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r);
+
+}  // namespace packsim

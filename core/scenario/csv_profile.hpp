@@ -1,0 +1,16 @@
+// Reads a load profile table: a header row `time_s,current_A`, then one row per point.
+// Errors name the file, the line and the column that is wrong.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace packsim {
+
+struct CsvProfile {
+  std::vector<double> time_s;
+  std::vector<double> current_A;
+};
+
+CsvProfile readProfileCsv(const std::string& path);
+
+}  // namespace packsim

@@ -1,0 +1,17 @@
+// Loads a scenario strictly: unknown keys, wrong types, missing required fields and
+// out-of-range values are ScenarioErrors naming file:line:column and the field,
+// raised before the run starts. Relative paths (CSV profiles) resolve against the
+// scenario file's folder.
+#pragma once
+#include <string>
+
+#include "core/scenario/scenario.hpp"
+
+namespace packsim {
+
+Scenario loadScenarioFile(const std::string& path);
+// `file` names the text in errors; `base_dir` resolves relative CSV paths.
+Scenario loadScenarioText(const std::string& text, const std::string& file = "<scenario>",
+                          const std::string& base_dir = ".");
+
+}  // namespace packsim

@@ -1,0 +1,197 @@
+#include "core/scenario/yaml_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace packsim {
+
+bool Range::contains(double v) const {
+  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+  return true;
+}
+
+std::string Range::describe() const {
+  auto fmt = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  if (std::isinf(hi) && lo == 0.0) return lo_open ? "> 0" : ">= 0";
+  if (std::isinf(hi)) return (lo_open ? "> " : ">= ") + fmt(lo);
+  if (std::isinf(lo)) return (hi_open ? "< " : "<= ") + fmt(hi);
+  return std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi_open ? ")" : "]");
+}
+
+YAML::Node parseYaml(const std::string& text, const std::string& file) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::ParserException& e) {
+    throw ScenarioError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+  }
+}
+
+YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string path)
+    : node_(node), file_(std::move(file)), path_(std::move(path)) {
+  if (!node_.IsMap()) throw error("expected a mapping of key: value pairs");
+}
+
+std::string YamlMap::fieldName(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+
+ScenarioError YamlMap::errorAt(const YAML::Node& n, const std::string& field, const std::string& message) const {
+  const YAML::Mark m = n.Mark();
+  const bool known = m.line >= 0;
+  return ScenarioError(file_, known ? m.line + 1 : 0, known ? m.column + 1 : 0, field, message);
+}
+
+ScenarioError YamlMap::errorAt(const std::string& key, const std::string& message) const {
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    if (it->first.Scalar() == key) return errorAt(it->second, fieldName(key), message);
+  }
+  return error(message);
+}
+
+ScenarioError YamlMap::error(const std::string& message) const { return errorAt(node_, path_, message); }
+
+bool YamlMap::has(const std::string& key) {
+  if (std::find(declared_.begin(), declared_.end(), key) == declared_.end()) declared_.push_back(key);
+  return static_cast<bool>(node_[key]);
+}
+
+YAML::Node YamlMap::required(const std::string& key) {
+  if (has(key)) return node_[key];
+  // A misspelt required key is reported as the misspelling, where it is.
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string given = it->first.Scalar();
+    if (closestMatch(given, {key.c_str()}) == key) {
+      const YAML::Mark m = it->first.Mark();
+      throw ScenarioError(file_, m.line + 1, m.column + 1, fieldName(given),
+                          "unknown key; did you mean '" + key + "'?");
+    }
+  }
+  throw error("missing required key '" + key + "'");
+}
+
+YAML::Node YamlMap::node(const std::string& key) {
+  has(key);
+  return node_[key];
+}
+
+double YamlMap::toNumber(const YAML::Node& n, const std::string& field, Range r) const {
+  if (!n.IsScalar()) throw errorAt(n, field, "expected a number");
+  double v = 0.0;
+  try {
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    throw errorAt(n, field, "expected a number, got '" + n.Scalar() + "'");
+  }
+  if (!std::isfinite(v)) throw errorAt(n, field, "expected a finite number, got '" + n.Scalar() + "'");
+  if (!r.contains(v)) throw errorAt(n, field, n.Scalar() + " is out of range; allowed " + r.describe());
+  return v;
+}
+
+double YamlMap::number(const std::string& key, Range r) { return toNumber(required(key), fieldName(key), r); }
+
+double YamlMap::number(const std::string& key, double fallback, Range r) {
+  return has(key) ? toNumber(node_[key], fieldName(key), r) : fallback;
+}
+
+long YamlMap::integer(const std::string& key, long lo, long hi) {
+  const YAML::Node n = required(key);
+  const double v = toNumber(n, fieldName(key), Range::closed(static_cast<double>(lo), static_cast<double>(hi)));
+  if (v != std::floor(v)) throw errorAt(n, fieldName(key), "expected a whole number, got '" + n.Scalar() + "'");
+  return static_cast<long>(v);
+}
+
+long YamlMap::integer(const std::string& key, long fallback, long lo, long hi) {
+  return has(key) ? integer(key, lo, hi) : fallback;
+}
+
+bool YamlMap::boolean(const std::string& key, bool fallback) {
+  if (!has(key)) return fallback;
+  const YAML::Node n = node_[key];
+  try {
+    if (n.IsScalar()) return n.as<bool>();
+  } catch (const YAML::Exception&) {
+  }
+  throw errorAt(n, fieldName(key), "expected true or false, got '" + (n.IsScalar() ? n.Scalar() : "?") + "'");
+}
+
+std::string YamlMap::string(const std::string& key) {
+  const YAML::Node n = required(key);
+  if (!n.IsScalar()) throw errorAt(n, fieldName(key), "expected a text value");
+  return n.Scalar();
+}
+
+std::string YamlMap::string(const std::string& key, const std::string& fallback) {
+  return has(key) ? string(key) : fallback;
+}
+
+std::string YamlMap::choice(const std::string& key, const std::string& fallback,
+                            const std::vector<std::string>& allowed) {
+  const std::string v = string(key, fallback);
+  if (std::find(allowed.begin(), allowed.end(), v) != allowed.end()) return v;
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+  const std::string near = closestMatch(v, allowed);
+  throw errorAt(key, "'" + v + "' is not one of: " + list + (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+}
+
+std::vector<double> YamlMap::numbers(const std::string& key, Range r, size_t min_len) {
+  const YAML::Node n = required(key);
+  if (!n.IsSequence()) throw errorAt(n, fieldName(key), "expected a list of numbers like [1, 2, 3]");
+  if (n.size() < min_len)
+    throw errorAt(n, fieldName(key), "expected at least " + std::to_string(min_len) + " values");
+  std::vector<double> out;
+  for (size_t i = 0; i < n.size(); ++i) out.push_back(toNumber(n[i], fieldName(key) + "[" + std::to_string(i) + "]", r));
+  return out;
+}
+
+std::vector<long> YamlMap::integers(const std::string& key, long lo, long hi, size_t min_len) {
+  const std::vector<double> v = numbers(key, Range::closed(static_cast<double>(lo), static_cast<double>(hi)), min_len);
+  std::vector<long> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (v[i] != std::floor(v[i])) throw errorAt(node_[key][i], fieldName(key), "expected whole numbers");
+    out.push_back(static_cast<long>(v[i]));
+  }
+  return out;
+}
+
+YamlMap YamlMap::map(const std::string& key) {
+  const YAML::Node n = required(key);
+  if (!n.IsMap()) throw errorAt(n, fieldName(key), "expected a mapping of key: value pairs");
+  return YamlMap(n, file_, fieldName(key));
+}
+
+std::optional<YamlMap> YamlMap::optionalMap(const std::string& key) {
+  if (!has(key)) return std::nullopt;
+  return map(key);
+}
+
+std::vector<YamlMap> YamlMap::mapList(const std::string& key) {
+  const YAML::Node n = required(key);
+  if (!n.IsSequence()) throw errorAt(n, fieldName(key), "expected a list");
+  std::vector<YamlMap> out;
+  for (size_t i = 0; i < n.size(); ++i) {
+    const std::string f = fieldName(key) + "[" + std::to_string(i) + "]";
+    if (!n[i].IsMap()) throw errorAt(n[i], f, "expected a mapping of key: value pairs");
+    out.emplace_back(n[i], file_, f);
+  }
+  return out;
+}
+
+void YamlMap::finish() const {
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    if (std::find(declared_.begin(), declared_.end(), key) != declared_.end()) continue;
+    const std::string near = closestMatch(key, declared_);
+    const YAML::Mark m = it->first.Mark();
+    std::string valid;
+    for (const auto& d : declared_) valid += (valid.empty() ? "" : ", ") + d;
+    throw ScenarioError(file_, m.line + 1, m.column + 1, fieldName(key),
+                        "unknown key" + (near.empty() ? " (valid keys: " + valid + ")" : "; did you mean '" + near + "'?"));
+  }
+}
+
+}  // namespace packsim

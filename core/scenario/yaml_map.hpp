@@ -1,0 +1,75 @@
+// Strict reading of one YAML mapping into typed values. Every accessor declares its
+// key; finish() then rejects any key that was not declared, suggesting the closest
+// declared one. Values are checked for type and range at the line they sit on.
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <limits>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/scenario/scenario_error.hpp"
+
+namespace packsim {
+
+struct Range {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;  // lo itself not allowed
+  bool hi_open = false;
+  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
+  static Range nonNegative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+  static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+  bool contains(double v) const;
+  std::string describe() const;
+};
+
+class YamlMap {
+ public:
+  YamlMap(const YAML::Node& node, std::string file, std::string path);
+
+  const std::string& path() const { return path_; }
+  const std::string& file() const { return file_; }
+  bool has(const std::string& key);
+
+  double number(const std::string& key, Range r);  // required
+  double number(const std::string& key, double fallback, Range r);
+  long integer(const std::string& key, long lo, long hi);  // required
+  long integer(const std::string& key, long fallback, long lo, long hi);
+  bool boolean(const std::string& key, bool fallback);
+  std::string string(const std::string& key);  // required
+  std::string string(const std::string& key, const std::string& fallback);
+  std::string choice(const std::string& key, const std::string& fallback, const std::vector<std::string>& allowed);
+  std::vector<double> numbers(const std::string& key, Range r, size_t min_len = 1);
+  std::vector<long> integers(const std::string& key, long lo, long hi, size_t min_len = 1);
+
+  YamlMap map(const std::string& key);  // required child mapping
+  std::optional<YamlMap> optionalMap(const std::string& key);
+  // Elements of a sequence of mappings.
+  std::vector<YamlMap> mapList(const std::string& key);
+  YAML::Node node(const std::string& key);  // declared, raw (caller checks it)
+
+  ScenarioError errorAt(const std::string& key, const std::string& message) const;
+  ScenarioError errorAt(const YAML::Node& n, const std::string& field, const std::string& message) const;
+  ScenarioError error(const std::string& message) const;  // at the mapping itself
+
+  // Rejects undeclared keys. Call after reading every field.
+  void finish() const;
+
+ private:
+  std::string fieldName(const std::string& key) const;
+  YAML::Node required(const std::string& key);
+  double toNumber(const YAML::Node& n, const std::string& field, Range r) const;
+
+  YAML::Node node_;
+  std::string file_;
+  std::string path_;
+  std::vector<std::string> declared_;
+};
+
+// Parses YAML text, turning parser errors into ScenarioError.
+YAML::Node parseYaml(const std::string& text, const std::string& file);
+
+}  // namespace packsim

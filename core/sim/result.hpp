@@ -1,0 +1,66 @@
+// What a run produces: the recorded time series (truth, what the BMS measured, what
+// it decided), the events table, the summary and solver statistics.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/sim/cvode_integrator.hpp"
+
+namespace packsim {
+
+struct Event {
+  double time_s = 0.0;
+  std::string kind;    // bms_state, fault_active, fault_latched, relay, run
+  std::string detail;
+};
+
+// Per-sample arrays are row-major [sample][channel].
+struct Recording {
+  int cells = 0;        // series·parallel
+  int groups = 0;       // series positions the monitor ICs read
+  int thermistors = 0;
+  std::vector<double> time_s;
+  // truth
+  std::vector<double> cell_voltage_V, cell_current_A, cell_soc, cell_temp_C;
+  std::vector<double> pack_voltage_V, pack_current_A;
+  // measured: exactly what the BMS core saw, in its own units
+  std::vector<uint16_t> meas_cell_voltage_mV;
+  std::vector<int16_t> meas_temperature_dC;  // -32768: sensor open/short
+  std::vector<int32_t> meas_current_mA;
+  // BMS decisions
+  std::vector<uint8_t> bms_state;
+  std::vector<uint32_t> fault_active, fault_latched;
+  std::vector<uint8_t> relay_closed, discharge_fet_on, charge_fet_on;
+
+  size_t samples() const { return time_s.size(); }
+};
+
+struct Summary {
+  std::string scenario;
+  double duration_s = 0.0;
+  double charge_delivered_Ah = 0.0;
+  double energy_delivered_Wh = 0.0;
+  double heat_Wh = 0.0;
+  double min_cell_V = 0.0;
+  int min_cell = 0;  // 1-based
+  double min_cell_time_s = 0.0;
+  double max_temp_C = 0.0;
+  int hottest_cell = 0;  // 1-based
+  double hottest_time_s = 0.0;
+  bool tripped = false;
+  double trip_time_s = 0.0;
+  std::string trip_reason;
+  double final_soc_min = 0.0;
+  double final_soc_max = 0.0;
+};
+
+struct RunResult {
+  Recording rec;
+  std::vector<Event> events;
+  Summary summary;
+  CvodeStats solver;
+  double quad[4] = {0, 0, 0, 0};  // Plant Quadrature order
+};
+
+}  // namespace packsim

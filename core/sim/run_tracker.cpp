@@ -1,0 +1,150 @@
+#include "core/sim/run_tracker.hpp"
+
+#include <bms/bms_core.hpp>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace packsim {
+
+RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
+    : s_(s), plant_(plant), cfg_(cfg) {
+  Recording& rec = r_.rec;
+  rec.cells = plant.pack().cellCount();
+  rec.groups = plant.pack().series;
+  rec.thermistors = static_cast<int>(s.hardware.thermistor_cells.size());
+  r_.summary.scenario = s.name;
+  r_.summary.min_cell_V = INFINITY;
+  r_.summary.max_temp_C = -INFINITY;
+}
+
+void RunTracker::event(double t, const std::string& kind, const std::string& detail) {
+  r_.events.push_back({t, kind, detail});
+}
+
+std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) const {
+  const bms::Telemetry& tm = out.telemetry;
+  const bms::ProtectionRule& rule = cfg_.rules[static_cast<int>(id)];
+  std::ostringstream os;
+  os.setf(std::ios::fixed);
+  os.precision(3);
+  switch (rule.quantity) {
+    case bms::Quantity::MaxCell_mV: os << "max cell " << tm.maxCell_mV * 1e-3 << " V > " << rule.threshold * 1e-3 << " V"; break;
+    case bms::Quantity::MinCell_mV: os << "min cell " << tm.minCell_mV * 1e-3 << " V < " << rule.threshold * 1e-3 << " V"; break;
+    case bms::Quantity::DischargeCurrent_mA:
+      os << "current " << tm.packCurrent_mA * 1e-3 << " A > " << rule.threshold * 1e-3 << " A"; break;
+    case bms::Quantity::ChargeCurrent_mA:
+      os << "charge current " << -tm.packCurrent_mA * 1e-3 << " A > " << rule.threshold * 1e-3 << " A"; break;
+    case bms::Quantity::MaxTemp_dC: os << "max temperature " << tm.maxTemp_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
+    case bms::Quantity::Count: break;
+  }
+  os << " for " << rule.delay_ms << " ms";
+  return os.str();
+}
+
+void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
+  Summary& sm = r_.summary;
+  for (int c = 0; c < plant_.pack().cellCount(); ++c) {
+    const double v = sig.cell_voltage_V[static_cast<size_t>(c)];
+    const double T = x[plant_.tempIndex(c)];
+    if (v < sm.min_cell_V) {
+      sm.min_cell_V = v;
+      sm.min_cell = c + 1;
+      sm.min_cell_time_s = t;
+    }
+    if (T > sm.max_temp_C) {
+      sm.max_temp_C = T;
+      sm.hottest_cell = c + 1;
+      sm.hottest_time_s = t;
+    }
+  }
+
+  if (first_ || out.state != lastState_) {
+    event(t, "bms_state", std::string(first_ ? "" : std::string(bms::stateName(lastState_)) + " -> ") +
+                              bms::stateName(out.state));
+  }
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i) {
+    const uint32_t bit = 1u << i;
+    const auto id = static_cast<bms::FaultId>(i);
+    if ((out.faultActive & bit) && !(lastActive_ & bit)) event(t, "fault_active", std::string(bms::faultName(id)) + ": " + faultDetail(id, out));
+    if (!(out.faultActive & bit) && (lastActive_ & bit)) event(t, "fault_cleared", bms::faultName(id));
+    if ((out.faultLatched & bit) && !(lastLatched_ & bit)) event(t, "fault_latched", bms::faultName(id));
+  }
+  if (first_ ? out.relayClose : out.relayClose != lastRelay_) {
+    event(t, "relay", out.relayClose ? "close" : "open");
+    if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {
+      sm.tripped = true;
+      sm.trip_time_s = t;
+      std::string why;
+      for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+        if (out.faultLatched & (1u << i)) why += (why.empty() ? "" : ", ") + std::string(bms::faultName(static_cast<bms::FaultId>(i)));
+      sm.trip_reason = why;
+    }
+  }
+  first_ = false;
+  lastState_ = out.state;
+  lastActive_ = out.faultActive;
+  lastLatched_ = out.faultLatched;
+  lastRelay_ = out.relayClose;
+  lastT_ = t;
+  lastX_ = x;
+}
+
+void RunTracker::record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
+  Recording& rec = r_.rec;
+  rec.time_s.push_back(t);
+  for (int c = 0; c < rec.cells; ++c) {
+    const size_t ci = static_cast<size_t>(c);
+    rec.cell_voltage_V.push_back(sig.cell_voltage_V[ci]);
+    rec.cell_current_A.push_back(sig.cell_current_A[ci]);
+    rec.cell_soc.push_back(plant_.cellStates(x, c)[CellLayout::soc]);
+    rec.cell_temp_C.push_back(x[plant_.tempIndex(c)]);
+  }
+  rec.pack_voltage_V.push_back(sig.pack_voltage_V);
+  rec.pack_current_A.push_back(sig.pack_current_A);
+  const bms::Telemetry& tm = out.telemetry;
+  for (int g = 0; g < rec.groups; ++g) rec.meas_cell_voltage_mV.push_back(tm.cellVoltage_mV[g]);
+  for (int k = 0; k < rec.thermistors; ++k) rec.meas_temperature_dC.push_back(tm.temperature_dC[k]);
+  rec.meas_current_mA.push_back(tm.packCurrent_mA);
+  rec.bms_state.push_back(static_cast<uint8_t>(out.state));
+  rec.fault_active.push_back(out.faultActive);
+  rec.fault_latched.push_back(out.faultLatched);
+  rec.relay_closed.push_back(out.relayClose ? 1 : 0);
+  rec.discharge_fet_on.push_back(out.dischargeFetOn ? 1 : 0);
+  rec.charge_fet_on.push_back(out.chargeFetOn ? 1 : 0);
+}
+
+bool RunTracker::stopRequested(double t) const {
+  return r_.summary.tripped && t >= r_.summary.trip_time_s + s_.run.stop_after_trip_s;
+}
+
+void RunTracker::checkFinite(double t, const double* x, int n) const {
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(x[i])) {
+      std::ostringstream os;
+      os << "the simulation diverged at t = " << t << " s (state " << i << " is not finite); "
+         << "check the cell curves for the SOC range reached";
+      throw std::runtime_error(os.str());
+    }
+  }
+}
+
+RunResult RunTracker::finish(const double* q) {
+  Summary& sm = r_.summary;
+  sm.duration_s = lastT_;
+  for (int i = 0; i < kQuadCount; ++i) r_.quad[i] = q[i];
+  sm.charge_delivered_Ah = q[kQuadCharge_As] / 3600.0;
+  sm.energy_delivered_Wh = q[kQuadLoadEnergy_J] / 3600.0;
+  sm.heat_Wh = q[kQuadHeat_J] / 3600.0;
+  sm.final_soc_min = INFINITY;
+  sm.final_soc_max = -INFINITY;
+  for (int c = 0; c < plant_.pack().cellCount(); ++c) {
+    const double soc = plant_.cellStates(lastX_, c)[CellLayout::soc];
+    sm.final_soc_min = std::min(sm.final_soc_min, soc);
+    sm.final_soc_max = std::max(sm.final_soc_max, soc);
+  }
+  event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");
+  return std::move(r_);
+}
+
+}  // namespace packsim

@@ -1,0 +1,41 @@
+// Watches a run tick by tick: turns changes of the BMS outputs into events, keeps the
+// extremes for the summary (lowest cell, hottest cell, trip), and records samples at
+// the output interval.
+#pragma once
+#include <bms/bms_config.hpp>
+#include <bms/bms_hal.hpp>
+
+#include "core/scenario/scenario.hpp"
+#include "core/sim/plant.hpp"
+#include "core/sim/result.hpp"
+
+namespace packsim {
+
+class RunTracker {
+ public:
+  RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg);
+
+  void tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
+  void record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
+  bool stopRequested(double t) const;
+  // Throws if the integration produced a non-finite state.
+  void checkFinite(double t, const double* x, int n) const;
+  RunResult finish(const double* quadratures);
+
+ private:
+  void event(double t, const std::string& kind, const std::string& detail);
+  std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
+
+  const Scenario& s_;
+  const Plant& plant_;
+  const bms::Config& cfg_;
+  RunResult r_;
+  bool first_ = true;
+  bms::State lastState_ = bms::State::Init;
+  uint32_t lastActive_ = 0, lastLatched_ = 0;
+  bool lastRelay_ = false;
+  double lastT_ = 0.0;
+  const double* lastX_ = nullptr;
+};
+
+}  // namespace packsim

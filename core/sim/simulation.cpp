@@ -1,0 +1,123 @@
+#include "core/sim/simulation.hpp"
+
+#include <bms/bms_core.hpp>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/sim/bms_bridge.hpp"
+#include "core/sim/cvode_integrator.hpp"
+#include "core/sim/plant.hpp"
+#include "core/sim/run_tracker.hpp"
+
+namespace packsim {
+
+namespace {
+
+// The plant plus its energy quadratures as one ODE for CVODE:
+// x = [plant states…, charge_As, load_J, heat_J, chem_J].
+class PlantOde : public OdeSystem {
+ public:
+  PlantOde(const Plant& p, const RunConfig& run, const PlantInputs& in)
+      : plant_(p), run_(run), in_(in), sig_(p.makeSignals()) {}
+
+  int size() const override { return plant_.stateSize() + kQuadCount; }
+  int halfBandwidth() const override { return plant_.bandwidth(); }
+  std::vector<double> absTolerances() const override {
+    std::vector<double> a(static_cast<size_t>(size()), run_.atol_V);
+    for (int c = 0; c < plant_.pack().cellCount(); ++c) {
+      a[static_cast<size_t>(c * plant_.stride())] = run_.atol_soc;
+      a[static_cast<size_t>(plant_.tempIndex(c))] = run_.atol_C;
+    }
+    for (int q = 0; q < kQuadCount; ++q) a[static_cast<size_t>(plant_.stateSize() + q)] = 1e-3;
+    return a;
+  }
+  void rhs(double t, const double* x, double* dx) override {
+    plant_.derivatives(t, x, in_, dx, sig_);
+    plant_.quadratures(t, x, in_, dx + plant_.stateSize(), sig_);
+  }
+
+ private:
+  const Plant& plant_;
+  const RunConfig& run_;
+  const PlantInputs& in_;
+  PlantSignals sig_;
+};
+
+}  // namespace
+
+RunResult runScenario(const Scenario& s) {
+  const Plant plant(s);
+  PlantInputs inputs;
+  inputs.ambient_C = s.ambient_C;
+  inputs.load = s.load.segmentAt(0.0);
+  PlantOde ode(plant, s.run, inputs);
+  CvodeIntegrator integ(ode, s.run.rtol);
+
+  std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
+  plant.initialState(x.data());
+  integ.reset(0.0, x.data());
+
+  const bms::Config cfg = makeBmsConfig(s);
+  bms::CoreState core;
+  bms::init(core);
+  bms::Inputs in{};
+  bms::Outputs out{};
+  in.runRequest = true;
+
+  Rng rng(s.run.seed);
+  PlantSignals sig = plant.makeSignals();
+  RunTracker tracker(s, plant, cfg);
+
+  const double tick_s = s.bms.tick_s;
+  const long recordEvery = std::max(1L, std::lround(s.output.interval_s / tick_s));
+  const double end_s = s.endTime_s();
+  const long lastTick = static_cast<long>(std::floor(end_s / tick_s + 1e-9));
+
+  for (long k = 0;; ++k) {
+    const double t = static_cast<double>(k) * tick_s;
+    const double* xs = integ.state();
+
+    // 1. sample the truth the sensors see at t_k
+    plant.evaluate(t, xs, inputs, sig);
+    sampleSensors(s, plant, sig, rng, in);
+    in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
+
+    // 2. the firmware decides
+    bms::step(cfg, core, in, out);
+
+    // 3. actuators: the relay carries current only when closed by the core
+    const bool relayChanged = out.relayClose != inputs.relay_closed;
+    inputs.relay_closed = out.relayClose;
+
+    // 4. record
+    tracker.tick(t, xs, sig, out);
+    const bool stop = k >= lastTick || tracker.stopRequested(t);
+    if (k % recordEvery == 0 || stop) tracker.record(t, xs, sig, out);
+    if (stop) break;
+
+    // 5. advance the plant to t_k+1 across load breakpoints
+    const double t_next = static_cast<double>(k + 1) * tick_s;
+    bool restart = relayChanged;
+    double tc = t;
+    while (tc < t_next) {
+      if (restart) integ.reset(tc, integ.state());
+      const double t_to = std::min(t_next, inputs.load.t1_s);
+      integ.advance(t_to, std::min(inputs.load.t1_s, end_s + tick_s));
+      tc = t_to;
+      restart = false;
+      if (tc >= inputs.load.t1_s) {  // next piece of the load profile
+        inputs.load = s.load.segmentAt(tc);
+        restart = true;
+      }
+    }
+    if (restart) integ.reset(tc, integ.state());
+    tracker.checkFinite(t_next, integ.state(), ode.size());
+  }
+
+  RunResult r = tracker.finish(integ.state() + plant.stateSize());
+  r.solver = integ.stats();
+  return r;
+}
+
+}  // namespace packsim

@@ -1,0 +1,21 @@
+// The co-simulation loop. core/ owns time; one BMS tick k (t_k = k·T_bms) is:
+//
+//   1. sample   sensors read the plant's truth at t_k -> raw codes (noise, quantisation)
+//   2. decide   bms::step(cfg, state, inputs(t_k), outputs)   -- the unchanged firmware
+//   3. actuate  relay/FET commands take effect at t_k
+//   4. record   truth, measurements and decisions of t_k (every output interval)
+//   5. advance  the plant integrates t_k -> t_k+1 under the held commands and the load,
+//               re-initialising CVODE only where an input jumps (command change, load
+//               breakpoint)
+//
+// Latency: a reading taken at t_k acts on the plant from t_k, so its effect (e.g. zero
+// current after a trip) is first seen by the sample at t_k+1 -- one tick.
+#pragma once
+#include "core/scenario/scenario.hpp"
+#include "core/sim/result.hpp"
+
+namespace packsim {
+
+RunResult runScenario(const Scenario& s);
+
+}  // namespace packsim

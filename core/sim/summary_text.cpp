@@ -1,0 +1,48 @@
+#include "core/sim/summary_text.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace packsim {
+
+namespace {
+
+std::string clock(double s) {
+  char buf[32];
+  const long t = static_cast<long>(s + 0.5);
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+  return buf;
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+}  // namespace
+
+std::string formatSummary(const Scenario& s, const RunResult& r) {
+  const Summary& m = r.summary;
+  std::ostringstream os;
+  os << "scenario        " << s.name << "  (" << s.pack.series << "s" << s.pack.parallel << "p, "
+     << fmt("%.2f", s.pack.cell.capacity_Ah) << " Ah cells)\n";
+  os << "duration        " << fmt("%.1f", m.duration_s) << " s  (" << clock(m.duration_s) << ")\n";
+  os << "energy out      " << fmt("%.2f", m.energy_delivered_Wh) << " Wh  (" << fmt("%.3f", m.charge_delivered_Ah)
+     << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
+  os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  cell " << m.min_cell << " at "
+     << fmt("%.2f", m.min_cell_time_s) << " s\n";
+  os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  cell " << m.hottest_cell << " at "
+     << fmt("%.2f", m.hottest_time_s) << " s\n";
+  os << "final SOC       " << fmt("%.3f", m.final_soc_min) << " .. " << fmt("%.3f", m.final_soc_max) << "\n";
+  if (m.tripped) {
+    os << "BMS             TRIP: relay opened at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << ")\n";
+    for (const Event& e : r.events)
+      if (e.kind == "fault_active") os << "                  " << fmt("%.2f", e.time_s) << " s  " << e.detail << "\n";
+  } else {
+    os << "BMS             no trip\n";
+  }
+  return os.str();
+}
+
+}  // namespace packsim

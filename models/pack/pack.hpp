@@ -1,0 +1,55 @@
+// Pack topology: Ns series groups of Mp parallel cells (cell index = group·Mp + p).
+//
+// Cells of one group share the group terminal voltage V_g and split the group
+// current I_g by their EMF E_i (OCV minus RC polarisation) and series resistance R0_i:
+//
+//   I_i = (E_i - V_g) / R0_i,   V_g = (Σ E_i/R0_i - I_g) / Σ 1/R0_i
+//
+// which conserves Σ I_i = I_g exactly. Positive current discharges.
+#pragma once
+#include <vector>
+
+#include "models/cell/ecm.hpp"
+
+namespace packsim {
+
+struct Pack {
+  int series = 1;
+  int parallel = 1;
+  std::vector<CellParams> cells;  // series·parallel entries
+  CellLayout layout;              // shared by every cell (same number of RC pairs)
+
+  int cellCount() const { return series * parallel; }
+  // Splits group g's current. x_cell(i) points at cell i's electrical states.
+  // Writes per-cell currents into i_cell[g·Mp … g·Mp+Mp-1]; returns V_g.
+  template <typename CellStates>
+  double splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell) const;
+};
+
+template <typename CellStates>
+double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell) const {
+  const int first = g * parallel;
+  if (parallel == 1) {
+    const CellParams& p = cells[first];
+    const double* x = x_cell(first);
+    i_cell[first] = i_group_A;
+    return ecm::terminalVoltage(p, x, i_group_A);
+  }
+  double sum_e_over_r = 0.0, sum_g = 0.0;
+  for (int k = 0; k < parallel; ++k) {
+    const CellParams& p = cells[first + k];
+    const double* x = x_cell(first + k);
+    const double gk = 1.0 / ecm::r0(p, x[CellLayout::soc]);
+    sum_e_over_r += ecm::emf(p, x) * gk;
+    sum_g += gk;
+  }
+  const double v_g = (sum_e_over_r - i_group_A) / sum_g;
+  for (int k = 0; k < parallel; ++k) {
+    const CellParams& p = cells[first + k];
+    const double* x = x_cell(first + k);
+    i_cell[first + k] = (ecm::emf(p, x) - v_g) / ecm::r0(p, x[CellLayout::soc]);
+  }
+  return v_g;
+}
+
+}  // namespace packsim

@@ -1,0 +1,25 @@
+// NTC thermistor (beta model) at the bottom of a divider from the ADC reference,
+// read ratiometrically:
+//
+//   R(T) = R25 · exp(β · (1/T - 1/298.15 K))
+//   code = full_scale · R / (R_pullup + R)
+//
+// An open sensor reads full scale, a shorted one reads 0: the firmware flags both.
+#pragma once
+#include "models/sensors/adc.hpp"
+
+namespace packsim {
+
+struct Thermistor {
+  double r25_ohm = 10000.0;
+  double beta_K = 3435.0;
+  double pullup_ohm = 10000.0;
+  int bits = 12;
+  double noise_codes_rms = 0.0;
+
+  double resistance_ohm(double temp_C) const;
+  int64_t fullScaleCode() const { return (int64_t{1} << bits) - 1; }
+  int64_t code(double temp_C, Rng& rng) const;
+};
+
+}  // namespace packsim

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# Configures and builds packsim into build/ (or $BUILD_DIR). Extra arguments go to CMake.
+# Works with Debian's CMake 3.25 and with a pip-installed CMake 4.x (the policy floor
+# lets CMake 4 read Debian's older package config files).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD_DIR=${BUILD_DIR:-build}
+GEN=(); command -v ninja >/dev/null 2>&1 && GEN=(-G Ninja)
+if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
+  cmake -S . -B "$BUILD_DIR" "${GEN[@]}" -DCMAKE_POLICY_VERSION_MINIMUM=3.5 -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@"
+elif [ $# -gt 0 ]; then
+  cmake -S . -B "$BUILD_DIR" "$@"
+fi
+cmake --build "$BUILD_DIR" -j"${JOBS:-2}"

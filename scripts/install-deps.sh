@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# Installs what a fresh Debian machine lacks to build and test packsim.
+# Idempotent: packages already present are skipped, so running it twice is cheap.
+set -euo pipefail
+
+APT_PACKAGES=(
+  build-essential cmake ninja-build pkg-config
+  libsundials-dev libyaml-cpp-dev libhdf5-dev libeigen3-dev libgtest-dev libgmock-dev
+  pybind11-dev libcli11-dev
+  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
+)
+PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml)
+
+missing=()
+for p in "${APT_PACKAGES[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  echo "install-deps: apt-get install ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+PY=${PYTHON:-python3}
+need_pip=()
+for p in "${PIP_PACKAGES[@]}"; do
+  mod=$p; [ "$p" = pyyaml ] && mod=yaml
+  "$PY" -c "import $mod" 2>/dev/null || need_pip+=("$p")
+done
+if [ ${#need_pip[@]} -gt 0 ]; then
+  echo "install-deps: pip install ${need_pip[*]}"
+  "$PY" -m pip install -q "${need_pip[@]}"
+fi
+echo "install-deps: all dependencies present"

@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# Builds and runs every test: the C++ suites (ctest), the BMS core cross-compiled for a
+# Cortex-M4, the whole C++ suite again under AddressSanitizer + UBSan in build-asan/,
+# and the Python tests. PACKSIM_SKIP_SANITIZE=1 skips the sanitizer pass.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== build and C++ tests"
+BUILD_DIR=build scripts/build.sh -DPACKSIM_BUILD_TESTS=ON
+ctest --test-dir build -j2 --output-on-failure --timeout 600
+
+echo "== BMS core cross-compiled for Cortex-M4 (freestanding, no exceptions, no RTTI)"
+bms/cross_check.sh build/bms-cortex-m4
+
+if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
+  echo "== C++ tests under AddressSanitizer + UBSan"
+  BUILD_DIR=build-asan scripts/build.sh -DPACKSIM_BUILD_TESTS=ON -DPACKSIM_SANITIZE=ON -DCMAKE_BUILD_TYPE=Debug
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build-asan -j2 --output-on-failure --timeout 1200
+fi
+
+if [ -d tests/python ]; then
+  echo "== Python tests"
+  PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}" python3 -m pytest -q tests/python
+fi

@@ -1,0 +1,97 @@
+// Each relay-opening protection fires after its debounce and not before; a value
+// just inside the limit never fires; the pack current is zero from the next tick.
+#include <gtest/gtest.h>
+
+#include "core/sim/simulation.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+struct TripCase {
+  const char* name;
+  const char* fault;
+  std::string yaml;       // load/pack overrides that violate the limit
+  std::string yamlBelow;  // the same just inside the limit
+  double delay_s;
+};
+
+// A cell with OCV 3.5 V (constant), R0 0.05 Ω: V = 3.5 - 0.05·I. Every protection
+// gets a distinct, known delay; the violation starts when the relay closes.
+std::string base(const std::string& load, double soc = 0.5, double temp = 25.0) {
+  return "name: trip\nseed: 1\n"
+         "pack:\n  series: 2\n  initial_soc: " + std::to_string(soc) + "\n  initial_temp_C: " + std::to_string(temp) +
+         "\n  cell: {capacity_Ah: 50, ocv_V: 3.5, r0_ohm: 0.05, heat_capacity_J_per_K: 1e6, g_ambient_W_per_K: 1}\n"
+         "hardware:\n"
+         "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
+         "  thermistors: {at_cells: [1, 2]}\n"
+         "  current_sense: {shunt_ohm: 0.0005, amp_gain: 20, noise_A_rms: 0}\n"
+         "ambient: {temp_C: " + std::to_string(temp) + "}\n"
+         "bms:\n  tick_ms: 10\n  protections:\n"
+         "    cell_overvoltage: {threshold_V: 3.7, delay_ms: 300}\n"
+         "    cell_undervoltage: {threshold_V: 3.3, delay_ms: 400}\n"
+         "    overcurrent_discharge: {threshold_A: 60, delay_ms: 150}\n"
+         "    overcurrent_charge: {threshold_A: 20, delay_ms: 250}\n"
+         "    overtemperature: {threshold_C: 60, delay_ms: 1000}\n"
+         "load: " + load + "\nrun: {duration_s: 5, stop_after_trip_s: 1}\noutput: {interval_s: 0.01}\n";
+}
+
+std::vector<TripCase> cases() {
+  return {
+      // OV: charging at 5 A lifts V to 3.75 V > 3.7 V; at 3.8 A to 3.69 V.
+      {"overvoltage", "cell_overvoltage", base("{current_A: -5}"), base("{current_A: -3.8}"), 0.3},
+      // UV: 5 A drops V to 3.25 V < 3.3 V; 3.8 A to 3.31 V.
+      {"undervoltage", "cell_undervoltage", base("{current_A: 5}"), base("{current_A: 3.8}"), 0.4},
+      // OC discharge at 61 A vs 59 A (OCV high enough not to hit UV: threshold lowered via soc-independent OCV).
+      {"overcurrent_discharge", "overcurrent_discharge", base("{current_A: 61}"), base("{current_A: 59}"), 0.15},
+      // OC charge at 21 A vs 19 A.
+      {"overcurrent_charge", "overcurrent_charge", base("{current_A: -21}"), base("{current_A: -19}"), 0.25},
+      // OT: a pack already at 61 C vs 59 C, no load.
+      {"overtemperature", "overtemperature", base("{current_A: 0}", 0.5, 61.0), base("{current_A: 0}", 0.5, 59.0), 1.0},
+  };
+}
+
+class TripTest : public ::testing::TestWithParam<TripCase> {};
+
+TEST_P(TripTest, FiresAfterDebounceAndIsolatesNextTick) {
+  const TripCase& c = GetParam();
+  Scenario s = test::scenarioFromYaml(c.yaml);
+  if (std::string(c.name).rfind("overcurrent", 0) == 0) {
+    s.bms.cell_undervoltage.enabled = false;  // 61 A·0.05 Ω would also under-voltage the cell
+    s.bms.cell_overvoltage.enabled = false;
+  }
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped) << c.name;
+  EXPECT_EQ(r.summary.trip_reason, c.fault);
+  // The violation is first visible to the BMS at the first sample after the relay
+  // closed (or at t = 0 for temperature, which needs no current).
+  const double tc = test::eventTime(r, "relay", "close");
+  const double seen = std::string(c.fault) == "overtemperature" ? 0.0 : tc + 0.01;
+  const double trip = r.summary.trip_time_s;
+  EXPECT_GE(trip, seen + c.delay_s - 1e-9) << c.name << ": tripped before its debounce";
+  EXPECT_LE(trip, seen + c.delay_s + 0.01 + 1e-9) << c.name << ": later than delay + one tick";
+  EXPECT_GE(test::eventTime(r, "fault_active", c.fault), seen + c.delay_s - 1e-9);
+  // Current zero from the next tick on.
+  const size_t i = test::sampleAt(r.rec, trip + 0.01);
+  for (size_t k = i; k < r.rec.samples(); ++k) ASSERT_EQ(r.rec.pack_current_A[k], 0.0) << "t=" << r.rec.time_s[k];
+  // …and it was still flowing in the sample the BMS tripped on.
+  if (seen > 0.0) EXPECT_NE(r.rec.pack_current_A[test::sampleAt(r.rec, trip)], 0.0);
+}
+
+TEST_P(TripTest, JustInsideTheLimitNeverFires) {
+  const TripCase& c = GetParam();
+  Scenario s = test::scenarioFromYaml(c.yamlBelow);
+  if (std::string(c.name).rfind("overcurrent", 0) == 0) {
+    s.bms.cell_undervoltage.enabled = false;
+    s.bms.cell_overvoltage.enabled = false;
+  }
+  const RunResult r = runScenario(s);
+  EXPECT_FALSE(r.summary.tripped) << c.name << " tripped: " << r.summary.trip_reason;
+  EXPECT_LT(test::eventTime(r, "fault_active"), 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Protections, TripTest, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<TripCase>& i) { return std::string(i.param.name); });
+
+}  // namespace
+}  // namespace packsim

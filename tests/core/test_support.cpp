@@ -1,0 +1,67 @@
+#include "test_support.hpp"
+
+#include <hdf5.h>
+
+#include <cmath>
+#include <stdexcept>
+
+namespace packsim::test {
+
+std::string simpleCellYaml(int series) {
+  return "name: simple\n"
+         "seed: 3\n"
+         "pack:\n"
+         "  series: " + std::to_string(series) + "\n"
+         "  initial_soc: 0.8\n"
+         "  initial_temp_C: 25\n"
+         "  cell:\n"
+         "    capacity_Ah: 2.0\n"
+         "    ocv_V: {poly: [0.8, 3.4]}\n"
+         "    r0_ohm: 0.02\n"
+         "    rc_pairs: [{r_ohm: 0.01, c_F: 1000}]\n"
+         "    heat_capacity_J_per_K: 40\n"
+         "    g_ambient_W_per_K: 0.1\n"
+         "hardware:\n"
+         "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
+         "  thermistors: {at_cells: [1]}\n"
+         "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
+         "ambient: {temp_C: 25}\n";
+}
+
+Scenario scenarioFromYaml(const std::string& yaml) { return loadScenarioText(yaml, "test.yaml", scenarioDir()); }
+
+double eventTime(const RunResult& r, const std::string& kind, const std::string& detail) {
+  for (const Event& e : r.events)
+    if (e.kind == kind && e.detail.compare(0, detail.size(), detail) == 0) return e.time_s;
+  return -1.0;
+}
+
+size_t sampleAt(const Recording& rec, double t) {
+  for (size_t i = 0; i < rec.time_s.size(); ++i)
+    if (std::fabs(rec.time_s[i] - t) < 1e-9) return i;
+  throw std::runtime_error("no sample at t = " + std::to_string(t));
+}
+
+std::string scenarioDir() { return PACKSIM_SCENARIO_DIR; }
+
+std::vector<uint8_t> readDatasetBytes(const std::string& file, const std::string& dataset) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("cannot open " + file);
+  const hid_t d = H5Dopen2(f, dataset.c_str(), H5P_DEFAULT);
+  if (d < 0) {
+    H5Fclose(f);
+    throw std::runtime_error("no dataset " + dataset);
+  }
+  const hid_t type = H5Dget_type(d);
+  const hid_t space = H5Dget_space(d);
+  const size_t n = static_cast<size_t>(H5Sget_simple_extent_npoints(space)) * H5Tget_size(type);
+  std::vector<uint8_t> buf(n);
+  if (n > 0 && H5Tget_class(type) != H5T_COMPOUND) H5Dread(d, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
+  H5Sclose(space);
+  H5Tclose(type);
+  H5Dclose(d);
+  H5Fclose(f);
+  return buf;
+}
+
+}  // namespace packsim::test
