@@ -1,0 +1,23 @@
+// Readers for the sections of a scenario file, one file each (load_pack.cpp,
+// load_hardware.cpp, load_bms.cpp, load_load.cpp); load_scenario.cpp assembles them.
+#pragma once
+#include <optional>
+#include <string>
+
+#include "core/scenario/scenario.hpp"
+#include "core/scenario/yaml_map.hpp"
+
+namespace packsim {
+
+
+
+// A curve is a number (constant), {poly: [...], axis}, or {x: [...], y: [...], axis}.
+Curve readCurve(YamlMap& parent, const std::string& key, Range yRange);
+CellParams readCell(YamlMap m);
+PackConfig readPack(YamlMap m);
+HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack);
+BmsSettings readBms(std::optional<YamlMap> m);
+LoadProfile readLoad(YamlMap m, const std::string& baseDir);
+RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
+
+}  // namespace packsim
