@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace packsim {
 
@@ -13,8 +14,13 @@ struct RunOptions {
   bool quiet = false;
 };
 
+struct CheckOptions {
+  std::vector<std::string> paths;  // files or directories; empty: the bundled scenarios
+};
+
 std::string bundledScenarioDir();
 std::string defaultScenarioPath();
 int cmdRun(const RunOptions& o);
+int cmdCheck(const CheckOptions& o);
 
 }  // namespace packsim

@@ -21,6 +21,10 @@ int main(int argc, char** argv) {
   runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(CLI::NonNegativeNumber);
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
 
+  packsim::CheckOptions check;
+  CLI::App* checkCmd = app.add_subcommand("check", "run scenarios and judge their expect: blocks (exit 1 on any failure)");
+  checkCmd->add_option("paths", check.paths, "scenario files or folders (default: the bundled scenarios)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -28,6 +32,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (runCmd->parsed()) return packsim::cmdRun(run);
+    if (checkCmd->parsed()) return packsim::cmdCheck(check);
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;

@@ -193,6 +193,12 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
   w.attr(g, "trip_reason", sm.trip_reason);
   w.attr(g, "final_soc_min", sm.final_soc_min);
   w.attr(g, "final_soc_max", sm.final_soc_max);
+  w.attrInt(g, "limit_reached", sm.limit_reached ? 1 : 0);
+  w.attr(g, "limit_time_s", sm.limit_time_s);
+  w.attrInt(g, "limit_cell", sm.limit_cell);
+  w.attr(g, "energy_start_Wh", sm.energy_start_Wh);
+  w.attr(g, "energy_left_Wh", sm.energy_left_Wh);
+  w.attr(g, "energy_stranded_Wh", sm.energy_stranded_Wh);
 }
 
 }  // namespace

@@ -31,7 +31,7 @@ std::vector<std::string> splitRow(const std::string& line) {
 CsvProfile readProfileCsv(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw ScenarioError(path, 0, 0, "", "cannot open CSV file");
-  const char* kColumns[2] = {"time_s", "current_A"};
+  std::string kColumns[2] = {"time_s", "current_A"};
   CsvProfile p;
   std::string line;
   int lineNo = 0;
@@ -42,13 +42,16 @@ CsvProfile readProfileCsv(const std::string& path) {
     if (t.empty() || t[0] == '#') continue;
     const std::vector<std::string> cells = splitRow(t);
     if (!header) {
-      if (cells.size() != 2 || cells[0] != kColumns[0] || cells[1] != kColumns[1])
-        throw ScenarioError(path, lineNo, 1, "", "expected the header 'time_s,current_A', got '" + t + "'");
+      if (cells.size() != 2 || cells[0] != kColumns[0] || (cells[1] != "current_A" && cells[1] != "power_W"))
+        throw ScenarioError(path, lineNo, 1, "",
+                            "expected the header 'time_s,current_A' or 'time_s,power_W', got '" + t + "'");
+      kColumns[1] = cells[1];
+      p.power = cells[1] == "power_W";
       header = true;
       continue;
     }
     if (cells.size() != 2)
-      throw ScenarioError(path, lineNo, 0, "", "expected 2 columns (time_s,current_A), got " + std::to_string(cells.size()));
+      throw ScenarioError(path, lineNo, 0, "", "expected 2 columns (time_s," + kColumns[1] + "), got " + std::to_string(cells.size()));
     double v[2];
     int column = 1;
     for (int c = 0; c < 2; ++c) {
@@ -66,7 +69,7 @@ CsvProfile readProfileCsv(const std::string& path) {
       throw ScenarioError(path, lineNo, 1, "time_s", os.str());
     }
     p.time_s.push_back(v[0]);
-    p.current_A.push_back(v[1]);
+    p.value.push_back(v[1]);
   }
   if (!header) throw ScenarioError(path, 0, 0, "", "empty CSV: expected the header 'time_s,current_A'");
   if (p.time_s.size() < 2) throw ScenarioError(path, lineNo, 0, "", "a profile needs at least 2 points");

@@ -10,26 +10,40 @@ namespace packsim {
 
 namespace fs = std::filesystem;
 
+// The load is a current (A) or a power (W) demand; each form names its quantity in
+// its keys (current_A / power_W) so a profile cannot be misread.
 LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
-  const char* kinds[] = {"current_A", "segments", "points", "csv"};
+  const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv"};
   int given = 0;
   for (const char* k : kinds) given += m.has(k) ? 1 : 0;
-  if (given != 1) throw m.error("give exactly one of current_A (constant), segments, points or csv");
+  if (given != 1) throw m.error("give exactly one of current_A / power_W (constant), segments, points or csv");
 
+  using Q = LoadProfile::Quantity;
+  auto pick = [](YamlMap& map) -> std::string {
+    if (map.has("current_A") == map.has("power_W")) throw map.error("give exactly one of current_A or power_W");
+    return map.has("current_A") ? "current_A" : "power_W";
+  };
   LoadProfile p;
-  if (m.has("current_A")) {
-    p = LoadProfile::constant(m.number("current_A", Range{}));
+  if (m.has("current_A") || m.has("power_W")) {
+    const std::string key = pick(m);
+    p = LoadProfile::constant(m.number(key, Range{}));
+    p.quantity = key == "current_A" ? Q::Current_A : Q::Power_W;
     m.finish();
     return p;
   }
   if (m.has("segments")) {
     double t = 0.0;
+    std::string unit;
     for (YamlMap s : m.mapList("segments")) {
+      const std::string key = pick(s);
+      if (!unit.empty() && key != unit) throw s.errorAt(key, "all segments must give the same quantity (" + unit + ")");
+      unit = key;
       p.t_s.push_back(t);
-      p.i_A.push_back(s.number("current_A", Range{}));
+      p.i_A.push_back(s.number(key, Range{}));
       t += s.number("duration_s", Range::positive());
       s.finish();
     }
+    p.quantity = unit == "current_A" ? Q::Current_A : Q::Power_W;
     p.t_s.push_back(t);
     p.i_A.push_back(0.0);  // end of lap; unused with step interpolation
     p.interp = LoadProfile::Interp::Step;
@@ -37,10 +51,12 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
     if (m.has("points")) {
       YamlMap pts = m.map("points");
       p.t_s = pts.numbers("time_s", Range::nonNegative(), 2);
-      p.i_A = pts.numbers("current_A", Range{}, 2);
+      const std::string key = pick(pts);
+      p.quantity = key == "current_A" ? Q::Current_A : Q::Power_W;
+      p.i_A = pts.numbers(key, Range{}, 2);
       if (p.t_s.size() != p.i_A.size())
-        throw pts.errorAt("current_A", "has " + std::to_string(p.i_A.size()) + " values but time_s has " +
-                                           std::to_string(p.t_s.size()));
+        throw pts.errorAt(key, "has " + std::to_string(p.i_A.size()) + " values but time_s has " +
+                                   std::to_string(p.t_s.size()));
       if (p.t_s[0] != 0.0) throw pts.errorAt("time_s", "the first point must be at time 0");
       for (size_t i = 1; i < p.t_s.size(); ++i)
         if (!(p.t_s[i] > p.t_s[i - 1])) throw pts.errorAt("time_s", "values must increase strictly");
@@ -51,7 +67,8 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
       if (!fs::exists(csv)) throw m.errorAt("csv", "file not found: " + csv.string());
       const CsvProfile t = readProfileCsv(csv.string());
       p.t_s = t.time_s;
-      p.i_A = t.current_A;
+      p.i_A = t.value;
+      p.quantity = t.power ? Q::Power_W : Q::Current_A;
     }
     p.interp = m.choice("interpolation", "step", {"step", "linear"}) == "step" ? LoadProfile::Interp::Step
                                                                               : LoadProfile::Interp::Linear;

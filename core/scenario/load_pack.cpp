@@ -1,4 +1,7 @@
 #include <bms/bms_limits.hpp>
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -6,6 +9,8 @@
 #include "core/scenario/scenario_sections.hpp"
 
 namespace packsim {
+
+namespace fs = std::filesystem;
 
 // A curve is a number (constant), {poly: [...], axis}, or {x: [...], y: [...], axis}.
 Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
@@ -59,15 +64,136 @@ CellParams readCell(YamlMap m) {
   return c;
 }
 
-PackConfig readPack(YamlMap m) {
+namespace {
+
+std::vector<std::string> presetDirs(const std::string& baseDir) {
+  std::vector<std::string> dirs = {baseDir + "/cells"};
+  const char* env = std::getenv("PACKSIM_SCENARIOS");
+  dirs.push_back(std::string(env ? env : PACKSIM_SCENARIO_DIR) + "/cells");
+  return dirs;
+}
+
+// `cell: {preset: NAME, <field>: <override>…}`: the preset file (cells/NAME.yaml next
+// to the scenario, or bundled) is validated on its own, then the scenario's fields
+// replace the preset's one by one.
+CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
+  if (!m.has("preset")) return readCell(m);
+  const std::string name = m.string("preset");
+  std::string path;
+  std::vector<std::string> known;
+  for (const std::string& dir : presetDirs(baseDir)) {
+    if (!fs::is_directory(dir)) continue;
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.path().extension() == ".yaml") known.push_back(e.path().stem().string());
+    if (path.empty() && fs::exists(dir + "/" + name + ".yaml")) path = dir + "/" + name + ".yaml";
+  }
+  if (path.empty()) {
+    std::sort(known.begin(), known.end());
+    std::string list;
+    for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
+    const std::string near = closestMatch(name, known);
+    throw m.errorAt("preset", "unknown cell preset '" + name + "'" +
+                                  (near.empty() ? "" : "; did you mean '" + near + "'?") + " (available: " + list + ")");
+  }
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  const YAML::Node preset = parseYaml(text.str(), path);
+  readCell(YamlMap(preset, path, ""));  // the preset alone must be valid
+  YAML::Node merged = YAML::Clone(preset);
+  for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
+    const std::string key = it->first.Scalar();
+    if (key != "preset") merged[key] = it->second;
+  }
+  return readCell(YamlMap(merged, m.file(), m.path()));
+}
+
+CellSpread readSpread(YamlMap m) {
+  CellSpread s;
+  s.capacity_rel_sd = m.number("capacity_rel_sd", 0.0, Range::closed(0.0, 0.3));
+  s.r0_rel_sd = m.number("r0_rel_sd", 0.0, Range::closed(0.0, 0.3));
+  s.initial_soc_sd = m.number("initial_soc_sd", 0.0, Range::closed(0.0, 0.3));
+  s.self_discharge_A_sd = m.number("self_discharge_A_sd", 0.0, Range::closed(0.0, 1.0));
+  m.finish();
+  return s;
+}
+
+CellOverride readCellOverride(YamlMap m, int cells) {
+  CellOverride o;
+  o.cell = static_cast<int>(m.integer("cell", 1, cells)) - 1;
+  if (m.has("capacity_Ah")) o.capacity_Ah = m.number("capacity_Ah", Range::positive());
+  if (m.has("r0_scale")) o.r0_scale = m.number("r0_scale", Range::closed(0.1, 10.0));
+  if (m.has("initial_soc")) o.initial_soc = m.number("initial_soc", Range::closed(0.0, 1.0));
+  if (m.has("self_discharge_A")) o.self_discharge_A = m.number("self_discharge_A", Range::closed(0.0, 10.0));
+  m.finish();
+  return o;
+}
+
+}  // namespace
+
+PackConfig readPack(YamlMap m, const std::string& baseDir) {
   PackConfig p;
   p.series = static_cast<int>(m.integer("series", 1, bms::kMaxCells));
   p.parallel = static_cast<int>(m.integer("parallel", 1, 1, 1000));
   p.initial_soc = m.number("initial_soc", 1.0, Range::closed(0.0, 1.0));
   p.initial_temp_C = m.number("initial_temp_C", 25.0, Range::closed(-60.0, 150.0));
-  p.cell = readCell(m.map("cell"));
+  p.interconnect_ohm = m.number("interconnect_ohm", 0.0, Range::closed(0.0, 10.0));
+  p.cell = readCellWithPreset(m.map("cell"), baseDir);
+  if (auto sp = m.optionalMap("spread")) p.spread = readSpread(*sp);
+  if (m.has("cells"))
+    for (YamlMap c : m.mapList("cells")) p.cell_overrides.push_back(readCellOverride(c, p.series * p.parallel));
   m.finish();
   return p;
+}
+
+ThermalConfig readThermal(std::optional<YamlMap> m, int cells) {
+  ThermalConfig t;
+  if (!m) return t;
+  t.cell_to_cell_W_per_K = m->number("cell_to_cell_W_per_K", 0.0, Range::nonNegative());
+  t.g_coolant_W_per_K = m->number("cell_to_coolant_W_per_K", 0.0, Range::nonNegative());
+  t.coolant_C = m->number("coolant_temp_C", 25.0, Range::closed(-60.0, 150.0));
+  if (m->has("nodes")) {
+    for (YamlMap n : m->mapList("nodes")) {
+      ThermalNodeConfig c;
+      c.name = n.string("name");
+      for (const auto& other : t.nodes)
+        if (other.name == c.name) throw n.errorAt("name", "duplicate thermal node '" + c.name + "'");
+      c.heat_capacity_J_per_K = n.number("heat_capacity_J_per_K", Range::positive());
+      c.g_ambient_W_per_K = n.number("g_ambient_W_per_K", 0.0, Range::nonNegative());
+      c.g_each_cell_W_per_K = n.number("to_each_cell_W_per_K", 0.0, Range::nonNegative());
+      if (n.has("to_cells")) {
+        for (YamlMap l : n.mapList("to_cells")) {
+          const int cell = static_cast<int>(l.integer("cell", 1, cells)) - 1;
+          c.cell_links.emplace_back(cell, l.number("g_W_per_K", Range::positive()));
+          l.finish();
+        }
+      }
+      n.finish();
+      t.nodes.push_back(c);
+    }
+  }
+  m->finish();
+  return t;
+}
+
+TimeSeries readAmbient(std::optional<YamlMap> m) {
+  if (!m) return TimeSeries::constant(25.0);
+  const Range range = Range::closed(-60.0, 100.0);
+  if (m->has("temp_C") == m->has("profile")) throw m->error("give exactly one of temp_C or profile");
+  TimeSeries ts;
+  if (m->has("temp_C")) {
+    ts = TimeSeries::constant(m->number("temp_C", range));
+  } else {
+    YamlMap p = m->map("profile");
+    ts.t_s = p.numbers("time_s", Range::nonNegative(), 1);
+    ts.value = p.numbers("temp_C", range, 1);
+    if (ts.t_s.size() != ts.value.size()) throw p.errorAt("temp_C", "needs as many values as time_s");
+    for (size_t i = 1; i < ts.t_s.size(); ++i)
+      if (!(ts.t_s[i] > ts.t_s[i - 1])) throw p.errorAt("time_s", "values must increase strictly");
+    p.finish();
+  }
+  m->finish();
+  return ts;
 }
 
 }  // namespace packsim

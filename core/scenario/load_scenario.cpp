@@ -34,19 +34,19 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   s.name = m.string("name", fs::path(file).stem().string());
   s.description = m.string("description", "");
   const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, 2147483647L));
-  s.pack = readPack(m.map("pack"));
+  s.pack = readPack(m.map("pack"), base_dir);
   s.hardware = readHardware(m.optionalMap("hardware"), s.pack);
   s.bms = readBms(m.optionalMap("bms"));
   s.load = readLoad(m.map("load"), base_dir);
-  if (auto a = m.optionalMap("ambient")) {
-    s.ambient_C = a->number("temp_C", 25.0, Range::closed(-60.0, 100.0));
-    a->finish();
-  }
+  s.ambient_C = readAmbient(m.optionalMap("ambient"));
+  s.thermal = readThermal(m.optionalMap("thermal"), s.pack.series * s.pack.parallel);
   s.run = readRun(m.optionalMap("run"), seed);
   if (auto o = m.optionalMap("output")) {
     s.output.interval_s = o->number("interval_s", 1.0, Range::positive());
     o->finish();
   }
+  s.faults = readFaults(m, s.pack.series * s.pack.parallel, static_cast<int>(s.hardware.thermistor_cells.size()));
+  s.expect = readExpect(m.optionalMap("expect"));
   m.finish();
 
   // Cross-field checks, reported at the field a user would change.

@@ -6,8 +6,12 @@
 #include <string>
 #include <vector>
 
+#include "core/scenario/expect_config.hpp"
+#include "core/scenario/faults_config.hpp"
 #include "models/cell/ecm.hpp"
 #include "models/load/load_profile.hpp"
+#include "models/load/time_series.hpp"
+#include "models/pack/cell_spread.hpp"
 #include "models/sensors/adc.hpp"
 #include "models/sensors/current_sense.hpp"
 #include "models/sensors/thermistor.hpp"
@@ -20,6 +24,25 @@ struct PackConfig {
   CellParams cell;
   double initial_soc = 1.0;
   double initial_temp_C = 25.0;
+  double interconnect_ohm = 0.0;
+  CellSpread spread;
+  std::vector<CellOverride> cell_overrides;
+};
+
+// Thermal network beyond each cell's own conductance to ambient.
+struct ThermalNodeConfig {
+  std::string name;
+  double heat_capacity_J_per_K = 100.0;
+  double g_ambient_W_per_K = 0.0;
+  double g_each_cell_W_per_K = 0.0;         // link to every cell
+  std::vector<std::pair<int, double>> cell_links;  // (0-based cell, W/K)
+};
+
+struct ThermalConfig {
+  double cell_to_cell_W_per_K = 0.0;  // between neighbouring cells (storage order)
+  double coolant_C = 25.0;
+  double g_coolant_W_per_K = 0.0;     // each cell to the coolant
+  std::vector<ThermalNodeConfig> nodes;
 };
 
 struct HardwareConfig {
@@ -68,9 +91,12 @@ struct Scenario {
   HardwareConfig hardware;
   BmsSettings bms;
   LoadProfile load;
-  double ambient_C = 25.0;
+  TimeSeries ambient_C = TimeSeries::constant(25.0);
+  ThermalConfig thermal;
   RunConfig run;
   OutputConfig output;
+  std::vector<FaultInjection> faults;
+  Expectations expect;
 
   double endTime_s() const;
 };

@@ -14,10 +14,14 @@ namespace packsim {
 // A curve is a number (constant), {poly: [...], axis}, or {x: [...], y: [...], axis}.
 Curve readCurve(YamlMap& parent, const std::string& key, Range yRange);
 CellParams readCell(YamlMap m);
-PackConfig readPack(YamlMap m);
+PackConfig readPack(YamlMap m, const std::string& baseDir);
+ThermalConfig readThermal(std::optional<YamlMap> m, int cells);
+TimeSeries readAmbient(std::optional<YamlMap> m);
 HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack);
 BmsSettings readBms(std::optional<YamlMap> m);
 LoadProfile readLoad(YamlMap m, const std::string& baseDir);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
+std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors);
+Expectations readExpect(std::optional<YamlMap> m);
 
 }  // namespace packsim

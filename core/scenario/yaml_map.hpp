@@ -32,6 +32,7 @@ class YamlMap {
 
   const std::string& path() const { return path_; }
   const std::string& file() const { return file_; }
+  const YAML::Node& raw() const { return node_; }
   bool has(const std::string& key);
 
   double number(const std::string& key, Range r);  // required

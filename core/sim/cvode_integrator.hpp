@@ -9,18 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "core/sim/integrator.hpp"
 #include "core/sim/ode_system.hpp"
 
 namespace packsim {
 
-struct CvodeStats {
-  long steps = 0;
-  long rhs_evals = 0;
-  long jac_evals = 0;
-  long reinits = 0;
-};
+using CvodeStats = SolverStats;
 
-class CvodeIntegrator {
+class CvodeIntegrator : public Integrator {
  public:
   CvodeIntegrator(OdeSystem& sys, double rtol);
   ~CvodeIntegrator();
@@ -28,13 +24,14 @@ class CvodeIntegrator {
   CvodeIntegrator& operator=(const CvodeIntegrator&) = delete;
 
   // (Re)starts the integration at t from x (length size()).
-  void reset(double t, const double* x);
+  void reset(double t, const double* x) override;
   // Integrates to t_out without stepping past t_stop (t_stop >= t_out).
-  void advance(double t_out, double t_stop);
-  const double* state() const;
+  void advance(double t_out, double t_stop) override;
+  const double* state() const override;
   double* mutableState();
-  double time() const { return t_; }
-  CvodeStats stats() const;
+  double time() const override { return t_; }
+  CvodeStats stats() const override;
+  const char* name() const override { return "cvode"; }
 
  private:
   struct Impl;

@@ -1,19 +1,22 @@
 // The plant as one ODE: the pack's cells (electrical states from the ECM) and the
-// thermal network's nodes, under the inputs the actuators and the load hold fixed
-// between discontinuities.
+// thermal network's nodes, under the inputs the actuators, the load and the injected
+// faults hold fixed between discontinuities.
 //
 //   state layout  cell i: [soc, v_rc_1 … v_rc_K, T]  at i·stride   (stride = K + 2)
-//                 extra thermal nodes (none yet) after the cells
+//                 extra thermal nodes (board, FETs, …) after the cells
 //   quadratures   [charge out (A·s), energy to load (J), heat (J), chemical energy (J)]
-//   pack current  I = relay_closed ? load(t) : 0     (positive discharges)
+//   pack current  I = relay_closed ? load(t) + extra : 0     (positive discharges)
+//                 a power load P solves V(I)·I = P with V(I) = E - R·I (pack Thevenin)
 //
 // Cells are stored group by group, so every coupling (parallel current split,
 // neighbour conductance) sits within a band of about one group's width: the Jacobian
-// is block-banded, never dense.
+// is block-banded, never dense. (Links from an extra node to many cells fall outside
+// the band; CVODE's Newton iteration treats them as a weak coupling.)
 #pragma once
 #include <vector>
 
 #include "core/scenario/scenario.hpp"
+#include "core/sim/hardware_faults.hpp"
 #include "models/load/load_profile.hpp"
 #include "models/pack/pack.hpp"
 #include "models/thermal/thermal_network.hpp"
@@ -23,7 +26,7 @@ namespace packsim {
 struct PlantInputs {
   bool relay_closed = false;
   LoadSegment load;
-  double ambient_C = 25.0;
+  const HardwareFaults* faults = nullptr;  // extra load, hot-cell heat, internal shorts
 };
 
 // Everything the plant derives from a state at a time, reused between calls.
@@ -34,8 +37,12 @@ struct PlantSignals {
   std::vector<double> heat_W;           // per thermal node
   std::vector<double> node_temp_C;
   std::vector<double> node_rate_K_per_s;
+  std::vector<double> internal_A;       // current through an internal short, per cell
   double pack_current_A = 0.0;
   double pack_voltage_V = 0.0;
+  double ambient_C = 25.0;
+  double injected_heat_W = 0.0;  // heat from scripted faults (hot cell), not Joule heat
+  bool power_limited = false;  // a power load above the pack's maximum power point
 };
 
 enum Quadrature { kQuadCharge_As = 0, kQuadLoadEnergy_J, kQuadHeat_J, kQuadChemEnergy_J, kQuadCount };
@@ -49,22 +56,30 @@ class Plant {
   int stateSize() const { return stateSize_; }
   int bandwidth() const;  // upper = lower half-bandwidth of the Jacobian
   int stride() const { return stride_; }
-  int tempIndex(int cell) const { return cell * stride_ + pack_.layout.size(); }
+  // State index of thermal node j (cells first, then extra nodes).
+  int tempIndex(int node) const;
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }
+  const std::vector<double>& initialSoc() const { return initialSoc_; }
 
   void initialState(double* x) const;
   // Algebraic part: currents, voltages, heat, temperatures at (t, x).
   void evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
-  void quadratures(double t, const double* x, const PlantInputs& in, double* dq, PlantSignals& sig) const;
+  // Rates of the quadratures from signals already evaluated at (t, x).
+  void quadratures(const double* x, const PlantSignals& sig, double* dq) const;
   PlantSignals makeSignals() const;
 
  private:
+  double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm, bool& limited) const;
+
   Pack pack_;
   ThermalNetwork thermal_;
+  TimeSeries ambient_;
+  double coolant_C_ = 25.0;
+  LoadProfile::Quantity loadQuantity_ = LoadProfile::Quantity::Current_A;
+  std::vector<double> initialSoc_;
   int stride_ = 0;
   int stateSize_ = 0;
-  double initialSoc_ = 1.0;
   double initialTemp_C_ = 25.0;
 };
 

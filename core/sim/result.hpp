@@ -53,6 +53,14 @@ struct Summary {
   std::string trip_reason;
   double final_soc_min = 0.0;
   double final_soc_max = 0.0;
+  // Energy accounting at the moment the first cell reached its limit (its v_min, or
+  // the BMS under-voltage trip); at the end of the run if none did.
+  bool limit_reached = false;
+  double limit_time_s = 0.0;
+  int limit_cell = 0;  // 1-based
+  double energy_start_Wh = 0.0;
+  double energy_left_Wh = 0.0;
+  double energy_stranded_Wh = 0.0;
 };
 
 struct RunResult {

@@ -1,5 +1,7 @@
 #include "core/sim/run_tracker.hpp"
 
+#include "core/sim/stranded_energy.hpp"
+
 #include <bms/bms_core.hpp>
 #include <cmath>
 #include <sstream>
@@ -16,6 +18,17 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   r_.summary.scenario = s.name;
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
+  for (int c = 0; c < plant.pack().cellCount(); ++c)
+    r_.summary.energy_start_Wh += cellEnergy_Wh(plant.pack().cells[static_cast<size_t>(c)], plant.initialSoc()[static_cast<size_t>(c)]);
+}
+
+void RunTracker::noteLimit(double t, const double* x, int cell) {
+  Summary& sm = r_.summary;
+  sm.limit_reached = true;
+  sm.limit_time_s = t;
+  sm.limit_cell = cell + 1;
+  limitSoc_.clear();
+  for (int c = 0; c < plant_.pack().cellCount(); ++c) limitSoc_.push_back(plant_.cellStates(x, c)[CellLayout::soc]);
 }
 
 void RunTracker::event(double t, const std::string& kind, const std::string& detail) {
@@ -52,6 +65,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       sm.min_cell = c + 1;
       sm.min_cell_time_s = t;
     }
+    if (!sm.limit_reached && v <= plant_.pack().cells[static_cast<size_t>(c)].v_min_V) noteLimit(t, x, c);
     if (T > sm.max_temp_C) {
       sm.max_temp_C = T;
       sm.hottest_cell = c + 1;
@@ -79,6 +93,13 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       for (uint8_t i = 0; i < bms::kFaultCount; ++i)
         if (out.faultLatched & (1u << i)) why += (why.empty() ? "" : ", ") + std::string(bms::faultName(static_cast<bms::FaultId>(i)));
       sm.trip_reason = why;
+      // An under-voltage trip is the pack's end of discharge: the weakest measured cell.
+      if (!sm.limit_reached && (out.faultLatched & bms::faultBit(bms::FaultId::CellUnderVoltage))) {
+        int weakest = 0;
+        for (int c = 1; c < plant_.pack().cellCount(); ++c)
+          if (sig.cell_voltage_V[static_cast<size_t>(c)] < sig.cell_voltage_V[static_cast<size_t>(weakest)]) weakest = c;
+        noteLimit(t, x, weakest);
+      }
     }
   }
   first_ = false;
@@ -143,6 +164,18 @@ RunResult RunTracker::finish(const double* q) {
     sm.final_soc_min = std::min(sm.final_soc_min, soc);
     sm.final_soc_max = std::max(sm.final_soc_max, soc);
   }
+  if (!sm.limit_reached) {  // no cell reached its limit: account at the end, against the lowest cell
+    int lowest = 0;
+    for (int c = 0; c < plant_.pack().cellCount(); ++c) {
+      limitSoc_.push_back(plant_.cellStates(lastX_, c)[CellLayout::soc]);
+      if (limitSoc_.back() < limitSoc_[static_cast<size_t>(lowest)]) lowest = c;
+    }
+    sm.limit_cell = lowest + 1;
+    sm.limit_time_s = lastT_;
+  }
+  const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);
+  sm.energy_left_Wh = se.left_Wh;
+  sm.energy_stranded_Wh = se.stranded_Wh;
   event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");
   return std::move(r_);
 }

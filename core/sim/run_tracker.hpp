@@ -21,10 +21,11 @@ class RunTracker {
   // Throws if the integration produced a non-finite state.
   void checkFinite(double t, const double* x, int n) const;
   RunResult finish(const double* quadratures);
+  void event(double t, const std::string& kind, const std::string& detail);
 
  private:
-  void event(double t, const std::string& kind, const std::string& detail);
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
+  void noteLimit(double t, const double* x, int cell);
 
   const Scenario& s_;
   const Plant& plant_;
@@ -34,6 +35,7 @@ class RunTracker {
   bms::State lastState_ = bms::State::Init;
   uint32_t lastActive_ = 0, lastLatched_ = 0;
   bool lastRelay_ = false;
+  std::vector<double> limitSoc_;  // SOC of every cell when the first one hit its limit
   double lastT_ = 0.0;
   const double* lastX_ = nullptr;
 };

@@ -7,6 +7,7 @@
 
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/cvode_integrator.hpp"
+#include "core/sim/fault_scheduler.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/run_tracker.hpp"
 
@@ -25,16 +26,14 @@ class PlantOde : public OdeSystem {
   int halfBandwidth() const override { return plant_.bandwidth(); }
   std::vector<double> absTolerances() const override {
     std::vector<double> a(static_cast<size_t>(size()), run_.atol_V);
-    for (int c = 0; c < plant_.pack().cellCount(); ++c) {
-      a[static_cast<size_t>(c * plant_.stride())] = run_.atol_soc;
-      a[static_cast<size_t>(plant_.tempIndex(c))] = run_.atol_C;
-    }
+    for (int c = 0; c < plant_.pack().cellCount(); ++c) a[static_cast<size_t>(c * plant_.stride())] = run_.atol_soc;
+    for (int j = 0; j < plant_.thermal().nodeCount(); ++j) a[static_cast<size_t>(plant_.tempIndex(j))] = run_.atol_C;
     for (int q = 0; q < kQuadCount; ++q) a[static_cast<size_t>(plant_.stateSize() + q)] = 1e-3;
     return a;
   }
   void rhs(double t, const double* x, double* dx) override {
     plant_.derivatives(t, x, in_, dx, sig_);
-    plant_.quadratures(t, x, in_, dx + plant_.stateSize(), sig_);
+    plant_.quadratures(x, sig_, dx + plant_.stateSize());
   }
 
  private:
@@ -48,8 +47,9 @@ class PlantOde : public OdeSystem {
 
 RunResult runScenario(const Scenario& s) {
   const Plant plant(s);
+  HardwareFaults faults;  // healthy until a scripted injection switches something on
   PlantInputs inputs;
-  inputs.ambient_C = s.ambient_C;
+  inputs.faults = &faults;
   inputs.load = s.load.segmentAt(0.0);
   PlantOde ode(plant, s.run, inputs);
   CvodeIntegrator integ(ode, s.run.rtol);
@@ -68,6 +68,8 @@ RunResult runScenario(const Scenario& s) {
   Rng rng(s.run.seed);
   PlantSignals sig = plant.makeSignals();
   RunTracker tracker(s, plant, cfg);
+  FaultScheduler scheduler(s, plant);
+  scheduler.reset(faults);
 
   const double tick_s = s.bms.tick_s;
   const long recordEvery = std::max(1L, std::lround(s.output.interval_s / tick_s));
@@ -78,8 +80,10 @@ RunResult runScenario(const Scenario& s) {
     const double t = static_cast<double>(k) * tick_s;
     const double* xs = integ.state();
 
-    // 1. sample the truth the sensors see at t_k
+    // 1. scripted faults due at t_k switch on (or off); then sample the truth at t_k
     plant.evaluate(t, xs, inputs, sig);
+    const bool faultChanged = scheduler.update(t, xs, sig, faults, tracker);
+    if (faultChanged) plant.evaluate(t, xs, inputs, sig);
     sampleSensors(s, plant, sig, rng, in);
     in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
 
@@ -98,7 +102,7 @@ RunResult runScenario(const Scenario& s) {
 
     // 5. advance the plant to t_k+1 across load breakpoints
     const double t_next = static_cast<double>(k + 1) * tick_s;
-    bool restart = relayChanged;
+    bool restart = relayChanged || faultChanged;
     double tc = t;
     while (tc < t_next) {
       if (restart) integ.reset(tc, integ.state());

@@ -34,6 +34,11 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
      << fmt("%.2f", m.min_cell_time_s) << " s\n";
   os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  cell " << m.hottest_cell << " at "
      << fmt("%.2f", m.hottest_time_s) << " s\n";
+  os << "energy left     " << fmt("%.2f", m.energy_left_Wh) << " Wh "
+     << (m.limit_reached ? "when cell " + std::to_string(m.limit_cell) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
+                         : std::string("at the end (no cell reached its limit)"))
+     << "; " << fmt("%.2f", m.energy_stranded_Wh) << " Wh (" << fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh)
+     << " % of the start) stranded by imbalance\n";
   os << "final SOC       " << fmt("%.3f", m.final_soc_min) << " .. " << fmt("%.3f", m.final_soc_max) << "\n";
   if (m.tripped) {
     os << "BMS             TRIP: relay opened at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << ")\n";

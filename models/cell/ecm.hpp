@@ -3,7 +3,8 @@
 //   states    soc            state of charge, 1 = full
 //             v_rc[k]        voltage across RC pair k [V]
 //   input     i_A            cell current [A], positive discharges
-//   equations d soc/dt    = -(eta(i)·i + i_sd) / (3600·Q)
+//   equations d soc/dt    = -(eta(i)·i + i_sd + i_int) / (3600·Q)
+//                           i_int: current through an internal short (not at the terminals)
 //                           eta = 1 on discharge, coulombic_efficiency on charge
 //             d v_rc[k]/dt = i / C_k - v_rc[k] / (R_k·C_k)
 //   output    v_term = OCV(soc) - i·R0(soc) - Σ v_rc[k]
@@ -28,6 +29,7 @@ struct CellParams {
   double capacity_Ah = 1.0;
   Curve ocv_V = Curve::constant(3.7);
   Curve r0_ohm = Curve::constant(0.01);
+  double r0_scale = 1.0;              // per-cell spread of R0 around the curve
   std::vector<RcPair> rc;
   double coulombic_efficiency = 1.0;  // applied to charging current
   double self_discharge_A = 0.0;      // constant leakage, drains SOC at rest
@@ -54,7 +56,7 @@ double emf(const CellParams& p, const double* x);
 double terminalVoltage(const CellParams& p, const double* x, double i_A);
 double heat_W(const CellParams& p, const double* x, double i_A);
 // Writes d/dt of the electrical states into dx (same layout as x).
-void derivatives(const CellParams& p, const double* x, double i_A, double* dx);
+void derivatives(const CellParams& p, const double* x, double i_A, double* dx, double internal_A = 0.0);
 
 }  // namespace ecm
 }  // namespace packsim

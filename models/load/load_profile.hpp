@@ -1,5 +1,6 @@
-// A current demand over time: constant, or a piecewise profile of (time_s, current_A)
-// points repeated for a number of laps. Positive current discharges.
+// A load demand over time -- current [A] or power [W] -- constant, or a piecewise
+// profile of (time_s, value) points repeated for a number of laps. Positive values
+// discharge the pack; negative values are regeneration / charging.
 //
 //   step:   the current of point k holds on [t_k, t_k+1)
 //   linear: linear interpolation between points
@@ -17,11 +18,13 @@ struct LoadSegment {
   double t1_s = std::numeric_limits<double>::infinity();
   double i0_A = 0.0;
   double slope_A_per_s = 0.0;
-  double current_A(double t) const { return i0_A + slope_A_per_s * (t - t0_s); }
+  double current_A(double t) const { return i0_A + slope_A_per_s * (t - t0_s); }  // or W for a power load
 };
 
 struct LoadProfile {
   enum class Interp { Step, Linear };
+  enum class Quantity { Current_A, Power_W };
+  Quantity quantity = Quantity::Current_A;
   std::vector<double> t_s;  // t_s[0] == 0, strictly increasing
   std::vector<double> i_A;
   Interp interp = Interp::Step;

@@ -5,7 +5,10 @@
 //
 //   I_i = (E_i - V_g) / R0_i,   V_g = (Σ E_i/R0_i - I_g) / Σ 1/R0_i
 //
-// which conserves Σ I_i = I_g exactly. Positive current discharges.
+// which conserves Σ I_i = I_g exactly. Seen from the terminals a group is a Thevenin
+// source E_g = Σ(E_i/R0_i)/Σ(1/R0_i) behind R_g = 1/Σ(1/R0_i), so the pack is
+// V = Σ E_g - I·(Σ R_g + R_interconnect): linear in I, which makes a constant-power
+// load solvable in closed form. Positive current discharges.
 #pragma once
 #include <vector>
 
@@ -18,13 +21,32 @@ struct Pack {
   int parallel = 1;
   std::vector<CellParams> cells;  // series·parallel entries
   CellLayout layout;              // shared by every cell (same number of RC pairs)
+  double interconnect_ohm = 0.0;  // total busbar/interconnect resistance in the current path
 
   int cellCount() const { return series * parallel; }
+  // Thevenin equivalent of group g: EMF (V) and resistance (Ω).
+  template <typename CellStates>
+  void groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm) const;
   // Splits group g's current. x_cell(i) points at cell i's electrical states.
   // Writes per-cell currents into i_cell[g·Mp … g·Mp+Mp-1]; returns V_g.
   template <typename CellStates>
   double splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell) const;
 };
+
+template <typename CellStates>
+void Pack::groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm) const {
+  const int first = g * parallel;
+  double sum_e_over_r = 0.0, sum_g = 0.0;
+  for (int k = 0; k < parallel; ++k) {
+    const CellParams& p = cells[first + k];
+    const double* x = x_cell(first + k);
+    const double gk = 1.0 / ecm::r0(p, x[CellLayout::soc]);
+    sum_e_over_r += ecm::emf(p, x) * gk;
+    sum_g += gk;
+  }
+  e_V = sum_e_over_r / sum_g;
+  r_ohm = 1.0 / sum_g;
+}
 
 template <typename CellStates>
 double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell) const {

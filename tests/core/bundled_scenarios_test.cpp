@@ -36,7 +36,7 @@ TEST(BundledScenarios, EcoMarathonDefaultRace) {
   EXPECT_LT(vmax, 60.0);
   EXPECT_GT(vmax, 40.0);
   EXPECT_GT(r.summary.energy_delivered_Wh, 50.0);
-  EXPECT_GT(r.summary.max_temp_C, s.ambient_C);
+  EXPECT_GT(r.summary.max_temp_C, s.ambient_C.at(0.0));
 }
 
 }  // namespace

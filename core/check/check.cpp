@@ -1,0 +1,148 @@
+#include "core/check/check.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "core/scenario/load_scenario.hpp"
+#include "core/scenario/scenario_error.hpp"
+#include "core/sim/simulation.hpp"
+
+namespace packsim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, f, a, b, c);
+  return buf;
+}
+
+bool startsWith(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
+
+// First event of `kind` at or after t whose detail starts with `prefix`; -1 if none.
+const Event* firstAfter(const RunResult& r, double t, const std::string& kind, const std::string& prefix = "") {
+  for (const Event& e : r.events)
+    if (e.time_s >= t - 1e-9 && e.kind == kind && startsWith(e.detail, prefix)) return &e;
+  return nullptr;
+}
+
+bool latchedAtTrip(const Summary& sm, const std::string& fault) {
+  size_t pos = 0;
+  while (pos <= sm.trip_reason.size()) {
+    const size_t end = sm.trip_reason.find(", ", pos);
+    if (sm.trip_reason.substr(pos, end - pos) == fault) return true;
+    if (end == std::string::npos) break;
+    pos = end + 2;
+  }
+  return false;
+}
+
+}  // namespace
+
+CheckOutcome judge(const Scenario& s, const RunResult& r) {
+  CheckOutcome o;
+  o.name = s.name;
+  const Expectations& e = s.expect;
+  const Summary& sm = r.summary;
+  auto fail = [&](const std::string& m) { o.failures.push_back(m); };
+
+  if (e.no_trip && *e.no_trip && sm.tripped)
+    fail("expected no trip, but the relay opened at " + fmt("%.3f s", sm.trip_time_s) + " (" + sm.trip_reason + ")");
+  if (e.no_trip && !*e.no_trip && !sm.tripped) fail("expected a trip, but the BMS never opened the relay on a fault");
+  if (e.trip_reason) {
+    if (!sm.tripped)
+      fail("expected a trip on " + *e.trip_reason + ", but there was none");
+    else if (!latchedAtTrip(sm, *e.trip_reason))
+      fail("expected the trip on " + *e.trip_reason + ", got " + sm.trip_reason);
+  }
+  if (e.trip_within_s) {
+    const auto [a, b] = *e.trip_within_s;
+    if (!sm.tripped || sm.trip_time_s < a - 1e-9 || sm.trip_time_s > b + 1e-9)
+      fail(fmt("expected a trip within [%.3f, %.3f] s, ", a, b) +
+           (sm.tripped ? fmt("got %.3f s", sm.trip_time_s) : std::string("got none")));
+  }
+  if (e.relay_open_by_s) {
+    bool open = false;
+    bool reclosed = false;
+    for (const Event& ev : r.events) {
+      if (ev.kind != "relay") continue;
+      if (ev.time_s <= *e.relay_open_by_s + 1e-9) open = ev.detail == "open";
+      else if (ev.detail == "close") reclosed = true;
+    }
+    if (!open) fail(fmt("expected the relay open by %.3f s", *e.relay_open_by_s));
+    if (reclosed) fail(fmt("the relay closed again after %.3f s", *e.relay_open_by_s));
+  }
+  for (const DetectionExpectation& d : e.detected) {
+    const Event* ev = firstAfter(r, 0.0, "fault_active", d.fault + ":");
+    if (!ev)
+      fail("expected " + d.fault + fmt(" within [%.3f, %.3f] s, never raised", d.from_s, d.to_s));
+    else if (ev->time_s < d.from_s - 1e-9 || ev->time_s > d.to_s + 1e-9)
+      fail("expected " + d.fault + fmt(" within [%.3f, %.3f] s, raised at %.3f s", d.from_s, d.to_s, ev->time_s));
+  }
+  if (e.min_cell_V_above && !(sm.min_cell_V > *e.min_cell_V_above))
+    fail(fmt("lowest cell %.4f V (cell ", sm.min_cell_V) + std::to_string(sm.min_cell) +
+         fmt(") is not above %.4f V", *e.min_cell_V_above));
+  if (e.max_temp_C_below && !(sm.max_temp_C < *e.max_temp_C_below))
+    fail(fmt("hottest cell %.2f C (cell ", sm.max_temp_C) + std::to_string(sm.hottest_cell) +
+         fmt(") is not below %.2f C", *e.max_temp_C_below));
+  if (e.energy_delivered_Wh_above && !(sm.energy_delivered_Wh > *e.energy_delivered_Wh_above))
+    fail(fmt("energy delivered %.2f Wh is not above %.2f Wh", sm.energy_delivered_Wh, *e.energy_delivered_Wh_above));
+
+  // Detection latency of every injected fault.
+  for (const Event& inj : r.events) {
+    if (inj.kind != "fault_injected") continue;
+    std::string line = inj.detail + fmt(" @%.3f s: ", inj.time_s);
+    const Event* det = firstAfter(r, inj.time_s, "fault_active");
+    const Event* open = firstAfter(r, inj.time_s, "relay", "open");
+    if (det) line += det->detail.substr(0, det->detail.find(':')) + fmt(" after %.0f ms", (det->time_s - inj.time_s) * 1e3);
+    else line += "no BMS fault";
+    line += open ? fmt(", relay open after %.0f ms", (open->time_s - inj.time_s) * 1e3) : ", relay not opened";
+    o.latencies.push_back(line);
+  }
+  o.verdict = sm.tripped ? fmt("trip at %.3f s (", sm.trip_time_s) + sm.trip_reason + ")" : "no trip";
+  if (!e.present) o.verdict += ", no expect block";
+  o.passed = o.failures.empty();
+  return o;
+}
+
+CheckOutcome checkScenarioFile(const std::string& path) {
+  CheckOutcome o;
+  o.name = path;
+  try {
+    const Scenario s = loadScenarioFile(path);
+    o = judge(s, runScenario(s));
+    o.name = path;
+  } catch (const std::exception& e) {
+    o.error = true;
+    o.passed = false;
+    o.error_message = e.what();
+  }
+  return o;
+}
+
+std::vector<std::string> collectScenarioFiles(const std::vector<std::string>& paths) {
+  std::vector<std::string> files;
+  for (const std::string& p : paths) {
+    if (!fs::is_directory(p)) {
+      files.push_back(p);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (auto it = fs::recursive_directory_iterator(p); it != fs::recursive_directory_iterator(); ++it) {
+      const std::string name = it->path().filename().string();
+      if (it->is_directory() && (name == "cells" || name == "profiles")) {
+        it.disable_recursion_pending();
+        continue;
+      }
+      if (it->is_regular_file() && it->path().extension() == ".yaml") found.push_back(it->path().string());
+    }
+    std::sort(found.begin(), found.end());
+    files.insert(files.end(), found.begin(), found.end());
+  }
+  return files;
+}
+
+}  // namespace packsim

@@ -1,0 +1,30 @@
+// Scenarios as regression tests: runs a scenario and judges its `expect:` block, and
+// measures the detection latency of every injected fault (first BMS fault after the
+// injection, and when the relay opened).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "core/scenario/scenario.hpp"
+#include "core/sim/result.hpp"
+
+namespace packsim {
+
+struct CheckOutcome {
+  std::string name;
+  bool passed = false;
+  bool error = false;                  // the scenario could not be loaded or run
+  std::string error_message;
+  std::vector<std::string> failures;   // one line per unmet expectation
+  std::vector<std::string> latencies;  // one line per injected fault
+  std::string verdict;                 // short summary of what the BMS did
+};
+
+CheckOutcome judge(const Scenario& s, const RunResult& r);
+// Loads, runs and judges one file; never throws (errors become error outcomes).
+CheckOutcome checkScenarioFile(const std::string& path);
+// Scenario files under the given files/directories (directories recursively, except
+// `cells/` and `profiles/` folders, which hold cell presets and load tables).
+std::vector<std::string> collectScenarioFiles(const std::vector<std::string>& paths);
+
+}  // namespace packsim

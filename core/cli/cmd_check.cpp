@@ -1,0 +1,32 @@
+#include <cstdio>
+#include <iostream>
+
+#include "core/check/check.hpp"
+#include "core/cli/commands.hpp"
+
+namespace packsim {
+
+int cmdCheck(const CheckOptions& o) {
+  const std::vector<std::string> files = collectScenarioFiles(o.paths.empty() ? std::vector<std::string>{bundledScenarioDir()} : o.paths);
+  if (files.empty()) {
+    std::cerr << "packsim: error: no scenario files found\n";
+    return 2;
+  }
+  int passed = 0, failed = 0;
+  for (const std::string& f : files) {
+    const CheckOutcome c = checkScenarioFile(f);
+    if (c.passed) ++passed; else ++failed;
+    std::cout << (c.error ? "ERROR " : c.passed ? "PASS  " : "FAIL  ") << f;
+    if (c.error) {
+      std::cout << "\n      " << c.error_message << "\n";
+      continue;
+    }
+    std::cout << "  -- " << c.verdict << "\n";
+    for (const auto& l : c.latencies) std::cout << "      injected " << l << "\n";
+    for (const auto& l : c.failures) std::cout << "      expected: " << l << "\n";
+  }
+  std::cout << passed << " passed, " << failed << " failed\n";
+  return failed == 0 ? 0 : 1;
+}
+
+}  // namespace packsim

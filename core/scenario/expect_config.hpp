@@ -1,0 +1,28 @@
+// `expect:` turns a scenario into an executable regression test: what the BMS must
+// (or must not) do and the limits the plant must stay within.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace packsim {
+
+struct DetectionExpectation {
+  std::string fault;  // BMS fault name (bms::faultName)
+  double from_s = 0.0;
+  double to_s = 0.0;
+};
+
+struct Expectations {
+  bool present = false;
+  std::optional<bool> no_trip;
+  std::optional<std::string> trip_reason;       // a fault among those latched at the trip
+  std::optional<std::pair<double, double>> trip_within_s;
+  std::optional<double> relay_open_by_s;        // the relay is open at and after t
+  std::vector<DetectionExpectation> detected;   // fault active within [from, to]
+  std::optional<double> min_cell_V_above;
+  std::optional<double> max_temp_C_below;
+  std::optional<double> energy_delivered_Wh_above;
+};
+
+}  // namespace packsim

@@ -1,0 +1,57 @@
+// Scripted fault injections (`faults:` in a scenario). Each starts at a time (`at_s`)
+// or when a condition on the plant's truth first holds (`when: "cell_min_V < 3.3"`),
+// and lasts `duration_s` or for the rest of the run. Indices are 0-based here; the
+// YAML counts cells, devices and thermistors from 1.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace packsim {
+
+enum class FaultKind {
+  Overcurrent,        // extra load current (A)
+  HotCell,            // heat source in one cell (W)
+  InternalShort,      // resistance across one cell (Ω)
+  EStop,              // E-switch pulled (internal or external)
+  DeviceSilent,       // monitor IC gives no reply
+  CrcErrors,          // monitor IC replies corrupted at a rate
+  DeviceStuck,        // monitor IC replies only 0x00 or only 0xFF
+  BrokenLink,         // every device above one goes silent
+  ChannelGain,        // cell input gain error
+  ChannelOffset,      // cell input offset (V)
+  ThermistorOpen,
+  ThermistorShort,
+  WeldedRelay,
+  CurrentSensorDrift, // current-sense offset (A)
+  ChargerOvervoltage, // charger output above its setpoint (V)
+};
+
+const char* faultKindName(FaultKind k);
+
+enum class Quantity { Time_s, CellMin_V, CellMax_V, SocMin, SocMax, SocMean, PackCurrent_A, PackVoltage_V, TempMax_C };
+
+struct Condition {
+  Quantity quantity = Quantity::Time_s;
+  bool greater = true;   // > / >=   versus  < / <=
+  bool inclusive = false;
+  double value = 0.0;
+  std::string text;      // as written, for events
+  bool holds(double x) const {
+    return greater ? (inclusive ? x >= value : x > value) : (inclusive ? x <= value : x < value);
+  }
+};
+
+struct FaultInjection {
+  FaultKind kind = FaultKind::Overcurrent;
+  bool hasCondition = false;
+  double at_s = 0.0;
+  Condition when;
+  double duration_s = 0.0;  // 0: permanent
+  int index = 0;            // cell, device or thermistor (0-based), by kind
+  double value = 0.0;       // A, W, Ω, rate, gain, V … by kind
+  bool external = false;    // E-switch: which one
+  int line = 0;             // where it was written (for reports)
+  std::string describe() const;
+};
+
+}  // namespace packsim

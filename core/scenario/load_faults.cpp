@@ -1,0 +1,240 @@
+// Reads `faults:` (scripted injections) and `expect:` (assertions) strictly.
+#include <bms/bms_faults.hpp>
+#include <cstdio>
+#include <sstream>
+
+#include "core/scenario/scenario_sections.hpp"
+
+namespace packsim {
+
+namespace {
+
+struct KindInfo {
+  const char* name;
+  FaultKind kind;
+};
+
+constexpr KindInfo kKinds[] = {
+    {"overcurrent", FaultKind::Overcurrent},
+    {"hot_cell", FaultKind::HotCell},
+    {"internal_short", FaultKind::InternalShort},
+    {"estop", FaultKind::EStop},
+    {"device_silent", FaultKind::DeviceSilent},
+    {"crc_errors", FaultKind::CrcErrors},
+    {"device_stuck", FaultKind::DeviceStuck},
+    {"broken_link", FaultKind::BrokenLink},
+    {"channel_gain", FaultKind::ChannelGain},
+    {"channel_offset", FaultKind::ChannelOffset},
+    {"thermistor_open", FaultKind::ThermistorOpen},
+    {"thermistor_short", FaultKind::ThermistorShort},
+    {"welded_relay", FaultKind::WeldedRelay},
+    {"current_sensor_drift", FaultKind::CurrentSensorDrift},
+    {"charger_overvoltage", FaultKind::ChargerOvervoltage},
+};
+
+struct QuantityInfo {
+  const char* name;
+  Quantity q;
+};
+
+constexpr QuantityInfo kQuantities[] = {
+    {"time_s", Quantity::Time_s},          {"cell_min_V", Quantity::CellMin_V},
+    {"cell_max_V", Quantity::CellMax_V},   {"soc_min", Quantity::SocMin},
+    {"soc_max", Quantity::SocMax},         {"soc", Quantity::SocMean},
+    {"pack_current_A", Quantity::PackCurrent_A}, {"pack_voltage_V", Quantity::PackVoltage_V},
+    {"temp_max_C", Quantity::TempMax_C},
+};
+
+// "<quantity> <op> <number>", op one of < <= > >=.
+Condition parseCondition(YamlMap& m, const std::string& key) {
+  const std::string text = m.string(key);
+  std::istringstream is(text);
+  std::string name, op, number;
+  is >> name >> op >> number;
+  std::string rest;
+  is >> rest;
+  std::vector<std::string> names;
+  for (const auto& q : kQuantities) names.emplace_back(q.name);
+  Condition c;
+  c.text = text;
+  bool found = false;
+  for (const auto& q : kQuantities)
+    if (name == q.name) {
+      c.quantity = q.q;
+      found = true;
+    }
+  if (!found) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    const std::string near = closestMatch(name, names);
+    throw m.errorAt(key, "unknown quantity '" + name + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?") +
+                             " (known: " + list + ")");
+  }
+  if (op != "<" && op != "<=" && op != ">" && op != ">=")
+    throw m.errorAt(key, "expected a comparison like \"cell_min_V < 3.3\" (operators < <= > >=), got '" + text + "'");
+  c.greater = op[0] == '>';
+  c.inclusive = op.size() == 2;
+  char* end = nullptr;
+  c.value = std::strtod(number.c_str(), &end);
+  if (number.empty() || *end != '\0' || !rest.empty())
+    throw m.errorAt(key, "expected a number after '" + op + "', got '" + number + rest + "'");
+  return c;
+}
+
+FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
+  FaultInjection inj;
+  inj.line = f.raw().Mark().line + 1;
+  std::vector<std::string> names;
+  for (const auto& k : kKinds) names.emplace_back(k.name);
+  inj.kind = [&] {
+    const std::string kind = f.choice("kind", f.string("kind"), names);
+    for (const auto& k : kKinds)
+      if (kind == k.name) return k.kind;
+    return FaultKind::Overcurrent;
+  }();
+  if (f.has("at_s") == f.has("when")) throw f.error("give exactly one of at_s or when");
+  if (f.has("at_s")) {
+    inj.at_s = f.number("at_s", Range::nonNegative());
+  } else {
+    inj.hasCondition = true;
+    inj.when = parseCondition(f, "when");
+  }
+  inj.duration_s = f.number("duration_s", 0.0, Range::positive());
+  auto cell = [&] { return static_cast<int>(f.integer("cell", 1, cells)) - 1; };
+  auto device = [&](const char* key) { return static_cast<int>(f.integer(key, 1, 64)) - 1; };
+  switch (inj.kind) {
+    case FaultKind::Overcurrent: inj.value = f.number("current_A", Range{}); break;
+    case FaultKind::HotCell:
+      inj.index = cell();
+      inj.value = f.number("heat_W", Range::closed(0.0, 10000.0));
+      break;
+    case FaultKind::InternalShort:
+      inj.index = cell();
+      inj.value = f.number("resistance_ohm", Range::positive());
+      break;
+    case FaultKind::EStop: inj.external = f.choice("switch", f.string("switch"), {"internal", "external"}) == "external"; break;
+    case FaultKind::DeviceSilent: inj.index = device("device"); break;
+    case FaultKind::CrcErrors:
+      inj.index = device("device");
+      inj.value = f.number("rate", Range::closed(0.0, 1.0));
+      break;
+    case FaultKind::DeviceStuck: {
+      inj.index = device("device");
+      const long b = f.integer("byte", 0, 255);
+      if (b != 0 && b != 255) throw f.errorAt("byte", "a stuck device reads 0 (0x00) or 255 (0xFF)");
+      inj.value = static_cast<double>(b);
+      break;
+    }
+    case FaultKind::BrokenLink: inj.index = device("above_device"); break;
+    case FaultKind::ChannelGain:
+      inj.index = cell();
+      inj.value = f.number("gain_error", Range::closed(-0.5, 0.5));
+      break;
+    case FaultKind::ChannelOffset:
+      inj.index = cell();
+      inj.value = f.number("offset_mV", Range::closed(-2000.0, 2000.0)) * 1e-3;
+      break;
+    case FaultKind::ThermistorOpen:
+    case FaultKind::ThermistorShort:
+      if (thermistors == 0) throw f.error("the scenario has no thermistors");
+      inj.index = static_cast<int>(f.integer("thermistor", 1, thermistors)) - 1;
+      break;
+    case FaultKind::WeldedRelay: break;
+    case FaultKind::CurrentSensorDrift: inj.value = f.number("offset_A", Range{}); break;
+    case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
+  }
+  f.finish();
+  return inj;
+}
+
+std::vector<std::string> bmsFaultNames() {
+  std::vector<std::string> n;
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i) n.emplace_back(bms::faultName(static_cast<bms::FaultId>(i)));
+  return n;
+}
+
+std::string checkFaultName(YamlMap& m, const std::string& key) {
+  const std::string name = m.string(key);
+  const std::vector<std::string> names = bmsFaultNames();
+  for (const auto& n : names)
+    if (n == name) return name;
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  const std::string near = closestMatch(name, names);
+  throw m.errorAt(key, "unknown BMS fault '" + name + "'" + (near.empty() ? "" : "; did you mean '" + near + "'?") +
+                           " (known: " + list + ")");
+}
+
+std::pair<double, double> window(YamlMap& m, const std::string& key) {
+  const std::vector<double> w = m.numbers(key, Range::nonNegative(), 2);
+  if (w.size() != 2 || !(w[1] >= w[0])) throw m.errorAt(key, "expected [from_s, to_s] with from_s <= to_s");
+  return {w[0], w[1]};
+}
+
+}  // namespace
+
+const char* faultKindName(FaultKind k) {
+  for (const auto& i : kKinds)
+    if (i.kind == k) return i.name;
+  return "unknown";
+}
+
+std::string FaultInjection::describe() const {
+  char buf[160];
+  switch (kind) {
+    case FaultKind::Overcurrent: std::snprintf(buf, sizeof buf, "overcurrent +%.3g A", value); break;
+    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell cell %d, %.3g W", index + 1, value); break;
+    case FaultKind::InternalShort: std::snprintf(buf, sizeof buf, "internal_short cell %d, %.3g ohm", index + 1, value); break;
+    case FaultKind::EStop: std::snprintf(buf, sizeof buf, "estop %s pulled", external ? "external" : "internal"); break;
+    case FaultKind::DeviceSilent: std::snprintf(buf, sizeof buf, "device_silent device %d", index + 1); break;
+    case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.3g", index + 1, value); break;
+    case FaultKind::DeviceStuck: std::snprintf(buf, sizeof buf, "device_stuck device %d, 0x%02X", index + 1, static_cast<int>(value)); break;
+    case FaultKind::BrokenLink: std::snprintf(buf, sizeof buf, "broken_link above device %d", index + 1); break;
+    case FaultKind::ChannelGain: std::snprintf(buf, sizeof buf, "channel_gain cell %d, %+.2f %%", index + 1, value * 100.0); break;
+    case FaultKind::ChannelOffset: std::snprintf(buf, sizeof buf, "channel_offset cell %d, %+.1f mV", index + 1, value * 1e3); break;
+    case FaultKind::ThermistorOpen: std::snprintf(buf, sizeof buf, "thermistor_open thermistor %d", index + 1); break;
+    case FaultKind::ThermistorShort: std::snprintf(buf, sizeof buf, "thermistor_short thermistor %d", index + 1); break;
+    case FaultKind::WeldedRelay: std::snprintf(buf, sizeof buf, "welded_relay"); break;
+    case FaultKind::CurrentSensorDrift: std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value); break;
+    case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
+  }
+  return buf;
+}
+
+std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors) {
+  std::vector<FaultInjection> out;
+  if (!root.has("faults")) return out;
+  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, cells, thermistors));
+  return out;
+}
+
+Expectations readExpect(std::optional<YamlMap> m) {
+  Expectations e;
+  if (!m) return e;
+  e.present = true;
+  if (m->has("no_trip")) e.no_trip = m->boolean("no_trip", false);
+  if (m->has("trip_reason")) e.trip_reason = checkFaultName(*m, "trip_reason");
+  if (m->has("trip_within_s")) e.trip_within_s = window(*m, "trip_within_s");
+  if (m->has("relay_open_by_s")) e.relay_open_by_s = m->number("relay_open_by_s", Range::nonNegative());
+  if (m->has("detected")) {
+    for (YamlMap d : m->mapList("detected")) {
+      DetectionExpectation x;
+      x.fault = checkFaultName(d, "fault");
+      const auto w = window(d, "within_s");
+      x.from_s = w.first;
+      x.to_s = w.second;
+      d.finish();
+      e.detected.push_back(x);
+    }
+  }
+  if (m->has("min_cell_V_above")) e.min_cell_V_above = m->number("min_cell_V_above", Range::closed(0.0, 10.0));
+  if (m->has("max_temp_C_below")) e.max_temp_C_below = m->number("max_temp_C_below", Range::closed(-60.0, 300.0));
+  if (m->has("energy_delivered_Wh_above"))
+    e.energy_delivered_Wh_above = m->number("energy_delivered_Wh_above", Range{});
+  if (e.no_trip && *e.no_trip && (e.trip_reason || e.trip_within_s))
+    throw m->error("no_trip: true contradicts trip_reason / trip_within_s");
+  m->finish();
+  return e;
+}
+
+}  // namespace packsim

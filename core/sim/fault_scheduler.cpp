@@ -1,0 +1,102 @@
+#include "core/sim/fault_scheduler.hpp"
+
+#include <algorithm>
+
+#include "core/sim/run_tracker.hpp"
+
+namespace packsim {
+
+FaultScheduler::FaultScheduler(const Scenario& s, const Plant& plant)
+    : s_(s), plant_(plant), state_(s.faults.size()) {}
+
+double FaultScheduler::quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const {
+  const int cells = plant_.pack().cellCount();
+  auto soc = [&](int c) { return plant_.cellStates(x, c)[CellLayout::soc]; };
+  switch (q) {
+    case Quantity::Time_s: return t;
+    case Quantity::CellMin_V: return *std::min_element(sig.cell_voltage_V.begin(), sig.cell_voltage_V.end());
+    case Quantity::CellMax_V: return *std::max_element(sig.cell_voltage_V.begin(), sig.cell_voltage_V.end());
+    case Quantity::SocMin: {
+      double v = soc(0);
+      for (int c = 1; c < cells; ++c) v = std::min(v, soc(c));
+      return v;
+    }
+    case Quantity::SocMax: {
+      double v = soc(0);
+      for (int c = 1; c < cells; ++c) v = std::max(v, soc(c));
+      return v;
+    }
+    case Quantity::SocMean: {
+      double v = 0.0;
+      for (int c = 0; c < cells; ++c) v += soc(c);
+      return v / cells;
+    }
+    case Quantity::PackCurrent_A: return sig.pack_current_A;
+    case Quantity::PackVoltage_V: return sig.pack_voltage_V;
+    case Quantity::TempMax_C: return *std::max_element(sig.node_temp_C.begin(), sig.node_temp_C.begin() + cells);
+  }
+  return 0.0;
+}
+
+bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults,
+                            RunTracker& tracker) {
+  bool changed = false;
+  for (size_t i = 0; i < s_.faults.size(); ++i) {
+    const FaultInjection& inj = s_.faults[i];
+    Track& tr = state_[i];
+    if (tr.done) continue;
+    if (!tr.active) {
+      const bool due = inj.hasCondition ? inj.when.holds(quantity(inj.when.quantity, t, x, sig)) : t >= inj.at_s - 1e-9;
+      if (!due) continue;
+      tr.active = true;
+      tr.start_s = t;
+      changed = true;
+      tracker.event(t, "fault_injected", inj.describe() + (inj.hasCondition ? " (when " + inj.when.text + ")" : ""));
+    } else if (inj.duration_s > 0.0 && t >= tr.start_s + inj.duration_s - 1e-9) {
+      tr.active = false;
+      tr.done = true;
+      changed = true;
+      tracker.event(t, "fault_removed", inj.describe());
+    }
+  }
+  if (!changed) return false;
+  const HardwareFaults before = faults;
+  apply(faults);
+  return faults.extra_load_A != before.extra_load_A || faults.cell_heat_W != before.cell_heat_W ||
+         faults.cell_leak_ohm != before.cell_leak_ohm || faults.relay_welded != before.relay_welded;
+}
+
+// Rebuilds the fault state from every active injection (so overlapping ones add up).
+void FaultScheduler::apply(HardwareFaults& f) const {
+  const size_t cells = static_cast<size_t>(plant_.pack().cellCount());
+  f = HardwareFaults{};
+  f.cell_channel.assign(static_cast<size_t>(plant_.pack().series), ChannelError{});
+  f.thermistor.assign(s_.hardware.thermistor_cells.size(), ThermistorFault::None);
+  f.device.assign(64, MonitorDeviceFault{});
+  f.cell_heat_W.assign(cells, 0.0);
+  f.cell_leak_ohm.assign(cells, 0.0);
+  for (size_t i = 0; i < s_.faults.size(); ++i) {
+    if (!state_[i].active) continue;
+    const FaultInjection& inj = s_.faults[i];
+    const size_t k = static_cast<size_t>(inj.index);
+    switch (inj.kind) {
+      case FaultKind::Overcurrent: f.extra_load_A += inj.value; break;
+      case FaultKind::HotCell: f.cell_heat_W[k] += inj.value; break;
+      case FaultKind::InternalShort: f.cell_leak_ohm[k] = inj.value; break;
+      case FaultKind::EStop: (inj.external ? f.estop_external_pulled : f.estop_internal_pulled) = true; break;
+      case FaultKind::DeviceSilent: f.device[k].silent = true; break;
+      case FaultKind::CrcErrors: f.device[k].crc_error_rate = inj.value; break;
+      case FaultKind::DeviceStuck: f.device[k].stuck_byte = static_cast<int>(inj.value); break;
+      case FaultKind::BrokenLink: f.broken_link_above = inj.index; break;
+      case FaultKind::ChannelGain: f.cell_channel[k].gain_error += inj.value; break;
+      case FaultKind::ChannelOffset: f.cell_channel[k].offset_V += inj.value; break;
+      case FaultKind::ThermistorOpen: f.thermistor[k] = ThermistorFault::Open; break;
+      case FaultKind::ThermistorShort: f.thermistor[k] = ThermistorFault::Short; break;
+      case FaultKind::WeldedRelay: f.relay_welded = true; break;
+      case FaultKind::CurrentSensorDrift: f.current_sensor_offset_A += inj.value; break;
+      case FaultKind::ChargerOvervoltage: f.charger_overvoltage_V += inj.value; break;
+    }
+  }
+}
+
+}  // namespace packsim

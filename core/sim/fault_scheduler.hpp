@@ -1,0 +1,42 @@
+// Plays a scenario's `faults:` script: at each tick it starts injections whose time
+// has come or whose condition on the plant's truth first holds, ends those whose
+// duration is over, and rewrites the HardwareFaults the models read. Every start and
+// end becomes an event.
+#pragma once
+#include <vector>
+
+#include "core/scenario/scenario.hpp"
+#include "core/sim/hardware_faults.hpp"
+#include "core/sim/plant.hpp"
+
+namespace packsim {
+
+class RunTracker;
+
+class FaultScheduler {
+ public:
+  FaultScheduler(const Scenario& s, const Plant& plant);
+
+  // Updates `faults` for tick t. Returns true when an input of the plant's ODE changed
+  // (extra load, cell heat, internal short), so the integrator must restart.
+  bool update(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults, RunTracker& tracker);
+  // Sizes and clears `faults` (everything healthy) before the first tick.
+  void reset(HardwareFaults& faults) const { apply(faults); }
+  // Start time of injection i, or -1 if it never started.
+  double startTime(size_t i) const { return state_[i].start_s; }
+
+ private:
+  double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;
+  void apply(HardwareFaults& f) const;
+
+  struct Track {
+    double start_s = -1.0;
+    bool active = false;
+    bool done = false;
+  };
+  const Scenario& s_;
+  const Plant& plant_;
+  std::vector<Track> state_;
+};
+
+}  // namespace packsim

@@ -1,0 +1,37 @@
+// Runtime fault state: what scripted injections (core/faults, issue 4) have switched on
+// at the current tick. The fault scheduler writes it; the sensor, monitor-IC, switching
+// hardware and load models read it every tick. All fields default to "healthy".
+#pragma once
+#include <vector>
+
+namespace packsim {
+
+enum class ThermistorFault { None, Open, Short };
+
+struct ChannelError {
+  double gain_error = 0.0;  // relative, added to the configured part error (0.055 = +5.5 %)
+  double offset_V = 0.0;
+};
+
+struct MonitorDeviceFault {
+  bool silent = false;          // no reply at all (timeout)
+  double crc_error_rate = 0.0;  // probability that a reply frame is corrupted
+  int stuck_byte = -1;          // -1 healthy; 0x00 or 0xFF: every byte of the reply reads so
+};
+
+struct HardwareFaults {
+  std::vector<ChannelError> cell_channel;    // per series position (monitor input)
+  std::vector<ThermistorFault> thermistor;   // per thermistor channel
+  std::vector<MonitorDeviceFault> device;    // per monitor IC, 0 = bottom of the stack
+  int broken_link_above = -1;                // >= 0: every device above this index is silent
+  bool relay_welded = false;
+  bool estop_internal_pulled = false;
+  bool estop_external_pulled = false;
+  double current_sensor_offset_A = 0.0;
+  double extra_load_A = 0.0;                 // over-current load step, added to the profile
+  double charger_overvoltage_V = 0.0;        // charger output above its setpoint
+  std::vector<double> cell_heat_W;           // extra heat per cell (hot cell)
+  std::vector<double> cell_leak_ohm;         // internal short per cell; 0 = none
+};
+
+}  // namespace packsim

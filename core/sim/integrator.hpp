@@ -1,0 +1,36 @@
+// What the co-simulation loop needs from an integrator of the plant ODE (plant states
+// followed by the energy quadratures). Two implementations:
+//
+//   CvodeIntegrator  (core/sim/cvode_integrator.hpp)  the reference: adaptive BDF,
+//                    error-controlled by run.rtol and the absolute tolerances
+//   FastIntegrator   (core/sim/fast_integrator.hpp)   fixed sub-steps per tick:
+//                    exponential RC update, explicit SOC / temperature / quadratures
+//
+// The loop owns time: reset() at every discontinuity (an input of the ODE jumps),
+// advance(t_out, t_stop) between them. Inputs are held fixed between two resets.
+#pragma once
+#include <memory>
+
+namespace packsim {
+
+struct SolverStats {
+  long steps = 0;      // internal steps (CVODE) or sub-steps (fast)
+  long rhs_evals = 0;  // right-hand-side evaluations
+  long jac_evals = 0;  // Jacobian evaluations (CVODE only)
+  long reinits = 0;    // restarts at discontinuities
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  // (Re)starts the integration at t from x (length of the ODE).
+  virtual void reset(double t, const double* x) = 0;
+  // Integrates to t_out without stepping past t_stop (t_stop >= t_out).
+  virtual void advance(double t_out, double t_stop) = 0;
+  virtual const double* state() const = 0;
+  virtual double time() const = 0;
+  virtual SolverStats stats() const = 0;
+  virtual const char* name() const = 0;  // "cvode" or "fast", as in run.solver
+};
+
+}  // namespace packsim

@@ -1,0 +1,43 @@
+#include "models/pack/cell_spread.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "models/sensors/adc.hpp"
+
+namespace packsim {
+
+uint64_t deriveSeed(uint64_t seed, uint64_t stream) {
+  uint64_t z = seed + 0x9E3779B97F4A7C15ull * (stream + 1);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+
+PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, const CellSpread& spread,
+                    const std::vector<CellOverride>& overrides, uint64_t seed) {
+  Rng rng(deriveSeed(seed, 1));
+  auto z = [&rng] { return std::clamp(standardNormal(rng), -3.0, 3.0); };
+  PackCells pc;
+  pc.params.assign(static_cast<size_t>(count), nominal);
+  pc.initial_soc.assign(static_cast<size_t>(count), nominal_soc);
+  for (int c = 0; c < count; ++c) {
+    CellParams& p = pc.params[static_cast<size_t>(c)];
+    // Always draw all four so one cell's values do not depend on which spreads are on.
+    const double z1 = z(), z2 = z(), z3 = z(), z4 = z();
+    p.capacity_Ah = nominal.capacity_Ah * (1.0 + spread.capacity_rel_sd * z1);
+    p.r0_scale = 1.0 + spread.r0_rel_sd * z2;
+    pc.initial_soc[static_cast<size_t>(c)] = std::clamp(nominal_soc + spread.initial_soc_sd * z3, 0.0, 1.0);
+    p.self_discharge_A = nominal.self_discharge_A + std::fabs(spread.self_discharge_A_sd * z4);
+  }
+  for (const CellOverride& o : overrides) {
+    CellParams& p = pc.params[static_cast<size_t>(o.cell)];
+    if (o.capacity_Ah) p.capacity_Ah = *o.capacity_Ah;
+    if (o.r0_scale) p.r0_scale = *o.r0_scale;
+    if (o.initial_soc) pc.initial_soc[static_cast<size_t>(o.cell)] = *o.initial_soc;
+    if (o.self_discharge_A) p.self_discharge_A = *o.self_discharge_A;
+  }
+  return pc;
+}
+
+}  // namespace packsim
