@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 
+#include "bms_afe.hpp"
 #include "bms_faults.hpp"
 #include "bms_limits.hpp"
 
@@ -15,6 +16,20 @@ enum class Quantity : uint8_t {
   DischargeCurrent_mA,  // +I (positive current discharges)
   ChargeCurrent_mA,     // -I
   MaxTemp_dC,
+  MaxTempCharging_dC,   // max temperature while the charger is connected, else "cold"
+  MinTemp_dC,
+  MinTempCharging_dC,   // min temperature while the charger is connected, else "warm"
+  MaxDie_dC,            // hottest monitor IC die
+  CommBadFrames,        // worst consecutive-bad-reply count over the devices
+  CellSumError_mV,      // worst |stack channel - sum of cells| per cell, over devices
+  InvalidThermistors,   // thermistor channels at a rail
+  CurrentCodeAtRail,    // 1 while the current-sense code sits at either rail
+  EStopPulled,          // 1 while an E-switch is pulled
+  MonitorFaultLine,     // 1 while a monitor IC reports its own latched fault
+  RelayStuckClosed,     // 1 while the relay, commanded open for the settle time, still
+                        // carries current or its auxiliary contact still reads closed
+  PrechargeFailed,      // 1 once every precharge attempt timed out
+  CellSpread_mV,        // max - min cell
   Count
 };
 constexpr uint8_t kQuantityCount = static_cast<uint8_t>(Quantity::Count);
@@ -45,6 +60,34 @@ struct SensorScaling {
   float thermPullup_ohm;       // divider: reference - pullup - NTC - ground
   float thermR25_ohm;
   float thermBeta_K;
+  int32_t currentCodeMax;      // full-scale code of the current-sense ADC
+  float busLsb_mV;             // load-bus voltage per divider-ADC code
+};
+
+// Contactor + precharge sequencing (foxBMS-like): close precharge, wait until the bus
+// is within `doneDelta_mV` of the pack and |I| < `doneCurrent_mA`, close the main
+// relay, keep precharge closed `overlap_ms` longer, then open it. An attempt that has
+// not finished after `timeout_ms` opens precharge for `pause_ms` and is retried up
+// to `retries` times; then PrechargeFailed latches.
+struct PrechargeConfig {
+  bool enabled;
+  uint32_t doneDelta_mV;
+  int32_t doneCurrent_mA;
+  uint32_t timeout_ms;
+  uint32_t pause_ms;
+  uint32_t overlap_ms;
+  uint8_t retries;
+};
+
+// SOC estimate: coulomb counting, anchored to the OCV table at start-up and again
+// after |I| < restCurrent_mA for rest_ms. The table is OCV (mean cell) at SOC
+// 0, 1/(n-1), … 1, increasing.
+struct SocConfig {
+  float capacity_mAh;
+  uint16_t ocv_mV[kMaxOcvPoints];
+  uint8_t ocvPoints;
+  int32_t restCurrent_mA;
+  uint32_t rest_ms;
 };
 
 struct Config {
@@ -52,10 +95,21 @@ struct Config {
   uint8_t thermistorCount;
   uint32_t tickPeriod_ms;
   SensorScaling scaling;
+  AfeConfig afe;
+  PrechargeConfig precharge;
+  SocConfig soc;
+  uint32_t weldSettle_ms;       // relay release time allowed before current means "welded"
+  int32_t weldCurrent_mA;       // current that counts as "still flowing" after the release time
+  bool relayAuxFeedback;        // the relay's auxiliary contact is wired (a closed aux = welded)
+  uint16_t balanceTime_s;       // balancing timer written with a mask (1 s … 63 min)
   ProtectionRule rules[kFaultCount];
 };
 
-// Defaults for a LiPo/NMC pack; callers overwrite thresholds from the scenario.
+// Defaults for a LiPo/NMC pack with a BQ76PL536A-class stack of up to 6 cells per
+// device; callers overwrite thresholds and hardware from the scenario.
 Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount);
+
+// Thermistor channels read by the monitor ICs (the rest are on the MCU's ADC).
+uint8_t afeThermistorChannels(const Config& c);
 
 }  // namespace bms

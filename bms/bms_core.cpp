@@ -1,7 +1,5 @@
 #include "bms_core.hpp"
 
-#include "bms_measure.hpp"
-
 namespace bms {
 
 void init(CoreState& s) {
@@ -10,6 +8,14 @@ void init(CoreState& s) {
   s.firstTick = true;
   protectionReset(s.protection);
   for (uint8_t q = 0; q < kQuantityCount; ++q) s.quantity[q] = 0;
+  acquisitionReset(s.acq);
+  socReset(s.soc);
+  s.precharge = PrechargeState{PrechargePhase::Idle, 0, 0, false};
+  s.relayCmd = false;
+  s.prechargeCmd = false;
+  s.dischargeFetCmd = false;
+  s.chargeFetCmd = false;
+  s.relayOpenSince_ms = 0;
 }
 
 const char* stateName(State st) {
@@ -18,47 +24,148 @@ const char* stateName(State st) {
     case State::Standby: return "standby";
     case State::Normal: return "normal";
     case State::Error: return "error";
+    case State::Precharge: return "precharge";
+    case State::Charge: return "charge";
   }
   return "unknown";
 }
 
 namespace {
 
-// Init: one complete measurement must have been taken before anything may close.
-State onInit(const Config&, const CoreState& s, const Inputs&) {
-  return s.firstTick ? State::Init : State::Standby;
+int32_t magnitude(int32_t v) { return v < 0 ? -v : v; }
+bool eSwitchPulled(const Inputs& in) { return in.eSwitchInternal || in.eSwitchExternal; }
+bool fatal(const Config& cfg, const CoreState& s) { return fatalFaults(cfg, s.protection) != 0; }
+
+// Where a request leads once the pack may be connected.
+State connectedState(const Inputs& in) { return in.runRequest ? State::Normal : State::Charge; }
+
+void startPrecharge(PrechargeState& p, uint32_t now_ms) {
+  p.phase = PrechargePhase::Charging;
+  p.phaseSince_ms = now_ms;
+  p.attempts = 1;
 }
 
-State onStandby(const Config& cfg, const CoreState& s, const Inputs& in) {
-  if (fatalFaults(cfg, s.protection) != 0) return State::Error;
-  if (in.runRequest && !in.eStopPulled) return State::Normal;
-  return State::Standby;
+// Init: every monitor IC must have answered once before anything may close.
+State onInit(const Config& cfg, const CoreState& s, const Inputs&) {
+  if (fatal(cfg, s)) return State::Error;
+  return (!s.firstTick && acquisitionComplete(cfg, s.acq)) ? State::Standby : State::Init;
+}
+
+State onStandby(const Config& cfg, CoreState& s, const Inputs& in) {
+  if (fatal(cfg, s)) return State::Error;
+  if (eSwitchPulled(in) || !(in.runRequest || in.chargerPresent)) return State::Standby;
+  if (!cfg.precharge.enabled) return connectedState(in);
+  startPrecharge(s.precharge, in.now_ms);
+  return State::Precharge;
+}
+
+// Precharge: charge the load capacitance through the resistor, then close the main
+// relay while precharge still holds, then open precharge.
+State onPrecharge(const Config& cfg, CoreState& s, const Inputs& in, const Telemetry& tm) {
+  PrechargeState& p = s.precharge;
+  if (fatal(cfg, s)) {
+    p.phase = p.failed ? PrechargePhase::Failed : PrechargePhase::Idle;
+    return State::Error;
+  }
+  if (eSwitchPulled(in) || !(in.runRequest || in.chargerPresent)) {
+    p.phase = PrechargePhase::Idle;
+    return State::Standby;
+  }
+  const uint32_t inPhase_ms = in.now_ms - p.phaseSince_ms;
+  switch (p.phase) {
+    case PrechargePhase::Charging: {
+      const uint32_t pack = tm.packVoltage_mV, bus = tm.busVoltage_mV;
+      const uint32_t gap_mV = pack > bus ? pack - bus : bus - pack;
+      // The first tick after closing has not seen the path yet: wait one period.
+      const bool settled = inPhase_ms >= cfg.tickPeriod_ms;
+      if (settled && gap_mV < cfg.precharge.doneDelta_mV && magnitude(tm.packCurrent_mA) < cfg.precharge.doneCurrent_mA) {
+        p.phase = PrechargePhase::Closing;
+        p.phaseSince_ms = in.now_ms;
+      } else if (inPhase_ms >= cfg.precharge.timeout_ms) {
+        if (p.attempts > cfg.precharge.retries) {
+          p.phase = PrechargePhase::Failed;
+          p.failed = true;
+        } else {
+          p.phase = PrechargePhase::Pause;
+          p.phaseSince_ms = in.now_ms;
+        }
+      }
+      return State::Precharge;
+    }
+    case PrechargePhase::Pause:
+      // Guard against rapid cycling: the resistor cools during the pause.
+      if (inPhase_ms >= cfg.precharge.pause_ms) {
+        p.phase = PrechargePhase::Charging;
+        p.phaseSince_ms = in.now_ms;
+        ++p.attempts;
+      }
+      return State::Precharge;
+    case PrechargePhase::Closing:
+      if (inPhase_ms >= cfg.precharge.overlap_ms) {
+        p.phase = PrechargePhase::Done;
+        return connectedState(in);
+      }
+      return State::Precharge;
+    case PrechargePhase::Idle:
+    case PrechargePhase::Done:
+    case PrechargePhase::Failed:
+      break;
+  }
+  return State::Precharge;
 }
 
 State onNormal(const Config& cfg, const CoreState& s, const Inputs& in) {
-  if (fatalFaults(cfg, s.protection) != 0) return State::Error;
-  if (!in.runRequest || in.eStopPulled) return State::Standby;
+  if (fatal(cfg, s)) return State::Error;
+  if (eSwitchPulled(in)) return State::Standby;
+  if (!in.runRequest) return in.chargerPresent ? State::Charge : State::Standby;
   return State::Normal;
+}
+
+State onCharge(const Config& cfg, const CoreState& s, const Inputs& in) {
+  if (fatal(cfg, s)) return State::Error;
+  if (eSwitchPulled(in) || !in.chargerPresent) return State::Standby;
+  if (in.runRequest) return State::Normal;
+  return State::Charge;
 }
 
 // Error: leave only when no fatal fault is present any more *and* a person asks.
 State onError(const Config& cfg, CoreState& s, const Inputs& in) {
   if (!in.resetRequest) return State::Error;
   clearLatched(s.protection);
-  return fatalFaults(cfg, s.protection) == 0 ? State::Standby : State::Error;
+  s.precharge.failed = false;
+  s.precharge.phase = PrechargePhase::Idle;
+  return fatal(cfg, s) ? State::Error : State::Standby;
+}
+
+// Quantities that depend on the core's own history rather than on a measurement.
+void historyQuantities(const Config& cfg, const CoreState& s, const Inputs& in, const Telemetry& tm,
+                       int32_t quantity[kQuantityCount]) {
+  const bool openLongEnough =
+      !s.relayCmd && !s.prechargeCmd && in.now_ms - s.relayOpenSince_ms >= cfg.weldSettle_ms && !s.firstTick;
+  const bool flowing = magnitude(tm.packCurrent_mA) > cfg.weldCurrent_mA;
+  const bool auxClosed = cfg.relayAuxFeedback && in.relayAux;
+  quantity[static_cast<uint8_t>(Quantity::RelayStuckClosed)] = (openLongEnough && (flowing || auxClosed)) ? 1 : 0;
+  quantity[static_cast<uint8_t>(Quantity::PrechargeFailed)] = s.precharge.failed ? 1 : 0;
 }
 
 }  // namespace
 
 void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
-  measure(cfg, in, out.telemetry, s.quantity);
+  Telemetry& tm = out.telemetry;
+  measure(cfg, in, s.acq, tm, s.quantity);
+  const bool complete = acquisitionComplete(cfg, s.acq);
+  const uint16_t meanCell = cfg.cellCount > 0 ? static_cast<uint16_t>(tm.packVoltage_mV / cfg.cellCount) : 0;
+  socUpdate(cfg.soc, s.soc, complete, meanCell, tm.packCurrent_mA, in.now_ms);
+  historyQuantities(cfg, s, in, tm, s.quantity);
   protectionUpdate(cfg, s.quantity, in.now_ms, s.protection);
 
   State next = s.state;
   switch (s.state) {
     case State::Init: next = onInit(cfg, s, in); break;
     case State::Standby: next = onStandby(cfg, s, in); break;
+    case State::Precharge: next = onPrecharge(cfg, s, in, tm); break;
     case State::Normal: next = onNormal(cfg, s, in); break;
+    case State::Charge: next = onCharge(cfg, s, in); break;
     case State::Error: next = onError(cfg, s, in); break;
   }
   if (next != s.state) {
@@ -67,14 +174,51 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   }
   s.firstTick = false;
 
+  // Commands by state, then whatever the fault table keeps open.
+  const PrechargePhase ph = s.precharge.phase;
+  bool relay = false, precharge = false, dsg = false, chg = false;
+  switch (s.state) {
+    case State::Precharge:
+      precharge = ph == PrechargePhase::Charging || ph == PrechargePhase::Closing;
+      relay = ph == PrechargePhase::Closing;
+      dsg = chg = true;  // the precharge path runs through the FETs
+      break;
+    case State::Normal: relay = dsg = chg = true; break;
+    case State::Charge: relay = chg = true; break;
+    case State::Error:
+      // An error never closes anything; FETs stay as they were unless a fault opens
+      // them (a relay-only fault leaves them closed, so a welded relay shows as current).
+      dsg = s.dischargeFetCmd;
+      chg = s.chargeFetCmd;
+      break;
+    case State::Init:
+    case State::Standby: break;
+  }
   const uint8_t blocked = openedActuators(cfg, s.protection);
-  const bool closed = s.state == State::Normal && !in.eStopPulled;
-  out.relayClose = closed && (blocked & kActRelay) == 0;
-  out.dischargeFetOn = closed && (blocked & kActDischargeFet) == 0;
-  out.chargeFetOn = closed && (blocked & kActChargeFet) == 0;
+  const bool anyFatal = fatal(cfg, s);
+  const bool pulled = eSwitchPulled(in);
+  out.relayClose = relay && !anyFatal && !pulled && (blocked & kActRelay) == 0;
+  out.prechargeClose = precharge && !anyFatal && !pulled && (blocked & kActRelay) == 0;
+  out.dischargeFetOn = dsg && !pulled && (blocked & kActDischargeFet) == 0;
+  out.chargeFetOn = chg && !pulled && (blocked & kActChargeFet) == 0;
+  if (s.relayCmd && !out.relayClose) s.relayOpenSince_ms = in.now_ms;
+  if (s.prechargeCmd && !out.prechargeClose && !out.relayClose) s.relayOpenSince_ms = in.now_ms;
+  s.relayCmd = out.relayClose;
+  s.prechargeCmd = out.prechargeClose;
+  s.dischargeFetCmd = out.dischargeFetOn;
+  s.chargeFetCmd = out.chargeFetOn;
+
+  out.afeClearFaults = in.resetRequest;
+  out.afeFetEnable = true;
+  for (uint8_t w = 0; w < kBalanceWords; ++w) out.balanceMask[w] = 0;
+  out.balanceTime_s = cfg.balanceTime_s;
   out.state = s.state;
   out.faultActive = s.protection.active;
   out.faultLatched = s.protection.latched;
+  const float soc = socValue(cfg.soc, s.soc);
+  tm.soc_permille = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
+  tm.prechargePhase = static_cast<uint8_t>(s.precharge.phase);
+  tm.prechargeAttempts = s.precharge.attempts;
 }
 
 }  // namespace bms

@@ -1,10 +1,14 @@
 // The BMS control core: one pure step per tick over fixed-size structs.
 //
 //   step(cfg, state, in, out):
-//     1. measure: codes -> mV / mA / deci-degC, min/max quantities
-//     2. protections: debounce every rule of the table, latch fatal ones
-//     3. state machine: one function per state decides the next state
-//     4. actuators: relay and FET commands follow the state and the fault table
+//     1. acquire: parse every monitor-IC reply (length, header, CRC), count bad
+//        replies per device; codes -> mV / mA / deci-degC; min/max quantities
+//     2. estimate: SOC by coulomb counting, re-anchored to OCV after rest
+//     3. protections: debounce every rule of the table, latch fatal ones
+//     4. state machine: one function per state decides the next state
+//        init -> standby -> precharge -> normal | charge;  any fatal fault -> error
+//     5. actuators: relay, precharge and FET commands follow the state and the table;
+//        the relay never closes while a fatal fault is present or latched
 //
 // No heap, no exceptions, no I/O, no globals: the same sources run on the
 // microcontroller and in the simulator. Commands take effect from the next tick.
@@ -13,9 +17,18 @@
 
 #include "bms_config.hpp"
 #include "bms_hal.hpp"
+#include "bms_measure.hpp"
 #include "bms_protect.hpp"
+#include "bms_soc.hpp"
 
 namespace bms {
+
+struct PrechargeState {
+  PrechargePhase phase;
+  uint32_t phaseSince_ms;
+  uint8_t attempts;   // attempts started (1 = the first)
+  bool failed;        // every attempt timed out; cleared by an operator reset
+};
 
 struct CoreState {
   State state;
@@ -23,6 +36,15 @@ struct CoreState {
   bool firstTick;
   ProtectionState protection;
   int32_t quantity[kQuantityCount];
+  AcquisitionState acq;
+  SocState soc;
+  PrechargeState precharge;
+  // Commands of the previous tick (what the hardware is doing now).
+  bool relayCmd;
+  bool prechargeCmd;
+  bool dischargeFetCmd;
+  bool chargeFetCmd;
+  uint32_t relayOpenSince_ms;
 };
 
 void init(CoreState& s);

@@ -1,39 +1,64 @@
 // The boundary between the BMS core and the hardware (or the simulator). Plain
-// fixed-size structs: what a microcontroller reads from its monitor ICs and GPIO, and
-// what it drives back. Nothing here points into simulator memory.
+// fixed-size structs: what a microcontroller reads from its monitor ICs, ADC and GPIO,
+// and what it drives back. Nothing here points into simulator memory.
 #pragma once
 #include <cstdint>
 
+#include "bms_afe.hpp"
 #include "bms_faults.hpp"
 #include "bms_limits.hpp"
 
 namespace bms {
 
 struct Inputs {
-  uint32_t now_ms;                          // millisecond tick counter (wraps after 49 days)
-  uint16_t cellCode[kMaxCells];             // raw monitor-IC cell ADC codes, index = series position
-  uint16_t thermistorCode[kMaxThermistors]; // raw ratiometric thermistor ADC codes
-  int32_t currentCode;                      // current-sense ADC code (signed converter)
-  bool eStopPulled;                         // any E-switch input asserted (GPIO)
-  bool runRequest;                          // key / drive-enable input
-  bool resetRequest;                        // operator reset of latched faults
+  uint32_t now_ms;                           // millisecond tick counter (wraps after 49 days)
+  AfeFrame afe[kMaxDevices];                 // this tick's reply of each monitor IC, bottom first
+  uint16_t mcuThermistorCode[kMaxThermistors];  // thermistors on the MCU's own ADC (after the AFE ones)
+  int32_t currentCode;                       // current-sense ADC code (shunt + amplifier)
+  uint16_t busVoltageCode;                   // ADC code of the load-bus divider (precharge)
+  bool eSwitchInternal;                      // latching E-switch inside the vehicle (GPIO, true = pulled)
+  bool eSwitchExternal;                      // latching E-switch outside the vehicle
+  bool relayAux;                             // main relay auxiliary contact: true = closed
+  bool monitorFaultPin;                      // FAULT / ALERT line of the monitor stack, asserted
+  bool chargerPresent;                       // charger connected (GPIO)
+  bool runRequest;                           // key / drive-enable input
+  bool resetRequest;                         // operator reset of latched faults
 };
 
-enum class State : uint8_t { Init = 0, Standby, Normal, Error };
+// Old states keep their numbers (result files); precharge and charge were added.
+enum class State : uint8_t { Init = 0, Standby = 1, Normal = 2, Error = 3, Precharge = 4, Charge = 5 };
+
+enum class PrechargePhase : uint8_t { Idle = 0, Charging = 1, Closing = 2, Pause = 3, Done = 4, Failed = 5 };
 
 struct Telemetry {
   uint16_t cellVoltage_mV[kMaxCells];
   int16_t temperature_dC[kMaxThermistors];
   int32_t packCurrent_mA;
+  uint32_t packVoltage_mV;   // sum of the cells
+  uint32_t busVoltage_mV;
   uint16_t minCell_mV;
   uint16_t maxCell_mV;
   int16_t maxTemp_dC;
+  int16_t minTemp_dC;
+  int16_t maxDie_dC;
+  uint16_t soc_permille;     // state-of-charge estimate, 0..1000
+  uint8_t commBad[kMaxDevices];  // consecutive bad replies per device (saturating)
+  uint8_t lastResult[kMaxDevices];  // FrameResult of this tick per device
+  uint64_t devicesLost;      // bit per device (first 64): comm-loss count reached
+  uint8_t prechargePhase;    // PrechargePhase
+  uint8_t prechargeAttempts;
+  bool monitorFault;         // any device reports its own protection latched, or the FAULT line
 };
 
 struct Outputs {
   bool relayClose;          // normally-open main relay: true = energise (close)
+  bool prechargeClose;      // precharge path (relay or FET)
   bool dischargeFetOn;
   bool chargeFetOn;
+  bool afeClearFaults;      // write "clear" to every monitor IC's latched fault/alert flags
+  bool afeFetEnable;        // BQ76952: allow the device to drive its FETs (leave test mode)
+  uint32_t balanceMask[kBalanceWords];  // bit per cell: balancing switch on
+  uint16_t balanceTime_s;   // balancing timer to write with the mask (device enforces it)
   State state;
   uint32_t faultActive;     // bit per FaultId: condition present and debounced
   uint32_t faultLatched;    // bit per FaultId: latched until operator reset

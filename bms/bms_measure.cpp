@@ -28,31 +28,143 @@ int16_t thermistorCodeToDeciCelsius(const SensorScaling& s, uint16_t code) {
   return static_cast<int16_t>(dC >= 0.0f ? dC + 0.5f : dC - 0.5f);
 }
 
-void measure(const Config& cfg, const Inputs& in, Telemetry& tm, int32_t quantity[kQuantityCount]) {
+void acquisitionReset(AcquisitionState& a) {
+  for (uint8_t d = 0; d < kMaxDevices; ++d) {
+    a.seen[d] = false;
+    a.bad[d] = 0;
+    a.freshFault[d] = false;
+  }
+}
+
+bool acquisitionComplete(const Config& cfg, const AcquisitionState& a) {
+  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d)
+    if (!a.seen[d]) return false;
+  return true;
+}
+
+namespace {
+
+// A device-converted temperature (BQ76952) far outside any battery's range is a
+// sensor at a rail.
+int16_t checkedDeviceTemp(int16_t dC) { return (dC < -500 || dC > 2000) ? kTempInvalid_dC : dC; }
+
+}  // namespace
+
+void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
+             int32_t quantity[kQuantityCount]) {
+  // 1. Driver: every device's reply.
+  uint8_t worstBad = 0;
+  uint32_t worstSumError_mV = 0;
+  int16_t maxDie = INT16_MIN;
+  bool deviceFault = false;
+  tm.devicesLost = 0;
+  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
+    const FrameResult res = afeParse(cfg.afe, cfg.cellCount, d, cfg.scaling.cellLsb_uV, in.afe[d], a.device[d]);
+    tm.lastResult[d] = static_cast<uint8_t>(res);
+    a.freshFault[d] = false;
+    if (res == FrameResult::Ok) {
+      a.seen[d] = true;
+      a.bad[d] = 0;
+      a.freshFault[d] = a.device[d].fault;
+    } else if (a.bad[d] < 255) {
+      ++a.bad[d];
+    }
+    tm.commBad[d] = a.bad[d];
+    if (a.bad[d] > worstBad) worstBad = a.bad[d];
+    if (a.bad[d] >= cfg.afe.commLossCount && d < 64) tm.devicesLost |= uint64_t{1} << d;
+    deviceFault = deviceFault || a.freshFault[d];
+    if (!a.seen[d]) continue;
+    const DeviceReading& r = a.device[d];
+    const uint8_t cells = afeCellsOf(cfg.afe, cfg.cellCount, d);
+    uint32_t sum_mV = 0;
+    for (uint8_t c = 0; c < cells; ++c) sum_mV += r.cell_mV[c];
+    const uint32_t diff = sum_mV > r.stack_mV ? sum_mV - r.stack_mV : r.stack_mV - sum_mV;
+    const uint32_t perCell = cells > 0 ? diff / cells : 0;
+    if (perCell > worstSumError_mV) worstSumError_mV = perCell;
+    if (r.die_dC > maxDie) maxDie = r.die_dC;
+  }
+
+  // 2. Cells, from each device's last good reading.
   uint16_t minMv = UINT16_MAX;
   uint16_t maxMv = 0;
-  for (uint16_t c = 0; c < cfg.cellCount; ++c) {
-    const uint16_t mv = cellCodeToMillivolts(cfg.scaling, in.cellCode[c]);
-    tm.cellVoltage_mV[c] = mv;
-    if (mv < minMv) minMv = mv;
-    if (mv > maxMv) maxMv = mv;
+  uint32_t sumMv = 0;
+  uint16_t counted = 0;
+  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
+    const uint8_t cells = afeCellsOf(cfg.afe, cfg.cellCount, d);
+    for (uint8_t c = 0; c < cells; ++c) {
+      const uint16_t idx = static_cast<uint16_t>(d * cfg.afe.cellsPerDevice + c);
+      const uint16_t mv = a.seen[d] ? a.device[d].cell_mV[c] : 0;
+      tm.cellVoltage_mV[idx] = mv;
+      if (!a.seen[d]) continue;
+      if (mv < minMv) minMv = mv;
+      if (mv > maxMv) maxMv = mv;
+      sumMv += mv;
+      ++counted;
+    }
   }
+
+  // 3. Temperatures: the first channels sit on the monitor ICs, the rest on the MCU.
+  const uint8_t afeTherm = afeThermistorChannels(cfg);
   int16_t maxT = INT16_MIN;
+  int16_t minT = INT16_MAX;
+  uint8_t invalid = 0;
   for (uint8_t k = 0; k < cfg.thermistorCount; ++k) {
-    const int16_t dC = thermistorCodeToDeciCelsius(cfg.scaling, in.thermistorCode[k]);
+    int16_t dC = kTempInvalid_dC;
+    if (k < afeTherm) {
+      const uint8_t d = static_cast<uint8_t>(k / cfg.afe.thermistorsPerDevice);
+      const uint8_t i = static_cast<uint8_t>(k % cfg.afe.thermistorsPerDevice);
+      if (!a.seen[d]) {
+        tm.temperature_dC[k] = kTempInvalid_dC;
+        continue;  // no data yet is a comm problem, not a sensor fault
+      }
+      dC = cfg.afe.model == AfeModel::Bq76952 ? checkedDeviceTemp(a.device[d].temp_dC[i])
+                                              : thermistorCodeToDeciCelsius(cfg.scaling, a.device[d].thermCode[i]);
+    } else {
+      dC = thermistorCodeToDeciCelsius(cfg.scaling, in.mcuThermistorCode[k - afeTherm]);
+    }
     tm.temperature_dC[k] = dC;
-    if (dC != kTempInvalid_dC && dC > maxT) maxT = dC;
+    if (dC == kTempInvalid_dC) {
+      ++invalid;
+      continue;
+    }
+    if (dC > maxT) maxT = dC;
+    if (dC < minT) minT = dC;
   }
+
+  // 4. Current, bus voltage.
   tm.packCurrent_mA = currentCodeToMilliamps(cfg.scaling, in.currentCode);
-  tm.minCell_mV = cfg.cellCount > 0 ? minMv : 0;
+  const bool currentAtRail = in.currentCode <= 0 || in.currentCode >= cfg.scaling.currentCodeMax;
+  const float bus = static_cast<float>(in.busVoltageCode) * cfg.scaling.busLsb_mV;
+  tm.busVoltage_mV = static_cast<uint32_t>(bus + 0.5f);
+  tm.packVoltage_mV = sumMv;
+  tm.minCell_mV = counted > 0 ? minMv : 0;
   tm.maxCell_mV = maxMv;
   tm.maxTemp_dC = maxT;
+  tm.minTemp_dC = minT;
+  tm.maxDie_dC = maxDie;
+  tm.monitorFault = deviceFault || in.monitorFaultPin;
 
-  quantity[static_cast<uint8_t>(Quantity::MaxCell_mV)] = tm.maxCell_mV;
-  quantity[static_cast<uint8_t>(Quantity::MinCell_mV)] = tm.minCell_mV;
-  quantity[static_cast<uint8_t>(Quantity::DischargeCurrent_mA)] = tm.packCurrent_mA;
-  quantity[static_cast<uint8_t>(Quantity::ChargeCurrent_mA)] = -tm.packCurrent_mA;
-  quantity[static_cast<uint8_t>(Quantity::MaxTemp_dC)] = tm.maxTemp_dC;
+  // Charge temperature limits apply while the charger is connected (regen braking in
+  // drive is judged by the discharge limits).
+  const bool charging = in.chargerPresent;
+  auto set = [&](Quantity q, int32_t v) { quantity[static_cast<uint8_t>(q)] = v; };
+  // With no cell data yet the voltage rules see neutral values (comm loss covers it).
+  set(Quantity::MaxCell_mV, counted > 0 ? maxMv : 0);
+  set(Quantity::MinCell_mV, counted > 0 ? minMv : INT32_MAX);
+  set(Quantity::DischargeCurrent_mA, tm.packCurrent_mA);
+  set(Quantity::ChargeCurrent_mA, -tm.packCurrent_mA);
+  set(Quantity::MaxTemp_dC, maxT);
+  set(Quantity::MaxTempCharging_dC, charging ? maxT : INT32_MIN);
+  set(Quantity::MinTemp_dC, minT);
+  set(Quantity::MinTempCharging_dC, charging ? minT : INT32_MAX);
+  set(Quantity::MaxDie_dC, maxDie);
+  set(Quantity::CommBadFrames, worstBad);
+  set(Quantity::CellSumError_mV, static_cast<int32_t>(worstSumError_mV));
+  set(Quantity::InvalidThermistors, invalid);
+  set(Quantity::CurrentCodeAtRail, currentAtRail ? 1 : 0);
+  set(Quantity::EStopPulled, (in.eSwitchInternal || in.eSwitchExternal) ? 1 : 0);
+  set(Quantity::MonitorFaultLine, tm.monitorFault ? 1 : 0);
+  set(Quantity::CellSpread_mV, counted > 0 ? static_cast<int32_t>(maxMv - minMv) : 0);
 }
 
 }  // namespace bms

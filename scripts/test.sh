@@ -9,6 +9,9 @@ echo "== build and C++ tests"
 BUILD_DIR=build scripts/build.sh -DPACKSIM_BUILD_TESTS=ON
 ctest --test-dir build -j2 --output-on-failure --timeout 600
 
+echo "== every bundled scenario against its expect: block"
+build/packsim check scenarios
+
 echo "== BMS core cross-compiled for Cortex-M4 (freestanding, no exceptions, no RTTI)"
 bms/cross_check.sh build/bms-cortex-m4
 

@@ -18,9 +18,29 @@ struct CheckOptions {
   std::vector<std::string> paths;  // files or directories; empty: the bundled scenarios
 };
 
+// `packsim plot`: runs `python3 -m packsim.plot` ($PACKSIM_PYTHON overrides python3).
+struct PlotOptions {
+  std::string result;  // result HDF5 file
+  std::string outdir;  // where the PNGs go (created); empty: the current folder
+  int dpi = 0;         // 0: packsim.plot's default
+};
+
+// `packsim batch`: a sweep (core/batch/sweep.hpp) on a thread pool.
+struct BatchCliOptions {
+  std::string sweep;       // sweep YAML file
+  std::string output_dir;  // empty: the sweep's output_dir
+  int threads = 0;         // 0: the sweep's threads, else every core
+  bool no_resume = false;  // rerun cases whose result is already complete
+  bool quiet = false;
+};
+
 std::string bundledScenarioDir();
 std::string defaultScenarioPath();
 int cmdRun(const RunOptions& o);
 int cmdCheck(const CheckOptions& o);
+int cmdPlot(const PlotOptions& o);
+int cmdBatch(const BatchCliOptions& o);
+// Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).
+std::string pythonPackageDir();
 
 }  // namespace packsim

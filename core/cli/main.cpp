@@ -1,4 +1,5 @@
-// packsim command line: `packsim run [SCENARIO.yaml] [-o OUT.h5] [--seed N]`.
+// packsim command line: `packsim run [SCENARIO.yaml] [-o OUT.h5] [--seed N]`,
+// `packsim check [PATHS...]`, `packsim plot RESULT.h5 [-o DIR]`, `packsim batch SWEEP.yaml`.
 #include <CLI/CLI.hpp>
 
 #include <cstdlib>
@@ -25,6 +26,20 @@ int main(int argc, char** argv) {
   CLI::App* checkCmd = app.add_subcommand("check", "run scenarios and judge their expect: blocks (exit 1 on any failure)");
   checkCmd->add_option("paths", check.paths, "scenario files or folders (default: the bundled scenarios)");
 
+  packsim::PlotOptions plot;
+  CLI::App* plotCmd = app.add_subcommand("plot", "write the figures of a result file as PNG (needs Python 3 with matplotlib)");
+  plotCmd->add_option("result", plot.result, "result HDF5 file")->required();
+  plotCmd->add_option("-o,--output", plot.outdir, "folder for the PNG files (default: the current folder)");
+  plotCmd->add_option("--dpi", plot.dpi, "resolution of the PNG files")->check(CLI::PositiveNumber);
+
+  packsim::BatchCliOptions batch;
+  CLI::App* batchCmd = app.add_subcommand("batch", "run a sweep of scenarios on every core (exit 1 if any case failed)");
+  batchCmd->add_option("sweep", batch.sweep, "sweep YAML file (docs/batch.md)")->required();
+  batchCmd->add_option("-o,--output-dir", batch.output_dir, "folder for the results (default: the sweep's output_dir)");
+  batchCmd->add_option("-j,--threads", batch.threads, "worker threads (default: every core)")->check(CLI::PositiveNumber);
+  batchCmd->add_flag("--no-resume", batch.no_resume, "rerun cases whose result file is already complete");
+  batchCmd->add_flag("-q,--quiet", batch.quiet, "print nothing but errors");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -33,6 +48,8 @@ int main(int argc, char** argv) {
   try {
     if (runCmd->parsed()) return packsim::cmdRun(run);
     if (checkCmd->parsed()) return packsim::cmdCheck(check);
+    if (plotCmd->parsed()) return packsim::cmdPlot(plot);
+    if (batchCmd->parsed()) return packsim::cmdBatch(batch);
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;

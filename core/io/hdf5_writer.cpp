@@ -2,6 +2,7 @@
 
 #include <bms/bms_core.hpp>
 #include <bms/bms_faults.hpp>
+#include <bms/bms_telemetry.hpp>
 #include <hdf5.h>
 
 #include <cstdio>
@@ -141,7 +142,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
   w.attr(file, "scenario_file", s.file);
   w.attr(file, "scenario_yaml", s.text);
   w.attrInt(file, "seed", static_cast<long long>(s.run.seed));
-  w.attr(file, "solver", "cvode");
+  w.attr(file, "solver", s.run.solver == RunConfig::Solver::Fast ? "fast" : "cvode");
   w.attr(file, "tick_s", s.bms.tick_s);
   w.attr(file, "sign_convention", "positive current discharges the pack");
 
@@ -165,13 +166,35 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
 
   w.group("/bms");
   w.dataset("/bms/state", rec.bms_state, n, 0, nullptr);
-  w.attrOn("/bms/state", "names", "0=init,1=standby,2=normal,3=error");
+  w.attrOn("/bms/state", "names", "0=init,1=standby,2=normal,3=error,4=precharge,5=charge");
   w.dataset("/bms/fault_active", rec.fault_active, n, 0, nullptr);
   w.dataset("/bms/fault_latched", rec.fault_latched, n, 0, nullptr);
   w.attrOn("/bms", "fault_bits", faultNames());
   w.dataset("/bms/relay_closed", rec.relay_closed, n, 0, nullptr);
   w.dataset("/bms/discharge_fet_on", rec.discharge_fet_on, n, 0, nullptr);
   w.dataset("/bms/charge_fet_on", rec.charge_fet_on, n, 0, nullptr);
+  w.dataset("/bms/precharge_closed", rec.precharge_closed, n, 0, nullptr);
+  w.dataset("/bms/precharge_phase", rec.precharge_phase, n, 0, nullptr);
+  w.attrOn("/bms/precharge_phase", "names", "0=idle,1=charging,2=closing,3=pause,4=done,5=failed");
+  w.dataset("/bms/soc_estimate_permille", rec.soc_estimate_permille, n, 0, "0.1 %");
+  w.dataset("/bms/monitor_fault", rec.monitor_fault, n, 0, nullptr);
+  w.dataset("/bms/comm_bad", rec.comm_bad, n, static_cast<size_t>(rec.devices), "replies");
+  w.dataset("/bms/telemetry", rec.telemetry, n, bms::kTelemetryFrameBytes, "bytes");
+  w.attrOn("/bms/telemetry", "layout", "bms/bms_telemetry.hpp: A5,len,state,precharge,bits,active u32,latched u32,"
+                                      "soc u16,current_mA i32,pack_mV u32,min_mV u16,max_mV u16,maxT_dC i16,"
+                                      "minT_dC i16,lost,crc8 (little-endian)");
+  w.dataset("/measured/bus_voltage_mV", rec.meas_bus_voltage_mV, n, 0, "mV");
+  if (!rec.hw_relay_closed.empty()) {
+    w.group("/hardware");
+    w.dataset("/hardware/relay_closed", rec.hw_relay_closed, n, 0, nullptr);
+    w.dataset("/hardware/precharge_closed", rec.hw_precharge_closed, n, 0, nullptr);
+    w.dataset("/hardware/fuse_blown", rec.hw_fuse_blown, n, 0, nullptr);
+    w.dataset("/hardware/discharge_fet_on", rec.hw_discharge_fet_on, n, 0, nullptr);
+    w.dataset("/hardware/charge_fet_on", rec.hw_charge_fet_on, n, 0, nullptr);
+    w.dataset("/hardware/monitor_fault_line", rec.hw_fault_line, n, 0, nullptr);
+    w.dataset("/hardware/bus_voltage_V", rec.hw_bus_voltage_V, n, 0, "V");
+    w.dataset("/hardware/fet_loss_W", rec.hw_fet_loss_W, n, 0, "W");
+  }
 
   w.events(r.events);
 
@@ -212,7 +235,9 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   try {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
     H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose, tmp.c_str());
+    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
+    H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
+    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose, tmp.c_str());
     writeAll(file, s, r);
   } catch (...) {
     std::remove(tmp.c_str());

@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <bms/bms_faults.hpp>
 #include <bms/bms_limits.hpp>
 #include <cmath>
 #include <filesystem>
@@ -7,7 +9,30 @@
 
 namespace packsim {
 
-static ProtectionConfig readProtection(YamlMap& parent, const std::string& key, const char* unit, ProtectionConfig d,
+namespace {
+
+// `opens: [relay, discharge_fet, charge_fet]` -> bms::ActuatorBits.
+int readOpens(YamlMap& m, int fallback) {
+  if (!m.has("opens")) return fallback;
+  const YAML::Node n = m.node("opens");
+  const std::vector<std::string> allowed = {"relay", "discharge_fet", "charge_fet"};
+  if (!n.IsSequence()) throw m.errorAt("opens", "expected a list like [relay, discharge_fet, charge_fet]");
+  int bits = 0;
+  for (size_t i = 0; i < n.size(); ++i) {
+    const std::string v = n[i].IsScalar() ? n[i].Scalar() : "";
+    const auto it = std::find(allowed.begin(), allowed.end(), v);
+    if (it == allowed.end()) {
+      const std::string near = closestMatch(v, allowed);
+      throw m.errorAt(n[i], m.path() + ".opens[" + std::to_string(i) + "]",
+                      "'" + v + "' is not one of: relay, discharge_fet, charge_fet" +
+                          (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+    }
+    bits |= 1 << (it - allowed.begin());
+  }
+  return bits;
+}
+
+ProtectionConfig readProtection(YamlMap& parent, const std::string& key, const char* unit, ProtectionConfig d,
                                 Range range) {
   auto m = parent.optionalMap(key);
   if (!m) return d;
@@ -16,25 +41,78 @@ static ProtectionConfig readProtection(YamlMap& parent, const std::string& key, 
   d.threshold = m->number("threshold_" + u, d.threshold, range);
   d.hysteresis = m->number("hysteresis_" + u, d.hysteresis, Range::nonNegative());
   d.delay_s = m->number("delay_ms", d.delay_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
+  d.opens = readOpens(*m, d.opens);
   m->finish();
   return d;
 }
+
+// A rule on a condition rather than a value: only enabled, delay and actuators.
+ProtectionConfig readFlagRule(YamlMap& parent, const std::string& key, ProtectionConfig d) {
+  auto m = parent.optionalMap(key);
+  if (!m) return d;
+  d.enabled = m->boolean("enabled", d.enabled);
+  d.delay_s = m->number("delay_ms", d.delay_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
+  d.opens = readOpens(*m, d.opens);
+  m->finish();
+  return d;
+}
+
+}  // namespace
 
 BmsSettings readBms(std::optional<YamlMap> m) {
   BmsSettings b;
   if (!m) return b;
   b.tick_s = static_cast<double>(m->integer("tick_ms", 10, 1, 10000)) * 1e-3;
   if (auto p = m->optionalMap("protections")) {
+    const Range temp = Range::closed(-60.0, 150.0);
     b.cell_overvoltage = readProtection(*p, "cell_overvoltage", "V", b.cell_overvoltage, Range::closed(1.0, 5.0));
     b.cell_undervoltage = readProtection(*p, "cell_undervoltage", "V", b.cell_undervoltage, Range::closed(0.5, 4.5));
     b.overcurrent_discharge =
         readProtection(*p, "overcurrent_discharge", "A", b.overcurrent_discharge, Range::positive());
     b.overcurrent_charge = readProtection(*p, "overcurrent_charge", "A", b.overcurrent_charge, Range::positive());
     b.overtemperature = readProtection(*p, "overtemperature", "C", b.overtemperature, Range::closed(0.0, 150.0));
+    b.overtemperature_charge = readProtection(*p, "overtemperature_charge", "C", b.overtemperature_charge, temp);
+    b.undertemperature = readProtection(*p, "undertemperature", "C", b.undertemperature, temp);
+    b.undertemperature_charge = readProtection(*p, "undertemperature_charge", "C", b.undertemperature_charge, temp);
+    b.board_overtemperature = readProtection(*p, "board_overtemperature", "C", b.board_overtemperature, temp);
+    b.cell_sum_plausibility =
+        readProtection(*p, "cell_sum_plausibility", "V", b.cell_sum_plausibility, Range::closed(0.001, 1.0));
+    b.relay_welded = readProtection(*p, "relay_welded", "A", b.relay_welded, Range::positive());
+    b.temperature_warning = readProtection(*p, "temperature_warning", "C", b.temperature_warning, temp);
+    b.cell_imbalance = readProtection(*p, "cell_imbalance", "V", b.cell_imbalance, Range::closed(0.001, 2.0));
+    b.thermistor_fault = readFlagRule(*p, "thermistor_fault", b.thermistor_fault);
+    b.current_sensor_fault = readFlagRule(*p, "current_sensor_fault", b.current_sensor_fault);
+    b.estop = readFlagRule(*p, "estop", b.estop);
+    b.monitor_fault = readFlagRule(*p, "monitor_fault", b.monitor_fault);
+    b.comm_loss = readFlagRule(*p, "comm_loss", b.comm_loss);
+    b.precharge_failed = readFlagRule(*p, "precharge_failed", b.precharge_failed);
     if (!(b.cell_undervoltage.threshold < b.cell_overvoltage.threshold))
       throw p->error("cell_undervoltage.threshold_V must be below cell_overvoltage.threshold_V");
     p->finish();
   }
+  b.comm_loss_count = static_cast<int>(m->integer("comm_loss_count", b.comm_loss_count, 1, 255));
+  b.relay_aux_feedback = m->boolean("relay_aux_feedback", b.relay_aux_feedback);
+  b.weld_settle_s = m->number("weld_settle_ms", b.weld_settle_s * 1e3, Range::closed(0.0, 10000.0)) * 1e-3;
+  if (auto p = m->optionalMap("precharge")) {
+    PrechargeSettings& c = b.precharge;
+    c.enabled = p->boolean("enabled", true);
+    c.done_delta_V = p->number("done_delta_V", c.done_delta_V, Range::positive());
+    c.done_current_A = p->number("done_current_A", c.done_current_A, Range::positive());
+    c.timeout_s = p->number("timeout_ms", c.timeout_s * 1e3, Range::closed(1.0, 600000.0)) * 1e-3;
+    c.pause_s = p->number("pause_ms", c.pause_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
+    c.overlap_s = p->number("overlap_ms", c.overlap_s * 1e3, Range::closed(0.0, 10000.0)) * 1e-3;
+    c.retries = static_cast<int>(p->integer("retries", c.retries, 0, 10));
+    p->finish();
+  }
+  if (auto s = m->optionalMap("soc")) {
+    b.soc_rest_s = s->number("rest_s", b.soc_rest_s, Range::closed(0.0, 86400.0));
+    b.soc_rest_current_A = s->number("rest_current_A", b.soc_rest_current_A, Range::positive());
+    s->finish();
+  }
+  b.run_request = m->boolean("run_request", b.run_request);
+  b.charger_present = m->boolean("charger_present", b.charger_present);
+  // 1 s … 63 min: what the monitor's balancing timer can hold.
+  b.balance_time_s = static_cast<uint16_t>(m->integer("balance_time_s", b.balance_time_s, 1, 3780));
   m->finish();
   return b;
 }

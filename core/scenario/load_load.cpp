@@ -84,7 +84,19 @@ RunConfig readRun(std::optional<YamlMap> m, uint64_t seed) {
   if (!m) return r;
   r.duration_s = m->number("duration_s", 0.0, Range::positive());
   r.stop_after_trip_s = m->number("stop_after_trip_s", r.stop_after_trip_s, Range::nonNegative());
+  r.solver = m->choice("solver", "cvode", {"cvode", "fast"}) == "fast" ? RunConfig::Solver::Fast
+                                                                      : RunConfig::Solver::Cvode;
+  // Settings of the other solver would silently do nothing: reject them.
+  if (r.solver == RunConfig::Solver::Fast && m->has("rtol"))
+    throw m->errorAt("rtol", "applies to solver: cvode only (this run uses solver: fast)");
   r.rtol = m->number("rtol", r.rtol, Range::closed(1e-12, 1e-2));
+  if (auto f = m->optionalMap("fast")) {
+    if (r.solver != RunConfig::Solver::Fast)
+      throw m->errorAt("fast", "settings for solver: fast, but this run uses solver: cvode (set run.solver: fast)");
+    r.fast_max_substep_s = f->number("max_substep_s", 0.0, Range::positive());
+    r.fast_substep_fraction = f->number("substep_fraction", r.fast_substep_fraction, Range{0.0, 1.0, true, false});
+    f->finish();
+  }
   m->finish();
   return r;
 }

@@ -114,6 +114,7 @@ CellSpread readSpread(YamlMap m) {
   s.r0_rel_sd = m.number("r0_rel_sd", 0.0, Range::closed(0.0, 0.3));
   s.initial_soc_sd = m.number("initial_soc_sd", 0.0, Range::closed(0.0, 0.3));
   s.self_discharge_A_sd = m.number("self_discharge_A_sd", 0.0, Range::closed(0.0, 1.0));
+  s.per_group = m.choice("level", "cell", {"cell", "group"}) == "group";
   m.finish();
   return s;
 }

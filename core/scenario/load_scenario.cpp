@@ -22,15 +22,67 @@ std::string slurp(const std::string& path) {
   return os.str();
 }
 
+// Child keys replace the base's; mappings merge key by key, lists replace whole.
+void deepMerge(YAML::Node base, const YAML::Node& child) {
+  for (auto it = child.begin(); it != child.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    if (key == "extends") continue;
+    // A child's expectations are its own: `expect` replaces the base's block whole.
+    if (key != "expect" && it->second.IsMap() && base[key] && base[key].IsMap())
+      deepMerge(base[key], it->second);
+    else
+      base[key] = it->second;
+  }
+}
+
+// `extends: other.yaml`: the other scenario (validated on its own first) is the base;
+// this file's keys are merged on top. Relative CSV paths of the base stay relative to
+// the base's folder.
+YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const std::string& base_dir, int depth) {
+  if (!root.IsMap() || !root["extends"]) return root;
+  YamlMap m(root, file, "");
+  const std::string rel = m.string("extends");
+  const fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
+  if (depth > 8) throw m.errorAt("extends", "too many nested extends (a cycle?)");
+  if (!fs::exists(path)) throw m.errorAt("extends", "file not found: " + path.string());
+  loadScenarioFile(path.string());  // the base must be valid alone: its errors name its own file
+  const std::string baseDir = path.parent_path().string();
+  YAML::Node base = YAML::Clone(resolveExtends(parseYaml(slurp(path.string()), path.string()), path.string(), baseDir, depth + 1));
+  if (base["load"] && base["load"]["csv"] && fs::path(base["load"]["csv"].Scalar()).is_relative()) {
+    // Re-express the base's CSV path relative to this file's folder.
+    const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir));
+    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / base["load"]["csv"].Scalar());
+    base["load"]["csv"] = csv.lexically_relative(here).string();
+  }
+  // A child that names its own kind of load (current, power, segments, points, csv)
+  // replaces the base's; other load keys (laps, interpolation, ...) merge as usual.
+  if (base["load"] && base["load"].IsMap() && root["load"] && root["load"].IsMap()) {
+    static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv"};
+    bool childKind = false;
+    for (const char* k : kinds) childKind = childKind || root["load"][k];
+    if (childKind)
+      for (const char* k : kinds) base["load"].remove(k);
+  }
+  deepMerge(base, root);
+  return base;
+}
+
 }  // namespace
 
 Scenario loadScenarioText(const std::string& text, const std::string& file, const std::string& base_dir) {
-  const YAML::Node root = parseYaml(text, file);
-  if (!root || root.IsNull()) throw ScenarioError(file, 1, 1, "", "the scenario is empty");
+  const YAML::Node given = parseYaml(text, file);
+  if (!given || given.IsNull()) throw ScenarioError(file, 1, 1, "", "the scenario is empty");
+  const YAML::Node root = resolveExtends(given, file, base_dir, 0);
   YamlMap m(root, file, "");
+  m.has("extends");
   Scenario s;
   s.file = file;
   s.text = text;
+  if (!root.is(given)) {  // keep the complete merged scenario with the results
+    YAML::Emitter out;
+    out << root;
+    s.text = "# " + file + " merged with the scenario it extends\n" + std::string(out.c_str()) + "\n";
+  }
   s.name = m.string("name", fs::path(file).stem().string());
   s.description = m.string("description", "");
   const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, 2147483647L));

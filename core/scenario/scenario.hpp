@@ -8,7 +8,12 @@
 
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
+#include "models/afe/monitor_config.hpp"
 #include "models/cell/ecm.hpp"
+#include "models/hw/fuse.hpp"
+#include "models/hw/mosfet.hpp"
+#include "models/hw/precharge.hpp"
+#include "models/hw/relay.hpp"
 #include "models/load/load_profile.hpp"
 #include "models/load/time_series.hpp"
 #include "models/pack/cell_spread.hpp"
@@ -50,6 +55,16 @@ struct HardwareConfig {
   Thermistor thermistor;           // one part type for all channels
   std::vector<int> thermistor_cells;  // 0-based cell index each thermistor sits on
   CurrentSense current_sense;
+  // Monitor ICs and switching hardware (issue 3; docs/scenario.md `hardware.afe` …).
+  MonitorConfig afe;                  // cell_adc above is its cell channel
+  RelayConfig relay;                  // main normally-open relay
+  RelayConfig precharge_relay;        // precharge path switch
+  PrechargePathConfig precharge;      // resistor into the load-bus capacitance
+  MosfetConfig discharge_fet;         // with the diode that carries charge current
+  MosfetConfig charge_fet;            // absent unless configured
+  FuseConfig fuse;                    // absent unless configured
+  AdcChannel bus_adc;                 // load-bus voltage divider into an ADC (volts)
+  bool fault_line_opens_relay = true; // monitor FAULT line in series with the relay coil drive
 };
 
 struct ProtectionConfig {
@@ -57,6 +72,18 @@ struct ProtectionConfig {
   double threshold = 0.0;   // V, A or °C by protection
   double hysteresis = 0.0;  // same unit
   double delay_s = 0.0;
+  int opens = -1;           // bms::ActuatorBits it opens; -1 = the firmware table's default
+};
+
+// Contactor precharge sequencing of the BMS (bms::PrechargeConfig in SI units).
+struct PrechargeSettings {
+  bool enabled = false;
+  double done_delta_V = 1.0;
+  double done_current_A = 0.05;
+  double timeout_s = 2.0;
+  double pause_s = 1.0;
+  double overlap_s = 0.03;
+  int retries = 3;
 };
 
 struct BmsSettings {
@@ -66,6 +93,30 @@ struct BmsSettings {
   ProtectionConfig overcurrent_discharge{true, 30.0, 1.0, 0.1};
   ProtectionConfig overcurrent_charge{true, 5.0, 0.5, 0.1};
   ProtectionConfig overtemperature{true, 60.0, 5.0, 1.0};
+  // Added with the firmware-grade core (issue 3).
+  ProtectionConfig overtemperature_charge{true, 45.0, 5.0, 1.0};
+  ProtectionConfig undertemperature{true, -20.0, 5.0, 1.0};
+  ProtectionConfig undertemperature_charge{true, 0.0, 5.0, 1.0};
+  ProtectionConfig board_overtemperature{true, 105.0, 10.0, 1.0};
+  ProtectionConfig cell_sum_plausibility{true, 0.05, 0.01, 1.0};  // V per cell
+  ProtectionConfig thermistor_fault{true, 0.0, 0.0, 1.0};
+  ProtectionConfig current_sensor_fault{true, 0.0, 0.0, 0.5};
+  ProtectionConfig relay_welded{true, 0.5, 0.0, 0.2};             // A after the release time
+  ProtectionConfig monitor_fault{true, 0.0, 0.0, 0.0};
+  ProtectionConfig estop{true, 0.0, 0.0, 0.0};
+  ProtectionConfig comm_loss{true, 0.0, 0.0, 0.0};
+  ProtectionConfig precharge_failed{true, 0.0, 0.0, 0.0};
+  ProtectionConfig temperature_warning{false, 51.7, 2.0, 1.0};  // warning tier: logged, opens nothing
+  ProtectionConfig cell_imbalance{false, 0.05, 0.01, 1.0};        // info tier
+  int comm_loss_count = 5;          // consecutive bad replies of one device
+  double weld_settle_s = 0.05;      // relay release time before current means "welded"
+  bool relay_aux_feedback = true;   // the relay's auxiliary contact is read (closed after open = welded)
+  PrechargeSettings precharge;
+  double soc_rest_s = 1800.0;       // rest before the SOC estimate re-anchors to OCV
+  double soc_rest_current_A = 0.2;
+  bool run_request = true;          // GPIO levels held for the run
+  bool charger_present = false;
+  uint16_t balance_time_s = 60;
 };
 
 struct RunConfig {
@@ -76,6 +127,12 @@ struct RunConfig {
   double atol_V = 1e-7;
   double atol_C = 1e-6;
   uint64_t seed = 1;
+  // Integrator (core/sim/integrator.hpp): CVODE is the reference; fast takes fixed
+  // sub-steps per tick (core/sim/fast_integrator.hpp).
+  enum class Solver { Cvode, Fast };
+  Solver solver = Solver::Cvode;
+  double fast_max_substep_s = 0.0;      // run.fast.max_substep_s; 0: no cap beyond the rule
+  double fast_substep_fraction = 0.1;   // run.fast.substep_fraction of the smallest time constant
 };
 
 struct OutputConfig {

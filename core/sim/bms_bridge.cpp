@@ -1,6 +1,10 @@
 #include "core/sim/bms_bridge.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include "models/hw/mosfet.hpp"
+#include "models/hw/precharge.hpp"
 
 namespace packsim {
 
@@ -13,40 +17,207 @@ void setRule(bms::ProtectionRule& r, const ProtectionConfig& p, double scale) {
   r.threshold = toInt(p.threshold * scale);
   r.hysteresis = toInt(p.hysteresis * scale);
   r.delay_ms = static_cast<uint32_t>(std::lround(p.delay_s * 1e3));
+  if (p.opens >= 0) r.opens = static_cast<uint8_t>(p.opens);
 }
+
+// Rules without a threshold of their own (boolean quantities, counts).
+void setFlagRule(bms::ProtectionRule& r, const ProtectionConfig& p) {
+  r.enabled = p.enabled;
+  r.delay_ms = static_cast<uint32_t>(std::lround(p.delay_s * 1e3));
+  if (p.opens >= 0) r.opens = static_cast<uint8_t>(p.opens);
+}
+
+bms::ProtectionRule& rule(bms::Config& c, bms::FaultId id) { return c.rules[static_cast<int>(id)]; }
 
 }  // namespace
 
 bms::Config makeBmsConfig(const Scenario& s) {
   const HardwareConfig& hw = s.hardware;
+  const BmsSettings& b = s.bms;
   bms::Config c = bms::defaultConfig(static_cast<uint16_t>(s.pack.series),
                                      static_cast<uint8_t>(hw.thermistor_cells.size()));
-  c.tickPeriod_ms = static_cast<uint32_t>(std::lround(s.bms.tick_s * 1e3));
+  c.tickPeriod_ms = static_cast<uint32_t>(std::lround(b.tick_s * 1e3));
   // The firmware knows the datasheet scaling, not the part's actual error.
   c.scaling.cellLsb_uV = static_cast<float>(hw.cell_adc.lsb * 1e6);
   c.scaling.currentZeroCode = static_cast<float>(hw.current_sense.zeroCode());
   c.scaling.currentLsb_mA = static_cast<float>(hw.current_sense.lsb_A() * 1e3);
+  c.scaling.currentCodeMax = static_cast<int32_t>((int64_t{1} << hw.current_sense.bits) - 1);
   c.scaling.thermFullScaleCode = static_cast<float>(hw.thermistor.fullScaleCode());
   c.scaling.thermPullup_ohm = static_cast<float>(hw.thermistor.pullup_ohm);
   c.scaling.thermR25_ohm = static_cast<float>(hw.thermistor.r25_ohm);
   c.scaling.thermBeta_K = static_cast<float>(hw.thermistor.beta_K);
-  setRule(c.rules[static_cast<int>(bms::FaultId::CellOverVoltage)], s.bms.cell_overvoltage, 1e3);
-  setRule(c.rules[static_cast<int>(bms::FaultId::CellUnderVoltage)], s.bms.cell_undervoltage, 1e3);
-  setRule(c.rules[static_cast<int>(bms::FaultId::OverCurrentDischarge)], s.bms.overcurrent_discharge, 1e3);
-  setRule(c.rules[static_cast<int>(bms::FaultId::OverCurrentCharge)], s.bms.overcurrent_charge, 1e3);
-  setRule(c.rules[static_cast<int>(bms::FaultId::OverTemperature)], s.bms.overtemperature, 10.0);
+  c.scaling.busLsb_mV = static_cast<float>(hw.bus_adc.lsb * 1e3);
+
+  const MonitorConfig& a = hw.afe;
+  c.afe = bms::AfeConfig{a.model, static_cast<uint8_t>(a.devices), static_cast<uint8_t>(a.cells_per_device),
+                         static_cast<uint8_t>(a.thermistors_per_device), a.crc,
+                         static_cast<uint8_t>(b.comm_loss_count)};
+
+  const PrechargeSettings& p = b.precharge;
+  c.precharge = bms::PrechargeConfig{p.enabled,
+                                     static_cast<uint32_t>(std::lround(p.done_delta_V * 1e3)),
+                                     toInt(p.done_current_A * 1e3),
+                                     static_cast<uint32_t>(std::lround(p.timeout_s * 1e3)),
+                                     static_cast<uint32_t>(std::lround(p.pause_s * 1e3)),
+                                     static_cast<uint32_t>(std::lround(p.overlap_s * 1e3)),
+                                     static_cast<uint8_t>(p.retries)};
+
+  // SOC: the cell's OCV curve at the pack's initial temperature, sampled at 11 points,
+  // and the group capacity -- what a firmware engineer flashes from the datasheet.
+  const CellParams& cell = s.pack.cell;
+  c.soc.capacity_mAh = static_cast<float>(cell.capacity_Ah * s.pack.parallel * 1e3);
+  c.soc.ocvPoints = 11;
+  uint16_t prev = 0;
+  for (int i = 0; i < 11; ++i) {
+    const double soc = i / 10.0;
+    uint16_t mv = static_cast<uint16_t>(std::clamp(std::lround(ecm::ocv(cell, soc) * 1e3), 0L, 65535L));
+    mv = std::max<uint16_t>(mv, prev);  // the table must not fall
+    c.soc.ocv_mV[i] = prev = mv;
+  }
+  c.soc.rest_ms = static_cast<uint32_t>(std::lround(b.soc_rest_s * 1e3));
+  c.soc.restCurrent_mA = toInt(b.soc_rest_current_A * 1e3);
+  c.weldSettle_ms = static_cast<uint32_t>(std::lround(b.weld_settle_s * 1e3));
+  c.balanceTime_s = b.balance_time_s;
+
+  using F = bms::FaultId;
+  setRule(rule(c, F::CellOverVoltage), b.cell_overvoltage, 1e3);
+  setRule(rule(c, F::CellUnderVoltage), b.cell_undervoltage, 1e3);
+  setRule(rule(c, F::OverCurrentDischarge), b.overcurrent_discharge, 1e3);
+  setRule(rule(c, F::OverCurrentCharge), b.overcurrent_charge, 1e3);
+  setRule(rule(c, F::OverTemperature), b.overtemperature, 10.0);
+  setRule(rule(c, F::OverTemperatureCharge), b.overtemperature_charge, 10.0);
+  setRule(rule(c, F::UnderTemperatureDischarge), b.undertemperature, 10.0);
+  setRule(rule(c, F::UnderTemperatureCharge), b.undertemperature_charge, 10.0);
+  setRule(rule(c, F::BoardOverTemperature), b.board_overtemperature, 10.0);
+  setRule(rule(c, F::PlausibilityCellSum), b.cell_sum_plausibility, 1e3);
+  setFlagRule(rule(c, F::RelayWelded), b.relay_welded);
+  c.weldCurrent_mA = toInt(b.relay_welded.threshold * 1e3);
+  c.relayAuxFeedback = b.relay_aux_feedback;
+  setRule(rule(c, F::TemperatureWarning), b.temperature_warning, 10.0);
+  setRule(rule(c, F::CellImbalance), b.cell_imbalance, 1e3);
+  setFlagRule(rule(c, F::ThermistorFault), b.thermistor_fault);
+  setFlagRule(rule(c, F::CurrentSensorFault), b.current_sensor_fault);
+  setFlagRule(rule(c, F::EStop), b.estop);
+  setFlagRule(rule(c, F::MonitorFault), b.monitor_fault);
+  setFlagRule(rule(c, F::PrechargeFailed), b.precharge_failed);
+  setFlagRule(rule(c, F::CommLoss), b.comm_loss);
+  rule(c, F::CommLoss).threshold = b.comm_loss_count - 1;  // trips at the N-th bad reply
   return c;
 }
 
-void sampleSensors(const Scenario& s, const Plant& plant, const PlantSignals& sig, Rng& rng, bms::Inputs& in) {
-  const HardwareConfig& hw = s.hardware;
-  for (int g = 0; g < s.pack.series; ++g)
-    in.cellCode[g] = static_cast<uint16_t>(hw.cell_adc.convert(sig.group_voltage_V[static_cast<size_t>(g)], rng));
-  for (size_t k = 0; k < hw.thermistor_cells.size(); ++k) {
-    const int cell = hw.thermistor_cells[k] * plant.pack().parallel;  // first cell of the group
-    in.thermistorCode[k] = static_cast<uint16_t>(hw.thermistor.code(sig.node_temp_C[static_cast<size_t>(cell)], rng));
+HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
+    : s_(s), plant_(plant), stack_(s.hardware.afe, s.pack.series, s.run.seed), truth_(stack_.makeTruth()) {
+  afeTherm_ = std::min(static_cast<int>(s.hardware.thermistor_cells.size()), stack_.thermistorChannels());
+}
+
+void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
+  const HardwareConfig& hw = s_.hardware;
+  const int parallel = plant_.pack().parallel;
+  for (int g = 0; g < s_.pack.series; ++g) {
+    const size_t gi = static_cast<size_t>(g);
+    truth_.cell_V[gi] = sig.group_voltage_V[gi];
+    truth_.cell_gain_error[gi] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
+    truth_.cell_offset_V[gi] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
+    double hottest = -INFINITY;
+    for (int k = 0; k < parallel; ++k) hottest = std::max(hottest, sig.node_temp_C[static_cast<size_t>(g * parallel + k)]);
+    truth_.cell_temp_C[gi] = hottest;
   }
-  in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A, rng));
+  auto thermFault = [&](size_t k) {
+    if (k >= f.thermistor.size()) return SensorFault::None;
+    return f.thermistor[k] == ThermistorFault::Open    ? SensorFault::Open
+           : f.thermistor[k] == ThermistorFault::Short ? SensorFault::Short
+                                                        : SensorFault::None;
+  };
+  auto thermTemp = [&](size_t k) {
+    return sig.node_temp_C[static_cast<size_t>(hw.thermistor_cells[k] * parallel)];
+  };
+  for (size_t k = 0; k < truth_.therm_C.size(); ++k) {
+    const bool used = static_cast<int>(k) < afeTherm_;
+    truth_.therm_C[k] = used ? thermTemp(k) : 25.0;
+    truth_.therm_fault[k] = used ? thermFault(k) : SensorFault::None;
+  }
+  for (size_t d = 0; d < truth_.comm.size(); ++d) {
+    DeviceComm c;
+    if (d < f.device.size()) {
+      c.silent = f.device[d].silent;
+      c.crc_error_rate = f.device[d].crc_error_rate;
+      c.stuck_byte = f.device[d].stuck_byte;
+    }
+    truth_.comm[d] = c;
+  }
+  truth_.broken_link_above = f.broken_link_above;
+  truth_.current_A = sig.pack_current_A;
+
+  stack_.update(t, truth_);
+  stack_.read(t, truth_, rng, in);
+
+  // Thermistors beyond the monitor inputs sit on the MCU's own ADC.
+  for (size_t k = static_cast<size_t>(afeTherm_); k < hw.thermistor_cells.size(); ++k) {
+    const SensorFault sf = thermFault(k);
+    const int64_t code = sf == SensorFault::Open    ? hw.thermistor.fullScaleCode()
+                         : sf == SensorFault::Short ? 0
+                                                    : hw.thermistor.code(thermTemp(k), rng);
+    in.mcuThermistorCode[k - static_cast<size_t>(afeTherm_)] = static_cast<uint16_t>(code);
+  }
+  in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A + f.current_sensor_offset_A, rng));
+  in.busVoltageCode = static_cast<uint16_t>(hw.bus_adc.convert(st_.bus_V, rng));
+  in.eSwitchInternal = f.estop_internal_pulled;
+  in.eSwitchExternal = f.estop_external_pulled;
+  in.relayAux = relay_.closed;
+  in.monitorFaultPin = stack_.faultLine();
+  in.chargerPresent = s_.bms.charger_present;
+  in.runRequest = s_.bms.run_request;
+  in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
+}
+
+bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
+                          PlantInputs& pin) {
+  const HardwareConfig& hw = s_.hardware;
+  const double dt = s_.bms.tick_s;
+  stack_.hostWrite(t, out, truth_);
+
+  // The monitor FAULT line sits in series with the relay drive: it opens the relay
+  // whatever the MCU commands.
+  st_.fault_line = stack_.faultLine();
+  const bool drive = !(hw.fault_line_opens_relay && st_.fault_line);
+  relayStep(hw.relay, relay_, out.relayClose && drive, f.relay_welded, t);
+  relayStep(hw.precharge_relay, precharge_, out.prechargeClose && drive, false, t);
+
+  // The current of the tick that just ended heats the fuse.
+  fuseStep(hw.fuse, fuse_, sig.pack_current_A, dt);
+
+  const bool dsg = out.dischargeFetOn && stack_.dischargeAllowed();
+  const bool chg = out.chargeFetOn && stack_.chargeAllowed();
+  const bool dischargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, 1.0) ||
+                                !mosfetConducts(hw.charge_fet, chg, 1.0);
+  const bool chargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, -1.0) ||
+                             !mosfetConducts(hw.charge_fet, chg, -1.0);
+  const bool mainClosed = relay_.closed && !fuse_.blown;
+
+  double prechargeA = 0.0;
+  if (mainClosed) {
+    st_.bus_V = sig.pack_voltage_V;
+  } else if (precharge_.closed && !dischargeBlocked) {
+    prechargeA = prechargeStep(hw.precharge, sig.pack_voltage_V, st_.bus_V, dt);
+  } else {
+    busIdleStep(hw.precharge, st_.bus_V, dt);
+  }
+
+  st_.relay_closed = relay_.closed;
+  st_.precharge_closed = precharge_.closed;
+  st_.fuse_blown = fuse_.blown;
+  st_.discharge_fet_on = dsg;
+  st_.charge_fet_on = chg;
+  st_.precharge_A = prechargeA;
+  st_.fet_loss_W = mosfetLoss_W(hw.discharge_fet, dsg, sig.pack_current_A) + mosfetLoss_W(hw.charge_fet, chg, sig.pack_current_A);
+
+  const bool changed = pin.relay_closed != mainClosed || pin.precharge_A != prechargeA ||
+                       pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked;
+  pin.relay_closed = mainClosed;
+  pin.precharge_A = prechargeA;
+  pin.discharge_blocked = dischargeBlocked;
+  pin.charge_blocked = chargeBlocked;
+  return changed;
 }
 
 }  // namespace packsim

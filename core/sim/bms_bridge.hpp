@@ -1,20 +1,69 @@
-// The simulator side of the BMS boundary: builds the firmware configuration from the
-// scenario (nominal datasheet scaling, SI thresholds -> firmware units) and samples
-// the plant's truth into the raw codes the core reads. Noise, quantisation and gain
-// errors are added here, never inside bms/.
+// The simulator side of the BMS boundary.
+//
+// makeBmsConfig: the firmware configuration from the scenario (nominal datasheet
+// scaling, SI thresholds -> firmware units, OCV table and capacity for the SOC).
+//
+// HardwareSim: everything between the plant and the MCU pins, as discrete models
+// advanced once per tick:
+//   sample(t)   truth -> monitor-IC reply frames (models/afe: quantisation, per-channel
+//               gain/offset error, noise, injected comm faults), MCU thermistor and
+//               current-sense codes, load-bus voltage code, GPIO (E-switches, relay aux
+//               contact, monitor FAULT line, charger present, run request)
+//   actuate(t)  the firmware's commands at t -> host writes to the monitors, relay
+//               coils (the monitor FAULT line is wired in series with the coil drive,
+//               so it opens the relay without the MCU), relay delays and weld, FETs
+//               (BQ76952: the device's own FET control), fuse I²t, precharge RC; fills
+//               the plant's inputs for [t, t + tick).
+// Noise, quantisation and hardware faults live here and in models/, never in bms/.
 #pragma once
 #include <bms/bms_config.hpp>
 #include <bms/bms_hal.hpp>
 
 #include "core/scenario/scenario.hpp"
+#include "core/sim/hardware_faults.hpp"
 #include "core/sim/plant.hpp"
+#include "models/afe/monitor_stack.hpp"
+#include "models/hw/fuse.hpp"
+#include "models/hw/relay.hpp"
 #include "models/sensors/adc.hpp"
 
 namespace packsim {
 
 bms::Config makeBmsConfig(const Scenario& s);
 
-// Fills the measurement fields of `in` from the plant signals at one tick.
-void sampleSensors(const Scenario& s, const Plant& plant, const PlantSignals& sig, Rng& rng, bms::Inputs& in);
+// What the switching hardware is actually doing (for records and events).
+struct HardwareStatus {
+  bool relay_closed = false;      // main contact
+  bool precharge_closed = false;  // precharge contact
+  bool fuse_blown = false;
+  bool discharge_fet_on = false;  // gate actually on (after the BQ76952's own control)
+  bool charge_fet_on = false;
+  bool fault_line = false;        // monitor FAULT / ALERT line asserted
+  double bus_V = 0.0;
+  double precharge_A = 0.0;
+  double fet_loss_W = 0.0;
+};
+
+class HardwareSim {
+ public:
+  HardwareSim(const Scenario& s, const Plant& plant);
+
+  void sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in);
+  // Returns true when an input of the plant changed (the integrator restarts).
+  bool actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f, PlantInputs& pin);
+
+  const HardwareStatus& status() const { return st_; }
+  const MonitorStack& monitors() const { return stack_; }
+
+ private:
+  const Scenario& s_;
+  const Plant& plant_;
+  MonitorStack stack_;
+  MonitorTruth truth_;
+  int afeTherm_ = 0;  // thermistor channels on the monitor ICs
+  RelayState relay_, precharge_;
+  FuseState fuse_;
+  HardwareStatus st_;
+};
 
 }  // namespace packsim

@@ -1,5 +1,6 @@
 #include "core/sim/plant.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace packsim {
@@ -10,7 +11,7 @@ Plant::Plant(const Scenario& s)
   pack_.series = s.pack.series;
   pack_.parallel = s.pack.parallel;
   pack_.interconnect_ohm = s.pack.interconnect_ohm;
-  PackCells cells = drawCells(s.pack.cell, s.pack.initial_soc, pack_.cellCount(), s.pack.spread,
+  PackCells cells = drawCells(s.pack.cell, s.pack.initial_soc, pack_.cellCount(), pack_.parallel, s.pack.spread,
                               s.pack.cell_overrides, s.run.seed);
   pack_.cells = std::move(cells.params);
   initialSoc_ = std::move(cells.initial_soc);
@@ -65,7 +66,7 @@ void Plant::initialState(double* x) const {
 // is held at the maximum power point E/(2R) if P exceeds E²/(4R).
 double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm, bool& limited) const {
   limited = false;
-  if (!in.relay_closed) return 0.0;
+  if (!in.relay_closed) return in.precharge_A;
   const double extra = in.faults ? in.faults->extra_load_A : 0.0;
   const double demand = in.load.current_A(t);
   if (loadQuantity_ == LoadProfile::Quantity::Current_A) return demand + extra;
@@ -91,6 +92,8 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
   } else {
     sig.pack_current_A = packCurrent(t, in, 0.0, 0.0, sig.power_limited);
   }
+  if ((sig.pack_current_A > 0.0 && in.discharge_blocked) || (sig.pack_current_A < 0.0 && in.charge_blocked))
+    sig.pack_current_A = 0.0;
   sig.pack_voltage_V = -sig.pack_current_A * pack_.interconnect_ohm;
   for (int g = 0; g < pack_.series; ++g) {
     const double v = pack_.splitGroup(g, sig.pack_current_A, cellX, sig.cell_current_A.data());
@@ -150,6 +153,57 @@ void Plant::quadratures(const double* x, const PlantSignals& sig, double* dq) co
   dq[kQuadLoadEnergy_J] = sig.pack_current_A * sig.pack_voltage_V;
   dq[kQuadHeat_J] = heat;
   dq[kQuadChemEnergy_J] = chem;
+}
+
+std::vector<Plant::RcBranch> Plant::rcBranches() const {
+  std::vector<RcBranch> b;
+  for (int c = 0; c < pack_.cellCount(); ++c) {
+    const CellParams& p = pack_.cells[static_cast<size_t>(c)];
+    for (int k = 0; k < pack_.layout.n_rc; ++k)
+      b.push_back({c * stride_ + pack_.layout.rc(k), p.rc[static_cast<size_t>(k)].tau_s()});
+  }
+  return b;
+}
+
+// Thermal node j: by Gershgorin, the eigenvalues of its row of the network lie within
+// (G_amb + G_cool + 2·Σ G_link)/C_j, so τ_j = C_j / that sum bounds it from below.
+// Parallel groups: a cell's current I_i = (E_i - V_g)/R0_i feeds back on its own
+// state through E_i: on an RC voltage with rate 1/(C_k·R0) and on SOC with rate
+// |dOCV/dSOC| / (3600·Q·R0). (Series cells carry the load current, which does not
+// depend on their state; a constant-power load's weak I(V) feedback is ignored.)
+double Plant::explicitTimeConstant_s() const {
+  double tau = INFINITY;
+  const int nodes = thermal_.nodeCount();
+  std::vector<double> g(static_cast<size_t>(nodes), 0.0);
+  for (int j = 0; j < nodes; ++j)
+    g[static_cast<size_t>(j)] = thermal_.g_ambient_W_per_K[static_cast<size_t>(j)] +
+                                thermal_.g_coolant_W_per_K[static_cast<size_t>(j)];
+  for (const ThermalLink& l : thermal_.links) {
+    g[static_cast<size_t>(l.a)] += 2.0 * l.g_W_per_K;
+    g[static_cast<size_t>(l.b)] += 2.0 * l.g_W_per_K;
+  }
+  for (int j = 0; j < nodes; ++j)
+    if (g[static_cast<size_t>(j)] > 0.0)
+      tau = std::min(tau, thermal_.heat_capacity_J_per_K[static_cast<size_t>(j)] / g[static_cast<size_t>(j)]);
+  if (pack_.parallel > 1) {
+    constexpr int kGrid = 200;
+    for (const CellParams& p : pack_.cells) {
+      double r0_min = INFINITY, slope_max = 0.0, prev = ecm::ocv(p, 0.0);
+      for (int i = 0; i <= kGrid; ++i) {
+        const double soc = static_cast<double>(i) / kGrid;
+        r0_min = std::min(r0_min, ecm::r0(p, soc));
+        if (i > 0) {
+          const double v = ecm::ocv(p, soc);
+          slope_max = std::max(slope_max, std::fabs(v - prev) * kGrid);
+          prev = v;
+        }
+      }
+      if (!(r0_min > 0.0)) continue;
+      if (slope_max > 0.0) tau = std::min(tau, 3600.0 * p.capacity_Ah * r0_min / slope_max);
+      for (const RcPair& rc : p.rc) tau = std::min(tau, rc.c_F * r0_min);
+    }
+  }
+  return tau;
 }
 
 }  // namespace packsim

@@ -27,6 +27,11 @@ struct PlantInputs {
   bool relay_closed = false;
   LoadSegment load;
   const HardwareFaults* faults = nullptr;  // extra load, hot-cell heat, internal shorts
+  // Switching hardware (core/sim/bms_bridge): with the main path open the pack only
+  // feeds the precharge path; a FET that is off (and its diode) blocks one direction.
+  double precharge_A = 0.0;
+  bool discharge_blocked = false;
+  bool charge_blocked = false;
 };
 
 // Everything the plant derives from a state at a time, reused between calls.
@@ -68,6 +73,19 @@ class Plant {
   // Rates of the quadratures from signals already evaluated at (t, x).
   void quadratures(const double* x, const PlantSignals& sig, double* dq) const;
   PlantSignals makeSignals() const;
+
+  // For integrators that update RC branches in closed form (core/sim/fast_integrator):
+  // branch k obeys dv/dt = (i·R - v)/τ, with its rate given by derivatives().
+  struct RcBranch {
+    int state = 0;     // index in the state vector
+    double tau_s = 0;  // R·C of the branch
+  };
+  std::vector<RcBranch> rcBranches() const;
+  // Smallest time constant (s) of the states an explicit update advances (everything
+  // but the RC branches' own decay): thermal nodes, and within parallel groups the
+  // current split's feedback on SOC and RC voltages. A state added to the plant adds
+  // its time constant here, so fixed-step integrators stay stable.
+  double explicitTimeConstant_s() const;
 
  private:
   double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm, bool& limited) const;

@@ -32,6 +32,17 @@ struct Recording {
   std::vector<uint8_t> bms_state;
   std::vector<uint32_t> fault_active, fault_latched;
   std::vector<uint8_t> relay_closed, discharge_fet_on, charge_fet_on;
+  // firmware internals and telemetry (issue 3)
+  int devices = 0;                            // monitor ICs
+  std::vector<uint8_t> precharge_closed, precharge_phase, monitor_fault;
+  std::vector<uint16_t> soc_estimate_permille;
+  std::vector<uint32_t> meas_bus_voltage_mV;
+  std::vector<uint8_t> comm_bad;              // [sample][device] consecutive bad replies
+  std::vector<uint8_t> telemetry;             // [sample][bms::kTelemetryFrameBytes]
+  // switching hardware as it actually is
+  std::vector<uint8_t> hw_relay_closed, hw_precharge_closed, hw_fuse_blown, hw_discharge_fet_on, hw_charge_fet_on,
+      hw_fault_line;
+  std::vector<double> hw_bus_voltage_V, hw_fet_loss_W;
 
   size_t samples() const { return time_s.size(); }
 };

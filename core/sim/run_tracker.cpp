@@ -3,6 +3,7 @@
 #include "core/sim/stranded_energy.hpp"
 
 #include <bms/bms_core.hpp>
+#include <bms/bms_telemetry.hpp>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -31,6 +32,11 @@ void RunTracker::noteLimit(double t, const double* x, int cell) {
   for (int c = 0; c < plant_.pack().cellCount(); ++c) limitSoc_.push_back(plant_.cellStates(x, c)[CellLayout::soc]);
 }
 
+void RunTracker::setHardware(const HardwareSim* hw) {
+  hw_ = hw;
+  r_.rec.devices = hw ? hw->monitors().config().devices : 0;
+}
+
 void RunTracker::event(double t, const std::string& kind, const std::string& detail) {
   r_.events.push_back({t, kind, detail});
 }
@@ -49,6 +55,22 @@ std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) co
     case bms::Quantity::ChargeCurrent_mA:
       os << "charge current " << -tm.packCurrent_mA * 1e-3 << " A > " << rule.threshold * 1e-3 << " A"; break;
     case bms::Quantity::MaxTemp_dC: os << "max temperature " << tm.maxTemp_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
+    case bms::Quantity::MaxTempCharging_dC:
+      os << "max temperature while charging " << tm.maxTemp_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
+    case bms::Quantity::MinTemp_dC: os << "min temperature " << tm.minTemp_dC * 0.1 << " C < " << rule.threshold * 0.1 << " C"; break;
+    case bms::Quantity::MinTempCharging_dC:
+      os << "min temperature while charging " << tm.minTemp_dC * 0.1 << " C < " << rule.threshold * 0.1 << " C"; break;
+    case bms::Quantity::MaxDie_dC: os << "monitor die " << tm.maxDie_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
+    case bms::Quantity::CommBadFrames: os << (rule.threshold + 1) << " consecutive bad monitor replies"; break;
+    case bms::Quantity::CellSumError_mV: os << "sum of cells off the module channel by > " << rule.threshold << " mV per cell"; break;
+    case bms::Quantity::InvalidThermistors: os << "thermistor reading at a rail (open or shorted)"; break;
+    case bms::Quantity::CurrentCodeAtRail: os << "current-sense code at a rail"; break;
+    case bms::Quantity::EStopPulled: os << "E-switch pulled"; break;
+    case bms::Quantity::MonitorFaultLine: os << "monitor IC protection latched (FAULT line)"; break;
+    case bms::Quantity::RelayStuckClosed:
+      os << "relay commanded open but current " << std::abs(tm.packCurrent_mA) * 1e-3 << " A still flows or its aux contact reads closed"; break;
+    case bms::Quantity::PrechargeFailed: os << "precharge did not finish in any attempt"; break;
+    case bms::Quantity::CellSpread_mV: os << "cell spread " << (tm.maxCell_mV - tm.minCell_mV) << " mV > " << rule.threshold << " mV"; break;
     case bms::Quantity::Count: break;
   }
   os << " for " << rule.delay_ms << " ms";
@@ -102,6 +124,27 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       }
     }
   }
+  if (hw_) {
+    // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
+    const HardwareStatus& h = hw_->status();
+    if (h.relay_closed != lastHw_.relay_closed) event(t, "relay_contact", h.relay_closed ? "closed" : "opened");
+    if (h.precharge_closed != lastHw_.precharge_closed)
+      event(t, "precharge_contact", h.precharge_closed ? "closed" : "opened");
+    if (h.fuse_blown && !lastHw_.fuse_blown) event(t, "fuse", "blown");
+    if (h.fault_line != lastHw_.fault_line) event(t, "monitor_fault_line", h.fault_line ? "asserted" : "released");
+    lastHw_ = h;
+    const uint8_t phase = out.telemetry.prechargePhase;
+    static const char* const kPhase[] = {"idle", "charging", "closing", "pause", "done", "failed"};
+    if (phase != lastPrechargePhase_ && phase < 6)
+      event(t, "precharge", std::string(kPhase[phase]) + " (attempt " + std::to_string(out.telemetry.prechargeAttempts) + ")");
+    lastPrechargePhase_ = phase;
+    if (out.telemetry.devicesLost != lastLost_) {
+      for (int d = 0; d < 64; ++d)
+        if (((out.telemetry.devicesLost >> d) & 1u) && !((lastLost_ >> d) & 1u))
+          event(t, "comm_lost", "device " + std::to_string(d + 1));
+      lastLost_ = out.telemetry.devicesLost;
+    }
+  }
   first_ = false;
   lastState_ = out.state;
   lastActive_ = out.faultActive;
@@ -133,6 +176,26 @@ void RunTracker::record(double t, const double* x, const PlantSignals& sig, cons
   rec.relay_closed.push_back(out.relayClose ? 1 : 0);
   rec.discharge_fet_on.push_back(out.dischargeFetOn ? 1 : 0);
   rec.charge_fet_on.push_back(out.chargeFetOn ? 1 : 0);
+  rec.precharge_closed.push_back(out.prechargeClose ? 1 : 0);
+  rec.precharge_phase.push_back(tm.prechargePhase);
+  rec.monitor_fault.push_back(tm.monitorFault ? 1 : 0);
+  rec.soc_estimate_permille.push_back(tm.soc_permille);
+  rec.meas_bus_voltage_mV.push_back(tm.busVoltage_mV);
+  for (int d = 0; d < rec.devices; ++d) rec.comm_bad.push_back(tm.commBad[d]);
+  uint8_t frame[bms::kTelemetryFrameBytes];
+  bms::telemetryEncode(out, frame);
+  rec.telemetry.insert(rec.telemetry.end(), frame, frame + bms::kTelemetryFrameBytes);
+  if (hw_) {
+    const HardwareStatus& h = hw_->status();
+    rec.hw_relay_closed.push_back(h.relay_closed ? 1 : 0);
+    rec.hw_precharge_closed.push_back(h.precharge_closed ? 1 : 0);
+    rec.hw_fuse_blown.push_back(h.fuse_blown ? 1 : 0);
+    rec.hw_discharge_fet_on.push_back(h.discharge_fet_on ? 1 : 0);
+    rec.hw_charge_fet_on.push_back(h.charge_fet_on ? 1 : 0);
+    rec.hw_fault_line.push_back(h.fault_line ? 1 : 0);
+    rec.hw_bus_voltage_V.push_back(h.bus_V);
+    rec.hw_fet_loss_W.push_back(h.fet_loss_W);
+  }
 }
 
 bool RunTracker::stopRequested(double t) const {

@@ -8,6 +8,7 @@
 #include "core/scenario/scenario.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/result.hpp"
+#include "core/sim/bms_bridge.hpp"
 
 namespace packsim {
 
@@ -22,6 +23,8 @@ class RunTracker {
   void checkFinite(double t, const double* x, int n) const;
   RunResult finish(const double* quadratures);
   void event(double t, const std::string& kind, const std::string& detail);
+  // The switching hardware and monitors whose actual state is recorded (bms_bridge).
+  void setHardware(const HardwareSim* hw);
 
  private:
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
@@ -38,6 +41,10 @@ class RunTracker {
   std::vector<double> limitSoc_;  // SOC of every cell when the first one hit its limit
   double lastT_ = 0.0;
   const double* lastX_ = nullptr;
+  const HardwareSim* hw_ = nullptr;
+  HardwareStatus lastHw_;
+  uint8_t lastPrechargePhase_ = 0;
+  uint64_t lastLost_ = 0;
 };
 
 }  // namespace packsim

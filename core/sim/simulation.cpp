@@ -2,11 +2,13 @@
 
 #include <bms/bms_core.hpp>
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/cvode_integrator.hpp"
+#include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/run_tracker.hpp"
@@ -24,6 +26,8 @@ class PlantOde : public OdeSystem {
 
   int size() const override { return plant_.stateSize() + kQuadCount; }
   int halfBandwidth() const override { return plant_.bandwidth(); }
+  // Cells couple within the band; extra thermal nodes and the quadratures do not.
+  int bandedSize() const override { return plant_.pack().cellCount() * plant_.stride(); }
   std::vector<double> absTolerances() const override {
     std::vector<double> a(static_cast<size_t>(size()), run_.atol_V);
     for (int c = 0; c < plant_.pack().cellCount(); ++c) a[static_cast<size_t>(c * plant_.stride())] = run_.atol_soc;
@@ -52,13 +56,20 @@ RunResult runScenario(const Scenario& s) {
   inputs.faults = &faults;
   inputs.load = s.load.segmentAt(0.0);
   PlantOde ode(plant, s.run, inputs);
-  CvodeIntegrator integ(ode, s.run.rtol);
+  std::unique_ptr<Integrator> solver;
+  if (s.run.solver == RunConfig::Solver::Fast)
+    solver = std::make_unique<FastIntegrator>(plant, inputs,
+                                              FastSettings{s.run.fast_max_substep_s, s.run.fast_substep_fraction});
+  else
+    solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol);
+  Integrator& integ = *solver;
 
   std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
   plant.initialState(x.data());
   integ.reset(0.0, x.data());
 
   const bms::Config cfg = makeBmsConfig(s);
+  HardwareSim hw(s, plant);  // monitor ICs, sensors, relay, FETs, fuse, precharge (bms_bridge)
   bms::CoreState core;
   bms::init(core);
   bms::Inputs in{};
@@ -68,6 +79,7 @@ RunResult runScenario(const Scenario& s) {
   Rng rng(s.run.seed);
   PlantSignals sig = plant.makeSignals();
   RunTracker tracker(s, plant, cfg);
+  tracker.setHardware(&hw);
   FaultScheduler scheduler(s, plant);
   scheduler.reset(faults);
 
@@ -84,15 +96,14 @@ RunResult runScenario(const Scenario& s) {
     plant.evaluate(t, xs, inputs, sig);
     const bool faultChanged = scheduler.update(t, xs, sig, faults, tracker);
     if (faultChanged) plant.evaluate(t, xs, inputs, sig);
-    sampleSensors(s, plant, sig, rng, in);
-    in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
+    hw.sample(t, sig, faults, rng, in);
 
     // 2. the firmware decides
     bms::step(cfg, core, in, out);
 
-    // 3. actuators: the relay carries current only when closed by the core
-    const bool relayChanged = out.relayClose != inputs.relay_closed;
-    inputs.relay_closed = out.relayClose;
+    // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
+    //    FETs, precharge) whose state the plant sees from t_k
+    const bool relayChanged = hw.actuate(t, out, sig, faults, inputs);
 
     // 4. record
     tracker.tick(t, xs, sig, out);

@@ -14,17 +14,23 @@ uint64_t deriveSeed(uint64_t seed, uint64_t stream) {
   return z ^ (z >> 31);
 }
 
-PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, const CellSpread& spread,
+PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, int parallel, const CellSpread& spread,
                     const std::vector<CellOverride>& overrides, uint64_t seed) {
   Rng rng(deriveSeed(seed, 1));
   auto z = [&rng] { return std::clamp(standardNormal(rng), -3.0, 3.0); };
   PackCells pc;
   pc.params.assign(static_cast<size_t>(count), nominal);
   pc.initial_soc.assign(static_cast<size_t>(count), nominal_soc);
+  double z1 = 0.0, z2 = 0.0, z3 = 0.0, z4 = 0.0;
   for (int c = 0; c < count; ++c) {
     CellParams& p = pc.params[static_cast<size_t>(c)];
     // Always draw all four so one cell's values do not depend on which spreads are on.
-    const double z1 = z(), z2 = z(), z3 = z(), z4 = z();
+    if (!spread.per_group || c % parallel == 0) {
+      z1 = z();
+      z2 = z();
+      z3 = z();
+      z4 = z();
+    }
     p.capacity_Ah = nominal.capacity_Ah * (1.0 + spread.capacity_rel_sd * z1);
     p.r0_scale = 1.0 + spread.r0_rel_sd * z2;
     pc.initial_soc[static_cast<size_t>(c)] = std::clamp(nominal_soc + spread.initial_soc_sd * z3, 0.0, 1.0);

@@ -7,7 +7,8 @@
 //   self_discharge_A = nominal + |self_discharge_A_sd · z4|
 //
 // z ~ N(0,1) from a stream derived from the scenario seed (separate from sensor noise),
-// truncated at ±3σ so no cell gets a non-physical value.
+// truncated at ±3σ so no cell gets a non-physical value. With per_group the draw is
+// made once per series group (module-level drift) and shared by its parallel cells.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -22,6 +23,7 @@ struct CellSpread {
   double r0_rel_sd = 0.0;
   double initial_soc_sd = 0.0;
   double self_discharge_A_sd = 0.0;
+  bool per_group = false;
 };
 
 struct CellOverride {
@@ -34,7 +36,7 @@ struct PackCells {
   std::vector<double> initial_soc;
 };
 
-PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, const CellSpread& spread,
+PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, int parallel, const CellSpread& spread,
                     const std::vector<CellOverride>& overrides, uint64_t seed);
 
 // splitmix64: derives independent seeds for separate random streams.

@@ -3,6 +3,8 @@
 #include <bms/bms_protect.hpp>
 #include <gtest/gtest.h>
 
+#include "fake_stack.hpp"
+
 namespace {
 
 bms::Config oneRuleConfig() {
@@ -97,82 +99,76 @@ TEST(Protection, DebounceSurvivesMillisecondWrap) {
 
 // The whole core: a latched fatal fault keeps the relay open until a person resets it.
 TEST(Core, LatchedFaultKeepsRelayOpenUntilReset) {
-  bms::Config cfg = bms::defaultConfig(2, 0);
-  cfg.scaling.cellLsb_uV = 1000.0f;  // 1 mV per code
-  cfg.scaling.currentZeroCode = 0.0f;
+  const bms::Config cfg = bms_test::config(2, 0);
   bms::CoreState s;
   bms::init(s);
   bms::Inputs in{};
   bms::Outputs out{};
   in.runRequest = true;
-  in.cellCode[0] = in.cellCode[1] = 3700;
-  uint32_t t = 0;
-  for (; t < 100; t += 10) {
-    in.now_ms = t;
-    bms::step(cfg, s, in, out);
-  }
+  in.currentCode = 32768;
+  bms_test::FakeStack st(2, 0);
+  uint32_t t = bms_test::run(cfg, s, in, out, st, 0, 100);
   ASSERT_TRUE(out.relayClose);
-  in.cellCode[1] = 2500;  // under-voltage
-  for (; t < 700; t += 10) {
-    in.now_ms = t;
-    bms::step(cfg, s, in, out);
-  }
+  st.cell_mV[1] = 2500;  // under-voltage
+  t = bms_test::run(cfg, s, in, out, st, t, 700);
   EXPECT_FALSE(out.relayClose);
   EXPECT_EQ(out.state, bms::State::Error);
-  in.cellCode[1] = 3700;  // condition gone, but latched
-  for (; t < 2000; t += 10) {
-    in.now_ms = t;
-    bms::step(cfg, s, in, out);
-    ASSERT_FALSE(out.relayClose);
-  }
+  st.cell_mV[1] = 3700;  // condition gone, but latched
+  t = bms_test::run(cfg, s, in, out, st, t, 2000, [&](uint32_t) { ASSERT_FALSE(out.relayClose); });
   in.resetRequest = true;
-  in.now_ms = t;
-  bms::step(cfg, s, in, out);
+  t = bms_test::run(cfg, s, in, out, st, t, t + 10);
   in.resetRequest = false;
-  for (t += 10; t < 2100; t += 10) {
-    in.now_ms = t;
-    bms::step(cfg, s, in, out);
-  }
+  bms_test::run(cfg, s, in, out, st, t, t + 100);
   EXPECT_TRUE(out.relayClose);
   EXPECT_EQ(out.faultLatched, 0u);
 }
 
 TEST(Core, ResetWhileFaultPresentStaysInError) {
-  bms::Config cfg = bms::defaultConfig(1, 0);
-  cfg.scaling.cellLsb_uV = 1000.0f;
+  const bms::Config cfg = bms_test::config(1, 0);
   bms::CoreState s;
   bms::init(s);
   bms::Inputs in{};
   bms::Outputs out{};
   in.runRequest = true;
-  in.cellCode[0] = 2500;
-  for (uint32_t t = 0; t < 1000; t += 10) {
-    in.now_ms = t;
+  in.currentCode = 32768;
+  bms_test::FakeStack st(1, 0, 2500);
+  bms_test::run(cfg, s, in, out, st, 0, 1000, [&](uint32_t t) {
     in.resetRequest = t > 800;
-    bms::step(cfg, s, in, out);
-  }
+  });
   EXPECT_EQ(out.state, bms::State::Error);
-  EXPECT_FALSE(out.relayClose);
 }
 
-TEST(Core, EStopOpensRelayWithinOneTick) {
-  bms::Config cfg = bms::defaultConfig(1, 0);
-  cfg.scaling.cellLsb_uV = 1000.0f;
-  bms::CoreState s;
-  bms::init(s);
-  bms::Inputs in{};
-  bms::Outputs out{};
-  in.runRequest = true;
-  in.cellCode[0] = 3700;
-  for (uint32_t t = 0; t < 100; t += 10) {
-    in.now_ms = t;
-    bms::step(cfg, s, in, out);
+// Either E-switch isolates in the tick that sees it (relay and both FETs), latches,
+// and the relay stays open until the switch is released *and* a reset arrives.
+TEST(Core, EitherESwitchIsolatesWithinOneTickAndLatches) {
+  for (const bool external : {false, true}) {
+    const bms::Config cfg = bms_test::config(1, 0);
+    bms::CoreState s;
+    bms::init(s);
+    bms::Inputs in{};
+    bms::Outputs out{};
+    in.runRequest = true;
+    in.currentCode = 32768;
+    bms_test::FakeStack st(1, 0);
+    uint32_t t = bms_test::run(cfg, s, in, out, st, 0, 100);
+    ASSERT_TRUE(out.relayClose && out.dischargeFetOn && out.chargeFetOn);
+    (external ? in.eSwitchExternal : in.eSwitchInternal) = true;
+    t = bms_test::run(cfg, s, in, out, st, t, t + 10);
+    EXPECT_FALSE(out.relayClose);
+    EXPECT_FALSE(out.dischargeFetOn);
+    EXPECT_FALSE(out.chargeFetOn);
+    EXPECT_NE(out.faultLatched & bms::faultBit(bms::FaultId::EStop), 0u);
+    in.resetRequest = true;  // reset while still pulled: nothing closes
+    t = bms_test::run(cfg, s, in, out, st, t, t + 100, [&](uint32_t) { ASSERT_FALSE(out.relayClose); });
+    in.resetRequest = false;
+    (external ? in.eSwitchExternal : in.eSwitchInternal) = false;  // released, no reset yet
+    t = bms_test::run(cfg, s, in, out, st, t, t + 500, [&](uint32_t) { ASSERT_FALSE(out.relayClose); });
+    in.resetRequest = true;
+    t = bms_test::run(cfg, s, in, out, st, t, t + 10);
+    in.resetRequest = false;
+    bms_test::run(cfg, s, in, out, st, t, t + 50);
+    EXPECT_TRUE(out.relayClose);
   }
-  ASSERT_TRUE(out.relayClose);
-  in.eStopPulled = true;
-  in.now_ms = 100;
-  bms::step(cfg, s, in, out);
-  EXPECT_FALSE(out.relayClose);
 }
 
 }  // namespace

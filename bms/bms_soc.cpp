@@ -1,0 +1,76 @@
+#include "bms_soc.hpp"
+
+namespace bms {
+
+void socReset(SocState& s) {
+  s.anchored = false;
+  s.anchorSoc = 0.0f;
+  s.sinceAnchor_mAms = 0;
+  s.last_ms = 0;
+  s.restSince_ms = 0;
+  s.resting = false;
+  s.restAnchored = false;
+}
+
+float socFromOcv(const SocConfig& c, uint16_t mv) {
+  const uint8_t n = c.ocvPoints;
+  if (n < 2) return 0.0f;
+  if (mv <= c.ocv_mV[0]) return 0.0f;
+  if (mv >= c.ocv_mV[n - 1]) return 1.0f;
+  for (uint8_t i = 1; i < n; ++i) {
+    if (mv <= c.ocv_mV[i]) {
+      const float lo = static_cast<float>(c.ocv_mV[i - 1]);
+      const float hi = static_cast<float>(c.ocv_mV[i]);
+      const float frac = hi > lo ? (static_cast<float>(mv) - lo) / (hi - lo) : 0.0f;
+      return (static_cast<float>(i - 1) + frac) / static_cast<float>(n - 1);
+    }
+  }
+  return 1.0f;
+}
+
+float socValue(const SocConfig& c, const SocState& s) {
+  if (!s.anchored) return 0.0f;
+  const float used = static_cast<float>(s.sinceAnchor_mAms) / (c.capacity_mAh * 3.6e6f);
+  const float soc = s.anchorSoc - used;
+  return soc < 0.0f ? 0.0f : (soc > 1.0f ? 1.0f : soc);
+}
+
+namespace {
+
+void anchor(const SocConfig& c, SocState& s, uint16_t meanCell_mV) {
+  s.anchored = true;
+  s.anchorSoc = socFromOcv(c, meanCell_mV);
+  s.sinceAnchor_mAms = 0;
+}
+
+int32_t magnitude(int32_t v) { return v < 0 ? -v : v; }
+
+}  // namespace
+
+void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV, int32_t current_mA, uint32_t now_ms) {
+  const uint32_t dt_ms = now_ms - s.last_ms;
+  s.last_ms = now_ms;
+  if (!s.anchored) {
+    if (valid) anchor(c, s, meanCell_mV);
+    s.restSince_ms = now_ms;
+    return;
+  }
+  // Rectangle rule with this tick's current over the elapsed interval.
+  s.sinceAnchor_mAms += static_cast<int64_t>(current_mA) * static_cast<int64_t>(dt_ms);
+
+  if (magnitude(current_mA) >= c.restCurrent_mA) {
+    s.resting = false;
+    s.restAnchored = false;
+    return;
+  }
+  if (!s.resting) {
+    s.resting = true;
+    s.restSince_ms = now_ms;
+  }
+  if (valid && !s.restAnchored && now_ms - s.restSince_ms >= c.rest_ms) {
+    anchor(c, s, meanCell_mV);
+    s.restAnchored = true;
+  }
+}
+
+}  // namespace bms

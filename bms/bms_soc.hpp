@@ -1,0 +1,33 @@
+// State-of-charge estimate: coulomb counting between anchors, anchored to the OCV
+// table (mean cell voltage) at the first complete measurement and again each time the
+// pack has rested (|I| < restCurrent_mA) for rest_ms.
+//
+//   soc = soc_anchor - (∫ I dt since the anchor) / capacity      (positive I discharges)
+//
+// The integral is kept as an integer (mA·ms), so a long run does not lose float
+// resolution.
+#pragma once
+#include <cstdint>
+
+#include "bms_config.hpp"
+
+namespace bms {
+
+struct SocState {
+  bool anchored;
+  float anchorSoc;
+  int64_t sinceAnchor_mAms;
+  uint32_t last_ms;
+  uint32_t restSince_ms;
+  bool resting;
+  bool restAnchored;  // already re-anchored during this rest
+};
+
+void socReset(SocState& s);
+// SOC (0..1) from a mean cell voltage by the OCV table (linear, clamped).
+float socFromOcv(const SocConfig& c, uint16_t cell_mV);
+// One tick. `valid` = a complete cell measurement is available.
+void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV, int32_t current_mA, uint32_t now_ms);
+float socValue(const SocConfig& c, const SocState& s);
+
+}  // namespace bms

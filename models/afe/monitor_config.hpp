@@ -1,0 +1,71 @@
+// Configuration of a simulated monitor-IC stack (constant during a run). Three
+// classes after TI parts (HARDWARE.md):
+//   bq76pl536a: 3-6 cells/device, 14-bit ADC (6250/16383 mV LSB), 2 thermistors,
+//               SPI frames with CRC-8, secondary COV/CUV/OT comparators latching FAULT
+//   bq76pl455a: up to 16 cells/device, 5 V/65535 LSB, 2 aux thermistors, UART
+//               frames with CRC-16, fault summary, comparator UV/OV
+//   bq76952:    up to 16 cells, mV readings (±5 mV), 3 thermistors reported in 0.1 K,
+//               own protections with delays and recovery, CHG/DSG/PCHG/PDSG FETs,
+//               coulomb counter; optional CRC-8
+// Units SI (V, A, s, °C) with suffixes.
+#pragma once
+#include <bms/bms_afe.hpp>
+
+#include "models/sensors/adc.hpp"
+#include "models/sensors/thermistor.hpp"
+
+namespace packsim {
+
+// BQ76PL536A / BQ76PL455A secondary protection: comparators independent of the ADC,
+// each with its own threshold and delay; a trip latches FAULT (COV, CUV) or ALERT
+// (OT) until the host clears it and the condition is gone.
+struct SecondaryProtection {
+  bool enabled = true;
+  double cov_V = 4.35;       // 2.0–5.0 V in 50 mV steps
+  double cov_delay_s = 1.0;  // 0–3.1 s
+  double cuv_V = 2.5;        // 0.7–3.3 V in 100 mV steps
+  double cuv_delay_s = 1.0;
+  double ot_C = 65.0;        // 40–90 °C in 5 °C steps
+  double ot_delay_s = 1.0;   // 0–2.55 s in 10 ms steps
+};
+
+// BQ76952 protections (datasheet defaults): an alert bit sets at once, the safety
+// status only after the delay; recovery by hysteresis (voltage, temperature) or time
+// (current).
+struct Bq952Protection {
+  double cov_V = 4.35, cov_delay_s = 0.244, cov_recovery_V = 0.1;
+  double cuv_V = 2.53, cuv_delay_s = 0.244, cuv_recovery_V = 0.1;
+  double occ_mV = 4.0, occ_delay_s = 0.02;     // across the shunt
+  double ocd1_mV = 8.0, ocd1_delay_s = 0.01;
+  double scd_mV = 100.0;                         // 15 µs delay: within one read-out
+  double current_recovery_s = 5.0;
+  double otc_C = 55.0, otd_C = 60.0, otf_C = 80.0, ot_delay_s = 2.0;
+  double utc_C = 0.0, utd_C = 0.0, ut_delay_s = 2.0;
+  double temp_recovery_C = 5.0;
+};
+
+struct MonitorConfig {
+  bms::AfeModel model = bms::AfeModel::Bq76pl536a;
+  int devices = 1;
+  int cells_per_device = 6;
+  int thermistors_per_device = 2;   // AFE inputs in use (BQ76952: up to 3, the 3rd on the FETs)
+  AdcChannel cell_adc;              // volts: lsb, gain/offset error (whole part), noise
+  double channel_gain_sd = 0.0;     // per-channel gain error, drawn once from the seed
+  double channel_offset_sd_V = 0.0; // per-channel offset, drawn once from the seed
+  double module_noise_V = 0.0;      // noise of the module/stack channel
+  Thermistor thermistor;            // NTC + divider on the thermistor inputs
+  bool crc = true;                  // BQ76952 only (the others always carry a CRC)
+  double die_rise_C = 5.0;          // die above its hottest cell
+  double measurement_period_s = 0.0;  // BQ76952 loop (≈ 0.06 s): readings refresh at this rate; 0 = every read
+  double shunt_ohm = 0.005;         // BQ76952 current input
+  SecondaryProtection secondary;
+  Bq952Protection bq;
+  double baud = 250000.0;           // link speed for the read-out time
+  double conversion_s_per_channel = 6e-6;
+};
+
+// Time to read one device: conversion of its channels plus its reply on the link
+// (10 bits per byte).
+double readoutTime_s(const MonitorConfig& c, int cells);
+
+}  // namespace packsim

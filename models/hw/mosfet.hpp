@@ -1,0 +1,24 @@
+// Power MOSFET with its body / parallel Schottky diode (DOMAIN.md system A: the
+// discharge FET's diode carries the charge current). With the gate on it conducts
+// both ways through Rds_on; off, only the diode conducts, in its forward direction.
+//
+//   on:  v = I·Rds_on,  p = I²·Rds_on
+//   off: I in the diode's direction: v = Vf + I·R_diode, p = v·|I|;  otherwise blocks
+#pragma once
+
+namespace packsim {
+
+struct MosfetConfig {
+  bool present = true;
+  double rds_on_ohm = 0.002;
+  double diode_vf_V = 0.3;        // low-Vf Schottky
+  double diode_r_ohm = 0.01;
+  bool diode_passes_charge = true;  // diode forward direction = charge (negative) current
+};
+
+// Can current of this sign flow (positive = discharge)?
+bool mosfetConducts(const MosfetConfig& c, bool gateOn, double current_A);
+// Dissipation at a current that does flow.
+double mosfetLoss_W(const MosfetConfig& c, bool gateOn, double current_A);
+
+}  // namespace packsim

@@ -1,0 +1,28 @@
+// Normally-open relay (contactor) with operate and release delays and a welded-contact
+// fault. Discrete model advanced once per tick:
+//
+//   coil energised at t_on  -> contact closes at t_on  + close_delay_s
+//   coil released  at t_off -> contact opens  at t_off + open_delay_s  (never, if welded)
+//
+// A contact that is closed when the weld fault is present stays closed. The
+// auxiliary contact mirrors the main contact (mechanically linked).
+#pragma once
+
+namespace packsim {
+
+struct RelayConfig {
+  double close_delay_s = 0.0;  // HARDWARE.md: operate <= 25 ms
+  double open_delay_s = 0.0;   // release <= 10 ms
+};
+
+struct RelayState {
+  bool coil = false;
+  bool closed = false;
+  double coilChanged_s = 0.0;
+};
+
+// Advances the relay to time t with the coil command held since the last call.
+// `welded`: the contacts are fused (they cannot open once closed).
+void relayStep(const RelayConfig& c, RelayState& s, bool coil, bool welded, double t);
+
+}  // namespace packsim

@@ -1,0 +1,130 @@
+"""packsim from Python: run battery-pack/BMS scenarios, load and plot their results.
+
+    import packsim
+    r = packsim.run("scenarios/eco_marathon_12s.yaml", {"pack.cell.capacity_Ah": 4.5}, seed=7)
+    r["truth/cell_voltage_V"]          # [samples, cells] NumPy array
+    r.summary["energy_delivered_Wh"]
+    r.save("race.h5"); packsim.load("race.h5")
+    packsim.plot.plot_all(r, "figures/")
+
+The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
+"""
+from __future__ import annotations
+
+import glob
+import os
+from collections.abc import Mapping
+from typing import Any
+
+from ._errors import ScenarioError
+from ._overrides import flatten_overrides
+from .result import Result, load
+
+try:
+    from . import _packsim
+    __version__: str = _packsim.__version__
+    _IMPORT_ERROR: ImportError | None = None
+except ImportError as _e:  # results can still be loaded and plotted without it
+    _packsim = None  # type: ignore[assignment]
+    __version__ = "unknown"
+    _IMPORT_ERROR = _e
+
+__all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
+           "default_scenario", "__version__"]
+
+
+def __getattr__(name: str):
+    # `packsim.plot` without importing matplotlib at `import packsim`
+    if name == "plot":
+        import importlib
+        return importlib.import_module(".plot", __name__)
+    raise AttributeError(f"module 'packsim' has no attribute {name!r}")
+
+
+def _core():
+    if _packsim is None:
+        raise ImportError("packsim's compiled extension (packsim._packsim) is not available: build it with "
+                          "scripts/build.sh and put build/python on PYTHONPATH, or `pip install .` "
+                          f"({_IMPORT_ERROR})") from _IMPORT_ERROR
+    return _packsim
+
+
+def default_scenario() -> str:
+    """Path of the scenario ``packsim run`` uses without arguments."""
+    return _core().default_scenario_path()
+
+
+def bundled_scenario_dir() -> str:
+    """Folder of the bundled scenarios (``$PACKSIM_SCENARIOS`` overrides it)."""
+    return _core().bundled_scenario_dir()
+
+
+def bundled_scenarios(pattern: str = "*.yaml") -> list[str]:
+    """Sorted paths of the bundled scenarios matching a glob pattern relative to their
+    folder (``"*.yaml"``, ``"faults/*.yaml"``, ``"**/*.yaml"``)."""
+    return sorted(glob.glob(os.path.join(bundled_scenario_dir(), pattern), recursive=True))
+
+
+def apply_overrides(yaml_text: str, /, overrides: Mapping[str, Any] | None = None, **more: Any) -> str:
+    """The scenario text with overrides applied (what ``run`` simulates and stores)."""
+    if not isinstance(yaml_text, str):
+        raise TypeError(f"yaml_text must be str, got {type(yaml_text).__name__}")
+    return _core().apply_overrides(yaml_text, flatten_overrides(overrides, more))
+
+
+def _is_yaml_text(s: str) -> bool:
+    return "\n" in s or ":" in s and not os.path.exists(s)
+
+
+def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
+        overrides: Mapping[str, Any] | None = None, *,
+        seed: int | None = None, base_dir: str | os.PathLike | None = None, **more: Any) -> Result:
+    """Run one scenario and return its Result.
+
+    scenario:  a path to a YAML file, YAML text, or a dict of the scenario itself;
+               None runs the bundled default (like ``packsim run``).
+    overrides: a dict merged into the scenario, nested (``{"pack": {"cell":
+               {"capacity_Ah": 3.0}}}``) or with dotted keys (``{"pack.cell.capacity_Ah":
+               3.0}``, list elements as ``"pack.cell.rc_pairs.0.r_ohm"``). Keyword
+               arguments are more overrides, applied after it: ``run(path, load={"laps": 2})``.
+               Dicts merge key by key; lists and values replace. Unknown keys are
+               ScenarioErrors naming the closest valid key.
+    seed:      the noise seed, exactly as ``packsim run --seed`` (the stored scenario
+               text stays as written).
+    base_dir:  where relative CSV paths of YAML text or a dict resolve (default: the
+               current folder; a file's own folder for a path).
+
+    The GIL is released while the simulation runs: threads run scenarios in parallel.
+    """
+    core = _core()
+    if seed is not None:
+        if isinstance(seed, bool) or not isinstance(seed, int) and not hasattr(seed, "__index__"):
+            raise TypeError(f"seed must be an int, got {type(seed).__name__}")
+        seed = int(seed.__index__())
+        if not 0 <= seed <= 2**63 - 1:
+            raise ValueError(f"seed must be >= 0, got {seed}")
+    if base_dir is not None and not isinstance(base_dir, (str, os.PathLike)):
+        raise TypeError(f"base_dir must be a path, got {type(base_dir).__name__}")
+    base = os.fspath(base_dir) if base_dir is not None else "."
+    pairs = flatten_overrides(overrides, more)
+
+    if scenario is None:
+        scenario = core.default_scenario_path()
+    if isinstance(scenario, Mapping):
+        # The dict is the scenario: its leaves are set on an empty one, by the same C++
+        # code that applies overrides (so values arrive with the same exactness).
+        handle = core.run("", False, flatten_overrides(scenario) + pairs, seed, "<dict>", base)
+    elif isinstance(scenario, os.PathLike) or isinstance(scenario, str) and not _is_yaml_text(scenario):
+        path = os.fspath(scenario)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"no such scenario file: {path}")
+        if base_dir is not None:
+            raise ValueError("base_dir applies to YAML text and dicts; a file's CSV paths resolve against its folder")
+        handle = core.run(path, True, pairs, seed)
+    elif isinstance(scenario, str):
+        handle = core.run(scenario, False, pairs, seed, "<string>", base)
+    else:
+        raise TypeError("scenario must be a path, YAML text or a dict, "
+                        f"not {type(scenario).__name__}")
+    from .result import _from_handle
+    return _from_handle(handle)

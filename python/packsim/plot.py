@@ -1,0 +1,313 @@
+"""Figures of a packsim result (matplotlib; no pyplot state, so safe in scripts,
+threads and notebooks alike).
+
+    from packsim import plot
+    plot.cells(r, "voltage")        # lines for <= 24 cells, a heatmap above
+    plot.current_soc(r)
+    plot.bms_timeline(r)            # state, actuators, faults, events
+    plot.balancing(r)               # None when the result has no balance mask
+    plot.plot_all(r, "figures/")    # all of them as PNG; what `packsim plot` writes
+
+Every function takes a Result (or a path to a result file) and returns a
+matplotlib Figure. ``python -m packsim.plot RESULT.h5 -o DIR`` writes the PNGs.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from typing import Any
+
+import numpy as np
+
+from .result import Result, load
+
+__all__ = ["cells", "current_soc", "bms_timeline", "balancing", "plot_all", "main", "LINE_LIMIT"]
+
+LINE_LIMIT = 24  # more cells than this: a heatmap instead of one line per cell
+
+_QUANTITIES = {
+    "voltage": ("truth/cell_voltage_V", "cell voltage (V)"),
+    "temperature": ("truth/cell_temp_C", "cell temperature (°C)"),
+    "soc": ("truth/cell_soc", "cell SOC (-)"),
+    "current": ("truth/cell_current_A", "cell current (A)"),
+}
+
+
+def _figure(width: float = 10.0, height: float = 5.0):
+    try:
+        from matplotlib.figure import Figure
+    except ImportError as e:
+        raise ImportError("packsim.plot needs matplotlib (pip install matplotlib)") from e
+    return Figure(figsize=(width, height), layout="constrained")
+
+
+def _result(r: Result | str | os.PathLike) -> Result:
+    if isinstance(r, Result):
+        return r
+    if isinstance(r, (str, os.PathLike)):
+        return load(r)
+    raise TypeError(f"expected a packsim.Result or a result file path, got {type(r).__name__}")
+
+
+def _time(r: Result) -> tuple[np.ndarray, str, float]:
+    """Time axis in s, min or h, whichever reads best; (values, label, scale)."""
+    t = r.time_s
+    span = float(t[-1] - t[0]) if t.size else 0.0
+    if span > 3 * 3600:
+        return t / 3600.0, "time (h)", 3600.0
+    if span > 30 * 60:
+        return t / 60.0, "time (min)", 60.0
+    return t, "time (s)", 1.0
+
+
+def _title(r: Result, what: str) -> str:
+    return f"{r.scenario_name} (seed {r.seed}): {what}"
+
+
+def _intervals(mask: np.ndarray, t: np.ndarray) -> list[tuple[float, float]]:
+    """(start, width) of each run of True in mask; a sample holds until the next."""
+    if mask.size == 0:
+        return []
+    edges = np.diff(np.concatenate(([0], mask.astype(np.int8), [0])))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    dt = float(np.median(np.diff(t))) if t.size > 1 else 1.0
+    t_end = np.append(t, t[-1] + dt)
+    return [(float(t_end[s]), float(t_end[e] - t_end[s])) for s, e in zip(starts, ends)]
+
+
+def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limit: int = LINE_LIMIT):
+    """Every cell's voltage / temperature / soc / current over time: one line per cell
+    up to `line_limit` cells (min and max cell named), a time x cell heatmap above."""
+    r = _result(r)
+    if quantity not in _QUANTITIES:
+        raise ValueError(f"quantity must be one of {', '.join(_QUANTITIES)}, not {quantity!r}")
+    path, label = _QUANTITIES[quantity]
+    a = r[path]
+    t, tlabel, _ = _time(r)
+    n = a.shape[1]
+    fig = _figure()
+    ax = fig.add_subplot()
+    if n <= line_limit:
+        import matplotlib as mpl
+        colors = mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n))
+        for j in range(n):
+            ax.plot(t, a[:, j], color=colors[j], lw=1.0, label=f"cell {j + 1}")
+        ax.legend(ncol=max(1, (n + 11) // 12), fontsize="small", loc="best")
+        ax.set_ylabel(label)
+    else:
+        dt = t[1] - t[0] if t.size > 1 else 1.0
+        extent = (float(t[0]), float(t[-1] + dt), 0.5, n + 0.5)
+        im = ax.imshow(a.T, aspect="auto", origin="lower", extent=extent, interpolation="nearest",
+                       cmap="inferno" if quantity == "temperature" else "viridis")
+        fig.colorbar(im, ax=ax, label=label)
+        ax.set_ylabel("cell")
+    ax.set_xlabel(tlabel)
+    ax.set_title(_title(r, f"{quantity} of {n} cells"))
+    if n <= line_limit:
+        ax.grid(alpha=0.3)
+    return fig
+
+
+def current_soc(r: Result | str | os.PathLike):
+    """Pack current (truth and what the BMS measured) and voltage above; cell SOC
+    (min..max band and mean) below."""
+    r = _result(r)
+    t, tlabel, _ = _time(r)
+    fig = _figure(10, 6.5)
+    ax_i, ax_s = fig.subplots(2, 1, sharex=True)
+    ax_i.plot(t, r["truth/pack_current_A"], lw=1.0, color="C0", label="pack current (truth)")
+    if "measured/current_mA" in r:
+        ax_i.plot(t, r["measured/current_mA"] / 1000.0, lw=0.6, color="C1", alpha=0.7, label="measured by the BMS")
+    ax_i.set_ylabel("current (A, + discharges)")
+    ax_i.grid(alpha=0.3)
+    ax_v = ax_i.twinx()
+    ax_v.plot(t, r["truth/pack_voltage_V"], lw=1.0, color="C3", label="pack voltage")
+    ax_v.set_ylabel("pack voltage (V)", color="C3")
+    lines = ax_i.get_legend_handles_labels()
+    more = ax_v.get_legend_handles_labels()
+    ax_i.legend(lines[0] + more[0], lines[1] + more[1], fontsize="small", loc="best")
+    ax_i.set_title(_title(r, "current, voltage and state of charge"))
+
+    soc = r["truth/cell_soc"]
+    ax_s.fill_between(t, soc.min(axis=1), soc.max(axis=1), color="C2", alpha=0.3, label="min..max cell")
+    ax_s.plot(t, soc.mean(axis=1), color="C2", lw=1.2, label="mean cell")
+    ax_s.set_ylabel("SOC (-)")
+    ax_s.set_xlabel(tlabel)
+    ax_s.legend(fontsize="small", loc="best")
+    ax_s.grid(alpha=0.3)
+    return fig
+
+
+def _state_names(r: Result) -> dict[int, str]:
+    names = r.attrs.get("bms/state", {}).get("names", "")
+    out = {}
+    for item in str(names).split(","):
+        if "=" in item:
+            k, v = item.split("=", 1)
+            try:
+                out[int(k)] = v.strip()
+            except ValueError:
+                pass
+    return out
+
+
+def _binary_rows(r: Result) -> list[tuple[str, np.ndarray]]:
+    """Every 0/1 per-sample dataset of bms/ (relay, FETs, precharge, contactors ...)."""
+    rows = []
+    for name, a in r.bms.items():
+        if a.ndim == 1 and a.shape[0] == r.n_samples and a.dtype.kind in "biu" and name not in ("state",) \
+                and not name.startswith("fault") and "balanc" not in name:
+            if a.size and a.max() <= 1 and a.min() >= 0:
+                rows.append((name, a.astype(bool)))
+    return rows
+
+
+def bms_timeline(r: Result | str | os.PathLike):
+    """What the BMS did: its state, its relay/FET commands, each fault that was ever
+    active (dark) or latched (light), and the run's events as vertical lines."""
+    r = _result(r)
+    t, tlabel, scale = _time(r)
+    actuators = _binary_rows(r)
+    faults: list[tuple[str, np.ndarray, np.ndarray]] = []
+    if "bms/fault_active" in r and r.fault_names:
+        act, lat = r.faults("active"), r.faults("latched")
+        for name in r.fault_names:
+            if act[name].any() or lat[name].any():
+                faults.append((name, act[name], lat[name]))
+    n_rows = len(actuators) + len(faults)
+    fig = _figure(10, 2.6 + 0.32 * max(n_rows, 3))
+    ax_state, ax_bars = fig.subplots(2, 1, sharex=True, height_ratios=[1.0, max(1.2, 0.32 * max(n_rows, 3))])
+
+    state = r["bms/state"].astype(int)
+    names = _state_names(r)
+    ax_state.step(t, state, where="post", color="C0", lw=1.5)
+    ticks = sorted(set(names) | set(np.unique(state).tolist()))
+    ax_state.set_yticks(ticks, [names.get(k, str(k)) for k in ticks])
+    ax_state.set_ylim(min(ticks) - 0.5, max(ticks) + 0.5)
+    ax_state.set_ylabel("BMS state")
+    ax_state.grid(alpha=0.3)
+    ax_state.set_title(_title(r, "BMS timeline"))
+
+    labels = []
+    y = 0
+    for name, on in actuators:
+        ax_bars.broken_barh(_intervals(on, t), (y - 0.35, 0.7), color="C2")
+        labels.append(name.replace("_", " "))
+        y += 1
+    for name, act, lat in faults:
+        ax_bars.broken_barh(_intervals(lat, t), (y - 0.35, 0.7), color="C3", alpha=0.3)
+        ax_bars.broken_barh(_intervals(act, t), (y - 0.35, 0.7), color="C3")
+        labels.append(f"fault: {name}")
+        y += 1
+    ax_bars.set_yticks(range(len(labels)), labels)
+    ax_bars.set_ylim(-0.6, max(len(labels), 1) - 0.4)
+    ax_bars.invert_yaxis()
+    ax_bars.set_xlabel(tlabel)
+    ax_bars.grid(axis="x", alpha=0.3)
+    if not labels:
+        ax_bars.text(0.5, 0.5, "no commands or faults recorded", transform=ax_bars.transAxes, ha="center")
+
+    # Events that explain the picture: injections, faults, relay moves. Periodic
+    # state echoes would only clutter it.
+    shown = {"fault_injected": "C4", "fault_removed": "C4", "fault_active": "C3", "fault_latched": "C3", "relay": "k"}
+    for ev in r.events:
+        color = shown.get(ev["kind"])
+        if color is None:
+            continue
+        x = ev["time_s"] / scale
+        for ax in (ax_state, ax_bars):
+            ax.axvline(x, color=color, lw=0.8, ls="--", alpha=0.7)
+        if ev["kind"] in ("fault_injected", "fault_latched", "relay"):
+            ax_state.annotate(f"{ev['kind']}: {ev['detail']}"[:48], (x, 1.0), xycoords=("data", "axes fraction"),
+                              rotation=90, va="top", ha="right", fontsize=7, color=color)
+    return fig
+
+
+def _balance_mask(r: Result) -> tuple[str, np.ndarray] | None:
+    """[samples, series] bool from the first bms/ dataset named like a balance mask:
+    a bit mask per sample (bit i = series cell i+1) or one column per cell."""
+    for name, a in r.bms.items():
+        if "balanc" not in name or "mask" not in name and a.ndim != 2:
+            continue
+        if a.ndim == 2 and a.shape[0] == r.n_samples:
+            return name, a.astype(bool)
+        if a.ndim == 1 and a.shape[0] == r.n_samples and a.dtype.kind in "iu":
+            n = r.n_series
+            bits = a.astype(np.uint64)[:, None] >> np.arange(n, dtype=np.uint64)[None, :]
+            return name, (bits & np.uint64(1)).astype(bool)
+    return None
+
+
+def balancing(r: Result | str | os.PathLike):
+    """Which cells balanced when (a time x cell map) and each cell's share of time
+    balancing. None when the result has no balance mask dataset."""
+    r = _result(r)
+    found = _balance_mask(r)
+    if found is None:
+        return None
+    name, mask = found
+    t, tlabel, _ = _time(r)
+    n = mask.shape[1]
+    fig = _figure(10, 5)
+    ax, ax_duty = fig.subplots(1, 2, sharey=True, width_ratios=[4, 1])
+    dt = t[1] - t[0] if t.size > 1 else 1.0
+    ax.imshow(mask.T, aspect="auto", origin="lower", interpolation="nearest", cmap="Greys", vmin=0, vmax=1,
+              extent=(float(t[0]), float(t[-1] + dt), 0.5, n + 0.5))
+    ax.set_xlabel(tlabel)
+    ax.set_ylabel("cell (series position)")
+    ax.set_title(_title(r, f"balancing ({name})"))
+    duty = mask.mean(axis=0) * 100.0
+    ax_duty.barh(np.arange(1, n + 1), duty, color="C1")
+    ax_duty.set_xlabel("time balancing (%)")
+    ax_duty.grid(axis="x", alpha=0.3)
+    return fig
+
+
+def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, dpi: int = 120) -> list[str]:
+    """Every figure of the result as PNG in outdir; returns the written paths."""
+    r = _result(r)
+    os.makedirs(outdir, exist_ok=True)
+    figures: list[tuple[str, Any]] = [
+        ("cell_voltages", cells(r, "voltage")),
+        ("cell_temperatures", cells(r, "temperature")),
+        ("current_soc", current_soc(r)),
+        ("bms_timeline", bms_timeline(r)),
+        ("balancing", balancing(r)),
+    ]
+    written = []
+    for name, fig in figures:
+        if fig is None:
+            continue
+        path = os.path.join(os.fspath(outdir), f"{r.scenario_name or 'result'}_{name}.png")
+        fig.savefig(path, dpi=dpi)
+        written.append(path)
+    return written
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="packsim plot", description="Write the figures of a packsim result as PNG.")
+    p.add_argument("result", help="result HDF5 file")
+    p.add_argument("-o", "--output", default=".", help="folder for the PNG files (default: .)")
+    p.add_argument("--dpi", type=int, default=120, help="resolution (default: 120)")
+    a = p.parse_args(argv)
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        print("packsim plot: error: matplotlib is not installed (pip install matplotlib)", file=sys.stderr)
+        return 1
+    if not os.path.isfile(a.result):
+        print(f"packsim plot: error: {a.result}: no such result file", file=sys.stderr)
+        return 2
+    try:
+        r = load(a.result)
+    except (OSError, KeyError) as e:
+        print(f"packsim plot: error: {a.result}: not a packsim result file ({e})", file=sys.stderr)
+        return 2
+    for path in plot_all(r, a.output, dpi=a.dpi):
+        print(path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

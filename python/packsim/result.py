@@ -1,0 +1,378 @@
+"""One simulation result, from ``packsim.run`` or from a result HDF5 file.
+
+Both hold the same thing: every dataset of the HDF5 layout (docs/results.md) under its
+path (``"time_s"``, ``"truth/cell_voltage_V"``, ``"bms/state"``, ...) as a read-only
+NumPy array, the attributes of the file, its groups and datasets, and the events
+table. Nothing is hard-wired: a dataset the C++ writer gains appears here unchanged.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from collections.abc import Iterator, Mapping
+from typing import Any
+
+import numpy as np
+
+__all__ = ["Result", "load"]
+
+EVENTS = "events"
+_EVENT_DTYPE = np.dtype([("time_s", "<f8"), ("kind", object), ("detail", object)])
+
+
+def _text(v: Any) -> Any:
+    if isinstance(v, (bytes, np.bytes_)):
+        return v.decode("utf-8")
+    if isinstance(v, np.ndarray) and v.dtype.kind in "SO" and v.ndim <= 1:
+        return [_text(x) for x in v.tolist()]
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+def _attrs(h5attrs) -> dict[str, Any]:
+    return {k: _text(h5attrs[k]) for k in h5attrs.keys()}
+
+
+def _read_dataset(ds) -> np.ndarray:
+    a = ds[()]
+    if not isinstance(a, np.ndarray):
+        a = np.asarray(a)
+    if a.dtype.names:  # compound (the events table): variable-length strings -> str
+        fields = []
+        for name in a.dtype.names:
+            col = a[name]
+            if col.dtype.kind in "OS":
+                fields.append((name, object))
+            else:
+                fields.append((name, col.dtype))
+        out = np.empty(a.shape, dtype=fields)
+        for name in a.dtype.names:
+            col = a[name]
+            out[name] = [_text(x) for x in col] if col.dtype.kind in "OS" else col
+        a = out
+    elif a.dtype.kind == "O":
+        a = np.array([_text(x) for x in a.ravel()], dtype=object).reshape(a.shape)
+    a.setflags(write=False)
+    return a
+
+
+def _read_h5(path: str | os.PathLike, prefer: Mapping[str, np.ndarray] | None = None):
+    """(datasets, attrs) of a result file. Datasets in `prefer` with the same shape and
+    dtype as in the file are taken from there instead of being read (no copy)."""
+    try:
+        import h5py
+    except ImportError as e:  # pragma: no cover - h5py is a dependency
+        raise ImportError("reading packsim results needs h5py (pip install h5py)") from e
+    prefer = prefer or {}
+    datasets: dict[str, np.ndarray] = {}
+    attrs: dict[str, dict[str, Any]] = {}
+    with h5py.File(path, "r") as f:
+        attrs[""] = _attrs(f.attrs)
+
+        def visit(name: str, obj) -> None:
+            a = _attrs(obj.attrs)
+            if a:
+                attrs[name] = a
+            if isinstance(obj, h5py.Dataset):
+                p = prefer.get(name)
+                if p is not None and p.shape == obj.shape and p.dtype == obj.dtype:
+                    datasets[name] = p
+                else:
+                    datasets[name] = _read_dataset(obj)
+
+        f.visititems(visit)
+    return datasets, attrs
+
+
+def load(path: str | os.PathLike) -> "Result":
+    """Read a result HDF5 file written by ``packsim run`` or ``Result.save``."""
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"no such result file: {path}")
+    datasets, attrs = _read_h5(path)
+    return Result(datasets, attrs, source=path)
+
+
+def _from_handle(handle) -> "Result":
+    """A Result around a C++ run. The recorded arrays are NumPy views into the C++
+    result (no copy). Attributes, the events table, the summary and any dataset the
+    binding does not list come from the C++ HDF5 writer itself (a temporary file), so
+    names, shapes, dtypes and metadata are exactly those of ``packsim run``'s file."""
+    views = handle.arrays()
+    tmpdir = tempfile.mkdtemp(prefix="packsim-")
+    try:
+        tmp = os.path.join(tmpdir, "result.h5")
+        handle.save(tmp)
+        datasets, attrs = _read_h5(tmp, prefer=views)
+    finally:
+        shutil.rmtree(tmpdir, ignore_errors=True)
+    return Result(datasets, attrs, handle=handle)
+
+
+class Result:
+    """A packsim result: ``r["truth/cell_voltage_V"]`` is a [samples, cells] array.
+
+    Groups are dicts too: ``r.truth["cell_soc"]``, ``r.bms["state"]``. ``r.summary`` is
+    the run summary, ``r.events`` the events as dicts, ``r.scenario_yaml`` and
+    ``r.seed`` say what ran. Units are in the dataset names and in ``r.units(path)``.
+    """
+
+    def __init__(self, datasets: Mapping[str, np.ndarray], attrs: Mapping[str, Mapping[str, Any]],
+                 *, handle=None, source: str | None = None) -> None:
+        self._datasets = dict(datasets)
+        self._attrs = {k: dict(v) for k, v in attrs.items()}
+        self._handle = handle
+        self.source = source
+
+    # --- datasets -----------------------------------------------------------------
+    @property
+    def datasets(self) -> dict[str, np.ndarray]:
+        """Every dataset by HDF5 path (a new dict; the arrays are shared, read-only)."""
+        return dict(self._datasets)
+
+    @property
+    def attrs(self) -> dict[str, dict[str, Any]]:
+        """Attributes by HDF5 path; ``""`` is the file root, ``"summary"`` the summary."""
+        return {k: dict(v) for k, v in self._attrs.items()}
+
+    def keys(self) -> list[str]:
+        return list(self._datasets)
+
+    def __getitem__(self, path: str) -> np.ndarray:
+        try:
+            return self._datasets[path.strip("/")]
+        except KeyError:
+            raise KeyError(f"no dataset {path!r} in this result; it has: {', '.join(self._datasets)}") from None
+
+    def __contains__(self, path: object) -> bool:
+        return isinstance(path, str) and path.strip("/") in self._datasets
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._datasets)
+
+    def get(self, path: str, default: Any = None) -> Any:
+        return self._datasets.get(path.strip("/"), default)
+
+    def group(self, name: str) -> dict[str, np.ndarray]:
+        """The datasets directly inside group `name`, by their short names."""
+        prefix = name.strip("/") + "/"
+        return {k[len(prefix):]: v for k, v in self._datasets.items()
+                if k.startswith(prefix) and "/" not in k[len(prefix):]}
+
+    @property
+    def truth(self) -> dict[str, np.ndarray]:
+        return self.group("truth")
+
+    @property
+    def measured(self) -> dict[str, np.ndarray]:
+        return self.group("measured")
+
+    @property
+    def bms(self) -> dict[str, np.ndarray]:
+        return self.group("bms")
+
+    def units(self, path: str) -> str | None:
+        return self._attrs.get(path.strip("/"), {}).get("units")
+
+    @property
+    def time_s(self) -> np.ndarray:
+        return self._datasets["time_s"]
+
+    time = time_s
+
+    @property
+    def n_samples(self) -> int:
+        return int(self.time_s.shape[0])
+
+    @property
+    def n_cells(self) -> int:
+        return int(self._datasets["truth/cell_voltage_V"].shape[1])
+
+    @property
+    def n_series(self) -> int:
+        """Series positions the monitor ICs read (one voltage per parallel group)."""
+        return int(self._datasets["measured/cell_voltage_mV"].shape[1])
+
+    @property
+    def n_thermistors(self) -> int:
+        return int(self._datasets["measured/temperature_dC"].shape[1])
+
+    # --- metadata ------------------------------------------------------------------
+    @property
+    def summary(self) -> dict[str, Any]:
+        return dict(self._attrs.get("summary", {}))
+
+    @property
+    def events_array(self) -> np.ndarray:
+        """The events table as a structured array (time_s, kind, detail)."""
+        ev = self._datasets.get(EVENTS)
+        return ev if ev is not None else np.empty(0, dtype=_EVENT_DTYPE)
+
+    @property
+    def events(self) -> list[dict[str, Any]]:
+        ev = self.events_array
+        return [{name: (float(row[name]) if name == "time_s" else row[name]) for name in ev.dtype.names}
+                for row in ev]
+
+    def _root(self, key: str, default: Any = None) -> Any:
+        return self._attrs.get("", {}).get(key, default)
+
+    @property
+    def scenario_yaml(self) -> str:
+        return self._root("scenario_yaml", "")
+
+    @property
+    def scenario_name(self) -> str:
+        return self._root("scenario_name", "")
+
+    @property
+    def seed(self) -> int:
+        return int(self._root("seed", 0))
+
+    @property
+    def version(self) -> str:
+        return self._root("packsim_version", "")
+
+    @property
+    def fault_names(self) -> list[str]:
+        """Fault bit i of ``bms/fault_active`` / ``fault_latched`` is ``fault_names[i]``."""
+        bits = self._attrs.get("bms", {}).get("fault_bits", "")
+        return [b for b in bits.split(",") if b] if isinstance(bits, str) else list(bits)
+
+    def faults(self, which: str = "latched") -> dict[str, np.ndarray]:
+        """{fault name: bool array over samples} from ``bms/fault_<which>``."""
+        word = self[f"bms/fault_{which}"].astype(np.uint64)
+        return {name: ((word >> np.uint64(i)) & np.uint64(1)).astype(bool)
+                for i, name in enumerate(self.fault_names)}
+
+    def __repr__(self) -> str:
+        s = self.summary
+        trip = f", tripped at {s.get('trip_time_s'):.1f} s ({s.get('trip_reason')})" if s.get("tripped") else ""
+        where = f" from {self.source}" if self.source else ""
+        return (f"<packsim.Result {self.scenario_name!r} seed={self.seed}: {self.n_samples} samples, "
+                f"{self.n_cells} cells, {len(self._datasets)} datasets{trip}{where}>")
+
+    # --- export --------------------------------------------------------------------
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the result as HDF5. A result of ``packsim.run`` is written by the C++
+        writer, byte for byte what ``packsim run -o`` writes; a loaded result is written
+        back with h5py (same datasets, dtypes and attributes)."""
+        path = os.fspath(path)
+        if self._handle is not None:
+            self._handle.save(path)
+        else:
+            _write_h5(path, self._datasets, self._attrs)
+
+    def to_dataframe(self, kind: str = "samples"):
+        """A pandas DataFrame.
+
+        kind="samples": one row per sample indexed by time_s; a column per 1-D dataset
+        (by path) and per channel of 2-D ones (``"truth/cell_voltage_V[3]"``, 1-based).
+        kind="cells": tidy, one row per (time_s, cell) with a column per per-cell
+        dataset of ``truth/`` (``cell_voltage_V``, ``cell_soc``, ...).
+        kind="events": the events table.
+        """
+        pd = _need("pandas")
+        if kind == "events":
+            ev = self.events_array
+            return pd.DataFrame({n: ev[n] for n in ev.dtype.names})
+        t = self.time_s
+        n = t.shape[0]
+        if kind == "samples":
+            cols: dict[str, np.ndarray] = {}
+            for path, a in self._datasets.items():
+                if path == "time_s" or a.dtype.names or a.ndim == 0 or a.shape[0] != n:
+                    continue
+                if a.ndim == 1:
+                    cols[path] = a
+                elif a.ndim == 2:
+                    for j in range(a.shape[1]):
+                        cols[f"{path}[{j + 1}]"] = a[:, j]
+            return pd.DataFrame(cols, index=pd.Index(t, name="time_s"))
+        if kind == "cells":
+            cells = self.n_cells
+            cols = {"time_s": np.repeat(t, cells), "cell": np.tile(np.arange(1, cells + 1), n)}
+            for name, a in self.truth.items():
+                if a.ndim == 2 and a.shape == (n, cells):
+                    cols[name] = a.reshape(-1)
+            return pd.DataFrame(cols)
+        raise ValueError(f"kind must be 'samples', 'cells' or 'events', not {kind!r}")
+
+    def to_xarray(self):
+        """An xarray Dataset on dimension time_s; per-cell arrays on ``cell``, monitor
+        readings on ``series``, thermistors on ``thermistor`` (all 1-based). Variables
+        are named by path with '/' -> '_' (``truth_cell_voltage_V``)."""
+        xr = _need("xarray")
+        n = self.n_samples
+        sizes = {"cell": self.n_cells, "series": self.n_series, "thermistor": self.n_thermistors}
+        data_vars = {}
+        for path, a in self._datasets.items():
+            if path == "time_s" or a.dtype.names or a.ndim == 0 or a.shape[0] != n:
+                continue
+            group = path.split("/")[0] if "/" in path else ""
+            if a.ndim == 1:
+                dims: tuple[str, ...] = ("time_s",)
+            elif a.ndim == 2:
+                k = a.shape[1]
+                if path == "measured/temperature_dC":
+                    dim = "thermistor"
+                elif group == "truth" and k == sizes["cell"]:
+                    dim = "cell"
+                elif k == sizes["series"]:
+                    dim = "series"
+                elif k == sizes["cell"]:
+                    dim = "cell"
+                else:
+                    dim = path.replace("/", "_") + "_index"
+                dims = ("time_s", dim)
+            else:
+                continue
+            data_vars[path.replace("/", "_")] = (dims, a, dict(self._attrs.get(path, {})))
+        coords = {"time_s": ("time_s", self.time_s, {"units": "s"})}
+        for dim, k in sizes.items():
+            coords[dim] = (dim, np.arange(1, k + 1))
+        ds = xr.Dataset(data_vars, coords=coords,
+                        attrs={k: v for k, v in self._attrs.get("", {}).items()})
+        ds.attrs.update({f"summary_{k}": v for k, v in self.summary.items()})
+        return ds
+
+
+def _need(module: str):
+    import importlib
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        raise ImportError(f"this needs {module}, which is not installed (pip install {module})") from e
+
+
+def _write_h5(path: str, datasets: Mapping[str, np.ndarray], attrs: Mapping[str, Mapping[str, Any]]) -> None:
+    import h5py
+
+    def put_attrs(obj, a: Mapping[str, Any]) -> None:
+        for k, v in a.items():
+            obj.attrs[k] = v
+
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = path + ".tmp"
+    try:
+        with h5py.File(tmp, "w", track_order=False) as f:
+            put_attrs(f, attrs.get("", {}))
+            for p, a in datasets.items():
+                if a.dtype.names:
+                    dt = np.dtype([(n, h5py.string_dtype("utf-8") if a.dtype[n].kind == "O" else a.dtype[n])
+                                   for n in a.dtype.names])
+                    f.create_dataset(p, data=a.astype(dt), dtype=dt)
+                else:
+                    f.create_dataset(p, data=a)
+            for p, a in attrs.items():
+                if p and p in f:
+                    put_attrs(f[p], a)
+                elif p:
+                    put_attrs(f.create_group(p), a)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise

@@ -1,0 +1,117 @@
+// packsim._packsim: the thin pybind11 layer over the C++ core (STYLE.md rule 11).
+//
+//   run(...)          load a scenario (file or text) with overrides, simulate with the
+//                     GIL released, return a RunHandle that owns the C++ result
+//   RunHandle         arrays() -> {hdf5 path: numpy view into the result, no copy},
+//                     save(path) -> the CLI's HDF5 writer
+//   apply_overrides   core/scenario/overrides.hpp, for Python users and tests
+//
+// Everything else (the Result class, loading HDF5, plotting) is plain Python in
+// python/packsim/. C++ ScenarioError becomes packsim.ScenarioError (a ValueError with
+// file, line, column, field, message); any other C++ error a RuntimeError with the
+// same message.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "core/cli/commands.hpp"
+#include "core/io/hdf5_writer.hpp"
+#include "core/scenario/overrides.hpp"
+#include "core/scenario/scenario_error.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/version.hpp"
+#include "python/src/result_arrays.hpp"
+
+namespace py = pybind11;
+
+namespace packsim::python {
+
+namespace {
+
+// The HDF5 library Debian ships is not built thread-safe: one writer at a time.
+std::mutex& hdf5Mutex() {
+  static std::mutex m;
+  return m;
+}
+
+std::shared_ptr<RunHandle> run(const std::string& source, bool is_file, const Overrides& overrides,
+                               std::optional<uint64_t> seed, const std::string& file_name, const std::string& base_dir) {
+  auto h = std::make_shared<RunHandle>();
+  {
+    py::gil_scoped_release release;  // loading and simulating touch no Python object
+    h->scenario = is_file ? loadScenarioFileWithOverrides(source, overrides)
+                          : loadScenarioWithOverrides(source, overrides, file_name, base_dir);
+    if (seed) h->scenario.run.seed = *seed;  // exactly as `packsim run --seed N`
+    h->result = runScenario(h->scenario);
+  }
+  return h;
+}
+
+void save(const RunHandle& h, const std::string& path) {
+  py::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(hdf5Mutex());
+  writeResultHdf5(path, h.scenario, h.result);
+}
+
+// C++ exceptions -> Python. Registered last, so tried first; what it does not handle
+// (pybind11's own exceptions) it passes on by rethrowing.
+void translate(std::exception_ptr p) {
+  try {
+    std::rethrow_exception(p);
+  } catch (const ScenarioError& e) {
+    py::object cls;
+    try {
+      cls = py::module_::import("packsim._errors").attr("ScenarioError");
+    } catch (py::error_already_set&) {
+      PyErr_SetString(PyExc_ValueError, e.what());  // extension imported without its package
+      return;
+    }
+    py::object exc = cls(e.what(), py::arg("file") = e.file(), py::arg("line") = e.line(),
+                         py::arg("column") = e.column(), py::arg("field") = e.field(), py::arg("message") = e.message());
+    PyErr_SetObject(cls.ptr(), exc.ptr());
+  } catch (const py::builtin_exception&) {
+    throw;
+  } catch (const py::error_already_set&) {
+    throw;
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_RuntimeError, e.what());
+  }
+}
+
+}  // namespace
+
+}  // namespace packsim::python
+
+PYBIND11_MODULE(_packsim, m) {
+  using namespace packsim;
+  using namespace packsim::python;
+  m.doc() = "packsim C++ core: run scenarios, write results (use the `packsim` package, not this module)";
+  m.attr("__version__") = kVersion;
+
+  py::class_<RunHandle, std::shared_ptr<RunHandle>>(m, "RunHandle",
+                                                    "Owns one run's C++ scenario and result; arrays view into it.")
+      .def("arrays", &recordingArrays,
+           "{HDF5 dataset path: read-only numpy view of the C++ recording} (no copy; the arrays keep "
+           "this handle alive)")
+      .def("save", &save, py::arg("path"), "write the result HDF5 exactly as `packsim run -o PATH` does")
+      .def_property_readonly("scenario_yaml", [](const RunHandle& h) { return h.scenario.text; })
+      .def_property_readonly("scenario_name", [](const RunHandle& h) { return h.scenario.name; })
+      .def_property_readonly("seed", [](const RunHandle& h) { return h.scenario.run.seed; });
+
+  m.def("run", &run, py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("seed") = py::none(),
+        py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".",
+        "Load a scenario (a file path if is_file, else YAML text named file_name whose relative paths resolve "
+        "against base_dir), apply the (dotted key, YAML value) overrides, run it with the GIL released.");
+  m.def("apply_overrides", &applyOverrides, py::arg("yaml_text"), py::arg("overrides"),
+        py::arg("file_name") = "<scenario>", "The scenario text with (dotted key, YAML value) overrides applied.");
+  m.def("bundled_scenario_dir", &bundledScenarioDir, "Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).");
+  m.def("default_scenario_path", &defaultScenarioPath, "The scenario `packsim run` uses without arguments.");
+
+  py::register_exception_translator(&translate);
+}

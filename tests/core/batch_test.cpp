@@ -1,0 +1,203 @@
+// Sweeps (core/batch/sweep) and the batch runner (core/batch/batch_runner): expansion
+// of grid / zip / Monte Carlo, strict errors, one result per case, the summary CSV,
+// resume, a failing case recorded while the others finish, the CLI's exit status.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/batch/batch_runner.hpp"
+#include "core/batch/sweep.hpp"
+#include "core/scenario/scenario_error.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A scratch folder holding a small base scenario (fast: 4 cells, 20 s).
+struct Scratch {
+  fs::path dir;
+  Scratch() {
+    dir = fs::temp_directory_path() / ("packsim_batch_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    std::ofstream(dir / "base.yaml") << test::simpleCellYaml(4) << "load: {current_A: 3}\nrun: {duration_s: 20}\n";
+  }
+  ~Scratch() { fs::remove_all(dir); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir / name) << text;
+    return (dir / name).string();
+  }
+};
+
+std::string readFile(const fs::path& p) {
+  std::ifstream in(p);
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
+std::vector<std::string> lines(const std::string& s) {
+  std::vector<std::string> out;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+std::string field(const CaseOutcome& o, const std::string& name) {
+  for (const auto& kv : o.summary)
+    if (kv.first == name) return kv.second;
+  ADD_FAILURE() << "no summary field " << name;
+  return "nan";
+}
+
+std::string sweepError(const Scratch& sc, const std::string& text) {
+  try {
+    loadSweepFile(sc.write("sweep.yaml", text));
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Sweep, GridZipAndMonteCarloExpandToTheirProduct) {
+  Scratch sc;
+  const Sweep sw = loadSweepFile(sc.write("s.yaml",
+                                          "base: base.yaml\n"
+                                          "grid:\n  pack.cell.capacity_Ah: [1.5, 2.0]\n  bms.tick_ms: [10, 100, 1000]\n"
+                                          "zip:\n  pack.initial_soc: [0.9, 0.7]\n  ambient.temp_C: [20, 30]\n"
+                                          "monte_carlo: {samples: 3, master_seed: 5}\n"));
+  ASSERT_EQ(sw.cases.size(), 2u * 3u * 2u * 3u);
+  EXPECT_EQ(sw.keys, (std::vector<std::string>{"pack.cell.capacity_Ah", "bms.tick_ms", "pack.initial_soc",
+                                                "ambient.temp_C", "seed"}));
+  EXPECT_EQ(sw.name, "s");
+  EXPECT_EQ(sw.output_dir, (sc.dir / "s-results").lexically_normal().string());
+  // The first grid key varies slowest, the seed fastest; zipped keys move together.
+  const SweepCase& c = sw.cases[7];  // = (0, 1, 0, 1) in radix (2, 3, 2, 3)
+  EXPECT_EQ(c.id, "0007");
+  ASSERT_EQ(c.params.size(), 5u);
+  EXPECT_EQ(c.params[0].second, "1.5");
+  EXPECT_EQ(c.params[1].second, "100");
+  EXPECT_EQ(c.params[2].second, "0.9");
+  EXPECT_EQ(c.params[3].second, "20");
+  EXPECT_EQ(c.params[4].second, std::to_string(monteCarloSeed(5, 1)));
+  // Seeds: distinct, in the scenario's range, reproducible from the master seed.
+  std::set<std::string> seeds;
+  for (int i = 0; i < 3; ++i) seeds.insert(sw.cases[static_cast<size_t>(i)].params[4].second);
+  EXPECT_EQ(seeds.size(), 3u);
+  for (uint64_t i = 0; i < 1000; ++i) EXPECT_LE(monteCarloSeed(5, i), 0x7FFFFFFFull);
+  EXPECT_NE(monteCarloSeed(5, 0), monteCarloSeed(6, 0));
+}
+
+TEST(Sweep, ErrorsNameTheLine) {
+  Scratch sc;
+  EXPECT_NE(sweepError(sc, "base: base.yaml\n").find("at least one of grid, zip or monte_carlo"), std::string::npos);
+  EXPECT_NE(sweepError(sc, "base: nope.yaml\ngrid: {seed: [1]}\n").find("not found"), std::string::npos);
+  const std::string zip = sweepError(sc, "base: base.yaml\nzip:\n  pack.initial_soc: [0.9, 0.8]\n  seed: [1, 2, 3]\n");
+  EXPECT_NE(zip.find(":4:"), std::string::npos) << zip;
+  EXPECT_NE(zip.find("has 3 values"), std::string::npos) << zip;
+  EXPECT_NE(sweepError(sc, "base: base.yaml\ngrid: {seed: [1]}\nmonte_carlo: {samples: 2}\n").find("seed"),
+            std::string::npos);
+  EXPECT_NE(sweepError(sc, "base: base.yaml\ngrid: {seed: [1]}\nzip: {seed: [2]}\n").find("varied twice"),
+            std::string::npos);
+  EXPECT_NE(sweepError(sc, "base: base.yaml\ngird: {seed: [1]}\n").find("grid"), std::string::npos);
+  EXPECT_NE(sweepError(sc, "base: base.yaml\ngrid: {seed: 1}\n").find("list"), std::string::npos);
+  EXPECT_NE(sweepError(sc, "base: base.yaml\nmonte_carlo: {samples: 0}\n").find("samples"), std::string::npos);
+}
+
+TEST(Batch, RunsEveryCaseWritesCsvAndResumes) {
+  Scratch sc;
+  Sweep sw = loadSweepFile(sc.write("sweep.yaml",
+                                    "base: base.yaml\noutput_dir: out\nthreads: 2\n"
+                                    "grid:\n  pack.cell.capacity_Ah: [1.5, 2.0]\n  run.solver: [cvode, fast]\n"));
+  BatchOptions opt;
+  opt.progress = nullptr;
+  const BatchReport r = runBatch(sw, opt);
+  EXPECT_EQ(r.total, 4);
+  EXPECT_EQ(r.ok, 4);
+  EXPECT_EQ(r.failed, 0);
+  EXPECT_EQ(r.skipped, 0);
+  for (const SweepCase& c : sw.cases) EXPECT_TRUE(fs::exists(sw.resultPath(c))) << c.id;
+  const std::vector<std::string> csv = lines(readFile(r.csv_path));
+  ASSERT_EQ(csv.size(), 5u);
+  EXPECT_EQ(csv[0].rfind("case,pack.cell.capacity_Ah,run.solver,status,", 0), 0u) << csv[0];
+  EXPECT_NE(csv[0].find("energy_delivered_Wh"), std::string::npos);
+  EXPECT_NE(csv[0].find(",error,file"), std::string::npos);
+  EXPECT_EQ(csv[2].rfind("0001,1.5,fast,ok,", 0), 0u) << csv[2];
+  // A smaller capacity ends at a lower SOC: the parameter reached the run.
+  EXPECT_LT(std::stod(field(r.cases[0], "final_soc_min")), std::stod(field(r.cases[2], "final_soc_min")));
+  // Both solvers ran the same case and agree.
+  EXPECT_NEAR(std::stod(field(r.cases[0], "final_soc_min")), std::stod(field(r.cases[1], "final_soc_min")), 1e-6);
+
+  // Rerun: every result is complete and holds the same scenario, so nothing runs.
+  const BatchReport again = runBatch(sw, opt);
+  EXPECT_EQ(again.skipped, 4);
+  EXPECT_EQ(again.ok, 4);
+  EXPECT_EQ(lines(readFile(again.csv_path)), csv);
+
+  // A result of a different scenario (the sweep changed) is stale and runs again;
+  // a missing one runs again.
+  fs::remove(sw.resultPath(sw.cases[3]));
+  Sweep changed = loadSweepFile(sc.write("sweep.yaml",
+                                         "base: base.yaml\noutput_dir: out\n"
+                                         "grid:\n  pack.cell.capacity_Ah: [1.5, 2.5]\n  run.solver: [cvode, fast]\n"));
+  const BatchReport third = runBatch(changed, opt);
+  EXPECT_EQ(third.skipped, 2);  // cases 0 and 1 are unchanged
+  EXPECT_EQ(third.ok, 4);
+}
+
+TEST(Batch, FailingCaseIsRecordedAndOthersFinish) {
+  Scratch sc;
+  // initial_soc 1.5 is out of range: that case fails at load, the other two run.
+  Sweep sw = loadSweepFile(sc.write("sweep.yaml", "base: base.yaml\noutput_dir: out\n"
+                                                  "grid: {pack.initial_soc: [0.8, 1.5, 0.6]}\n"));
+  BatchOptions opt;
+  opt.progress = nullptr;
+  const BatchReport r = runBatch(sw, opt);
+  EXPECT_EQ(r.ok, 2);
+  EXPECT_EQ(r.failed, 1);
+  EXPECT_FALSE(r.cases[1].ok);
+  EXPECT_NE(r.cases[1].error.find("initial_soc"), std::string::npos) << r.cases[1].error;
+  EXPECT_FALSE(fs::exists(sw.resultPath(sw.cases[1])));
+  const std::vector<std::string> csv = lines(readFile(r.csv_path));
+  ASSERT_EQ(csv.size(), 4u);
+  EXPECT_EQ(csv[2].rfind("0001,1.5,failed,", 0), 0u) << csv[2];
+  EXPECT_NE(csv[2].find("initial_soc"), std::string::npos);
+  EXPECT_EQ(csv[3].rfind("0002,0.6,ok,", 0), 0u) << csv[3];
+}
+
+TEST(Batch, CliExitStatusSaysSomeFailed) {
+  Scratch sc;
+  const std::string ok = sc.write("ok.yaml", "base: base.yaml\noutput_dir: out_ok\nmonte_carlo: {samples: 2}\n");
+  const std::string bad = sc.write("bad.yaml", "base: base.yaml\noutput_dir: out_bad\n"
+                                               "grid: {pack.initial_soc: [0.8, 1.5]}\n");
+  const std::string typo = sc.write("typo.yaml", "base: base.yaml\noutput_dir: out_typo\n"
+                                                 "grid: {pack.cell.capacty_Ah: [1, 2]}\n");
+  auto run = [](const std::string& args) {
+    const int rc = std::system((std::string(PACKSIM_BINARY) + " batch -q " + args + " 2>/dev/null").c_str());
+    return WEXITSTATUS(rc);
+  };
+  EXPECT_EQ(run(ok), 0);
+  EXPECT_TRUE(fs::exists(sc.dir / "out_ok" / "summary.csv"));
+  EXPECT_EQ(run(bad), 1);
+  EXPECT_EQ(run(typo), 2);  // checked before anything runs
+  EXPECT_FALSE(fs::exists(sc.dir / "out_typo"));
+}
+
+TEST(Batch, CsvFieldQuoting) {
+  EXPECT_EQ(csvField("plain"), "plain");
+  EXPECT_EQ(csvField("a,b"), "\"a,b\"");
+  EXPECT_EQ(csvField("say \"hi\""), "\"say \"\"hi\"\"\"");
+  EXPECT_EQ(csvField("two\nlines"), "\"two\nlines\"");
+}
+
+}  // namespace
+}  // namespace packsim

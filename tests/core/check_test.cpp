@@ -1,0 +1,77 @@
+// Scenarios as tests: an unmet expectation fails with a message; a batch with a
+// broken scenario still runs the others and reports the failure.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "core/check/check.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/sim/stranded_energy.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kTripping = "load: {current_A: 3}\nrun: {duration_s: 60}\n"
+                              "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10}\n";
+
+TEST(Check, UnmetExpectationsFailWithReasons) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + kTripping +
+                                            "expect: {no_trip: true, max_temp_C_below: 20}\n");
+  const CheckOutcome c = judge(s, runScenario(s));
+  EXPECT_FALSE(c.passed);
+  ASSERT_EQ(c.failures.size(), 2u);
+  EXPECT_NE(c.failures[0].find("expected no trip, but the relay opened at 10.100 s (overcurrent_discharge)"), std::string::npos) << c.failures[0];
+  EXPECT_NE(c.failures[1].find("is not below 20.00 C"), std::string::npos) << c.failures[1];
+}
+
+TEST(Check, MetExpectationsPass) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + kTripping +
+                                            "expect:\n  trip_reason: overcurrent_discharge\n  trip_within_s: [10.1, 10.11]\n"
+                                            "  relay_open_by_s: 10.11\n"
+                                            "  detected: [{fault: overcurrent_discharge, within_s: [10.1, 10.11]}]\n");
+  const CheckOutcome c = judge(s, runScenario(s));
+  EXPECT_TRUE(c.passed) << (c.failures.empty() ? "" : c.failures[0]);
+}
+
+TEST(Check, CliReportsEveryScenarioAndFailsTheBatch) {
+  const fs::path dir = fs::temp_directory_path() / "packsim_check_cli";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "a_good.yaml") << test::simpleCellYaml() << "load: {current_A: 1}\nrun: {duration_s: 5}\nexpect: {no_trip: true}\n";
+  std::ofstream(dir / "b_broken.yaml") << "name: broken\npack: {series: 1}\n";
+  std::ofstream(dir / "c_wrong.yaml") << test::simpleCellYaml() << kTripping << "expect: {no_trip: true}\n";
+  const std::string out = (dir / "out.txt").string();
+  const int rc = std::system((std::string(PACKSIM_BINARY) + " check " + dir.string() + " > " + out).c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 1);
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("PASS  " + (dir / "a_good.yaml").string()), std::string::npos) << text;
+  EXPECT_NE(text.find("ERROR " + (dir / "b_broken.yaml").string()), std::string::npos) << text;
+  EXPECT_NE(text.find("missing required key 'cell'"), std::string::npos) << text;
+  EXPECT_NE(text.find("FAIL  " + (dir / "c_wrong.yaml").string()), std::string::npos) << text;
+  EXPECT_NE(text.find("1 passed, 2 failed"), std::string::npos) << text;
+  fs::remove_all(dir);
+}
+
+// With a constant OCV the energy of a cell is Q·OCV·SOC, so the stranded energy is
+// exactly Q·OCV·(SOC_i - SOC_weakest) summed.
+TEST(StrandedEnergy, ConstantOcvIsExact) {
+  Pack p;
+  p.series = 3;
+  CellParams c;
+  c.capacity_Ah = 2.0;
+  c.ocv_V = Curve::constant(3.7);
+  p.cells = {c, c, c};
+  p.cells[2].capacity_Ah = 3.0;
+  const StrandedEnergy e = strandedEnergy(p, {0.1, 0.3, 0.2}, 0);
+  EXPECT_NEAR(e.left_Wh, 3.7 * (2 * 0.1 + 2 * 0.3 + 3 * 0.2), 1e-9);
+  EXPECT_NEAR(e.stranded_Wh, 3.7 * (2 * 0.2 + 3 * 0.1), 1e-9);
+}
+
+}  // namespace
+}  // namespace packsim

@@ -1,0 +1,150 @@
+// The fast integrator (core/sim/fast_integrator) on its own: exactness where its scheme
+// is exact, the sub-step rule, the quadratures, no allocation per tick, and the strict
+// `run.solver` / `run.fast` keys. Agreement with CVODE on the bundled scenarios is in
+// solver_agreement_test.cpp.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "core/sim/fast_integrator.hpp"
+#include "core/sim/plant.hpp"
+#include "core/sim/simulation.hpp"
+#include "test_support.hpp"
+
+// Counts heap allocations while armed (this binary's global operator new).
+namespace {
+std::atomic<bool> gCount{false};
+std::atomic<long> gAllocs{0};
+}  // namespace
+void* operator new(std::size_t n) {
+  if (gCount.load(std::memory_order_relaxed)) gAllocs.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace packsim {
+namespace {
+
+constexpr double kI = 3.0, kQ = 2.0, kR0 = 0.02, kR1 = 0.01, kC1 = 1000.0, kSoc0 = 0.8;
+
+// One cell at constant current: SOC is linear and the RC branch's exponential update is
+// the closed form itself, so a 1 s tick is exact to rounding, for any tick.
+TEST(FastIntegrator, ExactForRcAndSocAtHeldCurrent) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 3600}\n");
+  const Plant plant(s);
+  PlantInputs in;
+  in.relay_closed = true;
+  in.load.i0_A = kI;
+  FastIntegrator integ(plant, in, FastSettings{});
+  std::vector<double> x(static_cast<size_t>(plant.stateSize() + kQuadCount), 0.0);
+  plant.initialState(x.data());
+  integ.reset(0.0, x.data());
+  double t = 0.0;
+  for (int k = 1; k <= 1800; ++k) {
+    t = k * 1.0;
+    integ.advance(t, t);
+  }
+  const double* y = integ.state();
+  EXPECT_NEAR(y[0], kSoc0 - kI * t / (3600.0 * kQ), 1e-13);
+  EXPECT_NEAR(y[1], kI * kR1 * (1.0 - std::exp(-t / (kR1 * kC1))), 1e-13);
+  // Quadratures: charge exactly I·t; chemical energy ∫OCV·I dt with OCV linear in time.
+  const double soc_end = kSoc0 - kI * t / (3600.0 * kQ);
+  EXPECT_NEAR(y[plant.stateSize() + kQuadCharge_As], kI * t, 1e-9);
+  const double chem = kI * t * (3.4 + 0.8 * 0.5 * (kSoc0 + soc_end));
+  EXPECT_NEAR(y[plant.stateSize() + kQuadChemEnergy_J], chem, 1e-9 * chem);
+  (void)kR0;
+}
+
+// A light thermal node (C = 2 J/K, G = 1 W/K: τ = 2 s) with a 1 s tick: explicit Euler
+// would be at h = τ/2 without sub-steps; the rule takes h <= 0.1·τ and the node settles
+// at the analytic steady state instead of oscillating.
+TEST(FastIntegrator, SubstepsFollowTheSmallestTimeConstant) {
+  const std::string yaml = test::simpleCellYaml() +
+                           "thermal: {nodes: [{name: fet, heat_capacity_J_per_K: 2, g_ambient_W_per_K: 1}]}\n"
+                           "load: {current_A: 3}\nrun: {duration_s: 60, solver: fast}\nbms: {tick_ms: 1000}\n"
+                           "output: {interval_s: 1}\n";
+  const Scenario s = test::scenarioFromYaml(yaml);
+  const Plant plant(s);
+  EXPECT_NEAR(plant.explicitTimeConstant_s(), 2.0, 1e-12);
+  PlantInputs in;
+  FastIntegrator integ(plant, in, FastSettings{});
+  EXPECT_NEAR(integ.maxSubstep_s(), 0.2, 1e-12);
+  FastIntegrator capped(plant, in, FastSettings{0.05, 0.1});
+  EXPECT_NEAR(capped.maxSubstep_s(), 0.05, 1e-12);
+  const RunResult r = runScenario(s);
+  EXPECT_EQ(r.solver.steps, 5 * static_cast<long>(std::lround(r.summary.duration_s)));
+}
+
+// Parallel cells: the current split feeds back on SOC and the RC voltages, and the rule
+// accounts for it (C_k·R0 for the RC branches).
+TEST(FastIntegrator, ParallelGroupsBoundTheSubstep) {
+  std::string yaml = test::simpleCellYaml();
+  yaml.replace(yaml.find("  series: 1\n"), 12, "  series: 1\n  parallel: 3\n");
+  const Scenario s = test::scenarioFromYaml(yaml + "load: {current_A: 3}\nrun: {duration_s: 10}\n");
+  const Plant plant(s);
+  EXPECT_LE(plant.explicitTimeConstant_s(), kC1 * kR0 + 1e-12);
+}
+
+TEST(FastIntegrator, AdvanceAllocatesNothing) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(12) + "load: {current_A: 3}\nrun: {duration_s: 100}\n");
+  const Plant plant(s);
+  PlantInputs in;
+  in.relay_closed = true;
+  in.load.i0_A = kI;
+  FastIntegrator integ(plant, in, FastSettings{});
+  std::vector<double> x(static_cast<size_t>(plant.stateSize() + kQuadCount), 0.0);
+  plant.initialState(x.data());
+  integ.reset(0.0, x.data());
+  integ.advance(0.01, 0.01);
+  gAllocs = 0;
+  gCount = true;
+  for (int k = 2; k <= 1000; ++k) {
+    if (k % 100 == 0) integ.reset(integ.time(), integ.state());  // a discontinuity
+    integ.advance(k * 0.01, k * 0.01);
+  }
+  integ.advance(10.005, 10.005);  // a partial tick (load breakpoint)
+  gCount = false;
+  EXPECT_EQ(gAllocs.load(), 0);
+}
+
+TEST(FastIntegrator, SolverKeysAreStrict) {
+  const std::string base = test::simpleCellYaml() + "load: {current_A: 3}\n";
+  EXPECT_EQ(test::scenarioFromYaml(base + "run: {duration_s: 10}\n").run.solver, RunConfig::Solver::Cvode);
+  const Scenario f = test::scenarioFromYaml(base + "run: {duration_s: 10, solver: fast, fast: {max_substep_s: 0.002}}\n");
+  EXPECT_EQ(f.run.solver, RunConfig::Solver::Fast);
+  EXPECT_DOUBLE_EQ(f.run.fast_max_substep_s, 0.002);
+  auto message = [&](const std::string& run) {
+    try {
+      test::scenarioFromYaml(base + run);
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("run: {duration_s: 10, solver: rk4}\n").find("run.solver"), std::string::npos);
+  EXPECT_NE(message("run: {duration_s: 10, fast: {max_substep_s: 0.01}}\n").find("solver: fast"), std::string::npos);
+  EXPECT_NE(message("run: {duration_s: 10, solver: fast, rtol: 1e-6}\n").find("cvode only"), std::string::npos);
+  EXPECT_NE(message("run: {duration_s: 10, solver: fast, fast: {substep_fraction: 0}}\n").find("substep_fraction"),
+            std::string::npos);
+  EXPECT_NE(message("run: {duration_s: 10, solver: fast, fast: {max_substeps: 3}}\n").find("max_substep_s"),
+            std::string::npos);
+}
+
+// Switching the solver changes nothing else: same events, same decisions, and the
+// run records which solver produced it.
+TEST(FastIntegrator, FastRunIsDeterministic) {
+  Scenario s = test::scenarioFromYaml(test::simpleCellYaml(4) + "load: {current_A: 3}\nrun: {duration_s: 120, solver: fast}\n");
+  const RunResult a = runScenario(s);
+  const RunResult b = runScenario(s);
+  EXPECT_EQ(a.rec.cell_voltage_V, b.rec.cell_voltage_V);
+  EXPECT_EQ(a.rec.cell_temp_C, b.rec.cell_temp_C);
+  EXPECT_GT(a.solver.steps, 0);
+}
+
+}  // namespace
+}  // namespace packsim

@@ -1,0 +1,106 @@
+// The fast integrator against the CVODE reference on every bundled scenario
+// (scenarios/*.yaml, so a new preset is covered the moment it lands).
+//
+// Tolerances, and why:
+//   cell voltage   2 mV   -- under one LSB of the coarsest bundled cell ADC (0.38 mV
+//                            LSB + 0.5-1 mV noise ⇒ a BMS cannot tell 2 mV apart
+//                            within a few samples); the fast scheme is exact for the
+//                            RC branches at held current, so what remains is CVODE's
+//                            own error (rtol 1e-6) and the explicit SOC/thermal update.
+//   SOC            1e-4   -- 0.01 % of capacity, far below any SOC estimator's error.
+//   temperature    0.05 K -- half the BMS's 0.1 °C reading resolution.
+//   trip           same decision and same reasons; time within 2 ticks + 0.5 s. A
+//                  voltage trip fires when a noisy, quantised reading stays past the
+//                  threshold for the debounce time; a sub-millivolt difference can
+//                  move the first violating sample by a tick or two on a slowly
+//                  sagging cell, so the bound allows that and nothing more.
+// Samples are compared at equal times up to the first trip of either run (after a
+// trip, a one-tick difference in opening time shifts the whole tail by one tick).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+
+#include "core/sim/simulation.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kVoltageTol_V = 2e-3;
+constexpr double kSocTol = 1e-4;
+constexpr double kTempTol_K = 0.05;
+constexpr double kTripTolTicks = 2.0;
+constexpr double kTripTolExtra_s = 0.5;
+
+struct Differences {
+  double voltage_V = 0.0, soc = 0.0, temp_K = 0.0, trip_s = 0.0;
+  size_t samples = 0;
+};
+
+Differences compare(const RunResult& a, const RunResult& b) {
+  Differences d;
+  double until = INFINITY;
+  if (a.summary.tripped) until = std::min(until, a.summary.trip_time_s);
+  if (b.summary.tripped) until = std::min(until, b.summary.trip_time_s);
+  const bool sameTrip = a.summary.tripped == b.summary.tripped &&
+                        (!a.summary.tripped || a.summary.trip_time_s == b.summary.trip_time_s);
+  const Recording& ra = a.rec;
+  const Recording& rb = b.rec;
+  const size_t cells = static_cast<size_t>(ra.cells);
+  size_t j = 0;
+  for (size_t i = 0; i < ra.samples(); ++i) {
+    const double t = ra.time_s[i];
+    if (!sameTrip && t >= until) break;
+    while (j < rb.samples() && rb.time_s[j] < t - 1e-9) ++j;
+    if (j >= rb.samples() || std::fabs(rb.time_s[j] - t) > 1e-9) continue;
+    for (size_t c = 0; c < cells; ++c) {
+      const size_t ia = i * cells + c, ib = j * cells + c;
+      d.voltage_V = std::max(d.voltage_V, std::fabs(ra.cell_voltage_V[ia] - rb.cell_voltage_V[ib]));
+      d.soc = std::max(d.soc, std::fabs(ra.cell_soc[ia] - rb.cell_soc[ib]));
+      d.temp_K = std::max(d.temp_K, std::fabs(ra.cell_temp_C[ia] - rb.cell_temp_C[ib]));
+    }
+    ++d.samples;
+  }
+  if (a.summary.tripped && b.summary.tripped) d.trip_s = std::fabs(a.summary.trip_time_s - b.summary.trip_time_s);
+  return d;
+}
+
+TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
+  std::map<std::string, fs::path> files;  // sorted: a stable order in the log
+  for (const auto& e : fs::directory_iterator(test::scenarioDir()))
+    if (e.path().extension() == ".yaml") files[e.path().filename().string()] = e.path();
+  ASSERT_GE(files.size(), 1u);
+  std::printf("%-34s %9s %9s %9s %9s %7s\n", "scenario", "dV_mV", "dSOC", "dT_K", "dtrip_s", "samples");
+  for (const auto& [name, path] : files) {
+    SCOPED_TRACE(name);
+    Scenario s = loadScenarioFile(path.string());
+    s.run.solver = RunConfig::Solver::Cvode;
+    const RunResult ref = runScenario(s);
+    s.run.solver = RunConfig::Solver::Fast;
+    const RunResult fast = runScenario(s);
+    const Differences d = compare(ref, fast);
+    std::printf("%-34s %9.4f %9.2e %9.2e %9.3f %7zu\n", name.c_str(), d.voltage_V * 1e3, d.soc, d.temp_K, d.trip_s,
+                d.samples);
+    EXPECT_GT(d.samples, 1u);
+    EXPECT_LE(d.voltage_V, kVoltageTol_V);
+    EXPECT_LE(d.soc, kSocTol);
+    EXPECT_LE(d.temp_K, kTempTol_K);
+    ASSERT_EQ(ref.summary.tripped, fast.summary.tripped);
+    if (ref.summary.tripped) {
+      EXPECT_EQ(ref.summary.trip_reason, fast.summary.trip_reason);
+      EXPECT_LE(d.trip_s, kTripTolTicks * s.bms.tick_s + kTripTolExtra_s);
+    }
+    EXPECT_NEAR(ref.summary.final_soc_min, fast.summary.final_soc_min, kSocTol);
+    EXPECT_NEAR(ref.summary.energy_delivered_Wh, fast.summary.energy_delivered_Wh,
+                1e-3 * std::max(1.0, std::fabs(ref.summary.energy_delivered_Wh)));
+  }
+}
+
+}  // namespace
+}  // namespace packsim

@@ -1,0 +1,80 @@
+"""C++ errors arrive as Python exceptions with the same message and their parts."""
+from __future__ import annotations
+
+import pickle
+
+import pytest
+
+import packsim
+
+
+def test_scenario_error_in_text_carries_position(simple_yaml):
+    bad = simple_yaml.replace("capacity_Ah: 2.0", "capcity_Ah: 2.0")
+    with pytest.raises(packsim.ScenarioError) as ei:
+        packsim.run(bad)
+    e = ei.value
+    assert isinstance(e, ValueError)
+    assert e.file == "<string>"
+    assert (e.line, e.column) == (7, 5)
+    assert e.field == "pack.cell.capcity_Ah"
+    assert e.message == "unknown key; did you mean 'capacity_Ah'?"
+    assert str(e) == "<string>:7:5: pack.cell.capcity_Ah: unknown key; did you mean 'capacity_Ah'?"
+
+
+def test_scenario_error_in_file_names_the_file(tmp_path, simple_yaml):
+    p = tmp_path / "bad.yaml"
+    p.write_text(simple_yaml.replace("initial_soc: 0.9", "initial_soc: 1.9"))
+    with pytest.raises(packsim.ScenarioError) as ei:
+        packsim.run(p)
+    e = ei.value
+    assert e.file == str(p) and e.line == 5 and e.field == "pack.initial_soc"
+    assert "out of range" in e.message and str(e).startswith(f"{p}:5:")
+
+
+def test_override_errors_name_the_override(simple_yaml):
+    with pytest.raises(packsim.ScenarioError) as ei:
+        packsim.run(simple_yaml, {"pack.cell.capacity_ah": 3})
+    e = ei.value
+    assert e.field == "pack.cell.capacity_ah" and e.line == 0
+    assert "did you mean 'capacity_Ah'?" in e.message and "after override pack.cell.capacity_ah = 3" in e.message
+    with pytest.raises(packsim.ScenarioError, match="pack.series is a single value, not a mapping"):
+        packsim.run(simple_yaml, {"pack.series.count": 3})
+
+
+def test_scenario_error_pickles_with_its_attributes(simple_yaml):
+    with pytest.raises(packsim.ScenarioError) as ei:
+        packsim.run(simple_yaml.replace("r0_ohm: 0.02", "r0_ohm: low"))
+    e2 = pickle.loads(pickle.dumps(ei.value))
+    assert (e2.file, e2.line, e2.column, e2.field, e2.message) == \
+        (ei.value.file, ei.value.line, ei.value.column, ei.value.field, ei.value.message)
+    assert str(e2) == str(ei.value)
+
+
+def test_other_cpp_errors_are_runtime_errors(simple_yaml, tmp_path):
+    r = packsim.run(simple_yaml)
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    # The C++ writer cannot create a folder where a file is: its own message, as RuntimeError.
+    with pytest.raises(RuntimeError) as ei:
+        r.save(blocker / "sub" / "r.h5")
+    assert not isinstance(ei.value, packsim.ScenarioError)
+    assert str(ei.value)
+
+
+def test_bad_argument_types():
+    with pytest.raises(TypeError, match="scenario must be"):
+        packsim.run(42)
+    with pytest.raises(TypeError, match="overrides must be a mapping"):
+        packsim.run("x: 1\n", [("a", 1)])
+    with pytest.raises(TypeError, match="keys must be str"):
+        packsim.run("x: 1\n", {1: 2})
+    with pytest.raises(TypeError, match="seed must be an int"):
+        packsim.run("x: 1\n", seed="7")
+    with pytest.raises(TypeError, match="cannot use a"):
+        packsim.run("x: 1\n", {"pack.series": object()})
+    with pytest.raises(ValueError, match="not a finite number"):
+        packsim.run("x: 1\n", {"pack.cell.capacity_Ah": float("nan")})
+    with pytest.raises(ValueError, match="seed must be >= 0"):
+        packsim.run("x: 1\n", seed=-1)
+    with pytest.raises(FileNotFoundError):
+        packsim.run("no_such_scenario.yaml")

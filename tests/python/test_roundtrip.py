@@ -1,0 +1,112 @@
+"""run -> save -> load gives the very same datasets, and the in-memory Result of
+packsim.run has exactly the layout of the file the C++ writer produces."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import packsim
+
+
+def _same(a: np.ndarray, b: np.ndarray) -> bool:
+    """Bitwise equality (NaN == NaN, -0.0 != 0.0), dtype and shape included."""
+    if a.dtype != b.dtype or a.shape != b.shape:
+        return False
+    if a.dtype.names:
+        return all(_same(np.asarray(a[n]), np.asarray(b[n])) for n in a.dtype.names)
+    if a.dtype.kind == "O":
+        return a.tolist() == b.tolist()
+    return a.tobytes() == b.tobytes()
+
+
+def test_run_save_load_identical(race, tmp_path):
+    path = tmp_path / "race.h5"
+    race.save(path)
+    back = packsim.load(path)
+    assert back.keys() == race.keys()
+    for k in race.keys():
+        assert _same(race[k], back[k]), k
+    assert back.attrs == race.attrs
+    assert back.summary == race.summary
+    assert back.events == race.events
+    assert back.scenario_yaml == race.scenario_yaml
+    assert back.seed == race.seed == 42
+
+
+def test_layout_is_the_documented_one(race):
+    n, cells = race.n_samples, race.n_cells
+    assert n > 100 and cells == 12
+    for k in ("truth/cell_voltage_V", "truth/cell_current_A", "truth/cell_soc", "truth/cell_temp_C"):
+        assert race[k].shape == (n, cells) and race[k].dtype == np.float64
+    assert race["measured/cell_voltage_mV"].dtype == np.uint16
+    assert race["measured/temperature_dC"].shape == (n, 4)
+    assert race["bms/fault_latched"].dtype == np.uint32
+    assert race.units("truth/cell_voltage_V") == "V"
+    assert "overcurrent_discharge" in race.fault_names or len(race.fault_names) >= 5
+    ev = race.events
+    assert ev and {"time_s", "kind", "detail"} <= set(ev[0]) and isinstance(ev[0]["kind"], str)
+    assert ev[-1]["kind"] == "run"
+    assert set(race.truth) >= {"cell_voltage_V", "pack_current_A"}
+    np.testing.assert_array_equal(race.time_s, race["time_s"])
+
+
+def test_recorded_arrays_are_readonly_views_without_copy(race):
+    a = race["truth/cell_voltage_V"]
+    assert not a.flags.writeable
+    base = a
+    while isinstance(base, np.ndarray) and base.base is not None:
+        base = base.base
+    # The buffer belongs to the C++ result, not to a NumPy copy.
+    assert type(base).__name__ == "RunHandle"
+    with pytest.raises(ValueError):
+        a[0, 0] = 1.0
+
+
+def test_loaded_result_saves_back_the_same_content(race, tmp_path):
+    first = tmp_path / "a.h5"
+    race.save(first)
+    loaded = packsim.load(first)
+    second = tmp_path / "b.h5"
+    loaded.save(second)  # written by h5py this time
+    again = packsim.load(second)
+    assert again.keys() == loaded.keys()
+    for k in loaded.keys():
+        assert _same(loaded[k], again[k]), k
+    assert again.attrs == loaded.attrs
+
+
+def test_load_missing_file():
+    with pytest.raises(FileNotFoundError):
+        packsim.load("/nonexistent/result.h5")
+
+
+def test_dataframe_and_xarray(race):
+    pd = pytest.importorskip("pandas")
+    df = race.to_dataframe()
+    assert df.index.name == "time_s" and len(df) == race.n_samples
+    np.testing.assert_array_equal(df["truth/pack_current_A"].to_numpy(), race["truth/pack_current_A"])
+    np.testing.assert_array_equal(df["truth/cell_voltage_V[12]"].to_numpy(), race["truth/cell_voltage_V"][:, 11])
+    tidy = race.to_dataframe("cells")
+    assert len(tidy) == race.n_samples * race.n_cells
+    row = tidy[(tidy.cell == 3)].iloc[10]
+    assert row.cell_soc == race["truth/cell_soc"][10, 2]
+    ev = race.to_dataframe("events")
+    assert list(ev.columns) == ["time_s", "kind", "detail"] and len(ev) == len(race.events)
+    assert isinstance(df, pd.DataFrame)
+    with pytest.raises(ValueError):
+        race.to_dataframe("nope")
+
+    pytest.importorskip("xarray")
+    ds = race.to_xarray()
+    assert ds["truth_cell_voltage_V"].dims == ("time_s", "cell")
+    assert ds["measured_temperature_dC"].dims == ("time_s", "thermistor")
+    assert ds["bms_state"].dims == ("time_s",)
+    assert float(ds["truth_cell_soc"].sel(cell=3).isel(time_s=10)) == race["truth/cell_soc"][10, 2]
+    assert ds["truth_cell_voltage_V"].attrs["units"] == "V"
+
+
+def test_missing_optional_dependency_is_a_clear_error(race, monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match="pip install pandas"):
+        race.to_dataframe()
