@@ -31,6 +31,12 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   c.weldCurrent_mA = 500;
   c.relayAuxFeedback = true;
   c.balanceTime_s = 60;
+  // Balancing defaults after open firmware (HARDWARE.md) and DOMAIN.md system C: start at
+  // 50 mV spread, stop at 10 mV, never below 3.3 V, pause above 70 °C board temperature.
+  c.balance = BalanceConfig{false, BalanceWhen::ChargingOrRest, 50, 10, 3300, 700, 600, false, 200,
+                            10u * 60u * 1000u, 1000, 0, 0};
+  c.chargeRequest_mA = 0;
+  c.chargeFullCell_mV = 0;
 
   // The table. Which actuator a fault opens follows DOMAIN.md system A: the monitor
   // side (relay) isolates on voltage, current, temperature, E-switch and comm; the MCU

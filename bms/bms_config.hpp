@@ -90,6 +90,24 @@ struct SocConfig {
   uint32_t rest_ms;
 };
 
+// Passive balancing policy (bms_balance.hpp). Firmware units.
+enum class BalanceWhen : uint8_t { Charging = 0, Rest = 1, ChargingOrRest = 2, Always = 3 };
+struct BalanceConfig {
+  bool enabled;
+  BalanceWhen when;          // when balancing is allowed at all
+  uint16_t startDelta_mV;    // start when max - min cell rises above this
+  uint16_t stopDelta_mV;     // stop when max - min falls below; a cell within this of the minimum is not balanced
+  uint16_t minCell_mV;       // a cell below this is never balanced
+  int16_t boardMax_dC;       // pause when the balancing board is hotter than this
+  int16_t boardResume_dC;    // resume once it is below this again
+  bool noAdjacent;           // never two neighbouring cells at once
+  int32_t restCurrent_mA;    // |I| below this counts as rest
+  uint32_t rest_ms;          // ... for at least this long
+  uint32_t period_ms;        // the mask is re-decided at this period and held in between
+  uint8_t boardThermFirst;   // thermistor channels [first, first + count) sit on the balancing board
+  uint8_t boardThermCount;
+};
+
 struct Config {
   uint16_t cellCount;
   uint8_t thermistorCount;
@@ -102,6 +120,9 @@ struct Config {
   int32_t weldCurrent_mA;       // current that counts as "still flowing" after the release time
   bool relayAuxFeedback;        // the relay's auxiliary contact is wired (a closed aux = welded)
   uint16_t balanceTime_s;       // balancing timer written with a mask (1 s … 63 min)
+  BalanceConfig balance;
+  int32_t chargeRequest_mA;     // charger current requested while charging (0: the charger stays off)
+  uint16_t chargeFullCell_mV;   // charge ends once any cell reads this (0: leave the end to the charger)
   ProtectionRule rules[kFaultCount];
 };
 

@@ -11,6 +11,8 @@ void init(CoreState& s) {
   acquisitionReset(s.acq);
   socReset(s.soc);
   s.precharge = PrechargeState{PrechargePhase::Idle, 0, 0, false};
+  balanceReset(s.balance);
+  s.chargeComplete = false;
   s.relayCmd = false;
   s.prechargeCmd = false;
   s.dischargeFetCmd = false;
@@ -210,8 +212,23 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
 
   out.afeClearFaults = in.resetRequest;
   out.afeFetEnable = true;
-  for (uint8_t w = 0; w < kBalanceWords; ++w) out.balanceMask[w] = 0;
+  // Balancing: only with every monitor answering, no fatal fault, and in a state where
+  // the pack is idle, driving or charging.
+  const bool balancePermitted = complete && !anyFatal &&
+                                (s.state == State::Standby || s.state == State::Normal || s.state == State::Charge);
+  balanceStep(cfg, s.balance, tm, balancePermitted, s.state == State::Charge, in.now_ms, out.balanceMask,
+              out.balanceArmCount);
+  out.balanceStatus = static_cast<uint8_t>(s.balance.status);
   out.balanceTime_s = cfg.balanceTime_s;
+  // Charger: enabled only while charging with the charge path closed and nothing acting
+  // on the charge side; charging stops on any such fault.
+  const bool chargeSideFault = (blocked & (kActRelay | kActChargeFet)) != 0;
+  if (!in.chargerPresent) s.chargeComplete = false;
+  if (cfg.chargeFullCell_mV > 0 && s.state == State::Charge && tm.maxCell_mV >= cfg.chargeFullCell_mV)
+    s.chargeComplete = true;  // the first full cell ends the charge; balancing may go on
+  out.chargerEnable = s.state == State::Charge && !anyFatal && !chargeSideFault && out.relayClose &&
+                      out.chargeFetOn && cfg.chargeRequest_mA > 0 && !s.chargeComplete;
+  out.chargerCurrentRequest_mA = out.chargerEnable ? cfg.chargeRequest_mA : 0;
   out.state = s.state;
   out.faultActive = s.protection.active;
   out.faultLatched = s.protection.latched;

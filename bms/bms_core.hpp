@@ -9,12 +9,16 @@
 //        init -> standby -> precharge -> normal | charge;  any fatal fault -> error
 //     5. actuators: relay, precharge and FET commands follow the state and the table;
 //        the relay never closes while a fatal fault is present or latched
+//     6. balancing and charger: the balancing policy (bms_balance) picks the cells; the
+//        charger is enabled (with its current request) only in Charge with no fault
+//        acting on the charge side (relay or charge FET)
 //
 // No heap, no exceptions, no I/O, no globals: the same sources run on the
 // microcontroller and in the simulator. Commands take effect from the next tick.
 #pragma once
 #include <cstdint>
 
+#include "bms_balance.hpp"
 #include "bms_config.hpp"
 #include "bms_hal.hpp"
 #include "bms_measure.hpp"
@@ -39,6 +43,8 @@ struct CoreState {
   AcquisitionState acq;
   SocState soc;
   PrechargeState precharge;
+  BalanceState balance;
+  bool chargeComplete;  // a cell reached chargeFullCell_mV on this charger connection
   // Commands of the previous tick (what the hardware is doing now).
   bool relayCmd;
   bool prechargeCmd;

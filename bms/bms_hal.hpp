@@ -59,6 +59,10 @@ struct Outputs {
   bool afeFetEnable;        // BQ76952: allow the device to drive its FETs (leave test mode)
   uint32_t balanceMask[kBalanceWords];  // bit per cell: balancing switch on
   uint16_t balanceTime_s;   // balancing timer to write with the mask (device enforces it)
+  uint8_t balanceArmCount;  // +1 each time the host rewrites the balancing timer (re-arm)
+  uint8_t balanceStatus;    // BalanceStatus (bms_balance.hpp): why cells do or do not balance
+  bool chargerEnable;       // charger output allowed
+  int32_t chargerCurrentRequest_mA;  // charger current limit requested (0 while disabled)
   State state;
   uint32_t faultActive;     // bit per FaultId: condition present and debounced
   uint32_t faultLatched;    // bit per FaultId: latched until operator reset

@@ -127,6 +127,9 @@ void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry
       ++invalid;
       continue;
     }
+    // Balancing-board thermistors are not cell temperatures (bms_balance reads them).
+    const uint8_t boardFirst = cfg.balance.boardThermFirst;
+    if (k >= boardFirst && k < boardFirst + cfg.balance.boardThermCount) continue;
     if (dC > maxT) maxT = dC;
     if (dC < minT) minT = dC;
   }

@@ -132,7 +132,9 @@ class Progress {
   Clock::time_point start_;
 };
 
-CaseOutcome runCase(const Sweep& sw, const SweepCase& c, bool resume) {
+}  // namespace
+
+CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
   CaseOutcome o;
   const std::string path = sw.resultPath(c);
   const std::string errFile = sw.base_path + " (sweep " + sw.name + ", case " + c.id + ")";
@@ -168,7 +170,7 @@ CaseOutcome runCase(const Sweep& sw, const SweepCase& c, bool resume) {
   return o;
 }
 
-void writeCsv(const Sweep& sw, const BatchReport& rep) {
+void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
   std::vector<std::string> fields;  // union of the summary attributes, first-seen order
   for (const CaseOutcome& o : rep.cases)
     for (const auto& kv : o.summary)
@@ -205,8 +207,6 @@ void writeCsv(const Sweep& sw, const BatchReport& rep) {
   }
   fs::rename(tmp, rep.csv_path);
 }
-
-}  // namespace
 
 std::string csvField(const std::string& s) {
   if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
@@ -257,7 +257,7 @@ BatchReport runBatch(const Sweep& sw, const BatchOptions& opt) {
   std::atomic<size_t> next{0};
   auto worker = [&]() {
     for (size_t i = next++; i < sw.cases.size(); i = next++) {
-      rep.cases[i] = runCase(sw, sw.cases[i], opt.resume);
+      rep.cases[i] = runSweepCase(sw, sw.cases[i], opt.resume);
       progress.caseDone(sw.cases[i], rep.cases[i]);
     }
   };
@@ -272,7 +272,7 @@ BatchReport runBatch(const Sweep& sw, const BatchOptions& opt) {
     else ++rep.failed;
     if (o.skipped) ++rep.skipped;
   }
-  writeCsv(sw, rep);
+  writeSummaryCsv(sw, rep);
   return rep;
 }
 

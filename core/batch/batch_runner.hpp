@@ -44,6 +44,13 @@ struct BatchReport {
 
 BatchReport runBatch(const Sweep& sweep, const BatchOptions& options);
 
+// One case exactly as runBatch runs it (resume check, load, run, write, read back the
+// summary); never throws. For engines that schedule cases themselves (Python on Dask).
+CaseOutcome runSweepCase(const Sweep& sweep, const SweepCase& c, bool resume);
+
+// <output_dir>/summary.csv from outcomes in sweep order (as runBatch writes it).
+void writeSummaryCsv(const Sweep& sweep, const BatchReport& report);
+
 // Reads the /summary attributes of a result file as (name, text) in stored order;
 // empty if the file is not a complete packsim result. `scenario_yaml` receives the
 // root attribute of the same name.

@@ -67,12 +67,14 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   if (e.relay_open_by_s) {
     bool open = false;
     bool reclosed = false;
+    // The contact itself, not the command: a welded relay or the monitor's FAULT line
+    // make the two differ.
     for (const Event& ev : r.events) {
-      if (ev.kind != "relay") continue;
-      if (ev.time_s <= *e.relay_open_by_s + 1e-9) open = ev.detail == "open";
-      else if (ev.detail == "close") reclosed = true;
+      if (ev.kind != "relay_contact") continue;
+      if (ev.time_s <= *e.relay_open_by_s + 1e-9) open = ev.detail == "opened";
+      else if (ev.detail == "closed") reclosed = true;
     }
-    if (!open) fail(fmt("expected the relay open by %.3f s", *e.relay_open_by_s));
+    if (!open) fail(fmt("expected the relay contact open by %.3f s", *e.relay_open_by_s));
     if (reclosed) fail(fmt("the relay closed again after %.3f s", *e.relay_open_by_s));
   }
   for (const DetectionExpectation& d : e.detected) {
@@ -96,9 +98,21 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     if (inj.kind != "fault_injected") continue;
     std::string line = inj.detail + fmt(" @%.3f s: ", inj.time_s);
     const Event* det = firstAfter(r, inj.time_s, "fault_active");
-    const Event* open = firstAfter(r, inj.time_s, "relay", "open");
+    const Event* open = firstAfter(r, inj.time_s, "relay_contact", "opened");
+    const Event* line_ = firstAfter(r, inj.time_s, "monitor_fault_line", "asserted");
+    FaultLatency fl;
+    fl.injected = inj.detail;
+    fl.injected_at_s = inj.time_s;
+    if (det) {
+      fl.detected_fault = det->detail.substr(0, det->detail.find(':'));
+      fl.detection_latency_s = det->time_s - inj.time_s;
+    }
+    if (open) fl.relay_open_latency_s = open->time_s - inj.time_s;
+    o.fault_latencies.push_back(fl);
     if (det) line += det->detail.substr(0, det->detail.find(':')) + fmt(" after %.0f ms", (det->time_s - inj.time_s) * 1e3);
     else line += "no BMS fault";
+    if (line_ && (!det || line_->time_s < det->time_s))
+      line += fmt(", monitor FAULT line after %.0f ms", (line_->time_s - inj.time_s) * 1e3);
     line += open ? fmt(", relay open after %.0f ms", (open->time_s - inj.time_s) * 1e3) : ", relay not opened";
     o.latencies.push_back(line);
   }

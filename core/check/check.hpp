@@ -10,6 +10,15 @@
 
 namespace packsim {
 
+// One injected fault and how the BMS answered it (the numbers behind a `latencies` line).
+struct FaultLatency {
+  std::string injected;              // the fault_injected event's detail
+  double injected_at_s = 0.0;
+  std::string detected_fault;        // first BMS fault raised at or after the injection ("" if none)
+  double detection_latency_s = -1.0; // < 0: no BMS fault followed
+  double relay_open_latency_s = -1.0;  // < 0: the relay did not open
+};
+
 struct CheckOutcome {
   std::string name;
   bool passed = false;
@@ -17,6 +26,7 @@ struct CheckOutcome {
   std::string error_message;
   std::vector<std::string> failures;   // one line per unmet expectation
   std::vector<std::string> latencies;  // one line per injected fault
+  std::vector<FaultLatency> fault_latencies;  // the same, as numbers
   std::string verdict;                 // short summary of what the BMS did
 };
 

@@ -34,12 +34,27 @@ struct BatchCliOptions {
   bool quiet = false;
 };
 
+// `packsim balance-time` (core/balance/balance_time.hpp).
+struct BalanceTimeCliOptions {
+  std::string scenario;  // scenario file; or
+  std::string preset;    // a bundled scenario by name (scenarios/ or scenarios/balance/)
+  std::vector<double> resistors_ohm;
+  std::optional<double> delta_Ah, cell_V;
+  int high_cells = 1;
+  double target_mV = 5.0;
+  double max_hours = 72.0;
+  bool analytic_only = false;
+};
+
 std::string bundledScenarioDir();
 std::string defaultScenarioPath();
 int cmdRun(const RunOptions& o);
 int cmdCheck(const CheckOptions& o);
 int cmdPlot(const PlotOptions& o);
 int cmdBatch(const BatchCliOptions& o);
+int cmdBalanceTime(const BalanceTimeCliOptions& o);
+// Path of a bundled scenario by name; throws std::invalid_argument listing the names.
+std::string presetPath(const std::string& name);
 // Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).
 std::string pythonPackageDir();
 

@@ -1,5 +1,6 @@
 // packsim command line: `packsim run [SCENARIO.yaml] [-o OUT.h5] [--seed N]`,
-// `packsim check [PATHS...]`, `packsim plot RESULT.h5 [-o DIR]`, `packsim batch SWEEP.yaml`.
+// `packsim check [PATHS...]`, `packsim plot RESULT.h5 [-o DIR]`, `packsim batch SWEEP.yaml`,
+// `packsim balance-time [SCENARIO|--preset NAME] --resistor 22,33,47 [--delta-Ah A --cell-V V]`.
 #include <CLI/CLI.hpp>
 
 #include <cstdlib>
@@ -40,6 +41,19 @@ int main(int argc, char** argv) {
   batchCmd->add_flag("--no-resume", batch.no_resume, "rerun cases whose result file is already complete");
   batchCmd->add_flag("-q,--quiet", batch.quiet, "print nothing but errors");
 
+  packsim::BalanceTimeCliOptions bal;
+  CLI::App* balCmd = app.add_subcommand("balance-time", "time to balance per resistor: analytic and full simulation");
+  balCmd->add_option("scenario", bal.scenario, "scenario YAML file (default: --preset bench_6s_balancing)");
+  balCmd->add_option("--preset", bal.preset, "a bundled scenario by name (scenarios/ or scenarios/balance/)");
+  balCmd->add_option("--resistor", bal.resistors_ohm, "balancing resistor(s) in ohm, e.g. 22,33,47,68,100 "
+                                                      "(default: the scenario's)")->delimiter(',');
+  balCmd->add_option("--delta-Ah", bal.delta_Ah, "imbalance to remove (default: the scenario's initial spread)");
+  balCmd->add_option("--cell-V", bal.cell_V, "cell voltage of the high cells (default: OCV at the initial SOC)");
+  balCmd->add_option("--high-cells", bal.high_cells, "series cells that start high with --delta-Ah (default 1)");
+  balCmd->add_option("--target-mV", bal.target_mV, "balanced when max - min cell is below this (default 5)");
+  balCmd->add_option("--max-hours", bal.max_hours, "simulation cap in hours (default 72)");
+  balCmd->add_flag("--analytic-only", bal.analytic_only, "skip the simulation");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -50,6 +64,7 @@ int main(int argc, char** argv) {
     if (checkCmd->parsed()) return packsim::cmdCheck(check);
     if (plotCmd->parsed()) return packsim::cmdPlot(plot);
     if (batchCmd->parsed()) return packsim::cmdBatch(batch);
+    if (balCmd->parsed()) return packsim::cmdBalanceTime(bal);
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;

@@ -196,6 +196,24 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
     w.dataset("/hardware/fet_loss_W", rec.hw_fet_loss_W, n, 0, "W");
   }
 
+  if (rec.has_balancing || rec.has_active_balancer) {
+    const size_t series = static_cast<size_t>(rec.groups);
+    w.dataset("/truth/balance_current_A", rec.balance_current_A, n, series, "A");
+    w.attrOn("/truth/balance_current_A", "meaning", rec.has_active_balancer
+                                                        ? "active balancer converter current, + drawn from the module"
+                                                        : "passive balancing resistor current per series cell");
+    w.dataset("/bms/balance_mask", rec.balance_mask, n, series, nullptr);
+    w.dataset("/bms/balance_status", rec.balance_status, n, 0, nullptr);
+    w.attrOn("/bms/balance_status", "names", "0=disabled,1=not_allowed,2=board_hot,3=balanced,4=balancing");
+    if (!rec.hw_relay_closed.empty()) w.dataset("/hardware/balancing", rec.hw_balancing, n, series, nullptr);
+  }
+  if (rec.has_board) w.dataset("/truth/board_temp_C", rec.board_temp_C, n, 0, "degC");
+  if (rec.has_active_balancer) w.dataset("/truth/balancer_bus_V", rec.balancer_bus_V, n, 0, "V");
+  if (rec.has_charger) {
+    w.dataset("/truth/charger_current_A", rec.charger_current_A, n, 0, "A");
+    w.dataset("/bms/charger_enable", rec.charger_enable, n, 0, nullptr);
+    w.dataset("/bms/charger_request_mA", rec.charger_request_mA, n, 0, "mA");
+  }
   w.events(r.events);
 
   w.group("/summary");

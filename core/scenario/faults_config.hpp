@@ -24,6 +24,7 @@ enum class FaultKind {
   WeldedRelay,
   CurrentSensorDrift, // current-sense offset (A)
   ChargerOvervoltage, // charger output above its setpoint (V)
+  HostDead,           // the MCU hangs: no more BMS ticks, its outputs hold their last level
 };
 
 const char* faultKindName(FaultKind k);

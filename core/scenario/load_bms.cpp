@@ -113,6 +113,9 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   b.charger_present = m->boolean("charger_present", b.charger_present);
   // 1 s … 63 min: what the monitor's balancing timer can hold.
   b.balance_time_s = static_cast<uint16_t>(m->integer("balance_time_s", b.balance_time_s, 1, 3780));
+  if (auto bal = m->optionalMap("balancing")) b.balancing = readBalanceSettings(*bal);
+  b.charge_current_A = m->number("charge_current_A", b.charge_current_A, Range::nonNegative());
+  b.charge_full_cell_V = m->number("charge_full_cell_V", b.charge_full_cell_V, Range::closed(0.0, 5.0));
   m->finish();
   return b;
 }

@@ -30,6 +30,7 @@ constexpr KindInfo kKinds[] = {
     {"welded_relay", FaultKind::WeldedRelay},
     {"current_sensor_drift", FaultKind::CurrentSensorDrift},
     {"charger_overvoltage", FaultKind::ChargerOvervoltage},
+    {"host_dead", FaultKind::HostDead},
 };
 
 struct QuantityInfo {
@@ -142,6 +143,7 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
     case FaultKind::WeldedRelay: break;
     case FaultKind::CurrentSensorDrift: inj.value = f.number("offset_A", Range{}); break;
     case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
+    case FaultKind::HostDead: break;
   }
   f.finish();
   return inj;
@@ -197,6 +199,7 @@ std::string FaultInjection::describe() const {
     case FaultKind::WeldedRelay: std::snprintf(buf, sizeof buf, "welded_relay"); break;
     case FaultKind::CurrentSensorDrift: std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value); break;
     case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
+    case FaultKind::HostDead: std::snprintf(buf, sizeof buf, "host_dead"); break;
   }
   return buf;
 }

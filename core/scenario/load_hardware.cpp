@@ -194,6 +194,8 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       h.fuse.hold_ratio = f->number("hold_ratio", h.fuse.hold_ratio, Range::closed(1.0, 3.0));
       f->finish();
     }
+    if (auto b = hw->optionalMap("balancing")) h.balancing = readPassiveBalancer(*b);
+    if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
     if (auto b = hw->optionalMap("bus_adc")) {
       const double fs = b->number("full_scale_V", h.bus_adc.lsb * 4095.0, Range::positive());
       const long bits = b->integer("bits", 12, 8, 16);

@@ -154,6 +154,7 @@ ThermalConfig readThermal(std::optional<YamlMap> m, int cells) {
   t.g_coolant_W_per_K = m->number("cell_to_coolant_W_per_K", 0.0, Range::nonNegative());
   t.coolant_C = m->number("coolant_temp_C", 25.0, Range::closed(-60.0, 150.0));
   if (m->has("nodes")) {
+    std::vector<YamlMap> linkSites;  // where each to_nodes entry was written (for errors)
     for (YamlMap n : m->mapList("nodes")) {
       ThermalNodeConfig c;
       c.name = n.string("name");
@@ -169,8 +170,30 @@ ThermalConfig readThermal(std::optional<YamlMap> m, int cells) {
           l.finish();
         }
       }
+      if (n.has("to_nodes")) {
+        for (YamlMap l : n.mapList("to_nodes")) {
+          c.node_links.emplace_back(l.string("node"), l.number("g_W_per_K", Range::positive()));
+          linkSites.push_back(l);
+          l.finish();
+        }
+      }
       n.finish();
       t.nodes.push_back(c);
+    }
+    // Node-to-node links name a node of this list (not itself).
+    size_t site = 0;
+    for (const ThermalNodeConfig& c : t.nodes) {
+      for (const auto& link : c.node_links) {
+        YamlMap& l = linkSites[site++];
+        std::vector<std::string> names;
+        for (const ThermalNodeConfig& o : t.nodes)
+          if (o.name != c.name) names.push_back(o.name);
+        if (std::find(names.begin(), names.end(), link.first) == names.end()) {
+          const std::string near = closestMatch(link.first, names);
+          throw l.errorAt("node", "no other thermal node named '" + link.first + "'" +
+                                      (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+        }
+      }
     }
   }
   m->finish();

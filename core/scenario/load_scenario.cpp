@@ -1,6 +1,7 @@
 #include "core/scenario/load_scenario.hpp"
 
 #include <bms/bms_limits.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -54,17 +55,38 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
     const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / base["load"]["csv"].Scalar());
     base["load"]["csv"] = csv.lexically_relative(here).string();
   }
-  // A child that names its own kind of load (current, power, segments, points, csv)
-  // replaces the base's; other load keys (laps, interpolation, ...) merge as usual.
+  // A child that names its own kind of load (current, power, segments, points, csv,
+  // charger) replaces the base's load whole; otherwise its load keys (laps, ...) merge.
   if (base["load"] && base["load"].IsMap() && root["load"] && root["load"].IsMap()) {
-    static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv"};
+    static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv", "charger"};
     bool childKind = false;
     for (const char* k : kinds) childKind = childKind || root["load"][k];
-    if (childKind)
-      for (const char* k : kinds) base["load"].remove(k);
+    if (childKind) base.remove("load");
   }
   deepMerge(base, root);
   return base;
+}
+
+// Balancing hardware against the thermal network and the BMS policy.
+void checkBalancing(YamlMap& root, const Scenario& s) {
+  const PassiveBalancerConfig& b = s.hardware.balancing;
+  auto hwMap = [&](const char* section) { return root.map("hardware").map(section); };
+  if (b.present && !b.board_node.empty()) {
+    std::vector<std::string> names;
+    for (const ThermalNodeConfig& n : s.thermal.nodes) names.push_back(n.name);
+    if (std::find(names.begin(), names.end(), b.board_node) == names.end()) {
+      const std::string near = closestMatch(b.board_node, names);
+      throw hwMap("balancing").errorAt("board_node", "no thermal node named '" + b.board_node + "' in thermal.nodes" +
+                                                         (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+    }
+  }
+  if (s.hardware.thermistorCount() > bms::kMaxThermistors)
+    throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
+                                                              std::to_string(bms::kMaxThermistors));
+  if (s.bms.balancing.enabled && !b.present)
+    throw root.map("bms").errorAt("balancing", "the balancing policy needs balancing resistors (hardware.balancing)");
+  if (s.hardware.active_balancer.present && b.present && s.bms.balancing.enabled)
+    throw root.map("bms").errorAt("balancing", "choose passive (bms.balancing) or active (hardware.active_balancer) balancing");
 }
 
 }  // namespace
@@ -89,7 +111,20 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   s.pack = readPack(m.map("pack"), base_dir);
   s.hardware = readHardware(m.optionalMap("hardware"), s.pack);
   s.bms = readBms(m.optionalMap("bms"));
-  s.load = readLoad(m.map("load"), base_dir);
+  {
+    YamlMap load = m.map("load");
+    if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)
+      s.charger = readCharger(load.map("charger"));
+      load.finish();
+      s.load = LoadProfile::constant(0.0);
+      // On the charger unless the bms section says otherwise: connected, no drive request.
+      const YAML::Node bmsNode = root["bms"];
+      if (!(bmsNode && bmsNode.IsMap() && bmsNode["charger_present"])) s.bms.charger_present = true;
+      if (!(bmsNode && bmsNode.IsMap() && bmsNode["run_request"])) s.bms.run_request = false;
+    } else {
+      s.load = readLoad(load, base_dir);
+    }
+  }
   s.ambient_C = readAmbient(m.optionalMap("ambient"));
   s.thermal = readThermal(m.optionalMap("thermal"), s.pack.series * s.pack.parallel);
   s.run = readRun(m.optionalMap("run"), seed);
@@ -97,7 +132,7 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
     s.output.interval_s = o->number("interval_s", 1.0, Range::positive());
     o->finish();
   }
-  s.faults = readFaults(m, s.pack.series * s.pack.parallel, static_cast<int>(s.hardware.thermistor_cells.size()));
+  s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount());
   s.expect = readExpect(m.optionalMap("expect"));
   m.finish();
 
@@ -106,6 +141,7 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
     throw m.errorAt("load", "a constant load needs run.duration_s");
   if (s.output.interval_s < s.bms.tick_s)
     throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
+  checkBalancing(m, s);
   const double senseRange_A = s.hardware.current_sense.zeroCode() * s.hardware.current_sense.lsb_A();
   for (const auto* p : {&s.bms.overcurrent_discharge, &s.bms.overcurrent_charge}) {
     if (p->enabled && p->threshold >= senseRange_A) {

@@ -9,7 +9,10 @@
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
 #include "models/afe/monitor_config.hpp"
+#include "models/balance/active_balancer.hpp"
+#include "models/balance/passive_balancer.hpp"
 #include "models/cell/ecm.hpp"
+#include "models/hw/charger.hpp"
 #include "models/hw/fuse.hpp"
 #include "models/hw/mosfet.hpp"
 #include "models/hw/precharge.hpp"
@@ -41,6 +44,7 @@ struct ThermalNodeConfig {
   double g_ambient_W_per_K = 0.0;
   double g_each_cell_W_per_K = 0.0;         // link to every cell
   std::vector<std::pair<int, double>> cell_links;  // (0-based cell, W/K)
+  std::vector<std::pair<std::string, double>> node_links;  // (other node's name, W/K), e.g. an enclosure
 };
 
 struct ThermalConfig {
@@ -65,6 +69,11 @@ struct HardwareConfig {
   FuseConfig fuse;                    // absent unless configured
   AdcChannel bus_adc;                 // load-bus voltage divider into an ADC (volts)
   bool fault_line_opens_relay = true; // monitor FAULT line in series with the relay coil drive
+  // Balancing (issue 5; docs/scenario.md `hardware.balancing`, `hardware.active_balancer`).
+  PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
+  ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
+  // Thermistor channels: the cell ones, then the balancing board's.
+  int thermistorCount() const { return static_cast<int>(thermistor_cells.size()) + balancing.board_thermistors; }
 };
 
 struct ProtectionConfig {
@@ -84,6 +93,22 @@ struct PrechargeSettings {
   double pause_s = 1.0;
   double overlap_s = 0.03;
   int retries = 3;
+};
+
+// Balancing policy of the BMS (bms::BalanceConfig in SI units).
+struct BalanceSettings {
+  bool enabled = false;
+  std::string when = "charging_or_rest";  // charging | rest | charging_or_rest | always
+  double start_delta_V = 0.05;
+  double stop_delta_V = 0.01;
+  double min_cell_V = 3.3;
+  double board_max_C = 70.0;
+  double board_resume_C = 60.0;
+  bool no_adjacent = false;
+  double rest_current_A = 0.2;
+  double rest_s = 600.0;
+  double period_s = 1.0;
+  bool measure_paused = true;  // switches open for each conversion (no I_bal·R0 in the readings)
 };
 
 struct BmsSettings {
@@ -117,6 +142,9 @@ struct BmsSettings {
   bool run_request = true;          // GPIO levels held for the run
   bool charger_present = false;
   uint16_t balance_time_s = 60;
+  BalanceSettings balancing;
+  double charge_current_A = 0.0;    // charger current request; 0: the charger's own current_A
+  double charge_full_cell_V = 0.0;  // BMS ends the charge when a cell reads this; 0: the charger ends it
 };
 
 struct RunConfig {
@@ -148,6 +176,7 @@ struct Scenario {
   HardwareConfig hardware;
   BmsSettings bms;
   LoadProfile load;
+  ChargerConfig charger;  // `load: {charger: {...}}`: the pack sits on a CC-CV charger
   TimeSeries ambient_C = TimeSeries::constant(25.0);
   ThermalConfig thermal;
   RunConfig run;

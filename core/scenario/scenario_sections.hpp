@@ -23,5 +23,10 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors);
 Expectations readExpect(std::optional<YamlMap> m);
+// load_balancing.cpp
+PassiveBalancerConfig readPassiveBalancer(YamlMap m);
+ActiveBalancerConfig readActiveBalancer(YamlMap m);
+BalanceSettings readBalanceSettings(YamlMap m);
+ChargerConfig readCharger(YamlMap m);
 
 }  // namespace packsim

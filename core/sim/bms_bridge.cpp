@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "models/hw/charger.hpp"
 #include "models/hw/mosfet.hpp"
 #include "models/hw/precharge.hpp"
 
@@ -29,13 +30,40 @@ void setFlagRule(bms::ProtectionRule& r, const ProtectionConfig& p) {
 
 bms::ProtectionRule& rule(bms::Config& c, bms::FaultId id) { return c.rules[static_cast<int>(id)]; }
 
+// Balancing policy and charger request in firmware units; the board thermistors are
+// the channels after the cell ones.
+void setBalancing(bms::Config& c, const Scenario& s) {
+  const BalanceSettings& b = s.bms.balancing;
+  bms::BalanceConfig& k = c.balance;
+  k.enabled = b.enabled;
+  k.when = b.when == "charging" ? bms::BalanceWhen::Charging
+           : b.when == "rest"   ? bms::BalanceWhen::Rest
+           : b.when == "always" ? bms::BalanceWhen::Always
+                                : bms::BalanceWhen::ChargingOrRest;
+  k.startDelta_mV = static_cast<uint16_t>(std::lround(b.start_delta_V * 1e3));
+  k.stopDelta_mV = static_cast<uint16_t>(std::lround(b.stop_delta_V * 1e3));
+  k.minCell_mV = static_cast<uint16_t>(std::lround(b.min_cell_V * 1e3));
+  k.boardMax_dC = static_cast<int16_t>(std::lround(b.board_max_C * 10.0));
+  k.boardResume_dC = static_cast<int16_t>(std::lround(b.board_resume_C * 10.0));
+  k.noAdjacent = b.no_adjacent;
+  k.restCurrent_mA = toInt(b.rest_current_A * 1e3);
+  k.rest_ms = static_cast<uint32_t>(std::lround(b.rest_s * 1e3));
+  k.period_ms = static_cast<uint32_t>(std::lround(b.period_s * 1e3));
+  k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_cells.size());
+  k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors);
+  const double request_A = s.bms.charge_current_A > 0.0 ? s.bms.charge_current_A
+                           : s.charger.present          ? s.charger.current_A
+                                                        : 0.0;
+  c.chargeRequest_mA = toInt(request_A * 1e3);
+  c.chargeFullCell_mV = static_cast<uint16_t>(std::lround(s.bms.charge_full_cell_V * 1e3));
+}
+
 }  // namespace
 
 bms::Config makeBmsConfig(const Scenario& s) {
   const HardwareConfig& hw = s.hardware;
   const BmsSettings& b = s.bms;
-  bms::Config c = bms::defaultConfig(static_cast<uint16_t>(s.pack.series),
-                                     static_cast<uint8_t>(hw.thermistor_cells.size()));
+  bms::Config c = bms::defaultConfig(static_cast<uint16_t>(s.pack.series), static_cast<uint8_t>(hw.thermistorCount()));
   c.tickPeriod_ms = static_cast<uint32_t>(std::lround(b.tick_s * 1e3));
   // The firmware knows the datasheet scaling, not the part's actual error.
   c.scaling.cellLsb_uV = static_cast<float>(hw.cell_adc.lsb * 1e6);
@@ -78,6 +106,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.soc.restCurrent_mA = toInt(b.soc_rest_current_A * 1e3);
   c.weldSettle_ms = static_cast<uint32_t>(std::lround(b.weld_settle_s * 1e3));
   c.balanceTime_s = b.balance_time_s;
+  setBalancing(c, s);
 
   using F = bms::FaultId;
   setRule(rule(c, F::CellOverVoltage), b.cell_overvoltage, 1e3);
@@ -107,7 +136,8 @@ bms::Config makeBmsConfig(const Scenario& s) {
 
 HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
     : s_(s), plant_(plant), stack_(s.hardware.afe, s.pack.series, s.run.seed), truth_(stack_.makeTruth()) {
-  afeTherm_ = std::min(static_cast<int>(s.hardware.thermistor_cells.size()), stack_.thermistorChannels());
+  afeTherm_ = std::min(s.hardware.thermistorCount(), stack_.thermistorChannels());
+  if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
 }
 
 void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
@@ -128,7 +158,8 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
            : f.thermistor[k] == ThermistorFault::Short ? SensorFault::Short
                                                         : SensorFault::None;
   };
-  auto thermTemp = [&](size_t k) {
+  auto thermTemp = [&](size_t k) {  // cell thermistors, then the balancing board's
+    if (k >= hw.thermistor_cells.size()) return sig.node_temp_C[static_cast<size_t>(plant_.boardNode())];
     return sig.node_temp_C[static_cast<size_t>(hw.thermistor_cells[k] * parallel)];
   };
   for (size_t k = 0; k < truth_.therm_C.size(); ++k) {
@@ -152,7 +183,7 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   stack_.read(t, truth_, rng, in);
 
   // Thermistors beyond the monitor inputs sit on the MCU's own ADC.
-  for (size_t k = static_cast<size_t>(afeTherm_); k < hw.thermistor_cells.size(); ++k) {
+  for (size_t k = static_cast<size_t>(afeTherm_); k < static_cast<size_t>(hw.thermistorCount()); ++k) {
     const SensorFault sf = thermFault(k);
     const int64_t code = sf == SensorFault::Open    ? hw.thermistor.fullScaleCode()
                          : sf == SensorFault::Short ? 0
@@ -213,10 +244,64 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
 
   const bool changed = pin.relay_closed != mainClosed || pin.precharge_A != prechargeA ||
                        pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked;
+  const bool balancingChanged = actuateBalancing(t, out, sig, f, pin);
   pin.relay_closed = mainClosed;
   pin.precharge_A = prechargeA;
   pin.discharge_blocked = dischargeBlocked;
   pin.charge_blocked = chargeBlocked;
+  return changed || balancingChanged;
+}
+
+const PlantSignals& HardwareSim::measurementView(double t, const double* x, const PlantInputs& pin,
+                                                 const PlantSignals& sig) {
+  if (!s_.bms.balancing.measure_paused || std::none_of(pin.balancing.begin(), pin.balancing.end(), [](uint8_t b) { return b != 0; }))
+    return sig;
+  if (pausedSig_.cell_current_A.empty()) pausedSig_ = plant_.makeSignals();
+  pausedInputs_ = pin;
+  std::fill(pausedInputs_.balancing.begin(), pausedInputs_.balancing.end(), 0);
+  plant_.evaluate(t, x, pausedInputs_, pausedSig_);
+  return pausedSig_;
+}
+
+// Balancing switches as the monitor ICs hold them (mask and timer), the charger's
+// CC-CV state under the BMS enable, and the active balancer's controller.
+bool HardwareSim::actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig,
+                                   const HardwareFaults& f, PlantInputs& pin) {
+  bool changed = false;
+  const int series = s_.pack.series;
+  if (s_.hardware.balancing.present) {
+    if (pin.balancing.size() != static_cast<size_t>(series)) pin.balancing.assign(static_cast<size_t>(series), 0);
+    for (int g = 0; g < series; ++g) {
+      const uint8_t on = stack_.balancing(g, t) ? 1 : 0;
+      changed = changed || pin.balancing[static_cast<size_t>(g)] != on;
+      pin.balancing[static_cast<size_t>(g)] = on;
+    }
+  }
+  if (s_.charger.present) {
+    const double setpoint = s_.charger.voltage_V + f.charger_overvoltage_V;
+    const double limit = chargerStep(s_.charger, charger_, out.chargerEnable, out.chargerCurrentRequest_mA * 1e-3,
+                                     sig.charger_A, sig.pack_voltage_V, setpoint);
+    changed = changed || limit != pin.charger_limit_A || setpoint != pin.charger_setpoint_V;
+    pin.charger_limit_A = limit;
+    pin.charger_setpoint_V = setpoint;
+    st_.charger_cv = charger_.cv;
+    st_.charger_done = charger_.done;
+  }
+  const ActiveBalancerConfig& a = s_.hardware.active_balancer;
+  if (a.present) {
+    // Module voltages as the BMS reports them over CAN; the bus voltage is its own reading.
+    for (int g = 0; g < series; ++g) moduleV_[static_cast<size_t>(g)] = out.telemetry.cellVoltage_mV[g] * 1e-3;
+    const ActiveBalancerCommand cmd = activeBalancerDecide(a, moduleV_, sig.bus_V);
+    if (pin.converter_A.size() != static_cast<size_t>(series)) pin.converter_A.assign(static_cast<size_t>(series), 0.0);
+    for (int g = 0; g < series; ++g) {
+      const double i = g == cmd.source ? a.converter_current_A : g == cmd.sink ? -a.converter_current_A : 0.0;
+      changed = changed || pin.converter_A[static_cast<size_t>(g)] != i;
+      pin.converter_A[static_cast<size_t>(g)] = i;
+    }
+    changed = changed || pin.bus_precharge != cmd.precharge;
+    pin.bus_precharge = cmd.precharge;
+    st_.active_safe_state = cmd.safe_state;
+  }
   return changed;
 }
 

@@ -12,8 +12,9 @@
 //   actuate(t)  the firmware's commands at t -> host writes to the monitors, relay
 //               coils (the monitor FAULT line is wired in series with the coil drive,
 //               so it opens the relay without the MCU), relay delays and weld, FETs
-//               (BQ76952: the device's own FET control), fuse I²t, precharge RC; fills
-//               the plant's inputs for [t, t + tick).
+//               (BQ76952: the device's own FET control), fuse I²t, precharge RC,
+//               balancing switches (monitor mask + timer), charger CC-CV, active
+//               balancer controller; fills the plant's inputs for [t, t + tick).
 // Noise, quantisation and hardware faults live here and in models/, never in bms/.
 #pragma once
 #include <bms/bms_config.hpp>
@@ -42,6 +43,9 @@ struct HardwareStatus {
   double bus_V = 0.0;
   double precharge_A = 0.0;
   double fet_loss_W = 0.0;
+  bool charger_cv = false;        // charger in its constant-voltage phase
+  bool charger_done = false;      // charger ended on its taper current
+  bool active_safe_state = false; // active balancer: a module out of range, converters off
 };
 
 class HardwareSim {
@@ -54,10 +58,23 @@ class HardwareSim {
 
   const HardwareStatus& status() const { return st_; }
   const MonitorStack& monitors() const { return stack_; }
+  // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the
+  // balancing switches for the conversion, so the cells read without their I_bal·R0
+  // drop (the state does not change in those milliseconds); otherwise `sig` itself.
+  const PlantSignals& measurementView(double t, const double* x, const PlantInputs& pin, const PlantSignals& sig);
+  // The run may end: the charger finished and the scenario asks to stop then.
+  bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done; }
 
  private:
+  bool actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
+                        PlantInputs& pin);
+
   const Scenario& s_;
   const Plant& plant_;
+  ChargerState charger_;
+  PlantInputs pausedInputs_;      // the held inputs with every balancing switch open
+  PlantSignals pausedSig_;
+  std::vector<double> moduleV_;  // active balancer: module voltages received from the BMS
   MonitorStack stack_;
   MonitorTruth truth_;
   int afeTherm_ = 0;  // thermistor channels on the monitor ICs

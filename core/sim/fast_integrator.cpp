@@ -39,7 +39,10 @@ void FastIntegrator::evaluateRates() {
 }
 
 void FastIntegrator::prepareGains(double h) {
-  if (h == gainStep_s_) return;
+  // Tick spans t_k+1 - t_k differ from the tick in their last bits (≈1e-11 relative at
+  // t ~ 1 h); the gains of a step that close are the same to far below any tolerance,
+  // so they are recomputed only when the step really changes.
+  if (std::fabs(h - gainStep_s_) <= 1e-9 * h) return;
   for (size_t k = 0; k < rcTau_s_.size(); ++k) {
     const double tau = rcTau_s_[k];
     // τ(1 - e^{-h/τ}) = -τ·expm1(-h/τ): accurate also for h ≪ τ.

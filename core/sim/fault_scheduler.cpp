@@ -71,7 +71,7 @@ void FaultScheduler::apply(HardwareFaults& f) const {
   const size_t cells = static_cast<size_t>(plant_.pack().cellCount());
   f = HardwareFaults{};
   f.cell_channel.assign(static_cast<size_t>(plant_.pack().series), ChannelError{});
-  f.thermistor.assign(s_.hardware.thermistor_cells.size(), ThermistorFault::None);
+  f.thermistor.assign(static_cast<size_t>(s_.hardware.thermistorCount()), ThermistorFault::None);
   f.device.assign(64, MonitorDeviceFault{});
   f.cell_heat_W.assign(cells, 0.0);
   f.cell_leak_ohm.assign(cells, 0.0);
@@ -95,6 +95,7 @@ void FaultScheduler::apply(HardwareFaults& f) const {
       case FaultKind::WeldedRelay: f.relay_welded = true; break;
       case FaultKind::CurrentSensorDrift: f.current_sensor_offset_A += inj.value; break;
       case FaultKind::ChargerOvervoltage: f.charger_overvoltage_V += inj.value; break;
+      case FaultKind::HostDead: f.host_dead = true; break;
     }
   }
 }

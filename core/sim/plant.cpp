@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "models/hw/charger.hpp"
+
 namespace packsim {
 
 Plant::Plant(const Scenario& s)
@@ -31,8 +33,14 @@ Plant::Plant(const Scenario& s)
       for (int c = 0; c < pack_.cellCount(); ++c) thermal_.link(id, c, n.g_each_cell_W_per_K);
     for (const auto& [cell, g] : n.cell_links) thermal_.link(id, cell, g);
   }
+  for (const ThermalNodeConfig& n : th.nodes)
+    for (const auto& [other, g] : n.node_links) thermal_.link(thermal_.find(n.name), thermal_.find(other), g);
   stride_ = pack_.layout.size() + 1;
   stateSize_ = pack_.cellCount() * stride_ + (thermal_.nodeCount() - pack_.cellCount());
+  balancer_ = s.hardware.balancing;
+  if (balancer_.present && !balancer_.board_node.empty()) boardNode_ = thermal_.find(balancer_.board_node);
+  active_ = s.hardware.active_balancer;
+  if (active_.present) busIndex_ = stateSize_++;
 }
 
 int Plant::bandwidth() const { return pack_.parallel * stride_ - 1 + stride_; }
@@ -49,8 +57,11 @@ PlantSignals Plant::makeSignals() const {
   s.cell_current_A.assign(n, 0.0);
   s.cell_voltage_V.assign(n, 0.0);
   s.internal_A.assign(n, 0.0);
+  s.cell_ocv_V.assign(n, 0.0);
+  s.cell_r0_ohm.assign(n, 0.0);
   s.group_voltage_V.assign(static_cast<size_t>(pack_.series), 0.0);
   s.heat_W.assign(nodes, 0.0);
+  s.balance_current_A.assign(static_cast<size_t>(pack_.series), 0.0);
   s.node_temp_C.assign(nodes, 0.0);
   s.node_rate_K_per_s.assign(nodes, 0.0);
   return s;
@@ -60,6 +71,30 @@ void Plant::initialState(double* x) const {
   for (int i = 0; i < stateSize_; ++i) x[i] = 0.0;
   for (int c = 0; c < pack_.cellCount(); ++c) x[c * stride_ + CellLayout::soc] = initialSoc_[static_cast<size_t>(c)];
   for (int j = 0; j < thermal_.nodeCount(); ++j) x[tempIndex(j)] = initialTemp_C_;
+  if (busIndex_ >= 0) x[busIndex_] = active_.bus_initial_V;
+}
+
+double Plant::balancingFactor(const PlantInputs& in, int g, double r_g) const {
+  const size_t gi = static_cast<size_t>(g);
+  if (!balancer_.present || gi >= in.balancing.size() || !in.balancing[gi]) return 1.0;
+  return balancer_.loadedFactor(r_g);
+}
+
+// V_pack = Σ_g k_g·(E_g - R_g·(I + I_x,g)) - R_ic·I = E - R·I, with the converter
+// currents I_x,g held (the bus precharge current is left out: it is small and brief).
+template <typename CellX>
+void Plant::packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double& r_ohm) const {
+  e_V = 0.0;
+  r_ohm = pack_.interconnect_ohm;
+  for (int g = 0; g < pack_.series; ++g) {
+    double eg = 0.0, rg = 0.0;
+    pack_.groupThevenin(g, cellX, eg, rg);
+    const size_t gi = static_cast<size_t>(g);
+    const double ix = gi < in.converter_A.size() ? in.converter_A[gi] : 0.0;
+    const double k = balancingFactor(in, g, rg);
+    e_V += k * (eg - rg * ix);
+    r_ohm += k * rg;
+  }
 }
 
 // The load's current; a power load solves P = (E - R·I)·I for the smaller root and
@@ -80,33 +115,30 @@ double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_
 
 void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
   auto cellX = [&](int c) { return cellStates(x, c); };
-  if (loadQuantity_ == LoadProfile::Quantity::Power_W && in.relay_closed) {
-    double e = 0.0, r = pack_.interconnect_ohm;
-    for (int g = 0; g < pack_.series; ++g) {
-      double eg = 0.0, rg = 0.0;
-      pack_.groupThevenin(g, cellX, eg, rg);
-      e += eg;
-      r += rg;
-    }
+  const bool charger = in.relay_closed && in.charger_limit_A > 0.0;
+  sig.charger_A = 0.0;
+  if ((loadQuantity_ == LoadProfile::Quantity::Power_W && in.relay_closed) || charger) {
+    double e = 0.0, r = 0.0;
+    packThevenin(in, cellX, e, r);
     sig.pack_current_A = packCurrent(t, in, e, r, sig.power_limited);
+    if (charger) {  // CC-CV on top of whatever else the terminals feed
+      sig.charger_A = chargerCurrent_A(in.charger_limit_A, in.charger_setpoint_V, e - r * sig.pack_current_A, r);
+      sig.pack_current_A -= sig.charger_A;
+    }
   } else {
     sig.pack_current_A = packCurrent(t, in, 0.0, 0.0, sig.power_limited);
   }
-  if ((sig.pack_current_A > 0.0 && in.discharge_blocked) || (sig.pack_current_A < 0.0 && in.charge_blocked))
+  if ((sig.pack_current_A > 0.0 && in.discharge_blocked) || (sig.pack_current_A < 0.0 && in.charge_blocked)) {
     sig.pack_current_A = 0.0;
-  sig.pack_voltage_V = -sig.pack_current_A * pack_.interconnect_ohm;
-  for (int g = 0; g < pack_.series; ++g) {
-    const double v = pack_.splitGroup(g, sig.pack_current_A, cellX, sig.cell_current_A.data());
-    sig.group_voltage_V[static_cast<size_t>(g)] = v;
-    sig.pack_voltage_V += v;
-    for (int k = 0; k < pack_.parallel; ++k) sig.cell_voltage_V[static_cast<size_t>(g * pack_.parallel + k)] = v;
+    sig.charger_A = 0.0;
   }
+  groupCurrents(x, in, sig);
   const HardwareFaults* f = in.faults;
   sig.injected_heat_W = 0.0;
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     const CellParams& p = pack_.cells[ci];
-    double q = ecm::heat_W(p, cellX(c), sig.cell_current_A[ci]);
+    double q = ecm::heat_W(p, cellX(c), sig.cell_current_A[ci], sig.cell_r0_ohm[ci]);
     sig.internal_A[ci] = 0.0;
     if (f) {
       if (ci < f->cell_heat_W.size()) {
@@ -115,7 +147,7 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
       }
       if (ci < f->cell_leak_ohm.size() && f->cell_leak_ohm[ci] > 0.0) {
         // An internal short: a resistance across the cell's EMF, inside its terminals.
-        const double i_int = ecm::ocv(p, cellX(c)[CellLayout::soc]) / f->cell_leak_ohm[ci];
+        const double i_int = sig.cell_ocv_V[ci] / f->cell_leak_ohm[ci];
         sig.internal_A[ci] = i_int;
         q += i_int * i_int * f->cell_leak_ohm[ci];
       }
@@ -126,7 +158,71 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
     if (j >= pack_.cellCount()) sig.heat_W[static_cast<size_t>(j)] = 0.0;
     sig.node_temp_C[static_cast<size_t>(j)] = x[tempIndex(j)];
   }
+  if (boardNode_ >= 0) sig.heat_W[static_cast<size_t>(boardNode_)] += sig.balance_heat_W;
   sig.ambient_C = ambient_.at(t);
+}
+
+// Group voltages and cell currents for the string current sig.pack_current_A, with
+// each group's balancing resistor (closed form, see the header) and the active
+// balancer's converter and precharge currents.
+void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  auto cellX = [&](int c) { return cellStates(x, c); };
+  const double I = sig.pack_current_A;
+  sig.pack_voltage_V = -I * pack_.interconnect_ohm;
+  sig.balance_heat_W = 0.0;
+  sig.bus_V = busIndex_ >= 0 ? x[busIndex_] : 0.0;
+  sig.bus_current_A = sig.precharge_bus_A = sig.converter_loss_W = 0.0;
+  sig.converter_from_modules_W = sig.converter_to_modules_W = 0.0;
+  auto conv = [&](size_t gi) { return gi < in.converter_A.size() ? in.converter_A[gi] : 0.0; };
+  auto balancing = [&](size_t gi) { return balancer_.present && gi < in.balancing.size() && in.balancing[gi] != 0; };
+
+  // Bus precharge from the whole stack: V_stack = A - B·I_pre (linear), so
+  // I_pre = (A - V_bus)/(R_pre + B).
+  double iPre = 0.0;
+  if (busIndex_ >= 0 && in.bus_precharge) {
+    double a = 0.0, b = 0.0;
+    for (int g = 0; g < pack_.series; ++g) {
+      double eg = 0.0, rg = 0.0;
+      pack_.groupThevenin(g, cellX, eg, rg);
+      const double k = balancingFactor(in, g, rg);
+      a += k * (eg - rg * (I + conv(static_cast<size_t>(g))));
+      b += k * rg;
+    }
+    iPre = std::max(0.0, (a - sig.bus_V) / (active_.precharge_ohm + b));
+  }
+  sig.precharge_bus_A = iPre;
+
+  for (int g = 0; g < pack_.series; ++g) {
+    const size_t gi = static_cast<size_t>(g);
+    const double iString = I + conv(gi) + iPre;
+    double v = 0.0, iBal = 0.0;
+    if (balancing(gi)) {
+      double eg = 0.0, rg = 0.0;
+      pack_.groupThevenin(g, cellX, eg, rg);
+      v = balancer_.loadedFactor(rg) * (eg - rg * iString);
+      iBal = balancer_.current_A(v);
+      v = pack_.splitGroup(g, iString + iBal, cellX, sig.cell_current_A.data(), sig.cell_ocv_V.data(),
+                           sig.cell_r0_ohm.data());
+      sig.balance_heat_W += v * iBal;
+    } else {
+      v = pack_.splitGroup(g, iString, cellX, sig.cell_current_A.data(), sig.cell_ocv_V.data(), sig.cell_r0_ohm.data());
+    }
+    sig.group_voltage_V[gi] = v;
+    sig.pack_voltage_V += v;
+    for (int k = 0; k < pack_.parallel; ++k) sig.cell_voltage_V[gi * static_cast<size_t>(pack_.parallel) + static_cast<size_t>(k)] = v;
+    sig.balance_current_A[gi] = busIndex_ >= 0 ? conv(gi) : iBal;
+    if (busIndex_ >= 0 && conv(gi) != 0.0) {
+      double loss = 0.0;
+      sig.bus_current_A += converterBusCurrent_A(active_, v, conv(gi), sig.bus_V, loss);
+      sig.converter_loss_W += loss;
+      if (conv(gi) > 0.0) sig.converter_from_modules_W += v * conv(gi);
+      else sig.converter_to_modules_W -= v * conv(gi);
+    }
+  }
+  if (iPre > 0.0) {
+    sig.bus_current_A += iPre;
+    sig.converter_loss_W += iPre * iPre * active_.precharge_ohm;
+  }
 }
 
 void Plant::derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const {
@@ -139,20 +235,31 @@ void Plant::derivatives(double t, const double* x, const PlantInputs& in, double
   thermal_.derivatives(sig.node_temp_C.data(), sig.heat_W.data(), sig.ambient_C, coolant_C_,
                        sig.node_rate_K_per_s.data());
   for (int j = 0; j < thermal_.nodeCount(); ++j) dx[tempIndex(j)] = sig.node_rate_K_per_s[static_cast<size_t>(j)];
+  if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
 }
 
-void Plant::quadratures(const double* x, const PlantSignals& sig, double* dq) const {
+void Plant::quadratures([[maybe_unused]] const double* x, const PlantSignals& sig, double* dq) const {
   // Joule heat only: heat injected by a scripted fault is not drawn from the cells.
   double heat = sig.pack_current_A * sig.pack_current_A * pack_.interconnect_ohm - sig.injected_heat_W, chem = 0.0;
   for (int j = 0; j < thermal_.nodeCount(); ++j) heat += sig.heat_W[static_cast<size_t>(j)];
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
-    chem += ecm::ocv(pack_.cells[ci], x[c * stride_ + CellLayout::soc]) * (sig.cell_current_A[ci] + sig.internal_A[ci]);
+    chem += sig.cell_ocv_V[ci] * (sig.cell_current_A[ci] + sig.internal_A[ci]);
   }
+  // Balancing heat sits in the board node's heat_W when there is one.
+  if (boardNode_ < 0) heat += sig.balance_heat_W;
+  heat += sig.converter_loss_W;
+  double balanceCharge = 0.0;
+  if (balancer_.present)
+    for (double i : sig.balance_current_A) balanceCharge += i;
   dq[kQuadCharge_As] = sig.pack_current_A;
   dq[kQuadLoadEnergy_J] = sig.pack_current_A * sig.pack_voltage_V;
   dq[kQuadHeat_J] = heat;
   dq[kQuadChemEnergy_J] = chem;
+  dq[kQuadBalanceCharge_As] = balanceCharge;
+  dq[kQuadBalanceHeat_J] = sig.balance_heat_W;
+  dq[kQuadConverterFromModules_J] = sig.converter_from_modules_W;
+  dq[kQuadConverterToModules_J] = sig.converter_to_modules_W;
 }
 
 std::vector<Plant::RcBranch> Plant::rcBranches() const {
@@ -202,6 +309,15 @@ double Plant::explicitTimeConstant_s() const {
       if (slope_max > 0.0) tau = std::min(tau, 3600.0 * p.capacity_Ah * r0_min / slope_max);
       for (const RcPair& rc : p.rc) tau = std::min(tau, rc.c_F * r0_min);
     }
+  }
+  if (busIndex_ >= 0) {
+    // Bus: precharge R·C; converters dI_bus/dV_bus = -P/V² gives C·V²/P at the lowest
+    // bus voltage they run at.
+    const ActiveBalancerConfig& a = active_;
+    tau = std::min(tau, a.precharge_ohm * a.bus_capacitance_F);
+    const double p_max_W = 2.0 * a.converter_current_A * a.module_max_V / a.efficiencyAt(a.converter_current_A);
+    const double v = std::max(a.precharge_below_V, 0.1);
+    tau = std::min(tau, a.bus_capacitance_F * v * v / p_max_W);
   }
   return tau;
 }

@@ -4,9 +4,18 @@
 //
 //   state layout  cell i: [soc, v_rc_1 … v_rc_K, T]  at i·stride   (stride = K + 2)
 //                 extra thermal nodes (board, FETs, …) after the cells
-//   quadratures   [charge out (A·s), energy to load (J), heat (J), chemical energy (J)]
-//   pack current  I = relay_closed ? load(t) + extra : 0     (positive discharges)
+//   quadratures   [charge out (A·s), energy to load (J), heat (J), chemical energy (J),
+//                  balancing charge (A·s), balancing heat (J), converter energy from /
+//                  to the modules (J)]
+//   pack current  I = relay_closed ? load(t) + extra - I_charger : 0   (positive discharges)
 //                 a power load P solves V(I)·I = P with V(I) = E - R·I (pack Thevenin)
+//                 a CC-CV charger gives I_chg = clamp((V_set - E)/R, 0, I_lim)
+//   balancing     group g carries I + I_conv,g (+ I_pre) through the string; with its
+//                 balancing switch on, V_g = k·(E_g - R_g·I_string), k = 1/(1 + R_g/R_bal)
+//                 and I_bal = V_g/R_bal is drawn on top (models/balance/passive_balancer);
+//                 its heat V_g·I_bal goes into the board node
+//   active bal.   one extra state, the supercap bus voltage (models/balance/active_balancer);
+//                 I_pre = (V_stack - V_bus)/R_pre while precharging, drawn from every group
 //
 // Cells are stored group by group, so every coupling (parallel current split,
 // neighbour conductance) sits within a band of about one group's width: the Jacobian
@@ -32,6 +41,12 @@ struct PlantInputs {
   double precharge_A = 0.0;
   bool discharge_blocked = false;
   bool charge_blocked = false;
+  // Balancing and charging (issue 5), per series group where a vector.
+  std::vector<uint8_t> balancing;   // passive balancing switch actually on
+  std::vector<double> converter_A;  // active balancer module-side current (+ into the bus)
+  bool bus_precharge = false;       // active balancer bus charging from the stack
+  double charger_limit_A = 0.0;     // CC-CV charger on with this current limit; 0 = off
+  double charger_setpoint_V = 0.0;
 };
 
 // Everything the plant derives from a state at a time, reused between calls.
@@ -43,14 +58,29 @@ struct PlantSignals {
   std::vector<double> node_temp_C;
   std::vector<double> node_rate_K_per_s;
   std::vector<double> internal_A;       // current through an internal short, per cell
+  std::vector<double> cell_ocv_V;       // OCV and R0 at the cell's SOC (curves evaluated once)
+  std::vector<double> cell_r0_ohm;
   double pack_current_A = 0.0;
   double pack_voltage_V = 0.0;
   double ambient_C = 25.0;
   double injected_heat_W = 0.0;  // heat from scripted faults (hot cell), not Joule heat
   bool power_limited = false;  // a power load above the pack's maximum power point
+  std::vector<double> balance_current_A;  // per group: passive I_bal, or converter module current
+  double balance_heat_W = 0.0;            // passive balancing resistors + FETs
+  double charger_A = 0.0;                 // into the pack
+  double bus_V = 0.0;                     // active balancer supercap bus
+  double bus_current_A = 0.0;             // into the bus (converters + precharge)
+  double precharge_bus_A = 0.0;
+  double converter_loss_W = 0.0;          // converters + precharge resistor
+  double converter_from_modules_W = 0.0;  // Σ V_g·I_conv,g over converters drawing from modules (not precharge)
+  double converter_to_modules_W = 0.0;    // Σ V_g·|I_conv,g| over converters feeding modules
 };
 
-enum Quadrature { kQuadCharge_As = 0, kQuadLoadEnergy_J, kQuadHeat_J, kQuadChemEnergy_J, kQuadCount };
+enum Quadrature {
+  kQuadCharge_As = 0, kQuadLoadEnergy_J, kQuadHeat_J, kQuadChemEnergy_J,
+  kQuadBalanceCharge_As, kQuadBalanceHeat_J, kQuadConverterFromModules_J, kQuadConverterToModules_J,
+  kQuadCount
+};
 
 class Plant {
  public:
@@ -65,12 +95,17 @@ class Plant {
   int tempIndex(int node) const;
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }
   const std::vector<double>& initialSoc() const { return initialSoc_; }
+  // Balancing hardware: the board's thermal node (-1 if none), the bus state (-1 if none).
+  const PassiveBalancerConfig& balancer() const { return balancer_; }
+  const ActiveBalancerConfig& activeBalancer() const { return active_; }
+  int boardNode() const { return boardNode_; }
+  int busIndex() const { return busIndex_; }
 
   void initialState(double* x) const;
   // Algebraic part: currents, voltages, heat, temperatures at (t, x).
   void evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
-  // Rates of the quadratures from signals already evaluated at (t, x).
+  // Rates of the quadratures from signals already evaluated at (t, x) (by evaluate/derivatives).
   void quadratures(const double* x, const PlantSignals& sig, double* dq) const;
   PlantSignals makeSignals() const;
 
@@ -89,6 +124,11 @@ class Plant {
 
  private:
   double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm, bool& limited) const;
+  // Pack Thevenin seen from the terminals with the held balancing / converter currents.
+  template <typename CellX>
+  void packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double& r_ohm) const;
+  double balancingFactor(const PlantInputs& in, int g, double r_g) const;
+  void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
 
   Pack pack_;
   ThermalNetwork thermal_;
@@ -99,6 +139,10 @@ class Plant {
   int stride_ = 0;
   int stateSize_ = 0;
   double initialTemp_C_ = 25.0;
+  PassiveBalancerConfig balancer_;
+  ActiveBalancerConfig active_;
+  int boardNode_ = -1;
+  int busIndex_ = -1;
 };
 
 }  // namespace packsim

@@ -43,6 +43,17 @@ struct Recording {
   std::vector<uint8_t> hw_relay_closed, hw_precharge_closed, hw_fuse_blown, hw_discharge_fet_on, hw_charge_fet_on,
       hw_fault_line;
   std::vector<double> hw_bus_voltage_V, hw_fet_loss_W;
+  // balancing and charging (issue 5): only filled when the scenario has the hardware
+  bool has_balancing = false, has_active_balancer = false, has_charger = false, has_board = false;
+  std::vector<double> balance_current_A;      // [sample][series]: passive I_bal, or converter current (+ from the module)
+  std::vector<uint8_t> balance_mask;          // [sample][series]: what the BMS commanded
+  std::vector<uint8_t> hw_balancing;          // [sample][series]: switch actually on (monitor timer)
+  std::vector<uint8_t> balance_status;        // bms::BalanceStatus
+  std::vector<double> board_temp_C;           // balancing-board thermal node
+  std::vector<double> balancer_bus_V;         // active balancer supercap bus
+  std::vector<double> charger_current_A;      // into the pack
+  std::vector<uint8_t> charger_enable;        // BMS enable
+  std::vector<int32_t> charger_request_mA;
 
   size_t samples() const { return time_s.size(); }
 };
@@ -79,7 +90,7 @@ struct RunResult {
   std::vector<Event> events;
   Summary summary;
   CvodeStats solver;
-  double quad[4] = {0, 0, 0, 0};  // Plant Quadrature order
+  double quad[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // Plant Quadrature order (kQuadCount)
 };
 
 }  // namespace packsim

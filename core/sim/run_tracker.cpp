@@ -2,6 +2,7 @@
 
 #include "core/sim/stranded_energy.hpp"
 
+#include <bms/bms_balance.hpp>
 #include <bms/bms_core.hpp>
 #include <bms/bms_telemetry.hpp>
 #include <cmath>
@@ -15,7 +16,11 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
-  rec.thermistors = static_cast<int>(s.hardware.thermistor_cells.size());
+  rec.thermistors = s.hardware.thermistorCount();
+  rec.has_balancing = s.hardware.balancing.present;
+  rec.has_active_balancer = s.hardware.active_balancer.present;
+  rec.has_charger = s.charger.present;
+  rec.has_board = plant.boardNode() >= 0;
   r_.summary.scenario = s.name;
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
@@ -108,6 +113,10 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   if (first_ ? out.relayClose : out.relayClose != lastRelay_) {
     event(t, "relay", out.relayClose ? "close" : "open");
+  }
+  // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
+  // had closed it before or, as after a failed precharge, never got that far).
+  {
     if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {
       sm.tripped = true;
       sm.trip_time_s = t;
@@ -132,6 +141,10 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       event(t, "precharge_contact", h.precharge_closed ? "closed" : "opened");
     if (h.fuse_blown && !lastHw_.fuse_blown) event(t, "fuse", "blown");
     if (h.fault_line != lastHw_.fault_line) event(t, "monitor_fault_line", h.fault_line ? "asserted" : "released");
+    if (h.charger_cv && !lastHw_.charger_cv) event(t, "charger", "constant voltage");
+    if (h.charger_done && !lastHw_.charger_done) event(t, "charger", "done (taper end current)");
+    if (h.active_safe_state != lastHw_.active_safe_state)
+      event(t, "active_balancer", h.active_safe_state ? "safe state: converters off" : "converters enabled");
     lastHw_ = h;
     const uint8_t phase = out.telemetry.prechargePhase;
     static const char* const kPhase[] = {"idle", "charging", "closing", "pause", "done", "failed"};
@@ -145,6 +158,11 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       lastLost_ = out.telemetry.devicesLost;
     }
   }
+  if ((r_.rec.has_balancing) && (first_ || out.balanceStatus != lastBalanceStatus_)) {
+    static const char* const kStatus[] = {"disabled", "not allowed now", "paused: board hot", "balanced", "balancing"};
+    if (out.balanceStatus < 5) event(t, "balancing", kStatus[out.balanceStatus]);
+  }
+  lastBalanceStatus_ = out.balanceStatus;
   first_ = false;
   lastState_ = out.state;
   lastActive_ = out.faultActive;
@@ -185,6 +203,7 @@ void RunTracker::record(double t, const double* x, const PlantSignals& sig, cons
   uint8_t frame[bms::kTelemetryFrameBytes];
   bms::telemetryEncode(out, frame);
   rec.telemetry.insert(rec.telemetry.end(), frame, frame + bms::kTelemetryFrameBytes);
+  recordBalancing(x, sig, out);
   if (hw_) {
     const HardwareStatus& h = hw_->status();
     rec.hw_relay_closed.push_back(h.relay_closed ? 1 : 0);
@@ -195,6 +214,25 @@ void RunTracker::record(double t, const double* x, const PlantSignals& sig, cons
     rec.hw_fault_line.push_back(h.fault_line ? 1 : 0);
     rec.hw_bus_voltage_V.push_back(h.bus_V);
     rec.hw_fet_loss_W.push_back(h.fet_loss_W);
+  }
+}
+
+void RunTracker::recordBalancing(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
+  Recording& rec = r_.rec;
+  if (rec.has_balancing || rec.has_active_balancer) {
+    for (int g = 0; g < rec.groups; ++g) {
+      rec.balance_current_A.push_back(sig.balance_current_A[static_cast<size_t>(g)]);
+      rec.balance_mask.push_back(bms::balanceBit(out.balanceMask, static_cast<uint16_t>(g)) ? 1 : 0);
+      rec.hw_balancing.push_back(hw_ && hw_->monitors().balancing(g, lastT_) ? 1 : 0);
+    }
+    rec.balance_status.push_back(out.balanceStatus);
+  }
+  if (rec.has_board) rec.board_temp_C.push_back(x[plant_.tempIndex(plant_.boardNode())]);
+  if (rec.has_active_balancer) rec.balancer_bus_V.push_back(sig.bus_V);
+  if (rec.has_charger) {
+    rec.charger_current_A.push_back(sig.charger_A);
+    rec.charger_enable.push_back(out.chargerEnable ? 1 : 0);
+    rec.charger_request_mA.push_back(out.chargerCurrentRequest_mA);
   }
 }
 
@@ -216,6 +254,7 @@ void RunTracker::checkFinite(double t, const double* x, int n) const {
 RunResult RunTracker::finish(const double* q) {
   Summary& sm = r_.summary;
   sm.duration_s = lastT_;
+  static_assert(sizeof(r_.quad) / sizeof(r_.quad[0]) == kQuadCount, "RunResult::quad holds every quadrature");
   for (int i = 0; i < kQuadCount; ++i) r_.quad[i] = q[i];
   sm.charge_delivered_Ah = q[kQuadCharge_As] / 3600.0;
   sm.energy_delivered_Wh = q[kQuadLoadEnergy_J] / 3600.0;

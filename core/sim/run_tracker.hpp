@@ -29,6 +29,7 @@ class RunTracker {
  private:
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
   void noteLimit(double t, const double* x, int cell);
+  void recordBalancing(const double* x, const PlantSignals& sig, const bms::Outputs& out);
 
   const Scenario& s_;
   const Plant& plant_;
@@ -45,6 +46,7 @@ class RunTracker {
   HardwareStatus lastHw_;
   uint8_t lastPrechargePhase_ = 0;
   uint64_t lastLost_ = 0;
+  uint8_t lastBalanceStatus_ = 0;
 };
 
 }  // namespace packsim

@@ -49,7 +49,7 @@ class PlantOde : public OdeSystem {
 
 }  // namespace
 
-RunResult runScenario(const Scenario& s) {
+RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
   const Plant plant(s);
   HardwareFaults faults;  // healthy until a scripted injection switches something on
   PlantInputs inputs;
@@ -63,6 +63,7 @@ RunResult runScenario(const Scenario& s) {
   else
     solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol);
   Integrator& integ = *solver;
+  const auto* fast = dynamic_cast<const FastIntegrator*>(solver.get());
 
   std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
   plant.initialState(x.data());
@@ -93,22 +94,30 @@ RunResult runScenario(const Scenario& s) {
     const double* xs = integ.state();
 
     // 1. scripted faults due at t_k switch on (or off); then sample the truth at t_k
-    plant.evaluate(t, xs, inputs, sig);
-    const bool faultChanged = scheduler.update(t, xs, sig, faults, tracker);
+    //    (the fast integrator's last evaluation already sits at (t_k, x_k) under these
+    //    inputs unless it restarted since: no second evaluation of the same point)
+    const PlantSignals* now = fast ? fast->signalsAt(t) : nullptr;
+    const bool reuse = now != nullptr;
+    if (!reuse) plant.evaluate(t, xs, inputs, sig);
+    const bool faultChanged = scheduler.update(t, xs, reuse ? *now : sig, faults, tracker);
     if (faultChanged) plant.evaluate(t, xs, inputs, sig);
-    hw.sample(t, sig, faults, rng, in);
+    if (!reuse || faultChanged) now = &sig;
+    const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
+    hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
 
-    // 2. the firmware decides
-    bms::step(cfg, core, in, out);
+    // 2. the firmware decides (a hung MCU does not: its pins hold their last level,
+    //    and only the monitor ICs' own FAULT line can still open the relay)
+    if (!faults.host_dead) bms::step(cfg, core, in, out);
 
     // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
     //    FETs, precharge) whose state the plant sees from t_k
-    const bool relayChanged = hw.actuate(t, out, sig, faults, inputs);
+    const bool relayChanged = hw.actuate(t, out, sg, faults, inputs);
 
     // 4. record
-    tracker.tick(t, xs, sig, out);
-    const bool stop = k >= lastTick || tracker.stopRequested(t);
-    if (k % recordEvery == 0 || stop) tracker.record(t, xs, sig, out);
+    tracker.tick(t, xs, sg, out);
+    const bool stop = k >= lastTick || tracker.stopRequested(t) || hw.chargeComplete() ||
+                      (stopWhen && stopWhen(t, xs, sg, out));
+    if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
     if (stop) break;
 
     // 5. advance the plant to t_k+1 across load breakpoints

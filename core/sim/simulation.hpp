@@ -11,11 +11,20 @@
 // Latency: a reading taken at t_k acts on the plant from t_k, so its effect (e.g. zero
 // current after a trip) is first seen by the sample at t_k+1 -- one tick.
 #pragma once
+#include <bms/bms_hal.hpp>
+
+#include <functional>
+
 #include "core/scenario/scenario.hpp"
+#include "core/sim/plant.hpp"
 #include "core/sim/result.hpp"
 
 namespace packsim {
 
-RunResult runScenario(const Scenario& s);
+// Optional early end, judged once per tick after step 2 (t_k, the plant state and
+// signals sampled at t_k, the firmware's outputs); true ends the run at t_k.
+using StopCondition = std::function<bool(double t_s, const double* x, const PlantSignals& sig, const bms::Outputs& out)>;
+
+RunResult runScenario(const Scenario& s, const StopCondition& stopWhen = {});
 
 }  // namespace packsim

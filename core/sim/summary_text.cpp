@@ -41,7 +41,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
      << " % of the start) stranded by imbalance\n";
   os << "final SOC       " << fmt("%.3f", m.final_soc_min) << " .. " << fmt("%.3f", m.final_soc_max) << "\n";
   if (m.tripped) {
-    os << "BMS             TRIP: relay opened at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << ")\n";
+    os << "BMS             TRIP: isolated at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << ")\n";
     for (const Event& e : r.events)
       if (e.kind == "fault_active") os << "                  " << fmt("%.2f", e.time_s) << " s  " << e.detail << "\n";
   } else {

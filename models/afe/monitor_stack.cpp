@@ -1,10 +1,9 @@
 #include "models/afe/monitor_stack.hpp"
 
-#include <bms/bms_crc.hpp>
-
 #include <algorithm>
 #include <cmath>
 
+#include <bms/bms_crc.hpp>
 #include "models/pack/cell_spread.hpp"
 
 namespace packsim {
@@ -84,7 +83,10 @@ void MonitorStack::hostWrite(double t, const bms::Outputs& out, const MonitorTru
       const int cell = d * cfg_.cells_per_device + c;
       if (out.balanceMask[cell / 32] & (1u << (cell % 32))) mask |= 1u << c;
     }
-    if (mask != dv.lastMaskWritten) {
+    // CB_TIME alone: the host re-arms the timer (its arm count moved on).
+    const bool rearm = out.balanceArmCount != dv.lastArmCount;
+    dv.lastArmCount = out.balanceArmCount;
+    if (mask != dv.lastMaskWritten || (rearm && mask != 0)) {
       dv.lastMaskWritten = mask;
       dv.balanceMask = static_cast<uint16_t>(mask);
       // 0–63 units of seconds, or of minutes beyond 63 s (rounded up), at most 63 min.

@@ -93,6 +93,7 @@ class MonitorStack {
     uint16_t balanceMask = 0;
     double balanceUntil_s = 0.0;
     uint32_t lastMaskWritten = 0;
+    uint8_t lastArmCount = 0;  // host's re-arm counter as last received
     // BQ76952
     Timer bqCov, bqCuv, bqOcc, bqOcd1, bqOtc, bqOtd, bqOtf, bqUtc, bqUtd;
     uint8_t bqAlertA = 0, bqStatusA = 0, bqStatusB = 0;

@@ -16,8 +16,10 @@ double terminalVoltage(const CellParams& p, const double* x, double i_A) {
   return emf(p, x) - i_A * r0(p, x[CellLayout::soc]);
 }
 
-double heat_W(const CellParams& p, const double* x, double i_A) {
-  double q = i_A * i_A * r0(p, x[CellLayout::soc]);
+double heat_W(const CellParams& p, const double* x, double i_A) { return heat_W(p, x, i_A, r0(p, x[CellLayout::soc])); }
+
+double heat_W(const CellParams& p, const double* x, double i_A, double r0_ohm) {
+  double q = i_A * i_A * r0_ohm;
   for (size_t k = 0; k < p.rc.size(); ++k) q += x[1 + k] * x[1 + k] / p.rc[k].r_ohm;
   return q;
 }

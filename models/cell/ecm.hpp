@@ -55,6 +55,8 @@ double r0(const CellParams& p, double soc);
 double emf(const CellParams& p, const double* x);
 double terminalVoltage(const CellParams& p, const double* x, double i_A);
 double heat_W(const CellParams& p, const double* x, double i_A);
+// The same with R0 already evaluated at the cell's SOC (r0_ohm = r0(p, soc)).
+double heat_W(const CellParams& p, const double* x, double i_A, double r0_ohm);
 // Writes d/dt of the electrical states into dx (same layout as x).
 void derivatives(const CellParams& p, const double* x, double i_A, double* dx, double internal_A = 0.0);
 

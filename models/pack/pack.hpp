@@ -28,9 +28,12 @@ struct Pack {
   template <typename CellStates>
   void groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm) const;
   // Splits group g's current. x_cell(i) points at cell i's electrical states.
-  // Writes per-cell currents into i_cell[g·Mp … g·Mp+Mp-1]; returns V_g.
+  // Writes per-cell currents into i_cell[g·Mp … g·Mp+Mp-1]; returns V_g. When given,
+  // ocv_cell and r0_cell receive each cell's OCV and R0 at the same indices (the
+  // curves are evaluated once per cell; callers reuse them for heat and energy).
   template <typename CellStates>
-  double splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell) const;
+  double splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell, double* ocv_cell = nullptr,
+                    double* r0_cell = nullptr) const;
 };
 
 template <typename CellStates>
@@ -49,27 +52,41 @@ void Pack::groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm) c
 }
 
 template <typename CellStates>
-double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell) const {
+double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell, double* ocv_cell,
+                        double* r0_cell) const {
   const int first = g * parallel;
+  // EMF and R0 of cell i (the same arithmetic as ecm::emf and ecm::r0), kept if asked.
+  auto cellEmf = [&](int i, double& r0) {
+    const CellParams& p = cells[i];
+    const double* x = x_cell(i);
+    const double ocv = ecm::ocv(p, x[CellLayout::soc]);
+    r0 = ecm::r0(p, x[CellLayout::soc]);
+    if (ocv_cell) ocv_cell[i] = ocv;
+    if (r0_cell) r0_cell[i] = r0;
+    double e = ocv;
+    for (size_t k = 0; k < p.rc.size(); ++k) e -= x[1 + k];
+    return e;
+  };
   if (parallel == 1) {
-    const CellParams& p = cells[first];
-    const double* x = x_cell(first);
+    double r0 = 0.0;
+    const double e = cellEmf(first, r0);
     i_cell[first] = i_group_A;
-    return ecm::terminalVoltage(p, x, i_group_A);
+    return e - i_group_A * r0;
   }
   double sum_e_over_r = 0.0, sum_g = 0.0;
   for (int k = 0; k < parallel; ++k) {
-    const CellParams& p = cells[first + k];
-    const double* x = x_cell(first + k);
-    const double gk = 1.0 / ecm::r0(p, x[CellLayout::soc]);
-    sum_e_over_r += ecm::emf(p, x) * gk;
+    double r0 = 0.0;
+    const double e = cellEmf(first + k, r0);
+    const double gk = 1.0 / r0;
+    sum_e_over_r += e * gk;
     sum_g += gk;
+    i_cell[first + k] = e;  // EMF for now; the current once V_g is known
   }
   const double v_g = (sum_e_over_r - i_group_A) / sum_g;
   for (int k = 0; k < parallel; ++k) {
-    const CellParams& p = cells[first + k];
-    const double* x = x_cell(first + k);
-    i_cell[first + k] = (ecm::emf(p, x) - v_g) / ecm::r0(p, x[CellLayout::soc]);
+    const int i = first + k;
+    const double r0 = r0_cell ? r0_cell[i] : ecm::r0(cells[i], x_cell(i)[CellLayout::soc]);
+    i_cell[i] = (i_cell[i] - v_g) / r0;
   }
   return v_g;
 }

@@ -6,6 +6,8 @@
     r.summary["energy_delivered_Wh"]
     r.save("race.h5"); packsim.load("race.h5")
     packsim.plot.plot_all(r, "figures/")
+    packsim.check("scenarios/faults")            # as `packsim check`
+    packsim.batch("sweep.yaml", client=None)     # as `packsim batch`, or on Dask
 
 The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
 """
@@ -18,7 +20,14 @@ from typing import Any
 
 from ._errors import ScenarioError
 from ._overrides import flatten_overrides
+from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
+from .check import CheckOutcome, CheckReport, FaultLatency, check
 from .result import Result, load
+
+# An installed wheel carries the bundled scenarios inside the package.
+_WHEEL_SCENARIOS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios")
+if os.path.isdir(_WHEEL_SCENARIOS):
+    os.environ.setdefault("PACKSIM_SCENARIOS", _WHEEL_SCENARIOS)
 
 try:
     from . import _packsim
@@ -30,7 +39,8 @@ except ImportError as _e:  # results can still be loaded and plotted without it
     _IMPORT_ERROR = _e
 
 __all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
-           "default_scenario", "__version__"]
+           "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
+           "load_sweep", "monte_carlo_seed", "__version__"]
 
 
 def __getattr__(name: str):
@@ -76,6 +86,17 @@ def _is_yaml_text(s: str) -> bool:
     return "\n" in s or ":" in s and not os.path.exists(s)
 
 
+def _validate_seed(seed: Any) -> int | None:
+    if seed is None:
+        return None
+    if isinstance(seed, bool) or not isinstance(seed, int) and not hasattr(seed, "__index__"):
+        raise TypeError(f"seed must be an int, got {type(seed).__name__}")
+    seed = int(seed.__index__())
+    if not 0 <= seed <= 2**63 - 1:
+        raise ValueError(f"seed must be >= 0, got {seed}")
+    return seed
+
+
 def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
         overrides: Mapping[str, Any] | None = None, *,
         seed: int | None = None, base_dir: str | os.PathLike | None = None, **more: Any) -> Result:
@@ -96,17 +117,16 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
 
     The GIL is released while the simulation runs: threads run scenarios in parallel.
     """
+    from .result import _from_handle
+    return _from_handle(_run_handle(scenario, flatten_overrides(overrides, more), _validate_seed(seed), base_dir))
+
+
+def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any):
+    """run() up to the C++ RunHandle; overrides already flattened, seed validated."""
     core = _core()
-    if seed is not None:
-        if isinstance(seed, bool) or not isinstance(seed, int) and not hasattr(seed, "__index__"):
-            raise TypeError(f"seed must be an int, got {type(seed).__name__}")
-        seed = int(seed.__index__())
-        if not 0 <= seed <= 2**63 - 1:
-            raise ValueError(f"seed must be >= 0, got {seed}")
     if base_dir is not None and not isinstance(base_dir, (str, os.PathLike)):
         raise TypeError(f"base_dir must be a path, got {type(base_dir).__name__}")
     base = os.fspath(base_dir) if base_dir is not None else "."
-    pairs = flatten_overrides(overrides, more)
 
     if scenario is None:
         scenario = core.default_scenario_path()
@@ -126,5 +146,4 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
     else:
         raise TypeError("scenario must be a path, YAML text or a dict, "
                         f"not {type(scenario).__name__}")
-    from .result import _from_handle
-    return _from_handle(handle)
+    return handle

@@ -1,5 +1,5 @@
 """Type hints for the compiled extension packsim._packsim (python/src/module.cpp)."""
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 
@@ -29,3 +29,65 @@ def apply_overrides(yaml_text: str, overrides: list[tuple[str, str]], file_name:
 
 def bundled_scenario_dir() -> str: ...
 def default_scenario_path() -> str: ...
+
+# --- `packsim check` (python/src/check_bindings.cpp) -----------------------------------
+def check_file(path: str) -> dict[str, Any]:
+    """Load, run and judge one scenario file exactly as ``packsim check`` (GIL released).
+    {name, passed, error (str | None), failures: [str], latencies: [{injected,
+    injected_at_s, detected_fault, detection_latency_s, relay_open_latency_s, line}],
+    verdict}; never raises for a bad scenario (error is set)."""
+
+def check_run(handle: RunHandle) -> dict[str, Any]:
+    """Judge a finished run against its scenario's expect: block (same dict)."""
+
+def collect_scenario_files(paths: list[str]) -> list[str]:
+    """Scenario files under files and folders, as ``packsim check`` finds them."""
+
+# --- sweeps and `packsim batch` (python/src/batch_bindings.cpp) -------------------------
+class Sweep:
+    """A base scenario and the cases of a sweep; pickles (Dask ships it to workers)."""
+    @property
+    def name(self) -> str: ...
+    @property
+    def file(self) -> str: ...
+    @property
+    def base_path(self) -> str: ...
+    @property
+    def base_text(self) -> str: ...
+    @property
+    def output_dir(self) -> str: ...
+    @property
+    def threads(self) -> int: ...
+    @property
+    def keys(self) -> list[str]: ...
+    @property
+    def cases(self) -> list[tuple[int, str, list[tuple[str, str]]]]:
+        """[(index, id, [(dotted key, YAML value), ...]), ...] in sweep order."""
+    def result_path(self, index: int) -> str: ...
+    def summary_csv_path(self) -> str: ...
+    def case_yaml(self, index: int) -> str:
+        """The scenario text of case ``index``."""
+    def __len__(self) -> int: ...
+
+def load_sweep(path: str, output_dir: str = "") -> Sweep:
+    """Load a sweep YAML file strictly; raises packsim.ScenarioError."""
+
+def load_sweep_text(text: str, file: str, base_dir: str, output_dir: str = "") -> Sweep:
+    """Load sweep YAML text named ``file``; relative paths resolve against base_dir."""
+
+def monte_carlo_seed(master_seed: int, sample: int) -> int:
+    """The scenario seed of Monte Carlo sample ``sample``."""
+
+def validate_sweep_case(sweep: Sweep, index: int) -> None:
+    """Load case ``index`` strictly without running it (ScenarioError if invalid)."""
+
+def run_sweep_case(sweep: Sweep, index: int, resume: bool = True) -> dict[str, Any]:
+    """Run one case as ``packsim batch`` does; never raises. {ok, skipped, wall_s,
+    error, summary: [(name, text)]}."""
+
+def run_batch(sweep: Sweep, threads: int = 0, resume: bool = True, progress: bool = False) -> dict[str, Any]:
+    """Every case on a C++ thread pool, as ``packsim batch`` (GIL released).
+    {total, ok, failed, skipped, threads, wall_s, csv_path, cases: [outcome dicts]}."""
+
+def write_summary_csv(sweep: Sweep, outcomes: list[dict[str, Any]]) -> str:
+    """Write summary.csv from one outcome dict per case; returns its path."""

@@ -5,6 +5,8 @@
 //   RunHandle         arrays() -> {hdf5 path: numpy view into the result, no copy},
 //                     save(path) -> the CLI's HDF5 writer
 //   apply_overrides   core/scenario/overrides.hpp, for Python users and tests
+//   check_*           `packsim check` (check_bindings.cpp)
+//   Sweep, run_batch, run_sweep_case ...   `packsim batch` (batch_bindings.cpp)
 //
 // Everything else (the Result class, loading HDF5, plotting) is plain Python in
 // python/packsim/. C++ ScenarioError becomes packsim.ScenarioError (a ValueError with
@@ -26,6 +28,7 @@
 #include "core/scenario/scenario_error.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/version.hpp"
+#include "python/src/bindings.hpp"
 #include "python/src/result_arrays.hpp"
 
 namespace py = pybind11;
@@ -112,6 +115,8 @@ PYBIND11_MODULE(_packsim, m) {
         py::arg("file_name") = "<scenario>", "The scenario text with (dotted key, YAML value) overrides applied.");
   m.def("bundled_scenario_dir", &bundledScenarioDir, "Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).");
   m.def("default_scenario_path", &defaultScenarioPath, "The scenario `packsim run` uses without arguments.");
+  bindCheck(m);
+  bindBatch(m);
 
   py::register_exception_translator(&translate);
 }

@@ -1,0 +1,113 @@
+#include "bench/floor_kernel.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace packsim::bench {
+
+FlatCurve FlatCurve::from(const Curve& c) {
+  FlatCurve f;
+  f.discharged_axis = c.axis == CurveAxis::Discharged_Ah;
+  const std::vector<double>& ys = c.kind == Curve::Kind::Table ? c.ys : c.coeffs;
+  if (ys.size() > static_cast<size_t>(kMax)) throw std::invalid_argument("floor kernel: curve longer than 32 points");
+  f.kind = c.kind == Curve::Kind::Constant ? 0 : c.kind == Curve::Kind::Polynomial ? 1 : 2;
+  f.n = static_cast<int>(ys.size());
+  for (int i = 0; i < f.n; ++i) {
+    f.y[i] = ys[static_cast<size_t>(i)];
+    if (f.kind == 2) f.x[i] = c.xs[static_cast<size_t>(i)];
+  }
+  return f;
+}
+
+// Same arithmetic as Curve::eval / Curve::at (models/cell/curve.cpp).
+double FlatCurve::eval(double soc, double capacity_Ah) const {
+  if (kind == 0) return y[0];
+  const double xv = discharged_axis ? (1.0 - soc) * capacity_Ah : soc;
+  if (kind == 1) {
+    double r = 0.0;
+    for (int i = 0; i < n; ++i) r = r * xv + y[i];
+    return r;
+  }
+  if (xv <= x[0]) return y[0];
+  if (xv >= x[n - 1]) return y[n - 1];
+  const int i = static_cast<int>(std::upper_bound(x, x + n, xv) - x);
+  const double w = (xv - x[i - 1]) / (x[i] - x[i - 1]);
+  return y[i - 1] + w * (y[i] - y[i - 1]);
+}
+
+FloorPack::FloorPack(const Plant& plant, double cell_to_cell_W_per_K, double ambient_C)
+    : n_(plant.pack().cellCount()), nrc_(plant.pack().layout.n_rc), ambient_C_(ambient_C),
+      gLink_(cell_to_cell_W_per_K) {
+  const Pack& pk = plant.pack();
+  ocv_ = FlatCurve::from(pk.cells.front().ocv_V);
+  r0_ = FlatCurve::from(pk.cells.front().r0_ohm);
+  const size_t n = static_cast<size_t>(n_), nr = static_cast<size_t>(nrc_);
+  std::vector<double> x(static_cast<size_t>(plant.stateSize()));
+  plant.initialState(x.data());
+  rcR_.resize(n * nr);
+  rcTau_.resize(n * nr);
+  vrc_.resize(n * nr);
+  for (size_t c = 0; c < n; ++c) {
+    const CellParams& p = pk.cells[c];
+    cap_Ah_.push_back(p.capacity_Ah);
+    r0Scale_.push_back(p.r0_scale);
+    eff_.push_back(p.coulombic_efficiency);
+    selfDis_A_.push_back(p.self_discharge_A);
+    heatCap_.push_back(p.heat_capacity_J_per_K);
+    gAmb_.push_back(p.g_ambient_W_per_K);
+    const double* xc = plant.cellStates(x.data(), static_cast<int>(c));
+    soc_.push_back(xc[CellLayout::soc]);
+    temp_.push_back(x[static_cast<size_t>(plant.tempIndex(static_cast<int>(c)))]);
+    for (size_t k = 0; k < nr; ++k) {
+      rcR_[k * n + c] = p.rc[k].r_ohm;
+      rcTau_[k * n + c] = p.rc[k].tau_s();
+      vrc_[k * n + c] = xc[1 + k];
+    }
+  }
+  socGain_.resize(n);
+  tempGain_.resize(n);
+  rcA_.resize(n * nr);
+}
+
+void FloorPack::prepare(double h_s) {
+  h_ = h_s;
+  for (size_t c = 0; c < static_cast<size_t>(n_); ++c) {
+    socGain_[c] = h_s / (3600.0 * cap_Ah_[c]);
+    tempGain_[c] = h_s / heatCap_[c];
+  }
+  for (size_t j = 0; j < rcA_.size(); ++j) rcA_[j] = std::exp(-h_s / rcTau_[j]);
+}
+
+double FloorPack::step(double i, double* v_V) {
+  const int n = n_;
+  double sum = 0.0;
+  double tLeftOld = 0.0;  // old temperature of cell c-1 (already overwritten in temp_)
+  for (int c = 0; c < n; ++c) {
+    const double soc = soc_[c];
+    const double ocv = ocv_.eval(soc, cap_Ah_[c]);
+    const double r0 = r0Scale_[c] * r0_.eval(soc, cap_Ah_[c]);
+    double v = ocv - i * r0;
+    double q = i * i * r0;
+    for (int k = 0; k < nrc_; ++k) {
+      const size_t j = static_cast<size_t>(k * n + c);
+      const double vk = vrc_[j];
+      v -= vk;
+      q += vk * vk / rcR_[j];
+      vrc_[j] = vk * rcA_[j] + i * rcR_[j] * (1.0 - rcA_[j]);
+    }
+    v_V[c] = v;
+    sum += v;
+    const double eta = i < 0.0 ? eff_[c] : 1.0;
+    soc_[c] = soc - socGain_[c] * (eta * i + selfDis_A_[c]);
+    const double T = temp_[c];
+    double flow = gAmb_[c] * (T - ambient_C_);
+    if (c > 0) flow += gLink_ * (T - tLeftOld);
+    if (c + 1 < n) flow += gLink_ * (T - temp_[c + 1]);
+    tLeftOld = T;
+    temp_[c] = T + tempGain_[c] * (q - flow);
+  }
+  return sum;
+}
+
+}  // namespace packsim::bench

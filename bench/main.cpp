@@ -1,0 +1,109 @@
+// packsim_bench: runs the benchmarks and prints their figures as one table.
+//
+//   packsim_bench [--quick] [floor|macro|scaling|batch ...]   (default: all)
+//
+// Figures per row: simulated time, ticks, CPU and wall time (minimum of repeats),
+// real-time factor (simulated / CPU time), ns per cell-step (CPU) and the ratio to
+// the floor kernel measured in this same process on the same pack.
+#include <cstdio>
+#include <ctime>
+#include <set>
+#include <string>
+
+#include "bench/benchmarks.hpp"
+
+using namespace packsim;
+using namespace packsim::bench;
+
+namespace {
+
+void addRun(Table& t, const RunFigures& f, double floor_ns) {
+  t.add({f.label, std::to_string(f.cells), fmt(f.sim_s, 0), std::to_string(f.ticks), fmt(f.time.cpu_s, 2),
+         fmt(f.time.wall_s, 2), fmt(f.sim_s / f.time.cpu_s, 0), fmt(f.cpuNsPerCellStep(), 1),
+         fmt(f.cpuNsPerCellStep() / floor_ns, 2), std::to_string(f.solver_steps)});
+}
+
+void addFloor(Table& t, const std::string& label, int cells, long ticks, double tick_s, const FloorResult& r) {
+  const double cpu_s = r.cpu_ns_per_cell_step * 1e-9 * cells * static_cast<double>(ticks);
+  const double wall_s = r.wall_ns_per_cell_step * 1e-9 * cells * static_cast<double>(ticks);
+  const double sim_s = static_cast<double>(ticks) * tick_s;
+  t.add({label, std::to_string(cells), fmt(sim_s, 0), std::to_string(ticks), fmt(cpu_s, 3), fmt(wall_s, 3),
+         fmt(sim_s / cpu_s, 0), fmt(r.cpu_ns_per_cell_step, 1), "1.00", "-"});
+}
+
+Table runTable() {
+  return Table({"benchmark", "cells", "sim s", "ticks", "CPU s", "wall s", "RTF", "ns/cell-step", "x floor",
+                "steps"});
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  std::set<std::string> want;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--quick") quick = true;
+    else if (a == "floor" || a == "macro" || a == "scaling" || a == "batch") want.insert(a);
+    else {
+      std::fprintf(stderr, "usage: %s [--quick] [floor|macro|scaling|batch ...]\n", argv[0]);
+      return 2;
+    }
+  }
+  auto on = [&](const char* s) { return want.empty() || want.count(s) > 0; };
+  std::printf("packsim benchmarks%s; load average %.2f at start\n", quick ? " (quick)" : "", loadAverage1());
+  std::printf("Times are thread CPU time (wall in its own column), minimum of repeats; RTF = simulated / CPU time.\n\n");
+
+  if (on("floor") || on("macro")) {
+    // System D: the bundled scenario, unchanged but for the solver.
+    const Scenario cv = bundledScenario("motorcycle_110s.yaml", {{"run.solver", "cvode"}});
+    const Scenario fa = bundledScenario("motorcycle_110s.yaml", {{"run.solver", "fast"}});
+    const long raceTicks = std::lround(fa.endTime_s() / fa.bms.tick_s);
+    const int runs = quick ? 1 : 3;  // three 20-minute races = one hour of racing
+    Table t = runTable();
+    const FloorResult fl = runFloor(fa, raceTicks, quick ? 3 : 5);
+    addFloor(t, "floor: bare ECM + thermal, 110 cells", fa.pack.series * fa.pack.parallel, raceTicks, fa.bms.tick_s, fl);
+    if (on("macro")) {
+      addRun(t, timeFastIntegratorOnly(fa, quick ? 1 : 3), fl.cpu_ns_per_cell_step);
+      addRun(t, timeScenario("system D, fast  (full co-simulation)", fa, runs, 1), fl.cpu_ns_per_cell_step);
+      addRun(t, timeScenario("system D, cvode (full co-simulation)", cv, runs, 1), fl.cpu_ns_per_cell_step);
+    }
+    std::printf("System D (110s1p, 10 ms BMS tick, 1 Hz recording), %s:\n%s\n",
+                quick ? "one 20-minute race" : "one hour of racing = three 20-minute races", t.str().c_str());
+  }
+
+  if (on("scaling")) {
+    struct Size { int series, parallel; };
+    const Size sizes[] = {{12, 1}, {110, 1}, {28, 15}, {50, 20}, {250, 20}};
+    const double fast_s = quick ? 20.0 : 120.0, cvode_s = quick ? 10.0 : 60.0;
+    Table t = runTable();
+    for (const Size& z : sizes) {
+      const std::string name = std::to_string(z.series) + "s" + std::to_string(z.parallel) + "p";
+      const Scenario fa = scaledPack(z.series, z.parallel, fast_s, "fast");
+      const Scenario cv = scaledPack(z.series, z.parallel, cvode_s, "cvode");
+      const FloorResult fl = runFloor(fa, std::lround(fast_s / fa.bms.tick_s), quick ? 2 : 3);
+      addFloor(t, "floor " + name, z.series * z.parallel, std::lround(fast_s / fa.bms.tick_s), fa.bms.tick_s, fl);
+      addRun(t, timeScenario("fast  " + name, fa, 1, quick ? 1 : 2), fl.cpu_ns_per_cell_step);
+      addRun(t, timeScenario("cvode " + name, cv, 1, 1), fl.cpu_ns_per_cell_step);
+      std::fflush(stdout);
+    }
+    std::printf("Scaling (system D's cell and race; current, shunt and over-current limits x parallel):\n%s\n",
+                t.str().c_str());
+  }
+
+  if (on("batch")) {
+    const int cases = quick ? 4 : 8;
+    const double dur = quick ? 120.0 : 300.0;
+    const BatchFigures b = runBatchBench(cases, dur, quick ? 1 : 2);
+    Table t({"batch (core/batch, fast solver)", "cases", "1 thread wall s", "2 threads wall s", "speed-up",
+             "cores obtained 1t / 2t", "CPU s 1t / 2t", "load avg before/after", "all ok"});
+    t.add({"system D Monte Carlo, " + fmt(dur, 0) + " s each", std::to_string(b.cases), fmt(b.wall1_s, 2),
+           fmt(b.wall2_s, 2), fmt(b.wall1_s / b.wall2_s, 2), fmt(b.cores1, 2) + " / " + fmt(b.cores2, 2),
+           fmt(b.cpu1_s, 2) + " / " + fmt(b.cpu2_s, 2),
+           fmt(b.load_before, 2) + " / " + fmt(b.load_after, 2), b.all_ok ? "yes" : "NO"});
+    std::printf("Batch on 2 cores (wall time; cores obtained = process CPU / wall: below 2 the machine was busy;\n"
+                "equal CPU s for 1 and 2 threads: the threads do not slow each other down):\n%s\n",
+                t.str().c_str());
+  }
+  return 0;
+}

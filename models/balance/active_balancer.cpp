@@ -1,0 +1,51 @@
+#include "models/balance/active_balancer.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace packsim {
+
+double ActiveBalancerConfig::efficiencyAt(double current_A) const {
+  const std::vector<double>& x = efficiency_at_A;
+  const std::vector<double>& y = efficiency;
+  if (y.size() == 1 || current_A <= x.front()) return y.front();
+  if (current_A >= x.back()) return y.back();
+  const size_t i = static_cast<size_t>(std::upper_bound(x.begin(), x.end(), current_A) - x.begin());
+  const double f = (current_A - x[i - 1]) / (x[i] - x[i - 1]);
+  return y[i - 1] + f * (y[i] - y[i - 1]);
+}
+
+ActiveBalancerCommand activeBalancerDecide(const ActiveBalancerConfig& c, const std::vector<double>& module_V,
+                                           double bus_V) {
+  ActiveBalancerCommand cmd;
+  if (!c.present || module_V.empty()) return cmd;
+  int hi = 0, lo = 0;
+  for (int k = 0; k < static_cast<int>(module_V.size()); ++k) {
+    const double v = module_V[static_cast<size_t>(k)];
+    if (v > c.module_max_V || v < c.module_min_V) cmd.safe_state = true;
+    if (v > module_V[static_cast<size_t>(hi)]) hi = k;
+    if (v < module_V[static_cast<size_t>(lo)]) lo = k;
+  }
+  if (cmd.safe_state) return cmd;
+  if (bus_V < c.precharge_below_V) {
+    cmd.precharge = true;
+    return cmd;
+  }
+  if (module_V[static_cast<size_t>(hi)] - module_V[static_cast<size_t>(lo)] <= c.deadband_V) return cmd;
+  if (bus_V < c.bus_high_V) cmd.source = hi;
+  if (bus_V > c.bus_low_V) cmd.sink = lo;
+  return cmd;
+}
+
+double converterBusCurrent_A(const ActiveBalancerConfig& c, double module_V, double module_A, double bus_V,
+                             double& loss_W) {
+  loss_W = 0.0;
+  if (module_A == 0.0 || !(bus_V > 0.0)) return 0.0;
+  const double eta = c.efficiencyAt(std::fabs(module_A));
+  const double p_module_W = module_V * module_A;  // + leaves the module
+  const double p_bus_W = module_A > 0.0 ? eta * p_module_W : p_module_W / eta;
+  loss_W = std::fabs(p_module_W - p_bus_W);
+  return p_bus_W / bus_V;
+}
+
+}  // namespace packsim

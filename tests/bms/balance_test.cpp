@@ -1,0 +1,134 @@
+// The balancing policy (bms/bms_balance) driven tick by tick with chosen readings.
+#include <bms/bms_balance.hpp>
+#include <bms/bms_config.hpp>
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <vector>
+
+namespace {
+
+struct Policy {
+  bms::Config cfg;
+  bms::BalanceState st{};
+  bms::Telemetry tm{};
+  uint32_t mask[bms::kBalanceWords]{};
+  uint8_t arms = 0;
+  uint32_t now_ms = 0;
+
+  explicit Policy(uint16_t cells, uint8_t therms = 0) : cfg(bms::defaultConfig(cells, therms)) {
+    cfg.balance.enabled = true;
+    cfg.balance.when = bms::BalanceWhen::Always;
+    cfg.balance.period_ms = 1000;
+    bms::balanceReset(st);
+  }
+  void cells(const std::vector<uint16_t>& mv) {
+    uint16_t lo = 65535, hi = 0;
+    for (size_t i = 0; i < mv.size(); ++i) {
+      tm.cellVoltage_mV[i] = mv[i];
+      lo = mv[i] < lo ? mv[i] : lo;
+      hi = mv[i] > hi ? mv[i] : hi;
+    }
+    tm.minCell_mV = lo;
+    tm.maxCell_mV = hi;
+  }
+  // One tick 1 s later; returns the mask as a bit per cell.
+  std::vector<int> tick(bool permitted = true, bool charging = false) {
+    bms::balanceStep(cfg, st, tm, permitted, charging, now_ms, mask, arms);
+    now_ms += 1000;
+    std::vector<int> on;
+    for (uint16_t c = 0; c < cfg.cellCount; ++c) on.push_back(bms::balanceBit(mask, c) ? 1 : 0);
+    return on;
+  }
+};
+
+using V = std::vector<int>;
+
+TEST(BalancePolicy, StartsAboveStartDeltaAndStopsBelowStopDelta) {
+  Policy p(4);  // start 50 mV, stop 10 mV (defaults)
+  p.cells({3700, 3740, 3700, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0})) << "40 mV is below the 50 mV start";
+  p.cells({3700, 3760, 3700, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 1, 0, 0}));
+  p.cells({3700, 3730, 3700, 3700});  // inside the hysteresis band: keeps going
+  EXPECT_EQ(p.tick(), (V{0, 1, 0, 0}));
+  p.cells({3700, 3709, 3700, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balanced);
+  p.cells({3700, 3730, 3700, 3700});  // below start again: stays off
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+}
+
+TEST(BalancePolicy, NeverBalancesACellBelowTheMinimumVoltage) {
+  Policy p(3);
+  p.cfg.balance.minCell_mV = 3300;
+  p.cells({3200, 3290, 3350});
+  EXPECT_EQ(p.tick(), (V{0, 0, 1})) << "3.29 V is above min + stop but below the 3.3 V floor";
+}
+
+TEST(BalancePolicy, PausesOnBoardTemperatureAndResumesBelowTheResumeLevel) {
+  Policy p(2, 3);
+  p.cfg.balance.boardThermFirst = 2;
+  p.cfg.balance.boardThermCount = 1;  // channel 2 is the board (70 C pause, 60 C resume)
+  p.cells({3700, 3800});
+  p.tm.temperature_dC[2] = 650;
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  p.tm.temperature_dC[2] = 705;
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::BoardHot);
+  p.tm.temperature_dC[2] = 650;  // between resume and pause: still paused
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+  p.tm.temperature_dC[2] = 595;
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  p.tm.temperature_dC[2] = INT16_MIN;  // board thermistor open: fail safe
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+}
+
+TEST(BalancePolicy, NoTwoAdjacentCellsPicksTheHighestFirst) {
+  Policy p(5);
+  p.cells({3800, 3820, 3810, 3700, 3790});
+  EXPECT_EQ(p.tick(), (V{1, 1, 1, 0, 1}));
+  p.cfg.balance.noAdjacent = true;
+  EXPECT_EQ(p.tick(), (V{0, 1, 0, 0, 1})) << "cell 2 (highest) blocks 1 and 3; cell 5 is free";
+}
+
+TEST(BalancePolicy, OnlyWhileChargingOrAtRestAsConfigured) {
+  Policy p(2);
+  p.cells({3700, 3800});
+  p.cfg.balance.when = bms::BalanceWhen::Charging;
+  EXPECT_EQ(p.tick(true, false), (V{0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::NotAllowed);
+  EXPECT_EQ(p.tick(true, true), (V{0, 1}));
+  p.cfg.balance.when = bms::BalanceWhen::Rest;
+  p.cfg.balance.rest_ms = 3000;
+  p.tm.packCurrent_mA = 5000;
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+  p.tm.packCurrent_mA = 50;  // rest starts now; needs 3 s
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+  EXPECT_EQ(p.tick(), (V{0, 0}));
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  EXPECT_EQ(p.tick(false), (V{0, 0})) << "a fault (not permitted) stops it at once";
+}
+
+TEST(BalancePolicy, HoldsTheMaskBetweenDecisionsAndReArmsTheTimerEveryHalfPeriod) {
+  Policy p(2);
+  p.cfg.balanceTime_s = 10;  // re-arm every 5 s
+  p.cfg.balance.period_ms = 3000;
+  p.cells({3700, 3800});
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  p.cells({3800, 3700});  // flipped, but the next decision is due only at 3 s
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  EXPECT_EQ(p.tick(), (V{1, 0}));
+  std::vector<uint32_t> armedAt;
+  uint8_t last = p.arms;
+  for (int i = 0; i < 20; ++i) {
+    p.tick();
+    if (p.arms != last) armedAt.push_back(p.now_ms - 1000), last = p.arms;
+  }
+  ASSERT_GE(armedAt.size(), 3u);
+  for (size_t i = 1; i < armedAt.size(); ++i) EXPECT_EQ(armedAt[i] - armedAt[i - 1], 5000u);
+}
+
+}  // namespace

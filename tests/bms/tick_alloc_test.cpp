@@ -1,0 +1,64 @@
+// A BMS tick allocates nothing: the firmware runs from fixed-size structs. Counts every
+// global operator new while the core steps through init, precharge, normal driving, a
+// fault, the error state and a reset.
+#include <bms/bms_core.hpp>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+#include "fake_stack.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+std::atomic<bool> g_counting{false};
+}  // namespace
+
+void* operator new(std::size_t n) {
+  if (g_counting.load()) ++g_allocations;
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+
+TEST(Core, TickAllocatesNothing) {
+  bms::Config cfg = bms_test::config(12, 2);
+  cfg.precharge.enabled = true;
+  bms::CoreState s;
+  bms::init(s);
+  bms::Inputs in{};
+  bms::Outputs out{};
+  in.runRequest = true;
+  in.currentCode = 32768;
+  bms_test::FakeStack st(12, 2);
+  // Every container of the test is built before counting starts.
+  g_allocations = 0;
+  g_counting = true;
+  uint32_t t = 0;
+  bool sawPrecharge = false, sawNormal = false, sawError = false, backToNormal = false;
+  for (int k = 0; k < 3000; ++k, t += cfg.tickPeriod_ms) {
+    st.cell_mV[3] = (k > 1500 && k < 1700) ? 2500 : 3700;  // an under-voltage on the way
+    in.resetRequest = k == 2000;
+    in.busVoltageCode = static_cast<uint16_t>(k > 20 ? 44400 : 0);  // 1 mV codes: 12 x 3.7 V
+    in.now_ms = t;
+    st.fill(cfg, in);
+    bms::step(cfg, s, in, out);
+    sawPrecharge = sawPrecharge || out.state == bms::State::Precharge;
+    sawNormal = sawNormal || out.state == bms::State::Normal;
+    sawError = sawError || out.state == bms::State::Error;
+    backToNormal = backToNormal || (sawError && out.state == bms::State::Normal);
+  }
+  g_counting = false;
+  EXPECT_EQ(g_allocations.load(), 0);
+  // …and the run did go through every state on the way.
+  EXPECT_TRUE(sawPrecharge);
+  EXPECT_TRUE(sawNormal);
+  EXPECT_TRUE(sawError);
+  EXPECT_TRUE(backToNormal);
+}
+
+}  // namespace
