@@ -15,14 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScenarioError(path, 0, 0, "", "cannot open scenario file");
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
-
 // Child keys replace the base's; mappings merge key by key, lists replace whole.
 void deepMerge(YAML::Node base, const YAML::Node& child) {
   for (auto it = child.begin(); it != child.end(); ++it) {
@@ -48,7 +40,7 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   if (!fs::exists(path)) throw m.errorAt("extends", "file not found: " + path.string());
   loadScenarioFile(path.string());  // the base must be valid alone: its errors name its own file
   const std::string baseDir = path.parent_path().string();
-  YAML::Node base = YAML::Clone(resolveExtends(parseYaml(slurp(path.string()), path.string()), path.string(), baseDir, depth + 1));
+  YAML::Node base = YAML::Clone(resolveExtends(parseYaml(readScenarioText(path.string()), path.string()), path.string(), baseDir, depth + 1));
   if (base["load"] && base["load"]["csv"] && fs::path(base["load"]["csv"].Scalar()).is_relative()) {
     // Re-express the base's CSV path relative to this file's folder.
     const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir));
@@ -154,8 +146,16 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   return s;
 }
 
+std::string readScenarioText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ScenarioError(path, 0, 0, "", "cannot open scenario file");
+  std::ostringstream os;
+  os << in.rdbuf();
+  return os.str();
+}
+
 Scenario loadScenarioFile(const std::string& path) {
-  const std::string text = slurp(path);
+  const std::string text = readScenarioText(path);
   const std::string dir = fs::path(path).parent_path().string();
   return loadScenarioText(text, path, dir.empty() ? "." : dir);
 }

@@ -140,14 +140,6 @@ void applyOne(YAML::Node& root, const std::string& key, const std::string& value
   }
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScenarioError(path, 0, 0, "", "cannot open scenario file");
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
-
 // True when the loader's `field` and an override's field name sit on one branch of
 // the tree (equal, or one inside the other).
 bool related(const std::string& field, const std::string& overridden) {
@@ -198,7 +190,7 @@ Scenario loadScenarioWithOverrides(const std::string& yamlText, const Overrides&
 }
 
 Scenario loadScenarioFileWithOverrides(const std::string& path, const Overrides& overrides) {
-  const std::string text = slurp(path);
+  const std::string text = readScenarioText(path);
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return loadScenarioWithOverrides(text, overrides, path, dir.empty() ? "." : dir);
 }

@@ -252,7 +252,7 @@ def batch(sweep: SweepLike, client: Any = None, *, output_dir: str | os.PathLike
     import time
     t0 = time.perf_counter()
     n = len(sw)
-    shared = client.scatter(sw, broadcast=True)  # the sweep (with the base text) goes to each worker once
+    shared = client.scatter(sw, broadcast=True, hash=False)  # the sweep (with the base text) goes to each worker once
     futures = client.map(_case_task, list(range(n)), sweep=shared, resume=resume, pure=False,
                          key=[f"packsim-{sw.name}-case_{c[1]}-{os.urandom(4).hex()}" for c in sw.cases])
     if progress:
