@@ -9,7 +9,10 @@ APT_PACKAGES=(
   pybind11-dev libcli11-dev
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
 )
-PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml)
+# Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
+# Dask), and the build tools `pip install .` uses without build isolation.
+PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray nbformat nbclient ipykernel
+              "dask[distributed]" scikit-build-core pybind11)
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
@@ -25,7 +28,11 @@ fi
 PY=${PYTHON:-python3}
 need_pip=()
 for p in "${PIP_PACKAGES[@]}"; do
-  mod=$p; [ "$p" = pyyaml ] && mod=yaml
+  case $p in
+    pyyaml) mod=yaml ;;
+    "dask[distributed]") mod=distributed ;;
+    *) mod=${p//-/_} ;;
+  esac
   "$PY" -c "import $mod" 2>/dev/null || need_pip+=("$p")
 done
 if [ ${#need_pip[@]} -gt 0 ]; then

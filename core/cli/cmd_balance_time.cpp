@@ -1,5 +1,6 @@
 // `packsim balance-time`: time to balance per resistor, analytic and simulated
 // (core/balance/balance_time.hpp), printed as a table.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -8,6 +9,7 @@
 
 #include "core/balance/balance_time.hpp"
 #include "core/cli/commands.hpp"
+#include "core/scenario/yaml_map.hpp"
 #include "core/scenario/load_scenario.hpp"
 
 namespace packsim {
@@ -19,12 +21,17 @@ std::string presetPath(const std::string& name) {
   const fs::path dir = bundledScenarioDir();
   for (const fs::path p : {dir / (name + ".yaml"), dir / "balance" / (name + ".yaml")})
     if (fs::exists(p)) return p.string();
-  std::string known;
+  std::vector<std::string> names;
   for (const fs::path sub : {dir, dir / "balance"})
     if (fs::is_directory(sub))
       for (const auto& e : fs::directory_iterator(sub))
-        if (e.path().extension() == ".yaml") known += (known.empty() ? "" : ", ") + e.path().stem().string();
-  throw std::invalid_argument("--preset: no bundled scenario named '" + name + "' (known: " + known + ")");
+        if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  std::string known;
+  for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+  const std::string near = closestMatch(name, names);
+  throw std::invalid_argument("--preset: no bundled scenario named '" + name + "'" +
+                              (near.empty() ? "" : "; did you mean '" + near + "'?") + " (known: " + known + ")");
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 
 #include "core/cli/commands.hpp"
 #include "core/scenario/scenario_error.hpp"
@@ -66,6 +67,9 @@ int main(int argc, char** argv) {
     if (batchCmd->parsed()) return packsim::cmdBatch(batch);
     if (balCmd->parsed()) return packsim::cmdBalanceTime(bal);
   } catch (const packsim::ScenarioError& e) {
+    std::cerr << "packsim: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::invalid_argument& e) {  // a bad option value
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {

@@ -8,6 +8,7 @@
     packsim.plot.plot_all(r, "figures/")
     packsim.check("scenarios/faults")            # as `packsim check`
     packsim.batch("sweep.yaml", client=None)     # as `packsim batch`, or on Dask
+    packsim.balance_time(resistor=[22, 33, 47])  # as `packsim balance-time`
 
 The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
 """
@@ -20,6 +21,7 @@ from typing import Any
 
 from ._errors import ScenarioError
 from ._overrides import flatten_overrides
+from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
 from .check import CheckOutcome, CheckReport, FaultLatency, check
 from .result import Result, load
@@ -40,7 +42,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 
 __all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
-           "load_sweep", "monte_carlo_seed", "__version__"]
+           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "__version__"]
 
 
 def __getattr__(name: str):

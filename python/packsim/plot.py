@@ -6,6 +6,7 @@ threads and notebooks alike).
     plot.current_soc(r)
     plot.bms_timeline(r)            # state, actuators, faults, events
     plot.balancing(r)               # None when the result has no balance mask
+    plot.balance_time(packsim.balance_time(resistor=[22, 33, 47]))   # time to balance vs R
     plot.plot_all(r, "figures/")    # all of them as PNG; what `packsim plot` writes
 
 Every function takes a Result (or a path to a result file) and returns a
@@ -22,7 +23,7 @@ import numpy as np
 
 from .result import Result, load
 
-__all__ = ["cells", "current_soc", "bms_timeline", "balancing", "plot_all", "main", "LINE_LIMIT"]
+__all__ = ["cells", "current_soc", "bms_timeline", "balancing", "balance_time", "plot_all", "main", "LINE_LIMIT"]
 
 LINE_LIMIT = 24  # more cells than this: a heatmap instead of one line per cell
 
@@ -261,6 +262,45 @@ def balancing(r: Result | str | os.PathLike):
     ax_duty.barh(np.arange(1, n + 1), duty, color="C1")
     ax_duty.set_xlabel("time balancing (%)")
     ax_duty.grid(axis="x", alpha=0.3)
+    return fig
+
+
+def balance_time(bt):
+    """Time to balance vs balancing resistor from ``packsim.balance_time``: the analytic
+    estimate and the simulated time (hours, left), and the per-cell balancing current
+    (right). Simulated points are labelled with how the run ended when it was not by
+    reaching the target."""
+    from .balance import BalanceTimeResult
+    if not isinstance(bt, BalanceTimeResult):
+        raise TypeError(f"expected the result of packsim.balance_time, got {type(bt).__name__}")
+    if not bt.rows:
+        raise ValueError("the balance-time result has no rows")
+    rows = sorted(bt.rows, key=lambda w: w.resistor_ohm)
+    r_ohm = np.array([w.resistor_ohm for w in rows])
+    fig = _figure(8, 4.5)
+    ax = fig.subplots()
+    ax.plot(r_ohm, [w.analytic_h for w in rows], "o--", color="C0", label="analytic  ΔQ·(R+Rds_on)/V_cell")
+    sim = [w for w in rows if w.simulated]
+    if sim:
+        ax.plot([w.resistor_ohm for w in sim], [w.simulated_h for w in sim], "s-", color="C3",
+                label=f"simulated (to {bt.target_mV:.0f} mV)")
+        for w in sim:
+            if w.end_reason not in ("within_target", "charge_removed"):
+                ax.annotate(w.end_reason, (w.resistor_ohm, w.simulated_h), textcoords="offset points",
+                            xytext=(4, 6), fontsize=8, color="C3")
+    ax.set_xlabel("balancing resistor (Ω)")
+    ax.set_ylabel("time to balance (h)")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    cur = ax.twinx()
+    cur.plot(r_ohm, [w.current_A * 1e3 for w in rows], ":", color="0.5", label="balancing current")
+    cur.set_ylabel(f"balancing current at {bt.cell_V:.2f} V (mA)", color="0.4")
+    cur.set_ylim(bottom=0)
+    lines = ax.get_legend_handles_labels()
+    more = cur.get_legend_handles_labels()
+    ax.legend(lines[0] + more[0], lines[1] + more[1], loc="upper left", fontsize=8)
+    s = "" if bt.high_cells == 1 else "s"
+    ax.set_title(f"{bt.scenario}: {bt.delta_Ah:.3f} Ah to remove on {bt.high_cells} cell{s}")
     return fig
 
 

@@ -6,5 +6,6 @@ namespace packsim::python {
 
 void bindCheck(pybind11::module_& m);  // check_bindings.cpp: `packsim check` as functions
 void bindBatch(pybind11::module_& m);  // batch_bindings.cpp: sweeps and `packsim batch`
+void bindBalance(pybind11::module_& m);  // balance_bindings.cpp: `packsim balance-time`
 
 }  // namespace packsim::python

@@ -7,17 +7,19 @@
 //   apply_overrides   core/scenario/overrides.hpp, for Python users and tests
 //   check_*           `packsim check` (check_bindings.cpp)
 //   Sweep, run_batch, run_sweep_case ...   `packsim batch` (batch_bindings.cpp)
+//   balance_time, preset_path                `packsim balance-time` (balance_bindings.cpp)
 //
 // Everything else (the Result class, loading HDF5, plotting) is plain Python in
 // python/packsim/. C++ ScenarioError becomes packsim.ScenarioError (a ValueError with
-// file, line, column, field, message); any other C++ error a RuntimeError with the
-// same message.
+// file, line, column, field, message); std::invalid_argument a ValueError; any other
+// C++ error a RuntimeError with the same message.
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
@@ -82,6 +84,8 @@ void translate(std::exception_ptr p) {
     throw;
   } catch (const py::error_already_set&) {
     throw;
+  } catch (const std::invalid_argument& e) {  // a bad option (balance_time, preset names)
+    PyErr_SetString(PyExc_ValueError, e.what());
   } catch (const std::exception& e) {
     PyErr_SetString(PyExc_RuntimeError, e.what());
   }
@@ -117,6 +121,7 @@ PYBIND11_MODULE(_packsim, m) {
   m.def("default_scenario_path", &defaultScenarioPath, "The scenario `packsim run` uses without arguments.");
   bindCheck(m);
   bindBatch(m);
+  bindBalance(m);
 
   py::register_exception_translator(&translate);
 }

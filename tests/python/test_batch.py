@@ -99,7 +99,7 @@ def test_local_batch_is_the_cli_batch(cli, sweep_file, tmp_path):
 def _cluster(processes: bool):
     distributed = pytest.importorskip("distributed")
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=processes,
-                                       dashboard_address=None, silence_logs=40)
+                                       dashboard_address=":0", silence_logs=40)
     return cluster, distributed.Client(cluster)
 
 

