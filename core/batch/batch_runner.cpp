@@ -171,10 +171,25 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
 }
 
 void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
-  std::vector<std::string> fields;  // union of the summary attributes, first-seen order
+  // The union of the summary attributes: the race figures in reading order, then any
+  // others alphabetically.
+  static const char* const kOrder[] = {
+      "duration_s", "tripped", "trip_time_s", "trip_reason", "energy_delivered_Wh", "charge_delivered_Ah",
+      "heat_Wh", "min_cell_V", "min_cell", "min_cell_time_s", "max_temp_C", "hottest_cell", "hottest_time_s",
+      "energy_start_Wh", "energy_left_Wh", "energy_stranded_Wh", "limit_reached", "limit_cell", "limit_time_s",
+      "final_soc_min", "final_soc_max"};
+  std::vector<std::string> seen;
   for (const CaseOutcome& o : rep.cases)
     for (const auto& kv : o.summary)
-      if (std::find(fields.begin(), fields.end(), kv.first) == fields.end()) fields.push_back(kv.first);
+      if (std::find(seen.begin(), seen.end(), kv.first) == seen.end()) seen.push_back(kv.first);
+  std::vector<std::string> fields;
+  for (const char* k : kOrder)
+    if (std::find(seen.begin(), seen.end(), k) != seen.end()) fields.emplace_back(k);
+  std::vector<std::string> rest;
+  for (const std::string& k : seen)
+    if (std::find(fields.begin(), fields.end(), k) == fields.end()) rest.push_back(k);
+  std::sort(rest.begin(), rest.end());
+  fields.insert(fields.end(), rest.begin(), rest.end());
   const std::string tmp = rep.csv_path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary);

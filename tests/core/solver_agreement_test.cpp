@@ -1,5 +1,6 @@
 // The fast integrator against the CVODE reference on every bundled scenario
-// (scenarios/*.yaml, so a new preset is covered the moment it lands).
+// (scenarios/**/*.yaml but the cell sets, so a new preset or fault scenario is covered
+// the moment it lands).
 //
 // Tolerances, and why:
 //   cell voltage   2 mV   -- under one LSB of the coarsest bundled cell ADC (0.38 mV
@@ -14,6 +15,12 @@
 //                  threshold for the debounce time; a sub-millivolt difference can
 //                  move the first violating sample by a tick or two on a slowly
 //                  sagging cell, so the bound allows that and nothing more.
+//   active balancer -- its converters are bang-bang: each tick the controller picks the
+//                  highest and lowest module from noisy readings, and a sub-mV difference
+//                  between the two runs can flip a choice for a tick or two. One tick of a
+//                  3 A converter moves a 3p module's terminal voltage by I·R ≈ 45 mV and
+//                  its SOC by ~1e-4, so such scenarios get 60 mV and 5e-4 (a few ticks'
+//                  worth) instead; everything else is held to the bounds above.
 // Samples are compared at equal times up to the first trip of either run (after a
 // trip, a one-tick difference in opening time shifts the whole tail by one tick).
 #include <gtest/gtest.h>
@@ -37,6 +44,8 @@ constexpr double kSocTol = 1e-4;
 constexpr double kTempTol_K = 0.05;
 constexpr double kTripTolTicks = 2.0;
 constexpr double kTripTolExtra_s = 0.5;
+constexpr double kActiveVoltageTol_V = 0.06;
+constexpr double kActiveSocTol = 5e-4;
 
 struct Differences {
   double voltage_V = 0.0, soc = 0.0, temp_K = 0.0, trip_s = 0.0;
@@ -73,8 +82,10 @@ Differences compare(const RunResult& a, const RunResult& b) {
 
 TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
   std::map<std::string, fs::path> files;  // sorted: a stable order in the log
-  for (const auto& e : fs::directory_iterator(test::scenarioDir()))
-    if (e.path().extension() == ".yaml") files[e.path().filename().string()] = e.path();
+  for (const auto& e : fs::recursive_directory_iterator(test::scenarioDir())) {
+    const fs::path rel = fs::relative(e.path(), test::scenarioDir());
+    if (e.path().extension() == ".yaml" && *rel.begin() != "cells") files[rel.string()] = e.path();
+  }
   ASSERT_GE(files.size(), 1u);
   std::printf("%-34s %9s %9s %9s %9s %7s\n", "scenario", "dV_mV", "dSOC", "dT_K", "dtrip_s", "samples");
   for (const auto& [name, path] : files) {
@@ -87,16 +98,19 @@ TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
     const Differences d = compare(ref, fast);
     std::printf("%-34s %9.4f %9.2e %9.2e %9.3f %7zu\n", name.c_str(), d.voltage_V * 1e3, d.soc, d.temp_K, d.trip_s,
                 d.samples);
+    const bool bangBang = s.hardware.active_balancer.present;
+    const double vTol = bangBang ? kActiveVoltageTol_V : kVoltageTol_V;
+    const double socTol = bangBang ? kActiveSocTol : kSocTol;
     EXPECT_GT(d.samples, 1u);
-    EXPECT_LE(d.voltage_V, kVoltageTol_V);
-    EXPECT_LE(d.soc, kSocTol);
+    EXPECT_LE(d.voltage_V, vTol);
+    EXPECT_LE(d.soc, socTol);
     EXPECT_LE(d.temp_K, kTempTol_K);
     ASSERT_EQ(ref.summary.tripped, fast.summary.tripped);
     if (ref.summary.tripped) {
       EXPECT_EQ(ref.summary.trip_reason, fast.summary.trip_reason);
       EXPECT_LE(d.trip_s, kTripTolTicks * s.bms.tick_s + kTripTolExtra_s);
     }
-    EXPECT_NEAR(ref.summary.final_soc_min, fast.summary.final_soc_min, kSocTol);
+    EXPECT_NEAR(ref.summary.final_soc_min, fast.summary.final_soc_min, socTol);
     EXPECT_NEAR(ref.summary.energy_delivered_Wh, fast.summary.energy_delivered_Wh,
                 1e-3 * std::max(1.0, std::fabs(ref.summary.energy_delivered_Wh)));
   }
