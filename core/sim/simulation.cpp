@@ -2,6 +2,7 @@
 
 #include <bms/bms_core.hpp>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -81,6 +82,15 @@ RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
   PlantSignals sig = plant.makeSignals();
   RunTracker tracker(s, plant, cfg);
   tracker.setHardware(&hw);
+  // The firmware reads every device each tick: a stack that cannot be read out within
+  // one tick would in reality deliver older readings than simulated here. Say so.
+  const double readout_s = stackReadoutTime_s(s.hardware.afe, s.pack.series);
+  if (readout_s > s.bms.tick_s) {
+    char note[200];
+    std::snprintf(note, sizeof note, "reading the %d-device monitor stack takes %.1f ms, longer than the %.0f ms BMS tick",
+                  s.hardware.afe.devices, readout_s * 1e3, s.bms.tick_s * 1e3);
+    tracker.event(0.0, "config_warning", note);
+  }
   FaultScheduler scheduler(s, plant);
   scheduler.reset(faults);
 

@@ -67,5 +67,8 @@ struct MonitorConfig {
 // Time to read one device: conversion of its channels plus its reply on the link
 // (10 bits per byte).
 double readoutTime_s(const MonitorConfig& c, int cells);
+// Time to read the whole stack once, device after device on one link. A device with its
+// own measurement loop (measurement_period_s > 0) is only read out, not converted.
+double stackReadoutTime_s(const MonitorConfig& c, int cellCount);
 
 }  // namespace packsim

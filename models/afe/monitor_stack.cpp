@@ -16,6 +16,17 @@ double readoutTime_s(const MonitorConfig& c, int cells) {
   return channels * c.conversion_s_per_channel + bytes * 10.0 / c.baud;
 }
 
+double stackReadoutTime_s(const MonitorConfig& c, int cellCount) {
+  MonitorConfig link = c;
+  if (c.measurement_period_s > 0.0) link.conversion_s_per_channel = 0.0;
+  double total = 0.0;
+  for (int d = 0; d < c.devices; ++d) {
+    const int cells = std::min(c.cells_per_device, cellCount - d * c.cells_per_device);
+    total += readoutTime_s(link, cells);
+  }
+  return total;
+}
+
 bool MonitorStack::Timer::running(double t, bool cond, double delay) {
   if (!cond) {
     since = -1.0;

@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "core/sim/simulation.hpp"
 #include "models/afe/monitor_stack.hpp"
 #include "test_support.hpp"
 
@@ -131,6 +132,24 @@ TEST(Monitor, SecondaryOverVoltageLatchesUntilTheHostClears) {
   rig.truth.cell_V[7] = p.cov_V + 0.05;
   for (double e = t + p.cov_delay_s + 0.05; t < e; t += 0.01) rig.read(t);
   EXPECT_TRUE(rig.stack.faultLine());
+}
+
+TEST(Monitor, StackReadoutTimeFromFrameLengthAndLink) {
+  // BQ76PL536A on 1 Mbit/s SPI: a 29-byte reply (10 bit times a byte) plus 9 conversions
+  // (6 cells, 2 thermistors, the module) of 6 us: 344 us per device.
+  const Scenario s = stackScenario("bq76pl536a", 12);
+  EXPECT_NEAR(stackReadoutTime_s(s.hardware.afe, 12), 2 * (29 * 10 / 1e6 + 9 * 6e-6), 1e-12);
+  // 60 cells = 10 devices = 3.44 ms: fine at a 10 ms tick, a warning at 2 ms.
+  std::string yaml = "name: slow\npack:\n  series: 60\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
+                     "hardware:\n  afe: {model: bq76pl536a}\nbms: {tick_ms: TICK}\nload: {current_A: 1}\n"
+                     "run: {duration_s: 1}\n";
+  const auto withTick = [&](const char* tick) {
+    std::string y = yaml;
+    y.replace(y.find("TICK"), 4, tick);
+    return runScenario(test::scenarioFromYaml(y));
+  };
+  EXPECT_LT(test::eventTime(withTick("10"), "config_warning"), 0.0);
+  EXPECT_EQ(test::eventTime(withTick("2"), "config_warning", "reading the 10-device monitor stack takes 3.4 ms"), 0.0);
 }
 
 }  // namespace
