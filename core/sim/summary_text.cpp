@@ -47,6 +47,21 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   } else {
     os << "BMS             no trip\n";
   }
+  // What the switching hardware did on its own, and configuration warnings.
+  bool contactOpenedAfterTrip = false;
+  for (const Event& e : r.events) {
+    if (e.kind == "monitor_fault_line" && e.detail == "asserted")
+      os << "hardware        " << fmt("%.2f", e.time_s) << " s  monitor FAULT line asserted (opens the relay without the MCU)\n";
+    if (e.kind == "fuse") os << "hardware        " << fmt("%.2f", e.time_s) << " s  fuse " << e.detail << "\n";
+    if (e.kind == "relay_contact" && e.detail == "opened" && m.tripped && e.time_s >= m.trip_time_s)
+      contactOpenedAfterTrip = true;
+    if (e.kind == "config_warning") os << "warning         " << e.detail << "\n";
+  }
+  if (m.tripped && !contactOpenedAfterTrip) {
+    bool everClosed = false;
+    for (const Event& e : r.events) everClosed = everClosed || (e.kind == "relay_contact" && e.detail == "closed");
+    if (everClosed) os << "hardware        relay contact still closed after the open command (welded?)\n";
+  }
   return os.str();
 }
 
