@@ -23,7 +23,6 @@ class FaultScheduler {
   // Sizes and clears `faults` (everything healthy) before the first tick.
   void reset(HardwareFaults& faults) const { apply(faults); }
   // Start time of injection i, or -1 if it never started.
-  double startTime(size_t i) const { return state_[i].start_s; }
 
  private:
   double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;

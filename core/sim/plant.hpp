@@ -99,7 +99,6 @@ class Plant {
   const PassiveBalancerConfig& balancer() const { return balancer_; }
   const ActiveBalancerConfig& activeBalancer() const { return active_; }
   int boardNode() const { return boardNode_; }
-  int busIndex() const { return busIndex_; }
 
   void initialState(double* x) const;
   // Algebraic part: currents, voltages, heat, temperatures at (t, x).

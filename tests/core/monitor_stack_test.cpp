@@ -134,6 +134,47 @@ TEST(Monitor, SecondaryOverVoltageLatchesUntilTheHostClears) {
   EXPECT_TRUE(rig.stack.faultLine());
 }
 
+TEST(Monitor, Bq76952CoulombCounterIntegratesTheCurrent) {
+  // 12 A for 10 s, then -4 A for 5 s: 100 As. The device converts every 250 ms, so the
+  // counter steps in 0.25 s x I; the host reads it in the frame in mA·s.
+  Rig rig("bq76952", 16);
+  double t = 0.0;
+  for (; t < 10.0 - 1e-9; t += 0.01) {
+    rig.truth.current_A = 12.0;
+    rig.read(t);
+  }
+  for (; t < 15.0 - 1e-9; t += 0.01) {
+    rig.truth.current_A = -4.0;
+    rig.read(t);
+  }
+  rig.read(t);  // the conversion at 15 s closes the last interval
+  EXPECT_NEAR(rig.stack.chargeCounter_As(0), 12.0 * 10.0 - 4.0 * 5.0, 12.0 * 0.25 + 1e-9);
+  bms::DeviceReading r{};
+  ASSERT_EQ(rig.parse(0, r, 1000.0f), bms::FrameResult::Ok);
+  EXPECT_NEAR(r.charge_mAs * 1e-3, rig.stack.chargeCounter_As(0), 1e-3);
+}
+
+TEST(Monitor, PerChannelErrorsAreDrawnFromTheSeedWithTheirSpread) {
+  // 240 channels with channel_gain_sd 1 % and channel_offset_sd 2 mV: the sample spread
+  // of 240 draws lies within ±15 % of the configured one (sd of an sd estimate ≈ 4.6 %),
+  // and the same seed draws the same errors.
+  Scenario s = stackScenario("bq76pl536a", 240);
+  s.hardware.afe.channel_gain_sd = 0.01;
+  s.hardware.afe.channel_offset_sd_V = 0.002;
+  const MonitorStack a(s.hardware.afe, 240, 11), b(s.hardware.afe, 240, 11), c(s.hardware.afe, 240, 12);
+  double g2 = 0.0, o2 = 0.0;
+  bool differs = false;
+  for (int k = 0; k < 240; ++k) {
+    g2 += a.channelGain(k) * a.channelGain(k);
+    o2 += a.channelOffset_V(k) * a.channelOffset_V(k);
+    ASSERT_EQ(a.channelGain(k), b.channelGain(k));
+    differs = differs || a.channelGain(k) != c.channelGain(k);
+  }
+  EXPECT_NEAR(std::sqrt(g2 / 240), 0.01, 0.0015);
+  EXPECT_NEAR(std::sqrt(o2 / 240), 0.002, 0.0003);
+  EXPECT_TRUE(differs);
+}
+
 TEST(Monitor, StackReadoutTimeFromFrameLengthAndLink) {
   // BQ76PL536A on 1 Mbit/s SPI: a 29-byte reply (10 bit times a byte) plus 9 conversions
   // (6 cells, 2 thermistors, the module) of 6 us: 344 us per device.
