@@ -18,7 +18,7 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   c.tickPeriod_ms = 10;
   c.scaling = SensorScaling{6250000.0f / 16383.0f, 0.0f, 1.0f, 4095.0f, 10000.0f, 10000.0f, 3435.0f, 65535, 1.0f};
   const uint8_t perDevice = cellCount < 6 ? static_cast<uint8_t>(cellCount) : 6;
-  const uint16_t devices = perDevice == 0 ? 0 : static_cast<uint16_t>((cellCount + perDevice - 1) / perDevice);
+  const uint16_t devices = static_cast<uint16_t>(perDevice == 0 ? 0 : (cellCount + perDevice - 1) / perDevice);
   c.afe = AfeConfig{AfeModel::Bq76pl536a, static_cast<uint8_t>(devices), perDevice, 2, true, 5};
   c.precharge = PrechargeConfig{false, 1000, 50, 2000, 1000, 30, 3};
   c.soc.capacity_mAh = 1000.0f;

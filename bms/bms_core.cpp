@@ -156,7 +156,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   Telemetry& tm = out.telemetry;
   measure(cfg, in, s.acq, tm, s.quantity);
   const bool complete = acquisitionComplete(cfg, s.acq);
-  const uint16_t meanCell = cfg.cellCount > 0 ? static_cast<uint16_t>(tm.packVoltage_mV / cfg.cellCount) : 0;
+  const uint16_t meanCell = static_cast<uint16_t>(cfg.cellCount > 0 ? tm.packVoltage_mV / cfg.cellCount : 0u);
   socUpdate(cfg.soc, s.soc, complete, meanCell, tm.packCurrent_mA, in.now_ms);
   historyQuantities(cfg, s, in, tm, s.quantity);
   protectionUpdate(cfg, s.quantity, in.now_ms, s.protection);

@@ -19,10 +19,10 @@ namespace fs = std::filesystem;
 // A bundled scenario by name: scenarios/NAME.yaml or scenarios/balance/NAME.yaml.
 std::string presetPath(const std::string& name) {
   const fs::path dir = bundledScenarioDir();
-  for (const fs::path p : {dir / (name + ".yaml"), dir / "balance" / (name + ".yaml")})
+  for (const fs::path& p : {dir / (name + ".yaml"), dir / "balance" / (name + ".yaml")})
     if (fs::exists(p)) return p.string();
   std::vector<std::string> names;
-  for (const fs::path sub : {dir, dir / "balance"})
+  for (const fs::path& sub : {dir, dir / "balance"})
     if (fs::is_directory(sub))
       for (const auto& e : fs::directory_iterator(sub))
         if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
