@@ -75,6 +75,18 @@ struct FakeStack {
   }
 };
 
+// A core ready to step: initialised state, zeroed pins, drive requested, no current.
+struct Rig {
+  bms::CoreState s;
+  bms::Inputs in{};
+  bms::Outputs out{};
+  Rig() {
+    bms::init(s);
+    in.runRequest = true;
+    in.currentCode = 32768;
+  }
+};
+
 // Runs the core from t0 to t1 (exclusive) every period, refilling the frames each tick.
 template <typename Each>
 uint32_t run(const bms::Config& c, bms::CoreState& s, bms::Inputs& in, bms::Outputs& out, const FakeStack& st,

@@ -100,12 +100,8 @@ TEST(Protection, DebounceSurvivesMillisecondWrap) {
 // The whole core: a latched fatal fault keeps the relay open until a person resets it.
 TEST(Core, LatchedFaultKeepsRelayOpenUntilReset) {
   const bms::Config cfg = bms_test::config(2, 0);
-  bms::CoreState s;
-  bms::init(s);
-  bms::Inputs in{};
-  bms::Outputs out{};
-  in.runRequest = true;
-  in.currentCode = 32768;
+  bms_test::Rig rig;
+  auto& [s, in, out] = rig;
   bms_test::FakeStack st(2, 0);
   uint32_t t = bms_test::run(cfg, s, in, out, st, 0, 100);
   ASSERT_TRUE(out.relayClose);
@@ -125,12 +121,8 @@ TEST(Core, LatchedFaultKeepsRelayOpenUntilReset) {
 
 TEST(Core, ResetWhileFaultPresentStaysInError) {
   const bms::Config cfg = bms_test::config(1, 0);
-  bms::CoreState s;
-  bms::init(s);
-  bms::Inputs in{};
-  bms::Outputs out{};
-  in.runRequest = true;
-  in.currentCode = 32768;
+  bms_test::Rig rig;
+  auto& [s, in, out] = rig;
   bms_test::FakeStack st(1, 0, 2500);
   bms_test::run(cfg, s, in, out, st, 0, 1000, [&](uint32_t t) {
     in.resetRequest = t > 800;
@@ -143,12 +135,8 @@ TEST(Core, ResetWhileFaultPresentStaysInError) {
 TEST(Core, EitherESwitchIsolatesWithinOneTickAndLatches) {
   for (const bool external : {false, true}) {
     const bms::Config cfg = bms_test::config(1, 0);
-    bms::CoreState s;
-    bms::init(s);
-    bms::Inputs in{};
-    bms::Outputs out{};
-    in.runRequest = true;
-    in.currentCode = 32768;
+    bms_test::Rig rig;
+    auto& [s, in, out] = rig;
     bms_test::FakeStack st(1, 0);
     uint32_t t = bms_test::run(cfg, s, in, out, st, 0, 100);
     ASSERT_TRUE(out.relayClose && out.dischargeFetOn && out.chargeFetOn);

@@ -28,12 +28,8 @@ namespace {
 TEST(Core, TickAllocatesNothing) {
   bms::Config cfg = bms_test::config(12, 2);
   cfg.precharge.enabled = true;
-  bms::CoreState s;
-  bms::init(s);
-  bms::Inputs in{};
-  bms::Outputs out{};
-  in.runRequest = true;
-  in.currentCode = 32768;
+  bms_test::Rig rig;
+  auto& [s, in, out] = rig;
   bms_test::FakeStack st(12, 2);
   // Every container of the test is built before counting starts.
   g_allocations = 0;

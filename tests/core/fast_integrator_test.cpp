@@ -32,18 +32,34 @@ namespace {
 
 constexpr double kI = 3.0, kQ = 2.0, kR0 = 0.02, kR1 = 0.01, kC1 = 1000.0, kSoc0 = 0.8;
 
+// A pack held at kI with the relay closed: its plant and a fast integrator started from
+// the initial state.
+struct HeldCurrent {
+  Scenario s;
+  Plant plant;
+  PlantInputs in;
+  FastIntegrator integ;
+  std::vector<double> x;
+  explicit HeldCurrent(const std::string& yaml)
+      : s(test::scenarioFromYaml(yaml)), plant(s), in(heldInputs()), integ(plant, in, FastSettings{}),
+        x(static_cast<size_t>(plant.stateSize() + kQuadCount), 0.0) {
+    plant.initialState(x.data());
+    integ.reset(0.0, x.data());
+  }
+  static PlantInputs heldInputs() {
+    PlantInputs p;
+    p.relay_closed = true;
+    p.load.i0_A = kI;
+    return p;
+  }
+};
+
 // One cell at constant current: SOC is linear and the RC branch's exponential update is
 // the closed form itself, so a 1 s tick is exact to rounding, for any tick.
 TEST(FastIntegrator, ExactForRcAndSocAtHeldCurrent) {
-  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 3600}\n");
-  const Plant plant(s);
-  PlantInputs in;
-  in.relay_closed = true;
-  in.load.i0_A = kI;
-  FastIntegrator integ(plant, in, FastSettings{});
-  std::vector<double> x(static_cast<size_t>(plant.stateSize() + kQuadCount), 0.0);
-  plant.initialState(x.data());
-  integ.reset(0.0, x.data());
+  HeldCurrent h(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 3600}\n");
+  const Plant& plant = h.plant;
+  FastIntegrator& integ = h.integ;
   double t = 0.0;
   for (int k = 1; k <= 1800; ++k) {
     t = k * 1.0;
@@ -91,15 +107,8 @@ TEST(FastIntegrator, ParallelGroupsBoundTheSubstep) {
 }
 
 TEST(FastIntegrator, AdvanceAllocatesNothing) {
-  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(12) + "load: {current_A: 3}\nrun: {duration_s: 100}\n");
-  const Plant plant(s);
-  PlantInputs in;
-  in.relay_closed = true;
-  in.load.i0_A = kI;
-  FastIntegrator integ(plant, in, FastSettings{});
-  std::vector<double> x(static_cast<size_t>(plant.stateSize() + kQuadCount), 0.0);
-  plant.initialState(x.data());
-  integ.reset(0.0, x.data());
+  HeldCurrent h(test::simpleCellYaml(12) + "load: {current_A: 3}\nrun: {duration_s: 100}\n");
+  FastIntegrator& integ = h.integ;
   integ.advance(0.01, 0.01);
   gAllocs = 0;
   gCount = true;
