@@ -13,12 +13,6 @@ uint32_t le32(const uint8_t* p) {
          (static_cast<uint32_t>(p[3]) << 24);
 }
 
-uint16_t codeToMv(uint16_t code, float lsb_uV) {
-  const float mv = static_cast<float>(code) * lsb_uV * 0.001f;
-  if (mv >= 65535.0f) return 65535;
-  return static_cast<uint16_t>(mv + 0.5f);
-}
-
 int16_t kelvinTenthsToDeciC(uint16_t k) { return static_cast<int16_t>(static_cast<int32_t>(k) - 2732); }
 
 void clearReading(DeviceReading& r) {
@@ -45,7 +39,7 @@ FrameResult parsePl536(uint8_t d, uint8_t cells, float lsb_uV, const AfeFrame& f
   if (crcCrc8(f.bytes, kPl536FrameLen - 1) != f.bytes[kPl536FrameLen - 1]) return FrameResult::BadCrc;
   const uint8_t* p = f.bytes + 3;
   clearReading(r);
-  for (uint8_t c = 0; c < cells; ++c) r.cell_mV[c] = codeToMv(be16(p + kPl536Cell1 + 2 * c), lsb_uV);
+  for (uint8_t c = 0; c < cells; ++c) r.cell_mV[c] = afeCellCodeToMv(be16(p + kPl536Cell1 + 2 * c), lsb_uV);
   r.thermCode[0] = be16(p + kPl536Temp1);
   r.thermCode[1] = be16(p + kPl536Temp2);
   r.stack_mV = static_cast<uint32_t>(static_cast<float>(be16(p + kPl536Gpai)) * lsb_uV * kPl536GpaiCellLsbs * 0.001f + 0.5f);
@@ -65,7 +59,7 @@ FrameResult parsePl455(uint8_t cells, float lsb_uV, const AfeFrame& f, DeviceRea
   if ((crc & 0xFFu) != f.bytes[1 + n] || (crc >> 8) != f.bytes[2 + n]) return FrameResult::BadCrc;
   const uint8_t* p = f.bytes + 1;
   clearReading(r);
-  for (uint8_t c = 0; c < cells; ++c) r.cell_mV[c] = codeToMv(be16(p + 2 * c), lsb_uV);
+  for (uint8_t c = 0; c < cells; ++c) r.cell_mV[c] = afeCellCodeToMv(be16(p + 2 * c), lsb_uV);
   const uint8_t* q = p + 2 * cells;
   r.stack_mV = static_cast<uint32_t>(static_cast<float>(be16(q)) * kPl455ModuleLsb_mV + 0.5f);
   r.thermCode[0] = be16(q + 2);
@@ -105,6 +99,13 @@ FrameResult parseBq952(uint8_t cells, bool crcOn, const AfeFrame& f, DeviceReadi
 }
 
 }  // namespace
+
+uint16_t afeCellCodeToMv(uint16_t code, float lsb_uV) {
+  const float mv = static_cast<float>(code) * lsb_uV * 0.001f;
+  if (mv <= 0.0f) return 0;
+  if (mv >= 65535.0f) return 65535;
+  return static_cast<uint16_t>(mv + 0.5f);
+}
 
 uint8_t afeCellsOf(const AfeConfig& c, uint16_t cellCount, uint8_t d) {
   const uint32_t first = static_cast<uint32_t>(d) * c.cellsPerDevice;

@@ -94,6 +94,8 @@ struct DeviceReading {
 
 enum class FrameResult : uint8_t { Ok = 0, Timeout, BadLength, BadHeader, BadCrc };
 
+// A cell ADC code in mV (rounded, clamped to 0..65535) at the flashed LSB.
+uint16_t afeCellCodeToMv(uint16_t code, float lsb_uV);
 // Cells held by device d (the last device may be partly populated).
 uint8_t afeCellsOf(const AfeConfig& c, uint16_t cellCount, uint8_t d);
 // The length a good reply of device d has.

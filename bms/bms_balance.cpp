@@ -7,8 +7,7 @@ namespace bms {
 void balanceReset(BalanceState& s) {
   s.active = false;
   s.boardPaused = false;
-  s.resting = false;
-  s.restSince_ms = 0;
+  restReset(s.rest);
   s.decided = false;
   s.lastDecision_ms = 0;
   s.lastArm_ms = 0;
@@ -42,20 +41,8 @@ void updateBoard(const BalanceConfig& b, BalanceState& s, const Telemetry& tm) {
   }
 }
 
-void updateRest(const BalanceConfig& b, BalanceState& s, const Telemetry& tm, uint32_t now_ms) {
-  const int32_t i = tm.packCurrent_mA < 0 ? -tm.packCurrent_mA : tm.packCurrent_mA;
-  if (i >= b.restCurrent_mA) {
-    s.resting = false;
-    return;
-  }
-  if (!s.resting) {
-    s.resting = true;
-    s.restSince_ms = now_ms;
-  }
-}
-
 bool conditionHolds(const BalanceConfig& b, const BalanceState& s, bool charging, uint32_t now_ms) {
-  const bool rest = s.resting && now_ms - s.restSince_ms >= b.rest_ms;
+  const bool rest = restedFor(s.rest, now_ms, b.rest_ms);
   switch (b.when) {
     case BalanceWhen::Charging: return charging;
     case BalanceWhen::Rest: return rest;
@@ -99,7 +86,7 @@ uint16_t chooseCells(const Config& cfg, const Telemetry& tm, uint32_t mask[kBala
 void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging,
                  uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount) {
   const BalanceConfig& b = cfg.balance;
-  updateRest(b, s, tm, now_ms);
+  restUpdate(s.rest, tm.packCurrent_mA, b.restCurrent_mA, now_ms);
   updateBoard(b, s, tm);
 
   // Decide at the configured period; hold the mask in between. Losing permission or a

@@ -19,6 +19,7 @@
 
 #include "bms_config.hpp"
 #include "bms_hal.hpp"
+#include "bms_rest.hpp"
 
 namespace bms {
 
@@ -33,8 +34,7 @@ enum class BalanceStatus : uint8_t {
 struct BalanceState {
   bool active;            // spread hysteresis
   bool boardPaused;
-  bool resting;
-  uint32_t restSince_ms;
+  RestTimer rest;
   bool decided;
   uint32_t lastDecision_ms;
   uint32_t lastArm_ms;

@@ -1,5 +1,7 @@
 #include "bms_core.hpp"
 
+#include "bms_rest.hpp"
+
 namespace bms {
 
 void init(CoreState& s) {
@@ -34,7 +36,6 @@ const char* stateName(State st) {
 
 namespace {
 
-int32_t magnitude(int32_t v) { return v < 0 ? -v : v; }
 bool eSwitchPulled(const Inputs& in) { return in.eSwitchInternal || in.eSwitchExternal; }
 bool fatal(const Config& cfg, const CoreState& s) { return fatalFaults(cfg, s.protection) != 0; }
 

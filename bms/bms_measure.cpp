@@ -4,12 +4,7 @@
 
 namespace bms {
 
-uint16_t cellCodeToMillivolts(const SensorScaling& s, uint16_t code) {
-  const float mv = static_cast<float>(code) * s.cellLsb_uV * 0.001f;
-  if (mv <= 0.0f) return 0;
-  if (mv >= 65535.0f) return 65535;
-  return static_cast<uint16_t>(mv + 0.5f);
-}
+uint16_t cellCodeToMillivolts(const SensorScaling& s, uint16_t code) { return afeCellCodeToMv(code, s.cellLsb_uV); }
 
 int32_t currentCodeToMilliamps(const SensorScaling& s, int32_t code) {
   const float ma = (static_cast<float>(code) - s.currentZeroCode) * s.currentLsb_mA;

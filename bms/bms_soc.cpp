@@ -7,8 +7,7 @@ void socReset(SocState& s) {
   s.anchorSoc = 0.0f;
   s.sinceAnchor_mAms = 0;
   s.last_ms = 0;
-  s.restSince_ms = 0;
-  s.resting = false;
+  restReset(s.rest);
   s.restAnchored = false;
 }
 
@@ -43,8 +42,6 @@ void anchor(const SocConfig& c, SocState& s, uint16_t meanCell_mV) {
   s.sinceAnchor_mAms = 0;
 }
 
-int32_t magnitude(int32_t v) { return v < 0 ? -v : v; }
-
 }  // namespace
 
 void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV, int32_t current_mA, uint32_t now_ms) {
@@ -52,22 +49,17 @@ void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV
   s.last_ms = now_ms;
   if (!s.anchored) {
     if (valid) anchor(c, s, meanCell_mV);
-    s.restSince_ms = now_ms;
     return;
   }
   // Rectangle rule with this tick's current over the elapsed interval.
   s.sinceAnchor_mAms += static_cast<int64_t>(current_mA) * static_cast<int64_t>(dt_ms);
 
-  if (magnitude(current_mA) >= c.restCurrent_mA) {
-    s.resting = false;
+  restUpdate(s.rest, current_mA, c.restCurrent_mA, now_ms);
+  if (!s.rest.resting) {
     s.restAnchored = false;
     return;
   }
-  if (!s.resting) {
-    s.resting = true;
-    s.restSince_ms = now_ms;
-  }
-  if (valid && !s.restAnchored && now_ms - s.restSince_ms >= c.rest_ms) {
+  if (valid && !s.restAnchored && restedFor(s.rest, now_ms, c.rest_ms)) {
     anchor(c, s, meanCell_mV);
     s.restAnchored = true;
   }

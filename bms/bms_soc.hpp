@@ -10,6 +10,7 @@
 #include <cstdint>
 
 #include "bms_config.hpp"
+#include "bms_rest.hpp"
 
 namespace bms {
 
@@ -18,8 +19,7 @@ struct SocState {
   float anchorSoc;
   int64_t sinceAnchor_mAms;
   uint32_t last_ms;
-  uint32_t restSince_ms;
-  bool resting;
+  RestTimer rest;
   bool restAnchored;  // already re-anchored during this rest
 };
 

@@ -66,10 +66,13 @@ MonitorTruth MonitorStack::makeTruth() const {
   return t;
 }
 
-bool MonitorStack::linkUp(int d, const MonitorTruth& truth) const {
+bool MonitorStack::replies(int d, const MonitorTruth& truth) const {
   if (truth.broken_link_above >= 0 && d > truth.broken_link_above) return false;
-  const DeviceComm& c = truth.comm[static_cast<size_t>(d)];
-  return !c.silent && c.stuck_byte < 0;
+  return !truth.comm[static_cast<size_t>(d)].silent;
+}
+
+bool MonitorStack::linkUp(int d, const MonitorTruth& truth) const {
+  return replies(d, truth) && truth.comm[static_cast<size_t>(d)].stuck_byte < 0;
 }
 
 double MonitorStack::pinVoltage(int cell, double v, const MonitorTruth& truth) const {
@@ -267,14 +270,13 @@ bool MonitorStack::balancing(int cell, double t) const {
 
 void MonitorStack::read(double t, const MonitorTruth& truth, Rng& rng, bms::Inputs& in) {
   for (int d = 0; d < bms::kMaxDevices; ++d) in.afe[d].length = 0;
+  // The stack's FET permissions (BQ76952 FET_STATUS), the same for every reply.
+  const bool dsgOk = dischargeAllowed(), chgOk = chargeAllowed();
   for (int d = 0; d < cfg_.devices; ++d) {
     bms::AfeFrame& f = in.afe[d];
     const DeviceComm& c = truth.comm[static_cast<size_t>(d)];
-    if (c.silent || (truth.broken_link_above >= 0 && d > truth.broken_link_above)) {
-      f.length = 0;  // timeout
-      continue;
-    }
-    buildFrame(dev_[static_cast<size_t>(d)], d, t, truth, rng, f);
+    if (!replies(d, truth)) continue;  // timeout: length 0
+    buildFrame(dev_[static_cast<size_t>(d)], d, t, truth, dsgOk, chgOk, rng, f);
     if (c.stuck_byte >= 0) {
       for (int i = 0; i < f.length; ++i) f.bytes[i] = static_cast<uint8_t>(c.stuck_byte);
     } else if (c.crc_error_rate > 0.0) {
@@ -305,8 +307,8 @@ int16_t clampI16(double v) { return static_cast<int16_t>(std::clamp(std::nearbyi
 
 }  // namespace
 
-void MonitorStack::buildFrame(const Device& dv, int d, double t, const MonitorTruth& truth, Rng& rng,
-                              bms::AfeFrame& f) const {
+void MonitorStack::buildFrame(const Device& dv, int d, double t, const MonitorTruth& truth, bool dsgOk, bool chgOk,
+                              Rng& rng, bms::AfeFrame& f) const {
   const int n = cellsOf(d);
   const int first = d * cfg_.cells_per_device;
   // The cell ADC channel: the part's error + this channel's drawn error + injected.
@@ -425,7 +427,6 @@ void MonitorStack::buildFrame(const Device& dv, int d, double t, const MonitorTr
       q[16] = dv.bqAlertA;
       q[17] = dv.bqStatusA;
       q[18] = dv.bqStatusB;
-      const bool dsgOk = dischargeAllowed(), chgOk = chargeAllowed();
       q[19] = static_cast<uint8_t>((dv.fetEnabled && dv.hostChg && chgOk ? bms::kBqChgFet : 0) |
                                    (dv.fetEnabled && dv.hostDsg && dsgOk ? bms::kBqDsgFet : 0) |
                                    (dv.fetEnabled && dv.hostPdsg && dsgOk ? bms::kBqPdsgFet : 0) |

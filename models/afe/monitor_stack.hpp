@@ -108,10 +108,12 @@ class MonitorStack {
     double heldCurrent_A = 0.0;
   };
 
-  bool linkUp(int d, const MonitorTruth& truth) const;
+  bool replies(int d, const MonitorTruth& truth) const;  // answers at all (not silent, link intact)
+  bool linkUp(int d, const MonitorTruth& truth) const;   // answers and receives host writes
   void updateSecondary(Device& dv, int d, double t, const MonitorTruth& truth);
   void updateBq952(Device& dv, int d, double t, const MonitorTruth& truth);
-  void buildFrame(const Device& dv, int d, double t, const MonitorTruth& truth, Rng& rng, bms::AfeFrame& f) const;
+  void buildFrame(const Device& dv, int d, double t, const MonitorTruth& truth, bool dsgOk, bool chgOk, Rng& rng,
+                  bms::AfeFrame& f) const;
   double pinVoltage(int cell, double v, const MonitorTruth& truth) const;
 
   MonitorConfig cfg_;

@@ -1,18 +1,13 @@
 #include "models/balance/active_balancer.hpp"
 
-#include <algorithm>
 #include <cmath>
+
+#include "models/cell/curve.hpp"
 
 namespace packsim {
 
 double ActiveBalancerConfig::efficiencyAt(double current_A) const {
-  const std::vector<double>& x = efficiency_at_A;
-  const std::vector<double>& y = efficiency;
-  if (y.size() == 1 || current_A <= x.front()) return y.front();
-  if (current_A >= x.back()) return y.back();
-  const size_t i = static_cast<size_t>(std::upper_bound(x.begin(), x.end(), current_A) - x.begin());
-  const double f = (current_A - x[i - 1]) / (x[i] - x[i - 1]);
-  return y[i - 1] + f * (y[i] - y[i - 1]);
+  return interpolate(efficiency_at_A, efficiency, current_A);
 }
 
 ActiveBalancerCommand activeBalancerDecide(const ActiveBalancerConfig& c, const std::vector<double>& module_V,

@@ -34,6 +34,15 @@ Curve Curve::table(std::vector<double> xs, std::vector<double> ys, CurveAxis axi
   return c;
 }
 
+double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+  if (xs.size() == 1 || x <= xs.front()) return ys.front();
+  if (x >= xs.back()) return ys.back();
+  const auto it = std::upper_bound(xs.begin(), xs.end(), x);
+  const size_t i = static_cast<size_t>(it - xs.begin());
+  const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+  return ys[i - 1] + w * (ys[i] - ys[i - 1]);
+}
+
 double Curve::at(double x) const {
   switch (kind) {
     case Kind::Constant:
@@ -43,14 +52,8 @@ double Curve::at(double x) const {
       for (double c : coeffs) y = y * x + c;
       return y;
     }
-    case Kind::Table: {
-      if (x <= xs.front()) return ys.front();
-      if (x >= xs.back()) return ys.back();
-      const auto it = std::upper_bound(xs.begin(), xs.end(), x);
-      const size_t i = static_cast<size_t>(it - xs.begin());
-      const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-      return ys[i - 1] + w * (ys[i] - ys[i - 1]);
-    }
+    case Kind::Table:
+      return interpolate(xs, ys, x);
   }
   return 0.0;
 }

@@ -30,4 +30,8 @@ struct Curve {
   bool isConstant() const { return kind == Kind::Constant; }
 };
 
+// Linear interpolation in a table (xs strictly increasing, ys of the same length),
+// held flat beyond the ends; a one-point table is a constant.
+double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x);
+
 }  // namespace packsim

@@ -6,8 +6,10 @@ double ocv(const CellParams& p, double soc) { return p.ocv_V.eval(soc, p.capacit
 
 double r0(const CellParams& p, double soc) { return p.r0_scale * p.r0_ohm.eval(soc, p.capacity_Ah); }
 
-double emf(const CellParams& p, const double* x) {
-  double v = ocv(p, x[CellLayout::soc]);
+double emf(const CellParams& p, const double* x) { return emf(p, x, ocv(p, x[CellLayout::soc])); }
+
+double emf(const CellParams& p, const double* x, double ocv_V) {
+  double v = ocv_V;
   for (size_t k = 0; k < p.rc.size(); ++k) v -= x[1 + k];
   return v;
 }

@@ -53,6 +53,8 @@ double ocv(const CellParams& p, double soc);
 double r0(const CellParams& p, double soc);
 // OCV minus RC polarisation: the voltage behind R0.
 double emf(const CellParams& p, const double* x);
+// The same with the OCV already evaluated at the cell's SOC (ocv_V = ocv(p, soc)).
+double emf(const CellParams& p, const double* x, double ocv_V);
 double terminalVoltage(const CellParams& p, const double* x, double i_A);
 double heat_W(const CellParams& p, const double* x, double i_A);
 // The same with R0 already evaluated at the cell's SOC (r0_ohm = r0(p, soc)).

@@ -55,7 +55,7 @@ template <typename CellStates>
 double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell, double* ocv_cell,
                         double* r0_cell) const {
   const int first = g * parallel;
-  // EMF and R0 of cell i (the same arithmetic as ecm::emf and ecm::r0), kept if asked.
+  // EMF and R0 of cell i, its OCV and R0 kept if asked.
   auto cellEmf = [&](int i, double& r0) {
     const CellParams& p = cells[i];
     const double* x = x_cell(i);
@@ -63,9 +63,7 @@ double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_ce
     r0 = ecm::r0(p, x[CellLayout::soc]);
     if (ocv_cell) ocv_cell[i] = ocv;
     if (r0_cell) r0_cell[i] = r0;
-    double e = ocv;
-    for (size_t k = 0; k < p.rc.size(); ++k) e -= x[1 + k];
-    return e;
+    return ecm::emf(p, x, ocv);
   };
   if (parallel == 1) {
     double r0 = 0.0;
