@@ -14,6 +14,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
 
 namespace packsim {
 
@@ -79,13 +80,6 @@ herr_t collect(hid_t loc, const char* name, const H5A_info_t*, void* data) {
   return 0;
 }
 
-std::string clock(double s) {
-  char buf[32];
-  const long t = static_cast<long>(s + 0.5);
-  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
-  return buf;
-}
-
 std::string firstLine(const std::string& s) { return s.substr(0, s.find('\n')); }
 
 // Progress on a terminal: one bar rewritten in place; otherwise a line per case.
@@ -107,9 +101,9 @@ class Progress {
       std::string bar(static_cast<size_t>(filled), '#');
       bar.resize(kWidth, '-');
       std::string eta = "--:--:--";
-      if (ran_ > 0 && done_ < total_) eta = clock(elapsed / ran_ * (total_ - done_));
+      if (ran_ > 0 && done_ < total_) eta = clockText(elapsed / ran_ * (total_ - done_));
       std::fprintf(out_, "\r[%s] %d/%d %3d%%  %d failed  elapsed %s  ETA %s ", bar.c_str(), done_, total_,
-                   total_ ? 100 * done_ / total_ : 100, failed_, clock(elapsed).c_str(), eta.c_str());
+                   total_ ? 100 * done_ / total_ : 100, failed_, clockText(elapsed).c_str(), eta.c_str());
       if (done_ == total_) std::fprintf(out_, "\n");
     } else {
       const int w = static_cast<int>(std::to_string(total_).size());

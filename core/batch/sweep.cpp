@@ -4,9 +4,8 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
+#include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/yaml_map.hpp"
 #include "models/pack/cell_spread.hpp"
@@ -23,14 +22,6 @@ std::string Sweep::resultPath(const SweepCase& c) const { return (fs::path(outpu
 std::string Sweep::summaryCsvPath() const { return (fs::path(output_dir) / "summary.csv").string(); }
 
 namespace {
-
-std::string slurp(const std::string& path, const std::string& what) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScenarioError(path, 0, 0, "", "cannot open " + what);
-  std::ostringstream os;
-  os << in.rdbuf();
-  return os.str();
-}
 
 // A YAML value as one line of flow-style text, ready to be spliced into a scenario.
 std::string flowText(const YAML::Node& n) {
@@ -75,7 +66,7 @@ Sweep loadSweepText(const std::string& text, const std::string& file, const std:
   if (base.is_relative()) base = fs::path(base_dir) / base;
   if (!fs::exists(base)) throw m.errorAt("base", "scenario file not found: " + base.string());
   sw.base_path = base.string();
-  sw.base_text = slurp(sw.base_path, "base scenario");
+  sw.base_text = readScenarioText(sw.base_path, "base scenario");
   fs::path out = m.string("output_dir", sw.name + "-results");
   if (out.is_relative()) out = fs::path(base_dir) / out;
   sw.output_dir = out.lexically_normal().string();
@@ -156,7 +147,7 @@ Sweep loadSweepText(const std::string& text, const std::string& file, const std:
 }
 
 Sweep loadSweepFile(const std::string& path) {
-  const std::string text = slurp(path, "sweep file");
+  const std::string text = readScenarioText(path, "sweep file");
   const std::string dir = fs::path(path).parent_path().string();
   return loadSweepText(text, path, dir.empty() ? "." : dir);
 }

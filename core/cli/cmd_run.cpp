@@ -10,11 +10,6 @@
 
 namespace packsim {
 
-std::string bundledScenarioDir() {
-  if (const char* env = std::getenv("PACKSIM_SCENARIOS")) return env;
-  return PACKSIM_SCENARIO_DIR;
-}
-
 std::string defaultScenarioPath() { return bundledScenarioDir() + "/eco_marathon_12s.yaml"; }
 
 int cmdRun(const RunOptions& o) {

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "core/scenario/load_scenario.hpp"  // bundledScenarioDir
+
 namespace packsim {
 
 struct RunOptions {
@@ -46,7 +48,6 @@ struct BalanceTimeCliOptions {
   bool analytic_only = false;
 };
 
-std::string bundledScenarioDir();
 std::string defaultScenarioPath();
 int cmdRun(const RunOptions& o);
 int cmdCheck(const CheckOptions& o);

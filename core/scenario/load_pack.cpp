@@ -1,11 +1,9 @@
 #include <bms/bms_limits.hpp>
 #include <algorithm>
-#include <cstdlib>
-#include <fstream>
 #include <cmath>
 #include <filesystem>
-#include <sstream>
 
+#include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_sections.hpp"
 
 namespace packsim {
@@ -67,10 +65,7 @@ CellParams readCell(YamlMap m) {
 namespace {
 
 std::vector<std::string> presetDirs(const std::string& baseDir) {
-  std::vector<std::string> dirs = {baseDir + "/cells"};
-  const char* env = std::getenv("PACKSIM_SCENARIOS");
-  dirs.push_back(std::string(env ? env : PACKSIM_SCENARIO_DIR) + "/cells");
-  return dirs;
+  return {baseDir + "/cells", bundledScenarioDir() + "/cells"};
 }
 
 // `cell: {preset: NAME, <field>: <override>…}`: the preset file (cells/NAME.yaml next
@@ -95,10 +90,7 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
     throw m.errorAt("preset", "unknown cell preset '" + name + "'" +
                                   (near.empty() ? "" : "; did you mean '" + near + "'?") + " (available: " + list + ")");
   }
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  const YAML::Node preset = parseYaml(text.str(), path);
+  const YAML::Node preset = parseYaml(readScenarioText(path, "cell preset"), path);
   readCell(YamlMap(preset, path, ""));  // the preset alone must be valid
   YAML::Node merged = YAML::Clone(preset);
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {

@@ -3,6 +3,7 @@
 #include <bms/bms_limits.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -146,12 +147,17 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   return s;
 }
 
-std::string readScenarioText(const std::string& path) {
+std::string readScenarioText(const std::string& path, const std::string& what) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw ScenarioError(path, 0, 0, "", "cannot open scenario file");
+  if (!in) throw ScenarioError(path, 0, 0, "", "cannot open " + what);
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
+}
+
+std::string bundledScenarioDir() {
+  if (const char* env = std::getenv("PACKSIM_SCENARIOS")) return env;
+  return PACKSIM_SCENARIO_DIR;
 }
 
 Scenario loadScenarioFile(const std::string& path) {

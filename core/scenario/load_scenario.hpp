@@ -10,8 +10,11 @@
 namespace packsim {
 
 Scenario loadScenarioFile(const std::string& path);
-// The file's text as written (a ScenarioError naming it if it cannot be read).
-std::string readScenarioText(const std::string& path);
+// Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).
+std::string bundledScenarioDir();
+// The file's text as written (a ScenarioError "cannot open <what>" naming it if it
+// cannot be read).
+std::string readScenarioText(const std::string& path, const std::string& what = "scenario file");
 // `file` names the text in errors; `base_dir` resolves relative CSV paths.
 Scenario loadScenarioText(const std::string& text, const std::string& file = "<scenario>",
                           const std::string& base_dir = ".");

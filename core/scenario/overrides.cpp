@@ -4,8 +4,6 @@
 
 #include <cctype>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"

@@ -74,10 +74,19 @@ void Plant::initialState(double* x) const {
   if (busIndex_ >= 0) x[busIndex_] = active_.bus_initial_V;
 }
 
+namespace {
+
+// The active balancer's module-side current of group gi (0 without a converter there).
+double converterA(const PlantInputs& in, size_t gi) { return gi < in.converter_A.size() ? in.converter_A[gi] : 0.0; }
+
+}  // namespace
+
+bool Plant::balancingOn(const PlantInputs& in, size_t gi) const {
+  return balancer_.present && gi < in.balancing.size() && in.balancing[gi] != 0;
+}
+
 double Plant::balancingFactor(const PlantInputs& in, int g, double r_g) const {
-  const size_t gi = static_cast<size_t>(g);
-  if (!balancer_.present || gi >= in.balancing.size() || !in.balancing[gi]) return 1.0;
-  return balancer_.loadedFactor(r_g);
+  return balancingOn(in, static_cast<size_t>(g)) ? balancer_.loadedFactor(r_g) : 1.0;
 }
 
 // V_pack = Σ_g k_g·(E_g - R_g·(I + I_x,g)) - R_ic·I = E - R·I, with the converter
@@ -89,8 +98,7 @@ void Plant::packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double
   for (int g = 0; g < pack_.series; ++g) {
     double eg = 0.0, rg = 0.0;
     pack_.groupThevenin(g, cellX, eg, rg);
-    const size_t gi = static_cast<size_t>(g);
-    const double ix = gi < in.converter_A.size() ? in.converter_A[gi] : 0.0;
+    const double ix = converterA(in, static_cast<size_t>(g));
     const double k = balancingFactor(in, g, rg);
     e_V += k * (eg - rg * ix);
     r_ohm += k * rg;
@@ -99,17 +107,13 @@ void Plant::packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double
 
 // The load's current; a power load solves P = (E - R·I)·I for the smaller root and
 // is held at the maximum power point E/(2R) if P exceeds E²/(4R).
-double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm, bool& limited) const {
-  limited = false;
+double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm) const {
   if (!in.relay_closed) return in.precharge_A;
   const double extra = in.faults ? in.faults->extra_load_A : 0.0;
   const double demand = in.load.current_A(t);
   if (loadQuantity_ == LoadProfile::Quantity::Current_A) return demand + extra;
   const double disc = e_V * e_V - 4.0 * r_ohm * demand;
-  if (disc < 0.0) {
-    limited = true;
-    return e_V / (2.0 * r_ohm) + extra;
-  }
+  if (disc < 0.0) return e_V / (2.0 * r_ohm) + extra;
   return 2.0 * demand / (e_V + std::sqrt(disc)) + extra;  // stable form of (E - √disc)/(2R)
 }
 
@@ -120,13 +124,13 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
   if ((loadQuantity_ == LoadProfile::Quantity::Power_W && in.relay_closed) || charger) {
     double e = 0.0, r = 0.0;
     packThevenin(in, cellX, e, r);
-    sig.pack_current_A = packCurrent(t, in, e, r, sig.power_limited);
+    sig.pack_current_A = packCurrent(t, in, e, r);
     if (charger) {  // CC-CV on top of whatever else the terminals feed
       sig.charger_A = chargerCurrent_A(in.charger_limit_A, in.charger_setpoint_V, e - r * sig.pack_current_A, r);
       sig.pack_current_A -= sig.charger_A;
     }
   } else {
-    sig.pack_current_A = packCurrent(t, in, 0.0, 0.0, sig.power_limited);
+    sig.pack_current_A = packCurrent(t, in, 0.0, 0.0);
   }
   if ((sig.pack_current_A > 0.0 && in.discharge_blocked) || (sig.pack_current_A < 0.0 && in.charge_blocked)) {
     sig.pack_current_A = 0.0;
@@ -171,10 +175,8 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
   sig.pack_voltage_V = -I * pack_.interconnect_ohm;
   sig.balance_heat_W = 0.0;
   sig.bus_V = busIndex_ >= 0 ? x[busIndex_] : 0.0;
-  sig.bus_current_A = sig.precharge_bus_A = sig.converter_loss_W = 0.0;
+  sig.bus_current_A = sig.converter_loss_W = 0.0;
   sig.converter_from_modules_W = sig.converter_to_modules_W = 0.0;
-  auto conv = [&](size_t gi) { return gi < in.converter_A.size() ? in.converter_A[gi] : 0.0; };
-  auto balancing = [&](size_t gi) { return balancer_.present && gi < in.balancing.size() && in.balancing[gi] != 0; };
 
   // Bus precharge from the whole stack: V_stack = A - B·I_pre (linear), so
   // I_pre = (A - V_bus)/(R_pre + B).
@@ -185,18 +187,18 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
       double eg = 0.0, rg = 0.0;
       pack_.groupThevenin(g, cellX, eg, rg);
       const double k = balancingFactor(in, g, rg);
-      a += k * (eg - rg * (I + conv(static_cast<size_t>(g))));
+      a += k * (eg - rg * (I + converterA(in, static_cast<size_t>(g))));
       b += k * rg;
     }
     iPre = std::max(0.0, (a - sig.bus_V) / (active_.precharge_ohm + b));
   }
-  sig.precharge_bus_A = iPre;
 
   for (int g = 0; g < pack_.series; ++g) {
     const size_t gi = static_cast<size_t>(g);
-    const double iString = I + conv(gi) + iPre;
+    const double ix = converterA(in, gi);
+    const double iString = I + ix + iPre;
     double v = 0.0, iBal = 0.0;
-    if (balancing(gi)) {
+    if (balancingOn(in, gi)) {
       double eg = 0.0, rg = 0.0;
       pack_.groupThevenin(g, cellX, eg, rg);
       v = balancer_.loadedFactor(rg) * (eg - rg * iString);
@@ -210,13 +212,13 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
     sig.group_voltage_V[gi] = v;
     sig.pack_voltage_V += v;
     for (int k = 0; k < pack_.parallel; ++k) sig.cell_voltage_V[gi * static_cast<size_t>(pack_.parallel) + static_cast<size_t>(k)] = v;
-    sig.balance_current_A[gi] = busIndex_ >= 0 ? conv(gi) : iBal;
-    if (busIndex_ >= 0 && conv(gi) != 0.0) {
+    sig.balance_current_A[gi] = busIndex_ >= 0 ? ix : iBal;
+    if (busIndex_ >= 0 && ix != 0.0) {
       double loss = 0.0;
-      sig.bus_current_A += converterBusCurrent_A(active_, v, conv(gi), sig.bus_V, loss);
+      sig.bus_current_A += converterBusCurrent_A(active_, v, ix, sig.bus_V, loss);
       sig.converter_loss_W += loss;
-      if (conv(gi) > 0.0) sig.converter_from_modules_W += v * conv(gi);
-      else sig.converter_to_modules_W -= v * conv(gi);
+      if (ix > 0.0) sig.converter_from_modules_W += v * ix;
+      else sig.converter_to_modules_W -= v * ix;
     }
   }
   if (iPre > 0.0) {

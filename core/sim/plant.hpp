@@ -64,13 +64,11 @@ struct PlantSignals {
   double pack_voltage_V = 0.0;
   double ambient_C = 25.0;
   double injected_heat_W = 0.0;  // heat from scripted faults (hot cell), not Joule heat
-  bool power_limited = false;  // a power load above the pack's maximum power point
   std::vector<double> balance_current_A;  // per group: passive I_bal, or converter module current
   double balance_heat_W = 0.0;            // passive balancing resistors + FETs
   double charger_A = 0.0;                 // into the pack
   double bus_V = 0.0;                     // active balancer supercap bus
   double bus_current_A = 0.0;             // into the bus (converters + precharge)
-  double precharge_bus_A = 0.0;
   double converter_loss_W = 0.0;          // converters + precharge resistor
   double converter_from_modules_W = 0.0;  // Σ V_g·I_conv,g over converters drawing from modules (not precharge)
   double converter_to_modules_W = 0.0;    // Σ V_g·|I_conv,g| over converters feeding modules
@@ -95,9 +93,7 @@ class Plant {
   int tempIndex(int node) const;
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }
   const std::vector<double>& initialSoc() const { return initialSoc_; }
-  // Balancing hardware: the board's thermal node (-1 if none), the bus state (-1 if none).
-  const PassiveBalancerConfig& balancer() const { return balancer_; }
-  const ActiveBalancerConfig& activeBalancer() const { return active_; }
+  // The balancing board's thermal node (-1 if none).
   int boardNode() const { return boardNode_; }
 
   void initialState(double* x) const;
@@ -122,10 +118,11 @@ class Plant {
   double explicitTimeConstant_s() const;
 
  private:
-  double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm, bool& limited) const;
+  double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm) const;
   // Pack Thevenin seen from the terminals with the held balancing / converter currents.
   template <typename CellX>
   void packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double& r_ohm) const;
+  bool balancingOn(const PlantInputs& in, size_t gi) const;  // group gi's passive switch is on
   double balancingFactor(const PlantInputs& in, int g, double r_g) const;
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
 

@@ -116,21 +116,19 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
   // had closed it before or, as after a failed precharge, never got that far).
-  {
-    if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {
-      sm.tripped = true;
-      sm.trip_time_s = t;
-      std::string why;
-      for (uint8_t i = 0; i < bms::kFaultCount; ++i)
-        if (out.faultLatched & (1u << i)) why += (why.empty() ? "" : ", ") + std::string(bms::faultName(static_cast<bms::FaultId>(i)));
-      sm.trip_reason = why;
-      // An under-voltage trip is the pack's end of discharge: the weakest measured cell.
-      if (!sm.limit_reached && (out.faultLatched & bms::faultBit(bms::FaultId::CellUnderVoltage))) {
-        int weakest = 0;
-        for (int c = 1; c < plant_.pack().cellCount(); ++c)
-          if (sig.cell_voltage_V[static_cast<size_t>(c)] < sig.cell_voltage_V[static_cast<size_t>(weakest)]) weakest = c;
-        noteLimit(t, x, weakest);
-      }
+  if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {
+    sm.tripped = true;
+    sm.trip_time_s = t;
+    std::string why;
+    for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+      if (out.faultLatched & (1u << i)) why += (why.empty() ? "" : ", ") + std::string(bms::faultName(static_cast<bms::FaultId>(i)));
+    sm.trip_reason = why;
+    // An under-voltage trip is the pack's end of discharge: the weakest measured cell.
+    if (!sm.limit_reached && (out.faultLatched & bms::faultBit(bms::FaultId::CellUnderVoltage))) {
+      int weakest = 0;
+      for (int c = 1; c < plant_.pack().cellCount(); ++c)
+        if (sig.cell_voltage_V[static_cast<size_t>(c)] < sig.cell_voltage_V[static_cast<size_t>(weakest)]) weakest = c;
+      noteLimit(t, x, weakest);
     }
   }
   if (hw_) {

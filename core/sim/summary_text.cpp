@@ -5,14 +5,14 @@
 
 namespace packsim {
 
-namespace {
-
-std::string clock(double s) {
+std::string clockText(double s) {
   char buf[32];
   const long t = static_cast<long>(s + 0.5);
   std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
   return buf;
 }
+
+namespace {
 
 std::string fmt(const char* f, double v) {
   char buf[64];
@@ -27,7 +27,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   std::ostringstream os;
   os << "scenario        " << s.name << "  (" << s.pack.series << "s" << s.pack.parallel << "p, "
      << fmt("%.2f", s.pack.cell.capacity_Ah) << " Ah cells)\n";
-  os << "duration        " << fmt("%.1f", m.duration_s) << " s  (" << clock(m.duration_s) << ")\n";
+  os << "duration        " << fmt("%.1f", m.duration_s) << " s  (" << clockText(m.duration_s) << ")\n";
   os << "energy out      " << fmt("%.2f", m.energy_delivered_Wh) << " Wh  (" << fmt("%.3f", m.charge_delivered_Ah)
      << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
   os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  cell " << m.min_cell << " at "

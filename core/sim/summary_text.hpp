@@ -8,5 +8,7 @@
 namespace packsim {
 
 std::string formatSummary(const Scenario& s, const RunResult& r);
+// A duration as h:mm:ss, rounded to the second.
+std::string clockText(double s);
 
 }  // namespace packsim
