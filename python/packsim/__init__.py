@@ -88,6 +88,59 @@ def _is_yaml_text(s: str) -> bool:
     return "\n" in s or ":" in s and not os.path.exists(s)
 
 
+def _is_path(x: Any) -> bool:
+    """A scenario or sweep argument naming a file (not YAML text)."""
+    return isinstance(x, os.PathLike) or isinstance(x, str) and not _is_yaml_text(x)
+
+
+# The ValueError for base_dir given with a scenario file.
+_FILE_BASE_DIR = "base_dir applies to YAML text and dicts; a file's CSV paths resolve against its folder"
+
+
+def _path_arg(name: str, v: Any) -> str | None:
+    """An optional path argument as str (None stays None); TypeError if it is no path."""
+    if v is None:
+        return None
+    if not isinstance(v, (str, os.PathLike)):
+        raise TypeError(f"{name} must be a path, got {type(v).__name__}")
+    return os.fspath(v)
+
+
+def _int_arg(name: str, v: Any, minimum: int | None = None) -> int:
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise TypeError(f"{name} must be an int, got {type(v).__name__}")
+    if minimum is not None and v < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {v}")
+    return v
+
+
+def _bool_arg(name: str, v: Any) -> bool:
+    if not isinstance(v, bool):
+        raise TypeError(f"{name} must be a bool, got {type(v).__name__}")
+    return v
+
+
+def _scenario_args(scenario: Any, pairs: list[tuple[str, str]],
+                   base: str | None) -> tuple[str, bool, list[tuple[str, str]], str, str]:
+    """(source, is_file, overrides, file_name, base_dir) of a scenario file, YAML text or
+    dict, as _packsim.run and _packsim.balance_time take them; base is the caller's
+    base_dir (None when not given)."""
+    if isinstance(scenario, Mapping):
+        # The dict is the scenario: its leaves are set on an empty one, by the same C++
+        # code that applies overrides (so values arrive with the same exactness).
+        return "", False, flatten_overrides(scenario) + pairs, "<dict>", "." if base is None else base
+    if _is_path(scenario):
+        path = os.fspath(scenario)
+        if not os.path.isfile(path):
+            raise FileNotFoundError(f"no such scenario file: {path}")
+        if base is not None:
+            raise ValueError(_FILE_BASE_DIR)
+        return path, True, pairs, "<scenario>", "."
+    if isinstance(scenario, str):
+        return scenario, False, pairs, "<string>", "." if base is None else base
+    raise TypeError(f"scenario must be a path, YAML text or a dict, not {type(scenario).__name__}")
+
+
 def _validate_seed(seed: Any) -> int | None:
     if seed is None:
         return None
@@ -126,26 +179,8 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
 def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any):
     """run() up to the C++ RunHandle; overrides already flattened, seed validated."""
     core = _core()
-    if base_dir is not None and not isinstance(base_dir, (str, os.PathLike)):
-        raise TypeError(f"base_dir must be a path, got {type(base_dir).__name__}")
-    base = os.fspath(base_dir) if base_dir is not None else "."
-
+    base = _path_arg("base_dir", base_dir)
     if scenario is None:
         scenario = core.default_scenario_path()
-    if isinstance(scenario, Mapping):
-        # The dict is the scenario: its leaves are set on an empty one, by the same C++
-        # code that applies overrides (so values arrive with the same exactness).
-        handle = core.run("", False, flatten_overrides(scenario) + pairs, seed, "<dict>", base)
-    elif isinstance(scenario, os.PathLike) or isinstance(scenario, str) and not _is_yaml_text(scenario):
-        path = os.fspath(scenario)
-        if not os.path.isfile(path):
-            raise FileNotFoundError(f"no such scenario file: {path}")
-        if base_dir is not None:
-            raise ValueError("base_dir applies to YAML text and dicts; a file's CSV paths resolve against its folder")
-        handle = core.run(path, True, pairs, seed)
-    elif isinstance(scenario, str):
-        handle = core.run(scenario, False, pairs, seed, "<string>", base)
-    else:
-        raise TypeError("scenario must be a path, YAML text or a dict, "
-                        f"not {type(scenario).__name__}")
-    return handle
+    source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
+    return core.run(source, is_file, pairs, seed, name, base)

@@ -138,50 +138,27 @@ def balance_time(scenario: str | os.PathLike[str] | Mapping[str, Any] | None = N
     max_hours:  simulation cap.
     simulate:   False: the analytic estimate only (the CLI's ``--analytic-only``).
     """
-    from . import _core, _is_yaml_text
+    from . import _bool_arg, _core, _int_arg, _path_arg, _scenario_args
     core = _core()
     res = _resistors(resistor)
     delta = _number("delta_Ah", delta_Ah, positive=True)
     volts = _number("cell_V", cell_V, positive=True)
     target = _number("target_mV", target_mV, positive=True, allow_none=False)
     hours = _number("max_hours", max_hours, positive=True, allow_none=False)
-    if isinstance(high_cells, bool) or not isinstance(high_cells, int):
-        raise TypeError(f"high_cells must be an int, got {type(high_cells).__name__}")
-    if not isinstance(simulate, bool):
-        raise TypeError(f"simulate must be a bool, got {type(simulate).__name__}")
+    _int_arg("high_cells", high_cells)
+    _bool_arg("simulate", simulate)
     if volts is not None and delta is None:
         raise ValueError("cell_V needs delta_Ah (the imbalance it applies to)")
     if preset is not None and not isinstance(preset, str):
         raise TypeError(f"preset must be a str, got {type(preset).__name__}")
-    if base_dir is not None and not isinstance(base_dir, (str, os.PathLike)):
-        raise TypeError(f"base_dir must be a path, got {type(base_dir).__name__}")
+    base = _path_arg("base_dir", base_dir)
     pairs = flatten_overrides(overrides, more)
-    base = os.fspath(base_dir) if base_dir is not None else "."
 
     if scenario is not None and preset is not None:
         raise ValueError("give a scenario or a preset, not both")
     if scenario is None:
-        args: tuple = (core.preset_path(preset or DEFAULT_PRESET), True)
-    elif isinstance(scenario, Mapping):
-        args = ("", False)
-        pairs = flatten_overrides(scenario) + pairs
-        name = "<dict>"
-    elif isinstance(scenario, os.PathLike) or isinstance(scenario, str) and not _is_yaml_text(scenario):
-        path = os.fspath(scenario)
-        if not os.path.isfile(path):
-            raise FileNotFoundError(f"no such scenario file: {path}")
-        args = (path, True)
-    elif isinstance(scenario, str):
-        args = (scenario, False)
-        name = "<string>"
-    else:
-        raise TypeError(f"scenario must be a path, YAML text or a dict, not {type(scenario).__name__}")
-    if args[1]:
-        if base_dir is not None:
-            raise ValueError("base_dir applies to YAML text and dicts; a file's CSV paths resolve against its folder")
-        d = core.balance_time(args[0], True, pairs, res, delta, volts, high_cells, target, hours, simulate)
-    else:
-        d = core.balance_time(args[0], False, pairs, res, delta, volts, high_cells, target, hours, simulate,
-                              name, base)
+        scenario = core.preset_path(preset or DEFAULT_PRESET)
+    source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
+    d = core.balance_time(source, is_file, pairs, res, delta, volts, high_cells, target, hours, simulate, name, base)
     rows = tuple(BalanceTimeRow(**r) for r in d.pop("rows"))
     return BalanceTimeResult(rows=rows, **d)

@@ -55,13 +55,8 @@ def _param_value(text: str) -> Any:
 
 def monte_carlo_seed(master_seed: int, sample: int) -> int:
     """The scenario seed of Monte Carlo sample `sample` of a sweep with `master_seed`."""
-    from . import _core
-    for name, v in (("master_seed", master_seed), ("sample", sample)):
-        if isinstance(v, bool) or not isinstance(v, int):
-            raise TypeError(f"{name} must be an int, got {type(v).__name__}")
-        if v < 0:
-            raise ValueError(f"{name} must be >= 0, got {v}")
-    return _core().monte_carlo_seed(master_seed, sample)
+    from . import _core, _int_arg
+    return _core().monte_carlo_seed(_int_arg("master_seed", master_seed, 0), _int_arg("sample", sample, 0))
 
 
 def load_sweep(sweep: SweepLike, *, output_dir: str | os.PathLike[str] | None = None,
@@ -73,31 +68,27 @@ def load_sweep(sweep: SweepLike, *, output_dir: str | os.PathLike[str] | None = 
     base_dir: where the relative ``base`` and ``output_dir`` of text or a dict resolve
               (default: the current folder; a file's own folder for a file).
     """
-    from . import _core, _is_yaml_text
+    from . import _core, _is_path, _path_arg
     core = _core()
-    if output_dir is not None and not isinstance(output_dir, (str, os.PathLike)):
-        raise TypeError(f"output_dir must be a path, got {type(output_dir).__name__}")
-    if base_dir is not None and not isinstance(base_dir, (str, os.PathLike)):
-        raise TypeError(f"base_dir must be a path, got {type(base_dir).__name__}")
-    out = os.fspath(output_dir) if output_dir is not None else ""
-    base = os.fspath(base_dir) if base_dir is not None else "."
+    out = _path_arg("output_dir", output_dir) or ""
+    base = _path_arg("base_dir", base_dir)
     if isinstance(sweep, core.Sweep):
-        if out or base_dir is not None:
+        if out or base is not None:
             raise ValueError("a loaded Sweep is used as it is: output_dir and base_dir do not apply")
         return sweep
     if isinstance(sweep, Mapping):
         from ._overrides import _plain
         text = json.dumps(_plain(dict(sweep), "sweep"), allow_nan=False)  # JSON is YAML
-        return core.load_sweep_text(text, "<dict>", base, out)
-    if isinstance(sweep, os.PathLike) or isinstance(sweep, str) and not _is_yaml_text(sweep):
+        return core.load_sweep_text(text, "<dict>", "." if base is None else base, out)
+    if _is_path(sweep):
         path = os.fspath(sweep)
         if not os.path.isfile(path):
             raise FileNotFoundError(f"no such sweep file: {path}")
-        if base_dir is not None:
+        if base is not None:
             raise ValueError("base_dir applies to YAML text and dicts; a sweep file's paths resolve against its folder")
         return core.load_sweep(path, out)
     if isinstance(sweep, str):
-        return core.load_sweep_text(sweep, "<string>", base, out)
+        return core.load_sweep_text(sweep, "<string>", "." if base is None else base, out)
     raise TypeError(f"sweep must be a path, YAML text, a dict or a Sweep, not {type(sweep).__name__}")
 
 
@@ -182,12 +173,15 @@ def _columns(sweep, outcomes: Sequence[Mapping[str, Any]], paths: Sequence[str |
         for k, _ in o["summary"]:
             if k not in fields:
                 fields.append(k)
-    cols: dict[str, list] = {"case": [c[1] for c in sweep.cases]}
+    cases = sweep.cases
+    params = [dict(c[2]) for c in cases]
+    summaries = [dict(o["summary"]) for o in outcomes]
+    cols: dict[str, list] = {"case": [c[1] for c in cases]}
     for key in sweep.keys:
-        cols[key] = [_param_value(dict(c[2])[key]) if key in dict(c[2]) else None for c in sweep.cases]
+        cols[key] = [_param_value(p[key]) if key in p else None for p in params]
     cols["status"] = ["ok" if o["ok"] else "failed" for o in outcomes]
     for f in fields:
-        cols[f] = [_summary_value(dict(o["summary"])[f]) if f in dict(o["summary"]) else None for o in outcomes]
+        cols[f] = [_summary_value(s[f]) if f in s else None for s in summaries]
     cols["error"] = [o["error"] or None for o in outcomes]
     cols["path"] = list(paths)
     return cols
@@ -226,16 +220,12 @@ def batch(sweep: SweepLike, client: Any = None, *, output_dir: str | os.PathLike
     the base scenario raises ScenarioError at once (as ``packsim batch`` exits 2).
     Later failing cases are recorded in the table with their error.
     """
-    from . import _core
+    from . import _bool_arg, _core, _int_arg
     core = _core()
-    for name, v in (("resume", resume), ("progress", progress)):
-        if not isinstance(v, bool):
-            raise TypeError(f"{name} must be a bool, got {type(v).__name__}")
+    _bool_arg("resume", resume)
+    _bool_arg("progress", progress)
     if threads is not None:
-        if isinstance(threads, bool) or not isinstance(threads, int):
-            raise TypeError(f"threads must be an int, got {type(threads).__name__}")
-        if threads < 1:
-            raise ValueError(f"threads must be >= 1, got {threads}")
+        _int_arg("threads", threads, 1)
     if client is not None:
         _check_client(client)
         if threads is not None:

@@ -148,11 +148,6 @@ def _error(name: str, message: str) -> CheckOutcome:
     return CheckOutcome(name=name, passed=False, error=message, failures=(), latencies=(), verdict="")
 
 
-def _is_path(x: Any) -> bool:
-    from . import _is_yaml_text
-    return isinstance(x, os.PathLike) or isinstance(x, str) and not _is_yaml_text(x)
-
-
 def check(scenarios: ScenarioLike | Iterable[str | os.PathLike[str]] | None = None, /,
           overrides: Mapping[str, Any] | None = None, *, seed: int | None = None,
           base_dir: str | os.PathLike[str] | None = None, threads: int | None = None,
@@ -166,17 +161,13 @@ def check(scenarios: ScenarioLike | Iterable[str | os.PathLike[str]] | None = No
     threads:   scenarios checked at once (default: every core); the outcomes are the
                same and in the same order whatever the number.
     """
-    from . import _core, _validate_seed
+    from . import _FILE_BASE_DIR, _core, _int_arg, _is_path, _path_arg, _validate_seed
     core = _core()
     seed = _validate_seed(seed)
     pairs = flatten_overrides(overrides, more)
     if threads is not None:
-        if isinstance(threads, bool) or not isinstance(threads, int):
-            raise TypeError(f"threads must be an int, got {type(threads).__name__}")
-        if threads < 1:
-            raise ValueError(f"threads must be >= 1, got {threads}")
-    if base_dir is not None and not isinstance(base_dir, (str, os.PathLike)):
-        raise TypeError(f"base_dir must be a path, got {type(base_dir).__name__}")
+        _int_arg("threads", threads, 1)
+    _path_arg("base_dir", base_dir)
 
     if isinstance(scenarios, Result):
         if pairs or seed is not None or base_dir is not None:
@@ -209,7 +200,7 @@ def check(scenarios: ScenarioLike | Iterable[str | os.PathLike[str]] | None = No
         raise TypeError("scenarios must be None, a path, a list of paths, YAML text, a dict or a Result, "
                         f"not {type(scenarios).__name__}")
     if base_dir is not None:
-        raise ValueError("base_dir applies to YAML text and dicts; a file's CSV paths resolve against its folder")
+        raise ValueError(_FILE_BASE_DIR)
     files = core.collect_scenario_files(paths)
     if not files:
         raise ValueError(f"no scenario files found in {', '.join(paths) or 'an empty list'}")

@@ -10,8 +10,6 @@
 
 #include "core/balance/balance_time.hpp"
 #include "core/cli/commands.hpp"
-#include "core/scenario/load_scenario.hpp"
-#include "core/scenario/overrides.hpp"
 #include "python/src/bindings.hpp"
 
 namespace py = pybind11;
@@ -54,22 +52,15 @@ void bindBalance(py::module_& m) {
         opt.target_mV = target_mV;
         opt.max_hours = max_hours;
         opt.simulate = simulate;
-        BalanceTimeResult r;
-        {
-          py::gil_scoped_release release;  // loading and simulating touch no Python object
-          const Scenario s = is_file ? loadScenarioFileWithOverrides(source, overrides)
-                                     : loadScenarioWithOverrides(source, overrides, file_name, base_dir);
-          r = balanceTime(s, opt);
-        }
-        py::list rows;
-        for (const BalanceTimeRow& w : r.rows) rows.append(rowDict(w));
+        const BalanceTimeResult r = withoutGil(
+            [&] { return balanceTime(loadScenarioSource(source, is_file, overrides, file_name, base_dir), opt); });
         py::dict d;
         d["scenario"] = r.scenario;
         d["delta_Ah"] = r.delta_Ah;
         d["cell_V"] = r.cell_V;
         d["high_cells"] = r.high_cells;
         d["target_mV"] = r.target_mV;
-        d["rows"] = rows;
+        d["rows"] = listOf(r.rows, rowDict);
         return d;
       },
       py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("resistors_ohm"), py::arg("delta_Ah"),

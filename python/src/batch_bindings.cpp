@@ -67,10 +67,13 @@ std::string baseDir(const Sweep& s) {
   return dir.empty() ? "." : dir;
 }
 
+// [(index, id, params), ...]: Sweep.cases and the pickle state
+py::list casesList(const Sweep& s) {
+  return listOf(s.cases, [](const SweepCase& c) { return py::make_tuple(c.index, c.id, c.params); });
+}
+
 py::tuple sweepState(const Sweep& s) {
-  py::list cases;
-  for (const SweepCase& c : s.cases) cases.append(py::make_tuple(c.index, c.id, c.params));
-  return py::make_tuple(s.name, s.file, s.base_path, s.base_text, s.output_dir, s.threads, s.keys, cases);
+  return py::make_tuple(s.name, s.file, s.base_path, s.base_text, s.output_dir, s.threads, s.keys, casesList(s));
 }
 
 Sweep sweepFromState(const py::tuple& t) {
@@ -106,14 +109,7 @@ void bindBatch(py::module_& m) {
       .def_readonly("output_dir", &Sweep::output_dir, "where case_<id>.h5 and summary.csv go")
       .def_readonly("threads", &Sweep::threads, "the sweep's `threads` (0: every core)")
       .def_readonly("keys", &Sweep::keys, "the varied dotted keys, in column order")
-      .def_property_readonly(
-          "cases",
-          [](const Sweep& s) {
-            py::list out;
-            for (const SweepCase& c : s.cases) out.append(py::make_tuple(c.index, c.id, c.params));
-            return out;
-          },
-          "[(index, id, [(dotted key, YAML value), ...]), ...] in sweep order")
+      .def_property_readonly("cases", &casesList, "[(index, id, [(dotted key, YAML value), ...]), ...] in sweep order")
       .def(
           "result_path", [](const Sweep& s, long index) { return s.resultPath(caseAt(s, index)); }, py::arg("index"),
           "<output_dir>/case_<id>.h5 of case `index`")
@@ -161,12 +157,7 @@ void bindBatch(py::module_& m) {
       "run_sweep_case",
       [](const Sweep& s, long index, bool resume) {
         const SweepCase& c = caseAt(s, index);
-        CaseOutcome o;
-        {
-          py::gil_scoped_release release;
-          o = runSweepCase(s, c, resume);
-        }
-        return outcomeDict(o);
+        return outcomeDict(withoutGil([&] { return runSweepCase(s, c, resume); }));
       },
       py::arg("sweep"), py::arg("index"), py::arg("resume") = true,
       "Run one case as `packsim batch` does (skipped when its result is complete and resume); never raises: "
@@ -178,13 +169,7 @@ void bindBatch(py::module_& m) {
         opt.threads = threads;
         opt.resume = resume;
         opt.progress = progress ? stdout : nullptr;
-        BatchReport r;
-        {
-          py::gil_scoped_release release;
-          r = runBatch(s, opt);
-        }
-        py::list cases;
-        for (const CaseOutcome& o : r.cases) cases.append(outcomeDict(o));
+        const BatchReport r = withoutGil([&] { return runBatch(s, opt); });
         py::dict d;
         d["total"] = r.total;
         d["ok"] = r.ok;
@@ -193,7 +178,7 @@ void bindBatch(py::module_& m) {
         d["threads"] = r.threads;
         d["wall_s"] = r.wall_s;
         d["csv_path"] = r.csv_path;
-        d["cases"] = cases;
+        d["cases"] = listOf(r.cases, outcomeDict);
         return d;
       },
       py::arg("sweep"), py::arg("threads") = 0, py::arg("resume") = true, py::arg("progress") = false,

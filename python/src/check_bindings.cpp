@@ -48,26 +48,15 @@ void bindCheck(py::module_& m) {
   m.def(
       "check_file",
       [](const std::string& path) {
-        CheckOutcome o;
-        {
-          py::gil_scoped_release release;
-          o = checkScenarioFile(path);  // never throws: errors become error outcomes
-        }
-        return outcomeDict(o);
+        // checkScenarioFile never throws: errors become error outcomes
+        return outcomeDict(withoutGil([&] { return checkScenarioFile(path); }));
       },
       py::arg("path"),
       "Load, run and judge one scenario file exactly as `packsim check` does (GIL released); "
       "an outcome dict (name, passed, error, failures, latencies, verdict).");
   m.def(
       "check_run",
-      [](const RunHandle& h) {
-        CheckOutcome o;
-        {
-          py::gil_scoped_release release;
-          o = judge(h.scenario, h.result);
-        }
-        return outcomeDict(o);
-      },
+      [](const RunHandle& h) { return outcomeDict(withoutGil([&] { return judge(h.scenario, h.result); })); },
       py::arg("handle"), "Judge a finished run against its scenario's expect: block; an outcome dict.");
   m.def("collect_scenario_files", &collectScenarioFiles, py::arg("paths"),
         "Scenario files under the given files and folders, as `packsim check` finds them (folders recursively, "

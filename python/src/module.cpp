@@ -50,8 +50,7 @@ std::shared_ptr<RunHandle> run(const std::string& source, bool is_file, const Ov
   auto h = std::make_shared<RunHandle>();
   {
     py::gil_scoped_release release;  // loading and simulating touch no Python object
-    h->scenario = is_file ? loadScenarioFileWithOverrides(source, overrides)
-                          : loadScenarioWithOverrides(source, overrides, file_name, base_dir);
+    h->scenario = loadScenarioSource(source, is_file, overrides, file_name, base_dir);
     if (seed) h->scenario.run.seed = *seed;  // exactly as `packsim run --seed N`
     h->result = runScenario(h->scenario);
   }
@@ -92,6 +91,12 @@ void translate(std::exception_ptr p) {
 }
 
 }  // namespace
+
+Scenario loadScenarioSource(const std::string& source, bool is_file, const Overrides& overrides,
+                            const std::string& file_name, const std::string& base_dir) {
+  return is_file ? loadScenarioFileWithOverrides(source, overrides)
+                 : loadScenarioWithOverrides(source, overrides, file_name, base_dir);
+}
 
 }  // namespace packsim::python
 
