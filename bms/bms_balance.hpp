@@ -8,6 +8,10 @@
 //   spread    active from max - min > startDelta until max - min < stopDelta (hysteresis)
 //   cells     every cell more than stopDelta above the minimum and not below minCell,
 //             highest first; with noAdjacent a cell next to a chosen one is skipped
+//   readings  with averageReadings = N > 1 every comparison above uses each cell's mean
+//             of its last N readings (a block average, refreshed every N ticks while
+//             balancing is permitted): the minimum of many noisy single readings sits
+//             well under the truth, and cells already balanced would bleed
 //   timer     the mask is decided every period_ms and held in between; the monitor IC's
 //             balancing timer (balanceTime_s) is rewritten (re-armed) when half of it
 //             has run, so the device keeps balancing only while the host is alive
@@ -40,6 +44,12 @@ struct BalanceState {
   uint32_t lastArm_ms;
   uint32_t mask[kBalanceWords];
   BalanceStatus status;
+  // Block average of the readings (averageReadings > 1).
+  uint32_t sum_mV[kMaxCells];
+  uint8_t summed;               // readings in sum_mV so far
+  bool haveMean;
+  uint16_t mean_mV[kMaxCells];
+  uint16_t meanMin_mV, meanMax_mV;
 };
 
 void balanceReset(BalanceState& s);

@@ -103,6 +103,8 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, 2147483647L));
   s.pack = readPack(m.map("pack"), base_dir);
   s.hardware = readHardware(m.optionalMap("hardware"), s.pack);
+  if (PassiveBalancerConfig& b = s.hardware.balancing; b.cells_per_board > 0)
+    b.boards = (s.pack.series + b.cells_per_board - 1) / b.cells_per_board;
   s.bms = readBms(m.optionalMap("bms"));
   {
     YamlMap load = m.map("load");

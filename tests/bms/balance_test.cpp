@@ -131,4 +131,24 @@ TEST(BalancePolicy, HoldsTheMaskBetweenDecisionsAndReArmsTheTimerEveryHalfPeriod
   for (size_t i = 1; i < armedAt.size(); ++i) EXPECT_EQ(armedAt[i] - armedAt[i - 1], 5000u);
 }
 
+// averageReadings = 4: the policy waits for a full block and compares each cell's mean.
+// A single reading 12 mV high (noise) on a balanced cell does not start it; a cell whose
+// mean is 60 mV above the others does.
+TEST(BalancePolicy, DecidesOnTheBlockMeanOfAverageReadings) {
+  Policy p(3);
+  p.cfg.balance.averageReadings = 4;
+  p.cells({3700, 3700, 3700});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(p.tick(), (V{0, 0, 0})) << "no full block yet";
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Disabled);
+  p.cells({3700, 3760, 3700});  // one spike: mean 3715, 15 mV < the 50 mV start
+  EXPECT_EQ(p.tick(), (V{0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balanced);
+  p.cells({3700, 3760, 3700});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(p.tick(), (V{0, 0, 0})) << "held: the next block is not full";
+  EXPECT_EQ(p.tick(), (V{0, 1, 0})) << "mean 3760: 60 mV above";
+  p.cfg.balance.averageReadings = 1;  // single readings: the same spike starts it at once
+  p.cells({3700, 3760, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 1, 0}));
+}
+
 }  // namespace
