@@ -74,8 +74,9 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
         "useful_Ah: charge bled up to what each cell had above the lowest; wasted_Ah: the rest. heat_Wh: all branch heat.\n";
   if (r.during_charge)
     for (const BalanceTimeRow& w : r.rows)
-      os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: charge " << num(w.charge_h, "%.2f") << " h, without balancing "
-         << num(w.charge_without_h, "%.2f") << " h: balancing adds " << num(w.charge_added_h, "%.2f") << " h\n";
+      os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: the charger delivers until " << num(w.charge_h, "%.2f")
+         << " h, without balancing until " << num(w.charge_without_h, "%.2f") << " h: balancing adds "
+         << num(w.charge_added_h, "%.2f") << " h\n";
   return os.str();
 }
 

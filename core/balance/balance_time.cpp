@@ -74,12 +74,13 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
   if (o.during_charge) {  // the scenario's charger and load stay; the charge's end ends the run
     s.charger.stop_run_when_done = true;
     s.bms.charger_present = true;
+    s.bms.run_request = false;  // the BMS in its charge state
   } else {
     s.charger = ChargerConfig{};
     s.load = LoadProfile::constant(0.0);
     s.bms.charger_present = false;
+    s.bms.run_request = true;
   }
-  s.bms.run_request = true;
   if (o.when) s.bms.balancing.when = *o.when;
   s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (DOMAIN.md D)
   s.output.interval_s = std::max(60.0, s.bms.tick_s);
@@ -162,7 +163,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
 
   bool started = false;
   double declaredAt = -1.0, trueAt = -1.0, quietSince = -1.0, lastT = 0.0, paused_s = 0.0, pausedToTrue_s = 0.0;
-  double lowestSpread_mV = INFINITY, lastOcvSpread_V = NAN;
+  double lowestSpread_mV = INFINITY, lastOcvSpread_V = NAN, lastCharging_s = 0.0;
   std::vector<double> peak(static_cast<size_t>(plant.boardCount()), -INFINITY);
   std::string reason = "time_limit";
   auto finish = [&](const char* why) {
@@ -175,6 +176,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       peak[static_cast<size_t>(k)] = std::max(peak[static_cast<size_t>(k)], x[plant.tempIndex(plant.boardNodeOf(k))]);
     // The bleed current of the interval just ended (the switches held since the last tick).
     for (size_t g = 0; g < bled.size(); ++g) bled[g] += sig.balance_current_A[g] * tick_s;
+    if (sig.pack_current_A < -s.charger.end_current_A) lastCharging_s = t;
     const auto status = static_cast<bms::BalanceStatus>(out.balanceStatus);
     if (status == bms::BalanceStatus::BoardHot) paused_s += tick_s;
     if (status == bms::BalanceStatus::Balancing) {
@@ -209,10 +211,10 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       warnings.push_back(e.detail);
 
   row.simulated = true;
-  if (duringCharge && r.rec.samples() > 0 && r.rec.time_s.back() < s.run.duration_s) {
-    reason = declaredAt >= 0.0 ? "charge_done" : "charge_done_unbalanced";
-    row.charge_h = r.rec.time_s.back() / 3600.0;
-    if (declaredAt >= 0.0) row.firmware_h = declaredAt / 3600.0;
+  if (duringCharge) {
+    if (r.rec.samples() > 0 && r.rec.time_s.back() < s.run.duration_s)
+      reason = declaredAt >= 0.0 ? "charge_done" : "charge_done_unbalanced";
+    row.charge_h = lastCharging_s / 3600.0;
   }
   if (r.summary.tripped) reason = "tripped";
   row.end_reason = reason;
@@ -220,7 +222,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   row.true_h = trueAt >= 0.0 ? trueAt / 3600.0 : NAN;
   // Declared: the firmware went to Balanced after balancing and stayed there to the end.
   row.firmware_h = declaredAt >= 0.0 && reason != "tripped" ? declaredAt / 3600.0 : NAN;
-  if (reason == "not_started") {
+  if (reason == "not_started" || (!started && !row.tripped)) {
     row.firmware_note = "never started: " + notStartedWhy(s, plant, x0.data());
   } else if (!std::isnan(row.firmware_h) && trueAt < 0.0) {
     row.firmware_note = fmt("declared balanced at %.2f h by its %.1f mV stop threshold, but the true rest voltages "
@@ -343,10 +345,18 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
     res.rows.push_back(row);
   }
   if (o.simulate && o.during_charge) {
+    // The same charge without balancing: it ends when the charger stops delivering (the
+    // charger's taper, or the firmware ending the charge on its first full cell).
     Scenario s = experimentBase;
     s.bms.balancing.enabled = false;
-    const RunResult r = runScenario(s);
-    const double without_h = r.rec.samples() > 0 ? r.rec.time_s.back() / 3600.0 : NAN;
+    const double end_A = s.charger.end_current_A;
+    double lastCharging_s = 0.0;
+    auto stopWhen = [&](double t, const double*, const PlantSignals& sig, const bms::Outputs&) {
+      if (sig.pack_current_A < -end_A) lastCharging_s = t;
+      return t - lastCharging_s >= 600.0;
+    };
+    runScenario(s, stopWhen);
+    const double without_h = lastCharging_s / 3600.0;
     for (BalanceTimeRow& w : res.rows) {
       w.charge_without_h = without_h;
       w.charge_added_h = w.charge_h - without_h;

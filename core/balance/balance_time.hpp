@@ -82,8 +82,9 @@ struct BalanceTimeRow {
   bool tripped = false;               // a protection tripped during the run
   bool within_limits = false;         // reached the target, no trip, resistor within its rating
   bool fastest = false;               // the smallest true_h among rows within limits
-  // During charge only (NaN otherwise): the charge's length with this resistor balancing,
-  // without balancing, and what balancing added.
+  // During charge only (NaN otherwise): when the charger last delivered more than its end
+  // current with this resistor balancing, the same without balancing (a firmware that ends
+  // the charge on its first full cell stops early, the low cells short), and the difference.
   double charge_h = NAN;
   double charge_without_h = NAN;
   double charge_added_h = NAN;

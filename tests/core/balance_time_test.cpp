@@ -140,6 +140,28 @@ TEST(BalanceTime, SweepMarksTheFastestWithinLimitsWhereThePauseBinds) {
   EXPECT_FALSE(r.rows[0].fastest);
 }
 
+// System C on its charger (balances only while charging, ends the charge when the first
+// cell reads 4.18 V): the high cell bleeds I_bal while the charger pushes I_chg, so it
+// reaches full later by about I_bal·t/(I_chg - I_bal), t the charge without balancing;
+// I_bal at the cell's mean voltage over the charge. The balancing then goes on while the
+// pack sits on the charger until the firmware declares balanced.
+TEST(BalanceTime, DuringChargeAddsTheTimeTheBleedCurrentCosts) {
+  const Scenario s = preset("balance/bench_6s_balancing.yaml");
+  BalanceTimeOptions o;
+  o.resistors_ohm = {47.0};
+  o.during_charge = true;
+  const BalanceTimeResult r = balanceTime(s, o);
+  const BalanceTimeRow& w = r.rows[0];
+  ASSERT_TRUE(w.simulated);
+  EXPECT_EQ(w.end_reason, "charge_done") << w.firmware_note;
+  ASSERT_GT(w.charge_without_h, 0.3);
+  const double iBal = 0.5 * (r.cell_V + 4.18) / 47.0, iChg = s.charger.current_A;
+  const double added_h = iBal * w.charge_without_h / (iChg - iBal);
+  EXPECT_NEAR(w.charge_added_h, added_h, 0.1 * added_h);
+  EXPECT_GT(w.firmware_h, w.charge_h) << "top balancing goes on after the charge, on the charger";
+  EXPECT_FALSE(w.within_rating) << "4.2 V across 47 ohm is 0.375 W > the scenario's 0.25 W resistors";
+}
+
 // DOMAIN.md D: 1 Ah at 70 mA is about 14 h; 36 resistors on at 3.6 V dissipate 9.92 W.
 TEST(BalanceTime, SystemDMaintenanceBalancingAndBoardPower) {
   BalanceTimeOptions o;
