@@ -95,5 +95,24 @@ TEST(NoiseFloor, WarnsWhenTheStopThresholdIsBelowTheNoiseSpreadOfNChannels) {
   EXPECT_EQ(test::eventTime(runScenario(s), "config_warning", "bms.balancing.stop_delta_mV"), 0.0);
 }
 
+// Hardware averaging exists only where the monitor class has it: the bq76pl455a's
+// oversampling divides its cell noise by √n; asking a bq76pl536a for it is an error that
+// names the field and the firmware alternative.
+TEST(NoiseFloor, OversamplingOnlyOnTheMonitorThatAveragesInHardware) {
+  const std::string head =
+      "name: os\npack:\n  series: 4\n  cell: {capacity_Ah: 3, ocv_V: 3.7, r0_ohm: 0.02}\n"
+      "hardware:\n  cell_adc: {noise_mV_rms: 2}\n  afe: {model: ";
+  const Scenario s = test::scenarioFromYaml(head + "bq76pl455a, oversampling: 16}\nload: {current_A: 0}\nrun: {duration_s: 1}\n");
+  EXPECT_NEAR(s.hardware.afe.cell_adc.noise_rms, 0.002 / 4.0, 1e-12);
+  try {
+    test::scenarioFromYaml(head + "bq76pl536a, oversampling: 16}\nload: {current_A: 0}\nrun: {duration_s: 1}\n");
+    FAIL() << "oversampling on a bq76pl536a";
+  } catch (const std::exception& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("oversampling"), std::string::npos) << m;
+    EXPECT_NE(m.find("average_readings"), std::string::npos) << m;
+  }
+}
+
 }  // namespace
 }  // namespace packsim
