@@ -7,6 +7,7 @@ namespace bms {
 void balanceReset(BalanceState& s) {
   s.active = false;
   s.boardPaused = false;
+  for (uint8_t k = 0; k < kMaxBoards; ++k) s.boardHot[k] = false;
   restReset(s.rest);
   s.decided = false;
   s.lastDecision_ms = 0;
@@ -27,22 +28,35 @@ void clearMask(uint32_t mask[kBalanceWords]) {
 
 void setBit(uint32_t mask[kBalanceWords], uint16_t cell) { mask[cell / 32] |= 1u << (cell % 32); }
 
-// Board temperature hysteresis; an unreadable board thermistor pauses balancing.
+uint8_t boards(const BalanceConfig& b) { return b.boardCount > 1 ? b.boardCount : 1; }
+
+uint8_t boardOf(const BalanceConfig& b, uint16_t cell) {
+  return b.boardCount > 1 && b.cellsPerBoard > 0 ? static_cast<uint8_t>(cell / b.cellsPerBoard) : 0;
+}
+
+// Board temperature hysteresis per board; an unreadable board thermistor pauses its board.
 void updateBoard(const BalanceConfig& b, BalanceState& s, const Telemetry& tm) {
-  int16_t hottest = INT16_MIN;
-  bool invalid = false;
-  for (uint8_t k = 0; k < b.boardThermCount; ++k) {
-    const int16_t t = tm.temperature_dC[b.boardThermFirst + k];
-    if (t == kTempInvalid_dC) invalid = true;
-    else if (t > hottest) hottest = t;
+  const uint8_t n = boards(b);
+  const uint8_t perBoard = static_cast<uint8_t>(b.boardThermCount / n);
+  bool all = true;
+  for (uint8_t k = 0; k < n; ++k) {
+    int16_t hottest = INT16_MIN;
+    bool invalid = false;
+    for (uint8_t i = 0; i < perBoard; ++i) {
+      const int16_t t = tm.temperature_dC[b.boardThermFirst + k * perBoard + i];
+      if (t == kTempInvalid_dC) invalid = true;
+      else if (t > hottest) hottest = t;
+    }
+    if (perBoard == 0) {
+      s.boardHot[k] = false;
+    } else if (invalid || hottest > b.boardMax_dC) {
+      s.boardHot[k] = true;
+    } else if (hottest < b.boardResume_dC) {
+      s.boardHot[k] = false;
+    }
+    all = all && s.boardHot[k];
   }
-  if (b.boardThermCount == 0) {
-    s.boardPaused = false;
-  } else if (invalid || hottest > b.boardMax_dC) {
-    s.boardPaused = true;
-  } else if (hottest < b.boardResume_dC) {
-    s.boardPaused = false;
-  }
+  s.boardPaused = all;
 }
 
 bool conditionHolds(const BalanceConfig& b, const BalanceState& s, bool charging, uint32_t now_ms) {
@@ -91,12 +105,12 @@ void accumulate(const Config& cfg, BalanceState& s, const Telemetry& tm, bool pe
 
 // Cells above min + stopDelta (and not below minCell), highest first; with noAdjacent a
 // neighbour of a chosen cell is skipped. Returns the number chosen.
-uint16_t chooseCells(const Config& cfg, const Readings& tm, uint32_t mask[kBalanceWords]) {
+uint16_t chooseCells(const Config& cfg, const BalanceState& s, const Readings& tm, uint32_t mask[kBalanceWords]) {
   const BalanceConfig& b = cfg.balance;
   const uint32_t floor_mV = static_cast<uint32_t>(tm.min_mV) + b.stopDelta_mV;
   auto candidate = [&](uint16_t c) {
     const uint16_t v = tm.cell_mV[c];
-    return v > floor_mV && v >= b.minCell_mV;
+    return v > floor_mV && v >= b.minCell_mV && !s.boardHot[boardOf(b, c)];
   };
   uint16_t chosen = 0;
   if (!b.noAdjacent) {
@@ -148,7 +162,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     } else if (!s.active) {
       s.status = BalanceStatus::Balanced;
     } else {
-      s.status = chooseCells(cfg, r, s.mask) > 0 ? BalanceStatus::Balancing : BalanceStatus::Balanced;
+      bool anyHot = false;
+      for (uint8_t k = 0; k < boards(b); ++k) anyHot = anyHot || s.boardHot[k];
+      s.status = chooseCells(cfg, s, r, s.mask) > 0 ? BalanceStatus::Balancing
+                 : anyHot                           ? BalanceStatus::BoardHot
+                                                    : BalanceStatus::Balanced;
     }
     if (due) {
       s.decided = true;
@@ -156,6 +174,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     }
     if (!allowed || s.boardPaused) s.decided = false;  // decide afresh once it may resume
   }
+
+  // A board that turned hot stops its own cells at once (the others keep their decision).
+  if (boards(b) > 1)
+    for (uint16_t c = 0; c < cfg.cellCount; ++c)
+      if (s.boardHot[boardOf(b, c)]) s.mask[c / 32] &= ~(1u << (c % 32));
 
   // Re-arm the monitor's timer every half period while anything balances.
   bool any = false;

@@ -4,7 +4,8 @@
 //             configured condition holds (charging, rest = |I| < restCurrent for rest_ms,
 //             either, or always) and the balancing board is not paused
 //   board     paused while the hottest board thermistor is above boardMax (or a board
-//             thermistor reads at a rail); resumes below boardResume
+//             thermistor reads at a rail); resumes below boardResume. With boardCount > 1
+//             each board's thermistors pause only the cells on that board
 //   spread    active from max - min > startDelta until max - min < stopDelta (hysteresis)
 //   cells     every cell more than stopDelta above the minimum and not below minCell,
 //             highest first; with noAdjacent a cell next to a chosen one is skipped
@@ -37,7 +38,8 @@ enum class BalanceStatus : uint8_t {
 
 struct BalanceState {
   bool active;            // spread hysteresis
-  bool boardPaused;
+  bool boardPaused;       // every board paused
+  bool boardHot[kMaxBoards];
   RestTimer rest;
   bool decided;
   uint32_t lastDecision_ms;

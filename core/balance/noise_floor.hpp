@@ -3,7 +3,7 @@
 // deviation σ show a spread max − min whose expectation is d2(N)·σ, where
 //
 //   d2(N) = ∫ [1 − Φ(x)^N − (1 − Φ(x))^N] dx      (the mean range of N standard normals:
-//                                                   d2(2) = 1.128, d2(36) ≈ 4.07, d2(110) ≈ 4.95)
+//                                                   d2(2) = 1.128, d2(36) = 4.24, d2(110) = 5.08)
 //
 // σ of one compared reading: the ADC noise and the quantisation (LSB²/12) averaged over
 // the firmware's `average_readings` (and the monitor's hardware oversampling, already in

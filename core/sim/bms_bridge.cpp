@@ -52,6 +52,8 @@ void setBalancing(bms::Config& c, const Scenario& s) {
   k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_cells.size());
   k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors * s.hardware.balancing.boards);
   k.averageReadings = static_cast<uint8_t>(b.average_readings);
+  k.boardCount = static_cast<uint8_t>(s.hardware.balancing.boards);
+  k.cellsPerBoard = static_cast<uint16_t>(s.hardware.balancing.cells_per_board);
   const double request_A = s.bms.charge_current_A > 0.0 ? s.bms.charge_current_A
                            : s.charger.present          ? s.charger.current_A
                                                         : 0.0;

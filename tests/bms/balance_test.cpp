@@ -151,4 +151,32 @@ TEST(BalancePolicy, DecidesOnTheBlockMeanOfAverageReadings) {
   EXPECT_EQ(p.tick(), (V{0, 1, 0}));
 }
 
+// Two boards of two cells, one board thermistor each (channels 0 and 1): a hot board
+// stops its own cells at once and the other board goes on; with every board hot the
+// status is the board pause.
+TEST(BalancePolicy, EachBoardPausesOnlyItsOwnCells) {
+  Policy p(4, 2);
+  p.cfg.balance.boardThermFirst = 0;
+  p.cfg.balance.boardThermCount = 2;
+  p.cfg.balance.boardCount = 2;
+  p.cfg.balance.cellsPerBoard = 2;
+  p.cells({3800, 3700, 3800, 3700});
+  p.tm.temperature_dC[0] = 500;
+  p.tm.temperature_dC[1] = 500;
+  EXPECT_EQ(p.tick(), (V{1, 0, 1, 0}));
+  p.tm.temperature_dC[0] = 705;  // board 1 hot
+  EXPECT_EQ(p.tick(), (V{0, 0, 1, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balancing);
+  p.tm.temperature_dC[1] = 705;  // both hot
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::BoardHot);
+  p.tm.temperature_dC[1] = 595;  // board 2 resumes below 60 C; board 1 (65 C) is still in its band
+  p.tm.temperature_dC[0] = 650;
+  EXPECT_EQ(p.tick(), (V{0, 0, 1, 0}));
+  p.tm.temperature_dC[1] = 500;
+  p.cells({3800, 3700, 3700, 3700});  // only board 1's cell needs it, and board 1 is hot
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::BoardHot) << "the cell that needs it sits on a paused board";
+}
+
 }  // namespace
