@@ -130,14 +130,13 @@ std::string notStartedWhy(const Scenario& s, const Plant& plant, const double* x
 }
 
 // Why a firmware that balanced stopped before the rest voltages came within the target.
-std::string stoppedWhy(const Scenario& s, const Plant& plant, const RunResult& r) {
+std::string stoppedWhy(const Scenario& s, const RunResult& r) {
   const BalanceSettings& b = s.bms.balancing;
   const Recording& rec = r.rec;
   const size_t n = rec.samples();
   double vmax = 0.0;
   for (int c = 0; n > 0 && c < rec.cells; ++c)
     vmax = std::max(vmax, rec.cell_voltage_V[(n - 1) * static_cast<size_t>(rec.cells) + static_cast<size_t>(c)]);
-  (void)plant;
   if (vmax < b.min_cell_V + b.stop_delta_V)
     return fmt("stopped short of the target: the cells still high are at %.3f V, at the bms.balancing.min_cell_V "
                "floor (%.3f V), and it never declared",
@@ -212,8 +211,8 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
 
   row.simulated = true;
   if (duringCharge) {
-    if (r.rec.samples() > 0 && r.rec.time_s.back() < s.run.duration_s)
-      reason = declaredAt >= 0.0 ? "charge_done" : "charge_done_unbalanced";
+    if (reason == "time_limit" && r.rec.samples() > 0 && r.rec.time_s.back() < s.run.duration_s)
+      reason = declaredAt >= 0.0 ? "charge_done" : "charge_done_unbalanced";  // the charger finished
     row.charge_h = lastCharging_s / 3600.0;
   }
   if (r.summary.tripped) reason = "tripped";
@@ -236,7 +235,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       row.firmware_note = fmt("never declared: the charge ended at %.2f h ", row.charge_h) +
                           (started ? "while it was still balancing" : "before it started balancing");
     else if (reason == "firmware_stopped")
-      row.firmware_note = stoppedWhy(s, plant, r);
+      row.firmware_note = stoppedWhy(s, r);
     else
       row.firmware_note = fmt("never declared: still balancing at %.2f h; its readings' max-min stayed >= the %.0f mV "
                               "stop threshold (lowest seen %.0f mV)",
