@@ -129,14 +129,20 @@ std::string notStartedWhy(const Scenario& s, const Plant& plant, const double* x
   return "the firmware never balanced";
 }
 
-// Why a firmware that balanced stopped before the rest voltages came within the target.
-std::string stoppedWhy(const Scenario& s, const RunResult& r) {
-  const BalanceSettings& b = s.bms.balancing;
+// The highest cell voltage of the last recorded sample.
+double highestVoltage_V(const RunResult& r) {
   const Recording& rec = r.rec;
   const size_t n = rec.samples();
   double vmax = 0.0;
   for (int c = 0; n > 0 && c < rec.cells; ++c)
     vmax = std::max(vmax, rec.cell_voltage_V[(n - 1) * static_cast<size_t>(rec.cells) + static_cast<size_t>(c)]);
+  return vmax;
+}
+
+// Why a firmware that balanced stopped before the rest voltages came within the target.
+std::string stoppedWhy(const Scenario& s, const RunResult& r) {
+  const BalanceSettings& b = s.bms.balancing;
+  const double vmax = highestVoltage_V(r);
   if (vmax < b.min_cell_V + b.stop_delta_V)
     return fmt("stopped short of the target: the cells still high are at %.3f V, at the bms.balancing.min_cell_V "
                "floor (%.3f V), and it never declared",
@@ -224,10 +230,15 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   if (reason == "not_started" || (!started && !row.tripped)) {
     row.firmware_note = "never started: " + notStartedWhy(s, plant, x0.data());
   } else if (!std::isnan(row.firmware_h) && trueAt < 0.0) {
-    row.firmware_note = fmt("declared balanced at %.2f h by its %.1f mV stop threshold, but the true rest voltages "
-                            "stayed %.1f mV apart (target ",
-                            row.firmware_h, b.stop_delta_V * 1e3, lastOcvSpread_V * 1e3) +
-                        fmt("%.1f mV)", target_mV);
+    const double vHigh = highestVoltage_V(r);
+    const std::string why =
+        vHigh < b.min_cell_V + b.stop_delta_V
+            ? fmt(": the cells still high reached bms.balancing.min_cell_V (%.3f V at %.3f V) and none was left to bleed",
+                  b.min_cell_V, vHigh)
+            : fmt(" by its %.1f mV stop threshold", b.stop_delta_V * 1e3);
+    row.firmware_note = fmt("declared balanced at %.2f h", row.firmware_h) + why +
+                        fmt(", but the true rest voltages stayed %.1f mV apart (target %.1f mV)", lastOcvSpread_V * 1e3,
+                            target_mV);
   } else if (std::isnan(row.firmware_h)) {
     if (row.tripped)
       row.firmware_note = "never declared: " + r.summary.trip_reason + " tripped at " + fmt("%.2f h", r.summary.trip_time_s / 3600.0);
