@@ -28,10 +28,15 @@ void clearMask(uint32_t mask[kBalanceWords]) {
 
 void setBit(uint32_t mask[kBalanceWords], uint16_t cell) { mask[cell / 32] |= 1u << (cell % 32); }
 
-uint8_t boards(const BalanceConfig& b) { return b.boardCount > 1 ? b.boardCount : 1; }
+// Boards in use (1 unless boardCount > 1; never more than the state holds).
+uint8_t boards(const BalanceConfig& b) {
+  return b.boardCount <= 1 ? 1 : (b.boardCount < kMaxBoards ? b.boardCount : kMaxBoards);
+}
 
 uint8_t boardOf(const BalanceConfig& b, uint16_t cell) {
-  return b.boardCount > 1 && b.cellsPerBoard > 0 ? static_cast<uint8_t>(cell / b.cellsPerBoard) : 0;
+  if (boards(b) == 1 || b.cellsPerBoard == 0) return 0;
+  const uint16_t k = static_cast<uint16_t>(cell / b.cellsPerBoard);
+  return static_cast<uint8_t>(k < boards(b) ? k : boards(b) - 1);
 }
 
 // Board temperature hysteresis per board; an unreadable board thermistor pauses its board.
