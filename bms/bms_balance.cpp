@@ -7,12 +7,17 @@ namespace bms {
 void balanceReset(BalanceState& s) {
   s.active = false;
   s.boardPaused = false;
+  for (uint8_t k = 0; k < kMaxBoards; ++k) s.boardHot[k] = false;
   restReset(s.rest);
   s.decided = false;
   s.lastDecision_ms = 0;
   s.lastArm_ms = 0;
   for (uint8_t w = 0; w < kBalanceWords; ++w) s.mask[w] = 0;
   s.status = BalanceStatus::Disabled;
+  for (uint16_t c = 0; c < kMaxCells; ++c) s.sum_mV[c] = 0, s.mean_mV[c] = 0;
+  s.summed = 0;
+  s.haveMean = false;
+  s.meanMin_mV = s.meanMax_mV = 0;
 }
 
 namespace {
@@ -23,22 +28,40 @@ void clearMask(uint32_t mask[kBalanceWords]) {
 
 void setBit(uint32_t mask[kBalanceWords], uint16_t cell) { mask[cell / 32] |= 1u << (cell % 32); }
 
-// Board temperature hysteresis; an unreadable board thermistor pauses balancing.
+// Boards in use (1 unless boardCount > 1; never more than the state holds).
+uint8_t boards(const BalanceConfig& b) {
+  return b.boardCount <= 1 ? 1 : (b.boardCount < kMaxBoards ? b.boardCount : kMaxBoards);
+}
+
+uint8_t boardOf(const BalanceConfig& b, uint16_t cell) {
+  if (boards(b) == 1 || b.cellsPerBoard == 0) return 0;
+  const uint16_t k = static_cast<uint16_t>(cell / b.cellsPerBoard);
+  return static_cast<uint8_t>(k < boards(b) ? k : boards(b) - 1);
+}
+
+// Board temperature hysteresis per board; an unreadable board thermistor pauses its board.
 void updateBoard(const BalanceConfig& b, BalanceState& s, const Telemetry& tm) {
-  int16_t hottest = INT16_MIN;
-  bool invalid = false;
-  for (uint8_t k = 0; k < b.boardThermCount; ++k) {
-    const int16_t t = tm.temperature_dC[b.boardThermFirst + k];
-    if (t == kTempInvalid_dC) invalid = true;
-    else if (t > hottest) hottest = t;
+  const uint8_t n = boards(b);
+  const uint8_t perBoard = static_cast<uint8_t>(b.boardThermCount / n);
+  bool all = true;
+  for (uint8_t k = 0; k < n; ++k) {
+    int16_t hottest = INT16_MIN;
+    bool invalid = false;
+    for (uint8_t i = 0; i < perBoard; ++i) {
+      const int16_t t = tm.temperature_dC[b.boardThermFirst + k * perBoard + i];
+      if (t == kTempInvalid_dC) invalid = true;
+      else if (t > hottest) hottest = t;
+    }
+    if (perBoard == 0) {
+      s.boardHot[k] = false;
+    } else if (invalid || hottest > b.boardMax_dC) {
+      s.boardHot[k] = true;
+    } else if (hottest < b.boardResume_dC) {
+      s.boardHot[k] = false;
+    }
+    all = all && s.boardHot[k];
   }
-  if (b.boardThermCount == 0) {
-    s.boardPaused = false;
-  } else if (invalid || hottest > b.boardMax_dC) {
-    s.boardPaused = true;
-  } else if (hottest < b.boardResume_dC) {
-    s.boardPaused = false;
-  }
+  s.boardPaused = all;
 }
 
 bool conditionHolds(const BalanceConfig& b, const BalanceState& s, bool charging, uint32_t now_ms) {
@@ -52,14 +75,47 @@ bool conditionHolds(const BalanceConfig& b, const BalanceState& s, bool charging
   return false;
 }
 
+// The cell voltages the policy compares: each reading, or each cell's block mean.
+struct Readings {
+  const uint16_t* cell_mV;
+  uint16_t min_mV, max_mV;
+};
+
+// Adds this tick's readings to the block; a full block becomes the new means. Restarts
+// while balancing is not permitted (a silent device reads 0).
+void accumulate(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted) {
+  const uint8_t n = cfg.balance.averageReadings;
+  if (n <= 1) return;
+  if (!permitted) {
+    for (uint16_t c = 0; c < cfg.cellCount; ++c) s.sum_mV[c] = 0;
+    s.summed = 0;
+    s.haveMean = false;
+    return;
+  }
+  for (uint16_t c = 0; c < cfg.cellCount; ++c) s.sum_mV[c] += tm.cellVoltage_mV[c];
+  if (++s.summed < n) return;
+  uint16_t lo = UINT16_MAX, hi = 0;
+  for (uint16_t c = 0; c < cfg.cellCount; ++c) {
+    const uint16_t m = static_cast<uint16_t>((s.sum_mV[c] + n / 2u) / n);
+    s.mean_mV[c] = m;
+    s.sum_mV[c] = 0;
+    lo = m < lo ? m : lo;
+    hi = m > hi ? m : hi;
+  }
+  s.summed = 0;
+  s.haveMean = true;
+  s.meanMin_mV = lo;
+  s.meanMax_mV = hi;
+}
+
 // Cells above min + stopDelta (and not below minCell), highest first; with noAdjacent a
 // neighbour of a chosen cell is skipped. Returns the number chosen.
-uint16_t chooseCells(const Config& cfg, const Telemetry& tm, uint32_t mask[kBalanceWords]) {
+uint16_t chooseCells(const Config& cfg, const BalanceState& s, const Readings& tm, uint32_t mask[kBalanceWords]) {
   const BalanceConfig& b = cfg.balance;
-  const uint32_t floor_mV = static_cast<uint32_t>(tm.minCell_mV) + b.stopDelta_mV;
+  const uint32_t floor_mV = static_cast<uint32_t>(tm.min_mV) + b.stopDelta_mV;
   auto candidate = [&](uint16_t c) {
-    const uint16_t v = tm.cellVoltage_mV[c];
-    return v > floor_mV && v >= b.minCell_mV;
+    const uint16_t v = tm.cell_mV[c];
+    return v > floor_mV && v >= b.minCell_mV && !s.boardHot[boardOf(b, c)];
   };
   uint16_t chosen = 0;
   if (!b.noAdjacent) {
@@ -73,7 +129,7 @@ uint16_t chooseCells(const Config& cfg, const Telemetry& tm, uint32_t mask[kBala
       if (!candidate(c) || balanceBit(mask, c)) continue;
       if (c > 0 && balanceBit(mask, static_cast<uint16_t>(c - 1))) continue;
       if (c + 1 < cfg.cellCount && balanceBit(mask, static_cast<uint16_t>(c + 1))) continue;
-      if (best < 0 || tm.cellVoltage_mV[c] > tm.cellVoltage_mV[best]) best = c;
+      if (best < 0 || tm.cell_mV[c] > tm.cell_mV[best]) best = c;
     }
     if (best < 0) return chosen;
     setBit(mask, static_cast<uint16_t>(best));
@@ -89,13 +145,17 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   restUpdate(s.rest, tm.packCurrent_mA, b.restCurrent_mA, now_ms);
   updateBoard(b, s, tm);
 
-  // Decide at the configured period; hold the mask in between. Losing permission or a
-  // hot board stops balancing at once.
+  // Decide at the configured period (once a first block mean exists when averaging);
+  // hold the mask in between. Losing permission or a hot board stops balancing at once.
   const bool allowed = b.enabled && permitted;
-  const bool due = !s.decided || now_ms - s.lastDecision_ms >= b.period_ms;
+  accumulate(cfg, s, tm, allowed);
+  const bool averaging = b.averageReadings > 1;
+  const Readings r = averaging ? Readings{s.mean_mV, s.meanMin_mV, s.meanMax_mV}
+                               : Readings{tm.cellVoltage_mV, tm.minCell_mV, tm.maxCell_mV};
+  const bool due = (!averaging || s.haveMean) && (!s.decided || now_ms - s.lastDecision_ms >= b.period_ms);
   if (!allowed || s.boardPaused || due) {
     clearMask(s.mask);
-    const uint16_t spread = tm.maxCell_mV > tm.minCell_mV ? static_cast<uint16_t>(tm.maxCell_mV - tm.minCell_mV) : 0;
+    const uint16_t spread = r.max_mV > r.min_mV ? static_cast<uint16_t>(r.max_mV - r.min_mV) : 0;
     if (spread > b.startDelta_mV) s.active = true;
     if (spread < b.stopDelta_mV) s.active = false;
     if (!allowed) {
@@ -107,7 +167,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     } else if (!s.active) {
       s.status = BalanceStatus::Balanced;
     } else {
-      s.status = chooseCells(cfg, tm, s.mask) > 0 ? BalanceStatus::Balancing : BalanceStatus::Balanced;
+      bool anyHot = false;
+      for (uint8_t k = 0; k < boards(b); ++k) anyHot = anyHot || s.boardHot[k];
+      s.status = chooseCells(cfg, s, r, s.mask) > 0 ? BalanceStatus::Balancing
+                 : anyHot                           ? BalanceStatus::BoardHot
+                                                    : BalanceStatus::Balanced;
     }
     if (due) {
       s.decided = true;
@@ -115,6 +179,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     }
     if (!allowed || s.boardPaused) s.decided = false;  // decide afresh once it may resume
   }
+
+  // A board that turned hot stops its own cells at once (the others keep their decision).
+  if (boards(b) > 1)
+    for (uint16_t c = 0; c < cfg.cellCount; ++c)
+      if (s.boardHot[boardOf(b, c)]) s.mask[c / 32] &= ~(1u << (c % 32));
 
   // Re-arm the monitor's timer every half period while anything balances.
   bool any = false;

@@ -4,10 +4,15 @@
 //             configured condition holds (charging, rest = |I| < restCurrent for rest_ms,
 //             either, or always) and the balancing board is not paused
 //   board     paused while the hottest board thermistor is above boardMax (or a board
-//             thermistor reads at a rail); resumes below boardResume
+//             thermistor reads at a rail); resumes below boardResume. With boardCount > 1
+//             each board's thermistors pause only the cells on that board
 //   spread    active from max - min > startDelta until max - min < stopDelta (hysteresis)
 //   cells     every cell more than stopDelta above the minimum and not below minCell,
 //             highest first; with noAdjacent a cell next to a chosen one is skipped
+//   readings  with averageReadings = N > 1 every comparison above uses each cell's mean
+//             of its last N readings (a block average, refreshed every N ticks while
+//             balancing is permitted): the minimum of many noisy single readings sits
+//             well under the truth, and cells already balanced would bleed
 //   timer     the mask is decided every period_ms and held in between; the monitor IC's
 //             balancing timer (balanceTime_s) is rewritten (re-armed) when half of it
 //             has run, so the device keeps balancing only while the host is alive
@@ -33,13 +38,20 @@ enum class BalanceStatus : uint8_t {
 
 struct BalanceState {
   bool active;            // spread hysteresis
-  bool boardPaused;
+  bool boardPaused;       // every board paused
+  bool boardHot[kMaxBoards];
   RestTimer rest;
   bool decided;
   uint32_t lastDecision_ms;
   uint32_t lastArm_ms;
   uint32_t mask[kBalanceWords];
   BalanceStatus status;
+  // Block average of the readings (averageReadings > 1).
+  uint32_t sum_mV[kMaxCells];
+  uint8_t summed;               // readings in sum_mV so far
+  bool haveMean;
+  uint16_t mean_mV[kMaxCells];
+  uint16_t meanMin_mV, meanMax_mV;
 };
 
 void balanceReset(BalanceState& s);

@@ -34,7 +34,7 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   // Balancing defaults after open firmware (HARDWARE.md) and DOMAIN.md system C: start at
   // 50 mV spread, stop at 10 mV, never below 3.3 V, pause above 70 °C board temperature.
   c.balance = BalanceConfig{false, BalanceWhen::ChargingOrRest, 50, 10, 3300, 700, 600, false, 200,
-                            10u * 60u * 1000u, 1000, 0, 0};
+                            10u * 60u * 1000u, 1000, 0, 0, 1, 1, 0};
   c.chargeRequest_mA = 0;
   c.chargeFullCell_mV = 0;
 

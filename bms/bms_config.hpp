@@ -106,6 +106,9 @@ struct BalanceConfig {
   uint32_t period_ms;        // the mask is re-decided at this period and held in between
   uint8_t boardThermFirst;   // thermistor channels [first, first + count) sit on the balancing board
   uint8_t boardThermCount;
+  uint8_t averageReadings;   // decide on the mean of this many readings per cell (1 = each reading; ≤ kMaxBalanceAverage)
+  uint8_t boardCount;        // > 1: boards of cellsPerBoard cells, boardThermCount / boardCount thermistors each,
+  uint16_t cellsPerBoard;    //      each pausing only its own cells (≤ kMaxBoards)
 };
 
 struct Config {

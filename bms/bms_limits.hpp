@@ -13,5 +13,7 @@ constexpr uint8_t kMaxThermPerDevice = 3;   // thermistor inputs per monitor IC
 constexpr uint8_t kMaxFrameBytes = 64;      // longest monitor-IC reply frame
 constexpr uint8_t kMaxOcvPoints = 16;       // OCV table rows for the SOC estimate
 constexpr uint8_t kBalanceWords = (kMaxCells + 31) / 32;
+constexpr uint8_t kMaxBoards = 16;          // monitor boards, each with its own balancing-board thermistors
+constexpr uint8_t kMaxBalanceAverage = 64;  // readings the balancing decision may average per cell
 
 }  // namespace bms

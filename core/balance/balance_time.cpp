@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -11,17 +12,6 @@
 #include "core/sim/simulation.hpp"
 
 namespace packsim {
-
-double socAtOcv(const CellParams& cell, double v) {
-  double lo = 0.0, hi = 1.0;
-  if (v <= ecm::ocv(cell, lo)) return lo;
-  if (v >= ecm::ocv(cell, hi)) return hi;
-  for (int i = 0; i < 60; ++i) {
-    const double mid = 0.5 * (lo + hi);
-    (ecm::ocv(cell, mid) < v ? lo : hi) = mid;
-  }
-  return 0.5 * (lo + hi);
-}
 
 namespace {
 
@@ -51,6 +41,12 @@ double spread(const std::vector<double>& q) {
   return *hi - *lo;
 }
 
+std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
+  char s[240];
+  std::snprintf(s, sizeof s, f, a, b, c);
+  return s;
+}
+
 void checkOptions(const Scenario& s, const BalanceTimeOptions& o) {
   for (double r : o.resistors_ohm)
     if (!(r >= 1.0 && r <= 10000.0)) bad("--resistor: each value must be within 1 .. 10000 ohm (got " + std::to_string(r) + ")");
@@ -58,35 +54,41 @@ void checkOptions(const Scenario& s, const BalanceTimeOptions& o) {
   if (o.cell_V && !(*o.cell_V >= 0.5 && *o.cell_V <= 5.0)) bad("--cell-V: must be within 0.5 .. 5 V");
   if (o.high_cells < 1 || o.high_cells > s.pack.series)
     bad("--high-cells: must be within 1 .. " + std::to_string(s.pack.series) + " (the pack's series cells)");
-  if (!(o.target_mV >= 1.0 && o.target_mV <= 500.0)) bad("--target-mV: must be within 1 .. 500 mV");
+  if (o.target_mV && !(*o.target_mV >= 0.1 && *o.target_mV <= 500.0)) bad("--target-mV: must be within 0.1 .. 500 mV");
   if (!(o.max_hours > 0.0 && o.max_hours <= 1000.0)) bad("--max-hours: must be within (0, 1000] h");
   if (o.resistors_ohm.empty() && !s.hardware.balancing.present)
     bad("the scenario has no hardware.balancing: give --resistor");
+  static const char* const kWhen[] = {"charging", "rest", "charging_or_rest", "always"};
+  if (o.when && std::find(std::begin(kWhen), std::end(kWhen), *o.when) == std::end(kWhen))
+    bad("--when: must be one of charging, rest, charging_or_rest, always (got '" + *o.when + "')");
+  if (o.during_charge && !s.charger.present)
+    bad("--during-charge: the scenario has no charger (load: {charger: {...}})");
 }
 
-// The scenario made into the balancing experiment (everything but the resistor).
+// The scenario made into the balancing experiment (everything but the resistor). The
+// firmware's balancing settings stay as configured.
 Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double cellV) {
   Scenario s = base;
   s.faults.clear();
   s.expect = Expectations{};
-  s.charger = ChargerConfig{};
-  s.load = LoadProfile::constant(0.0);
-  s.bms.run_request = true;
-  s.bms.charger_present = false;
+  if (o.during_charge) {  // the scenario's charger and load stay; the charge's end ends the run
+    s.charger.stop_run_when_done = true;
+    s.bms.charger_present = true;
+    s.bms.run_request = false;  // the BMS in its charge state
+  } else {
+    s.charger = ChargerConfig{};
+    s.load = LoadProfile::constant(0.0);
+    s.bms.charger_present = false;
+    s.bms.run_request = true;
+  }
+  if (o.when) s.bms.balancing.when = *o.when;
   s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (DOMAIN.md D)
   s.output.interval_s = std::max(60.0, s.bms.tick_s);
   s.run.duration_s = o.max_hours * 3600.0;
   s.run.stop_after_trip_s = 0.0;
   s.hardware.balancing.present = true;
-  BalanceSettings& b = s.bms.balancing;
-  b.enabled = true;
-  b.when = "always";
-  // Start above the target, stop at half of it: measurement noise cannot end the
-  // run early, and the truth decides when the target is reached.
-  b.start_delta_V = o.target_mV * 1e-3;
-  b.stop_delta_V = 0.5 * o.target_mV * 1e-3;
-  b.min_cell_V = std::min(b.min_cell_V, 0.5 * cellV);  // the experiment is about time, not the floor
-  b.period_s = std::max(b.period_s, s.bms.tick_s);
+  s.bms.balancing.enabled = true;
+  s.bms.balancing.period_s = std::max(s.bms.balancing.period_s, s.bms.tick_s);
   if (o.delta_Ah) {
     // Identical cells; the high ones start at cell_V, the rest delta_Ah lower.
     const PackConfig& p = s.pack;
@@ -113,47 +115,157 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
   return s;
 }
 
-void simulate(const Scenario& s, const BalanceTimeOptions& o, BalanceTimeRow& row) {
+// Why a firmware that never balanced did not start.
+std::string notStartedWhy(const Scenario& s, const Plant& plant, const double* x0) {
+  const BalanceSettings& b = s.bms.balancing;
+  const std::vector<double> v = groupOcv_V(plant, x0);
+  if (b.when == "charging") return "the scenario balances only while charging (bms.balancing.when: charging)";
+  if (*std::max_element(v.begin(), v.end()) < b.min_cell_V)
+    return fmt("the high cells (%.3f V) are below bms.balancing.min_cell_V (%.3f V)", *std::max_element(v.begin(), v.end()),
+               b.min_cell_V);
+  if (spread(v) <= b.start_delta_V)
+    return fmt("the spread (%.1f mV) never exceeded bms.balancing.start_delta_mV (%.1f)", spread(v) * 1e3,
+               b.start_delta_V * 1e3);
+  return "the firmware never balanced";
+}
+
+// The highest cell voltage of the last recorded sample.
+double highestVoltage_V(const RunResult& r) {
+  const Recording& rec = r.rec;
+  const size_t n = rec.samples();
+  double vmax = 0.0;
+  for (int c = 0; n > 0 && c < rec.cells; ++c)
+    vmax = std::max(vmax, rec.cell_voltage_V[(n - 1) * static_cast<size_t>(rec.cells) + static_cast<size_t>(c)]);
+  return vmax;
+}
+
+// Why a firmware that balanced stopped before the rest voltages came within the target.
+std::string stoppedWhy(const Scenario& s, const RunResult& r) {
+  const BalanceSettings& b = s.bms.balancing;
+  const double vmax = highestVoltage_V(r);
+  if (vmax < b.min_cell_V + b.stop_delta_V)
+    return fmt("stopped short of the target: the cells still high are at %.3f V, at the bms.balancing.min_cell_V "
+               "floor (%.3f V), and it never declared",
+               vmax, b.min_cell_V);
+  return "stopped short of the target (its readings within the stop threshold) and never declared";
+}
+
+void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTimeRow& row,
+              std::vector<std::string>& warnings) {
   const Plant plant(s);
   std::vector<double> x0(static_cast<size_t>(plant.stateSize()), 0.0);
   plant.initialState(x0.data());
-  const double initialSpread = spread(groupCharge_Ah(plant, x0.data()));
-  const double settle_s = std::max(60.0, 2.0 * s.bms.balancing.period_s);
+  const std::vector<double> q0 = groupCharge_Ah(plant, x0.data());
+  const double lowest = *std::min_element(q0.begin(), q0.end());
+  std::vector<double> need(q0.size()), bled(q0.size(), 0.0);
+  for (size_t g = 0; g < q0.size(); ++g) need[g] = q0[g] - lowest;
+
+  const BalanceSettings& b = s.bms.balancing;
+  const double tick_s = s.bms.tick_s;
+  // The firmware's decision needs a period and (with averaging) a full block of readings.
+  const double settle_s = std::max(60.0, 3.0 * std::max(b.period_s, b.average_readings * tick_s));
+  const double wait_start_s = (b.when == "rest" || b.when == "charging_or_rest" ? b.rest_s : 0.0) + settle_s;
+
   bool started = false;
-  double balancedSince = -1.0, lastT = 0.0, peak = -INFINITY;
+  double declaredAt = -1.0, trueAt = -1.0, quietSince = -1.0, lastT = 0.0, paused_s = 0.0, pausedToTrue_s = 0.0;
+  double lowestSpread_mV = INFINITY, lastOcvSpread_V = NAN, lastCharging_s = 0.0;
+  std::vector<double> peak(static_cast<size_t>(plant.boardCount()), -INFINITY);
   std::string reason = "time_limit";
-  auto stopWhen = [&](double t, const double* x, const PlantSignals&, const bms::Outputs& out) {
+  auto finish = [&](const char* why) {
+    reason = why;
+    return true;
+  };
+  auto stopWhen = [&](double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
     lastT = t;
-    if (plant.boardNode() >= 0) peak = std::max(peak, x[plant.tempIndex(plant.boardNode())]);
+    for (int k = 0; k < plant.boardCount(); ++k)
+      peak[static_cast<size_t>(k)] = std::max(peak[static_cast<size_t>(k)], x[plant.tempIndex(plant.boardNodeOf(k))]);
+    // The bleed current of the interval just ended (the switches held since the last tick).
+    for (size_t g = 0; g < bled.size(); ++g) bled[g] += sig.balance_current_A[g] * tick_s;
+    if (sig.pack_current_A < -s.charger.end_current_A) lastCharging_s = t;
     const auto status = static_cast<bms::BalanceStatus>(out.balanceStatus);
+    if (status == bms::BalanceStatus::BoardHot) paused_s += tick_s;
     if (status == bms::BalanceStatus::Balancing) {
       started = true;
-      balancedSince = -1.0;
-    } else if (balancedSince < 0.0) {
-      balancedSince = t;
+      declaredAt = -1.0;
+      quietSince = -1.0;
+      const int spread_mV = out.telemetry.maxCell_mV - out.telemetry.minCell_mV;
+      lowestSpread_mV = std::min(lowestSpread_mV, static_cast<double>(spread_mV));
+    } else {
+      if (quietSince < 0.0) quietSince = t;
+      if (started && status == bms::BalanceStatus::Balanced && declaredAt < 0.0) declaredAt = t;
     }
-    if (started && spread(groupCharge_Ah(plant, x)) <= 1e-3 * initialSpread) {
-      reason = "charge_removed";
-      return true;
+    lastOcvSpread_V = spread(groupOcv_V(plant, x));
+    if (trueAt < 0.0 && lastOcvSpread_V < target_mV * 1e-3) {
+      trueAt = t;
+      pausedToTrue_s = paused_s;
     }
-    if (started && spread(groupOcv_V(plant, x)) < o.target_mV * 1e-3) {
-      reason = "within_target";
-      return true;
-    }
-    if (balancedSince >= 0.0 && t - balancedSince >= settle_s) {  // the BMS has stopped for good
-      reason = started ? "bms_stopped" : "not_started";
-      return true;
-    }
+    if (declaredAt >= 0.0 && trueAt >= 0.0 && t - declaredAt >= settle_s) return finish("both_known");
+    if (duringCharge) return false;  // top balancing starts late; the charge's end ends the run
+    if (started && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && t - quietSince >= settle_s &&
+        trueAt < 0.0)
+      return finish("firmware_stopped");
+    if (!started && t >= wait_start_s) return finish("not_started");
+    // The target is reached but the firmware keeps balancing: give it half as long again.
+    if (trueAt >= 0.0 && declaredAt < 0.0 && t - trueAt >= std::max(3600.0, 0.5 * trueAt))
+      return finish("firmware_overran");
     return false;
   };
   const RunResult r = runScenario(s, stopWhen);
+  for (const Event& e : r.events)
+    if (e.kind == "config_warning" && std::find(warnings.begin(), warnings.end(), e.detail) == warnings.end())
+      warnings.push_back(e.detail);
+
   row.simulated = true;
+  if (duringCharge) {
+    if (reason == "time_limit" && r.rec.samples() > 0 && r.rec.time_s.back() < s.run.duration_s)
+      reason = declaredAt >= 0.0 ? "charge_done" : "charge_done_unbalanced";  // the charger finished
+    row.charge_h = lastCharging_s / 3600.0;
+  }
+  if (r.summary.tripped) reason = "tripped";
   row.end_reason = reason;
-  row.simulated_h = (reason == "bms_stopped" ? balancedSince : lastT) / 3600.0;
-  if (reason == "not_started") row.simulated_h = 0.0;
-  row.peak_board_C = plant.boardNode() >= 0 ? peak : NAN;
-  row.energy_Wh = r.quad[kQuadBalanceHeat_J] / 3600.0;
-  row.charge_removed_Ah = r.quad[kQuadBalanceCharge_As] / 3600.0;
+  row.tripped = r.summary.tripped;
+  row.true_h = trueAt >= 0.0 ? trueAt / 3600.0 : NAN;
+  // Declared: the firmware went to Balanced after balancing and stayed there to the end.
+  row.firmware_h = declaredAt >= 0.0 && reason != "tripped" ? declaredAt / 3600.0 : NAN;
+  if (reason == "not_started" || (!started && !row.tripped)) {
+    row.firmware_note = "never started: " + notStartedWhy(s, plant, x0.data());
+  } else if (!std::isnan(row.firmware_h) && trueAt < 0.0) {
+    const double vHigh = highestVoltage_V(r);
+    const std::string why =
+        vHigh < b.min_cell_V + b.stop_delta_V
+            ? fmt(": the cells still high reached bms.balancing.min_cell_V (%.3f V at %.3f V) and none was left to bleed",
+                  b.min_cell_V, vHigh)
+            : fmt(" by its %.1f mV stop threshold", b.stop_delta_V * 1e3);
+    row.firmware_note = fmt("declared balanced at %.2f h", row.firmware_h) + why +
+                        fmt(", but the true rest voltages stayed %.1f mV apart (target %.1f mV)", lastOcvSpread_V * 1e3,
+                            target_mV);
+  } else if (std::isnan(row.firmware_h)) {
+    if (row.tripped)
+      row.firmware_note = "never declared: " + r.summary.trip_reason + " tripped at " + fmt("%.2f h", r.summary.trip_time_s / 3600.0);
+    else if (reason == "charge_done_unbalanced")
+      row.firmware_note = fmt("never declared: the charge ended at %.2f h ", row.charge_h) +
+                          (started ? "while it was still balancing" : "before it started balancing");
+    else if (reason == "firmware_stopped")
+      row.firmware_note = stoppedWhy(s, r);
+    else
+      row.firmware_note = fmt("never declared: still balancing at %.2f h; its readings' max-min stayed >= the %.0f mV "
+                              "stop threshold (lowest seen %.0f mV)",
+                              lastT / 3600.0, b.stop_delta_V * 1e3, lowestSpread_mV);
+  }
+  const double span_s = trueAt >= 0.0 ? trueAt : lastT;
+  row.paused_fraction = span_s > 0.0 ? (trueAt >= 0.0 ? pausedToTrue_s : paused_s) / span_s : 0.0;
+  row.board_peak_C = peak;
+  row.peak_board_C = peak.empty() ? NAN : *std::max_element(peak.begin(), peak.end());
+  row.heat_Wh = r.quad[kQuadBalanceHeat_J] / 3600.0;
+  row.bled_Ah = r.quad[kQuadBalanceCharge_As] / 3600.0;
+  double useful_As = 0.0, needed_As = 0.0;
+  for (size_t g = 0; g < bled.size(); ++g) {
+    useful_As += std::min(bled[g], need[g] * 3600.0);
+    needed_As += need[g] * 3600.0;
+  }
+  row.useful_Ah = std::min(useful_As / 3600.0, row.bled_Ah);
+  row.wasted_Ah = row.bled_Ah - row.useful_Ah;
+  row.needed_Ah = needed_As / 3600.0;
   // Final spread from the recorded SOC of the last sample.
   const Recording& rec = r.rec;
   const size_t n = rec.samples();
@@ -167,6 +279,17 @@ void simulate(const Scenario& s, const BalanceTimeOptions& o, BalanceTimeRow& ro
   }
 }
 
+// Within limits: the target reached, no protection tripped, the resistor within its
+// rating. The fastest such row by true time is marked.
+void markFastest(BalanceTimeResult& res) {
+  BalanceTimeRow* best = nullptr;
+  for (BalanceTimeRow& w : res.rows) {
+    w.within_limits = w.simulated && !std::isnan(w.true_h) && !w.tripped && w.within_rating;
+    if (w.within_limits && (!best || w.true_h < best->true_h)) best = &w;
+  }
+  if (best) best->fastest = true;
+}
+
 }  // namespace
 
 BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o) {
@@ -174,39 +297,82 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   BalanceTimeResult res;
   res.scenario = base.name;
   res.high_cells = o.delta_Ah ? o.high_cells : 1;
-  res.target_mV = o.target_mV;
+  // Default target: half again the firmware's stop threshold. The firmware leaves each cell
+  // up to that threshold above the lowest reading, so the truth settles about there, a
+  // little above or below with the noise: a target at the threshold itself may never be met.
+  res.target_mV = o.target_mV ? *o.target_mV : std::max(0.1, 1.5 * base.bms.balancing.stop_delta_V * 1e3);
+  res.resistor_rating_W = base.hardware.balancing.resistor_power_rating_W;
+  res.board_max_C = base.bms.balancing.board_max_C;
+  res.when = o.when ? *o.when : base.bms.balancing.when;
+  res.when_overridden = o.when.has_value() && *o.when != base.bms.balancing.when;
+  res.during_charge = o.during_charge;
 
   // The imbalance and the cell voltage of the analytic estimate.
   const Plant basePlant(base);
   std::vector<double> x0(static_cast<size_t>(basePlant.stateSize()), 0.0);
   basePlant.initialState(x0.data());
   const std::vector<double> q = groupCharge_Ah(basePlant, x0.data());
+  const int parallel = basePlant.pack().parallel;
   const int highest = static_cast<int>(std::max_element(q.begin(), q.end()) - q.begin());
-  const double highestSoc = basePlant.cellStates(x0.data(), highest * basePlant.pack().parallel)[CellLayout::soc];
+  const int lowest = static_cast<int>(std::min_element(q.begin(), q.end()) - q.begin());
+  const auto socOf = [&](int g) { return basePlant.cellStates(x0.data(), g * parallel)[CellLayout::soc]; };
   res.delta_Ah = o.delta_Ah ? *o.delta_Ah : spread(q);
-  res.cell_V = o.cell_V ? *o.cell_V
-                        : ecm::ocv(base.pack.cell, o.delta_Ah ? base.pack.initial_soc : highestSoc);
+  res.cell_V = o.cell_V ? *o.cell_V : ecm::ocv(base.pack.cell, o.delta_Ah ? base.pack.initial_soc : socOf(highest));
   if (!(res.delta_Ah > 0.0)) bad("the scenario's cells hold equal charge: give --delta-Ah");
+  // The high group's charge range for the droop form.
+  const CellParams& cell = o.delta_Ah ? base.pack.cell : basePlant.pack().cells[static_cast<size_t>(highest * parallel)];
+  const double group_Ah = cell.capacity_Ah * parallel;
+  const double socHigh = o.delta_Ah ? socAtOcv(cell, res.cell_V) : socOf(highest);
+  const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : socOf(lowest);
+  // Bleeding ends (in the droop form) when the high group's OCV is within the target of the low one's.
+  const double socTarget = std::min(socHigh, socAtOcv(cell, ecm::ocv(cell, socLow) + res.target_mV * 1e-3));
+  // Cells on the most loaded board: the high cells sit on the first groups.
+  const PassiveBalancerConfig& hw = base.hardware.balancing;
+  const int perBoard = hw.cells_per_board > 0 ? std::min(res.high_cells, hw.cells_per_board) : res.high_cells;
 
   std::vector<double> resistors = o.resistors_ohm;
-  if (resistors.empty()) resistors.push_back(base.hardware.balancing.resistor_ohm);
+  if (resistors.empty()) resistors.push_back(hw.resistor_ohm);
   const Scenario experimentBase = o.simulate ? experiment(base, o, res.cell_V) : base;
   for (double r : resistors) {
     BalanceTimeRow row;
     row.resistor_ohm = r;
-    row.branch_ohm = r + base.hardware.balancing.rds_on_ohm;
+    row.branch_ohm = r + hw.rds_on_ohm;
     row.current_A = res.cell_V / row.branch_ohm;
     row.power_W = res.cell_V * row.current_A;
-    row.board_power_W = row.power_W * res.high_cells;
-    row.analytic_h = res.delta_Ah / row.current_A;
+    row.board_power_W = row.power_W * perBoard;
+    const double iMax = cell.v_max_V / row.branch_ohm;
+    row.resistor_W = iMax * iMax * r;
+    row.within_rating = hw.resistor_power_rating_W <= 0.0 || row.resistor_W <= hw.resistor_power_rating_W;
+    row.analytic_h = constantCurrentHours(res.delta_Ah, res.cell_V, row.branch_ohm);
+    row.analytic_droop_h = ocvDroopHours(cell, group_Ah, socTarget, socHigh, row.branch_ohm);
     row.peak_board_C = NAN;
+    row.firmware_h = row.true_h = NAN;
     if (o.simulate) {
       Scenario s = experimentBase;
       s.hardware.balancing.resistor_ohm = r;
-      simulate(s, o, row);
+      simulate(s, res.target_mV, o.during_charge, row, res.warnings);
     }
     res.rows.push_back(row);
   }
+  if (o.simulate && o.during_charge) {
+    // The same charge without balancing: it ends when the charger stops delivering (the
+    // charger's taper, or the firmware ending the charge on its first full cell).
+    Scenario s = experimentBase;
+    s.bms.balancing.enabled = false;
+    const double end_A = s.charger.end_current_A;
+    double lastCharging_s = 0.0;
+    auto stopWhen = [&](double t, const double*, const PlantSignals& sig, const bms::Outputs&) {
+      if (sig.pack_current_A < -end_A) lastCharging_s = t;
+      return t - lastCharging_s >= 600.0;
+    };
+    runScenario(s, stopWhen);
+    const double without_h = lastCharging_s / 3600.0;
+    for (BalanceTimeRow& w : res.rows) {
+      w.charge_without_h = without_h;
+      w.charge_added_h = w.charge_h - without_h;
+    }
+  }
+  markFastest(res);
   return res;
 }
 

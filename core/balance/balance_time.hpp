@@ -1,27 +1,42 @@
-// Time to balance a pack with passive balancing resistors: for each resistor value,
+// Time to balance a pack with passive balancing resistors, per resistor value:
 //
-//   analytic    t = ΔQ / I,  I = V_cell / (R + Rds_on)   (constant current at V_cell)
-//   simulated   the full co-simulation at rest (no load, balancing always allowed,
-//               1 s BMS tick): the firmware's policy (start at target_mV, stop at half
-//               of it) drives the monitor ICs, the cells drain through their resistors
-//               and heat the board node. It ends when the true rest voltages (OCV) are
-//               within target_mV or the charge difference is removed, or when the BMS
-//               has stopped balancing for a minute (then the time it last balanced is
-//               reported), or after max_hours.
+//   analytic      t = ΔQ / I, I = V_cell / (R + Rds_on) (constant current), and the
+//                 OCV-droop form t = (R + Rds_on)·∫dQ/OCV(Q) over the charge to remove
+//                 until the high group's OCV is within target_mV of the low group's
+//                 (core/balance/balance_analytic)
+//   simulated     the full co-simulation at rest (no load) with the firmware exactly as
+//                 the scenario configures it: start/stop thresholds, decision period,
+//                 `when`, `no_adjacent`, minimum cell voltage, board pause, averaging,
+//                 the monitor's balancing timer. Only the BMS tick is raised to at least
+//                 1 s (decisions at 1 Hz are ample; DOMAIN.md D). Two times come out:
+//       firmware_h  when the firmware declared balanced (its status went to Balanced
+//                   after balancing and stayed there); NaN if it never did, with why
+//       true_h      when the true rest voltages (OCV) of all series groups first came
+//                   within target_mV: the target only measures, it changes nothing in
+//                   the firmware
+//                 The run ends once both are known, when the firmware has stopped for
+//                 good without reaching the target, or after max_hours.
+//   during charge on the scenario's charger (CC-CV) from the same state: top balancing
+//                 while the charger holds CV; the run ends when the charge ends, and a
+//                 second run without balancing gives the charge time balancing adds.
 //
 // The imbalance is either given (delta_Ah: `high_cells` series cells start at cell_V,
 // the others delta_Ah lower; the scenario's spread is not used) or the scenario's own
-// initial state (delta = largest minus smallest series-group charge). The simulated time
-// is longer than the analytic one mainly because the current falls as the high cells'
-// voltage drops while they drain (the analytic figure holds the starting voltage).
+// initial state (delta = largest minus smallest series-group charge).
+//
+// Honest columns: the charge each group needed to lose is its charge above the lowest
+// group's at the start; what a group bled up to that is useful, beyond it (or from a
+// group that needed nothing) wasted. Heat is every joule the branches dissipated.
 //
 // Plain structs in and out, no CLI types: the CLI (`packsim balance-time`) and the
 // Python module call the same function.
 #pragma once
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "core/balance/balance_analytic.hpp"
 #include "core/scenario/scenario.hpp"
 
 namespace packsim {
@@ -31,25 +46,48 @@ struct BalanceTimeOptions {
   std::optional<double> delta_Ah;     // imbalance to remove per high cell; unset: the scenario's initial state
   std::optional<double> cell_V;       // voltage of the analytic estimate (and of the high cells at the start)
   int high_cells = 1;                 // series cells that start high (with delta_Ah)
-  double target_mV = 5.0;             // balanced when max - min is below this
+  std::optional<double> target_mV;    // truth criterion: OCV max - min below this; unset: 1.5 × the firmware's stop_delta_mV
   double max_hours = 72.0;            // simulation cap
-  bool simulate = true;               // false: analytic estimate only
+  bool simulate = true;               // false: analytic estimates only
+  // Stated changes to the experiment (printed with the table, never silent):
+  std::optional<std::string> when;    // replace bms.balancing.when (e.g. "always" for a charge-only firmware at rest)
+  bool during_charge = false;         // on the scenario's charger (CC-CV) instead of at rest: top balancing
 };
 
 struct BalanceTimeRow {
   double resistor_ohm = 0.0;
   double branch_ohm = 0.0;            // resistor + FET Rds_on
   double current_A = 0.0;             // per cell at cell_V
-  double power_W = 0.0;               // per cell at cell_V
-  double board_power_W = 0.0;         // every high cell balancing at cell_V
-  double analytic_h = 0.0;
+  double power_W = 0.0;               // per branch at cell_V
+  double board_power_W = 0.0;         // the most loaded board, every high cell on it balancing at cell_V
+  double resistor_W = 0.0;            // in the resistor alone at the cell's v_max_V (worst case)
+  bool within_rating = true;          // resistor_W <= hardware.balancing.resistor_power_rating_W (true if not stated)
+  double analytic_h = 0.0;            // ΔQ / (V_cell / (R + Rds_on))
+  double analytic_droop_h = 0.0;      // (R + Rds_on)·∫dQ/OCV(Q) until the high OCV is within target_mV of the low
   bool simulated = false;
-  double simulated_h = 0.0;
-  std::string end_reason;             // within_target | charge_removed | bms_stopped | time_limit | not_started
-  double peak_board_C = 0.0;          // NaN without a board thermal node
-  double energy_Wh = 0.0;             // dissipated in the balancing branches
-  double charge_removed_Ah = 0.0;     // Σ ∫ I_bal dt over every cell
+  double firmware_h = 0.0;            // NaN: never declared balanced (firmware_note says why)
+  std::string firmware_note;
+  double true_h = 0.0;                // NaN: the rest voltages never came within target_mV
+  std::string end_reason;             // both_known | firmware_overran | firmware_stopped | not_started | tripped |
+                                      // charge_done | charge_done_unbalanced | time_limit
+  double peak_board_C = 0.0;          // the hottest board's peak; NaN without a board thermal node
+  std::vector<double> board_peak_C;   // per monitor board
+  double paused_fraction = 0.0;       // of the run up to true_h (or its end), paused on board temperature
+  double bled_Ah = 0.0;               // Σ over groups of ∫ I_bal dt
+  double useful_Ah = 0.0;             // bled by groups up to the charge they had above the lowest
+  double wasted_Ah = 0.0;             // bled beyond that (bled - useful)
+  double needed_Ah = 0.0;             // Σ of the charge above the lowest group at the start
+  double heat_Wh = 0.0;               // dissipated in the balancing branches
   double final_spread_Ah = 0.0;       // largest minus smallest series-group charge at the end
+  bool tripped = false;               // a protection tripped during the run
+  bool within_limits = false;         // reached the target, no trip, resistor within its rating
+  bool fastest = false;               // the smallest true_h among rows within limits
+  // During charge only (NaN otherwise): when the charger last delivered more than its end
+  // current with this resistor balancing, the same without balancing (a firmware that ends
+  // the charge on its first full cell stops early, the low cells short), and the difference.
+  double charge_h = NAN;
+  double charge_without_h = NAN;
+  double charge_added_h = NAN;
 };
 
 struct BalanceTimeResult {
@@ -58,13 +96,16 @@ struct BalanceTimeResult {
   double cell_V = 0.0;
   int high_cells = 1;
   double target_mV = 0.0;
+  double resistor_rating_W = 0.0;     // hardware.balancing.resistor_power_rating_W (0: not stated)
+  double board_max_C = 0.0;           // the firmware's board pause threshold
+  std::string when;                   // bms.balancing.when as simulated
+  bool when_overridden = false;       // --when replaced the scenario's
+  bool during_charge = false;
+  std::vector<std::string> warnings;  // config_warning events of the simulated runs (once each)
   std::vector<BalanceTimeRow> rows;
 };
 
 // Throws std::invalid_argument on a bad option (message names the option and its range).
 BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& options);
-
-// SOC at which the cell's OCV equals v (bisection on the increasing OCV curve).
-double socAtOcv(const CellParams& cell, double v);
 
 }  // namespace packsim

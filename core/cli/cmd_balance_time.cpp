@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <stdexcept>
 
+#include "core/balance/balance_table.hpp"
 #include "core/balance/balance_time.hpp"
 #include "core/cli/commands.hpp"
 #include "core/scenario/yaml_map.hpp"
@@ -36,33 +38,24 @@ std::string presetPath(const std::string& name) {
 
 namespace {
 
-void printTable(const BalanceTimeResult& r, std::ostream& os) {
-  char line[256];
-  std::snprintf(line, sizeof line, "balance-time  %s: %.3f Ah to remove, cells at %.3f V, %d high cell%s, target %.0f mV\n",
-                r.scenario.c_str(), r.delta_Ah, r.cell_V, r.high_cells, r.high_cells == 1 ? "" : "s", r.target_mV);
-  os << line;
-  os << "  R_ohm    I_mA  P_cell_W  board_W  analytic_h  simulated_h  sim/ana  removed_Ah  peak_board_C  energy_Wh  end\n";
-  for (const BalanceTimeRow& w : r.rows) {
-    std::snprintf(line, sizeof line, "%7.1f  %6.2f  %8.3f  %7.2f  %10.2f", w.resistor_ohm, w.current_A * 1e3,
-                  w.power_W, w.board_power_W, w.analytic_h);
-    os << line;
-    if (w.simulated) {
-      const std::string peak = std::isnan(w.peak_board_C) ? "-" : [&] {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.1f", w.peak_board_C);
-        return std::string(b);
-      }();
-      std::snprintf(line, sizeof line, "  %11.2f  %7.3f  %10.3f  %12s  %9.3f  %s\n", w.simulated_h,
-                    w.analytic_h > 0 ? w.simulated_h / w.analytic_h : 0.0, w.charge_removed_Ah, peak.c_str(),
-                    w.energy_Wh, w.end_reason.c_str());
-      os << line;
-    } else {
-      os << "\n";
-    }
+// The table as CSV beside the PNG, then `python3 -m packsim.balance_plot CSV PNG` draws it.
+void plotBalanceTime(const BalanceTimeResult& r, const std::string& png) {
+  const std::string csv = fs::path(png).replace_extension(".csv").string();
+  {
+    std::ofstream f(csv);
+    if (!f) throw std::runtime_error("--plot: cannot write " + csv);
+    f << "resistor_ohm,analytic_h,analytic_droop_h,firmware_h,true_h,peak_board_C,paused_fraction,resistor_W,"
+         "within_rating,within_limits,fastest\n";
+    f.precision(10);
+    for (const BalanceTimeRow& w : r.rows)
+      f << w.resistor_ohm << ',' << w.analytic_h << ',' << w.analytic_droop_h << ',' << w.firmware_h << ','
+        << w.true_h << ',' << w.peak_board_C << ',' << w.paused_fraction << ',' << w.resistor_W << ','
+        << w.within_rating << ',' << w.within_limits << ',' << w.fastest << '\n';
   }
-  os << "analytic: delta / (V_cell / (R + Rds_on)) at constant current and V_cell. simulated: the pack at rest,\n"
-        "the BMS policy balancing until the rest voltages are within the target; longer because the current\n"
-        "falls as the high cells drain and their voltage drops.\n";
+  const int rc = runPythonModule("packsim.balance_plot", {csv, png, "--title", r.scenario, "--board-max-C",
+                                                     std::to_string(r.board_max_C)});
+  if (rc != 0) throw std::runtime_error("--plot: python3 -m packsim.balance_plot failed (exit " + std::to_string(rc) + ")");
+  std::cout << "wrote " << png << " (table in " << csv << ")\n";
 }
 
 }  // namespace
@@ -80,8 +73,12 @@ int cmdBalanceTime(const BalanceTimeCliOptions& o) {
   opt.target_mV = o.target_mV;
   opt.max_hours = o.max_hours;
   opt.simulate = !o.analytic_only;
+  if (!o.when.empty()) opt.when = o.when;
+  opt.during_charge = o.during_charge;
   if (o.cell_V && !o.delta_Ah) throw std::invalid_argument("--cell-V needs --delta-Ah (the imbalance it applies to)");
-  printTable(balanceTime(s, opt), std::cout);
+  const BalanceTimeResult r = balanceTime(s, opt);
+  std::cout << balanceTimeTable(r);
+  if (!o.plot.empty()) plotBalanceTime(r, o.plot);
   return 0;
 }
 

@@ -25,8 +25,8 @@ std::string pythonPackageDir() {
   return PACKSIM_PYTHON_DIR;
 }
 
-int cmdPlot(const PlotOptions& o) {
-  if (!std::filesystem::is_regular_file(o.result)) throw ScenarioError(o.result, 0, 0, "", "no such result file");
+// Runs `python3 -m MODULE ARGS…` with the package first on PYTHONPATH; returns its exit code.
+int runPythonModule(const std::string& module, std::vector<std::string> moduleArgs) {
   const char* envPython = std::getenv("PACKSIM_PYTHON");
   const std::string python = envPython && *envPython ? envPython : "python3";
 
@@ -36,11 +36,8 @@ int cmdPlot(const PlotOptions& o) {
   setenv("PYTHONPATH", path.c_str(), 1);
   setenv("MPLBACKEND", "Agg", 1);  // files only, never a window
 
-  std::vector<std::string> args = {python, "-m", "packsim.plot", o.result, "-o", o.outdir.empty() ? "." : o.outdir};
-  if (o.dpi > 0) {
-    args.push_back("--dpi");
-    args.push_back(std::to_string(o.dpi));
-  }
+  std::vector<std::string> args = {python, "-m", module};
+  args.insert(args.end(), moduleArgs.begin(), moduleArgs.end());
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -54,9 +51,19 @@ int cmdPlot(const PlotOptions& o) {
   while (waitpid(pid, &status, 0) < 0) {
     if (errno != EINTR) throw std::runtime_error(std::string("packsim plot: waitpid failed: ") + std::strerror(errno));
   }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);  // packsim.plot printed its own error
-  throw std::runtime_error("packsim plot: '" + python + " -m packsim.plot' was killed by signal " +
+  if (WIFEXITED(status)) return WEXITSTATUS(status);  // the module printed its own error
+  throw std::runtime_error("packsim plot: '" + python + " -m " + module + "' was killed by signal " +
                            std::to_string(WTERMSIG(status)));
+}
+
+int cmdPlot(const PlotOptions& o) {
+  if (!std::filesystem::is_regular_file(o.result)) throw ScenarioError(o.result, 0, 0, "", "no such result file");
+  std::vector<std::string> args = {o.result, "-o", o.outdir.empty() ? "." : o.outdir};
+  if (o.dpi > 0) {
+    args.push_back("--dpi");
+    args.push_back(std::to_string(o.dpi));
+  }
+  return runPythonModule("packsim.plot", args);
 }
 
 }  // namespace packsim

@@ -43,9 +43,12 @@ struct BalanceTimeCliOptions {
   std::vector<double> resistors_ohm;
   std::optional<double> delta_Ah, cell_V;
   int high_cells = 1;
-  double target_mV = 5.0;
+  std::optional<double> target_mV;
   double max_hours = 72.0;
   bool analytic_only = false;
+  std::string when;          // replace bms.balancing.when (stated in the output)
+  bool during_charge = false;
+  std::string plot;          // PNG of time and peak board temperature vs R (via Python)
 };
 
 std::string defaultScenarioPath();
@@ -58,5 +61,7 @@ int cmdBalanceTime(const BalanceTimeCliOptions& o);
 std::string presetPath(const std::string& name);
 // Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).
 std::string pythonPackageDir();
+// `python3 -m MODULE ARGS…` with the package on PYTHONPATH (core/cli/cmd_plot.cpp); its exit code.
+int runPythonModule(const std::string& module, std::vector<std::string> args);
 
 }  // namespace packsim

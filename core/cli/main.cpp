@@ -51,9 +51,12 @@ int main(int argc, char** argv) {
   balCmd->add_option("--delta-Ah", bal.delta_Ah, "imbalance to remove (default: the scenario's initial spread)");
   balCmd->add_option("--cell-V", bal.cell_V, "cell voltage of the high cells (default: OCV at the initial SOC)");
   balCmd->add_option("--high-cells", bal.high_cells, "series cells that start high with --delta-Ah (default 1)");
-  balCmd->add_option("--target-mV", bal.target_mV, "balanced when max - min cell is below this (default 5)");
+  balCmd->add_option("--target-mV", bal.target_mV, "true criterion: rest voltages max - min below this (default: 1.5 x the firmware's stop_delta_mV)");
   balCmd->add_option("--max-hours", bal.max_hours, "simulation cap in hours (default 72)");
   balCmd->add_flag("--analytic-only", bal.analytic_only, "skip the simulation");
+  balCmd->add_option("--when", bal.when, "replace the firmware's bms.balancing.when: charging|rest|charging_or_rest|always");
+  balCmd->add_flag("--during-charge", bal.during_charge, "balance on the scenario's CC-CV charger (top balancing)");
+  balCmd->add_option("--plot", bal.plot, "also write a PNG: time to balance and peak board temperature vs R");
 
   try {
     app.parse(argc, argv);

@@ -16,6 +16,8 @@ PassiveBalancerConfig readPassiveBalancer(YamlMap m) {
   b.board_thermistors = static_cast<int>(m.integer("board_thermistors", 0, 0, 8));
   if (b.board_thermistors > 0 && b.board_node.empty())
     throw m.errorAt("board_thermistors", "board thermistors need a board_node (a thermal.nodes entry) to sit on");
+  b.cells_per_board = static_cast<int>(m.integer("cells_per_board", 0, 0, bms::kMaxCells));
+  b.resistor_power_rating_W = m.number("resistor_power_rating_W", 0.0, Range::closed(0.0, 100.0));
   m.finish();
   return b;
 }
@@ -70,6 +72,7 @@ BalanceSettings readBalanceSettings(YamlMap m) {
   b.rest_s = m.number("rest_s", b.rest_s, Range::closed(0.0, 86400.0));
   b.period_s = m.number("period_ms", b.period_s * 1e3, Range::closed(1.0, 600000.0)) * 1e-3;
   b.measure_paused = m.boolean("measure_paused", b.measure_paused);
+  b.average_readings = static_cast<int>(m.integer("average_readings", b.average_readings, 1, bms::kMaxBalanceAverage));
   m.finish();
   return b;
 }

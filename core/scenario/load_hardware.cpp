@@ -234,6 +234,15 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       if (a.model != bms::AfeModel::Bq76952) throw afe->errorAt("crc", "only a bq76952 has an optional CRC");
       a.crc = afe->boolean("crc", true);
     }
+    if (afe->has("oversampling")) {  // the one monitor class here that averages in hardware
+      if (a.model != bms::AfeModel::Bq76pl455a)
+        throw afe->errorAt("oversampling", "only a bq76pl455a averages conversions in hardware; average in firmware "
+                                           "with bms.balancing.average_readings");
+      a.oversampling = static_cast<int>(afe->integer("oversampling", 1, 1, 32));
+      if ((a.oversampling & (a.oversampling - 1)) != 0)
+        throw afe->errorAt("oversampling", "must be 1, 2, 4, 8, 16 or 32 samples");
+      a.cell_adc.noise_rms /= std::sqrt(static_cast<double>(a.oversampling));
+    }
     if (auto s = afe->optionalMap("secondary")) {
       if (a.model == bms::AfeModel::Bq76952) throw afe->errorAt("secondary", "a bq76952 uses `protection`, not `secondary`");
       readSecondary(*s, a.secondary);

@@ -103,6 +103,14 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, 2147483647L));
   s.pack = readPack(m.map("pack"), base_dir);
   s.hardware = readHardware(m.optionalMap("hardware"), s.pack);
+  if (PassiveBalancerConfig& b = s.hardware.balancing; b.cells_per_board > 0) {
+    b.boards = (s.pack.series + b.cells_per_board - 1) / b.cells_per_board;
+    if (b.boards > bms::kMaxBoards)
+      throw m.map("hardware").map("balancing").errorAt(
+          "cells_per_board", std::to_string(s.pack.series) + " series cells at " + std::to_string(b.cells_per_board) +
+                                 " per board make " + std::to_string(b.boards) + " boards; at most " +
+                                 std::to_string(bms::kMaxBoards));
+  }
   s.bms = readBms(m.optionalMap("bms"));
   {
     YamlMap load = m.map("load");

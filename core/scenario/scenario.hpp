@@ -73,7 +73,7 @@ struct HardwareConfig {
   PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
   ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
   // Thermistor channels: the cell ones, then the balancing board's.
-  int thermistorCount() const { return static_cast<int>(thermistor_cells.size()) + balancing.board_thermistors; }
+  int thermistorCount() const { return static_cast<int>(thermistor_cells.size()) + balancing.board_thermistors * balancing.boards; }
 };
 
 struct ProtectionConfig {
@@ -109,6 +109,7 @@ struct BalanceSettings {
   double rest_s = 600.0;
   double period_s = 1.0;
   bool measure_paused = true;  // switches open for each conversion (no I_bal·R0 in the readings)
+  int average_readings = 1;    // decide on each cell's mean of this many readings (firmware block average)
 };
 
 struct BmsSettings {

@@ -50,7 +50,10 @@ void setBalancing(bms::Config& c, const Scenario& s) {
   k.rest_ms = static_cast<uint32_t>(std::lround(b.rest_s * 1e3));
   k.period_ms = static_cast<uint32_t>(std::lround(b.period_s * 1e3));
   k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_cells.size());
-  k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors);
+  k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors * s.hardware.balancing.boards);
+  k.averageReadings = static_cast<uint8_t>(b.average_readings);
+  k.boardCount = static_cast<uint8_t>(s.hardware.balancing.boards);
+  k.cellsPerBoard = static_cast<uint16_t>(s.hardware.balancing.cells_per_board);
   const double request_A = s.bms.charge_current_A > 0.0 ? s.bms.charge_current_A
                            : s.charger.present          ? s.charger.current_A
                                                         : 0.0;
@@ -148,9 +151,12 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
     truth_.cell_V[gi] = sig.group_voltage_V[gi];
     truth_.cell_gain_error[gi] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
     truth_.cell_offset_V[gi] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
-    double hottest = -INFINITY;
-    for (int k = 0; k < parallel; ++k) hottest = std::max(hottest, sig.node_temp_C[static_cast<size_t>(g * parallel + k)]);
-    truth_.cell_temp_C[gi] = hottest;
+  }
+  // Each monitor IC's die sits on its board: the board node of its first cell, or the
+  // ambient air without one.
+  for (size_t d = 0; d < truth_.board_C.size(); ++d) {
+    const int node = plant_.boardNodeOfGroup(static_cast<int>(d) * hw.afe.cells_per_device);
+    truth_.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;
   }
   auto thermFault = [&](size_t k) {
     if (k >= f.thermistor.size()) return SensorFault::None;
@@ -159,7 +165,10 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
                                                         : SensorFault::None;
   };
   auto thermTemp = [&](size_t k) {  // cell thermistors, then the balancing board's
-    if (k >= hw.thermistor_cells.size()) return sig.node_temp_C[static_cast<size_t>(plant_.boardNode())];
+    if (k >= hw.thermistor_cells.size()) {  // board thermistors, board by board
+      const size_t b = (k - hw.thermistor_cells.size()) / static_cast<size_t>(hw.balancing.board_thermistors);
+      return sig.node_temp_C[static_cast<size_t>(plant_.boardNodeOf(static_cast<int>(b)))];
+    }
     return sig.node_temp_C[static_cast<size_t>(hw.thermistor_cells[k] * parallel)];
   };
   for (size_t k = 0; k < truth_.therm_C.size(); ++k) {

@@ -35,6 +35,16 @@ Plant::Plant(const Scenario& s)
   }
   for (const ThermalNodeConfig& n : th.nodes)
     for (const auto& [other, g] : n.node_links) thermal_.link(thermal_.find(n.name), thermal_.find(other), g);
+  // One node per monitor board: the named node is the first board's; the others are
+  // copies of it (same heat capacity and conductance to ambient, no links).
+  const PassiveBalancerConfig& bal = s.hardware.balancing;
+  if (bal.present && !bal.board_node.empty())
+    for (const ThermalNodeConfig& n : th.nodes)
+      if (n.name == bal.board_node)
+        for (int b = 0; b < bal.boardOf(pack_.series - 1) + 1; ++b)
+          boardNodes_.push_back(b == 0 ? thermal_.find(n.name)
+                                       : thermal_.addNode(bal.boardNodeName(b), n.heat_capacity_J_per_K,
+                                                          n.g_ambient_W_per_K));
   stride_ = pack_.layout.size() + 1;
   stateSize_ = pack_.cellCount() * stride_ + (thermal_.nodeCount() - pack_.cellCount());
   balancer_ = s.hardware.balancing;
@@ -162,7 +172,12 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
     if (j >= pack_.cellCount()) sig.heat_W[static_cast<size_t>(j)] = 0.0;
     sig.node_temp_C[static_cast<size_t>(j)] = x[tempIndex(j)];
   }
-  if (boardNode_ >= 0) sig.heat_W[static_cast<size_t>(boardNode_)] += sig.balance_heat_W;
+  // Each resistor heats the board it sits on.
+  if (boardNode_ >= 0 && busIndex_ < 0)
+    for (int g = 0; g < pack_.series; ++g) {
+      const size_t gi = static_cast<size_t>(g);
+      sig.heat_W[static_cast<size_t>(boardNodeOfGroup(g))] += sig.group_voltage_V[gi] * sig.balance_current_A[gi];
+    }
   sig.ambient_C = ambient_.at(t);
 }
 

@@ -93,8 +93,13 @@ class Plant {
   int tempIndex(int node) const;
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }
   const std::vector<double>& initialSoc() const { return initialSoc_; }
-  // The balancing board's thermal node (-1 if none).
+  // The balancing board's thermal node (-1 if none): the first board's.
   int boardNode() const { return boardNode_; }
+  // Monitor boards (hardware.balancing.cells_per_board): board b's thermal node, -1 if none.
+  int boardCount() const { return static_cast<int>(boardNodes_.size()); }
+  int boardNodeOf(int board) const { return boardNodes_.empty() ? -1 : boardNodes_[static_cast<size_t>(board)]; }
+  // Thermal node of the board series group g's resistor sits on (-1 if none).
+  int boardNodeOfGroup(int g) const { return boardNodeOf(balancer_.boardOf(g)); }
 
   void initialState(double* x) const;
   // Algebraic part: currents, voltages, heat, temperatures at (t, x).
@@ -138,6 +143,7 @@ class Plant {
   PassiveBalancerConfig balancer_;
   ActiveBalancerConfig active_;
   int boardNode_ = -1;
+  std::vector<int> boardNodes_;  // per monitor board; empty without a board node
   int busIndex_ = -1;
 };
 

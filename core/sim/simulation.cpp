@@ -1,5 +1,7 @@
 #include "core/sim/simulation.hpp"
 
+#include "core/balance/noise_floor.hpp"
+
 #include <bms/bms_core.hpp>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/balance/noise_floor.hpp"
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/fast_integrator.hpp"
@@ -91,6 +94,8 @@ RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
                   s.hardware.afe.devices, readout_s * 1e3, s.bms.tick_s * 1e3);
     tracker.event(0.0, "config_warning", note);
   }
+  // A balancing stop threshold below what the measurement noise of N channels allows.
+  if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
   FaultScheduler scheduler(s, plant);
   scheduler.reset(faults);
 

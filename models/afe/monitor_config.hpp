@@ -55,8 +55,9 @@ struct MonitorConfig {
   double module_noise_V = 0.0;      // noise of the module/stack channel
   Thermistor thermistor;            // NTC + divider on the thermistor inputs
   bool crc = true;                  // BQ76952 only (the others always carry a CRC)
-  double die_rise_C = 5.0;          // die above its hottest cell
+  double die_rise_C = 5.0;          // die above its board (own dissipation)
   double measurement_period_s = 0.0;  // BQ76952 loop (≈ 0.06 s): readings refresh at this rate; 0 = every read
+  int oversampling = 1;             // BQ76PL455A only: conversions averaged in hardware per reading (cell_adc noise / √n)
   double shunt_ohm = 0.005;         // BQ76952 current input
   SecondaryProtection secondary;
   Bq952Protection bq;

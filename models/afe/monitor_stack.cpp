@@ -59,7 +59,7 @@ MonitorTruth MonitorStack::makeTruth() const {
   t.cell_V.assign(n, 0.0);
   t.cell_gain_error.assign(n, 0.0);
   t.cell_offset_V.assign(n, 0.0);
-  t.cell_temp_C.assign(n, 25.0);
+  t.board_C.assign(static_cast<size_t>(cfg_.devices), 25.0);
   t.therm_C.assign(static_cast<size_t>(thermistorChannels()), 25.0);
   t.therm_fault.assign(static_cast<size_t>(thermistorChannels()), SensorFault::None);
   t.comm.assign(static_cast<size_t>(cfg_.devices), DeviceComm{});
@@ -320,14 +320,11 @@ void MonitorStack::buildFrame(const Device& dv, int d, double t, const MonitorTr
     const double v = cfg_.model == bms::AfeModel::Bq76952 ? dv.heldCell_V[static_cast<size_t>(c)] : truth.cell_V[cell];
     return a.convert(v, rng);
   };
-  double module_V = 0.0, hottest = -1e9;
-  for (int c = 0; c < n; ++c) {
-    const size_t cell = static_cast<size_t>(first + c);
-    module_V += truth.cell_V[cell];
-    hottest = std::max(hottest, truth.cell_temp_C[cell]);
-  }
+  double module_V = 0.0;
+  for (int c = 0; c < n; ++c) module_V += truth.cell_V[static_cast<size_t>(first + c)];
   if (cfg_.module_noise_V > 0.0) module_V += cfg_.module_noise_V * standardNormal(rng);
-  const double die_C = hottest + cfg_.die_rise_C;
+  // The die sits on its board, away from the cells' cores: board + its own dissipation.
+  const double die_C = truth.board_C[static_cast<size_t>(d)] + cfg_.die_rise_C;
   auto thermCode = [&](int k) -> uint16_t {
     const size_t ch = static_cast<size_t>(d * cfg_.thermistors_per_device + k);
     if (k >= cfg_.thermistors_per_device) return 0;

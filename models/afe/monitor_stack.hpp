@@ -38,7 +38,7 @@ struct MonitorTruth {
   std::vector<double> cell_V;            // per series position
   std::vector<double> cell_gain_error;   // injected per channel (added to the part's)
   std::vector<double> cell_offset_V;
-  std::vector<double> cell_temp_C;       // per series position (for the die temperature)
+  std::vector<double> board_C;           // per device: the board it sits on (its die = this + die_rise_C)
   std::vector<double> therm_C;           // per AFE thermistor channel
   std::vector<SensorFault> therm_fault;
   std::vector<DeviceComm> comm;          // per device

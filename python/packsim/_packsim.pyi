@@ -94,12 +94,13 @@ def write_summary_csv(sweep: Sweep, outcomes: list[dict[str, Any]]) -> str:
 
 # --- `packsim balance-time` (python/src/balance_bindings.cpp) ---------------------------
 def balance_time(source: str, is_file: bool, overrides: list[tuple[str, str]], resistors_ohm: list[float],
-                 delta_Ah: Optional[float], cell_V: Optional[float], high_cells: int, target_mV: float,
-                 max_hours: float, simulate: bool, file_name: str = "<scenario>", base_dir: str = ".") -> dict[str, Any]:
+                 delta_Ah: Optional[float], cell_V: Optional[float], high_cells: int, target_mV: Optional[float],
+                 max_hours: float, simulate: bool, when: Optional[str], during_charge: bool,
+                 file_name: str = "<scenario>", base_dir: str = ".") -> dict[str, Any]:
     """Time to balance per resistor as ``packsim balance-time`` (GIL released).
-    {scenario, delta_Ah, cell_V, high_cells, target_mV, rows: [{resistor_ohm, branch_ohm,
-    current_A, power_W, board_power_W, analytic_h, simulated, simulated_h, end_reason,
-    peak_board_C, energy_Wh, charge_removed_Ah, final_spread_Ah}]}. ValueError for a bad option."""
+    {scenario, delta_Ah, cell_V, high_cells, target_mV, resistor_rating_W, board_max_C, when,
+    when_overridden, during_charge, warnings, text (the CLI's table), rows: [one dict per resistor
+    with the fields of packsim.balance.BalanceTimeRow]}. ValueError for a bad option."""
 
 def preset_path(name: str) -> str:
     """A bundled scenario by name (scenarios/ or scenarios/balance/); ValueError if none."""

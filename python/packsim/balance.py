@@ -1,14 +1,17 @@
 """``packsim.balance_time``: how long passive balancing takes per resistor, as
-``packsim balance-time`` computes it (core/balance/balance_time.hpp).
+``packsim balance-time`` computes it (core/balance/balance_time.hpp, docs/balancing.md).
 
-    bt = packsim.balance_time(resistor=[22, 33, 47, 68, 100])   # preset bench_6s_balancing
-    bt = packsim.balance_time("my_pack.yaml", resistor=33, delta_Ah=0.5, cell_V=3.9)
-    bt.rows[0].simulated_h, bt.table, print(bt)                  # print: the CLI's table
-    packsim.plot.balance_time(bt)                                # time to balance vs resistor
+    bt = packsim.balance_time(resistor=[22, 33, 47, 68, 100], when="always")  # bench_6s_balancing
+    bt = packsim.balance_time(preset="motorcycle_110s_balancing", resistor=[22, 33, 47],
+                              delta_Ah=2, cell_V=3.9, high_cells=36)
+    bt.table                        # a pandas DataFrame, one row per resistor
+    print(bt)                       # the CLI's table, notes and legend
+    packsim.plot.balance_time(bt)   # time to balance and peak board temperature vs R
 
-For each resistor: the analytic estimate t = ΔQ / I with I = V_cell / (R + Rds_on), and
-the full co-simulation of the pack at rest with the firmware's balancing policy until
-the rest voltages are within target_mV.
+For each resistor: the analytic estimates (constant current V/(R+Rds_on), and the OCV-droop
+form (R+Rds_on)·∫dQ/OCV(Q)) and the full co-simulation with the firmware as the scenario
+configures it: when it declared itself balanced (firmware_h) and when the true rest
+voltages came within target_mV (true_h).
 """
 from __future__ import annotations
 
@@ -23,24 +26,41 @@ from ._overrides import flatten_overrides
 __all__ = ["balance_time", "BalanceTimeResult", "BalanceTimeRow", "DEFAULT_PRESET"]
 
 DEFAULT_PRESET = "bench_6s_balancing"  # what `packsim balance-time` uses without a scenario
+WHEN = ("charging", "rest", "charging_or_rest", "always")
 
 
 @dataclass(frozen=True)
 class BalanceTimeRow:
-    """One resistor. Per-cell current and power at cell_V; times in hours."""
+    """One resistor. Per-cell current and power at cell_V; times in hours (NaN: never)."""
     resistor_ohm: float
     branch_ohm: float          # resistor + FET Rds_on
     current_A: float
     power_W: float
-    board_power_W: float       # every high cell balancing at cell_V
-    analytic_h: float
+    board_power_W: float       # the most loaded board, every high cell on it balancing at cell_V
+    resistor_W: float          # in the resistor at the cell's v_max_V
+    within_rating: bool        # resistor_W <= hardware.balancing.resistor_power_rating_W
+    analytic_h: float          # ΔQ / (V_cell / (R + Rds_on))
+    analytic_droop_h: float    # (R + Rds_on)·∫dQ/OCV(Q) until within target_mV
     simulated: bool
-    simulated_h: float
-    end_reason: str            # within_target | charge_removed | bms_stopped | time_limit | not_started
-    peak_board_C: float        # NaN without a board thermal node
-    energy_Wh: float           # dissipated in the balancing branches
-    charge_removed_Ah: float
+    firmware_h: float          # the firmware declared balanced (NaN: never; firmware_note says why)
+    firmware_note: str
+    true_h: float              # the true rest voltages within target_mV
+    end_reason: str
+    peak_board_C: float        # the hottest board; NaN without a board thermal node
+    board_peak_C: tuple        # per monitor board
+    paused_fraction: float     # time paused on board temperature (to true_h)
+    bled_Ah: float             # every coulomb through the resistors
+    useful_Ah: float           # bled up to each cell's charge above the lowest
+    wasted_Ah: float           # bled beyond that
+    needed_Ah: float
+    heat_Wh: float
     final_spread_Ah: float
+    tripped: bool
+    within_limits: bool        # target reached, no trip, resistor within its rating
+    fastest: bool              # the fastest row within limits
+    charge_h: float            # during charge: the charge's length (NaN otherwise)
+    charge_without_h: float
+    charge_added_h: float
 
 
 @dataclass(frozen=True)
@@ -50,6 +70,13 @@ class BalanceTimeResult:
     cell_V: float
     high_cells: int
     target_mV: float
+    resistor_rating_W: float   # 0: not stated
+    board_max_C: float
+    when: str                  # bms.balancing.when as simulated
+    when_overridden: bool
+    during_charge: bool
+    warnings: tuple[str, ...]  # config_warning events of the runs
+    text: str                  # the CLI's table
     rows: tuple[BalanceTimeRow, ...]
 
     @property
@@ -71,24 +98,7 @@ class BalanceTimeResult:
 
     def __str__(self) -> str:
         """The table ``packsim balance-time`` prints for the same arguments."""
-        s = "" if self.high_cells == 1 else "s"
-        out = [f"balance-time  {self.scenario}: {self.delta_Ah:.3f} Ah to remove, cells at {self.cell_V:.3f} V, "
-               f"{self.high_cells} high cell{s}, target {self.target_mV:.0f} mV\n",
-               "  R_ohm    I_mA  P_cell_W  board_W  analytic_h  simulated_h  sim/ana  removed_Ah  peak_board_C  "
-               "energy_Wh  end\n"]
-        for w in self.rows:
-            line = (f"{w.resistor_ohm:7.1f}  {w.current_A * 1e3:6.2f}  {w.power_W:8.3f}  {w.board_power_W:7.2f}  "
-                    f"{w.analytic_h:10.2f}")
-            if w.simulated:
-                peak = "-" if math.isnan(w.peak_board_C) else f"{w.peak_board_C:.1f}"
-                ratio = w.simulated_h / w.analytic_h if w.analytic_h > 0 else 0.0
-                line += (f"  {w.simulated_h:11.2f}  {ratio:7.3f}  {w.charge_removed_Ah:10.3f}  {peak:>12}  "
-                         f"{w.energy_Wh:9.3f}  {w.end_reason}")
-            out.append(line + "\n")
-        out.append("analytic: delta / (V_cell / (R + Rds_on)) at constant current and V_cell. simulated: the pack "
-                   "at rest,\nthe BMS policy balancing until the rest voltages are within the target; longer "
-                   "because the current\nfalls as the high cells drain and their voltage drops.\n")
-        return "".join(out)
+        return self.text
 
 
 def _number(name: str, v: Any, *, positive: bool = False, allow_none: bool = True) -> float | None:
@@ -120,8 +130,9 @@ def _resistors(resistor: Any) -> list[float]:
 def balance_time(scenario: str | os.PathLike[str] | Mapping[str, Any] | None = None, /,
                  overrides: Mapping[str, Any] | None = None, *, preset: str | None = None,
                  resistor: float | Iterable[float] | None = None, delta_Ah: float | None = None,
-                 cell_V: float | None = None, high_cells: int = 1, target_mV: float = 5.0,
-                 max_hours: float = 72.0, simulate: bool = True,
+                 cell_V: float | None = None, high_cells: int = 1, target_mV: float | None = None,
+                 max_hours: float = 72.0, simulate: bool = True, when: str | None = None,
+                 during_charge: bool = False,
                  base_dir: str | os.PathLike[str] | None = None, **more: Any) -> BalanceTimeResult:
     """Time to balance per balancing resistor, like ``packsim balance-time``.
 
@@ -134,19 +145,28 @@ def balance_time(scenario: str | os.PathLike[str] | Mapping[str, Any] | None = N
     cell_V:     voltage of the high cells at the start and of the analytic estimate
                 (needs delta_Ah; default: OCV at the initial SOC).
     high_cells: series cells that start high by delta_Ah.
-    target_mV:  balanced when max - min cell voltage is below this.
+    target_mV:  truth criterion: true_h is when the rest voltages' max - min is below this
+                (it measures; the firmware keeps its own thresholds); default: 1.5 x
+                the firmware's own stop_delta_mV (the truth settles about at that threshold).
     max_hours:  simulation cap.
-    simulate:   False: the analytic estimate only (the CLI's ``--analytic-only``).
+    simulate:   False: the analytic estimates only (the CLI's ``--analytic-only``).
+    when:       replace the firmware's bms.balancing.when (``--when``), e.g. "always" for a
+                firmware that balances only on the charger; stated in the result.
+    during_charge: balance on the scenario's CC-CV charger (``--during-charge``): top
+                balancing, and the charge time balancing adds.
     """
     from . import _bool_arg, _core, _int_arg, _path_arg, _scenario_args
     core = _core()
     res = _resistors(resistor)
     delta = _number("delta_Ah", delta_Ah, positive=True)
     volts = _number("cell_V", cell_V, positive=True)
-    target = _number("target_mV", target_mV, positive=True, allow_none=False)
+    target = _number("target_mV", target_mV, positive=True)
     hours = _number("max_hours", max_hours, positive=True, allow_none=False)
     _int_arg("high_cells", high_cells)
     _bool_arg("simulate", simulate)
+    _bool_arg("during_charge", during_charge)
+    if when is not None and when not in WHEN:
+        raise ValueError(f"when must be one of {', '.join(WHEN)}, got {when!r}")
     if volts is not None and delta is None:
         raise ValueError("cell_V needs delta_Ah (the imbalance it applies to)")
     if preset is not None and not isinstance(preset, str):
@@ -159,6 +179,26 @@ def balance_time(scenario: str | os.PathLike[str] | Mapping[str, Any] | None = N
     if scenario is None:
         scenario = core.preset_path(preset or DEFAULT_PRESET)
     source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
-    d = core.balance_time(source, is_file, pairs, res, delta, volts, high_cells, target, hours, simulate, name, base)
+    d = core.balance_time(source, is_file, pairs, res, delta, volts, high_cells, target, hours, simulate, when,
+                          during_charge, name, base)
     rows = tuple(BalanceTimeRow(**r) for r in d.pop("rows"))
     return BalanceTimeResult(rows=rows, **d)
+
+
+def _plot_csv(argv: list[str] | None = None) -> int:
+    """``python -m packsim.balance_plot CSV PNG``: the figure ``packsim balance-time --plot`` writes."""
+    import argparse
+    import csv
+    p = argparse.ArgumentParser(prog="packsim balance-time --plot")
+    p.add_argument("csv")
+    p.add_argument("png")
+    p.add_argument("--title", default="")
+    p.add_argument("--board-max-C", type=float, default=math.nan)
+    a = p.parse_args(argv)
+    with open(a.csv, newline="") as f:
+        rows = list(csv.DictReader(f))
+    cols = {k: [float(r[k]) for r in rows] for k in rows[0]} if rows else {}
+    from .plot import balance_time_figure
+    fig = balance_time_figure(cols, title=a.title, board_max_C=a.board_max_C)
+    fig.savefig(a.png, dpi=120)
+    return 0

@@ -15,6 +15,7 @@ matplotlib Figure. ``python -m packsim.plot RESULT.h5 -o DIR`` writes the PNGs.
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from typing import Any
@@ -265,43 +266,59 @@ def balancing(r: Result | str | os.PathLike):
     return fig
 
 
+def balance_time_figure(cols, *, title: str = "", board_max_C: float = math.nan):
+    """Time to balance (left) and peak board temperature (right) against the resistor from
+    the columns of a balance-time table (resistor_ohm, analytic_h, analytic_droop_h,
+    firmware_h, true_h, peak_board_C, paused_fraction, fastest). The fastest resistor within
+    limits is ringed; the paused percentage labels resistors the board pause slowed."""
+    order = np.argsort(np.asarray(cols["resistor_ohm"], dtype=float))
+    keys = ("resistor_ohm", "analytic_h", "analytic_droop_h", "firmware_h", "true_h", "peak_board_C",
+            "paused_fraction", "fastest")
+    col = {k: np.asarray(cols[k], dtype=float)[order] for k in keys}
+    r_ohm = col["resistor_ohm"]
+    fig = _figure(11, 4.5)
+    ax, temp = fig.subplots(1, 2)
+    ax.plot(r_ohm, col["analytic_h"], "o--", color="C0", label="analytic  ΔQ·(R+Rds_on)/V_cell")
+    ax.plot(r_ohm, col["analytic_droop_h"], "o:", color="C2", label="analytic with OCV droop")
+    if np.any(np.isfinite(col["true_h"])) or np.any(np.isfinite(col["firmware_h"])):
+        ax.plot(r_ohm, col["true_h"], "s-", color="C3", label="simulated: true rest voltages within target")
+        ax.plot(r_ohm, col["firmware_h"], "^-", color="C1", label="simulated: firmware declared balanced")
+        for x, y, p in zip(r_ohm, col["true_h"], col["paused_fraction"]):
+            if np.isfinite(y) and p > 0.005:
+                ax.annotate(f"{100 * p:.0f} % paused", (x, y), textcoords="offset points", xytext=(4, 6),
+                            fontsize=8, color="C3")
+        best = col["fastest"] > 0.5
+        if np.any(best):
+            ax.plot(r_ohm[best], col["true_h"][best], "o", ms=14, mfc="none", color="k",
+                    label="fastest within limits")
+    ax.set_xlabel("balancing resistor (Ω)")
+    ax.set_ylabel("time to balance (h)")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    temp.plot(r_ohm, col["peak_board_C"], "s-", color="C4", label="peak board temperature")
+    if math.isfinite(board_max_C):
+        temp.axhline(board_max_C, color="0.5", ls="--", label=f"board pause {board_max_C:.0f} °C")
+    temp.set_xlabel("balancing resistor (Ω)")
+    temp.set_ylabel("peak board temperature (°C)")
+    temp.grid(alpha=0.3)
+    temp.legend(fontsize=8)
+    if title:
+        fig.suptitle(title)
+    return fig
+
+
 def balance_time(bt):
-    """Time to balance vs balancing resistor from ``packsim.balance_time``: the analytic
-    estimate and the simulated time (hours, left), and the per-cell balancing current
-    (right). Simulated points are labelled with how the run ended when it was not by
-    reaching the target."""
+    """Time to balance and peak board temperature vs balancing resistor from
+    ``packsim.balance_time`` (the figure ``packsim balance-time --plot`` writes)."""
     from .balance import BalanceTimeResult
     if not isinstance(bt, BalanceTimeResult):
         raise TypeError(f"expected the result of packsim.balance_time, got {type(bt).__name__}")
     if not bt.rows:
         raise ValueError("the balance-time result has no rows")
-    rows = sorted(bt.rows, key=lambda w: w.resistor_ohm)
-    r_ohm = np.array([w.resistor_ohm for w in rows])
-    fig = _figure(8, 4.5)
-    ax = fig.subplots()
-    ax.plot(r_ohm, [w.analytic_h for w in rows], "o--", color="C0", label="analytic  ΔQ·(R+Rds_on)/V_cell")
-    sim = [w for w in rows if w.simulated]
-    if sim:
-        ax.plot([w.resistor_ohm for w in sim], [w.simulated_h for w in sim], "s-", color="C3",
-                label=f"simulated (to {bt.target_mV:.0f} mV)")
-        for w in sim:
-            if w.end_reason not in ("within_target", "charge_removed"):
-                ax.annotate(w.end_reason, (w.resistor_ohm, w.simulated_h), textcoords="offset points",
-                            xytext=(4, 6), fontsize=8, color="C3")
-    ax.set_xlabel("balancing resistor (Ω)")
-    ax.set_ylabel("time to balance (h)")
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    cur = ax.twinx()
-    cur.plot(r_ohm, [w.current_A * 1e3 for w in rows], ":", color="0.5", label="balancing current")
-    cur.set_ylabel(f"balancing current at {bt.cell_V:.2f} V (mA)", color="0.4")
-    cur.set_ylim(bottom=0)
-    lines = ax.get_legend_handles_labels()
-    more = cur.get_legend_handles_labels()
-    ax.legend(lines[0] + more[0], lines[1] + more[1], loc="upper left", fontsize=8)
     s = "" if bt.high_cells == 1 else "s"
-    ax.set_title(f"{bt.scenario}: {bt.delta_Ah:.3f} Ah to remove on {bt.high_cells} cell{s}")
-    return fig
+    return balance_time_figure(bt.columns, board_max_C=bt.board_max_C,
+                               title=f"{bt.scenario}: {bt.delta_Ah:.3f} Ah to remove on {bt.high_cells} cell{s}")
 
 
 def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, dpi: int = 120) -> list[str]:

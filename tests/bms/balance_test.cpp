@@ -131,4 +131,52 @@ TEST(BalancePolicy, HoldsTheMaskBetweenDecisionsAndReArmsTheTimerEveryHalfPeriod
   for (size_t i = 1; i < armedAt.size(); ++i) EXPECT_EQ(armedAt[i] - armedAt[i - 1], 5000u);
 }
 
+// averageReadings = 4: the policy waits for a full block and compares each cell's mean.
+// A single reading 12 mV high (noise) on a balanced cell does not start it; a cell whose
+// mean is 60 mV above the others does.
+TEST(BalancePolicy, DecidesOnTheBlockMeanOfAverageReadings) {
+  Policy p(3);
+  p.cfg.balance.averageReadings = 4;
+  p.cells({3700, 3700, 3700});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(p.tick(), (V{0, 0, 0})) << "no full block yet";
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Disabled);
+  p.cells({3700, 3760, 3700});  // one spike: mean 3715, 15 mV < the 50 mV start
+  EXPECT_EQ(p.tick(), (V{0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balanced);
+  p.cells({3700, 3760, 3700});
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(p.tick(), (V{0, 0, 0})) << "held: the next block is not full";
+  EXPECT_EQ(p.tick(), (V{0, 1, 0})) << "mean 3760: 60 mV above";
+  p.cfg.balance.averageReadings = 1;  // single readings: the same spike starts it at once
+  p.cells({3700, 3760, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 1, 0}));
+}
+
+// Two boards of two cells, one board thermistor each (channels 0 and 1): a hot board
+// stops its own cells at once and the other board goes on; with every board hot the
+// status is the board pause.
+TEST(BalancePolicy, EachBoardPausesOnlyItsOwnCells) {
+  Policy p(4, 2);
+  p.cfg.balance.boardThermFirst = 0;
+  p.cfg.balance.boardThermCount = 2;
+  p.cfg.balance.boardCount = 2;
+  p.cfg.balance.cellsPerBoard = 2;
+  p.cells({3800, 3700, 3800, 3700});
+  p.tm.temperature_dC[0] = 500;
+  p.tm.temperature_dC[1] = 500;
+  EXPECT_EQ(p.tick(), (V{1, 0, 1, 0}));
+  p.tm.temperature_dC[0] = 705;  // board 1 hot
+  EXPECT_EQ(p.tick(), (V{0, 0, 1, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balancing);
+  p.tm.temperature_dC[1] = 705;  // both hot
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::BoardHot);
+  p.tm.temperature_dC[1] = 595;  // board 2 resumes below 60 C; board 1 (65 C) is still in its band
+  p.tm.temperature_dC[0] = 650;
+  EXPECT_EQ(p.tick(), (V{0, 0, 1, 0}));
+  p.tm.temperature_dC[1] = 500;
+  p.cells({3800, 3700, 3700, 3700});  // only board 1's cell needs it, and board 1 is hot
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::BoardHot) << "the cell that needs it sits on a paused board";
+}
+
 }  // namespace

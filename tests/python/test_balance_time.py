@@ -1,6 +1,8 @@
 """packsim.balance_time mirrors `packsim balance-time`: the same table for the same
 arguments, an analytic column that is the closed form, simulated times that grow with
-the resistor, and clear errors for bad arguments."""
+the resistor, the plot from Python and the CLI, and clear errors for bad arguments.
+The bench preset's firmware balances only on the charger: at rest these runs state
+``when="always"`` (``--when always``)."""
 from __future__ import annotations
 
 import subprocess
@@ -18,10 +20,12 @@ def _same(a, b) -> bool:
 
 
 def test_same_table_as_the_cli(cli):
-    done = subprocess.run([str(cli), "balance-time", "--resistor", "22,33,47"], capture_output=True, text=True)
+    done = subprocess.run([str(cli), "balance-time", "--resistor", "22,33,47", "--when", "always"],
+                          capture_output=True, text=True)
     assert done.returncode == 0, done.stderr
-    bt = packsim.balance_time(resistor=[22, 33, 47])
+    bt = packsim.balance_time(resistor=[22, 33, 47], when="always")
     assert str(bt) == done.stdout
+    assert bt.when == "always" and bt.when_overridden and "set by --when" in done.stdout
     assert bt.scenario == "bench_6s_balancing" and bt.resistor_ohm == [22.0, 33.0, 47.0]
 
     args = ["--preset", "motorcycle_110s_balancing", "--resistor", "33", "--delta-Ah", "0.5", "--cell-V", "3.9",
@@ -45,16 +49,26 @@ def test_analytic_column_is_the_closed_form():
 
 
 def test_simulated_time_grows_with_the_resistor_and_removes_the_imbalance():
-    bt = packsim.balance_time(resistor=[22, 47], delta_Ah=0.2, cell_V=3.9)
-    sim = [w.simulated_h for w in bt.rows]
-    assert all(w.simulated and w.end_reason in ("within_target", "charge_removed") for w in bt.rows)
+    bt = packsim.balance_time(resistor=[22, 47], delta_Ah=0.2, cell_V=3.9, when="always")
+    assert bt.target_mV == 15.0  # default: 1.5 x the firmware's own 10 mV stop threshold
+    sim = [w.true_h for w in bt.rows]
+    assert all(w.simulated and w.end_reason == "both_known" for w in bt.rows), [w.firmware_note for w in bt.rows]
     assert sim[0] < sim[1]
     for w in bt.rows:
-        # Same physics as the closed form, to within the falling current and the 5 mV
-        # stopping band; and the spread left is a small part of what there was.
-        assert 0.5 * w.analytic_h <= w.simulated_h <= 2.0 * w.analytic_h
+        # Same physics as the droop closed form, to within the decision latency and the
+        # noise at the 10 mV stop; the spread left is a small part of what there was.
+        assert w.true_h == pytest.approx(w.analytic_droop_h, rel=0.05)
+        assert w.firmware_h >= w.true_h - 0.05
         assert w.final_spread_Ah < 0.2 * 0.25
+        assert w.useful_Ah + w.wasted_Ah == pytest.approx(w.bled_Ah, rel=1e-12)
     assert sim[1] / sim[0] == pytest.approx(bt.rows[1].branch_ohm / bt.rows[0].branch_ohm, rel=0.2)
+
+
+def test_charge_only_firmware_at_rest_says_why_it_never_started():
+    bt = packsim.balance_time(resistor=47, delta_Ah=0.2, cell_V=3.9)
+    (w,) = bt.rows
+    assert w.end_reason == "not_started" and np.isnan(w.true_h) and np.isnan(w.firmware_h)
+    assert "only while charging" in w.firmware_note and not w.within_limits
 
 
 def test_scenario_text_and_overrides():
@@ -79,16 +93,19 @@ def test_scenario_text_and_overrides():
 
 
 def test_table_and_chart():
-    bt = packsim.balance_time(resistor=[22, 33, 47, 68], delta_Ah=0.1, cell_V=3.9)
+    bt = packsim.balance_time(resistor=[22, 33, 47, 68], delta_Ah=0.2, cell_V=3.9, when="always")
     pd = pytest.importorskip("pandas")
     df = bt.table
     assert isinstance(df, pd.DataFrame) and list(df.resistor_ohm) == [22.0, 33.0, 47.0, 68.0]
+    assert {"firmware_h", "true_h", "useful_Ah", "wasted_Ah", "paused_fraction", "peak_board_C"} <= set(df.columns)
     fig = plot.balance_time(bt)
-    ax = fig.axes[0]
-    analytic, simulated = ax.lines[0], ax.lines[1]
+    ax, temp = fig.axes[0], fig.axes[1]
+    analytic, droop, true = ax.lines[0], ax.lines[1], ax.lines[2]
     np.testing.assert_array_equal(analytic.get_xdata(), [22, 33, 47, 68])
     np.testing.assert_array_equal(analytic.get_ydata(), [w.analytic_h for w in bt.rows])
-    np.testing.assert_array_equal(simulated.get_ydata(), [w.simulated_h for w in bt.rows])
+    np.testing.assert_array_equal(droop.get_ydata(), [w.analytic_droop_h for w in bt.rows])
+    np.testing.assert_array_equal(true.get_ydata(), [w.true_h for w in bt.rows])
+    np.testing.assert_array_equal(temp.lines[0].get_ydata(), [w.peak_board_C for w in bt.rows])
     with pytest.raises(TypeError, match="packsim.balance_time"):
         plot.balance_time({"rows": []})
 
@@ -110,3 +127,22 @@ def test_bad_arguments(simple_yaml):
         packsim.balance_time(simulate="no")
     with pytest.raises(packsim.ScenarioError):
         packsim.balance_time(preset="bench_6s_balancing", **{"pack.cell.capacity_ah": 3})
+
+
+def test_cli_plot_writes_the_figure_and_its_table(cli, tmp_path):
+    png = tmp_path / "bt.png"
+    done = subprocess.run([str(cli), "balance-time", "--resistor", "22,47", "--analytic-only", "--plot", str(png)],
+                          capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    assert png.stat().st_size > 1000
+    import csv
+    with open(tmp_path / "bt.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    assert [float(r["resistor_ohm"]) for r in rows] == [22.0, 47.0]
+    bt = packsim.balance_time(resistor=[22, 47], simulate=False)
+    assert [float(r["analytic_h"]) for r in rows] == pytest.approx([w.analytic_h for w in bt.rows], rel=1e-9)
+
+
+def test_bad_when_names_the_choices():
+    with pytest.raises(ValueError, match="charging, rest, charging_or_rest, always"):
+        packsim.balance_time(when="sometimes")

@@ -1,0 +1,83 @@
+#include "core/balance/balance_table.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace packsim {
+
+namespace {
+
+std::string num(double v, const char* f) {
+  if (std::isnan(v)) return "-";
+  char b[32];
+  std::snprintf(b, sizeof b, f, v);
+  return b;
+}
+
+}  // namespace
+
+std::string balanceTimeTable(const BalanceTimeResult& r) {
+  std::ostringstream os;
+  char line[400];
+  std::snprintf(line, sizeof line, "balance-time  %s: %.3f Ah to remove, cells at %.3f V, %d high cell%s, true target %.1f mV\n",
+                r.scenario.c_str(), r.delta_Ah, r.cell_V, r.high_cells, r.high_cells == 1 ? "" : "s", r.target_mV);
+  os << line;
+  os << "firmware as configured (bms.balancing.when: " << r.when << (r.when_overridden ? ", set by --when" : "")
+     << ")" << (r.during_charge ? ", on the scenario's charger" : ", at rest") << "\n";
+  for (const std::string& w : r.warnings) os << "warning: " << w << "\n";
+  os << "  R_ohm    I_mA  board_W  resistor_W  analytic_h  droop_h  firmware_h  true_h  peak_board_C  paused_%  "
+        "useful_Ah  wasted_Ah  heat_Wh  end\n";
+  for (const BalanceTimeRow& w : r.rows) {
+    std::snprintf(line, sizeof line, "%c%6.1f  %6.2f  %7.2f  %9.3f%c  %10.2f  %7.2f", w.fastest ? '*' : ' ',
+                  w.resistor_ohm, w.current_A * 1e3, w.board_power_W, w.resistor_W, w.within_rating ? ' ' : '!',
+                  w.analytic_h, w.analytic_droop_h);
+    os << line;
+    if (w.simulated) {
+      std::snprintf(line, sizeof line, "  %10s  %6s  %12s  %8.1f  %9.3f  %9.3f  %7.2f  %s\n",
+                    num(w.firmware_h, "%.2f").c_str(), num(w.true_h, "%.2f").c_str(),
+                    num(w.peak_board_C, "%.1f").c_str(), 100.0 * w.paused_fraction, w.useful_Ah, w.wasted_Ah,
+                    w.heat_Wh, w.end_reason.c_str());
+      os << line;
+    } else {
+      os << "\n";
+    }
+  }
+  for (const BalanceTimeRow& w : r.rows) {
+    if (!w.firmware_note.empty()) os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: " << w.firmware_note << "\n";
+    if (w.board_peak_C.size() > 1) {
+      os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: peak per board (C):";
+      for (double t : w.board_peak_C) os << " " << num(t, "%.1f");
+      os << "\n";
+    }
+  }
+  // Where the board pause binds, the V/R estimate's choice is not the fastest.
+  const BalanceTimeRow* byVr = nullptr;
+  const BalanceTimeRow* best = nullptr;
+  for (const BalanceTimeRow& w : r.rows) {
+    if (w.within_rating && (!byVr || w.analytic_h < byVr->analytic_h)) byVr = &w;
+    if (w.fastest) best = &w;
+  }
+  if (best && byVr && best != byVr) {
+    os << "V/R estimate picks " << num(byVr->resistor_ohm, "%.0f") << " ohm; simulated it ";
+    if (std::isnan(byVr->true_h)) os << "never reaches the target (" << byVr->end_reason << ")";
+    else os << "takes " << num(byVr->true_h, "%.2f") << " h with " << num(100.0 * byVr->paused_fraction, "%.0f") << " % paused on board temperature";
+    os << "; the fastest within limits is " << num(best->resistor_ohm, "%.0f") << " ohm (" << num(best->true_h, "%.2f")
+       << " h)\n";
+  }
+  os << "* fastest within limits (target reached, no trip, resistor within "
+     << (r.resistor_rating_W > 0 ? num(r.resistor_rating_W, "%.3g") + " W" : std::string("its rating (not stated)"))
+     << "); ! resistor_W above the rating.\n"
+        "analytic_h: delta / (V_cell / (R + Rds_on)) at constant V_cell; droop_h: (R + Rds_on) * integral dQ / OCV(Q).\n"
+        "firmware_h: when the firmware (as configured) declared balanced; true_h: when the true rest voltages came\n"
+        "within the target. resistor_W at the cell's v_max_V. paused_%: time paused on board temperature.\n"
+        "useful_Ah: charge bled up to what each cell had above the lowest; wasted_Ah: the rest. heat_Wh: all branch heat.\n";
+  if (r.during_charge)
+    for (const BalanceTimeRow& w : r.rows)
+      os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: the charger delivers until " << num(w.charge_h, "%.2f")
+         << " h, without balancing until " << num(w.charge_without_h, "%.2f") << " h: balancing adds "
+         << num(w.charge_added_h, "%.2f") << " h\n";
+  return os.str();
+}
+
+}  // namespace packsim
