@@ -48,12 +48,18 @@ struct BalanceTimeCliOptions {
   bool analytic_only = false;
 };
 
+// `packsim fit`: the arguments go verbatim to `python -m packsim fit` (core/cli/cmd_fit.cpp).
+struct FitCliOptions {
+  std::vector<std::string> args;
+};
+
 std::string defaultScenarioPath();
 int cmdRun(const RunOptions& o);
 int cmdCheck(const CheckOptions& o);
 int cmdPlot(const PlotOptions& o);
 int cmdBatch(const BatchCliOptions& o);
 int cmdBalanceTime(const BalanceTimeCliOptions& o);
+int cmdFit(const FitCliOptions& o);
 // Path of a bundled scenario by name; throws std::invalid_argument listing the names.
 std::string presetPath(const std::string& name);
 // Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).

@@ -1,0 +1,93 @@
+"""Bad test data and failed fits: one FitError naming the file and line (or the reason),
+and no preset written."""
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import packsim
+from packsim.fit import FitError, parse_soc_grid
+
+
+def _pulses(rest: bool = True) -> pd.DataFrame:
+    """A 2 Ah cell: 1 A pulses, with rests or without (then a 0.5 A base load); linear
+    OCV, R0 = 50 mΩ, one RC pair of 20 mΩ and 20 s."""
+    t = np.arange(0.0, 600.0, 1.0)
+    i = np.where((t % 100) < 30, 1.0, 0.0 if rest else 0.5)
+    soc = 1.0 - np.concatenate(([0.0], np.cumsum(i[:-1]))) / 3600.0 / 2.0
+    v_rc = np.zeros_like(t)
+    for k in range(1, t.size):
+        v_rc[k] = v_rc[k - 1] * np.exp(-1 / 20) + 0.020 * (1 - np.exp(-1 / 20)) * i[k - 1]
+    v = 3.4 + 0.8 * soc - 0.05 * i - v_rc
+    return pd.DataFrame({"time_s": t, "current_A": i, "voltage_V": v})
+
+
+def _write(path, text: str):
+    path.write_text(text)
+    return str(path)
+
+
+def test_unsorted_time_names_file_and_line(tmp_path):
+    rows = "\n".join(f"{t},{1.0 if t > 20 else 0.0},4.0" for t in range(30))
+    p = _write(tmp_path / "t.csv", "# a comment\ntime_s,current_A,voltage_V\n" + rows.replace("\n12,", "\n10,") + "\n")
+    with pytest.raises(FitError, match=r"t\.csv:15: time_s 10 is not after the previous row's 11"):
+        packsim.fit(p)
+
+
+def test_missing_column_names_the_closest(tmp_path):
+    p = _write(tmp_path / "m.csv", "time_s,current_A,Voltage_V\n" + "0,0,4\n" * 12)
+    with pytest.raises(FitError, match=r"m\.csv:1: no column 'voltage_V'; did you mean 'Voltage_V'\?"):
+        packsim.fit(p)
+
+
+def test_bad_number_names_the_line(tmp_path):
+    p = _write(tmp_path / "n.csv", "time_s,current_A,voltage_V\n" + "".join(f"{t},0,4\n" for t in range(5))
+               + "5,0,four\n" + "".join(f"{t},0,4\n" for t in range(6, 12)))
+    with pytest.raises(FitError, match=r"n\.csv:7: column 'voltage_V': 'four' is not a number"):
+        packsim.fit(p)
+
+
+def test_no_rest_is_refused():
+    with pytest.raises(FitError, match=r"<DataFrame 0>: no rest .* no OCV information"):
+        packsim.fit(_pulses(rest=False), rc_pairs=0, capacity_Ah=2.0)
+
+
+def test_a_fit_that_does_not_converge_is_an_error():
+    with pytest.raises(FitError, match=r"did not converge after 1 evaluations"):
+        packsim.fit(_pulses(), rc_pairs=2, capacity_Ah=2.0, max_evaluations=1)
+
+
+def test_the_same_pulses_with_rests_fit():
+    f = packsim.fit(_pulses(), rc_pairs=1, capacity_Ah=2.0, soc_grid="0.9:0.05:1")
+    assert f.files[0].rms_mV < 1.0
+    assert f.r0_ohm(0.95) == pytest.approx(0.05, rel=0.02)
+    assert f.temperatures[0].rc_tau_s[0] == pytest.approx(20.0, rel=0.05)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"rc_pairs": 7}, r"rc_pairs: 7 is not an integer in \[0, 4\]"),
+    ({"form": "spline"}, r"form 'spline' is not one of table, poly"),
+    ({"capacity_Ah": -1.0}, r"capacity_Ah: -1.0 is not a number in \(0, 1e5\)"),
+    ({"soc_grid": "1:0.1:0"}, r"soc_grid: needs at least 2 strictly increasing values"),
+    ({"initial_soc": [1.0, 0.5]}, r"initial_soc: 2 values for 1 tests"),
+    ({"columns": {"volts": "V"}}, r"columns: unknown column 'volts'"),
+])
+def test_bad_arguments(kwargs, message):
+    with pytest.raises(FitError, match=message):
+        packsim.fit(_pulses(), **kwargs)
+
+
+def test_soc_grid_text():
+    assert parse_soc_grid("0:0.25:1").tolist() == [0.0, 0.25, 0.5, 0.75, 1.0]
+    assert parse_soc_grid("0,0.5,1").tolist() == [0.0, 0.5, 1.0]
+    with pytest.raises(FitError, match="start:step:stop"):
+        parse_soc_grid("0:x:1")
+
+
+def test_save_writes_nothing_partial(tmp_path):
+    f = packsim.fit(_pulses(), rc_pairs=0, capacity_Ah=2.0)
+    with pytest.raises(FitError, match="no such folder"):
+        f.save(tmp_path / "missing" / "cell.yaml")
+    f.save(tmp_path / "cell.yaml")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["cell.yaml"]
