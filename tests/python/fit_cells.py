@@ -67,3 +67,16 @@ def write_test_csv(result: packsim.Result, path: Path, *, noise_V: float = 0.002
     np.savetxt(path, rows, delimiter=",", header="time_s,current_A,voltage_V,temp_C", comments="",
                fmt=["%.3f", "%.5f", "%.5f", "%.3f"])
     return path
+
+
+# The known cell "at" other temperatures: the plant on this branch has no temperature
+# dependence, so each temperature's test is made with that temperature's parameters
+# (R0 and RC resistances scaled, as cold cells are more resistive) at that ambient.
+RESISTANCE_SCALE_AT_C = {0.0: 2.5, 25.0: 1.0, 45.0: 0.8}
+
+
+def known_cell_at(temp_C: float) -> dict:
+    scale = RESISTANCE_SCALE_AT_C[temp_C]
+    return dict(KNOWN_CELL, r0_ohm={"x": SOC_GRID, "y": [scale * r for r in KNOWN_R0_OHM]},
+                rc_pairs=[{"r_ohm": scale * p["r_ohm"], "tau_s": p["tau_s"]} for p in KNOWN_RC],
+                g_ambient_W_per_K=2.0)  # held near its chamber temperature
