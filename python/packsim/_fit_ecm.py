@@ -10,7 +10,9 @@ because R_k(soc(t)) is a weighted sum of table values and the RC voltage is a li
 filter of i·R_k. So the fit is a variable projection: scipy.optimize.least_squares moves
 log(tau_k) and, for every trial, scipy.optimize.lsq_linear finds the linear parameters
 (resistances kept positive). Between samples the current is taken as the mean of its two
-ends; every file starts with the cell at rest (all v_k = 0).
+ends; every file starts with the cell at rest (all v_k = 0). The OCV table is fitted as
+its first value and its rises from node to node, bounded below, so it increases strictly
+with SOC as the loader requires.
 """
 from __future__ import annotations
 
@@ -24,6 +26,7 @@ __all__ = ["Layout", "Trace", "LinearFit", "fit_group", "soc_trace"]
 
 SMOOTH_WEIGHT = 0.1   # second-difference penalty on table values (fills nodes without data)
 R_MIN_OHM = 1e-7      # resistances stay positive (the loader requires > 0)
+OCV_STEP_MIN_V = 1e-5  # the OCV table rises strictly with SOC (the loader requires it)
 
 
 @dataclass(frozen=True)
@@ -91,7 +94,13 @@ def prepare(test: CellTest, soc0: float, layout: Layout) -> Trace:
     else:
         r0_cols = -i * w
     rc_input = i * w if layout.rc_over_soc else i.copy()
-    return Trace(test, soc, w, np.hstack([w, r0_cols]), rc_input, np.diff(test.time_s))
+    return Trace(test, soc, w, np.hstack([w @ _ocv_basis(w.shape[1]), r0_cols]), rc_input, np.diff(test.time_s))
+
+
+def _ocv_basis(n: int) -> np.ndarray:
+    """OCV values = basis @ (OCV at the first node, then the rise to each next node): the
+    rises are bounded below, so the fitted OCV increases strictly with SOC."""
+    return np.tril(np.ones((n, n)))
 
 
 def _rc_filter(x: np.ndarray, time_s: np.ndarray, tau_s: float) -> np.ndarray:
@@ -130,7 +139,7 @@ def _smoothing(layout: Layout, i_scale_A: float) -> tuple[np.ndarray, int]:
     cols = start + layout.rc_pairs * layout.rc_columns()
     rows = np.zeros((d2.shape[0] * len(blocks), cols))
     for b, (c0, weight) in enumerate(blocks):
-        rows[b * d2.shape[0]:(b + 1) * d2.shape[0], c0:c0 + n] = weight * d2
+        rows[b * d2.shape[0]:(b + 1) * d2.shape[0], c0:c0 + n] = weight * (d2 @ _ocv_basis(n) if b == 0 else d2)
     return rows, cols
 
 
@@ -138,7 +147,8 @@ def _bounds(layout: Layout, cols: int) -> tuple[np.ndarray, np.ndarray]:
     n = layout.soc_grid.size
     lo = np.full(cols, R_MIN_OHM)
     hi = np.full(cols, np.inf)
-    lo[:n], hi[:n] = 0.0, 10.0                      # OCV
+    lo[0], hi[0] = 0.0, 10.0                        # OCV at the first node
+    lo[1:n] = OCV_STEP_MIN_V                        # its rise to each next node
     if layout.form == "poly":
         lo[n:n + layout.r0_columns()] = -np.inf     # polynomial coefficients: any sign
     return lo, hi
@@ -223,4 +233,4 @@ def fit_group(traces: list[Trace], layout: Layout, max_evaluations: int = 400) -
     for t in traces:
         a = np.hstack([t.fixed] + [-_rc_filter(t.rc_input, t.test.time_s, x) for x in tau])
         model.append(a @ p)
-    return LinearFit(p[:n], p[n:r0_end], rc[order], tau[order], model)
+    return LinearFit(_ocv_basis(n) @ p[:n], p[n:r0_end], rc[order], tau[order], model)

@@ -170,6 +170,16 @@ def _per_file(name: str, value: Any, n: int, lo: float, hi: float) -> list[float
     return [None if v is None else float(v) for v in values]
 
 
+def _check_poly_positive(coefficients: np.ndarray, capacity_Ah: float) -> None:
+    """A resistance polynomial must stay positive from full to empty (the loader checks it)."""
+    x_Ah = np.linspace(0.0, capacity_Ah, 501)
+    r = np.polyval(coefficients, x_Ah)
+    if np.min(r) <= 0:
+        k = int(np.argmin(r))
+        raise FitError(f"the fitted R0 polynomial is not positive over 0..{capacity_Ah:.4g} Ah ({r[k]:.4g} ohm at "
+                       f"{x_Ah[k]:.3g} Ah): the tests do not cover that range; use form table or a lower poly_order")
+
+
 def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
     """Indices of tests sharing one temperature, coldest first."""
     if all(t is None for t in temps):
@@ -249,6 +259,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
                            "record a rest before the first pulse and after each step")
         traces = [prepare(tests[k], socs0[k], layout) for k in members]
         sol = fit_group(traces, layout, int(max_evaluations))
+        if form == "poly":
+            _check_poly_positive(sol.r0, layout.capacity_Ah)
         temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
         fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s))
         for k, tr, model in zip(members, traces, sol.model_V):

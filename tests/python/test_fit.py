@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 import packsim
-from fit_cells import KNOWN_CELL, KNOWN_R0_OHM, KNOWN_RC, SOC_GRID, hppc_segments, simulate, write_test_csv
+from fit_cells import KNOWN_CELL, KNOWN_OCV_V, KNOWN_R0_OHM, KNOWN_RC, SOC_GRID, hppc_segments, simulate, write_test_csv
 
 CAPACITY_AH = KNOWN_CELL["capacity_Ah"]
 
@@ -48,6 +48,14 @@ def test_rc_pairs_within_5_percent(fitted):
     for k, pair in enumerate(KNOWN_RC):
         assert g.rc_r_ohm[k, 0] == pytest.approx(pair["r_ohm"], rel=0.05)
         assert g.rc_tau_s[k] == pytest.approx(pair["tau_s"], rel=0.10)
+
+
+def test_ocv_rises_strictly_and_matches_at_rest_points(fitted):
+    ocv = fitted.temperatures[0].ocv_V
+    assert np.all(np.diff(ocv) > 0)
+    # the rests end at SOC 1.0, 0.9 ... 0.1 (less the pulses' net 12.5 As): OCV there within 3 mV
+    for soc in np.round(np.arange(1.0, 0.15, -0.1), 2):
+        assert fitted.ocv_V(soc) == pytest.approx(np.interp(soc, SOC_GRID, KNOWN_OCV_V), abs=0.003), soc
 
 
 def test_preset_text_is_a_valid_cell(fitted):

@@ -91,3 +91,13 @@ def test_save_writes_nothing_partial(tmp_path):
         f.save(tmp_path / "missing" / "cell.yaml")
     f.save(tmp_path / "cell.yaml")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cell.yaml"]
+
+
+def test_poly_r0_negative_somewhere_is_refused():
+    # R0 falling steeply over the 0.1 Ah the pulses cover: a straight line through it goes
+    # negative before the 2 Ah cell is empty, and must not be written
+    df = _pulses()
+    x_Ah = np.concatenate(([0.0], np.cumsum(df.current_A.to_numpy()[:-1]))) / 3600.0
+    df = df.assign(voltage_V=df.voltage_V + 0.05 * df.current_A - (0.05 - 0.4 * x_Ah) * df.current_A)
+    with pytest.raises(FitError, match=r"R0 polynomial is not positive over 0..2 Ah"):
+        packsim.fit(df, rc_pairs=1, capacity_Ah=2.0, form="poly", poly_order=1)
