@@ -36,7 +36,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("data", nargs="+", help="test CSV files (constant-current discharges, pulse/HPPC tests with rests)")
     p.add_argument("-o", "--output", required=True, help="the cell preset YAML to write (e.g. cells/my_cell.yaml)")
     p.add_argument("--rc-pairs", type=int, default=1, help="number of RC pairs, 0..4 (default 1)")
-    p.add_argument("--soc-grid", help="SOC nodes of the tables: start:step:stop or a,b,c (default 0:0.05:1)")
+    p.add_argument("--soc-grid", help="SOC nodes of the tables: start:step:stop or a,b,c (default: every 0.05, "
+                   "and 0.01,0.02,0.035,0.075 near empty)")
     p.add_argument("--form", choices=("table", "poly"), default="table",
                    help="R0 as a table over SOC (default) or a polynomial over discharged Ah")
     p.add_argument("--poly-order", type=int, default=5, help="order of the R0 polynomial with --form poly (default 5)")

@@ -48,7 +48,7 @@ def preset_yaml(fit) -> str:
                    f"{f.max_mV:.2f} mV max")
     out.append("# Thermal parameters are not fitted: heat_capacity_J_per_K and g_ambient_W_per_K keep")
     out.append("# packsim's defaults unless a scenario overrides them.")
-    out.append(f"capacity_Ah: {_num(fit.capacity_Ah)}")
+    out.append(f"capacity_Ah: {_num(fit.capacity_Ah)}   # {fit.capacity_source}")
     out.append(_key("ocv_V", _curve(grid, temps, [g.ocv_V for g in groups], "")))
     if fit.form == "poly":
         out.append(f"r0_ohm: {{poly: {_list(groups[0].r0)}, axis: discharged_Ah}}")

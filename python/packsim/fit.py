@@ -30,7 +30,8 @@ __all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS
 
 FORMS = ("table", "poly")
 TEMP_GROUP_C = 3.0       # tests whose mean temperatures are closer share one fit
-DEFAULT_SOC_GRID = np.linspace(0.0, 1.0, 21)
+# Denser near empty, where a cell's OCV and resistance bend most.
+DEFAULT_SOC_GRID = np.concatenate(([0.0, 0.01, 0.02, 0.035, 0.05, 0.075], np.linspace(0.1, 1.0, 19)))
 
 
 @dataclass
@@ -69,6 +70,7 @@ class FitResult:
     files: list[FileFit]
     v_min_V: float
     v_max_V: float
+    capacity_source: str = "given"   # or how it was measured
 
     @property
     def yaml(self) -> str:
@@ -114,7 +116,8 @@ class FitResult:
 
     def summary(self) -> str:
         """The fit report as text, one line per test."""
-        lines = [f"capacity {self.capacity_Ah:.4g} Ah, {self.rc_pairs} RC pair(s), R0 form {self.form}"]
+        lines = [f"capacity {self.capacity_Ah:.4g} Ah ({self.capacity_source}), {self.rc_pairs} RC pair(s), "
+                 f"R0 form {self.form}"]
         for g in self.temperatures:
             at = "" if g.temp_C is None else f" at {g.temp_C:.1f} °C"
             taus = ", ".join(f"{t:.4g}" for t in g.rc_tau_s)
@@ -207,7 +210,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     capacity_Ah:   given, or None: measured as the most charge any one test removes (give a
                    full constant-current discharge from full to the cut-off)
     rc_pairs:      number of RC pairs (0..4); constant R and tau unless rc_over_soc
-    soc_grid:      SOC nodes of the OCV/R0 tables (default 0:0.05:1), list or "start:step:stop"
+    soc_grid:      SOC nodes of the OCV/R0 tables, a list or "start:step:stop" (default: every
+                   0.05, and 0.01, 0.02, 0.035, 0.075 too: denser near empty)
     form:          "table" (R0 over the SOC grid) or "poly" (R0 a polynomial of poly_order over
                    discharged Ah, the form of a hand-fitted Rint; one temperature only)
     initial_soc:   SOC at the start of each test (one value or one per test; default 1 = full)
@@ -239,8 +243,11 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     given_temps = _per_file("temps_C", temps_C, len(tests), -60.0, 150.0)
     temps = [g if g is not None else t.start_temp_C for g, t in zip(given_temps, tests)]
 
+    capacity_source = "given"
     if capacity_Ah is None:
-        capacity_Ah = max(float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) for t in tests)
+        removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) for t in tests]
+        capacity_Ah = max(removed_Ah)
+        capacity_source = f"measured: the most charge one test removed, {tests[int(np.argmax(removed_Ah))].name}"
         if not capacity_Ah > 0:
             raise FitError("no test discharges the cell: give capacity_Ah (or a full constant-current discharge)")
     layout = Layout(grid, form, int(poly_order), int(rc_pairs), bool(rc_over_soc), float(capacity_Ah))
@@ -271,4 +278,5 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     v_all = np.concatenate([t.voltage_V for t in tests])
     v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
     v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
-    return FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, files, v_min, v_max)  # type: ignore[arg-type]
+    return FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, files, v_min, v_max,  # type: ignore[arg-type]
+                     capacity_source)

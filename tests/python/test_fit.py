@@ -61,7 +61,8 @@ def test_ocv_rises_strictly_and_matches_at_rest_points(fitted):
 def test_preset_text_is_a_valid_cell(fitted):
     cell = yaml.safe_load(fitted.yaml)
     assert cell["capacity_Ah"] == CAPACITY_AH
-    assert cell["ocv_V"]["axis"] == "soc" and len(cell["ocv_V"]["x"]) == 21
+    assert cell["ocv_V"]["axis"] == "soc" and cell["ocv_V"]["x"][:3] == [0, 0.01, 0.02]
+    assert cell["ocv_V"]["x"] == cell["r0_ohm"]["x"] and len(cell["ocv_V"]["x"]) == 25
     assert len(cell["rc_pairs"]) == 2 and set(cell["rc_pairs"][0]) == {"r_ohm", "tau_s"}
     assert "hppc_25C.csv" in fitted.yaml  # the report is in the preset's comment
 
