@@ -8,6 +8,7 @@ report) is written only when the fit succeeded.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 __all__ = ["main"]
@@ -67,6 +68,10 @@ def main(argv: list[str]) -> int:
     from .fit import FitError, fit
     n = len(args.data)
     try:
+        for path in filter(None, (args.output, args.report)):  # fail before a long fit, not after it
+            folder = os.path.dirname(os.path.abspath(path))
+            if not os.path.isdir(folder):
+                raise FitError(f"{path}: no such folder {folder}")
         f = fit(args.data, capacity_Ah=args.capacity_Ah, rc_pairs=args.rc_pairs, soc_grid=args.soc_grid,
                 form=args.form, poly_order=args.poly_order, rc_over_soc=args.rc_over_soc,
                 initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,

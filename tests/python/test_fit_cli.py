@@ -62,6 +62,12 @@ def test_cli_bad_input_exits_2_and_writes_nothing(cli, tmp_path):
     assert sorted(f.name for f in tmp_path.iterdir()) == ["norest.csv"]
 
 
+def test_cli_missing_output_folder_exits_2_before_fitting(cli, tmp_path):
+    data = _pulse_csv(tmp_path / "pulses.csv")
+    p = subprocess.run([str(cli), "fit", data, "-o", str(tmp_path / "no" / "cell.yaml")], capture_output=True, text=True)
+    assert p.returncode == 2 and "no such folder" in p.stderr
+
+
 def test_cli_argument_errors_exit_2(cli, tmp_path):
     p = subprocess.run([str(cli), "fit", "-o", str(tmp_path / "x.yaml")], capture_output=True, text=True)
     assert p.returncode == 2 and "required: data" in p.stderr

@@ -101,3 +101,9 @@ def test_poly_r0_negative_somewhere_is_refused():
     df = df.assign(voltage_V=df.voltage_V + 0.05 * df.current_A - (0.05 - 0.4 * x_Ah) * df.current_A)
     with pytest.raises(FitError, match=r"R0 polynomial is not positive over 0..2 Ah"):
         packsim.fit(df, rc_pairs=1, capacity_Ah=2.0, form="poly", poly_order=1)
+
+
+def test_discharge_logged_negative():
+    df = _pulses()
+    flipped = packsim.fit(df.assign(current_A=-df.current_A), rc_pairs=1, capacity_Ah=2.0, invert_current=True)
+    assert flipped.yaml == packsim.fit(df, rc_pairs=1, capacity_Ah=2.0).yaml
