@@ -22,7 +22,7 @@ import numpy as np
 
 from ._fit_data import CellTest, FitError
 
-__all__ = ["Layout", "Trace", "LinearFit", "fit_group", "soc_trace"]
+__all__ = ["Layout", "Trace", "LinearFit", "prepare", "fit_group", "soc_trace"]
 
 SMOOTH_WEIGHT = 0.1   # second-difference penalty on table values (fills nodes without data)
 R_MIN_OHM = 1e-7      # resistances stay positive (the loader requires > 0)
@@ -51,7 +51,6 @@ class Trace:
     """One test prepared for the model: SOC, interpolation weights, fixed columns."""
     test: CellTest
     soc: np.ndarray
-    weights: np.ndarray      # [samples, grid] linear interpolation over SOC
     fixed: np.ndarray        # [samples, ocv + r0 columns]
     rc_input: np.ndarray     # [samples, rc columns]: i, or i·weights
     dt_s: np.ndarray
@@ -94,7 +93,8 @@ def prepare(test: CellTest, soc0: float, layout: Layout) -> Trace:
     else:
         r0_cols = -i * w
     rc_input = i * w if layout.rc_over_soc else i.copy()
-    return Trace(test, soc, w, np.hstack([w @ _ocv_basis(w.shape[1]), r0_cols]), rc_input, np.diff(test.time_s))
+    # OCV columns: w @ _ocv_basis, i.e. for node j the weights of nodes j and above
+    return Trace(test, soc, np.hstack([np.cumsum(w[:, ::-1], axis=1)[:, ::-1], r0_cols]), rc_input, np.diff(test.time_s))
 
 
 def _ocv_basis(n: int) -> np.ndarray:

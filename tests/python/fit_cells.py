@@ -80,3 +80,18 @@ def known_cell_at(temp_C: float) -> dict:
     return dict(KNOWN_CELL, r0_ohm={"x": SOC_GRID, "y": [scale * r for r in KNOWN_R0_OHM]},
                 rc_pairs=[{"r_ohm": scale * p["r_ohm"], "tau_s": p["tau_s"]} for p in KNOWN_RC],
                 g_ambient_W_per_K=2.0)  # held near its chamber temperature
+
+
+def pulse_frame(rest: bool = True):
+    """A small synthetic test in closed form (not the plant): a 2 Ah cell with linear OCV
+    3.4 + 0.8·soc, R0 = 50 mΩ and one 20 mΩ / 20 s RC pair under 1 A pulses, with rests
+    between them or (rest=False) a 0.5 A base load; sampled each second, the current held
+    between samples."""
+    import pandas as pd
+    t = np.arange(0.0, 600.0, 1.0)
+    i = np.where((t % 100) < 30, 1.0, 0.0 if rest else 0.5)
+    soc = 1.0 - np.concatenate(([0.0], np.cumsum(i[:-1]))) / 3600.0 / 2.0
+    v_rc = np.zeros_like(t)
+    for k in range(1, t.size):
+        v_rc[k] = v_rc[k - 1] * np.exp(-1 / 20) + 0.020 * (1 - np.exp(-1 / 20)) * i[k - 1]
+    return pd.DataFrame({"time_s": t, "current_A": i, "voltage_V": 3.4 + 0.8 * soc - 0.05 * i - v_rc})

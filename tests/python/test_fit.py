@@ -5,12 +5,12 @@ simulator."""
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
 import pytest
 import yaml
 
 import packsim
-from fit_cells import KNOWN_CELL, KNOWN_OCV_V, KNOWN_R0_OHM, KNOWN_RC, SOC_GRID, hppc_segments, simulate, write_test_csv
+from fit_cells import KNOWN_CELL, KNOWN_OCV_V, KNOWN_R0_OHM, KNOWN_RC, SOC_GRID, hppc_segments, simulate, \
+    write_test_csv
 
 CAPACITY_AH = KNOWN_CELL["capacity_Ah"]
 
@@ -76,13 +76,6 @@ def test_fitted_preset_reproduces_the_test_in_the_simulator(fitted, hppc, tmp_pa
     assert np.array_equal(rerun.time_s[:n], measured[:n, 0])
     err_V = rerun["truth/cell_voltage_V"][:n, 0] - measured[:n, 2]
     assert np.sqrt(np.mean(err_V ** 2)) < 0.005
-
-
-def test_dataframe_gives_the_same_fit_as_the_file(hppc, fitted):
-    df = pd.read_csv(hppc).rename(columns={"voltage_V": "U"})
-    again = packsim.fit([df], rc_pairs=2, capacity_Ah=CAPACITY_AH, columns={"voltage_V": "U"})
-    assert again.files[0].name == "<DataFrame 0>"
-    assert again.yaml.split("capacity_Ah")[1] == fitted.yaml.split("capacity_Ah")[1]
 
 
 def test_plot_writes_the_report(fitted, tmp_path):

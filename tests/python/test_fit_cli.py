@@ -7,23 +7,15 @@ import os
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 import yaml
 
 import packsim
+from fit_cells import pulse_frame
 
 
-def _pulse_csv(path, rest: bool = True):
-    """A 2 Ah cell with linear OCV, R0 = 50 mΩ and one 20 mΩ / 20 s RC pair under 1 A pulses."""
-    t = np.arange(0.0, 600.0, 1.0)
-    i = np.where((t % 100) < 30, 1.0, 0.0 if rest else 0.5)
-    soc = 1.0 - np.concatenate(([0.0], np.cumsum(i[:-1]))) / 3600.0 / 2.0
-    v_rc = np.zeros_like(t)
-    for k in range(1, t.size):
-        v_rc[k] = v_rc[k - 1] * np.exp(-1 / 20) + 0.020 * (1 - np.exp(-1 / 20)) * i[k - 1]
-    v = 3.4 + 0.8 * soc - 0.05 * i - v_rc
-    np.savetxt(path, np.column_stack([t, i, v]), delimiter=",", header="time_s,current_A,voltage_V", comments="")
+def _pulse_csv(path, rest: bool = True) -> str:
+    pulse_frame(rest).to_csv(path, index=False)
     return str(path)
 
 

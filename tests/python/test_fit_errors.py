@@ -7,20 +7,12 @@ import pandas as pd
 import pytest
 
 import packsim
+from fit_cells import pulse_frame
 from packsim.fit import FitError, parse_soc_grid
 
 
 def _pulses(rest: bool = True) -> pd.DataFrame:
-    """A 2 Ah cell: 1 A pulses, with rests or without (then a 0.5 A base load); linear
-    OCV, R0 = 50 mΩ, one RC pair of 20 mΩ and 20 s."""
-    t = np.arange(0.0, 600.0, 1.0)
-    i = np.where((t % 100) < 30, 1.0, 0.0 if rest else 0.5)
-    soc = 1.0 - np.concatenate(([0.0], np.cumsum(i[:-1]))) / 3600.0 / 2.0
-    v_rc = np.zeros_like(t)
-    for k in range(1, t.size):
-        v_rc[k] = v_rc[k - 1] * np.exp(-1 / 20) + 0.020 * (1 - np.exp(-1 / 20)) * i[k - 1]
-    v = 3.4 + 0.8 * soc - 0.05 * i - v_rc
-    return pd.DataFrame({"time_s": t, "current_A": i, "voltage_V": v})
+    return pulse_frame(rest)
 
 
 def _write(path, text: str):
@@ -107,3 +99,13 @@ def test_discharge_logged_negative():
     df = _pulses()
     flipped = packsim.fit(df.assign(current_A=-df.current_A), rc_pairs=1, capacity_Ah=2.0, invert_current=True)
     assert flipped.yaml == packsim.fit(df, rc_pairs=1, capacity_Ah=2.0).yaml
+
+
+def test_dataframe_gives_the_same_fit_as_the_csv(tmp_path):
+    df = _pulses()
+    df.to_csv(tmp_path / "p.csv", index=False)
+    from_csv = packsim.fit(str(tmp_path / "p.csv"), rc_pairs=1, capacity_Ah=2.0)
+    from_df = packsim.fit([df.rename(columns={"voltage_V": "U"})], rc_pairs=1, capacity_Ah=2.0,
+                          columns={"voltage_V": "U"})
+    assert from_df.files[0].name == "<DataFrame 0>"
+    assert from_df.yaml.split("capacity_Ah")[1] == from_csv.yaml.split("capacity_Ah")[1]

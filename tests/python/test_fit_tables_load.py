@@ -5,7 +5,6 @@ colder run a lower voltage under load."""
 from __future__ import annotations
 
 import numpy as np
-import pytest
 
 import packsim
 from fit_cells import hppc_segments, simulate
@@ -24,7 +23,7 @@ def test_2d_preset_reproduces_each_temperature(fitted, tests_at_temperatures, tm
     (tmp_path / "cells").mkdir()
     fitted.save(tmp_path / "cells" / "fitted_2d.yaml")
     for t, csv_path in zip(TEMPS_C, tests_at_temperatures):
-        r = simulate({"preset": "fitted_2d", **CHAMBER}, hppc_segments(5.0, rest_s=1500.0), ambient_C=t,
+        r = simulate({"preset": "fitted_2d", **CHAMBER}, hppc_segments(5.0, rest_s=900.0), ambient_C=t,
                      base_dir=tmp_path)
         assert _rms_V(r, csv_path) < 0.006, t
 
@@ -43,5 +42,5 @@ def test_rc_over_soc_preset_loads_and_reproduces(tests_at_temperatures, tmp_path
     assert f.files[0].rms_mV < 5.0
     (tmp_path / "cells").mkdir()
     f.save(tmp_path / "cells" / "fitted_rc_soc.yaml")
-    r = simulate({"preset": "fitted_rc_soc", **CHAMBER}, hppc_segments(5.0, rest_s=1500.0), base_dir=tmp_path)
+    r = simulate({"preset": "fitted_rc_soc", **CHAMBER}, hppc_segments(5.0, rest_s=900.0), base_dir=tmp_path)
     assert _rms_V(r, at_25) < 0.006

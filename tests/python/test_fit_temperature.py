@@ -17,7 +17,7 @@ TEMPS_C = sorted(RESISTANCE_SCALE_AT_C)
 @pytest.fixture(scope="module")
 def tests_at_temperatures(tmp_path_factory):
     folder = tmp_path_factory.mktemp("temps")
-    return [write_test_csv(simulate(known_cell_at(t), hppc_segments(5.0, rest_s=1500.0), ambient_C=t),
+    return [write_test_csv(simulate(known_cell_at(t), hppc_segments(5.0, rest_s=900.0), ambient_C=t),
                            folder / f"hppc_{t:g}C.csv", seed=int(t) + 3) for t in TEMPS_C]
 
 
