@@ -48,7 +48,7 @@ struct BalanceTimeCliOptions {
   bool analytic_only = false;
 };
 
-// `packsim fit`: the arguments go verbatim to `python -m packsim fit` (core/cli/cmd_fit.cpp).
+// `packsim fit`: the arguments go verbatim to the Python fitter, packsim.__main__ (core/cli/cmd_fit.cpp).
 struct FitCliOptions {
   std::vector<std::string> args;
 };

@@ -147,7 +147,7 @@ def _bounds(layout: Layout, cols: int) -> tuple[np.ndarray, np.ndarray]:
     n = layout.soc_grid.size
     lo = np.full(cols, R_MIN_OHM)
     hi = np.full(cols, np.inf)
-    lo[0], hi[0] = 0.0, 10.0                        # OCV at the first node
+    lo[0], hi[0] = 0.1, 10.0                        # OCV at the first node (the loader wants > 0)
     lo[1:n] = OCV_STEP_MIN_V                        # its rise to each next node
     if layout.form == "poly":
         lo[n:n + layout.r0_columns()] = -np.inf     # polynomial coefficients: any sign

@@ -207,8 +207,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     """Fit a cell preset to test data.
 
     data:          a CSV path or pandas DataFrame, or a list of them
-    capacity_Ah:   given, or None: measured as the most charge any one test removes (give a
-                   full constant-current discharge from full to the cut-off)
+    capacity_Ah:   given, or None: measured as the most charge any one test removes, divided
+                   by its initial_soc (give a full constant-current discharge to the cut-off)
     rc_pairs:      number of RC pairs (0..4); constant R and tau unless rc_over_soc
     soc_grid:      SOC nodes of the OCV/R0 tables, a list or "start:step:stop" (default: every
                    0.05, and 0.01, 0.02, 0.035, 0.075 too: denser near empty)
@@ -245,7 +245,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
 
     capacity_source = "given"
     if capacity_Ah is None:
-        removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) for t in tests]
+        # a test from initial_soc s to empty removes s·Q
+        removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) / max(s0, 1e-9) for t, s0 in zip(tests, socs0)]
         capacity_Ah = max(removed_Ah)
         capacity_source = f"measured: the most charge one test removed, {tests[int(np.argmax(removed_Ah))].name}"
         if not capacity_Ah > 0:
@@ -259,15 +260,18 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     fitted: list[FitAtTemperature] = []
     files: list[FileFit | None] = [None] * len(tests)
     for members in groups:
+        names = ", ".join(tests[k].name for k in members)
         if not any(rest_mask(tests[k]).any() for k in members):
-            names = ", ".join(tests[k].name for k in members)
             raise FitError(f"{names}: no rest (|current| near zero for at least 10 s), so there is no OCV "
                            "information to tell the open-circuit voltage from the resistive drop; "
                            "record a rest before the first pulse and after each step")
         traces = [prepare(tests[k], socs0[k], layout) for k in members]
-        sol = fit_group(traces, layout, int(max_evaluations))
-        if form == "poly":
-            _check_poly_positive(sol.r0, layout.capacity_Ah)
+        try:
+            sol = fit_group(traces, layout, int(max_evaluations))
+            if form == "poly":
+                _check_poly_positive(sol.r0, layout.capacity_Ah)
+        except FitError as e:
+            raise FitError(f"{names}: {e}") from None
         temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
         fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s))
         for k, tr, model in zip(members, traces, sol.model_V):

@@ -109,3 +109,12 @@ def test_dataframe_gives_the_same_fit_as_the_csv(tmp_path):
                           columns={"voltage_V": "U"})
     assert from_df.files[0].name == "<DataFrame 0>"
     assert from_df.yaml.split("capacity_Ah")[1] == from_csv.yaml.split("capacity_Ah")[1]
+
+
+def test_capacity_measured_is_the_charge_removed_over_the_initial_soc():
+    df = _pulses()
+    removed_Ah = float(df.current_A.sum()) / 3600.0
+    f = packsim.fit(df, rc_pairs=0)
+    assert f.capacity_Ah == pytest.approx(removed_Ah, rel=0.01)
+    assert "measured" in f.summary()
+    assert packsim.fit(df, rc_pairs=0, initial_soc=0.5).capacity_Ah == pytest.approx(2 * f.capacity_Ah, rel=1e-12)
