@@ -37,6 +37,7 @@ class CellTest:
     current_A: np.ndarray
     voltage_V: np.ndarray
     temp_C: np.ndarray | None
+    rows: list[str]          # where each sample is: "file:line" or "<DataFrame k>: row n"
 
     @property
     def start_temp_C(self) -> float | None:
@@ -152,7 +153,7 @@ def read_test(source: Any, index: int, columns: dict[str, str] | None = None,
         bad = np.flatnonzero((temp < -60) | (temp > 150))
         if bad.size:
             raise FitError(f"{where[bad[0]]}: temp_C {temp[bad[0]]:g} is outside [-60, 150] °C")
-    return CellTest(label, t, i, v, temp)
+    return CellTest(label, t, i, v, temp, where)
 
 
 def rest_mask(test: CellTest) -> np.ndarray:

@@ -222,7 +222,8 @@ def fit_group(traces: list[Trace], layout: Layout, max_evaluations: int = 400) -
                             bounds=(np.log(lo), np.log(hi)), method="trf", x_scale=1.0, diff_step=1e-4,
                             xtol=1e-10, ftol=1e-12, max_nfev=max_evaluations)
         if res.status <= 0 or not np.all(np.isfinite(res.x)):
-            raise FitError(f"the fit did not converge after {res.nfev} evaluations: {res.message}")
+            raise FitError(f"the fit did not converge after {res.nfev} evaluations: {res.message} "
+                           "(fewer RC pairs, a coarser SOC grid or more evaluations may help)")
         tau = np.exp(res.x)
     p, _ = problem.solve(tau)
     order = np.argsort(tau)

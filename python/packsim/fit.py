@@ -29,7 +29,8 @@ from ._fit_preset import preset_yaml
 __all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS", "parse_soc_grid"]
 
 FORMS = ("table", "poly")
-TEMP_GROUP_C = 3.0       # tests whose mean temperatures are closer share one fit
+TEMP_GROUP_C = 3.0       # tests whose temperatures are closer share one fit
+SOC_MARGIN = 0.05        # counted SOC may leave 0..1 by this much (a CV top-up, an over-discharge)
 # Denser near empty, where a cell's OCV and resistance bend most.
 DEFAULT_SOC_GRID = np.concatenate(([0.0, 0.01, 0.02, 0.035, 0.05, 0.075], np.linspace(0.1, 1.0, 19)))
 
@@ -183,6 +184,17 @@ def _check_poly_positive(coefficients: np.ndarray, capacity_Ah: float) -> None:
                        f"{x_Ah[k]:.3g} Ah): the tests do not cover that range; use form table or a lower poly_order")
 
 
+def _check_soc_range(test, soc: np.ndarray) -> None:
+    """Coulomb counting must stay near 0..1: beyond, the sign of the current, the initial
+    SOC or the capacity is wrong."""
+    for bad, what in ((soc > 1.0 + SOC_MARGIN, "above 1"), (soc < -SOC_MARGIN, "below 0")):
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise FitError(f"{test.rows[k]}: the SOC counted from the current reaches {soc[k]:.3f}, {what}: "
+                           "positive current discharges (discharge logged negative: invert_current / "
+                           "--invert-current); check initial_soc and capacity_Ah")
+
+
 def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
     """Indices of tests sharing one temperature, coldest first."""
     if all(t is None for t in temps):
@@ -252,6 +264,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
         if not capacity_Ah > 0:
             raise FitError("no test discharges the cell: give capacity_Ah (or a full constant-current discharge)")
     layout = Layout(grid, form, int(poly_order), int(rc_pairs), bool(rc_over_soc), float(capacity_Ah))
+    for t, s0 in zip(tests, socs0):
+        _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
 
     groups = _group_by_temperature(temps)
     if form == "poly" and len(groups) > 1:

@@ -118,3 +118,11 @@ def test_capacity_measured_is_the_charge_removed_over_the_initial_soc():
     assert f.capacity_Ah == pytest.approx(removed_Ah, rel=0.01)
     assert "measured" in f.summary()
     assert packsim.fit(df, rc_pairs=0, initial_soc=0.5).capacity_Ah == pytest.approx(2 * f.capacity_Ah, rel=1e-12)
+
+
+def test_charge_only_data_names_the_sign_convention(tmp_path):
+    df = _pulses()
+    df.assign(current_A=-df.current_A).to_csv(tmp_path / "neg.csv", index=False)
+    with pytest.raises(FitError, match=r"neg\.csv:\d+: the SOC counted from the current reaches 1\.05\d, above 1: "
+                                       r"positive current discharges"):
+        packsim.fit(str(tmp_path / "neg.csv"), capacity_Ah=0.5)
