@@ -51,12 +51,18 @@ struct BalanceTimeCliOptions {
   std::string plot;          // PNG of time and peak board temperature vs R (via Python)
 };
 
+// `packsim fit`: the arguments go verbatim to the Python fitter, packsim.__main__ (core/cli/cmd_fit.cpp).
+struct FitCliOptions {
+  std::vector<std::string> args;
+};
+
 std::string defaultScenarioPath();
 int cmdRun(const RunOptions& o);
 int cmdCheck(const CheckOptions& o);
 int cmdPlot(const PlotOptions& o);
 int cmdBatch(const BatchCliOptions& o);
 int cmdBalanceTime(const BalanceTimeCliOptions& o);
+int cmdFit(const FitCliOptions& o);
 // Path of a bundled scenario by name; throws std::invalid_argument listing the names.
 std::string presetPath(const std::string& name);
 // Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).

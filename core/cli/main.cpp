@@ -1,6 +1,7 @@
 // packsim command line: `packsim run [SCENARIO.yaml] [-o OUT.h5] [--seed N]`,
 // `packsim check [PATHS...]`, `packsim plot RESULT.h5 [-o DIR]`, `packsim batch SWEEP.yaml`,
-// `packsim balance-time [SCENARIO|--preset NAME] --resistor 22,33,47 [--delta-Ah A --cell-V V]`.
+// `packsim balance-time [SCENARIO|--preset NAME] --resistor 22,33,47 [--delta-Ah A --cell-V V]`,
+// `packsim fit DATA.csv... -o CELL.yaml [options]`.
 #include <CLI/CLI.hpp>
 
 #include <cstdlib>
@@ -58,6 +59,11 @@ int main(int argc, char** argv) {
   balCmd->add_flag("--during-charge", bal.during_charge, "balance on the scenario's CC-CV charger (top balancing)");
   balCmd->add_option("--plot", bal.plot, "also write a PNG: time to balance and peak board temperature vs R");
 
+  packsim::FitCliOptions fit;
+  CLI::App* fitCmd = app.add_subcommand("fit", "fit a cell preset to test CSVs (Python with SciPy; `packsim fit --help`)");
+  fitCmd->prefix_command();  // every argument, --help too, goes to the Python fitter
+  fitCmd->set_help_flag();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -69,6 +75,10 @@ int main(int argc, char** argv) {
     if (plotCmd->parsed()) return packsim::cmdPlot(plot);
     if (batchCmd->parsed()) return packsim::cmdBatch(batch);
     if (balCmd->parsed()) return packsim::cmdBalanceTime(bal);
+    if (fitCmd->parsed()) {
+      fit.args = fitCmd->remaining();
+      return packsim::cmdFit(fit);
+    }
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;

@@ -9,6 +9,7 @@
     packsim.check("scenarios/faults")            # as `packsim check`
     packsim.batch("sweep.yaml", client=None)     # as `packsim batch`, or on Dask
     packsim.balance_time(resistor=[22, 33, 47])  # as `packsim balance-time`
+    packsim.fit(["hppc.csv"], rc_pairs=2).save("cells/my_cell.yaml")   # as `packsim fit`
 
 The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
 """
@@ -24,6 +25,7 @@ from ._overrides import flatten_overrides
 from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
 from .check import CheckOutcome, CheckReport, FaultLatency, check
+from .fit import FitError, FitResult, fit
 from .result import Result, load
 
 # An installed wheel carries the bundled scenarios inside the package.
@@ -43,6 +45,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 __all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
            "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "__version__"]
+__all__ += ["fit", "FitResult", "FitError"]
 
 
 def __getattr__(name: str):

@@ -1,0 +1,300 @@
+"""From a cell's test data to a cell preset: ``packsim.fit`` (and ``packsim fit``).
+
+    import packsim
+    f = packsim.fit(["hppc_25C.csv", "cc_1C_25C.csv"], rc_pairs=2)
+    f.files[0].rms_mV              # voltage error per test
+    f.r0_ohm(0.5)                  # the fitted R0 at SOC 0.5 (first temperature)
+    f.save("cells/my_cell.yaml")   # then `cell: {preset: my_cell}` in a scenario
+    f.plot("fit.png")              # measured vs model, and the residual
+
+Tests are CSV files or pandas DataFrames with ``time_s, current_A, voltage_V[, temp_C]``
+(positive current discharges), each starting with the cell at rest at ``initial_soc``.
+Tests at several temperatures (temp_C at their start more than 3 °C apart) are fitted one
+temperature at a time and written as 2-D tables over SOC × temperature. See docs/fit.md.
+"""
+from __future__ import annotations
+
+import os
+import tempfile
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ._fit_data import FitError, read_test, rest_mask
+from ._fit_ecm import Layout, fit_group, prepare, soc_trace
+from ._fit_preset import preset_yaml
+
+__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS", "parse_soc_grid"]
+
+FORMS = ("table", "poly")
+TEMP_GROUP_C = 3.0       # tests whose temperatures are closer share one fit
+SOC_MARGIN = 0.05        # counted SOC may leave 0..1 by this much (a CV top-up, an over-discharge)
+# Denser near empty, where a cell's OCV and resistance bend most.
+DEFAULT_SOC_GRID = np.concatenate(([0.0, 0.01, 0.02, 0.035, 0.05, 0.075], np.linspace(0.1, 1.0, 19)))
+
+
+@dataclass
+class FileFit:
+    """One test: how well the fitted model reproduces it."""
+    name: str
+    temp_C: float | None
+    samples: int
+    rms_mV: float
+    max_mV: float
+    time_s: np.ndarray = field(repr=False)
+    current_A: np.ndarray = field(repr=False)
+    voltage_V: np.ndarray = field(repr=False)
+    model_V: np.ndarray = field(repr=False)
+    soc: np.ndarray = field(repr=False)
+
+
+@dataclass
+class FitAtTemperature:
+    """The parameters fitted at one temperature (None: the tests had no temp_C)."""
+    temp_C: float | None
+    ocv_V: np.ndarray        # at FitResult.soc_grid
+    r0: np.ndarray           # table values at the grid, or polynomial coefficients (highest first)
+    rc_r_ohm: np.ndarray     # [pairs, grid] or [pairs, 1]
+    rc_tau_s: np.ndarray     # [pairs]
+
+
+@dataclass
+class FitResult:
+    """What packsim.fit returns: parameters, per-test errors and the preset's YAML text."""
+    capacity_Ah: float
+    soc_grid: np.ndarray
+    form: str
+    rc_pairs: int
+    temperatures: list[FitAtTemperature]
+    files: list[FileFit]
+    v_min_V: float
+    v_max_V: float
+    capacity_source: str = "given"   # or how it was measured
+
+    @property
+    def yaml(self) -> str:
+        """The cell preset (scenarios/cells format)."""
+        return preset_yaml(self)
+
+    @property
+    def params(self) -> dict[str, Any]:
+        """The parameters as plain values, per temperature."""
+        return {"capacity_Ah": self.capacity_Ah, "soc_grid": self.soc_grid.tolist(), "form": self.form,
+                "temperatures": [{"temp_C": g.temp_C, "ocv_V": g.ocv_V.tolist(),
+                                  ("r0_poly" if self.form == "poly" else "r0_ohm"): g.r0.tolist(),
+                                  "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist()}
+                                 for g in self.temperatures]}
+
+    def r0_ohm(self, soc: Any, temperature: int = 0) -> np.ndarray:
+        """Fitted R0 at the given SOC(s), at the index-th temperature."""
+        g = self.temperatures[temperature]
+        soc = np.asarray(soc, dtype=float)
+        if self.form == "poly":
+            return np.polyval(g.r0, (1.0 - soc) * self.capacity_Ah)
+        return np.interp(soc, self.soc_grid, g.r0)
+
+    def ocv_V(self, soc: Any, temperature: int = 0) -> np.ndarray:
+        return np.interp(np.asarray(soc, dtype=float), self.soc_grid, self.temperatures[temperature].ocv_V)
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the preset; a temporary file renamed when complete (no partial file)."""
+        _write_atomic(os.fspath(path), self.yaml.encode())
+
+    def plot(self, path: str | os.PathLike | None = None, dpi: int = 110):
+        """Measured vs model voltage and the residual per test; written as PNG if a path is given."""
+        from ._fit_report import report_figure
+        fig = report_figure(self)
+        if path is not None:
+            if not os.path.isdir(os.path.dirname(os.path.abspath(os.fspath(path)))):
+                raise FitError(f"{os.fspath(path)}: no such folder")
+            with tempfile.TemporaryDirectory(dir=os.path.dirname(os.path.abspath(os.fspath(path)))) as d:
+                tmp = os.path.join(d, "report.png")
+                fig.savefig(tmp, dpi=dpi)
+                os.replace(tmp, os.fspath(path))
+        return fig
+
+    def summary(self) -> str:
+        """The fit report as text, one line per test."""
+        lines = [f"capacity {self.capacity_Ah:.4g} Ah ({self.capacity_source}), {self.rc_pairs} RC pair(s), "
+                 f"R0 form {self.form}"]
+        for g in self.temperatures:
+            at = "" if g.temp_C is None else f" at {g.temp_C:.1f} °C"
+            taus = ", ".join(f"{t:.4g}" for t in g.rc_tau_s)
+            lines.append(f"  tau_s{at}: [{taus}]")
+        lines += [f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV" for f in self.files]
+        return "\n".join(lines)
+
+
+def _write_atomic(path: str, data: bytes) -> None:
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise FitError(f"{path}: no such folder {folder}")
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=".packsim-fit-", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def parse_soc_grid(spec: Any) -> np.ndarray:
+    """A SOC grid from a list, an array, or text ``"0:0.05:1"`` (start:step:stop) or ``"0,0.2,0.5,1"``."""
+    if isinstance(spec, str):
+        try:
+            if ":" in spec:
+                start, step, stop = (float(p) for p in spec.split(":"))
+                if not step > 0:
+                    raise FitError(f"soc_grid '{spec}': the step must be > 0")
+                grid = np.arange(start, stop + step / 2, step)
+            else:
+                grid = np.array([float(p) for p in spec.split(",")])
+        except ValueError:
+            raise FitError(f"soc_grid '{spec}': expected start:step:stop or comma-separated values") from None
+    else:
+        grid = np.asarray(spec, dtype=float).ravel()
+    if grid.size < 2 or not np.all(np.isfinite(grid)) or np.any(np.diff(grid) <= 0):
+        raise FitError(f"soc_grid: needs at least 2 strictly increasing values, got {grid.tolist()}")
+    if grid[0] < -0.5 or grid[-1] > 1.5:
+        raise FitError(f"soc_grid: values must lie in [-0.5, 1.5], got {grid[0]:g} .. {grid[-1]:g}")
+    return grid
+
+
+def _per_file(name: str, value: Any, n: int, lo: float, hi: float) -> list[float | None]:
+    values = list(value) if isinstance(value, Sequence) and not isinstance(value, str) else [value] * n
+    if len(values) != n:
+        raise FitError(f"{name}: {len(values)} values for {n} tests")
+    for v in values:
+        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float)) or not lo <= v <= hi):
+            raise FitError(f"{name}: {v!r} is not a number in [{lo:g}, {hi:g}]")
+    return [None if v is None else float(v) for v in values]
+
+
+def _check_poly_positive(coefficients: np.ndarray, capacity_Ah: float) -> None:
+    """A resistance polynomial must stay positive from full to empty (the loader checks it)."""
+    x_Ah = np.linspace(0.0, capacity_Ah, 501)
+    r = np.polyval(coefficients, x_Ah)
+    if np.min(r) <= 0:
+        k = int(np.argmin(r))
+        raise FitError(f"the fitted R0 polynomial is not positive over 0..{capacity_Ah:.4g} Ah ({r[k]:.4g} ohm at "
+                       f"{x_Ah[k]:.3g} Ah): the tests do not cover that range; use form table or a lower poly_order")
+
+
+def _check_soc_range(test, soc: np.ndarray) -> None:
+    """Coulomb counting must stay near 0..1: beyond, the sign of the current, the initial
+    SOC or the capacity is wrong."""
+    for bad, what in ((soc > 1.0 + SOC_MARGIN, "above 1"), (soc < -SOC_MARGIN, "below 0")):
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise FitError(f"{test.rows[k]}: the SOC counted from the current reaches {soc[k]:.3f}, {what}: "
+                           "positive current discharges (discharge logged negative: invert_current / "
+                           "--invert-current); check initial_soc and capacity_Ah")
+
+
+def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
+    """Indices of tests sharing one temperature, coldest first."""
+    if all(t is None for t in temps):
+        return [list(range(len(temps)))]
+    if any(t is None for t in temps):
+        missing = [k for k, t in enumerate(temps) if t is None]
+        raise FitError(f"test {missing[0] + 1} has no temperature (no temp_C column, no temps_C) while others "
+                       "have one: give every test a temperature or none")
+    order = sorted(range(len(temps)), key=lambda k: temps[k])
+    groups = [[order[0]]]
+    for k in order[1:]:
+        if temps[k] - temps[groups[-1][-1]] > TEMP_GROUP_C:
+            groups.append([])
+        groups[-1].append(k)
+    return groups
+
+
+def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_grid: Any = None,
+        form: str = "table", poly_order: int = 5, rc_over_soc: bool = False, initial_soc: Any = 1.0,
+        temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
+        max_evaluations: int = 400) -> FitResult:
+    """Fit a cell preset to test data.
+
+    data:          a CSV path or pandas DataFrame, or a list of them
+    capacity_Ah:   given, or None: measured as the most charge any one test removes, divided
+                   by its initial_soc (give a full constant-current discharge to the cut-off)
+    rc_pairs:      number of RC pairs (0..4); constant R and tau unless rc_over_soc
+    soc_grid:      SOC nodes of the OCV/R0 tables, a list or "start:step:stop" (default: every
+                   0.05, and 0.01, 0.02, 0.035, 0.075 too: denser near empty)
+    form:          "table" (R0 over the SOC grid) or "poly" (R0 a polynomial of poly_order over
+                   discharged Ah, the form of a hand-fitted Rint; one temperature only)
+    initial_soc:   SOC at the start of each test (one value or one per test; default 1 = full)
+    temps_C:       temperature of each test (default: its first temp_C value)
+    columns:       our column -> the name in the data, e.g. {"voltage_V": "Voltage(V)"}
+    invert_current: the data logs discharge as negative current
+    max_evaluations: model evaluations the optimiser may use (per temperature) before the
+                   fit counts as not converged
+
+    Raises FitError (a ValueError) naming the file and line, or the reason.
+    """
+    tests_in = list(data) if isinstance(data, (list, tuple)) else [data]
+    if not tests_in:
+        raise FitError("no test data given")
+    if form not in FORMS:
+        raise FitError(f"form '{form}' is not one of {', '.join(FORMS)}")
+    for name, v, lo, hi in (("rc_pairs", rc_pairs, 0, 4), ("poly_order", poly_order, 0, 9),
+                            ("max_evaluations", max_evaluations, 1, 100000)):
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
+            raise FitError(f"{name}: {v!r} is not an integer in [{lo}, {hi}]")
+    if capacity_Ah is not None and (isinstance(capacity_Ah, bool) or not isinstance(capacity_Ah, (int, float))
+                                    or not 0 < capacity_Ah < 1e5):
+        raise FitError(f"capacity_Ah: {capacity_Ah!r} is not a number in (0, 1e5)")
+    grid = DEFAULT_SOC_GRID if soc_grid is None else parse_soc_grid(soc_grid)
+    tests = [read_test(src, k, columns, invert_current) for k, src in enumerate(tests_in)]
+    socs0 = _per_file("initial_soc", initial_soc, len(tests), 0.0, 1.0)
+    if any(s is None for s in socs0):
+        raise FitError("initial_soc: every test needs a starting SOC")
+    given_temps = _per_file("temps_C", temps_C, len(tests), -60.0, 150.0)
+    temps = [g if g is not None else t.start_temp_C for g, t in zip(given_temps, tests)]
+
+    capacity_source = "given"
+    if capacity_Ah is None:
+        # a test from initial_soc s to empty removes s·Q
+        removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) / max(s0, 1e-9) for t, s0 in zip(tests, socs0)]
+        capacity_Ah = max(removed_Ah)
+        capacity_source = f"measured: the most charge one test removed, {tests[int(np.argmax(removed_Ah))].name}"
+        if not capacity_Ah > 0:
+            raise FitError("no test discharges the cell: give capacity_Ah (or a full constant-current discharge)")
+    layout = Layout(grid, form, int(poly_order), int(rc_pairs), bool(rc_over_soc), float(capacity_Ah))
+    for t, s0 in zip(tests, socs0):
+        _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
+
+    groups = _group_by_temperature(temps)
+    if form == "poly" and len(groups) > 1:
+        raise FitError("form poly fits one temperature; the tests span "
+                       f"{min(temps):.1f} to {max(temps):.1f} °C (use form table for 2-D tables)")
+    fitted: list[FitAtTemperature] = []
+    files: list[FileFit | None] = [None] * len(tests)
+    for members in groups:
+        names = ", ".join(tests[k].name for k in members)
+        if not any(rest_mask(tests[k]).any() for k in members):
+            raise FitError(f"{names}: no rest (|current| near zero for at least 10 s), so there is no OCV "
+                           "information to tell the open-circuit voltage from the resistive drop; "
+                           "record a rest before the first pulse and after each step")
+        traces = [prepare(tests[k], socs0[k], layout) for k in members]
+        try:
+            sol = fit_group(traces, layout, int(max_evaluations))
+            if form == "poly":
+                _check_poly_positive(sol.r0, layout.capacity_Ah)
+        except FitError as e:
+            raise FitError(f"{names}: {e}") from None
+        temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
+        fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s))
+        for k, tr, model in zip(members, traces, sol.model_V):
+            err = model - tests[k].voltage_V
+            files[k] = FileFit(tests[k].name, temps[k], err.size, 1e3 * float(np.sqrt(np.mean(err ** 2))),
+                               1e3 * float(np.max(np.abs(err))), tests[k].time_s, tests[k].current_A,
+                               tests[k].voltage_V, model, tr.soc)
+    v_all = np.concatenate([t.voltage_V for t in tests])
+    v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
+    v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
+    return FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, files, v_min, v_max,  # type: ignore[arg-type]
+                     capacity_source)
