@@ -259,6 +259,8 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
     w.attr(g, (p + "_rms").c_str(), st->rms);
     w.attr(g, (p + "_end").c_str(), st->end);
   }
+  w.attr(g, "soc_error_ekf_group_max", sm.soc_error_ekf_group_max);
+  w.attrInt(g, "soc_error_ekf_group", sm.soc_error_ekf_group);
   w.attr(g, "capacity_estimate_Ah", sm.capacity_estimate_Ah);
   w.attr(g, "capacity_true_Ah", sm.capacity_true_Ah);
   w.attrInt(g, "display_bars_hidden_max", sm.display_bars_hidden_max);

@@ -94,6 +94,8 @@ struct Summary {
   // State estimation against the truth (mean cell SOC), per estimator (soc_error.hpp).
   std::string soc_estimator;        // the one the telemetry reports: coulomb | ekf
   SocErrorStats soc_error_coulomb, soc_error_ekf;
+  double soc_error_ekf_group_max = 0.0;  // worst |EKF group SOC - the group's true mean SOC|
+  int soc_error_ekf_group = 0;           // 1-based series group where it happened
   double capacity_estimate_Ah = 0.0;  // firmware SOH estimate of a series group; 0: none
   double capacity_true_Ah = 0.0;      // mean series-group capacity of the plant
   int display_bars_hidden_max = 0;    // most bars the display showed below the truth's

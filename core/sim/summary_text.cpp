@@ -30,6 +30,9 @@ std::string socErrorLines(const Summary& m) {
            std::string(8 - name.size(), ' ') + "max " + fmt("%.2f", 100.0 * st->max) + " %  rms " +
            fmt("%.2f", 100.0 * st->rms) + " %  end " + fmt("%+.2f", 100.0 * st->end) + " %\n";
   }
+  if (m.soc_error_ekf.ticks > 0)
+    out += "                ekf per group: worst " + fmt("%.2f", 100.0 * m.soc_error_ekf_group_max) + " % (group " +
+           std::to_string(m.soc_error_ekf_group) + ")\n";
   if (!out.empty()) out += "                (* reported; error = estimate - mean cell SOC)\n";
   out += "capacity (SOH)  " + (m.capacity_estimate_Ah > 0.0
                                    ? fmt("%.3f", m.capacity_estimate_Ah) + " Ah estimated, " + fmt("%.3f", m.capacity_true_Ah) + " Ah true"

@@ -75,6 +75,18 @@ TEST(SocEstimation, CheckFailsAnUnmetSocErrorBound) {
   EXPECT_NE(c.failures[0].find("coulomb SOC error max"), std::string::npos) << c.failures[0];
 }
 
+// The EKF runs per series group: a 2 % gain error on cell 6's input (about 80 mV)
+// misleads group 6 alone, by at least that voltage over the OCV table's steepest slope
+// (1.2 V per unit SOC between 90 and 100 %): more than 6 %.
+TEST(SocEstimation, EkfGroupErrorPointsAtTheMisreadGroup) {
+  const Scenario s = loadScenarioFileWithOverrides(
+      eco(), {{"load.laps", "3"}, {"faults", "[{kind: channel_gain, cell: 6, gain_error: 0.02, at_s: 0}]"}});
+  const RunResult r = runScenario(s);
+  EXPECT_EQ(r.summary.soc_error_ekf_group, 6);
+  EXPECT_GT(r.summary.soc_error_ekf_group_max, 0.06);
+  EXPECT_LT(r.summary.soc_error_ekf.max, r.summary.soc_error_ekf_group_max / 6);  // the pack mean carries 1/12
+}
+
 TEST(SocEstimation, BadEstimatorKeysAreClearErrors) {
   auto message = [](const Overrides& o) {
     try {
