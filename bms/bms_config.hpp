@@ -84,11 +84,12 @@ struct PrechargeConfig {
 enum class SocEstimator : uint8_t { CoulombCounting = 0, Ekf = 1 };
 
 // The EKF's 1-RC model of one series group, as flashed (not the plant's truth):
-//   v = OCV(soc) - v1 - r0·I,   dv1/dt = (r1·I - v1) / tau1,   dsoc/dt = -I / capacity
-// with the OCV table and capacity of SocConfig. Noise: voltage reading (measurement),
+//   v = OCV(soc) - v1 - R0(soc)·I,   dv1/dt = (r1·I - v1) / tau1,   dsoc/dt = -I / capacity
+// with the OCV table and capacity of SocConfig; R0 is a table on the OCV table's SOC
+// points (r0_mOhm[i] at SOC i/(ocvPoints-1)). Noise: voltage reading (measurement),
 // SOC and v1 random walks per second (process).
 struct EkfConfig {
-  float r0_mOhm;
+  float r0_mOhm[kMaxOcvPoints];
   float r1_mOhm;
   float tau1_s;
   float voltageSd_mV;       // measurement noise + model error of one group reading

@@ -19,11 +19,27 @@ void segment(const SocConfig& c, float soc, uint8_t& i, float& frac) {
   frac = pos - static_cast<float>(k);
 }
 
+// Linear in the table holding soc: value and slope per unit SOC.
+float tableAt(const SocConfig& c, const float* y, float soc) {
+  uint8_t i;
+  float frac;
+  segment(c, soc, i, frac);
+  return y[i] + frac * (y[i + 1] - y[i]);
+}
+float tableSlope(const SocConfig& c, const float* y, float soc) {
+  uint8_t i;
+  float frac;
+  segment(c, soc, i, frac);
+  return (y[i + 1] - y[i]) * static_cast<float>(c.ocvPoints - 1);
+}
+
 void start(const SocConfig& c, EkfState& s, uint16_t groups, const uint16_t cell_mV[], int32_t current_mA) {
   const EkfConfig& k = c.ekf;
-  const float drop_mV = k.r0_mOhm * static_cast<float>(current_mA) * 1e-3f;
   for (uint16_t g = 0; g < groups; ++g) {
     EkfGroup& e = s.group[g];
+    // The reading plus the R0 drop at the SOC the reading itself suggests.
+    const float loaded = socFromOcv(c, cell_mV[g]);
+    const float drop_mV = r0At_mOhm(c, loaded) * static_cast<float>(current_mA) * 1e-3f;
     const float ocv_mV = static_cast<float>(cell_mV[g]) + drop_mV;
     const uint16_t ocv = static_cast<uint16_t>(ocv_mV < 0.0f ? 0.0f : (ocv_mV > 65535.0f ? 65535.0f : ocv_mV));
     e.soc = k.initialSoc >= 0.0f ? k.initialSoc : socFromOcv(c, ocv);
@@ -60,6 +76,14 @@ float ocvSlope_mV(const SocConfig& c, float soc) {
   return (static_cast<float>(c.ocv_mV[i + 1]) - static_cast<float>(c.ocv_mV[i])) * static_cast<float>(c.ocvPoints - 1);
 }
 
+float r0At_mOhm(const SocConfig& c, float soc) {
+  return c.ocvPoints < 2 ? 0.0f : tableAt(c, c.ekf.r0_mOhm, soc);
+}
+
+float r0Slope_mOhm(const SocConfig& c, float soc) {
+  return c.ocvPoints < 2 ? 0.0f : tableSlope(c, c.ekf.r0_mOhm, soc);
+}
+
 float ekfPackSoc(const EkfState& s, uint16_t groups) {
   if (!s.started || groups == 0) return 0.0f;
   float sum = 0.0f;
@@ -84,18 +108,18 @@ void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, con
   const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;
   const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s;
   const float r = k.voltageSd_mV * k.voltageSd_mV;
-  const float r0Drop_mV = k.r0_mOhm * i_mA * 1e-3f;
   for (uint16_t g = 0; g < groups; ++g) {
     EkfGroup& e = s.group[g];
     // Predict.
-    e.soc -= dSoc;
+    e.soc = clamp01(e.soc - dSoc);
     e.v1_mV = a * e.v1_mV + v1Drive_mV;
     e.p00 += qSoc;
     e.p01 *= a;
     e.p11 = a * a * e.p11 + qV1;
     if (!valid) continue;  // no fresh complete reading: prediction only
     // Update with this group's reading.
-    const float h0 = ocvSlope_mV(c, e.soc);
+    const float h0 = ocvSlope_mV(c, e.soc) - r0Slope_mOhm(c, e.soc) * i_mA * 1e-3f;
+    const float r0Drop_mV = r0At_mOhm(c, e.soc) * i_mA * 1e-3f;
     const float innovation = static_cast<float>(cell_mV[g]) - (ocvAt_mV(c, e.soc) - e.v1_mV - r0Drop_mV);
     const float ph0 = e.p00 * h0 - e.p01;  // (P·H')[0]
     const float ph1 = e.p01 * h0 - e.p11;  // (P·H')[1]

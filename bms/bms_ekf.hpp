@@ -4,11 +4,11 @@
 //   state  x = [soc, v1_mV]                    (positive I discharges)
 //   predict soc -= I·dt / capacity;   v1 = a·v1 + r1·I·(1 - a),   a = exp(-dt / tau1)
 //           P = F·P·F' + Q·dt,        F = diag(1, a)
-//   update  v_pred = OCV(soc) - v1 - r0·I,   H = [dOCV/dsoc, -1]
+//   update  v_pred = OCV(soc) - v1 - R0(soc)·I,   H = [dOCV/dsoc - I·dR0/dsoc, -1]
 //           K = P·H' / (H·P·H' + R);  x += K·(v_meas - v_pred);  P = (I - K·H)·P
 //
 // Started at the first complete reading from the OCV of the reading plus its r0·I drop
-// (or from EkfConfig::initialSoc). Fixed arrays, float, no allocation:
+// (or from EkfConfig::initialSoc); R0(soc) is linear in the table like the OCV. Fixed arrays, float, no allocation:
 // sizeof(EkfGroup) = 20 bytes per series group (5.1 KiB for kMaxCells = 256; 2.2 KiB
 // for the 110 groups of system D).
 #pragma once
@@ -41,5 +41,8 @@ float ekfPackSoc(const EkfState& s, uint16_t groups);
 float ocvSlope_mV(const SocConfig& c, float soc);
 // OCV table at soc (linear, clamped), mV.
 float ocvAt_mV(const SocConfig& c, float soc);
+// The EKF's R0 table at soc and its slope per unit SOC, mOhm.
+float r0At_mOhm(const SocConfig& c, float soc);
+float r0Slope_mOhm(const SocConfig& c, float soc);
 
 }  // namespace bms

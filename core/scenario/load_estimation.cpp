@@ -25,7 +25,14 @@ SocEstimationSettings readSocEstimation(YamlMap& m) {
     if (e.ocv_V.size() > 16) throw m.errorAt("ocv_V", "at most 16 points (the firmware's table), got " + std::to_string(e.ocv_V.size()));
     checkRising(m, "ocv_V", e.ocv_V);
   }
-  if (m.has("cell_r0_ohm")) e.cell_r0_ohm = m.number("cell_r0_ohm", Range::closed(0.0, 10.0));
+  if (m.has("cell_r0_ohm")) {
+    const size_t points = e.ocv_V.empty() ? 11 : e.ocv_V.size();
+    e.cell_r0_ohm = m.node("cell_r0_ohm").IsSequence() ? m.numbers("cell_r0_ohm", Range::closed(0.0, 10.0))
+                                                        : std::vector<double>{m.number("cell_r0_ohm", Range::closed(0.0, 10.0))};
+    if (e.cell_r0_ohm.size() != 1 && e.cell_r0_ohm.size() != points)
+      throw m.errorAt("cell_r0_ohm", "give one value or one per OCV table point (" + std::to_string(points) + "), got " +
+                                         std::to_string(e.cell_r0_ohm.size()));
+  }
   if (m.has("cell_r1_ohm")) e.cell_r1_ohm = m.number("cell_r1_ohm", Range::closed(0.0, 10.0));
   if (m.has("tau1_s")) e.tau1_s = m.number("tau1_s", Range::closed(0.01, 100000.0));
   if (auto k = m.optionalMap("ekf")) {

@@ -118,7 +118,7 @@ struct SocEstimationSettings {
   std::string estimator = "coulomb";  // coulomb | ekf: which one the telemetry reports
   double cell_capacity_Ah = -1.0;
   std::vector<double> ocv_V;           // OCV at SOC 0 .. 1, evenly spaced (2..16 points)
-  double cell_r0_ohm = -1.0;
+  std::vector<double> cell_r0_ohm;     // one value, or one per OCV point; empty: the cell's R0 at those points
   double cell_r1_ohm = -1.0;
   double tau1_s = -1.0;
   double voltage_sd_mV = 10.0;         // EKF measurement noise + model error

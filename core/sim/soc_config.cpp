@@ -1,7 +1,7 @@
 // The firmware's state-estimation configuration from the scenario's `bms.soc` section:
 // what a firmware engineer flashes. Values the scenario leaves out come from the pack's
-// cell as a datasheet would give them (OCV sampled at 11 points, R0 at 50 % SOC, the
-// first RC pair), never from the simulated truth of individual cells.
+// cell as a datasheet would give them (OCV and R0 sampled at 11 SOC points, the first
+// RC pair), never from the simulated truth of individual cells.
 #include <algorithm>
 #include <cmath>
 
@@ -28,12 +28,17 @@ void setSocConfig(bms::SocConfig& c, const Scenario& s) {
   c.restCurrent_mA = static_cast<int32_t>(std::lround(s.bms.soc_rest_current_A * 1e3));
 
   c.estimator = e.estimator == "ekf" ? bms::SocEstimator::Ekf : bms::SocEstimator::CoulombCounting;
-  const double r0_ohm = e.cell_r0_ohm >= 0.0 ? e.cell_r0_ohm : ecm::r0(cell, 0.5);
   const bool hasRc = !cell.rc.empty();
   const double r1_ohm = e.cell_r1_ohm >= 0.0 ? e.cell_r1_ohm : hasRc ? cell.rc[0].r_ohm : 0.0;
   const double tau1_s = e.tau1_s > 0.0 ? e.tau1_s : hasRc ? cell.rc[0].tau_s() : 30.0;
   bms::EkfConfig& k = c.ekf;
-  k.r0_mOhm = static_cast<float>(r0_ohm / parallel * 1e3);  // a group: the cells in parallel
+  for (int i = 0; i < points; ++i) {  // a group: the cells in parallel
+    const double soc = i / double(points - 1);
+    const double r0_ohm = e.cell_r0_ohm.empty()       ? ecm::r0(cell, soc)
+                          : e.cell_r0_ohm.size() == 1 ? e.cell_r0_ohm[0]
+                                                      : e.cell_r0_ohm[static_cast<size_t>(i)];
+    k.r0_mOhm[i] = static_cast<float>(r0_ohm / parallel * 1e3);
+  }
   k.r1_mOhm = static_cast<float>(r1_ohm / parallel * 1e3);
   k.tau1_s = static_cast<float>(tau1_s);
   k.voltageSd_mV = static_cast<float>(e.voltage_sd_mV);

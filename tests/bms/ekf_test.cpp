@@ -9,7 +9,8 @@
 
 namespace {
 
-// OCV 3000 mV (empty) .. 4200 mV (full) in 3 points, 2000 mAh, r0 20 mOhm, r1 10 mOhm, 30 s.
+// OCV 3000 mV (empty) .. 4200 mV (full) in 3 points, 2000 mAh, r0 30 mOhm empty and
+// 20 mOhm from half full up, r1 10 mOhm, 30 s.
 bms::SocConfig config() {
   bms::SocConfig c{};
   c.capacity_mAh = 2000.0f;
@@ -19,13 +20,14 @@ bms::SocConfig config() {
   c.ocv_mV[2] = 4200;
   c.restCurrent_mA = 100;
   c.rest_ms = 10000;
-  c.ekf = bms::EkfConfig{20.0f, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f};
+  c.ekf = bms::EkfConfig{{30.0f, 20.0f, 20.0f}, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f};
   return c;
 }
 
-double ocvTrue_mV(double soc) {  // the same piecewise-linear curve, in double
+double ocvTrue_mV(double soc) {  // the same piecewise-linear curves, in double
   return soc < 0.5 ? 3000.0 + soc * 1000.0 : 3500.0 + (soc - 0.5) * 1400.0;
 }
+double r0True_ohm(double soc) { return soc < 0.5 ? 0.030 - soc * 0.020 : 0.020; }
 
 TEST(Ekf, OcvTableValueAndSlope) {
   const bms::SocConfig c = config();
@@ -34,9 +36,13 @@ TEST(Ekf, OcvTableValueAndSlope) {
   EXPECT_NEAR(bms::ocvSlope_mV(c, 0.25f), 1000.0f, 1e-3f);
   EXPECT_NEAR(bms::ocvSlope_mV(c, 0.75f), 1400.0f, 1e-3f);
   EXPECT_NEAR(bms::ocvAt_mV(c, 1.2f), 4200.0f, 1e-3f);  // clamped
+  EXPECT_NEAR(bms::r0At_mOhm(c, 0.25f), 25.0f, 1e-4f);
+  EXPECT_NEAR(bms::r0Slope_mOhm(c, 0.25f), -20.0f, 1e-4f);
+  EXPECT_NEAR(bms::r0Slope_mOhm(c, 0.75f), 0.0f, 1e-4f);
 }
 
-// A pulsed discharge of a 1-RC cell; the EKF starts at 0.5 although the cell is at 0.9.
+// A pulsed discharge of a 1-RC cell from 0.9 to about 0.35 (into the rising R0); the
+// EKF starts at 0.5 although the cell is at 0.9.
 TEST(Ekf, ConvergesFromAWrongInitialSocAndTracks) {
   bms::SocConfig c = config();
   c.ekf.initialSoc = 0.5f;
@@ -44,12 +50,12 @@ TEST(Ekf, ConvergesFromAWrongInitialSocAndTracks) {
   bms::EkfState s;
   bms::ekfReset(s);
   double soc = 0.9, v1_mV = 0.0;
-  const double cap_As = 2.0 * 3600.0, r0 = 0.020, r1 = 0.010, tau = 30.0, dt = 0.1;
+  const double cap_As = 2.0 * 3600.0, r1 = 0.010, tau = 30.0, dt = 0.1;
   uint32_t t_ms = 0;
   double worstAfter60s = 0.0;
   for (int k = 0; k <= 36000; ++k, t_ms += 100) {  // one hour at 100 ms
     const double i_A = (k / 300) % 2 == 0 ? 2.0 : 0.2;  // 30 s at 1C, 30 s at 0.1C
-    const uint16_t v = static_cast<uint16_t>(std::lround(ocvTrue_mV(soc) - v1_mV - r0 * i_A * 1e3));
+    const uint16_t v = static_cast<uint16_t>(std::lround(ocvTrue_mV(soc) - v1_mV - r0True_ohm(soc) * i_A * 1e3));
     const int32_t i_mA = static_cast<int32_t>(std::lround(i_A * 1e3));
     bms::ekfUpdate(c, s, 1, true, &v, i_mA, t_ms);
     if (k == 0) EXPECT_EQ(s.group[0].soc, 0.5f);  // started where it was told

@@ -29,7 +29,7 @@ TEST(Core, TickAllocatesNothing) {
   bms::Config cfg = bms_test::config(12, 2);
   cfg.precharge.enabled = true;
   cfg.soc.estimator = bms::SocEstimator::Ekf;  // both estimators run every tick either way
-  cfg.soc.ekf.r0_mOhm = 10.0f;
+  for (float& r0 : cfg.soc.ekf.r0_mOhm) r0 = 10.0f;
   cfg.soc.ekf.r1_mOhm = 5.0f;
   bms_test::Rig rig;
   auto& [s, in, out] = rig;

@@ -99,6 +99,8 @@ TEST(SocEstimation, BadEstimatorKeysAreClearErrors) {
   EXPECT_NE(message({{"bms.soc.estimator", "ekff"}}).find("did you mean 'ekf'"), std::string::npos);
   EXPECT_NE(message({{"bms.soc.ocv_V", "[3.0, 3.9, 3.8]"}}).find("rise strictly"), std::string::npos);
   EXPECT_NE(message({{"bms.soc.display_bars_V", "[3.3, 3.4]"}}).find("at least 7 values"), std::string::npos);
+  EXPECT_NE(message({{"bms.soc.cell_r0_ohm", "[0.01, 0.02]"}}).find("one per OCV table point (11)"), std::string::npos);
+  EXPECT_NO_THROW(loadScenarioFileWithOverrides(eco(), {{"bms.soc.cell_r0_ohm", "0.008"}}));
   EXPECT_NE(message({{"expect", "{soc_error_max_below: {ekf: 2}}"}}).find("expect.soc_error_max_below.ekf"),
             std::string::npos);
   EXPECT_NE(message({{"expect", "{soc_error_max_below: {ekff: 0.1}}"}}).find("did you mean"), std::string::npos);
