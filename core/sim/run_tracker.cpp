@@ -2,12 +2,11 @@
 
 #include "core/sim/stranded_energy.hpp"
 
-#include <bms/bms_soc.hpp>
-#include <algorithm>
-
 #include <bms/bms_balance.hpp>
 #include <bms/bms_core.hpp>
+#include <bms/bms_soc.hpp>
 #include <bms/bms_telemetry.hpp>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
