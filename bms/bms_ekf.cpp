@@ -95,6 +95,7 @@ void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, con
                int32_t current_mA, uint32_t now_ms) {
   const uint32_t dt_ms = now_ms - s.last_ms;
   s.last_ms = now_ms;
+  if (c.ocvPoints < 2) return;  // no table, no model
   if (!s.started) {
     if (valid) start(c, s, groups, cell_mV, current_mA);
     return;
@@ -108,6 +109,7 @@ void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, con
   const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;
   const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s;
   const float r = k.voltageSd_mV * k.voltageSd_mV;
+  const float perUnitSoc = static_cast<float>(c.ocvPoints - 1);  // table segments per unit SOC
   for (uint16_t g = 0; g < groups; ++g) {
     EkfGroup& e = s.group[g];
     // Predict.
@@ -118,9 +120,16 @@ void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, con
     e.p11 = a * a * e.p11 + qV1;
     if (!valid) continue;  // no fresh complete reading: prediction only
     // Update with this group's reading.
-    const float h0 = ocvSlope_mV(c, e.soc) - r0Slope_mOhm(c, e.soc) * i_mA * 1e-3f;
-    const float r0Drop_mV = r0At_mOhm(c, e.soc) * i_mA * 1e-3f;
-    const float innovation = static_cast<float>(cell_mV[g]) - (ocvAt_mV(c, e.soc) - e.v1_mV - r0Drop_mV);
+    // OCV and R0 (value and slope) from the one table segment holding soc.
+    uint8_t i;
+    float frac;
+    segment(c, e.soc, i, frac);
+    const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
+    const float r0Lo = k.r0_mOhm[i], r0Hi = k.r0_mOhm[i + 1];
+    const float i_A = i_mA * 1e-3f;
+    const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * i_A) * perUnitSoc;
+    const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * i_A;
+    const float innovation = static_cast<float>(cell_mV[g]) - v_pred;
     const float ph0 = e.p00 * h0 - e.p01;  // (P·H')[0]
     const float ph1 = e.p01 * h0 - e.p11;  // (P·H')[1]
     const float sInn = h0 * ph0 - ph1 + r;

@@ -307,22 +307,23 @@ uint8_t RunTracker::trueDisplayBars(const PlantSignals& sig) const {
 void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   const bms::Telemetry& tm = out.telemetry;
   if (!tm.socCoulombValid && !tm.socEkfValid) return;
-  const double truth = trueMeanSoc(x);
-  if (tm.socCoulombValid) socErrorCoulomb_.add(tm.socCoulomb, truth);
   Summary& sm = r_.summary;
-  if (tm.socEkfValid) {
-    socErrorEkf_.add(tm.socEkf, truth);
-    const int parallel = plant_.pack().parallel;
-    for (int g = 0; g < plant_.pack().series; ++g) {
-      double sum = 0.0;
-      for (int k = 0; k < parallel; ++k) sum += plant_.cellStates(x, g * parallel + k)[CellLayout::soc];
-      const double e = std::fabs(tm.socGroup_permille[g] * 1e-3 - sum / parallel);
-      if (e > sm.soc_error_ekf_group_max) {
-        sm.soc_error_ekf_group_max = e;
-        sm.soc_error_ekf_group = g + 1;
-      }
+  // One pass over the cells: each group's true SOC against its EKF, and the pack mean.
+  const int parallel = plant_.pack().parallel;
+  double total = 0.0;
+  for (int g = 0; g < plant_.pack().series; ++g) {
+    double sum = 0.0;
+    for (int k = 0; k < parallel; ++k) sum += plant_.cellStates(x, g * parallel + k)[CellLayout::soc];
+    total += sum;
+    const double e = std::fabs(tm.socGroup_permille[g] * 1e-3 - sum / parallel);
+    if (tm.socEkfValid && e > sm.soc_error_ekf_group_max) {
+      sm.soc_error_ekf_group_max = e;
+      sm.soc_error_ekf_group = g + 1;
     }
   }
+  const double truth = total / plant_.pack().cellCount();
+  if (tm.socCoulombValid) socErrorCoulomb_.add(tm.socCoulomb, truth);
+  if (tm.socEkfValid) socErrorEkf_.add(tm.socEkf, truth);
   sm.capacity_estimate_Ah = tm.capacityEstimate_mAh * 1e-3;
   if (tm.socCoulombValid) {  // the display runs from the same complete reading
     const int diff = static_cast<int>(trueDisplayBars(sig)) - static_cast<int>(tm.socDisplayBars);
