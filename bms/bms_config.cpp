@@ -27,6 +27,14 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   c.soc.ocv_mV[1] = 4200;
   c.soc.restCurrent_mA = 200;
   c.soc.rest_ms = 30u * 60u * 1000u;
+  c.soc.estimator = SocEstimator::CoulombCounting;
+  // EKF: no model until configured (r0 = r1 = 0); 10 mV reading/model error, a slow SOC
+  // random walk (about 1 % per hour) and a 2 mV/sqrt(s) v1 walk.
+  c.soc.ekf = EkfConfig{{}, 0.0f, 30.0f, 10.0f, 1.7e-4f, 2.0f, -1.0f, 0.05f};
+  c.soc.sohMinDeltaSoc = 0.3f;
+  // DOMAIN.md system C: < 3.3 V one bar, one more per 0.1 V up to 3.9 V, above 4.0 V eight.
+  const uint16_t bars[kDisplayBars - 1] = {3300, 3400, 3500, 3600, 3700, 3800, 4001};
+  for (uint8_t i = 0; i + 1 < kDisplayBars; ++i) c.soc.displayBars_mV[i] = bars[i];
   c.weldSettle_ms = 50;
   c.weldCurrent_mA = 500;
   c.relayAuxFeedback = true;

@@ -79,6 +79,26 @@ struct PrechargeConfig {
   uint8_t retries;
 };
 
+// State estimation (bms_soc, bms_ekf, bms_soh): both estimators run every tick; the
+// configured one is reported as Telemetry::soc_permille.
+enum class SocEstimator : uint8_t { CoulombCounting = 0, Ekf = 1 };
+
+// The EKF's 1-RC model of one series group, as flashed (not the plant's truth):
+//   v = OCV(soc) - v1 - R0(soc)·I,   dv1/dt = (r1·I - v1) / tau1,   dsoc/dt = -I / capacity
+// with the OCV table and capacity of SocConfig; R0 is a table on the OCV table's SOC
+// points (r0_mOhm[i] at SOC i/(ocvPoints-1)). Noise: voltage reading (measurement),
+// SOC and v1 random walks per second (process).
+struct EkfConfig {
+  float r0_mOhm[kMaxOcvPoints];
+  float r1_mOhm;
+  float tau1_s;
+  float voltageSd_mV;       // measurement noise + model error of one group reading
+  float socSdPerSqrtS;      // SOC process noise, 1 sigma per sqrt(second)
+  float v1SdPerSqrtS_mV;    // v1 process noise, 1 sigma per sqrt(second)
+  float initialSoc;         // < 0: from the OCV table at the first reading
+  float initialSocSd;       // 1 sigma of the initial SOC
+};
+
 // SOC estimate: coulomb counting, anchored to the OCV table at start-up and again
 // after |I| < restCurrent_mA for rest_ms. The table is OCV (mean cell) at SOC
 // 0, 1/(n-1), … 1, increasing.
@@ -88,6 +108,10 @@ struct SocConfig {
   uint8_t ocvPoints;
   int32_t restCurrent_mA;
   uint32_t rest_ms;
+  SocEstimator estimator;       // which estimate the telemetry reports (both always run)
+  EkfConfig ekf;                // the EKF's own model of one series group
+  float sohMinDeltaSoc;         // capacity estimate only across rested OCV points this far apart
+  uint16_t displayBars_mV[kDisplayBars - 1];  // SOC display: bars = 1 + thresholds at or below the cell mV
 };
 
 // Passive balancing policy (bms_balance.hpp). Firmware units.

@@ -12,6 +12,7 @@ void init(CoreState& s) {
   for (uint8_t q = 0; q < kQuantityCount; ++q) s.quantity[q] = 0;
   acquisitionReset(s.acq);
   socReset(s.soc);
+  ekfReset(s.ekf);
   s.precharge = PrechargeState{PrechargePhase::Idle, 0, 0, false};
   balanceReset(s.balance);
   s.chargeComplete = false;
@@ -151,6 +152,21 @@ void historyQuantities(const Config& cfg, const CoreState& s, const Inputs& in, 
   quantity[static_cast<uint8_t>(Quantity::PrechargeFailed)] = s.precharge.failed ? 1 : 0;
 }
 
+// Both SOC estimates, the selected one as soc_permille, the capacity estimate and the
+// SOC display.
+void estimateTelemetry(const Config& cfg, const CoreState& s, uint16_t meanCell_mV, Telemetry& tm) {
+  tm.socCoulomb = socValue(cfg.soc, s.soc);
+  tm.socCoulombValid = s.soc.anchored;
+  tm.socEkf = ekfPackSoc(s.ekf, cfg.cellCount);
+  tm.socEkfValid = s.ekf.started;
+  for (uint16_t g = 0; g < cfg.cellCount; ++g)
+    tm.socGroup_permille[g] = static_cast<uint16_t>(s.ekf.group[g].soc * 1000.0f + 0.5f);
+  const float soc = cfg.soc.estimator == SocEstimator::Ekf ? tm.socEkf : tm.socCoulomb;
+  tm.soc_permille = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
+  tm.capacityEstimate_mAh = s.soc.capacityEstimate_mAh;
+  tm.socDisplayBars = socDisplayBars(cfg.soc, meanCell_mV);
+}
+
 }  // namespace
 
 void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
@@ -159,6 +175,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   const bool complete = acquisitionComplete(cfg, s.acq);
   const uint16_t meanCell = static_cast<uint16_t>(cfg.cellCount > 0 ? tm.packVoltage_mV / cfg.cellCount : 0u);
   socUpdate(cfg.soc, s.soc, complete, meanCell, tm.packCurrent_mA, in.now_ms);
+  ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, complete, tm.cellVoltage_mV, tm.packCurrent_mA, in.now_ms);
   historyQuantities(cfg, s, in, tm, s.quantity);
   protectionUpdate(cfg, s.quantity, in.now_ms, s.protection);
 
@@ -233,8 +250,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   out.state = s.state;
   out.faultActive = s.protection.active;
   out.faultLatched = s.protection.latched;
-  const float soc = socValue(cfg.soc, s.soc);
-  tm.soc_permille = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
+  estimateTelemetry(cfg, s, meanCell, tm);
   tm.prechargePhase = static_cast<uint8_t>(s.precharge.phase);
   tm.prechargeAttempts = s.precharge.attempts;
 }

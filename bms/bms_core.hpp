@@ -3,7 +3,9 @@
 //   step(cfg, state, in, out):
 //     1. acquire: parse every monitor-IC reply (length, header, CRC), count bad
 //        replies per device; codes -> mV / mA / deci-degC; min/max quantities
-//     2. estimate: SOC by coulomb counting, re-anchored to OCV after rest
+//     2. estimate: SOC by coulomb counting, re-anchored to OCV after rest (and the
+//        capacity between rested anchors), and by an EKF per series group; the
+//        configured one is reported
 //     3. protections: debounce every rule of the table, latch fatal ones
 //     4. state machine: one function per state decides the next state
 //        init -> standby -> precharge -> normal | charge;  any fatal fault -> error
@@ -20,6 +22,7 @@
 
 #include "bms_balance.hpp"
 #include "bms_config.hpp"
+#include "bms_ekf.hpp"
 #include "bms_hal.hpp"
 #include "bms_measure.hpp"
 #include "bms_protect.hpp"
@@ -42,6 +45,7 @@ struct CoreState {
   int32_t quantity[kQuantityCount];
   AcquisitionState acq;
   SocState soc;
+  EkfState ekf;
   PrechargeState precharge;
   BalanceState balance;
   bool chargeComplete;  // a cell reached chargeFullCell_mV on this charger connection

@@ -48,6 +48,14 @@ struct Telemetry {
   uint8_t prechargePhase;    // PrechargePhase
   uint8_t prechargeAttempts;
   bool monitorFault;         // any device reports its own protection latched, or the FAULT line
+  // State estimation: both estimators run every tick; soc_permille is the selected one.
+  float socCoulomb;          // coulomb counting, 0..1 (valid once anchored)
+  float socEkf;              // EKF, mean over the series groups, 0..1 (valid once started)
+  bool socCoulombValid;
+  bool socEkfValid;
+  uint16_t socGroup_permille[kMaxCells];  // EKF per series group
+  float capacityEstimate_mAh;  // SOH: capacity between two rested OCV points (0: none yet)
+  uint8_t socDisplayBars;    // SOC display from the mean cell voltage, 1..kDisplayBars
 };
 
 struct Outputs {

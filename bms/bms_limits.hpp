@@ -12,6 +12,7 @@ constexpr uint8_t kMaxCellsPerDevice = 16;  // the largest monitor class (16-cel
 constexpr uint8_t kMaxThermPerDevice = 3;   // thermistor inputs per monitor IC
 constexpr uint8_t kMaxFrameBytes = 64;      // longest monitor-IC reply frame
 constexpr uint8_t kMaxOcvPoints = 16;       // OCV table rows for the SOC estimate
+constexpr uint8_t kDisplayBars = 8;         // SOC display bars (DOMAIN.md system C)
 constexpr uint8_t kBalanceWords = (kMaxCells + 31) / 32;
 constexpr uint8_t kMaxBoards = 16;          // monitor boards, each with its own balancing-board thermistors
 constexpr uint8_t kMaxBalanceAverage = 64;  // readings the balancing decision may average per cell

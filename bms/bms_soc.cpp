@@ -9,6 +9,15 @@ void socReset(SocState& s) {
   s.last_ms = 0;
   restReset(s.rest);
   s.restAnchored = false;
+  s.anchorAtRest = false;
+  s.capacityEstimate_mAh = 0.0f;
+}
+
+uint8_t socDisplayBars(const SocConfig& c, uint16_t cell_mV) {
+  uint8_t bars = 1;
+  for (uint8_t i = 0; i + 1 < kDisplayBars; ++i)
+    if (cell_mV >= c.displayBars_mV[i]) ++bars;
+  return bars;
 }
 
 float socFromOcv(const SocConfig& c, uint16_t mv) {
@@ -36,9 +45,20 @@ float socValue(const SocConfig& c, const SocState& s) {
 
 namespace {
 
-void anchor(const SocConfig& c, SocState& s, uint16_t meanCell_mV) {
+void anchor(const SocConfig& c, SocState& s, uint16_t meanCell_mV, bool atRest) {
+  const float soc = socFromOcv(c, meanCell_mV);
+  if (atRest && s.anchored && s.anchorAtRest) {
+    const float delta = s.anchorSoc - soc;
+    const float size = delta < 0.0f ? -delta : delta;
+    if (size >= c.sohMinDeltaSoc && size > 0.0f) {
+      const float counted_mAh = static_cast<float>(s.sinceAnchor_mAms) / 3.6e6f;
+      const float capacity_mAh = counted_mAh / delta;
+      if (capacity_mAh > 0.0f) s.capacityEstimate_mAh = capacity_mAh;
+    }
+  }
   s.anchored = true;
-  s.anchorSoc = socFromOcv(c, meanCell_mV);
+  s.anchorAtRest = atRest;
+  s.anchorSoc = soc;
   s.sinceAnchor_mAms = 0;
 }
 
@@ -48,7 +68,7 @@ void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV
   const uint32_t dt_ms = now_ms - s.last_ms;
   s.last_ms = now_ms;
   if (!s.anchored) {
-    if (valid) anchor(c, s, meanCell_mV);
+    if (valid) anchor(c, s, meanCell_mV, magnitude(current_mA) < c.restCurrent_mA);
     return;
   }
   // Rectangle rule with this tick's current over the elapsed interval.
@@ -60,7 +80,7 @@ void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV
     return;
   }
   if (valid && !s.restAnchored && restedFor(s.rest, now_ms, c.rest_ms)) {
-    anchor(c, s, meanCell_mV);
+    anchor(c, s, meanCell_mV, true);
     s.restAnchored = true;
   }
 }

@@ -6,6 +6,11 @@
 //
 // The integral is kept as an integer (mA·ms), so a long run does not lose float
 // resolution.
+//
+// Capacity (SOH): between two anchors that were both taken at rest, the charge counted
+// over the SOC change the OCV table saw is the capacity:
+//   capacity = ∫ I dt / (soc_ocv(first rest) - soc_ocv(second rest))
+// accepted only when the SOC change is at least SocConfig::sohMinDeltaSoc.
 #pragma once
 #include <cstdint>
 
@@ -21,6 +26,8 @@ struct SocState {
   uint32_t last_ms;
   RestTimer rest;
   bool restAnchored;  // already re-anchored during this rest
+  bool anchorAtRest;  // the current anchor was taken with the pack at rest
+  float capacityEstimate_mAh;  // 0 until two rested anchors far enough apart
 };
 
 void socReset(SocState& s);
@@ -29,5 +36,7 @@ float socFromOcv(const SocConfig& c, uint16_t cell_mV);
 // One tick. `valid` = a complete cell measurement is available.
 void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV, int32_t current_mA, uint32_t now_ms);
 float socValue(const SocConfig& c, const SocState& s);
+// SOC display (DOMAIN.md system C): 1 + the number of thresholds at or below cell_mV.
+uint8_t socDisplayBars(const SocConfig& c, uint16_t cell_mV);
 
 }  // namespace bms

@@ -1,6 +1,8 @@
 #include "core/check/check.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <functional>
 #include <cstdio>
 #include <filesystem>
 
@@ -38,6 +40,32 @@ bool latchedAtTrip(const Summary& sm, const std::string& fault) {
     pos = end + 2;
   }
   return false;
+}
+
+// SOC error bounds per estimator and the capacity estimate (issue 17).
+void judgeEstimates(const Expectations& e, const Summary& sm, const std::function<void(const std::string&)>& fail) {
+  auto stats = [&](const std::string& name) -> std::pair<std::string, const SocErrorStats*> {
+    const std::string which = name.empty() ? sm.soc_estimator : name;
+    return {which, which == "ekf" ? &sm.soc_error_ekf : &sm.soc_error_coulomb};
+  };
+  auto check = [&](const std::vector<SocErrorBound>& bounds, const char* what, double SocErrorStats::*field) {
+    for (const SocErrorBound& b : bounds) {
+      const auto [name, st] = stats(b.estimator);
+      if (st->ticks == 0) fail(name + " SOC estimate never valid (no complete reading)");
+      else if (!(std::fabs(st->*field) < b.bound))
+        fail(name + " SOC error " + what + fmt(" %.2f %% is not below %.2f %%", 100.0 * std::fabs(st->*field), 100.0 * b.bound));
+    }
+  };
+  check(e.soc_error_max_below, "max", &SocErrorStats::max);
+  check(e.soc_error_rms_below, "rms", &SocErrorStats::rms);
+  check(e.soc_error_end_below, "at the end", &SocErrorStats::end);
+  if (e.capacity_error_below) {
+    if (!(sm.capacity_estimate_Ah > 0.0))
+      fail("expected a capacity estimate, but the firmware made none (two rests far enough apart in SOC)");
+    else if (!(std::fabs(sm.capacity_estimate_Ah / sm.capacity_true_Ah - 1.0) < *e.capacity_error_below))
+      fail(fmt("capacity estimate %.3f Ah is off the true %.3f Ah by more than %.1f %%", sm.capacity_estimate_Ah,
+               sm.capacity_true_Ah, 100.0 * *e.capacity_error_below));
+  }
 }
 
 }  // namespace
@@ -93,6 +121,8 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   if (e.energy_delivered_Wh_above && !(sm.energy_delivered_Wh > *e.energy_delivered_Wh_above))
     fail(fmt("energy delivered %.2f Wh is not above %.2f Wh", sm.energy_delivered_Wh, *e.energy_delivered_Wh_above));
 
+  judgeEstimates(e, sm, fail);
+
   // Detection latency of every injected fault.
   for (const Event& inj : r.events) {
     if (inj.kind != "fault_injected") continue;
@@ -117,6 +147,10 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     o.latencies.push_back(line);
   }
   o.verdict = sm.tripped ? fmt("trip at %.3f s (", sm.trip_time_s) + sm.trip_reason + ")" : "no trip";
+  if (!e.soc_error_max_below.empty() || !e.soc_error_rms_below.empty() || !e.soc_error_end_below.empty())
+    o.verdict += fmt(", SOC error max coulomb %.2f %%, ekf %.2f %%", 100.0 * sm.soc_error_coulomb.max, 100.0 * sm.soc_error_ekf.max);
+  if (e.capacity_error_below)
+    o.verdict += fmt(", capacity %.3f Ah (true %.3f Ah)", sm.capacity_estimate_Ah, sm.capacity_true_Ah);
   if (!e.present) o.verdict += ", no expect block";
   o.passed = o.failures.empty();
   return o;

@@ -214,6 +214,17 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
     w.dataset("/bms/charger_enable", rec.charger_enable, n, 0, nullptr);
     w.dataset("/bms/charger_request_mA", rec.charger_request_mA, n, 0, "mA");
   }
+  // State estimation (issue 17; docs/state-estimation.md).
+  w.dataset("/truth/soc_mean", rec.soc_truth_mean, n, 0, "1");
+  w.dataset("/truth/soc_display_bars", rec.soc_display_bars_truth, n, 0, "bars");
+  w.attrOn("/truth/soc_display_bars", "meaning", "the SOC display's table applied to the true mean cell OCV");
+  w.dataset("/bms/soc_coulomb", rec.soc_coulomb, n, 0, "1");
+  w.dataset("/bms/soc_ekf", rec.soc_ekf, n, 0, "1");
+  w.dataset("/bms/soc_ekf_group_permille", rec.soc_ekf_group_permille, n, static_cast<size_t>(rec.groups), "0.1 %");
+  w.dataset("/bms/capacity_estimate_Ah", rec.capacity_estimate_Ah, n, 0, "Ah");
+  w.attrOn("/bms/capacity_estimate_Ah", "meaning", "series-group capacity between two rested OCV points; 0 = none yet");
+  w.dataset("/bms/soc_display_bars", rec.soc_display_bars, n, 0, "bars");
+  w.attrOn("/bms/soc_estimate_permille", "estimator", s.bms.soc_estimation.estimator);
   w.events(r.events);
 
   w.group("/summary");
@@ -240,6 +251,20 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
   w.attr(g, "energy_start_Wh", sm.energy_start_Wh);
   w.attr(g, "energy_left_Wh", sm.energy_left_Wh);
   w.attr(g, "energy_stranded_Wh", sm.energy_stranded_Wh);
+  w.attr(g, "soc_estimator", sm.soc_estimator);
+  for (const auto& [name, st] : {std::pair<const char*, const SocErrorStats*>{"coulomb", &sm.soc_error_coulomb},
+                                 {"ekf", &sm.soc_error_ekf}}) {
+    const std::string p = std::string("soc_error_") + name;
+    w.attr(g, (p + "_max").c_str(), st->max);
+    w.attr(g, (p + "_rms").c_str(), st->rms);
+    w.attr(g, (p + "_end").c_str(), st->end);
+  }
+  w.attr(g, "soc_error_ekf_group_max", sm.soc_error_ekf_group_max);
+  w.attrInt(g, "soc_error_ekf_group", sm.soc_error_ekf_group);
+  w.attr(g, "capacity_estimate_Ah", sm.capacity_estimate_Ah);
+  w.attr(g, "capacity_true_Ah", sm.capacity_true_Ah);
+  w.attrInt(g, "display_bars_hidden_max", sm.display_bars_hidden_max);
+  w.attrInt(g, "display_bars_extra_max", sm.display_bars_extra_max);
 }
 
 }  // namespace

@@ -13,6 +13,12 @@ struct DetectionExpectation {
   double to_s = 0.0;
 };
 
+// A bound on one estimator's SOC error (issue 17); estimator "" = the reported one.
+struct SocErrorBound {
+  std::string estimator;  // "", coulomb or ekf
+  double bound = 0.0;     // SOC fraction (0.03 = 3 %)
+};
+
 struct Expectations {
   bool present = false;
   std::optional<bool> no_trip;
@@ -23,6 +29,8 @@ struct Expectations {
   std::optional<double> min_cell_V_above;
   std::optional<double> max_temp_C_below;
   std::optional<double> energy_delivered_Wh_above;
+  std::vector<SocErrorBound> soc_error_max_below, soc_error_rms_below, soc_error_end_below;  // |end|
+  std::optional<double> capacity_error_below;   // |SOH estimate / true - 1|; needs an estimate
 };
 
 }  // namespace packsim

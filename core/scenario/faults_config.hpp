@@ -22,7 +22,7 @@ enum class FaultKind {
   ThermistorOpen,
   ThermistorShort,
   WeldedRelay,
-  CurrentSensorDrift, // current-sense offset (A)
+  CurrentSensorDrift, // current-sense offset (A), optionally growing (A/h) from the start
   ChargerOvervoltage, // charger output above its setpoint (V)
   HostDead,           // the MCU hangs: no more BMS ticks, its outputs hold their last level
 };
@@ -50,6 +50,7 @@ struct FaultInjection {
   double duration_s = 0.0;  // 0: permanent
   int index = 0;            // cell, device or thermistor (0-based), by kind
   double value = 0.0;       // A, W, Ω, rate, gain, V … by kind
+  double rate_per_s = 0.0;  // current_sensor_drift: offset growth (A/s) from the start
   bool external = false;    // E-switch: which one
   int line = 0;             // where it was written (for reports)
   std::string describe() const;

@@ -107,6 +107,7 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   if (auto s = m->optionalMap("soc")) {
     b.soc_rest_s = s->number("rest_s", b.soc_rest_s, Range::closed(0.0, 86400.0));
     b.soc_rest_current_A = s->number("rest_current_A", b.soc_rest_current_A, Range::positive());
+    b.soc_estimation = readSocEstimation(*s);
     s->finish();
   }
   b.run_request = m->boolean("run_request", b.run_request);

@@ -141,7 +141,11 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
       inj.index = static_cast<int>(f.integer("thermistor", 1, thermistors)) - 1;
       break;
     case FaultKind::WeldedRelay: break;
-    case FaultKind::CurrentSensorDrift: inj.value = f.number("offset_A", Range{}); break;
+    case FaultKind::CurrentSensorDrift:
+      if (!f.has("offset_A") && !f.has("drift_A_per_h")) throw f.error("give offset_A and/or drift_A_per_h");
+      inj.value = f.number("offset_A", 0.0, Range{});
+      inj.rate_per_s = f.number("drift_A_per_h", 0.0, Range::closed(-1000.0, 1000.0)) / 3600.0;
+      break;
     case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
     case FaultKind::HostDead: break;
   }
@@ -197,7 +201,12 @@ std::string FaultInjection::describe() const {
     case FaultKind::ThermistorOpen: std::snprintf(buf, sizeof buf, "thermistor_open thermistor %d", index + 1); break;
     case FaultKind::ThermistorShort: std::snprintf(buf, sizeof buf, "thermistor_short thermistor %d", index + 1); break;
     case FaultKind::WeldedRelay: std::snprintf(buf, sizeof buf, "welded_relay"); break;
-    case FaultKind::CurrentSensorDrift: std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value); break;
+    case FaultKind::CurrentSensorDrift:
+      if (rate_per_s != 0.0)
+        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A %+.3g A/h", value, rate_per_s * 3600.0);
+      else
+        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value);
+      break;
     case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
     case FaultKind::HostDead: std::snprintf(buf, sizeof buf, "host_dead"); break;
   }
@@ -234,6 +243,7 @@ Expectations readExpect(std::optional<YamlMap> m) {
   if (m->has("max_temp_C_below")) e.max_temp_C_below = m->number("max_temp_C_below", Range::closed(-60.0, 300.0));
   if (m->has("energy_delivered_Wh_above"))
     e.energy_delivered_Wh_above = m->number("energy_delivered_Wh_above", Range{});
+  readSocExpectations(*m, e);  // load_estimation.cpp
   if (e.no_trip && *e.no_trip && (e.trip_reason || e.trip_within_s))
     throw m->error("no_trip: true contradicts trip_reason / trip_within_s");
   m->finish();

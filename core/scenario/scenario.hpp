@@ -112,6 +112,25 @@ struct BalanceSettings {
   int average_readings = 1;    // decide on each cell's mean of this many readings (firmware block average)
 };
 
+// The firmware's state estimation (bms::SocConfig in SI units; docs/state-estimation.md):
+// its own cell model, as flashed. Negative / empty values mean "from the pack's cell"
+// (the datasheet a firmware engineer would copy).
+struct SocEstimationSettings {
+  std::string estimator = "coulomb";  // coulomb | ekf: which one the telemetry reports
+  double cell_capacity_Ah = -1.0;
+  std::vector<double> ocv_V;           // OCV at SOC 0 .. 1, evenly spaced (2..16 points)
+  std::vector<double> cell_r0_ohm;     // one value, or one per OCV point; empty: the cell's R0 at those points
+  double cell_r1_ohm = -1.0;
+  double tau1_s = -1.0;
+  double voltage_sd_mV = 10.0;         // EKF measurement noise + model error
+  double soc_walk_per_sqrt_h = 0.01;   // EKF SOC process noise
+  double v1_walk_mV_per_sqrt_s = 2.0;  // EKF v1 process noise
+  double initial_soc = -1.0;           // EKF start; < 0: from the first reading's OCV
+  double initial_soc_sd = 0.05;
+  double soh_min_delta_soc = 0.3;      // capacity estimate across rested points this far apart
+  std::vector<double> display_bars_V;  // 7 thresholds; empty: DOMAIN.md system C's table
+};
+
 struct BmsSettings {
   double tick_s = 0.01;
   ProtectionConfig cell_overvoltage{true, 4.25, 0.05, 0.5};
@@ -140,6 +159,7 @@ struct BmsSettings {
   PrechargeSettings precharge;
   double soc_rest_s = 1800.0;       // rest before the SOC estimate re-anchors to OCV
   double soc_rest_current_A = 0.2;
+  SocEstimationSettings soc_estimation;
   bool run_request = true;          // GPIO levels held for the run
   bool charger_present = false;
   uint16_t balance_time_s = 60;

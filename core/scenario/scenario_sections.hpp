@@ -28,5 +28,9 @@ PassiveBalancerConfig readPassiveBalancer(YamlMap m);
 ActiveBalancerConfig readActiveBalancer(YamlMap m);
 BalanceSettings readBalanceSettings(YamlMap m);
 ChargerConfig readCharger(YamlMap m);
+// load_estimation.cpp: the estimator keys of `bms.soc` (the caller finishes the map)
+SocEstimationSettings readSocEstimation(YamlMap& soc);
+// ... and the SOC-error keys of `expect` (soc_error_max_below …, capacity_error_below)
+void readSocExpectations(YamlMap& expect, Expectations& e);
 
 }  // namespace packsim

@@ -93,20 +93,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
                                      static_cast<uint32_t>(std::lround(p.overlap_s * 1e3)),
                                      static_cast<uint8_t>(p.retries)};
 
-  // SOC: the cell's OCV curve at the pack's initial temperature, sampled at 11 points,
-  // and the group capacity -- what a firmware engineer flashes from the datasheet.
-  const CellParams& cell = s.pack.cell;
-  c.soc.capacity_mAh = static_cast<float>(cell.capacity_Ah * s.pack.parallel * 1e3);
-  c.soc.ocvPoints = 11;
-  uint16_t prev = 0;
-  for (int i = 0; i < 11; ++i) {
-    const double soc = i / 10.0;
-    uint16_t mv = static_cast<uint16_t>(std::clamp(std::lround(ecm::ocv(cell, soc) * 1e3), 0L, 65535L));
-    mv = std::max<uint16_t>(mv, prev);  // the table must not fall
-    c.soc.ocv_mV[i] = prev = mv;
-  }
-  c.soc.rest_ms = static_cast<uint32_t>(std::lround(b.soc_rest_s * 1e3));
-  c.soc.restCurrent_mA = toInt(b.soc_rest_current_A * 1e3);
+  setSocConfig(c.soc, s);  // core/sim/soc_config.cpp
   c.weldSettle_ms = static_cast<uint32_t>(std::lround(b.weld_settle_s * 1e3));
   c.balanceTime_s = b.balance_time_s;
   setBalancing(c, s);
@@ -199,7 +186,8 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
                                                     : hw.thermistor.code(thermTemp(k), rng);
     in.mcuThermistorCode[k - static_cast<size_t>(afeTherm_)] = static_cast<uint16_t>(code);
   }
-  in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A + f.current_sensor_offset_A, rng));
+  const double senseOffset_A = f.current_sensor_offset_A + f.current_sensor_drift_A_per_s * t;
+  in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A + senseOffset_A, rng));
   in.busVoltageCode = static_cast<uint16_t>(hw.bus_adc.convert(st_.bus_V, rng));
   in.eSwitchInternal = f.estop_internal_pulled;
   in.eSwitchExternal = f.estop_external_pulled;

@@ -31,6 +31,9 @@
 namespace packsim {
 
 bms::Config makeBmsConfig(const Scenario& s);
+// The state-estimation part of it (core/sim/soc_config.cpp): the firmware's own OCV
+// table, capacity and 1-RC model per series group, EKF tuning, SOH and display tables.
+void setSocConfig(bms::SocConfig& c, const Scenario& s);
 
 // What the switching hardware is actually doing (for records and events).
 struct HardwareStatus {

@@ -93,7 +93,10 @@ void FaultScheduler::apply(HardwareFaults& f) const {
       case FaultKind::ThermistorOpen: f.thermistor[k] = ThermistorFault::Open; break;
       case FaultKind::ThermistorShort: f.thermistor[k] = ThermistorFault::Short; break;
       case FaultKind::WeldedRelay: f.relay_welded = true; break;
-      case FaultKind::CurrentSensorDrift: f.current_sensor_offset_A += inj.value; break;
+      case FaultKind::CurrentSensorDrift:  // offset + rate·(t - start) = (offset - rate·start) + rate·t
+        f.current_sensor_offset_A += inj.value - inj.rate_per_s * state_[i].start_s;
+        f.current_sensor_drift_A_per_s += inj.rate_per_s;
+        break;
       case FaultKind::ChargerOvervoltage: f.charger_overvoltage_V += inj.value; break;
       case FaultKind::HostDead: f.host_dead = true; break;
     }

@@ -28,6 +28,7 @@ struct HardwareFaults {
   bool estop_internal_pulled = false;
   bool estop_external_pulled = false;
   double current_sensor_offset_A = 0.0;
+  double current_sensor_drift_A_per_s = 0.0;  // offset at t: offset_A + drift · t (start folded into offset_A)
   double extra_load_A = 0.0;                 // over-current load step, added to the profile
   double charger_overvoltage_V = 0.0;        // charger output above its setpoint
   bool host_dead = false;                    // MCU hung: no BMS step, outputs frozen

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "core/sim/cvode_integrator.hpp"
+#include "core/sim/soc_error.hpp"
 
 namespace packsim {
 
@@ -54,6 +55,13 @@ struct Recording {
   std::vector<double> charger_current_A;      // into the pack
   std::vector<uint8_t> charger_enable;        // BMS enable
   std::vector<int32_t> charger_request_mA;
+  // state estimation (issue 17): both firmware estimates and the truth they are judged against
+  std::vector<double> soc_truth_mean;          // mean cell SOC
+  std::vector<double> soc_coulomb, soc_ekf;    // firmware estimates (0 before their first reading)
+  std::vector<uint16_t> soc_ekf_group_permille;  // [sample][series]
+  std::vector<double> capacity_estimate_Ah;    // SOH: series-group capacity (0: none yet)
+  std::vector<uint8_t> soc_display_bars;       // what the SOC display shows (mean measured cell)
+  std::vector<uint8_t> soc_display_bars_truth; // what it would show from the true OCV
 
   size_t samples() const { return time_s.size(); }
 };
@@ -83,6 +91,16 @@ struct Summary {
   double energy_start_Wh = 0.0;
   double energy_left_Wh = 0.0;
   double energy_stranded_Wh = 0.0;
+  // State estimation against the truth (mean cell SOC), per estimator (soc_error.hpp).
+  std::string soc_estimator;        // the one the telemetry reports: coulomb | ekf
+  SocErrorStats soc_error_coulomb, soc_error_ekf;
+  double soc_error_ekf_group_max = 0.0;  // worst |EKF group SOC - the group's true mean SOC|
+  int soc_error_ekf_group = 0;           // 1-based series group where it happened
+  double capacity_estimate_Ah = 0.0;  // firmware SOH estimate of a series group; 0: none
+  double capacity_true_Ah = 0.0;      // mean series-group capacity of the plant
+  int display_bars_hidden_max = 0;    // most bars the display showed below the truth's
+  int display_bars_extra_max = 0;     // most bars it showed above the truth's
+  const SocErrorStats& socErrorSelected() const { return soc_estimator == "ekf" ? soc_error_ekf : soc_error_coulomb; }
 };
 
 struct RunResult {

@@ -4,7 +4,9 @@
 
 #include <bms/bms_balance.hpp>
 #include <bms/bms_core.hpp>
+#include <bms/bms_soc.hpp>
 #include <bms/bms_telemetry.hpp>
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -22,6 +24,9 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   rec.has_charger = s.charger.present;
   rec.has_board = plant.boardNode() >= 0;
   r_.summary.scenario = s.name;
+  r_.summary.soc_estimator = s.bms.soc_estimation.estimator;
+  for (const auto& cell : plant.pack().cells) r_.summary.capacity_true_Ah += cell.capacity_Ah;
+  r_.summary.capacity_true_Ah /= plant.pack().series;
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
   for (int c = 0; c < plant.pack().cellCount(); ++c)
@@ -161,6 +166,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     if (out.balanceStatus < 5) event(t, "balancing", kStatus[out.balanceStatus]);
   }
   lastBalanceStatus_ = out.balanceStatus;
+  judgeEstimates(x, sig, out);
   first_ = false;
   lastState_ = out.state;
   lastActive_ = out.faultActive;
@@ -202,6 +208,7 @@ void RunTracker::record(double t, const double* x, const PlantSignals& sig, cons
   bms::telemetryEncode(out, frame);
   rec.telemetry.insert(rec.telemetry.end(), frame, frame + bms::kTelemetryFrameBytes);
   recordBalancing(x, sig, out);
+  recordEstimates(x, sig, out);
   if (hw_) {
     const HardwareStatus& h = hw_->status();
     rec.hw_relay_closed.push_back(h.relay_closed ? 1 : 0);
@@ -273,11 +280,68 @@ RunResult RunTracker::finish(const double* q) {
     sm.limit_cell = lowest + 1;
     sm.limit_time_s = lastT_;
   }
+  sm.soc_error_coulomb = socErrorCoulomb_.stats();
+  sm.soc_error_ekf = socErrorEkf_.stats();
   const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);
   sm.energy_left_Wh = se.left_Wh;
   sm.energy_stranded_Wh = se.stranded_Wh;
   event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");
   return std::move(r_);
+}
+
+// The truth an estimate is judged against: the mean SOC of every cell.
+double RunTracker::trueMeanSoc(const double* x) const {
+  double sum = 0.0;
+  for (int c = 0; c < plant_.pack().cellCount(); ++c) sum += plant_.cellStates(x, c)[CellLayout::soc];
+  return sum / plant_.pack().cellCount();
+}
+
+// The bars the display would show if it read the true open-circuit voltage (mean cell).
+uint8_t RunTracker::trueDisplayBars(const PlantSignals& sig) const {
+  double sum = 0.0;
+  for (double v : sig.cell_ocv_V) sum += v;
+  const double mean_mV = sum / static_cast<double>(sig.cell_ocv_V.size()) * 1e3;
+  return bms::socDisplayBars(cfg_.soc, static_cast<uint16_t>(std::clamp(std::lround(mean_mV), 0L, 65535L)));
+}
+
+void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
+  const bms::Telemetry& tm = out.telemetry;
+  if (!tm.socCoulombValid && !tm.socEkfValid) return;
+  Summary& sm = r_.summary;
+  // One pass over the cells: each group's true SOC against its EKF, and the pack mean.
+  const int parallel = plant_.pack().parallel;
+  double total = 0.0;
+  for (int g = 0; g < plant_.pack().series; ++g) {
+    double sum = 0.0;
+    for (int k = 0; k < parallel; ++k) sum += plant_.cellStates(x, g * parallel + k)[CellLayout::soc];
+    total += sum;
+    const double e = std::fabs(tm.socGroup_permille[g] * 1e-3 - sum / parallel);
+    if (tm.socEkfValid && e > sm.soc_error_ekf_group_max) {
+      sm.soc_error_ekf_group_max = e;
+      sm.soc_error_ekf_group = g + 1;
+    }
+  }
+  const double truth = total / plant_.pack().cellCount();
+  if (tm.socCoulombValid) socErrorCoulomb_.add(tm.socCoulomb, truth);
+  if (tm.socEkfValid) socErrorEkf_.add(tm.socEkf, truth);
+  sm.capacity_estimate_Ah = tm.capacityEstimate_mAh * 1e-3;
+  if (tm.socCoulombValid) {  // the display runs from the same complete reading
+    const int diff = static_cast<int>(trueDisplayBars(sig)) - static_cast<int>(tm.socDisplayBars);
+    sm.display_bars_hidden_max = std::max(sm.display_bars_hidden_max, diff);
+    sm.display_bars_extra_max = std::max(sm.display_bars_extra_max, -diff);
+  }
+}
+
+void RunTracker::recordEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
+  Recording& rec = r_.rec;
+  const bms::Telemetry& tm = out.telemetry;
+  rec.soc_truth_mean.push_back(trueMeanSoc(x));
+  rec.soc_coulomb.push_back(tm.socCoulomb);
+  rec.soc_ekf.push_back(tm.socEkf);
+  for (int g = 0; g < rec.groups; ++g) rec.soc_ekf_group_permille.push_back(tm.socGroup_permille[g]);
+  rec.capacity_estimate_Ah.push_back(tm.capacityEstimate_mAh * 1e-3);
+  rec.soc_display_bars.push_back(tm.socDisplayBars);
+  rec.soc_display_bars_truth.push_back(trueDisplayBars(sig));
 }
 
 }  // namespace packsim

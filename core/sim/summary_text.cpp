@@ -20,6 +20,28 @@ std::string fmt(const char* f, double v) {
   return buf;
 }
 
+// SOC error of each estimator against the truth, the capacity estimate, the display.
+std::string socErrorLines(const Summary& m) {
+  std::string out;
+  for (const auto& [name, st] : {std::pair<std::string, const SocErrorStats*>{"coulomb", &m.soc_error_coulomb},
+                                 {"ekf", &m.soc_error_ekf}}) {
+    if (st->ticks == 0) continue;
+    out += (name == "coulomb" ? "SOC error       " : "                ") + name + (name == m.soc_estimator ? "*" : " ") +
+           std::string(8 - name.size(), ' ') + "max " + fmt("%.2f", 100.0 * st->max) + " %  rms " +
+           fmt("%.2f", 100.0 * st->rms) + " %  end " + fmt("%+.2f", 100.0 * st->end) + " %\n";
+  }
+  if (m.soc_error_ekf.ticks > 0)
+    out += "                ekf per group: worst " + fmt("%.2f", 100.0 * m.soc_error_ekf_group_max) + " % (group " +
+           std::to_string(m.soc_error_ekf_group) + ")\n";
+  if (!out.empty()) out += "                (* reported; error = estimate - mean cell SOC)\n";
+  out += "capacity (SOH)  " + (m.capacity_estimate_Ah > 0.0
+                                   ? fmt("%.3f", m.capacity_estimate_Ah) + " Ah estimated, " + fmt("%.3f", m.capacity_true_Ah) + " Ah true"
+                                   : "no estimate (needs two rests " + std::string("far enough apart in SOC)")) + "\n";
+  out += "SOC display     up to " + std::to_string(m.display_bars_hidden_max) + " bars below and " +
+         std::to_string(m.display_bars_extra_max) + " above what the true OCV would show\n";
+  return out;
+}
+
 }  // namespace
 
 std::string formatSummary(const Scenario& s, const RunResult& r) {
@@ -40,6 +62,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
      << "; " << fmt("%.2f", m.energy_stranded_Wh) << " Wh (" << fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh)
      << " % of the start) stranded by imbalance\n";
   os << "final SOC       " << fmt("%.3f", m.final_soc_min) << " .. " << fmt("%.3f", m.final_soc_max) << "\n";
+  os << socErrorLines(m);
   if (m.tripped) {
     os << "BMS             TRIP: isolated at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << ")\n";
     for (const Event& e : r.events)

@@ -60,6 +60,13 @@ py::dict recordingArrays(py::object handle) {
   put("bms/relay_closed", r.relay_closed, 0);
   put("bms/discharge_fet_on", r.discharge_fet_on, 0);
   put("bms/charge_fet_on", r.charge_fet_on, 0);
+  put("truth/soc_mean", r.soc_truth_mean, 0);
+  put("truth/soc_display_bars", r.soc_display_bars_truth, 0);
+  put("bms/soc_coulomb", r.soc_coulomb, 0);
+  put("bms/soc_ekf", r.soc_ekf, 0);
+  put("bms/soc_ekf_group_permille", r.soc_ekf_group_permille, groups);
+  put("bms/capacity_estimate_Ah", r.capacity_estimate_Ah, 0);
+  put("bms/soc_display_bars", r.soc_display_bars, 0);
   return d;
 }
 

@@ -46,4 +46,51 @@ TEST(Soc, CountsChargeAndReanchorsAfterRest) {
   EXPECT_NEAR(bms::socValue(c, s), 0.35f, 1e-3);
 }
 
+// Capacity from charge between two rested OCV points: 600 mAh moved the OCV from 0.5 to
+// 0.2, so the capacity is 2000 mAh -- whatever capacity the firmware was configured with.
+TEST(Soc, EstimatesCapacityBetweenTwoRests) {
+  bms::SocConfig c = config();
+  c.capacity_mAh = 1500.0f;  // configured wrong
+  c.sohMinDeltaSoc = 0.2f;
+  bms::SocState s;
+  bms::socReset(s);
+  uint32_t t = 0;
+  bms::socUpdate(c, s, true, 3600, 0, t);  // rested at start: 0.5
+  EXPECT_EQ(s.capacityEstimate_mAh, 0.0f);
+  for (int k = 0; k < 216000; ++k) bms::socUpdate(c, s, true, 3300, 1000, t += 10);  // 600 mAh
+  EXPECT_EQ(s.capacityEstimate_mAh, 0.0f);
+  for (int k = 0; k < 1100; ++k) bms::socUpdate(c, s, true, 3240, 0, t += 10);  // rest: 0.2 by the table
+  EXPECT_NEAR(s.capacityEstimate_mAh, 2000.0f, 1.0f);
+  EXPECT_NEAR(bms::socValue(c, s), 0.2f, 1e-3f);
+}
+
+// A change below sohMinDeltaSoc gives no estimate (the OCV error would dominate).
+TEST(Soc, NoCapacityFromASmallSocChange) {
+  bms::SocConfig c = config();
+  c.sohMinDeltaSoc = 0.3f;
+  bms::SocState s;
+  bms::socReset(s);
+  uint32_t t = 0;
+  bms::socUpdate(c, s, true, 3600, 0, t);
+  for (int k = 0; k < 72000; ++k) bms::socUpdate(c, s, true, 3400, 1000, t += 10);  // 200 mAh = 0.1
+  for (int k = 0; k < 1100; ++k) bms::socUpdate(c, s, true, 3480, 0, t += 10);
+  EXPECT_EQ(s.capacityEstimate_mAh, 0.0f);
+}
+
+// DOMAIN.md system C display: < 3.3 V one bar, one per 0.1 V up to 3.9 V, > 4.0 V eight.
+TEST(Soc, DisplayBarsFollowTheSystemCTable) {
+  bms::SocConfig c = config();
+  const uint16_t bars[bms::kDisplayBars - 1] = {3300, 3400, 3500, 3600, 3700, 3800, 4001};
+  for (int i = 0; i + 1 < bms::kDisplayBars; ++i) c.displayBars_mV[i] = bars[i];
+  EXPECT_EQ(bms::socDisplayBars(c, 3000), 1);
+  EXPECT_EQ(bms::socDisplayBars(c, 3299), 1);
+  EXPECT_EQ(bms::socDisplayBars(c, 3300), 2);
+  EXPECT_EQ(bms::socDisplayBars(c, 3450), 3);
+  EXPECT_EQ(bms::socDisplayBars(c, 3750), 6);
+  EXPECT_EQ(bms::socDisplayBars(c, 3899), 7);
+  EXPECT_EQ(bms::socDisplayBars(c, 4000), 7);
+  EXPECT_EQ(bms::socDisplayBars(c, 4001), 8);
+  EXPECT_EQ(bms::socDisplayBars(c, 4200), 8);
+}
+
 }  // namespace

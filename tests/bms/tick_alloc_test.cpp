@@ -28,6 +28,9 @@ namespace {
 TEST(Core, TickAllocatesNothing) {
   bms::Config cfg = bms_test::config(12, 2);
   cfg.precharge.enabled = true;
+  cfg.soc.estimator = bms::SocEstimator::Ekf;  // both estimators run every tick either way
+  for (float& r0 : cfg.soc.ekf.r0_mOhm) r0 = 10.0f;
+  cfg.soc.ekf.r1_mOhm = 5.0f;
   bms_test::Rig rig;
   auto& [s, in, out] = rig;
   bms_test::FakeStack st(12, 2);

@@ -1,0 +1,149 @@
+#include "bms_ekf.hpp"
+
+#include <math.h>
+
+#include "bms_soc.hpp"
+
+namespace bms {
+
+namespace {
+
+float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+
+// Segment of the table holding soc and the position inside it.
+void segment(const SocConfig& c, float soc, uint8_t& i, float& frac) {
+  const float pos = clamp01(soc) * static_cast<float>(c.ocvPoints - 1);
+  uint8_t k = static_cast<uint8_t>(pos);
+  if (k >= c.ocvPoints - 1) k = static_cast<uint8_t>(c.ocvPoints - 2);
+  i = k;
+  frac = pos - static_cast<float>(k);
+}
+
+// Linear in the table holding soc: value and slope per unit SOC.
+float tableAt(const SocConfig& c, const float* y, float soc) {
+  uint8_t i;
+  float frac;
+  segment(c, soc, i, frac);
+  return y[i] + frac * (y[i + 1] - y[i]);
+}
+float tableSlope(const SocConfig& c, const float* y, float soc) {
+  uint8_t i;
+  float frac;
+  segment(c, soc, i, frac);
+  return (y[i + 1] - y[i]) * static_cast<float>(c.ocvPoints - 1);
+}
+
+void start(const SocConfig& c, EkfState& s, uint16_t groups, const uint16_t cell_mV[], int32_t current_mA) {
+  const EkfConfig& k = c.ekf;
+  for (uint16_t g = 0; g < groups; ++g) {
+    EkfGroup& e = s.group[g];
+    // The reading plus the R0 drop at the SOC the reading itself suggests.
+    const float loaded = socFromOcv(c, cell_mV[g]);
+    const float drop_mV = r0At_mOhm(c, loaded) * static_cast<float>(current_mA) * 1e-3f;
+    const float ocv_mV = static_cast<float>(cell_mV[g]) + drop_mV;
+    const uint16_t ocv = static_cast<uint16_t>(ocv_mV < 0.0f ? 0.0f : (ocv_mV > 65535.0f ? 65535.0f : ocv_mV));
+    e.soc = k.initialSoc >= 0.0f ? k.initialSoc : socFromOcv(c, ocv);
+    e.v1_mV = 0.0f;
+    e.p00 = k.initialSocSd * k.initialSocSd;
+    e.p01 = 0.0f;
+    e.p11 = k.voltageSd_mV * k.voltageSd_mV;
+  }
+  s.started = true;
+}
+
+}  // namespace
+
+void ekfReset(EkfState& s) {
+  s.started = false;
+  s.last_ms = 0;
+  for (uint16_t g = 0; g < kMaxCells; ++g) s.group[g] = EkfGroup{0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+}
+
+float ocvAt_mV(const SocConfig& c, float soc) {
+  if (c.ocvPoints < 2) return 0.0f;
+  uint8_t i;
+  float frac;
+  segment(c, soc, i, frac);
+  const float lo = static_cast<float>(c.ocv_mV[i]), hi = static_cast<float>(c.ocv_mV[i + 1]);
+  return lo + frac * (hi - lo);
+}
+
+float ocvSlope_mV(const SocConfig& c, float soc) {
+  if (c.ocvPoints < 2) return 0.0f;
+  uint8_t i;
+  float frac;
+  segment(c, soc, i, frac);
+  return (static_cast<float>(c.ocv_mV[i + 1]) - static_cast<float>(c.ocv_mV[i])) * static_cast<float>(c.ocvPoints - 1);
+}
+
+float r0At_mOhm(const SocConfig& c, float soc) {
+  return c.ocvPoints < 2 ? 0.0f : tableAt(c, c.ekf.r0_mOhm, soc);
+}
+
+float r0Slope_mOhm(const SocConfig& c, float soc) {
+  return c.ocvPoints < 2 ? 0.0f : tableSlope(c, c.ekf.r0_mOhm, soc);
+}
+
+float ekfPackSoc(const EkfState& s, uint16_t groups) {
+  if (!s.started || groups == 0) return 0.0f;
+  float sum = 0.0f;
+  for (uint16_t g = 0; g < groups; ++g) sum += s.group[g].soc;
+  return clamp01(sum / static_cast<float>(groups));
+}
+
+void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
+               int32_t current_mA, uint32_t now_ms) {
+  const uint32_t dt_ms = now_ms - s.last_ms;
+  s.last_ms = now_ms;
+  if (c.ocvPoints < 2) return;  // no table, no model
+  if (!s.started) {
+    if (valid) start(c, s, groups, cell_mV, current_mA);
+    return;
+  }
+  const EkfConfig& k = c.ekf;
+  const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
+  const float i_mA = static_cast<float>(current_mA);
+  const float a = k.tau1_s > 0.0f ? expf(-dt_s / k.tau1_s) : 0.0f;
+  const float dSoc = i_mA * static_cast<float>(dt_ms) / (c.capacity_mAh * 3.6e6f);
+  const float v1Drive_mV = k.r1_mOhm * i_mA * 1e-3f * (1.0f - a);
+  const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;
+  const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s;
+  const float r = k.voltageSd_mV * k.voltageSd_mV;
+  const float perUnitSoc = static_cast<float>(c.ocvPoints - 1);  // table segments per unit SOC
+  for (uint16_t g = 0; g < groups; ++g) {
+    EkfGroup& e = s.group[g];
+    // Predict.
+    e.soc = clamp01(e.soc - dSoc);
+    e.v1_mV = a * e.v1_mV + v1Drive_mV;
+    e.p00 += qSoc;
+    e.p01 *= a;
+    e.p11 = a * a * e.p11 + qV1;
+    if (!valid) continue;  // no fresh complete reading: prediction only
+    // Update with this group's reading.
+    // OCV and R0 (value and slope) from the one table segment holding soc.
+    uint8_t i;
+    float frac;
+    segment(c, e.soc, i, frac);
+    const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
+    const float r0Lo = k.r0_mOhm[i], r0Hi = k.r0_mOhm[i + 1];
+    const float i_A = i_mA * 1e-3f;
+    const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * i_A) * perUnitSoc;
+    const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * i_A;
+    const float innovation = static_cast<float>(cell_mV[g]) - v_pred;
+    const float ph0 = e.p00 * h0 - e.p01;  // (P·H')[0]
+    const float ph1 = e.p01 * h0 - e.p11;  // (P·H')[1]
+    const float sInn = h0 * ph0 - ph1 + r;
+    if (!(sInn > 0.0f)) continue;
+    const float k0 = ph0 / sInn, k1 = ph1 / sInn;
+    e.soc = clamp01(e.soc + k0 * innovation);
+    e.v1_mV += k1 * innovation;
+    // P -= K·(H·P) with H·P = (P·H')' (P symmetric).
+    e.p00 -= k0 * ph0;
+    e.p01 -= k0 * ph1;
+    e.p11 -= k1 * ph1;
+    if (e.p00 < 0.0f) e.p00 = 0.0f;
+    if (e.p11 < 0.0f) e.p11 = 0.0f;
+  }
+}
+
+}  // namespace bms

@@ -1,0 +1,48 @@
+// State-of-charge estimate by an extended Kalman filter per series group, on the
+// firmware's own 1-RC model (EkfConfig, the OCV table and capacity of SocConfig).
+//
+//   state  x = [soc, v1_mV]                    (positive I discharges)
+//   predict soc -= I·dt / capacity;   v1 = a·v1 + r1·I·(1 - a),   a = exp(-dt / tau1)
+//           P = F·P·F' + Q·dt,        F = diag(1, a)
+//   update  v_pred = OCV(soc) - v1 - R0(soc)·I,   H = [dOCV/dsoc - I·dR0/dsoc, -1]
+//           K = P·H' / (H·P·H' + R);  x += K·(v_meas - v_pred);  P = (I - K·H)·P
+//
+// Started at the first complete reading from the OCV of the reading plus its r0·I drop
+// (or from EkfConfig::initialSoc); R0(soc) is linear in the table like the OCV. Fixed arrays, float, no allocation:
+// sizeof(EkfGroup) = 20 bytes per series group (5.1 KiB for kMaxCells = 256; 2.2 KiB
+// for the 110 groups of system D).
+#pragma once
+#include <cstdint>
+
+#include "bms_config.hpp"
+#include "bms_limits.hpp"
+
+namespace bms {
+
+struct EkfGroup {
+  float soc;
+  float v1_mV;
+  float p00, p01, p11;  // covariance [soc², soc·mV, mV²]
+};
+
+struct EkfState {
+  bool started;
+  uint32_t last_ms;
+  EkfGroup group[kMaxCells];
+};
+
+void ekfReset(EkfState& s);
+// One tick over `groups` series groups. `valid` = a complete cell measurement.
+void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
+               int32_t current_mA, uint32_t now_ms);
+// Mean SOC over the groups (0..1); 0 before the first reading.
+float ekfPackSoc(const EkfState& s, uint16_t groups);
+// Slope of the OCV table at soc, mV per unit SOC (the segment's; 0 for a flat table).
+float ocvSlope_mV(const SocConfig& c, float soc);
+// OCV table at soc (linear, clamped), mV.
+float ocvAt_mV(const SocConfig& c, float soc);
+// The EKF's R0 table at soc and its slope per unit SOC, mOhm.
+float r0At_mOhm(const SocConfig& c, float soc);
+float r0Slope_mOhm(const SocConfig& c, float soc);
+
+}  // namespace bms

@@ -1,0 +1,54 @@
+// The firmware's state-estimation configuration from the scenario's `bms.soc` section:
+// what a firmware engineer flashes. Values the scenario leaves out come from the pack's
+// cell as a datasheet would give them (OCV and R0 sampled at 11 SOC points, the first
+// RC pair), never from the simulated truth of individual cells.
+#include <algorithm>
+#include <cmath>
+
+#include "core/sim/bms_bridge.hpp"
+
+namespace packsim {
+
+void setSocConfig(bms::SocConfig& c, const Scenario& s) {
+  const CellParams& cell = s.pack.cell;
+  const SocEstimationSettings& e = s.bms.soc_estimation;
+  const double parallel = s.pack.parallel;
+  const double cellCapacity_Ah = e.cell_capacity_Ah >= 0.0 ? e.cell_capacity_Ah : cell.capacity_Ah;
+  c.capacity_mAh = static_cast<float>(cellCapacity_Ah * parallel * 1e3);
+  const int points = e.ocv_V.empty() ? 11 : static_cast<int>(e.ocv_V.size());
+  c.ocvPoints = static_cast<uint8_t>(points);
+  uint16_t prev = 0;
+  for (int i = 0; i < points; ++i) {
+    const double v = e.ocv_V.empty() ? ecm::ocv(cell, i / double(points - 1)) : e.ocv_V[static_cast<size_t>(i)];
+    uint16_t mv = static_cast<uint16_t>(std::clamp(std::lround(v * 1e3), 0L, 65535L));
+    mv = std::max<uint16_t>(mv, prev);  // the table must not fall
+    c.ocv_mV[i] = prev = mv;
+  }
+  c.rest_ms = static_cast<uint32_t>(std::lround(s.bms.soc_rest_s * 1e3));
+  c.restCurrent_mA = static_cast<int32_t>(std::lround(s.bms.soc_rest_current_A * 1e3));
+
+  c.estimator = e.estimator == "ekf" ? bms::SocEstimator::Ekf : bms::SocEstimator::CoulombCounting;
+  const bool hasRc = !cell.rc.empty();
+  const double r1_ohm = e.cell_r1_ohm >= 0.0 ? e.cell_r1_ohm : hasRc ? cell.rc[0].r_ohm : 0.0;
+  const double tau1_s = e.tau1_s > 0.0 ? e.tau1_s : hasRc ? cell.rc[0].tau_s() : 30.0;
+  bms::EkfConfig& k = c.ekf;
+  for (int i = 0; i < points; ++i) {  // a group: the cells in parallel
+    const double soc = i / double(points - 1);
+    const double r0_ohm = e.cell_r0_ohm.empty()       ? ecm::r0(cell, soc)
+                          : e.cell_r0_ohm.size() == 1 ? e.cell_r0_ohm[0]
+                                                      : e.cell_r0_ohm[static_cast<size_t>(i)];
+    k.r0_mOhm[i] = static_cast<float>(r0_ohm / parallel * 1e3);
+  }
+  k.r1_mOhm = static_cast<float>(r1_ohm / parallel * 1e3);
+  k.tau1_s = static_cast<float>(tau1_s);
+  k.voltageSd_mV = static_cast<float>(e.voltage_sd_mV);
+  k.socSdPerSqrtS = static_cast<float>(e.soc_walk_per_sqrt_h / 60.0);
+  k.v1SdPerSqrtS_mV = static_cast<float>(e.v1_walk_mV_per_sqrt_s);
+  k.initialSoc = static_cast<float>(e.initial_soc);
+  k.initialSocSd = static_cast<float>(e.initial_soc_sd);
+  c.sohMinDeltaSoc = static_cast<float>(e.soh_min_delta_soc);
+  for (size_t i = 0; i < e.display_bars_V.size() && i + 1 < bms::kDisplayBars; ++i)
+    c.displayBars_mV[i] = static_cast<uint16_t>(std::lround(e.display_bars_V[i] * 1e3));
+}
+
+}  // namespace packsim

@@ -1,0 +1,33 @@
+// How wrong a firmware SOC estimate is against the plant's truth, accumulated tick by
+// tick: error = estimate - truth (both 0..1), counted from the first tick the estimate
+// is valid. max is the largest |error|, rms over the counted ticks, end the last one.
+#pragma once
+#include <cmath>
+
+namespace packsim {
+
+struct SocErrorStats {
+  double max = 0.0;
+  double rms = 0.0;
+  double end = 0.0;
+  long ticks = 0;
+};
+
+class SocErrorTracker {
+ public:
+  void add(double estimate, double truth) {
+    const double e = estimate - truth;
+    st_.max = std::fmax(st_.max, std::fabs(e));
+    st_.end = e;
+    sumSq_ += e * e;
+    ++st_.ticks;
+    st_.rms = std::sqrt(sumSq_ / static_cast<double>(st_.ticks));
+  }
+  const SocErrorStats& stats() const { return st_; }
+
+ private:
+  SocErrorStats st_;
+  double sumSq_ = 0.0;
+};
+
+}  // namespace packsim
