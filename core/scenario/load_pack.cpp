@@ -95,7 +95,10 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   YAML::Node merged = YAML::Clone(preset);
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
     const std::string key = it->first.Scalar();
-    if (key != "preset") merged[key] = it->second;
+    if (key == "preset") continue;
+    // Insert the scenario's own key and value nodes so an error keeps their line and column.
+    merged.remove(key);
+    merged.force_insert(it->first, it->second);
   }
   return readCell(YamlMap(merged, m.file(), m.path()));
 }

@@ -66,7 +66,7 @@ def test_latencies_are_the_runs_events_and_respect_the_debounce(scenario_dir):
     assert DEBOUNCE_S - 1e-9 <= lat.detection_latency_s <= DEBOUNCE_S + TICK_S + 1e-9
     assert lat.relay_open_latency_s >= lat.detection_latency_s
     assert lat.line == f"{inj['detail']} @100.000 s: overcurrent_discharge after " \
-                       f"{lat.detection_latency_s * 1e3:.0f} ms, relay open after {lat.relay_open_latency_s * 1e3:.0f} ms"
+                       f"{lat.detection_latency_s:.3f} s, relay open after {lat.relay_open_latency_s:.3f} s"
 
 
 def test_no_fault_means_no_latency(simple_yaml):
