@@ -116,6 +116,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     if (!allowed || s.boardPaused) s.decided = false;  // decide afresh once it may resume
   }
 
+  // The minimum holds every tick, not only at a decision: a held cell that now reads
+  // below it stops at once.
+  for (uint16_t c = 0; c < cfg.cellCount && c < kMaxCells; ++c)
+    if (tm.cellVoltage_mV[c] < b.minCell_mV) s.mask[c / 32] &= ~(1u << (c % 32));
+
   // Re-arm the monitor's timer every half period while anything balances.
   bool any = false;
   for (uint8_t w = 0; w < kBalanceWords; ++w) {
