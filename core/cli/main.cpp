@@ -11,6 +11,7 @@
 #include "core/cli/cli_errors.hpp"
 #include "core/cli/commands.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/sim/stop_signal.hpp"
 #include "core/version.hpp"
 
 int main(int argc, char** argv) {
@@ -66,12 +67,16 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return packsim::reportParseError(app, e);
   }
+  packsim::installStopSignals();
   try {
     if (runCmd->parsed()) return packsim::cmdRun(run);
     if (checkCmd->parsed()) return packsim::cmdCheck(check);
     if (plotCmd->parsed()) return packsim::cmdPlot(plot);
     if (batchCmd->parsed()) return packsim::cmdBatch(batch);
     if (balCmd->parsed()) return packsim::cmdBalanceTime(bal);
+  } catch (const packsim::Interrupted& e) {
+    std::cerr << "packsim: " << e.what() << "\n";
+    return e.exitStatus();
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;
