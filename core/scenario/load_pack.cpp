@@ -77,10 +77,11 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   std::string path;
   std::vector<std::string> known;
   for (const std::string& dir : presetDirs(baseDir)) {
-    if (!fs::is_directory(dir)) continue;
-    for (const auto& e : fs::directory_iterator(dir))
+    std::error_code ec;  // a name too long for the file system is "unknown", not an exception
+    if (!fs::is_directory(dir, ec)) continue;
+    for (const auto& e : fs::directory_iterator(dir, ec))
       if (e.path().extension() == ".yaml") known.push_back(e.path().stem().string());
-    if (path.empty() && fs::exists(dir + "/" + name + ".yaml")) path = dir + "/" + name + ".yaml";
+    if (path.empty() && fs::exists(dir + "/" + name + ".yaml", ec)) path = dir + "/" + name + ".yaml";
   }
   if (path.empty()) {
     std::sort(known.begin(), known.end());

@@ -50,7 +50,8 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   YamlMap m(root, file, "");
   const std::string rel = m.string("extends");
   const fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
-  if (!fs::exists(path)) throw m.errorAt("extends", "file not found: " + path.string());
+  std::error_code ec;  // a name too long for the file system is "not found", not an exception
+  if (!fs::exists(path, ec)) throw m.errorAt("extends", "file not found: " + path.string());
   const std::string key = chainKey(path.string());
   if (std::find(chain.begin(), chain.end(), key) != chain.end()) {
     std::string names;
@@ -68,8 +69,8 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   chain.pop_back();
   if (base["load"] && base["load"]["csv"] && fs::path(base["load"]["csv"].Scalar()).is_relative()) {
     // Re-express the base's CSV path relative to this file's folder.
-    const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir));
-    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / base["load"]["csv"].Scalar());
+    const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir), ec);
+    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / base["load"]["csv"].Scalar(), ec);
     base["load"]["csv"] = csv.lexically_relative(here).string();
   }
   // A child that names its own kind of load (current, power, segments, points, csv,

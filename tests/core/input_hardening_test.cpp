@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/batch/sweep.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -157,6 +158,32 @@ TEST(CliErrors, HelpAndVersionStillExitZero) {
   EXPECT_EQ(runCli("--help").status, 0);
   EXPECT_EQ(runCli("run --help").status, 0);
   EXPECT_EQ(runCli("--version").status, 0);
+}
+
+}  // namespace
+}  // namespace packsim
+
+namespace packsim {
+namespace {
+
+// Found by fuzzing (tests/fuzz/regressions/fuzz_scenario/extends_name_too_long): a file
+// name longer than the file system allows made std::filesystem throw past the loader.
+TEST(FuzzRegressions, OverlongFileNamesAreNotFoundErrors) {
+  const std::string longName(300, 'x');
+  const fs::path d = freshDir("long_names");
+  write(d / "a.yaml", "extends: " + longName + ".yaml\n");
+  EXPECT_NE(loadError(d / "a.yaml").find("a.yaml:1:10: extends: file not found"), std::string::npos);
+  std::string y = test::simpleCellYaml() + "load: {csv: " + longName + ".csv}\n";
+  EXPECT_NE(yamlError(y).find("load.csv: file not found"), std::string::npos) << yamlError(y);
+  y = "pack:\n  series: 1\n  cell: {preset: " + longName + "}\n" + kLoad;
+  EXPECT_NE(yamlError(y).find("unknown cell preset"), std::string::npos) << yamlError(y);
+  write(d / "sweep.yaml", "base: " + longName + ".yaml\ngrid: {seed: [1, 2]}\n");
+  try {
+    loadSweepFile((d / "sweep.yaml").string());
+    ADD_FAILURE() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("base: scenario file not found"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
