@@ -15,6 +15,7 @@
 #include <bms/bms_core.hpp>
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <random>
 #include <sstream>
 
@@ -58,6 +59,15 @@ struct Regime {
 Regime drawRegime(Rng& r) {
   Regime g;
   g.ticks = r.between(1, 400);
+  if (r.chance(55)) {  // a healthy pack, so the relay closes again after resets
+    const int32_t base = r.between(3400, 4000);
+    for (auto& v : g.cell_mV) v = base + r.between(-60, 60);
+    for (auto& t : g.thermCode) t = static_cast<uint16_t>(r.between(1800, 2300));
+    g.current_mA = r.between(-3000, 20000);
+    g.charger = r.chance(20);
+    g.jitter_mV = r.between(0, 5);
+    return g;
+  }
   const int32_t base = r.chance(70) ? r.between(3250, 4150) : r.between(2600, 4500);
   for (auto& v : g.cell_mV) v = r.chance(85) ? base + r.between(-40, 40) : r.between(2600, 4500);
   for (auto& t : g.thermCode) {
@@ -209,10 +219,12 @@ TEST(FirmwareProperties, SequencesCoverTripsResetsBalancingAndTheWrap) {
   }
   int kinds = 0;
   for (uint8_t i = 0; i < bms::kFaultCount; ++i) kinds += (faultsSeen >> i) & 1u;
+  std::printf("%u sequences x %ld steps: %d fault kinds latched, %ld steps balancing, %ld closed, %ld recoveries, "
+              "%ld clock wraps\n", kSeeds, kSteps, kinds, balancingSteps, closedSteps, recoveries, wraps);
   EXPECT_GE(kinds, 8) << "fault kinds latched: 0x" << std::hex << faultsSeen;
   EXPECT_GT(balancingSteps, 100);
-  EXPECT_GT(closedSteps, 1000);
-  EXPECT_GT(recoveries, 5);
+  EXPECT_GT(closedSteps, 20000);
+  EXPECT_GT(recoveries, 20);
   EXPECT_GT(wraps, 3);
 }
 
