@@ -97,9 +97,10 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
     const std::string key = it->first.Scalar();
     if (key == "preset") continue;
-    // Insert the scenario's own key and value nodes so an error keeps their line and column.
-    merged.remove(key);
-    merged.force_insert(it->first, it->second);
+    // The scenario's own value node (and key node, for a key the preset lacks), so an
+    // error keeps its line and column.
+    if (static_cast<const YAML::Node&>(merged)[key]) merged[key] = it->second;  // const: a lookup must not add the key
+    else merged.force_insert(it->first, it->second);
   }
   return readCell(YamlMap(merged, m.file(), m.path()));
 }

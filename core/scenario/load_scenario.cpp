@@ -24,10 +24,17 @@ void deepMerge(YAML::Node base, const YAML::Node& child) {
     const std::string key = it->first.Scalar();
     if (key == "extends") continue;
     // A child's expectations are its own: `expect` replaces the base's block whole.
-    if (key != "expect" && it->second.IsMap() && base[key] && base[key].IsMap())
+    // Const lookups: a non-const one would add an undefined entry for a missing key,
+    // which then shadows the one inserted below.
+    const YAML::Node existing = static_cast<const YAML::Node&>(base)[key];
+    if (key != "expect" && it->second.IsMap() && existing && existing.IsMap()) {
       deepMerge(base[key], it->second);
-    else
-      base[key] = it->second;
+    } else if (existing) {
+      base[key] = it->second;  // in place (the key order of the merged text stays)
+    } else {
+      // A new key: the child's own key node, so an error there keeps its line and column.
+      base.force_insert(it->first, it->second);
+    }
   }
 }
 
@@ -67,15 +74,18 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   loadScenarioChain(baseText, path.string(), baseDir.empty() ? "." : baseDir, chain);
   YAML::Node base = YAML::Clone(resolveExtends(parseYaml(baseText, path.string()), path.string(), baseDir, chain));
   chain.pop_back();
-  if (base["load"] && base["load"]["csv"] && fs::path(base["load"]["csv"].Scalar()).is_relative()) {
+  // Reads through a const view: a non-const lookup of a missing key adds an undefined
+  // entry that would shadow the child's key inserted by deepMerge.
+  const YAML::Node& cbase = base;
+  if (cbase["load"] && cbase["load"]["csv"] && fs::path(cbase["load"]["csv"].Scalar()).is_relative()) {
     // Re-express the base's CSV path relative to this file's folder.
     const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir), ec);
-    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / base["load"]["csv"].Scalar(), ec);
+    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / cbase["load"]["csv"].Scalar(), ec);
     base["load"]["csv"] = csv.lexically_relative(here).string();
   }
   // A child that names its own kind of load (current, power, segments, points, csv,
   // charger) replaces the base's load whole; otherwise its load keys (laps, ...) merge.
-  if (base["load"] && base["load"].IsMap() && root["load"] && root["load"].IsMap()) {
+  if (cbase["load"] && cbase["load"].IsMap() && root["load"] && root["load"].IsMap()) {
     static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv", "charger"};
     bool childKind = false;
     for (const char* k : kinds) childKind = childKind || root["load"][k];

@@ -98,6 +98,17 @@ TEST(InputHardening, TypoUnderACellPresetKeepsItsLineAndColumn) {
       << e;
 }
 
+TEST(InputHardening, TypoInAScenarioThatExtendsAnotherKeepsItsLineAndColumn) {
+  const fs::path d = freshDir("extends_typo");
+  write(d / "base.yaml", test::simpleCellYaml() + kLoad);
+  write(d / "child.yaml", "extends: base.yaml\npack:\n  cell:\n    preset: lipo_5Ah\n    capcity_Ah: 4\n");
+  const std::string e = loadError(d / "child.yaml");
+  EXPECT_NE(e.find("child.yaml:5:5: pack.cell.capcity_Ah: unknown key; did you mean 'capacity_Ah'?"), std::string::npos) << e;
+  write(d / "child2.yaml", "extends: base.yaml\nrun: {duration_s: 10, rtoll: 1e-6}\n");
+  const std::string e2 = loadError(d / "child2.yaml");
+  EXPECT_NE(e2.find("child2.yaml:2:23: run.rtoll: unknown key; did you mean 'rtol'?"), std::string::npos) << e2;
+}
+
 TEST(InputHardening, OverrideUnderACellPresetKeepsItsValueLine) {
   const std::string y = "pack:\n  series: 2\n  cell:\n    preset: ncr18650_3p1Ah\n    capacity_Ah: -3\n" + kLoad;
   const std::string e = yamlError(y);
