@@ -139,3 +139,16 @@ def test_bad_arguments(tmp_path, simple_yaml):
         packsim.check(packsim.load(saved))
     with pytest.raises(ValueError, match="judged as it ran"):
         packsim.check(r, seed=2)
+
+
+def test_scenario_without_expect_is_ran_not_pass(cli, simple_yaml, tmp_path):
+    # The same verdict and text from the CLI and from Python: "RAN", nothing to check.
+    f = tmp_path / "no_expect.yaml"
+    f.write_text(simple_yaml)
+    done = subprocess.run([str(cli), "check", str(f)], capture_output=True, text=True)
+    report = packsim.check(f)
+    assert done.returncode == 0 and str(report) == done.stdout
+    (o,) = report
+    assert o.status == "RAN" and o.nothing_to_check and o.verdict.startswith("ran, nothing to check")
+    assert (report.n_passed, report.n_failed, report.n_unchecked) == (0, 0, 1)
+    assert done.stdout.endswith("0 passed, 0 failed, 1 ran with nothing to check\n")
