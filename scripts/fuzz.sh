@@ -30,7 +30,7 @@ for h in "${HARNESSES[@]}"; do
   echo "== $h: regressions, then ${SECONDS_PER} s of fuzzing"
   reg=tests/fuzz/regressions/$h
   if [ -d "$reg" ] && [ -n "$(ls -A "$reg")" ]; then
-    "$BUILD/fuzz/$h" -runs=0 "$reg"/* 2>&1 | tail -1
+    "$BUILD/fuzz/$h" -runs=0 "$reg"/* 2>&1 | grep "^Executed"
   fi
   mkdir -p "$BUILD/corpus/$h"
   (cd "$BUILD" && "fuzz/$h" -max_total_time="$SECONDS_PER" -timeout=10 -rss_limit_mb=2048 \

@@ -1,5 +1,6 @@
 #include "fuzz_support.hpp"
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -40,6 +41,10 @@ const std::string& scratchDir() {
     fs::copy_file(bundled / "profiles" / "eco_marathon_lap.csv", d / "profiles" / "eco_marathon_lap.csv");
     fs::copy_file(bundled / "profiles" / "eco_marathon_lap.csv", d / "profiles" / "lap.csv");
     for (const auto& e : fs::directory_iterator(bundled / "cells")) fs::copy_file(e.path(), d / "cells" / e.path().filename());
+    std::atexit([] {
+      std::error_code ec;
+      fs::remove_all(fs::temp_directory_path() / ("packsim-fuzz-" + std::to_string(getpid())), ec);
+    });
     return d.string();
   }();
   return dir;
