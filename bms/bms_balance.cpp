@@ -184,6 +184,10 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   if (boards(b) > 1)
     for (uint16_t c = 0; c < cfg.cellCount; ++c)
       if (s.boardHot[boardOf(b, c)]) s.mask[c / 32] &= ~(1u << (c % 32));
+  // The minimum holds every tick, not only at a decision: a held cell that now reads
+  // below it stops at once.
+  for (uint16_t c = 0; c < cfg.cellCount && c < kMaxCells; ++c)
+    if (tm.cellVoltage_mV[c] < b.minCell_mV) s.mask[c / 32] &= ~(1u << (c % 32));
 
   // Re-arm the monitor's timer every half period while anything balances.
   bool any = false;

@@ -8,6 +8,8 @@ APT_PACKAGES=(
   libsundials-dev libyaml-cpp-dev libhdf5-dev libeigen3-dev libgtest-dev libgmock-dev
   pybind11-dev libcli11-dev
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
+  # scripts/fuzz.sh: clang with libFuzzer (compiler-rt) and the OpenMP that SUNDIALS' CMake config asks for
+  clang libclang-rt-14-dev libomp-14-dev
 )
 # Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
 # Dask), and the build tools `pip install .` uses without build isolation.

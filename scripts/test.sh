@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds and runs every test: the C++ suites (ctest), the BMS core cross-compiled for a
-# Cortex-M4, the whole C++ suite again under AddressSanitizer + UBSan in build-asan/,
-# and the Python tests. PACKSIM_SKIP_SANITIZE=1 skips the sanitizer pass.
+# Cortex-M4, a fuzz smoke of the input loaders (scripts/fuzz.sh, build-fuzz/), the whole
+# C++ suite again under AddressSanitizer + UBSan in build-asan/, and the Python tests. PACKSIM_SKIP_SANITIZE=1 skips the sanitizer pass.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -9,11 +9,16 @@ echo "== build and C++ tests"
 BUILD_DIR=build scripts/build.sh -DPACKSIM_BUILD_TESTS=ON
 ctest --test-dir build -j2 --output-on-failure --timeout 600
 
+echo "   (includes the firmware property tests, FirmwareProperties.*, and the fault matrix, FaultMatrix.*)"
+
 echo "== every bundled scenario against its expect: block"
 build/packsim check scenarios
 
 echo "== BMS core cross-compiled for Cortex-M4 (freestanding, no exceptions, no RTTI)"
 bms/cross_check.sh build/bms-cortex-m4
+
+echo "== fuzz smoke: each loader harness ${FUZZ_SECONDS:-30} s under libFuzzer + ASan + UBSan (build-fuzz/)"
+scripts/fuzz.sh
 
 if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
   echo "== C++ tests under AddressSanitizer + UBSan"

@@ -11,9 +11,11 @@
 #include <mutex>
 #include <thread>
 
+#include "core/batch/case_processes.hpp"
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/sim/stop_signal.hpp"
 #include "core/sim/summary_text.hpp"
 
 namespace packsim {
@@ -146,7 +148,10 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
     const auto t0 = Clock::now();
     const std::string dir = fs::path(sw.base_path).parent_path().string();
     const Scenario s = loadScenarioWithOverrides(sw.base_text, c.params, errFile, dir.empty() ? "." : dir);
-    const RunResult r = runScenario(s);
+    // A stop signal (packsim batch only, core/sim/stop_signal.hpp) ends the case at the next tick, unwritten.
+    const RunResult r =
+        runScenario(s, [](double, const double*, const PlantSignals&, const bms::Outputs&) { return stopSignal() != 0; });
+    if (const int sig = stopSignal()) throw Interrupted(sig, "interrupted by " + stopSignalName(sig));
     {
       std::lock_guard<std::mutex> lock(hdf5Mutex());
       writeResultHdf5(path, s, r);
@@ -263,7 +268,13 @@ BatchReport runBatch(const Sweep& sw, const BatchOptions& opt) {
 
   const auto t0 = Clock::now();
   Progress progress(opt.progress, rep.total);
-  std::atomic<size_t> next{0};
+  if (opt.isolate) {
+    runCasesInProcesses(sw, opt.resume, threads, rep.cases, [&](size_t i) {
+      if (rep.cases[i].ok) rep.cases[i].summary = readResultSummary(sw.resultPath(sw.cases[i]), nullptr);
+      progress.caseDone(sw.cases[i], rep.cases[i]);
+    });
+  }
+  std::atomic<size_t> next{opt.isolate ? sw.cases.size() : 0};
   auto worker = [&]() {
     for (size_t i = next++; i < sw.cases.size(); i = next++) {
       rep.cases[i] = runSweepCase(sw, sw.cases[i], opt.resume);
@@ -271,12 +282,15 @@ BatchReport runBatch(const Sweep& sw, const BatchOptions& opt) {
     }
   };
   std::vector<std::thread> pool;
-  for (int k = 1; k < threads; ++k) pool.emplace_back(worker);
+  for (int k = 1; k < threads && !opt.isolate; ++k) pool.emplace_back(worker);
   worker();  // the calling thread is one of the workers
   for (std::thread& t : pool) t.join();
   rep.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
 
-  for (const CaseOutcome& o : rep.cases) {
+  for (size_t i = 0; i < rep.cases.size(); ++i) {
+    CaseOutcome& o = rep.cases[i];
+    if (!o.ok && o.error.empty() && stopSignal()) o.error = "not run (interrupted by " + stopSignalName(stopSignal()) + ")";
+    if (!o.ok && o.error.empty()) o.error = "not run";
     if (o.ok) ++rep.ok;
     else ++rep.failed;
     if (o.skipped) ++rep.skipped;

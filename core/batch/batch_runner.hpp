@@ -24,6 +24,9 @@ struct BatchOptions {
   int threads = 0;            // 0: the sweep's `threads`, else every core
   bool resume = true;         // false: rerun every case
   std::FILE* progress = stdout;  // nullptr: silent
+  // Each case in its own forked process (core/batch/case_processes.hpp): a crashing case
+  // is recorded as failed and the others finish. `packsim batch` sets it; same results.
+  bool isolate = false;
 };
 
 struct CaseOutcome {

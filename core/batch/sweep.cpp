@@ -64,7 +64,8 @@ Sweep loadSweepText(const std::string& text, const std::string& file, const std:
   sw.name = m.string("name", file.empty() ? std::string("sweep") : fs::path(file).stem().string());
   fs::path base = m.string("base");
   if (base.is_relative()) base = fs::path(base_dir) / base;
-  if (!fs::exists(base)) throw m.errorAt("base", "scenario file not found: " + base.string());
+  std::error_code ec;  // a name too long for the file system is "not found", not an exception
+  if (!fs::exists(base, ec)) throw m.errorAt("base", "scenario file not found: " + base.string());
   sw.base_path = base.string();
   sw.base_text = readScenarioText(sw.base_path, "base scenario");
   fs::path out = m.string("output_dir", sw.name + "-results");

@@ -139,11 +139,11 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     }
     if (open) fl.relay_open_latency_s = open->time_s - inj.time_s;
     o.fault_latencies.push_back(fl);
-    if (det) line += det->detail.substr(0, det->detail.find(':')) + fmt(" after %.0f ms", (det->time_s - inj.time_s) * 1e3);
+    if (det) line += det->detail.substr(0, det->detail.find(':')) + fmt(" after %.3f s", det->time_s - inj.time_s);
     else line += "no BMS fault";
     if (line_ && (!det || line_->time_s < det->time_s))
-      line += fmt(", monitor FAULT line after %.0f ms", (line_->time_s - inj.time_s) * 1e3);
-    line += open ? fmt(", relay open after %.0f ms", (open->time_s - inj.time_s) * 1e3) : ", relay not opened";
+      line += fmt(", monitor FAULT line after %.3f s", line_->time_s - inj.time_s);
+    line += open ? fmt(", relay open after %.3f s", open->time_s - inj.time_s) : ", relay not opened";
     o.latencies.push_back(line);
   }
   o.verdict = sm.tripped ? fmt("trip at %.3f s (", sm.trip_time_s) + sm.trip_reason + ")" : "no trip";
@@ -151,7 +151,9 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     o.verdict += fmt(", SOC error max coulomb %.2f %%, ekf %.2f %%", 100.0 * sm.soc_error_coulomb.max, 100.0 * sm.soc_error_ekf.max);
   if (e.capacity_error_below)
     o.verdict += fmt(", capacity %.3f Ah (true %.3f Ah)", sm.capacity_estimate_Ah, sm.capacity_true_Ah);
-  if (!e.present) o.verdict += ", no expect block";
+  // Without an expect: block the run is reported, not passed.
+  o.nothing_to_check = !e.present;
+  if (o.nothing_to_check) o.verdict = "ran, nothing to check (" + o.verdict + ")";
   o.passed = o.failures.empty();
   return o;
 }

@@ -28,6 +28,7 @@ struct CheckOutcome {
   std::vector<std::string> latencies;  // one line per injected fault
   std::vector<FaultLatency> fault_latencies;  // the same, as numbers
   std::string verdict;                 // short summary of what the BMS did
+  bool nothing_to_check = false;       // no expect: block (reported "RAN", not "PASS")
 };
 
 CheckOutcome judge(const Scenario& s, const RunResult& r);

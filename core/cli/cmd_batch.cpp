@@ -8,7 +8,9 @@
 #include "core/batch/batch_runner.hpp"
 #include "core/batch/sweep.hpp"
 #include "core/cli/commands.hpp"
+#include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
+#include "core/sim/stop_signal.hpp"
 
 namespace packsim {
 
@@ -21,10 +23,12 @@ int cmdBatch(const BatchCliOptions& o) {
                                                                           sw.cases.front().id + ")",
                               dir.empty() ? "." : dir);
   }
+  checkResultPathWritable(sw.summaryCsvPath());  // before any case runs
   BatchOptions opt;
   opt.threads = o.threads;
   opt.resume = !o.no_resume;
   opt.progress = o.quiet ? nullptr : stdout;
+  opt.isolate = true;  // a case that crashes is recorded, the others finish
   if (!o.quiet)
     std::printf("sweep %s: %zu cases from %s -> %s\n", sw.name.c_str(), sw.cases.size(), sw.base_path.c_str(),
                 sw.output_dir.c_str());
@@ -34,6 +38,13 @@ int cmdBatch(const BatchCliOptions& o) {
                 r.wall_s, r.threads, r.csv_path.c_str());
   for (size_t i = 0; i < r.cases.size(); ++i)
     if (!r.cases[i].ok) std::fprintf(stderr, "case_%s failed: %s\n", sw.cases[i].id.c_str(), r.cases[i].error.c_str());
+  if (const int sig = stopSignal()) {
+    int notRun = 0;
+    for (const CaseOutcome& c : r.cases) notRun += c.ok ? 0 : 1;
+    throw Interrupted(sig, "batch interrupted by " + stopSignalName(sig) + ": " + std::to_string(r.ok) + " of " +
+                               std::to_string(r.total) + " cases complete, " + std::to_string(notRun) +
+                               " not; run the same command again to resume");
+  }
   return r.failed > 0 ? 1 : 0;
 }
 

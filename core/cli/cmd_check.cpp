@@ -12,11 +12,11 @@ int cmdCheck(const CheckOptions& o) {
     std::cerr << "packsim: error: no scenario files found\n";
     return 2;
   }
-  int passed = 0, failed = 0;
+  int passed = 0, failed = 0, unchecked = 0;
   for (const std::string& f : files) {
     const CheckOutcome c = checkScenarioFile(f);
-    if (c.passed) ++passed; else ++failed;
-    std::cout << (c.error ? "ERROR " : c.passed ? "PASS  " : "FAIL  ") << f;
+    if (!c.passed) ++failed; else if (c.nothing_to_check) ++unchecked; else ++passed;
+    std::cout << (c.error ? "ERROR " : !c.passed ? "FAIL  " : c.nothing_to_check ? "RAN   " : "PASS  ") << f;
     if (c.error) {
       std::cout << "\n      " << c.error_message << "\n";
       continue;
@@ -25,7 +25,9 @@ int cmdCheck(const CheckOptions& o) {
     for (const auto& l : c.latencies) std::cout << "      injected " << l << "\n";
     for (const auto& l : c.failures) std::cout << "      expected: " << l << "\n";
   }
-  std::cout << passed << " passed, " << failed << " failed\n";
+  std::cout << passed << " passed, " << failed << " failed";
+  if (unchecked > 0) std::cout << ", " << unchecked << " ran with nothing to check";
+  std::cout << "\n";
   return failed == 0 ? 0 : 1;
 }
 

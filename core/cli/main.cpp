@@ -9,12 +9,14 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "core/cli/cli_errors.hpp"
 #include "core/cli/commands.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/sim/stop_signal.hpp"
 #include "core/version.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App app{"packsim: battery-pack and BMS co-simulator"};
+  CLI::App app{"packsim: battery-pack and BMS co-simulator", "packsim"};
   app.set_version_flag("--version", packsim::kVersion);
   app.require_subcommand(1);
 
@@ -22,7 +24,7 @@ int main(int argc, char** argv) {
   CLI::App* runCmd = app.add_subcommand("run", "run one scenario (the bundled default if none is given)");
   runCmd->add_option("scenario", run.scenario, "scenario YAML file (default: " + packsim::defaultScenarioPath() + ")");
   runCmd->add_option("-o,--output", run.output, "result HDF5 file (default: packsim-results/<name>.h5)");
-  runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(CLI::NonNegativeNumber);
+  runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(packsim::nonNegativeNumber());
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
 
   packsim::CheckOptions check;
@@ -33,13 +35,13 @@ int main(int argc, char** argv) {
   CLI::App* plotCmd = app.add_subcommand("plot", "write the figures of a result file as PNG (needs Python 3 with matplotlib)");
   plotCmd->add_option("result", plot.result, "result HDF5 file")->required();
   plotCmd->add_option("-o,--output", plot.outdir, "folder for the PNG files (default: the current folder)");
-  plotCmd->add_option("--dpi", plot.dpi, "resolution of the PNG files")->check(CLI::PositiveNumber);
+  plotCmd->add_option("--dpi", plot.dpi, "resolution of the PNG files")->check(packsim::positiveNumber());
 
   packsim::BatchCliOptions batch;
   CLI::App* batchCmd = app.add_subcommand("batch", "run a sweep of scenarios on every core (exit 1 if any case failed)");
   batchCmd->add_option("sweep", batch.sweep, "sweep YAML file (docs/batch.md)")->required();
   batchCmd->add_option("-o,--output-dir", batch.output_dir, "folder for the results (default: the sweep's output_dir)");
-  batchCmd->add_option("-j,--threads", batch.threads, "worker threads (default: every core)")->check(CLI::PositiveNumber);
+  batchCmd->add_option("-j,--threads", batch.threads, "worker threads (default: every core)")->check(packsim::positiveNumber());
   batchCmd->add_flag("--no-resume", batch.no_resume, "rerun cases whose result file is already complete");
   batchCmd->add_flag("-q,--quiet", batch.quiet, "print nothing but errors");
 
@@ -64,11 +66,17 @@ int main(int argc, char** argv) {
   fitCmd->prefix_command();  // every argument, --help too, goes to the Python fitter
   fitCmd->set_help_flag();
 
+  const std::string badCommand = packsim::unknownSubcommandError(app, argc, argv);
+  if (!badCommand.empty()) {
+    std::cerr << "packsim: error: " << badCommand << "\n";
+    return packsim::kExitBadInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return packsim::reportParseError(app, e);
   }
+  packsim::installStopSignals();
   try {
     if (runCmd->parsed()) return packsim::cmdRun(run);
     if (checkCmd->parsed()) return packsim::cmdCheck(check);
@@ -79,6 +87,9 @@ int main(int argc, char** argv) {
       fit.args = fitCmd->remaining();
       return packsim::cmdFit(fit);
     }
+  } catch (const packsim::Interrupted& e) {
+    std::cerr << "packsim: " << e.what() << "\n";
+    return e.exitStatus();
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;

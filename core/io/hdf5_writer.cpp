@@ -1,5 +1,11 @@
 #include "core/io/hdf5_writer.hpp"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+
+#include "core/sim/stop_signal.hpp"
+
 #include <bms/bms_core.hpp>
 #include <bms/bms_faults.hpp>
 #include <bms/bms_telemetry.hpp>
@@ -17,6 +23,11 @@ namespace packsim {
 namespace {
 
 // RAII for one hid_t with its matching close function.
+// HDF5 closes every open file again at exit; after a close that failed (a full disk)
+// that second close dereferences freed state and crashes (libhdf5 1.10). Every file is
+// closed explicitly here, so the library's exit hook is switched off before first use.
+const bool kNoHdf5ExitHook = (H5dont_atexit(), true);
+
 class Handle {
  public:
   Handle(hid_t id, herr_t (*close)(hid_t), const char* what) : id_(id), close_(close) {
@@ -24,6 +35,12 @@ class Handle {
   }
   ~Handle() {
     if (id_ >= 0) close_(id_);
+  }
+  // Closes now and reports a failed close (the last writes of a file happen here).
+  void close(const char* what) {
+    const hid_t id = id_;
+    id_ = -1;
+    if (close_(id) < 0) throw std::runtime_error(std::string("HDF5: cannot finish writing ") + what);
   }
   Handle(const Handle&) = delete;
   Handle& operator=(const Handle&) = delete;
@@ -282,11 +299,40 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
     H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
     Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose, tmp.c_str());
     writeAll(file, s, r);
-  } catch (...) {
+    file.close(tmp.c_str());
+    if (const int sig = stopSignal())
+      throw Interrupted(sig, "interrupted by " + stopSignalName(sig) + " while writing " + path + "; nothing written");
+  } catch (const Interrupted&) {
     std::remove(tmp.c_str());
     throw;
+  } catch (const std::exception& e) {
+    const int err = errno;
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot write the result file '" + path + "': " + e.what() +
+                             (err ? std::string(" (") + std::strerror(err) + ")" : std::string()));
   }
   fs::rename(tmp, target);
+}
+
+void checkResultPathWritable(const std::string& path) {
+  namespace fs = std::filesystem;
+  auto fail = [&](const std::string& why) {
+    throw std::invalid_argument("cannot write the result file '" + path + "': " + why);
+  };
+  const fs::path target(path);
+  std::error_code ec;
+  const fs::file_status st = fs::status(target, ec);
+  if (fs::exists(st) && !fs::is_regular_file(st)) fail(fs::is_directory(st) ? "it is a folder" : "it is not a regular file");
+  if (target.has_parent_path()) {
+    fs::create_directories(target.parent_path(), ec);
+    if (ec) fail("cannot create the folder '" + target.parent_path().string() + "': " + ec.message());
+  }
+  const std::string probe = path + ".tmp";
+  errno = 0;
+  std::FILE* f = std::fopen(probe.c_str(), "wb");
+  if (!f) fail(std::strerror(errno));
+  std::fclose(f);
+  std::remove(probe.c_str());
 }
 
 }  // namespace packsim

@@ -20,6 +20,14 @@
 
 namespace packsim {
 
+// Throws Interrupted (core/sim/stop_signal.hpp) instead of renaming when a stop signal
+// arrived while writing, and std::runtime_error when a write or the close fails (disk
+// full); the temporary file is removed in both cases.
 void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r);
+
+// Checks before a run that a result can be written at `path`: not an existing directory
+// or device, its folder creatable and writable (a probe file is created and removed).
+// Throws std::invalid_argument "cannot write the result file '<path>': <reason>".
+void checkResultPathWritable(const std::string& path);
 
 }  // namespace packsim

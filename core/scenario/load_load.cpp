@@ -64,7 +64,8 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
     } else {
       fs::path csv = m.string("csv");
       if (csv.is_relative()) csv = fs::path(baseDir) / csv;
-      if (!fs::exists(csv)) throw m.errorAt("csv", "file not found: " + csv.string());
+      std::error_code ec;  // a name too long for the file system is "not found", not an exception
+      if (!fs::exists(csv, ec)) throw m.errorAt("csv", "file not found: " + csv.string());
       const CsvProfile t = readProfileCsv(csv.string());
       p.t_s = t.time_s;
       p.i_A = t.value;

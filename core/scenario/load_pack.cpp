@@ -77,10 +77,11 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   std::string path;
   std::vector<std::string> known;
   for (const std::string& dir : presetDirs(baseDir)) {
-    if (!fs::is_directory(dir)) continue;
-    for (const auto& e : fs::directory_iterator(dir))
+    std::error_code ec;  // a name too long for the file system is "unknown", not an exception
+    if (!fs::is_directory(dir, ec)) continue;
+    for (const auto& e : fs::directory_iterator(dir, ec))
       if (e.path().extension() == ".yaml") known.push_back(e.path().stem().string());
-    if (path.empty() && fs::exists(dir + "/" + name + ".yaml")) path = dir + "/" + name + ".yaml";
+    if (path.empty() && fs::exists(dir + "/" + name + ".yaml", ec)) path = dir + "/" + name + ".yaml";
   }
   if (path.empty()) {
     std::sort(known.begin(), known.end());
@@ -95,7 +96,11 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   YAML::Node merged = YAML::Clone(preset);
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
     const std::string key = it->first.Scalar();
-    if (key != "preset") merged[key] = it->second;
+    if (key == "preset") continue;
+    // The scenario's own value node (and key node, for a key the preset lacks), so an
+    // error keeps its line and column.
+    if (static_cast<const YAML::Node&>(merged)[key]) merged[key] = it->second;  // const: a lookup must not add the key
+    else merged.force_insert(it->first, it->second);
   }
   return readCell(YamlMap(merged, m.file(), m.path()));
 }

@@ -16,41 +16,76 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr size_t kMaxExtendsDepth = 8;
+
 // Child keys replace the base's; mappings merge key by key, lists replace whole.
 void deepMerge(YAML::Node base, const YAML::Node& child) {
   for (auto it = child.begin(); it != child.end(); ++it) {
     const std::string key = it->first.Scalar();
     if (key == "extends") continue;
     // A child's expectations are its own: `expect` replaces the base's block whole.
-    if (key != "expect" && it->second.IsMap() && base[key] && base[key].IsMap())
+    // Const lookups: a non-const one would add an undefined entry for a missing key,
+    // which then shadows the one inserted below.
+    const YAML::Node existing = static_cast<const YAML::Node&>(base)[key];
+    if (key != "expect" && it->second.IsMap() && existing && existing.IsMap()) {
       deepMerge(base[key], it->second);
-    else
-      base[key] = it->second;
+    } else if (existing) {
+      base[key] = it->second;  // in place (the key order of the merged text stays)
+    } else {
+      // A new key: the child's own key node, so an error there keeps its line and column.
+      base.force_insert(it->first, it->second);
+    }
   }
 }
 
 // `extends: other.yaml`: the other scenario (validated on its own first) is the base;
 // this file's keys are merged on top. Relative CSV paths of the base stay relative to
-// the base's folder.
-YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const std::string& base_dir, int depth) {
+// the base's folder. `chain` holds the files being resolved (outermost first): a file
+// that extends one already in it is a cycle, reported with the whole chain.
+Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
+                           std::vector<std::string>& chain);
+
+std::string chainKey(const std::string& file) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::path(file), ec);
+  return ec ? file : p.string();
+}
+
+YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const std::string& base_dir,
+                          std::vector<std::string>& chain) {
   if (!root.IsMap() || !root["extends"]) return root;
   YamlMap m(root, file, "");
   const std::string rel = m.string("extends");
   const fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
-  if (depth > 8) throw m.errorAt("extends", "too many nested extends (a cycle?)");
-  if (!fs::exists(path)) throw m.errorAt("extends", "file not found: " + path.string());
-  loadScenarioFile(path.string());  // the base must be valid alone: its errors name its own file
+  std::error_code ec;  // a name too long for the file system is "not found", not an exception
+  if (!fs::exists(path, ec)) throw m.errorAt("extends", "file not found: " + path.string());
+  const std::string key = chainKey(path.string());
+  if (std::find(chain.begin(), chain.end(), key) != chain.end()) {
+    std::string names;
+    for (const std::string& c : chain) names += fs::path(c).filename().string() + " -> ";
+    throw m.errorAt("extends", "extends cycle: " + names + fs::path(key).filename().string());
+  }
+  if (chain.size() >= kMaxExtendsDepth)
+    throw m.errorAt("extends", "more than " + std::to_string(kMaxExtendsDepth) + " nested extends");
+  chain.push_back(key);
+  const std::string baseText = readScenarioText(path.string());
   const std::string baseDir = path.parent_path().string();
-  YAML::Node base = YAML::Clone(resolveExtends(parseYaml(readScenarioText(path.string()), path.string()), path.string(), baseDir, depth + 1));
-  if (base["load"] && base["load"]["csv"] && fs::path(base["load"]["csv"].Scalar()).is_relative()) {
+  // The base must be valid alone: its errors name its own file.
+  loadScenarioChain(baseText, path.string(), baseDir.empty() ? "." : baseDir, chain);
+  YAML::Node base = YAML::Clone(resolveExtends(parseYaml(baseText, path.string()), path.string(), baseDir, chain));
+  chain.pop_back();
+  // Reads through a const view: a non-const lookup of a missing key adds an undefined
+  // entry that would shadow the child's key inserted by deepMerge.
+  const YAML::Node& cbase = base;
+  if (cbase["load"] && cbase["load"]["csv"] && fs::path(cbase["load"]["csv"].Scalar()).is_relative()) {
     // Re-express the base's CSV path relative to this file's folder.
-    const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir));
-    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / base["load"]["csv"].Scalar());
+    const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir), ec);
+    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / cbase["load"]["csv"].Scalar(), ec);
     base["load"]["csv"] = csv.lexically_relative(here).string();
   }
   // A child that names its own kind of load (current, power, segments, points, csv,
   // charger) replaces the base's load whole; otherwise its load keys (laps, ...) merge.
-  if (base["load"] && base["load"].IsMap() && root["load"] && root["load"].IsMap()) {
+  if (cbase["load"] && cbase["load"].IsMap() && root["load"] && root["load"].IsMap()) {
     static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv", "charger"};
     bool childKind = false;
     for (const char* k : kinds) childKind = childKind || root["load"][k];
@@ -85,9 +120,17 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
 }  // namespace
 
 Scenario loadScenarioText(const std::string& text, const std::string& file, const std::string& base_dir) {
+  std::vector<std::string> chain{chainKey(file)};
+  return loadScenarioChain(text, file, base_dir, chain);
+}
+
+namespace {
+
+Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
+                           std::vector<std::string>& chain) {
   const YAML::Node given = parseYaml(text, file);
   if (!given || given.IsNull()) throw ScenarioError(file, 1, 1, "", "the scenario is empty");
-  const YAML::Node root = resolveExtends(given, file, base_dir, 0);
+  const YAML::Node root = resolveExtends(given, file, base_dir, chain);
   YamlMap m(root, file, "");
   m.has("extends");
   Scenario s;
@@ -154,6 +197,8 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   }
   return s;
 }
+
+}  // namespace
 
 std::string readScenarioText(const std::string& path, const std::string& what) {
   std::ifstream in(path, std::ios::binary);

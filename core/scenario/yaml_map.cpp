@@ -24,12 +24,50 @@ std::string Range::describe() const {
   return std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi_open ? ")" : "]");
 }
 
+namespace {
+
+// yaml-cpp keeps both entries of a repeated key and lookups see only one of them: a
+// repeated key is an error naming both places. Aliases are followed, so a document
+// that expands (through aliases) beyond kMaxYamlNodes nodes is refused here too.
+constexpr size_t kMaxYamlNodes = 200000;
+
+void rejectDuplicateKeys(const YAML::Node& n, const std::string& file, int depth, size_t& visited) {
+  const auto here = [&] { return std::make_pair(n.Mark().line + 1, n.Mark().column + 1); };
+  if (depth > 64) throw ScenarioError(file, here().first, here().second, "", "nested more than 64 levels deep");
+  if (++visited > kMaxYamlNodes)
+    throw ScenarioError(file, here().first, here().second, "",
+                        "the document expands (through aliases) to more than " + std::to_string(kMaxYamlNodes) + " nodes");
+  if (n.IsSequence()) {
+    for (const YAML::Node& e : n) rejectDuplicateKeys(e, file, depth + 1, visited);
+  } else if (n.IsMap()) {
+    std::vector<std::pair<std::string, YAML::Mark>> seen;
+    for (auto it = n.begin(); it != n.end(); ++it) {
+      const std::string key = it->first.IsScalar() ? it->first.Scalar() : std::string();
+      const YAML::Mark at = it->first.Mark();
+      for (const auto& [k, first] : seen) {
+        if (!it->first.IsScalar() || k != key) continue;
+        throw ScenarioError(file, at.line + 1, at.column + 1, key,
+                            "duplicate key (first given at line " + std::to_string(first.line + 1) + ", column " +
+                                std::to_string(first.column + 1) + ")");
+      }
+      seen.emplace_back(key, at);
+      rejectDuplicateKeys(it->second, file, depth + 1, visited);
+    }
+  }
+}
+
+}  // namespace
+
 YAML::Node parseYaml(const std::string& text, const std::string& file) {
+  YAML::Node root;
   try {
-    return YAML::Load(text);
+    root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
     throw ScenarioError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
   }
+  size_t visited = 0;
+  rejectDuplicateKeys(root, file, 0, visited);
+  return root;
 }
 
 YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string path)

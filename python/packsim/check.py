@@ -50,10 +50,13 @@ class CheckOutcome:
     failures: tuple[str, ...]
     latencies: tuple[FaultLatency, ...]
     verdict: str
+    nothing_to_check: bool = False      # no expect: block: status "RAN", neither passed nor failed
 
     @property
     def status(self) -> str:
-        return "ERROR" if self.error is not None else "PASS" if self.passed else "FAIL"
+        if self.error is not None:
+            return "ERROR"
+        return "FAIL" if not self.passed else "RAN" if self.nothing_to_check else "PASS"
 
     def __str__(self) -> str:
         """The CLI's lines for this scenario."""
@@ -79,11 +82,16 @@ class CheckReport:
 
     @property
     def n_passed(self) -> int:
-        return sum(o.passed for o in self.outcomes)
+        return sum(o.passed and not o.nothing_to_check for o in self.outcomes)
 
     @property
     def n_failed(self) -> int:
-        return len(self.outcomes) - self.n_passed
+        return sum(not o.passed for o in self.outcomes)
+
+    @property
+    def n_unchecked(self) -> int:
+        """Scenarios that ran without an ``expect:`` block (nothing to judge)."""
+        return sum(o.passed and o.nothing_to_check for o in self.outcomes)
 
     @property
     def failed(self) -> list[CheckOutcome]:
@@ -102,7 +110,8 @@ class CheckReport:
         return self.outcomes[i]
 
     def __str__(self) -> str:
-        return "".join(str(o) for o in self.outcomes) + f"{self.n_passed} passed, {self.n_failed} failed\n"
+        tail = f", {self.n_unchecked} ran with nothing to check" if self.n_unchecked else ""
+        return "".join(str(o) for o in self.outcomes) + f"{self.n_passed} passed, {self.n_failed} failed{tail}\n"
 
     def __repr__(self) -> str:
         return f"<packsim.CheckReport: {self.n_passed} passed, {self.n_failed} failed>"
@@ -141,6 +150,7 @@ def _outcome(d: Mapping[str, Any], name: str | None = None) -> CheckOutcome:
         failures=tuple(d["failures"]),
         latencies=tuple(FaultLatency(**f) for f in d["latencies"]),
         verdict=d["verdict"],
+        nothing_to_check=bool(d.get("nothing_to_check", False)),
     )
 
 

@@ -39,6 +39,7 @@ py::dict outcomeDict(const CheckOutcome& o) {
   d["failures"] = o.failures;
   d["latencies"] = latencies;
   d["verdict"] = o.verdict;
+  d["nothing_to_check"] = o.nothing_to_check;
   return d;
 }
 

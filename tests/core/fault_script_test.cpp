@@ -30,7 +30,7 @@ TEST(FaultScript, ConditionFiresWhenTheQuantityCrosses) {
   EXPECT_NEAR(r.summary.trip_time_s - inj, 0.1, 1e-6);
   const CheckOutcome c = judge(s, r);
   ASSERT_EQ(c.latencies.size(), 1u);
-  EXPECT_NE(c.latencies[0].find("overcurrent_discharge after 100 ms, relay open after 100 ms"), std::string::npos)
+  EXPECT_NE(c.latencies[0].find("overcurrent_discharge after 0.100 s, relay open after 0.100 s"), std::string::npos)
       << c.latencies[0];
 }
 

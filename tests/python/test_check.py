@@ -66,7 +66,7 @@ def test_latencies_are_the_runs_events_and_respect_the_debounce(scenario_dir):
     assert DEBOUNCE_S - 1e-9 <= lat.detection_latency_s <= DEBOUNCE_S + TICK_S + 1e-9
     assert lat.relay_open_latency_s >= lat.detection_latency_s
     assert lat.line == f"{inj['detail']} @100.000 s: overcurrent_discharge after " \
-                       f"{lat.detection_latency_s * 1e3:.0f} ms, relay open after {lat.relay_open_latency_s * 1e3:.0f} ms"
+                       f"{lat.detection_latency_s:.3f} s, relay open after {lat.relay_open_latency_s:.3f} s"
 
 
 def test_no_fault_means_no_latency(simple_yaml):
@@ -139,3 +139,16 @@ def test_bad_arguments(tmp_path, simple_yaml):
         packsim.check(packsim.load(saved))
     with pytest.raises(ValueError, match="judged as it ran"):
         packsim.check(r, seed=2)
+
+
+def test_scenario_without_expect_is_ran_not_pass(cli, simple_yaml, tmp_path):
+    # The same verdict and text from the CLI and from Python: "RAN", nothing to check.
+    f = tmp_path / "no_expect.yaml"
+    f.write_text(simple_yaml)
+    done = subprocess.run([str(cli), "check", str(f)], capture_output=True, text=True)
+    report = packsim.check(f)
+    assert done.returncode == 0 and str(report) == done.stdout
+    (o,) = report
+    assert o.status == "RAN" and o.nothing_to_check and o.verdict.startswith("ran, nothing to check")
+    assert (report.n_passed, report.n_failed, report.n_unchecked) == (0, 0, 1)
+    assert done.stdout.endswith("0 passed, 0 failed, 1 ran with nothing to check\n")

@@ -1,0 +1,201 @@
+// Hardening of the input paths (issue 16): extends cycles, repeated YAML keys, a typo
+// under a cell preset, and command-line argument errors (exit 2, one short line, the
+// closest valid name).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "core/batch/sweep.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path freshDir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("packsim_hardening_" + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
+
+std::string loadError(const fs::path& file) {
+  try {
+    loadScenarioFile(file.string());
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+std::string yamlError(const std::string& yaml) {
+  try {
+    test::scenarioFromYaml(yaml);
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+const std::string kLoad = "load: {current_A: 1}\nrun: {duration_s: 10}\n";
+
+TEST(InputHardening, ExtendsItselfIsACycleNotACrash) {
+  const fs::path d = freshDir("self");
+  write(d / "a.yaml", "extends: a.yaml\nseed: 3\n");
+  const std::string e = loadError(d / "a.yaml");
+  EXPECT_NE(e.find("a.yaml:1:10: extends: extends cycle: a.yaml -> a.yaml"), std::string::npos) << e;
+}
+
+TEST(InputHardening, LongerExtendsCycleNamesTheChain) {
+  const fs::path d = freshDir("cycle");
+  write(d / "a.yaml", "extends: b.yaml\n");
+  write(d / "b.yaml", "seed: 2\nextends: c.yaml\n");
+  write(d / "c.yaml", "extends: a.yaml\n");
+  const std::string e = loadError(d / "a.yaml");
+  EXPECT_NE(e.find("c.yaml:1:10: extends: extends cycle: a.yaml -> b.yaml -> c.yaml -> a.yaml"), std::string::npos) << e;
+}
+
+TEST(InputHardening, DeepButAcyclicExtendsStillLoads) {
+  const fs::path d = freshDir("chain");
+  write(d / "base.yaml", test::simpleCellYaml() + kLoad);
+  write(d / "mid.yaml", "extends: base.yaml\nseed: 5\n");
+  write(d / "top.yaml", "extends: mid.yaml\nrun: {duration_s: 20}\n");
+  const Scenario s = loadScenarioFile((d / "top.yaml").string());
+  EXPECT_EQ(s.run.seed, 5u);
+  EXPECT_EQ(s.run.duration_s, 20.0);
+}
+
+TEST(InputHardening, DuplicateKeyNamesBothPlaces) {
+  const std::string e = yamlError("seed: 1\n" + test::simpleCellYaml() + kLoad + "seed: 2\n");
+  EXPECT_NE(e.find(": seed: duplicate key (first given at line 1, column 1)"), std::string::npos) << e;
+  EXPECT_NE(e.find("test.yaml:"), std::string::npos) << e;
+}
+
+TEST(InputHardening, NestedDuplicateKeyIsRefused) {
+  std::string y = test::simpleCellYaml() + kLoad;
+  y.replace(y.find("    capacity_Ah: 2.0\n"), 21, "    capacity_Ah: 2.0\n    capacity_Ah: 3.0\n");
+  const std::string e = yamlError(y);
+  EXPECT_NE(e.find("test.yaml:9:5: capacity_Ah: duplicate key (first given at line 8, column 5)"), std::string::npos) << e;
+}
+
+TEST(InputHardening, TypoUnderACellPresetKeepsItsLineAndColumn) {
+  const std::string y =
+      "pack:\n"
+      "  series: 2\n"
+      "  cell:\n"
+      "    preset: ncr18650_3p1Ah\n"
+      "    capcity_Ah: 3.0\n" +
+      kLoad;
+  const std::string e = yamlError(y);
+  EXPECT_NE(e.find("test.yaml:5:5: pack.cell.capcity_Ah: unknown key; did you mean 'capacity_Ah'?"), std::string::npos)
+      << e;
+}
+
+TEST(InputHardening, TypoInAScenarioThatExtendsAnotherKeepsItsLineAndColumn) {
+  const fs::path d = freshDir("extends_typo");
+  write(d / "base.yaml", test::simpleCellYaml() + kLoad);
+  write(d / "child.yaml", "extends: base.yaml\npack:\n  cell:\n    preset: lipo_5Ah\n    capcity_Ah: 4\n");
+  const std::string e = loadError(d / "child.yaml");
+  EXPECT_NE(e.find("child.yaml:5:5: pack.cell.capcity_Ah: unknown key; did you mean 'capacity_Ah'?"), std::string::npos) << e;
+  write(d / "child2.yaml", "extends: base.yaml\nrun: {duration_s: 10, rtoll: 1e-6}\n");
+  const std::string e2 = loadError(d / "child2.yaml");
+  EXPECT_NE(e2.find("child2.yaml:2:23: run.rtoll: unknown key; did you mean 'rtol'?"), std::string::npos) << e2;
+}
+
+TEST(InputHardening, OverrideUnderACellPresetKeepsItsValueLine) {
+  const std::string y = "pack:\n  series: 2\n  cell:\n    preset: ncr18650_3p1Ah\n    capacity_Ah: -3\n" + kLoad;
+  const std::string e = yamlError(y);
+  EXPECT_NE(e.find("test.yaml:5:18: pack.cell.capacity_Ah: -3 is out of range"), std::string::npos) << e;
+}
+
+struct CliResult {
+  int status;
+  std::string err;
+};
+
+CliResult runCli(const std::string& args) {
+  // One file per test: ctest runs the tests of this binary in parallel processes.
+  const fs::path errFile = fs::temp_directory_path() /
+                           ("packsim_hardening_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".err");
+  const int rc = std::system((std::string(PACKSIM_BINARY) + " " + args + " >/dev/null 2>" + errFile.string()).c_str());
+  std::ifstream in(errFile);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+
+size_t lines(const std::string& s) { return static_cast<size_t>(std::count(s.begin(), s.end(), '\n')); }
+
+TEST(CliErrors, MistypedSubcommandSuggestsTheClosest) {
+  const CliResult r = runCli("rn");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("unknown command 'rn'; did you mean 'run'?"), std::string::npos) << r.err;
+}
+
+TEST(CliErrors, MistypedOptionSuggestsTheClosest) {
+  const CliResult r = runCli("run --sed 3");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("packsim run: error: unknown option '--sed'; did you mean '--seed'?"), std::string::npos) << r.err;
+}
+
+TEST(CliErrors, NegativeSeedIsOneShortLine) {
+  const CliResult r = runCli("run --seed -1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find("must be >= 0, got -1"), std::string::npos) << r.err;
+  EXPECT_LT(r.err.size(), 120u) << r.err;
+}
+
+TEST(CliErrors, EveryArgumentErrorExitsTwo) {
+  for (const char* args : {"", "run --seed abc", "batch", "plot", "check --bogus", "batch s.yaml -j 0",
+                           "balance-time --resistor x", "plot r.h5 --dpi -3"}) {
+    const CliResult r = runCli(args);
+    EXPECT_EQ(r.status, 2) << args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << args << ": " << r.err;
+    EXPECT_LT(r.err.size(), 200u) << args << ": " << r.err;
+  }
+}
+
+TEST(CliErrors, HelpAndVersionStillExitZero) {
+  EXPECT_EQ(runCli("--help").status, 0);
+  EXPECT_EQ(runCli("run --help").status, 0);
+  EXPECT_EQ(runCli("--version").status, 0);
+}
+
+}  // namespace
+}  // namespace packsim
+
+namespace packsim {
+namespace {
+
+// Found by fuzzing (tests/fuzz/regressions/fuzz_scenario/extends_name_too_long): a file
+// name longer than the file system allows made std::filesystem throw past the loader.
+TEST(FuzzRegressions, OverlongFileNamesAreNotFoundErrors) {
+  const std::string longName(300, 'x');
+  const fs::path d = freshDir("long_names");
+  write(d / "a.yaml", "extends: " + longName + ".yaml\n");
+  EXPECT_NE(loadError(d / "a.yaml").find("a.yaml:1:10: extends: file not found"), std::string::npos);
+  std::string y = test::simpleCellYaml() + "load: {csv: " + longName + ".csv}\n";
+  EXPECT_NE(yamlError(y).find("load.csv: file not found"), std::string::npos) << yamlError(y);
+  y = "pack:\n  series: 1\n  cell: {preset: " + longName + "}\n" + kLoad;
+  EXPECT_NE(yamlError(y).find("unknown cell preset"), std::string::npos) << yamlError(y);
+  write(d / "sweep.yaml", "base: " + longName + ".yaml\ngrid: {seed: [1, 2]}\n");
+  try {
+    loadSweepFile((d / "sweep.yaml").string());
+    ADD_FAILURE() << "no error";
+  } catch (const ScenarioError& e) {
+    EXPECT_NE(std::string(e.what()).find("base: scenario file not found"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace packsim

@@ -1,0 +1,17 @@
+// libFuzzer harness: the sweep loader (grid, zip, monte_carlo), with base.yaml (the
+// bundled eco-marathon scenario) beside it. Bad input must be a ScenarioError.
+#include <cstddef>
+#include <cstdint>
+
+#include "core/batch/sweep.hpp"
+#include "core/scenario/scenario_error.hpp"
+#include "fuzz_support.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace packsim;
+  try {
+    loadSweepText(std::string(reinterpret_cast<const char*>(data), size), "sweep.yaml", fuzz::scratchDir());
+  } catch (const ScenarioError&) {
+  }
+  return 0;
+}
