@@ -16,24 +16,6 @@ namespace packsim {
 
 namespace fs = std::filesystem;
 
-// A bundled scenario by name: scenarios/NAME.yaml or scenarios/balance/NAME.yaml.
-std::string presetPath(const std::string& name) {
-  const fs::path dir = bundledScenarioDir();
-  for (const fs::path& p : {dir / (name + ".yaml"), dir / "balance" / (name + ".yaml")})
-    if (fs::exists(p)) return p.string();
-  std::vector<std::string> names;
-  for (const fs::path& sub : {dir, dir / "balance"})
-    if (fs::is_directory(sub))
-      for (const auto& e : fs::directory_iterator(sub))
-        if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  std::string known;
-  for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-  const std::string near = closestMatch(name, names);
-  throw std::invalid_argument("--preset: no bundled scenario named '" + name + "'" +
-                              (near.empty() ? "" : "; did you mean '" + near + "'?") + " (known: " + known + ")");
-}
-
 namespace {
 
 void printTable(const BalanceTimeResult& r, std::ostream& os) {

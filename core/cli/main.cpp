@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/cli/commands.hpp"
+#include "core/cli/tool_commands.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/version.hpp"
 
@@ -19,7 +20,9 @@ int main(int argc, char** argv) {
 
   packsim::RunOptions run;
   CLI::App* runCmd = app.add_subcommand("run", "run one scenario (the bundled default if none is given)");
-  runCmd->add_option("scenario", run.scenario, "scenario YAML file (default: " + packsim::defaultScenarioPath() + ")");
+  runCmd->add_option("scenario", run.scenario, "scenario YAML file or bundled scenario name (packsim list; "
+                                              "default: eco_marathon_12s)");
+  runCmd->add_option("--set", run.set, "override a scenario value, e.g. --set pack.cell.capacity_Ah=4.5 (repeatable)");
   runCmd->add_option("-o,--output", run.output, "result HDF5 file (default: packsim-results/<name>.h5)");
   runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(CLI::NonNegativeNumber);
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
@@ -55,6 +58,9 @@ int main(int argc, char** argv) {
   balCmd->add_option("--max-hours", bal.max_hours, "simulation cap in hours (default 72)");
   balCmd->add_flag("--analytic-only", bal.analytic_only, "skip the simulation");
 
+  packsim::ToolCommands tools;
+  packsim::addToolCommands(app, tools);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -66,6 +72,7 @@ int main(int argc, char** argv) {
     if (plotCmd->parsed()) return packsim::cmdPlot(plot);
     if (batchCmd->parsed()) return packsim::cmdBatch(batch);
     if (balCmd->parsed()) return packsim::cmdBalanceTime(bal);
+    if (const auto rc = packsim::runToolCommand(tools)) return *rc;
   } catch (const packsim::ScenarioError& e) {
     std::cerr << "packsim: error: " << e.what() << "\n";
     return 2;

@@ -5,11 +5,13 @@
 #include <bms/bms_telemetry.hpp>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
 
+#include "core/io/hdf5_layout.hpp"
 #include "core/version.hpp"
 
 namespace packsim {
@@ -47,9 +49,16 @@ template <> hid_t nativeType<uint16_t>() { return H5T_NATIVE_UINT16; }
 template <> hid_t nativeType<int32_t>() { return H5T_NATIVE_INT32; }
 template <> hid_t nativeType<uint32_t>() { return H5T_NATIVE_UINT32; }
 
+// Rows per chunk: about 16 Ki values per chunk, whole rows.
+hsize_t chunkRows(size_t rows, size_t cols) {
+  const size_t perRow = cols == 0 ? 1 : cols;
+  const size_t r = std::max<size_t>(1, 16384 / perRow);
+  return static_cast<hsize_t>(std::min(rows, r));
+}
+
 class Writer {
  public:
-  explicit Writer(hid_t file) : file_(file) {
+  Writer(hid_t file, bool compress) : file_(file), compress_(compress) {
     dcpl_ = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_obj_track_times(dcpl_, 0);
     gcpl_ = H5Pcreate(H5P_GROUP_CREATE);
@@ -67,8 +76,18 @@ class Writer {
   template <typename T>
   void dataset(const std::string& name, const std::vector<T>& data, size_t rows, size_t cols, const char* units) {
     hsize_t dims[2] = {rows, cols};
-    Handle space(H5Screate_simple(cols == 0 ? 1 : 2, dims, nullptr), H5Sclose, name.c_str());
-    Handle ds(H5Dcreate2(file_, name.c_str(), nativeType<T>(), space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose,
+    const int rank = cols == 0 ? 1 : 2;
+    Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose, name.c_str());
+    // Chunked, shuffled and deflated (HDF5's own filters, lossless: the values read back
+    // are the values written). An empty dataset stays contiguous.
+    Handle dcpl(H5Pcopy(dcpl_), H5Pclose, "dataset creation list");
+    if (compress_ && rows > 0 && (rank == 1 || cols > 0)) {
+      const hsize_t chunk[2] = {chunkRows(rows, cols), cols};
+      checked(H5Pset_chunk(dcpl, rank, chunk), name + " chunking");
+      checked(H5Pset_shuffle(dcpl), name + " shuffle filter");
+      checked(H5Pset_deflate(dcpl, 4), name + " deflate filter");
+    }
+    Handle ds(H5Dcreate2(file_, name.c_str(), nativeType<T>(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose,
               name.c_str());
     if (!data.empty()) checked(H5Dwrite(ds, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), name);
     if (units) attr(ds, "units", units);
@@ -120,6 +139,7 @@ class Writer {
 
  private:
   hid_t file_;
+  bool compress_;
   hid_t dcpl_;
   hid_t gcpl_;
 };
@@ -131,8 +151,8 @@ std::string faultNames() {
   return s;
 }
 
-void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
-  Writer w(file);
+void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) {
+  Writer w(file, compress);
   const Recording& rec = r.rec;
   const size_t n = rec.samples();
   const size_t cells = static_cast<size_t>(rec.cells);
@@ -240,6 +260,17 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
   w.attr(g, "energy_start_Wh", sm.energy_start_Wh);
   w.attr(g, "energy_left_Wh", sm.energy_left_Wh);
   w.attr(g, "energy_stranded_Wh", sm.energy_stranded_Wh);
+
+  addNetcdfLayout(file, {n, cells, static_cast<size_t>(rec.groups), static_cast<size_t>(rec.thermistors),
+                         static_cast<size_t>(rec.devices)});
+}
+
+// A new file with the creation and access properties every result file has.
+hid_t createFile(const std::string& name, hid_t fapl, H5F_libver_t oldest = H5F_LIBVER_V18) {
+  H5Pset_libver_bounds(fapl, oldest, H5F_LIBVER_V18);
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
+  H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
+  return H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl);
 }
 
 }  // namespace
@@ -252,16 +283,30 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
   try {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
-    H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
-    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
-    H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose, tmp.c_str());
-    writeAll(file, s, r);
+    Handle file(createFile(tmp, fapl), H5Fclose, tmp.c_str());
+    writeAll(file, s, r, true);
   } catch (...) {
     std::remove(tmp.c_str());
     throw;
   }
   fs::rename(tmp, target);
+}
+
+std::string resultHdf5Image(const Scenario& s, const RunResult& r) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
+  checked(H5Pset_fapl_core(fapl, 1 << 20, 0), "in-memory file driver");  // never touches the disk
+  // The oldest superblock: HDF5 1.10 clears the open-for-write flags of a newer one in
+  // the image without updating its checksum, and the image would not open.
+  Handle file(createFile("packsim-result-in-memory.h5", fapl, H5F_LIBVER_EARLIEST), H5Fclose, "in-memory result file");
+  writeAll(file, s, r, false);
+  checked(H5Fflush(file, H5F_SCOPE_GLOBAL), "in-memory result file");
+  const ssize_t size = H5Fget_file_image(file, nullptr, 0);
+  if (size < 0) throw std::runtime_error("HDF5: cannot read the in-memory result file");
+  std::string image(static_cast<size_t>(size), '\0');
+  if (H5Fget_file_image(file, image.data(), image.size()) != size)
+    throw std::runtime_error("HDF5: cannot read the in-memory result file");
+  return image;
 }
 
 }  // namespace packsim

@@ -9,6 +9,9 @@
 //   /events           table (time_s, kind, detail)
 //   /summary          attrs: the run summary
 //
+// Laid out for netCDF tools (core/io/hdf5_layout.hpp): dimension scales, long_name and
+// units attributes, datasets chunked and compressed with deflate + shuffle.
+//
 // The file is written under a temporary name and renamed when complete, so a failed
 // run never leaves a partial result behind. Object timestamps are off: the same run
 // gives the same bytes.
@@ -21,5 +24,8 @@
 namespace packsim {
 
 void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r);
+// The same file built in memory (no compression: it is read back at once), as the
+// bytes of an HDF5 file: what packsim.run() reads its attributes and events from.
+std::string resultHdf5Image(const Scenario& s, const RunResult& r);
 
 }  // namespace packsim

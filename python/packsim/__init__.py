@@ -9,6 +9,8 @@
     packsim.check("scenarios/faults")            # as `packsim check`
     packsim.batch("sweep.yaml", client=None)     # as `packsim batch`, or on Dask
     packsim.balance_time(resistor=[22, 33, 47])  # as `packsim balance-time`
+    packsim.run("motorcycle_110s")               # a bundled scenario by name (packsim.list_bundled())
+    packsim.export("race.h5", "parquet")         # as `packsim export` (csv, mat, parquet)
 
 The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
 """
@@ -24,6 +26,7 @@ from ._overrides import flatten_overrides
 from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
 from .check import CheckOutcome, CheckReport, FaultLatency, check
+from .export import export
 from .result import Result, load
 
 # An installed wheel carries the bundled scenarios inside the package.
@@ -42,7 +45,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 
 __all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
-           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "__version__"]
+           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "list_bundled", "__version__"]
 
 
 def __getattr__(name: str):
@@ -75,6 +78,17 @@ def bundled_scenarios(pattern: str = "*.yaml") -> list[str]:
     """Sorted paths of the bundled scenarios matching a glob pattern relative to their
     folder (``"*.yaml"``, ``"faults/*.yaml"``, ``"**/*.yaml"``)."""
     return sorted(glob.glob(os.path.join(bundled_scenario_dir(), pattern), recursive=True))
+
+
+def list_bundled(kind: str | None = None) -> list[dict[str, str]]:
+    """The bundled scenarios and cell presets as ``packsim list`` prints them: dicts with
+    kind ("scenario" or "cell"), name, path and a one-line description. kind filters."""
+    rows = [dict(zip(("kind", "name", "path", "description"), t)) for t in _core().bundled_catalog()]
+    if kind is not None:
+        if kind not in ("scenario", "cell"):
+            raise ValueError(f"kind must be 'scenario' or 'cell', not {kind!r}")
+        rows = [r for r in rows if r["kind"] == kind]
+    return rows
 
 
 def apply_overrides(yaml_text: str, /, overrides: Mapping[str, Any] | None = None, **more: Any) -> str:
@@ -132,7 +146,9 @@ def _scenario_args(scenario: Any, pairs: list[tuple[str, str]],
     if _is_path(scenario):
         path = os.fspath(scenario)
         if not os.path.isfile(path):
-            raise FileNotFoundError(f"no such scenario file: {path}")
+            if path.endswith((".yaml", ".yml")):
+                raise FileNotFoundError(f"no such scenario file: {path}")
+            path = _core().scenario_arg_path(path)  # a bundled scenario by name (ValueError naming the closest)
         if base is not None:
             raise ValueError(_FILE_BASE_DIR)
         return path, True, pairs, "<scenario>", "."
@@ -157,7 +173,8 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
         seed: int | None = None, base_dir: str | os.PathLike | None = None, **more: Any) -> Result:
     """Run one scenario and return its Result.
 
-    scenario:  a path to a YAML file, YAML text, or a dict of the scenario itself;
+    scenario:  a path to a YAML file, a bundled scenario's name (``"motorcycle_110s"``,
+               see ``list_bundled()``), YAML text, or a dict of the scenario itself;
                None runs the bundled default (like ``packsim run``).
     overrides: a dict merged into the scenario, nested (``{"pack": {"cell":
                {"capacity_Ah": 3.0}}}``) or with dotted keys (``{"pack.cell.capacity_Ah":

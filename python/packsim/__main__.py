@@ -1,0 +1,42 @@
+"""The ``packsim`` command: ``packsim run motorcycle_110s``, ``python -m packsim list``.
+
+pip installs this as the ``packsim`` console script. It runs the command-line program
+shipped inside the package (``packsim/_bin/packsim``, built from the same C++ core as
+the extension), telling it to use this interpreter and this package for the commands
+that live in Python (plot, export, report). Nothing is found through paths compiled
+into the program.
+"""
+from __future__ import annotations
+
+import os
+import sys
+
+_PKG = os.path.dirname(os.path.abspath(__file__))
+
+
+def program() -> str:
+    """Path of the bundled command-line program."""
+    return os.path.join(_PKG, "_bin", "packsim")
+
+
+def main(argv: list[str] | None = None) -> int:
+    exe = program()
+    if not os.access(exe, os.X_OK):
+        sys.stderr.write(f"packsim: error: the command-line program is missing from the package ({exe}); "
+                         "reinstall packsim with `pip install .`\n")
+        return 1
+    env = dict(os.environ)
+    env.setdefault("PACKSIM_PYTHON", sys.executable)
+    env.setdefault("PACKSIM_PYTHONPATH", os.path.dirname(_PKG))
+    scenarios = os.path.join(_PKG, "scenarios")
+    if os.path.isdir(scenarios):
+        env.setdefault("PACKSIM_SCENARIOS", scenarios)
+    args = [exe] + (sys.argv[1:] if argv is None else list(argv))
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.execve(exe, args, env)  # replaces this process: exit status and signals are the program's
+    return 1  # not reached
+
+
+if __name__ == "__main__":
+    sys.exit(main())
