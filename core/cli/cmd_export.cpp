@@ -21,4 +21,10 @@ int cmdExport(const ExportOptions& o) {
                          "numpy, h5py and pandas (csv), scipy (mat) or pyarrow (parquet)");
 }
 
+int cmdReport(const ReportOptions& o) {
+  if (!std::filesystem::exists(o.source))
+    throw ScenarioError(o.source, 0, 0, "", "no such result file or batch folder");
+  return runPythonModule("packsim.report", {o.source, "-o", o.output}, "numpy, h5py and matplotlib");
+}
+
 }  // namespace packsim

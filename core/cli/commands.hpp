@@ -57,8 +57,15 @@ struct ExportOptions {
   std::string output;  // empty: next to the result, by format
 };
 
+// `packsim report` (python/packsim/report.py).
+struct ReportOptions {
+  std::string source;  // result HDF5 file or batch folder
+  std::string output;  // HTML file
+};
+
 std::string defaultScenarioPath();
 int cmdList();
+int cmdReport(const ReportOptions& o);
 int cmdExport(const ExportOptions& o);
 int cmdRun(const RunOptions& o);
 // A scenario argument as a path: an existing file, else a bundled scenario by name.

@@ -13,11 +13,17 @@ void addToolCommands(CLI::App& app, ToolCommands& t) {
       ->check(CLI::IsMember({"csv", "mat", "parquet"}));
   t.exportCmd->add_option("-o,--output", t.exportOpts.output,
                           "output file (mat, parquet) or folder (csv); default: next to the result");
+
+  t.reportCmd = app.add_subcommand("report", "one self-contained HTML page of a run (summary, events, figures) or "
+                                             "of a batch folder (needs Python 3 with matplotlib)");
+  t.reportCmd->add_option("source", t.reportOpts.source, "result HDF5 file or batch output folder")->required();
+  t.reportCmd->add_option("-o,--output", t.reportOpts.output, "HTML file to write")->required();
 }
 
 std::optional<int> runToolCommand(const ToolCommands& t) {
   if (t.list->parsed()) return cmdList();
   if (t.exportCmd->parsed()) return cmdExport(t.exportOpts);
+  if (t.reportCmd->parsed()) return cmdReport(t.reportOpts);
   return std::nullopt;
 }
 

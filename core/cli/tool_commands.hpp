@@ -1,5 +1,5 @@
 // The subcommands that list what is bundled and hand results to other tools:
-// `packsim list`, `packsim export`. Registered on the CLI11 app by main.cpp with one
+// `packsim list`, `packsim export`, `packsim report`. Registered on the CLI11 app by main.cpp with one
 // call, dispatched with another.
 #pragma once
 #include <CLI/CLI.hpp>
@@ -14,6 +14,8 @@ struct ToolCommands {
   CLI::App* list = nullptr;
   CLI::App* exportCmd = nullptr;
   ExportOptions exportOpts;
+  CLI::App* reportCmd = nullptr;
+  ReportOptions reportOpts;
 };
 
 void addToolCommands(CLI::App& app, ToolCommands& t);

@@ -190,6 +190,20 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   w.dataset("/bms/fault_active", rec.fault_active, n, 0, nullptr);
   w.dataset("/bms/fault_latched", rec.fault_latched, n, 0, nullptr);
   w.attrOn("/bms", "fault_bits", faultNames());
+  {  // the protection limits the plots draw (an attribute only when the protection is on)
+    Handle bms(H5Oopen(file, "/bms", H5P_DEFAULT), H5Oclose, "/bms");
+    const struct {
+      const char* name;
+      const ProtectionConfig& p;
+    } limits[] = {{"limit_cell_overvoltage_V", s.bms.cell_overvoltage},
+                  {"limit_cell_undervoltage_V", s.bms.cell_undervoltage},
+                  {"limit_overtemperature_C", s.bms.overtemperature},
+                  {"limit_undertemperature_C", s.bms.undertemperature},
+                  {"limit_overcurrent_discharge_A", s.bms.overcurrent_discharge},
+                  {"limit_overcurrent_charge_A", s.bms.overcurrent_charge}};
+    for (const auto& l : limits)
+      if (l.p.enabled) w.attr(bms, l.name, l.p.threshold);
+  }
   w.dataset("/bms/relay_closed", rec.relay_closed, n, 0, nullptr);
   w.dataset("/bms/discharge_fet_on", rec.discharge_fet_on, n, 0, nullptr);
   w.dataset("/bms/charge_fet_on", rec.charge_fet_on, n, 0, nullptr);

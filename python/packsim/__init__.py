@@ -11,6 +11,7 @@
     packsim.balance_time(resistor=[22, 33, 47])  # as `packsim balance-time`
     packsim.run("motorcycle_110s")               # a bundled scenario by name (packsim.list_bundled())
     packsim.export("race.h5", "parquet")         # as `packsim export` (csv, mat, parquet)
+    packsim.report("race.h5", "race.html")       # as `packsim report`: one self-contained page
 
 The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
 """
@@ -27,6 +28,7 @@ from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
 from .check import CheckOutcome, CheckReport, FaultLatency, check
 from .export import export
+from .report import report
 from .result import Result, load
 
 # An installed wheel carries the bundled scenarios inside the package.
@@ -45,7 +47,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 
 __all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
-           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "list_bundled", "__version__"]
+           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "report", "list_bundled", "__version__"]
 
 
 def __getattr__(name: str):
