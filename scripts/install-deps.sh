@@ -11,7 +11,7 @@ APT_PACKAGES=(
 )
 # Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
 # Dask), and the build tools `pip install .` uses without build isolation.
-PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray h5netcdf scipy pyarrow nbformat nbclient ipykernel
+PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
               "dask[distributed]" scikit-build-core pybind11)
 
 missing=()

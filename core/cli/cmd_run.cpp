@@ -1,3 +1,6 @@
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
@@ -7,6 +10,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
+#include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
 
@@ -40,7 +44,10 @@ int cmdRun(const RunOptions& o) {
   Scenario s = loadScenarioFileWithOverrides(path, parseSetOptions(o.set));
   if (o.seed) s.run.seed = *o.seed;
   const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
-  const RunResult r = runScenario(s);
+  // A bar while it runs when stdout is a terminal (never into a file or a pipe).
+  const bool bar = !o.quiet && isatty(fileno(stdout));
+  const RunResult r = runScenario(s, bar ? terminalProgressBar(s.endTime_s(), stdout) : StopCondition{});
+  if (bar) terminalProgressDone(stdout);
   writeResultHdf5(out, s, r);
   if (!o.quiet) std::cout << formatSummary(s, r) << "result          " << out << "\n";
   return 0;

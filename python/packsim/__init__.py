@@ -172,7 +172,8 @@ def _validate_seed(seed: Any) -> int | None:
 
 def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
         overrides: Mapping[str, Any] | None = None, *,
-        seed: int | None = None, base_dir: str | os.PathLike | None = None, **more: Any) -> Result:
+        seed: int | None = None, base_dir: str | os.PathLike | None = None, progress: Any = False,
+        **more: Any) -> Result:
     """Run one scenario and return its Result.
 
     scenario:  a path to a YAML file, a bundled scenario's name (``"motorcycle_110s"``,
@@ -189,17 +190,29 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
     base_dir:  where relative CSV paths of YAML text or a dict resolve (default: the
                current folder; a file's own folder for a path).
 
+    progress:  True: a progress bar over simulated time (tqdm.auto: a widget in Jupyter,
+               nothing on stdout); or a callable progress(t_s, end_s), called every 1 %.
+
     The GIL is released while the simulation runs: threads run scenarios in parallel.
     """
     from .result import _from_handle
-    return _from_handle(_run_handle(scenario, flatten_overrides(overrides, more), _validate_seed(seed), base_dir))
+    pairs, seed = flatten_overrides(overrides, more), _validate_seed(seed)
+    if progress is False or progress is None:
+        return _from_handle(_run_handle(scenario, pairs, seed, base_dir))
+    if progress is True:
+        from ._progress import tqdm_progress
+        with tqdm_progress() as report:
+            return _from_handle(_run_handle(scenario, pairs, seed, base_dir, report))
+    if not callable(progress):
+        raise TypeError(f"progress must be a bool or a callable(t_s, end_s), got {type(progress).__name__}")
+    return _from_handle(_run_handle(scenario, pairs, seed, base_dir, progress))
 
 
-def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any):
+def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any, progress: Any = None):
     """run() up to the C++ RunHandle; overrides already flattened, seed validated."""
     core = _core()
     base = _path_arg("base_dir", base_dir)
     if scenario is None:
         scenario = core.default_scenario_path()
     source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
-    return core.run(source, is_file, pairs, seed, name, base)
+    return core.run(source, is_file, pairs, seed, name, base, progress)

@@ -30,6 +30,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/version.hpp"
 #include "python/src/bindings.hpp"
@@ -48,13 +49,20 @@ std::mutex& hdf5Mutex() {
 }
 
 std::shared_ptr<RunHandle> run(const std::string& source, bool is_file, const Overrides& overrides,
-                               std::optional<uint64_t> seed, const std::string& file_name, const std::string& base_dir) {
+                               std::optional<uint64_t> seed, const std::string& file_name, const std::string& base_dir,
+                               const py::object& progress) {
   auto h = std::make_shared<RunHandle>();
   {
     py::gil_scoped_release release;  // loading and simulating touch no Python object
     h->scenario = loadScenarioSource(source, is_file, overrides, file_name, base_dir);
     if (seed) h->scenario.run.seed = *seed;  // exactly as `packsim run --seed N`
-    h->result = runScenario(h->scenario);
+    StopCondition report;
+    if (!progress.is_none())  // progress(t_s, end_s) every 1 % of the run, with the GIL held just for it
+      report = progressCondition(h->scenario.endTime_s(), [&progress](double t_s, double end_s) {
+        py::gil_scoped_acquire gil;
+        progress(t_s, end_s);
+      });
+    h->result = runScenario(h->scenario, report);
   }
   return h;
 }
@@ -130,9 +138,10 @@ PYBIND11_MODULE(_packsim, m) {
       .def_property_readonly("seed", [](const RunHandle& h) { return h.scenario.run.seed; });
 
   m.def("run", &run, py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("seed") = py::none(),
-        py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".",
+        py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".", py::arg("progress") = py::none(),
         "Load a scenario (a file path if is_file, else YAML text named file_name whose relative paths resolve "
-        "against base_dir), apply the (dotted key, YAML value) overrides, run it with the GIL released.");
+        "against base_dir), apply the (dotted key, YAML value) overrides, run it with the GIL released; "
+        "progress(t_s, end_s), if given, is called every 1 % of simulated time.");
   m.def("apply_overrides", &applyOverrides, py::arg("yaml_text"), py::arg("overrides"),
         py::arg("file_name") = "<scenario>", "The scenario text with (dotted key, YAML value) overrides applied.");
   m.def("bundled_scenario_dir", &bundledScenarioDir, "Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).");
