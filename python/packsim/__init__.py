@@ -1,12 +1,12 @@
 """packsim from Python: run battery-pack/BMS scenarios, load and plot their results.
 
     import packsim
-    r = packsim.run("scenarios/eco_marathon_12s.yaml", {"pack.cell.capacity_Ah": 4.5}, seed=7)
+    r = packsim.run("eco_marathon_12s", {"pack.cell.capacity_Ah": 4.5}, seed=7)   # by name or path
     r["truth/cell_voltage_V"]          # [samples, cells] NumPy array
     r.summary["energy_delivered_Wh"]
     r.save("race.h5"); packsim.load("race.h5")
     packsim.plot.plot_all(r, "figures/")
-    packsim.check("scenarios/faults")            # as `packsim check`
+    packsim.check(packsim.bundled_scenarios("faults/*.yaml"))   # as `packsim check`
     packsim.batch("sweep.yaml", client=None)     # as `packsim batch`, or on Dask
     packsim.balance_time(resistor=[22, 33, 47])  # as `packsim balance-time`
     packsim.run("motorcycle_110s")               # a bundled scenario by name (packsim.list_bundled())

@@ -74,11 +74,10 @@ def limit(r: Result, name: str) -> float | None:
 
 
 def draw_limits(ax, r: Result, names: list[tuple[str, str, float]]) -> None:
-    """Horizontal lines at the named limits: (limit name, label, sign)."""
+    """Horizontal lines at the named limits: (limit name, label, sign). They are named in
+    the legend (call before the legend is made), never as text on the curves."""
     for name, label, sign in names:
         v = limit(r, name)
         if v is None:
             continue
-        ax.axhline(sign * v, color="C3", lw=1.0, ls=":", alpha=0.9)
-        ax.annotate(f"{label} {sign * v:g}", (0.0, sign * v), xycoords=("axes fraction", "data"), xytext=(2, 2),
-                    textcoords="offset points", fontsize=7, color="C3")
+        ax.axhline(sign * v, color="C3", lw=1.0, ls=":", alpha=0.9, label=f"{label} limit {sign * v:g}")

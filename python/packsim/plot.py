@@ -107,6 +107,7 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
                                                                                           default=-1) else None)
         for k, (j, why) in enumerate(marked.items()):
             ax.plot(t, a[:, j], color=f"C{k}", lw=1.6, label=f"cell {j + 1} ({why})")
+        draw_limits(ax, r, [lim for lim in _LIMITS.get(quantity, []) if _near(lim, r, a)])
         ax.legend(fontsize="small", loc="lower left")
         ax.set_ylabel(label)
     else:
@@ -119,8 +120,6 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
         for j, why in _highlighted_cells(r, a).items():
             ax.annotate(f"cell {j + 1} ({why})", (1.0, j + 1), xycoords=("axes fraction", "data"), xytext=(-4, 0),
                         textcoords="offset points", ha="right", va="center", fontsize=7, color="w")
-    if n <= line_limit:
-        draw_limits(ax, r, [lim for lim in _LIMITS.get(quantity, []) if _near(lim, r, a)])
     ax.set_xlabel(tlabel)
     ax.set_title(_title(r, f"{quantity} of {n} cells"))
     if n <= line_limit:
@@ -182,6 +181,9 @@ def current_soc(r: Result | str | os.PathLike):
     ax_v = ax_i.twinx()
     ax_v.plot(t, r["truth/pack_voltage_V"], lw=1.0, color="C3", label="pack voltage")
     ax_v.set_ylabel("pack voltage (V)", color="C3")
+    draw_limits(ax_i, r, [lim for lim in [("overcurrent_discharge_A", "over-current", 1.0),
+                                          ("overcurrent_charge_A", "charge over-current", -1.0)]
+                          if _near(lim, r, r["truth/pack_current_A"])])
     lines = ax_i.get_legend_handles_labels()
     more = ax_v.get_legend_handles_labels()
     ax_i.legend(lines[0] + more[0], lines[1] + more[1], fontsize="small", loc="best")
@@ -193,9 +195,6 @@ def current_soc(r: Result | str | os.PathLike):
     if "bms/soc_estimate_permille" in r:
         ax_s.step(t, r["bms/soc_estimate_permille"] / 1000.0, where="post", color="C1", lw=1.0,
                   label="BMS estimate")
-    draw_limits(ax_i, r, [lim for lim in [("overcurrent_discharge_A", "over-current", 1.0),
-                                          ("overcurrent_charge_A", "charge over-current", -1.0)]
-                          if _near(lim, r, r["truth/pack_current_A"])])
     ax_s.set_ylabel("SOC (-)")
     ax_s.set_xlabel(tlabel)
     ax_s.legend(fontsize="small", loc="best")
@@ -382,6 +381,7 @@ def balancing(r: Result | str | os.PathLike):
     ax_duty.barh(np.arange(1, n + 1), duty, color="C1")
     ax_duty.set_xlabel("time balancing (%)")
     ax_duty.grid(axis="x", alpha=0.3)
+    mark_events(ax, r, _time(r)[2])
     return fig
 
 

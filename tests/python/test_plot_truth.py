@@ -76,6 +76,7 @@ def test_limits_are_drawn_at_the_scenario_thresholds(simple_yaml):
     fig = plot.cells(r, "voltage")
     ys = [line.get_ydata()[0] for line in fig.axes[0].lines if line.get_linestyle() == ":"]
     assert 3.8 in ys and 4.25 in ys  # and the default over-voltage limit
+    assert "under-voltage limit 3.8" in fig.axes[0].get_legend_handles_labels()[1]
 
 
 def test_extreme_and_faulted_cells_stand_out():
