@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
@@ -280,8 +282,8 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
 }
 
 // A new file with the creation and access properties every result file has.
-hid_t createFile(const std::string& name, hid_t fapl, H5F_libver_t oldest = H5F_LIBVER_V18) {
-  H5Pset_libver_bounds(fapl, oldest, H5F_LIBVER_V18);
+hid_t createFile(const std::string& name, hid_t fapl) {
+  H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
   H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
   return H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl);
@@ -306,21 +308,57 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   fs::rename(tmp, target);
 }
 
+namespace {
+
+// HDF5's in-memory (core) driver with our own memory callbacks: the driver hands its
+// buffer to imageFree when the file closes, complete and consistent. (Not
+// H5Fget_file_image on the open file: HDF5 1.10 clears the superblock's open-for-write
+// flag in that copy without updating its checksum, and the image does not open.)
+struct ImageCapture {
+  size_t allocated = 0;
+  std::string image;
+};
+void* imageMalloc(size_t n, H5FD_file_image_op_t, void* u) {
+  static_cast<ImageCapture*>(u)->allocated = n;
+  return std::calloc(n, 1);
+}
+void* imageMemcpy(void* dst, const void* src, size_t n, H5FD_file_image_op_t, void*) { return std::memcpy(dst, src, n); }
+void* imageRealloc(void* p, size_t n, H5FD_file_image_op_t, void* u) {
+  auto* c = static_cast<ImageCapture*>(u);
+  void* q = std::realloc(p, n);
+  if (q && n > c->allocated) std::memset(static_cast<char*>(q) + c->allocated, 0, n - c->allocated);
+  if (q) c->allocated = n;
+  return q;
+}
+herr_t imageFree(void* p, H5FD_file_image_op_t op, void* u) {
+  auto* c = static_cast<ImageCapture*>(u);
+  if (op == H5FD_FILE_IMAGE_OP_FILE_CLOSE && p) c->image.assign(static_cast<const char*>(p), c->allocated);
+  std::free(p);
+  return 0;
+}
+void* imageUdataCopy(void* u) { return u; }
+herr_t imageUdataFree(void*) { return 0; }
+
+}  // namespace
+
 std::string resultHdf5Image(const Scenario& s, const RunResult& r) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
-  checked(H5Pset_fapl_core(fapl, 1 << 20, 0), "in-memory file driver");  // never touches the disk
-  // The oldest superblock: HDF5 1.10 clears the open-for-write flags of a newer one in
-  // the image without updating its checksum, and the image would not open.
-  Handle file(createFile("packsim-result-in-memory.h5", fapl, H5F_LIBVER_EARLIEST), H5Fclose, "in-memory result file");
-  writeAll(file, s, r, false);
-  checked(H5Fflush(file, H5F_SCOPE_GLOBAL), "in-memory result file");
-  const ssize_t size = H5Fget_file_image(file, nullptr, 0);
-  if (size < 0) throw std::runtime_error("HDF5: cannot read the in-memory result file");
-  std::string image(static_cast<size_t>(size), '\0');
-  if (H5Fget_file_image(file, image.data(), image.size()) != size)
-    throw std::runtime_error("HDF5: cannot read the in-memory result file");
-  return image;
+  ImageCapture capture;
+  hsize_t size = 0;
+  {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
+    checked(H5Pset_fapl_core(fapl, 1 << 20, 0), "in-memory file driver");  // never touches the disk
+    H5FD_file_image_callbacks_t callbacks = {imageMalloc,    imageMemcpy,    imageRealloc, imageFree,
+                                             imageUdataCopy, imageUdataFree, &capture};
+    checked(H5Pset_file_image_callbacks(fapl, &callbacks), "in-memory file callbacks");
+    Handle file(createFile("packsim-result-in-memory.h5", fapl), H5Fclose, "in-memory result file");
+    writeAll(file, s, r, false);
+    checked(H5Fflush(file, H5F_SCOPE_GLOBAL), "in-memory result file");
+    checked(H5Fget_filesize(file, &size), "in-memory result file size");
+  }  // closed: the driver hands its buffer to imageFree
+  if (capture.image.size() < size) throw std::runtime_error("HDF5: the in-memory result file is incomplete");
+  capture.image.resize(static_cast<size_t>(size));
+  return capture.image;
 }
 
 }  // namespace packsim

@@ -24,8 +24,9 @@
 namespace packsim {
 
 void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r);
-// The same file built in memory (no compression: it is read back at once), as the
-// bytes of an HDF5 file: what packsim.run() reads its attributes and events from.
+// The same file built in memory (HDF5's core driver, nothing on disk; no compression:
+// it is read back at once), as bytes: what packsim.run() reads its attributes and
+// events from.
 std::string resultHdf5Image(const Scenario& s, const RunResult& r);
 
 }  // namespace packsim

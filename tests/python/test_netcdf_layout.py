@@ -113,3 +113,16 @@ def test_run_reads_nothing_from_disk(monkeypatch):
     monkeypatch.setattr(tempfile, "NamedTemporaryFile", no_temp)
     r = packsim.run("bench_6s_ncr18650_2C")
     assert r.events is not None and r.summary["duration_s"] > 0 and r.source is None
+
+
+def test_run_keeps_a_scenario_text_beyond_64_kib(simple_yaml):
+    # Attributes that large need HDF5's dense attribute storage (the 1.8 file format the
+    # writer asks for), in the file packsim.run builds in memory as in the CLI's.
+    n = 9000
+    times = ", ".join(str(0.1 * k) for k in range(n))
+    currents = ", ".join("2.0" if k % 2 else "1.5" for k in range(n))
+    text = simple_yaml.replace("load: {current_A: 2.0}\nrun: {duration_s: 600}\n",
+                               f"load:\n  points:\n    time_s: [{times}]\n    current_A: [{currents}]\n")
+    assert len(text) > 64 * 1024
+    r = packsim.run(text)
+    assert r.scenario_yaml == text and r.n_samples > 100
