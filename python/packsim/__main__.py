@@ -8,10 +8,17 @@ into the program.
 """
 from __future__ import annotations
 
+import importlib
 import os
 import sys
 
 _PKG = os.path.dirname(os.path.abspath(__file__))
+
+# Subcommands whose work is Python (the program itself runs `python -m packsim.<module>`
+# for them): run here, in this interpreter, without the program. Every other
+# subcommand goes to the program. A subcommand the program hands back to
+# `python -m packsim ...` must be in this table, or the two would call each other.
+PYTHON_COMMANDS = {"export": "packsim.export", "report": "packsim.report", "plot": "packsim.plot"}
 
 
 def program() -> str:
@@ -20,6 +27,9 @@ def program() -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    args = sys.argv[1:] if argv is None else list(argv)
+    if args and args[0] in PYTHON_COMMANDS:
+        return importlib.import_module(PYTHON_COMMANDS[args[0]]).main(args[1:])
     exe = program()
     if not os.access(exe, os.X_OK):
         sys.stderr.write(f"packsim: error: the command-line program is missing from the package ({exe}); "
@@ -31,7 +41,7 @@ def main(argv: list[str] | None = None) -> int:
     scenarios = os.path.join(_PKG, "scenarios")
     if os.path.isdir(scenarios):
         env.setdefault("PACKSIM_SCENARIOS", scenarios)
-    args = [exe] + (sys.argv[1:] if argv is None else list(argv))
+    args = [exe] + args
     sys.stdout.flush()
     sys.stderr.flush()
     os.execve(exe, args, env)  # replaces this process: exit status and signals are the program's

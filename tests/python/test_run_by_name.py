@@ -115,3 +115,14 @@ def test_python_dash_m_packsim_runs_the_command(tmp_path):
                           env=env)
     assert done.returncode == 0, done.stderr
     assert "motorcycle_110s" in done.stdout and "ncr18650_3p1Ah" in done.stdout
+
+
+def test_python_dash_m_packsim_runs_the_python_commands_in_process(tmp_path):
+    # export / report / plot are Python: `python -m packsim` runs them itself (the program
+    # hands them to `python -m packsim.<module>`, so they must never go back to it).
+    from packsim.__main__ import PYTHON_COMMANDS, main
+    assert {"export", "report", "plot"} <= set(PYTHON_COMMANDS)
+    src = tmp_path / "r.h5"
+    packsim.run(SHORT).save(src)
+    assert main(["export", str(src), "--format", "csv", "-o", str(tmp_path / "csv")]) == 0
+    assert (tmp_path / "csv" / "samples.csv").is_file()
