@@ -13,9 +13,8 @@ APT_PACKAGES=(
 )
 # Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
 # Dask), and the build tools `pip install .` uses without build isolation.
-PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray nbformat nbclient ipykernel
-              "dask[distributed]" scikit-build-core pybind11
-              scipy)  # packsim fit: scipy.optimize.least_squares
+PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
+              "dask[distributed]" scikit-build-core pybind11)
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do

@@ -11,30 +11,13 @@
 #include "core/balance/balance_table.hpp"
 #include "core/balance/balance_time.hpp"
 #include "core/cli/commands.hpp"
+#include "core/cli/python_module.hpp"
 #include "core/scenario/yaml_map.hpp"
 #include "core/scenario/load_scenario.hpp"
 
 namespace packsim {
 
 namespace fs = std::filesystem;
-
-// A bundled scenario by name: scenarios/NAME.yaml or scenarios/balance/NAME.yaml.
-std::string presetPath(const std::string& name) {
-  const fs::path dir = bundledScenarioDir();
-  for (const fs::path& p : {dir / (name + ".yaml"), dir / "balance" / (name + ".yaml")})
-    if (fs::exists(p)) return p.string();
-  std::vector<std::string> names;
-  for (const fs::path& sub : {dir, dir / "balance"})
-    if (fs::is_directory(sub))
-      for (const auto& e : fs::directory_iterator(sub))
-        if (e.path().extension() == ".yaml") names.push_back(e.path().stem().string());
-  std::sort(names.begin(), names.end());
-  std::string known;
-  for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
-  const std::string near = closestMatch(name, names);
-  throw std::invalid_argument("--preset: no bundled scenario named '" + name + "'" +
-                              (near.empty() ? "" : "; did you mean '" + near + "'?") + " (known: " + known + ")");
-}
 
 namespace {
 
@@ -53,7 +36,8 @@ void plotBalanceTime(const BalanceTimeResult& r, const std::string& png) {
         << w.within_rating << ',' << w.within_limits << ',' << w.fastest << '\n';
   }
   const int rc = runPythonModule("packsim.balance_plot", {csv, png, "--title", r.scenario, "--board-max-C",
-                                                     std::to_string(r.board_max_C)});
+                                                     std::to_string(r.board_max_C)},
+                                 "numpy and matplotlib");
   if (rc != 0) throw std::runtime_error("--plot: python3 -m packsim.balance_plot failed (exit " + std::to_string(rc) + ")");
   std::cout << "wrote " << png << " (table in " << csv << ")\n";
 }

@@ -1,11 +1,16 @@
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 
 #include "core/cli/commands.hpp"
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/load_scenario.hpp"
+#include "core/scenario/overrides.hpp"
+#include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/stop_signal.hpp"
 #include "core/sim/summary_text.hpp"
@@ -14,17 +19,43 @@ namespace packsim {
 
 std::string defaultScenarioPath() { return bundledScenarioDir() + "/eco_marathon_12s.yaml"; }
 
+// A scenario argument: an existing file (or a missing *.yaml, which the loader names),
+// else a bundled scenario by name (motorcycle_110s, faults/a_host_dead).
+std::string scenarioArgPath(const std::string& arg) {
+  if (arg.empty()) return defaultScenarioPath();
+  const bool looksLikePath = arg.size() > 5 && arg.compare(arg.size() - 5, 5, ".yaml") == 0;
+  if (std::filesystem::exists(arg) || looksLikePath) return arg;  // a missing file: the loader names it
+  return presetPath(arg);
+}
+
+Overrides parseSetOptions(const std::vector<std::string>& sets) {
+  Overrides out;
+  for (const std::string& kv : sets) {
+    const size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw std::invalid_argument("--set " + kv + ": expected KEY=VALUE with a dotted scenario key, e.g. "
+                                  "--set pack.cell.capacity_Ah=4.5");
+    out.emplace_back(kv.substr(0, eq), kv.substr(eq + 1));
+  }
+  return out;
+}
+
 int cmdRun(const RunOptions& o) {
-  const std::string path = o.scenario.empty() ? defaultScenarioPath() : o.scenario;
-  Scenario s = loadScenarioFile(path);
+  const std::string path = scenarioArgPath(o.scenario);
+  Scenario s = loadScenarioFileWithOverrides(path, parseSetOptions(o.set));
   if (o.seed) s.run.seed = *o.seed;
   const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
   checkResultPathWritable(out);  // before the run, not after it
+  // A bar while it runs when stdout is a terminal (never into a file or a pipe).
+  const bool bar = !o.quiet && isatty(fileno(stdout));
+  const StopCondition progress = bar ? terminalProgressBar(s.endTime_s(), stdout) : StopCondition{};
   double stoppedAt_s = 0.0;
-  const RunResult r = runScenario(s, [&](double t_s, const double*, const PlantSignals&, const bms::Outputs&) {
+  const RunResult r = runScenario(s, [&](double t_s, const double* x, const PlantSignals& sig, const bms::Outputs& bo) {
     stoppedAt_s = t_s;
+    if (progress) progress(t_s, x, sig, bo);
     return stopSignal() != 0;
   });
+  if (bar) terminalProgressDone(stdout);
   if (const int sig = stopSignal()) {
     char at[64];
     std::snprintf(at, sizeof at, "%.3f", stoppedAt_s);

@@ -5,12 +5,14 @@
 #include <string>
 #include <vector>
 
+#include "core/cli/bundled_catalog.hpp"    // presetPath, bundledCatalog
 #include "core/scenario/load_scenario.hpp"  // bundledScenarioDir
 
 namespace packsim {
 
 struct RunOptions {
-  std::string scenario;  // empty: the bundled default
+  std::string scenario;  // a file or a bundled scenario's name; empty: the bundled default
+  std::vector<std::string> set;  // --set KEY=VALUE overrides (dotted keys, YAML values)
   std::string output;    // empty: packsim-results/<name>.h5
   std::optional<uint64_t> seed;
   bool quiet = false;
@@ -56,18 +58,32 @@ struct FitCliOptions {
   std::vector<std::string> args;
 };
 
+// `packsim export` (python/packsim/export.py).
+struct ExportOptions {
+  std::string result;  // result HDF5 file
+  std::string format;  // csv, mat or parquet
+  std::string output;  // empty: next to the result, by format
+};
+
+// `packsim report` (python/packsim/report.py).
+struct ReportOptions {
+  std::string source;  // result HDF5 file or batch folder
+  std::string output;  // HTML file
+};
+
 std::string defaultScenarioPath();
+int cmdList();
+int cmdReport(const ReportOptions& o);
+int cmdExport(const ExportOptions& o);
 int cmdRun(const RunOptions& o);
+// A scenario argument as a path: an existing file, else a bundled scenario by name.
+std::string scenarioArgPath(const std::string& arg);
 int cmdCheck(const CheckOptions& o);
 int cmdPlot(const PlotOptions& o);
 int cmdBatch(const BatchCliOptions& o);
 int cmdBalanceTime(const BalanceTimeCliOptions& o);
 int cmdFit(const FitCliOptions& o);
-// Path of a bundled scenario by name; throws std::invalid_argument listing the names.
-std::string presetPath(const std::string& name);
 // Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).
 std::string pythonPackageDir();
-// `python3 -m MODULE ARGS…` with the package on PYTHONPATH (core/cli/cmd_plot.cpp); its exit code.
-int runPythonModule(const std::string& module, std::vector<std::string> args);
 
 }  // namespace packsim

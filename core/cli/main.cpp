@@ -11,6 +11,7 @@
 
 #include "core/cli/cli_errors.hpp"
 #include "core/cli/commands.hpp"
+#include "core/cli/tool_commands.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/sim/stop_signal.hpp"
 #include "core/version.hpp"
@@ -22,7 +23,9 @@ int main(int argc, char** argv) {
 
   packsim::RunOptions run;
   CLI::App* runCmd = app.add_subcommand("run", "run one scenario (the bundled default if none is given)");
-  runCmd->add_option("scenario", run.scenario, "scenario YAML file (default: " + packsim::defaultScenarioPath() + ")");
+  runCmd->add_option("scenario", run.scenario, "scenario YAML file or bundled scenario name (packsim list; "
+                                              "default: eco_marathon_12s)");
+  runCmd->add_option("--set", run.set, "override a scenario value, e.g. --set pack.cell.capacity_Ah=4.5 (repeatable)");
   runCmd->add_option("-o,--output", run.output, "result HDF5 file (default: packsim-results/<name>.h5)");
   runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(packsim::nonNegativeNumber());
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
@@ -66,6 +69,9 @@ int main(int argc, char** argv) {
   fitCmd->prefix_command();  // every argument, --help too, goes to the Python fitter
   fitCmd->set_help_flag();
 
+  packsim::ToolCommands tools;
+  packsim::addToolCommands(app, tools);
+
   const std::string badCommand = packsim::unknownSubcommandError(app, argc, argv);
   if (!badCommand.empty()) {
     std::cerr << "packsim: error: " << badCommand << "\n";
@@ -87,6 +93,7 @@ int main(int argc, char** argv) {
       fit.args = fitCmd->remaining();
       return packsim::cmdFit(fit);
     }
+    if (const auto rc = packsim::runToolCommand(tools)) return *rc;
   } catch (const packsim::Interrupted& e) {
     std::cerr << "packsim: " << e.what() << "\n";
     return e.exitStatus();

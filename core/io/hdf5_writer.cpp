@@ -11,11 +11,15 @@
 #include <bms/bms_telemetry.hpp>
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
 
+#include "core/io/hdf5_layout.hpp"
 #include "core/version.hpp"
 
 namespace packsim {
@@ -64,9 +68,16 @@ template <> hid_t nativeType<uint16_t>() { return H5T_NATIVE_UINT16; }
 template <> hid_t nativeType<int32_t>() { return H5T_NATIVE_INT32; }
 template <> hid_t nativeType<uint32_t>() { return H5T_NATIVE_UINT32; }
 
+// Rows per chunk: about 16 Ki values per chunk, whole rows.
+hsize_t chunkRows(size_t rows, size_t cols) {
+  const size_t perRow = cols == 0 ? 1 : cols;
+  const size_t r = std::max<size_t>(1, 16384 / perRow);
+  return static_cast<hsize_t>(std::min(rows, r));
+}
+
 class Writer {
  public:
-  explicit Writer(hid_t file) : file_(file) {
+  Writer(hid_t file, bool compress) : file_(file), compress_(compress) {
     dcpl_ = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_obj_track_times(dcpl_, 0);
     gcpl_ = H5Pcreate(H5P_GROUP_CREATE);
@@ -84,8 +95,18 @@ class Writer {
   template <typename T>
   void dataset(const std::string& name, const std::vector<T>& data, size_t rows, size_t cols, const char* units) {
     hsize_t dims[2] = {rows, cols};
-    Handle space(H5Screate_simple(cols == 0 ? 1 : 2, dims, nullptr), H5Sclose, name.c_str());
-    Handle ds(H5Dcreate2(file_, name.c_str(), nativeType<T>(), space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose,
+    const int rank = cols == 0 ? 1 : 2;
+    Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose, name.c_str());
+    // Chunked, shuffled and deflated (HDF5's own filters, lossless: the values read back
+    // are the values written). An empty dataset stays contiguous.
+    Handle dcpl(H5Pcopy(dcpl_), H5Pclose, "dataset creation list");
+    if (compress_ && rows > 0 && (rank == 1 || cols > 0)) {
+      const hsize_t chunk[2] = {chunkRows(rows, cols), cols};
+      checked(H5Pset_chunk(dcpl, rank, chunk), name + " chunking");
+      checked(H5Pset_shuffle(dcpl), name + " shuffle filter");
+      checked(H5Pset_deflate(dcpl, 4), name + " deflate filter");
+    }
+    Handle ds(H5Dcreate2(file_, name.c_str(), nativeType<T>(), space, H5P_DEFAULT, dcpl, H5P_DEFAULT), H5Dclose,
               name.c_str());
     if (!data.empty()) checked(H5Dwrite(ds, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), name);
     if (units) attr(ds, "units", units);
@@ -137,6 +158,7 @@ class Writer {
 
  private:
   hid_t file_;
+  bool compress_;
   hid_t dcpl_;
   hid_t gcpl_;
 };
@@ -148,8 +170,8 @@ std::string faultNames() {
   return s;
 }
 
-void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
-  Writer w(file);
+void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) {
+  Writer w(file, compress);
   const Recording& rec = r.rec;
   const size_t n = rec.samples();
   const size_t cells = static_cast<size_t>(rec.cells);
@@ -187,6 +209,20 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
   w.dataset("/bms/fault_active", rec.fault_active, n, 0, nullptr);
   w.dataset("/bms/fault_latched", rec.fault_latched, n, 0, nullptr);
   w.attrOn("/bms", "fault_bits", faultNames());
+  {  // the protection limits the plots draw (an attribute only when the protection is on)
+    Handle bms(H5Oopen(file, "/bms", H5P_DEFAULT), H5Oclose, "/bms");
+    const struct {
+      const char* name;
+      const ProtectionConfig& p;
+    } limits[] = {{"limit_cell_overvoltage_V", s.bms.cell_overvoltage},
+                  {"limit_cell_undervoltage_V", s.bms.cell_undervoltage},
+                  {"limit_overtemperature_C", s.bms.overtemperature},
+                  {"limit_undertemperature_C", s.bms.undertemperature},
+                  {"limit_overcurrent_discharge_A", s.bms.overcurrent_discharge},
+                  {"limit_overcurrent_charge_A", s.bms.overcurrent_charge}};
+    for (const auto& l : limits)
+      if (l.p.enabled) w.attr(bms, l.name, l.p.threshold);
+  }
   w.dataset("/bms/relay_closed", rec.relay_closed, n, 0, nullptr);
   w.dataset("/bms/discharge_fet_on", rec.discharge_fet_on, n, 0, nullptr);
   w.dataset("/bms/charge_fet_on", rec.charge_fet_on, n, 0, nullptr);
@@ -282,6 +318,17 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r) {
   w.attr(g, "capacity_true_Ah", sm.capacity_true_Ah);
   w.attrInt(g, "display_bars_hidden_max", sm.display_bars_hidden_max);
   w.attrInt(g, "display_bars_extra_max", sm.display_bars_extra_max);
+
+  addNetcdfLayout(file, {n, cells, static_cast<size_t>(rec.groups), static_cast<size_t>(rec.thermistors),
+                         static_cast<size_t>(rec.devices)});
+}
+
+// A new file with the creation and access properties every result file has.
+hid_t createFile(const std::string& name, hid_t fapl) {
+  H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
+  Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
+  H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
+  return H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl);
 }
 
 }  // namespace
@@ -294,11 +341,8 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
   try {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
-    H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
-    Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
-    H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
-    Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose, tmp.c_str());
-    writeAll(file, s, r);
+    Handle file(createFile(tmp, fapl), H5Fclose, tmp.c_str());
+    writeAll(file, s, r, true);
     file.close(tmp.c_str());
     if (const int sig = stopSignal())
       throw Interrupted(sig, "interrupted by " + stopSignalName(sig) + " while writing " + path + "; nothing written");
@@ -333,6 +377,59 @@ void checkResultPathWritable(const std::string& path) {
   if (!f) fail(std::strerror(errno));
   std::fclose(f);
   std::remove(probe.c_str());
+}
+
+namespace {
+
+// HDF5's in-memory (core) driver with our own memory callbacks: the driver hands its
+// buffer to imageFree when the file closes, complete and consistent. (Not
+// H5Fget_file_image on the open file: HDF5 1.10 clears the superblock's open-for-write
+// flag in that copy without updating its checksum, and the image does not open.)
+struct ImageCapture {
+  size_t allocated = 0;
+  std::string image;
+};
+void* imageMalloc(size_t n, H5FD_file_image_op_t, void* u) {
+  static_cast<ImageCapture*>(u)->allocated = n;
+  return std::calloc(n, 1);
+}
+void* imageMemcpy(void* dst, const void* src, size_t n, H5FD_file_image_op_t, void*) { return std::memcpy(dst, src, n); }
+void* imageRealloc(void* p, size_t n, H5FD_file_image_op_t, void* u) {
+  auto* c = static_cast<ImageCapture*>(u);
+  void* q = std::realloc(p, n);
+  if (q && n > c->allocated) std::memset(static_cast<char*>(q) + c->allocated, 0, n - c->allocated);
+  if (q) c->allocated = n;
+  return q;
+}
+herr_t imageFree(void* p, H5FD_file_image_op_t op, void* u) {
+  auto* c = static_cast<ImageCapture*>(u);
+  if (op == H5FD_FILE_IMAGE_OP_FILE_CLOSE && p) c->image.assign(static_cast<const char*>(p), c->allocated);
+  std::free(p);
+  return 0;
+}
+void* imageUdataCopy(void* u) { return u; }
+herr_t imageUdataFree(void*) { return 0; }
+
+}  // namespace
+
+std::string resultHdf5Image(const Scenario& s, const RunResult& r) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  ImageCapture capture;
+  hsize_t size = 0;
+  {
+    Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
+    checked(H5Pset_fapl_core(fapl, 1 << 20, 0), "in-memory file driver");  // never touches the disk
+    H5FD_file_image_callbacks_t callbacks = {imageMalloc,    imageMemcpy,    imageRealloc, imageFree,
+                                             imageUdataCopy, imageUdataFree, &capture};
+    checked(H5Pset_file_image_callbacks(fapl, &callbacks), "in-memory file callbacks");
+    Handle file(createFile("packsim-result-in-memory.h5", fapl), H5Fclose, "in-memory result file");
+    writeAll(file, s, r, false);
+    checked(H5Fflush(file, H5F_SCOPE_GLOBAL), "in-memory result file");
+    checked(H5Fget_filesize(file, &size), "in-memory result file size");
+  }  // closed: the driver hands its buffer to imageFree
+  if (capture.image.size() < size) throw std::runtime_error("HDF5: the in-memory result file is incomplete");
+  capture.image.resize(static_cast<size_t>(size));
+  return capture.image;
 }
 
 }  // namespace packsim

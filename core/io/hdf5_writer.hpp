@@ -9,6 +9,9 @@
 //   /events           table (time_s, kind, detail)
 //   /summary          attrs: the run summary
 //
+// Laid out for netCDF tools (core/io/hdf5_layout.hpp): dimension scales, long_name and
+// units attributes, datasets chunked and compressed with deflate + shuffle.
+//
 // The file is written under a temporary name and renamed when complete, so a failed
 // run never leaves a partial result behind. Object timestamps are off: the same run
 // gives the same bytes.
@@ -24,6 +27,10 @@ namespace packsim {
 // arrived while writing, and std::runtime_error when a write or the close fails (disk
 // full); the temporary file is removed in both cases.
 void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r);
+// The same file built in memory (HDF5's core driver, nothing on disk; no compression:
+// it is read back at once), as bytes: what packsim.run() reads its attributes and
+// events from.
+std::string resultHdf5Image(const Scenario& s, const RunResult& r);
 
 // Checks before a run that a result can be written at `path`: not an existing directory
 // or device, its folder creatable and writable (a probe file is created and removed).

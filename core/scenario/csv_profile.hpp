@@ -1,5 +1,9 @@
-// Reads a load profile table: a header row `time_s,current_A` (or `time_s,power_W`),
-// then one row per point.
+// Reads a load profile table: a header row naming the columns, then one row per point.
+// The time column and one value column (a current in A or a power in W) are picked by
+// name; other columns are ignored. Fields are separated by commas, or by semicolons
+// (then a decimal comma is read too: "1,5" is 1.5) or tabs, as the header row uses.
+// `scale` multiplies the values (0.001 for a column in mA or mW, -1 to flip a sign
+// convention); time is in seconds.
 // Errors name the file, the line and the column that is wrong.
 #pragma once
 #include <string>
@@ -9,10 +13,18 @@ namespace packsim {
 
 struct CsvProfile {
   std::vector<double> time_s;
-  std::vector<double> value;  // A or W
-  bool power = false;         // second column is power_W
+  std::vector<double> value;  // A or W, scaled
+  bool power = false;         // the value column is a power
 };
 
-CsvProfile readProfileCsv(const std::string& path);
+struct CsvColumns {
+  std::string time = "time_s";
+  std::string value;   // "": the column named current_A or power_W
+  bool power = false;  // with `value`: it is a power (W), else a current (A)
+  double scale = 1.0;
+};
+
+CsvProfile readProfileCsv(const std::string& path);  // the default columns
+CsvProfile readProfileCsv(const std::string& path, const CsvColumns& columns);
 
 }  // namespace packsim

@@ -62,11 +62,31 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
         if (!(p.t_s[i] > p.t_s[i - 1])) throw pts.errorAt("time_s", "values must increase strictly");
       pts.finish();
     } else {
-      fs::path csv = m.string("csv");
-      if (csv.is_relative()) csv = fs::path(baseDir) / csv;
-      std::error_code ec;  // a name too long for the file system is "not found", not an exception
-      if (!fs::exists(csv, ec)) throw m.errorAt("csv", "file not found: " + csv.string());
-      const CsvProfile t = readProfileCsv(csv.string());
+      // csv: FILE (columns time_s and current_A or power_W), or
+      // csv: {file, time_column, current_column | power_column, scale}.
+      CsvColumns columns;
+      fs::path csv;
+      if (m.node("csv").IsMap()) {
+        YamlMap c = m.map("csv");
+        csv = c.string("file");
+        columns.time = c.string("time_column", "time_s");
+        if (c.has("current_column") && c.has("power_column"))
+          throw c.errorAt("power_column", "give one of current_column or power_column");
+        columns.power = c.has("power_column");
+        columns.value = c.string(columns.power ? "power_column" : "current_column", "");
+        columns.scale = c.number("scale", 1.0, Range{});
+        if (columns.scale == 0.0) throw c.errorAt("scale", "must not be 0");
+        c.finish();
+        if (csv.is_relative()) csv = fs::path(baseDir) / csv;
+        std::error_code ec;  // a name too long for the file system is "not found", not an exception
+        if (!fs::exists(csv, ec)) throw c.errorAt("file", "file not found: " + csv.string());
+      } else {
+        csv = m.string("csv");
+        if (csv.is_relative()) csv = fs::path(baseDir) / csv;
+        std::error_code ec;
+        if (!fs::exists(csv, ec)) throw m.errorAt("csv", "file not found: " + csv.string());
+      }
+      const CsvProfile t = readProfileCsv(csv.string(), columns);
       p.t_s = t.time_s;
       p.i_A = t.value;
       p.quantity = t.power ? Q::Power_W : Q::Current_A;

@@ -1,5 +1,7 @@
 #include "core/scenario/load_scenario.hpp"
 
+#include "core/io/install_paths.hpp"
+
 #include <bms/bms_limits.hpp>
 #include <algorithm>
 #include <cmath>
@@ -209,8 +211,14 @@ std::string readScenarioText(const std::string& path, const std::string& what) {
 }
 
 std::string bundledScenarioDir() {
-  if (const char* env = std::getenv("PACKSIM_SCENARIOS")) return env;
-  return PACKSIM_SCENARIO_DIR;
+  if (const char* env = std::getenv("PACKSIM_SCENARIOS"); env && *env) return env;
+  const std::string exe = executableDir();
+  const std::string found = firstFolderWith({exe + "/scenarios", exe + "/../scenarios"}, "cells");
+  if (found.empty())
+    throw ScenarioError("", 0, 0, "", "cannot find the bundled scenarios next to the packsim executable (" +
+                        (exe.empty() ? std::string("unknown folder") : exe) +
+                        "); set PACKSIM_SCENARIOS to the scenarios folder");
+  return found;
 }
 
 Scenario loadScenarioFile(const std::string& path) {

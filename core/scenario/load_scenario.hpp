@@ -10,7 +10,8 @@
 namespace packsim {
 
 Scenario loadScenarioFile(const std::string& path);
-// Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).
+// Folder of the bundled scenarios, found at run time (core/io/install_paths.hpp);
+// $PACKSIM_SCENARIOS overrides. A ScenarioError if there is none.
 std::string bundledScenarioDir();
 // The file's text as written (a ScenarioError "cannot open <what>" naming it if it
 // cannot be read).

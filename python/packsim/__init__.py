@@ -1,15 +1,18 @@
 """packsim from Python: run battery-pack/BMS scenarios, load and plot their results.
 
     import packsim
-    r = packsim.run("scenarios/eco_marathon_12s.yaml", {"pack.cell.capacity_Ah": 4.5}, seed=7)
+    r = packsim.run("eco_marathon_12s", {"pack.cell.capacity_Ah": 4.5}, seed=7)   # by name or path
     r["truth/cell_voltage_V"]          # [samples, cells] NumPy array
     r.summary["energy_delivered_Wh"]
     r.save("race.h5"); packsim.load("race.h5")
     packsim.plot.plot_all(r, "figures/")
-    packsim.check("scenarios/faults")            # as `packsim check`
+    packsim.check(packsim.bundled_scenarios("faults/*.yaml"))   # as `packsim check`
     packsim.batch("sweep.yaml", client=None)     # as `packsim batch`, or on Dask
     packsim.balance_time(resistor=[22, 33, 47])  # as `packsim balance-time`
     packsim.fit(["hppc.csv"], rc_pairs=2).save("cells/my_cell.yaml")   # as `packsim fit`
+    packsim.run("motorcycle_110s")               # a bundled scenario by name (packsim.list_bundled())
+    packsim.export("race.h5", "parquet")         # as `packsim export` (csv, mat, parquet)
+    packsim.report("race.h5", "race.html")       # as `packsim report`: one self-contained page
 
 The simulation itself is the C++ core (packsim._packsim); this package is a thin layer.
 """
@@ -26,6 +29,8 @@ from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
 from .check import CheckOutcome, CheckReport, FaultLatency, check
 from .fit import FitError, FitResult, fit
+from .export import export
+from .report import report
 from .result import Result, load
 
 # An installed wheel carries the bundled scenarios inside the package.
@@ -44,7 +49,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 
 __all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
-           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "__version__"]
+           "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "report", "list_bundled", "__version__"]
 __all__ += ["fit", "FitResult", "FitError"]
 
 
@@ -78,6 +83,17 @@ def bundled_scenarios(pattern: str = "*.yaml") -> list[str]:
     """Sorted paths of the bundled scenarios matching a glob pattern relative to their
     folder (``"*.yaml"``, ``"faults/*.yaml"``, ``"**/*.yaml"``)."""
     return sorted(glob.glob(os.path.join(bundled_scenario_dir(), pattern), recursive=True))
+
+
+def list_bundled(kind: str | None = None) -> list[dict[str, str]]:
+    """The bundled scenarios and cell presets as ``packsim list`` prints them: dicts with
+    kind ("scenario" or "cell"), name, path and a one-line description. kind filters."""
+    rows = [dict(zip(("kind", "name", "path", "description"), t)) for t in _core().bundled_catalog()]
+    if kind is not None:
+        if kind not in ("scenario", "cell"):
+            raise ValueError(f"kind must be 'scenario' or 'cell', not {kind!r}")
+        rows = [r for r in rows if r["kind"] == kind]
+    return rows
 
 
 def apply_overrides(yaml_text: str, /, overrides: Mapping[str, Any] | None = None, **more: Any) -> str:
@@ -135,7 +151,9 @@ def _scenario_args(scenario: Any, pairs: list[tuple[str, str]],
     if _is_path(scenario):
         path = os.fspath(scenario)
         if not os.path.isfile(path):
-            raise FileNotFoundError(f"no such scenario file: {path}")
+            if path.endswith((".yaml", ".yml")):
+                raise FileNotFoundError(f"no such scenario file: {path}")
+            path = _core().scenario_arg_path(path)  # a bundled scenario by name (ValueError naming the closest)
         if base is not None:
             raise ValueError(_FILE_BASE_DIR)
         return path, True, pairs, "<scenario>", "."
@@ -157,10 +175,12 @@ def _validate_seed(seed: Any) -> int | None:
 
 def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
         overrides: Mapping[str, Any] | None = None, *,
-        seed: int | None = None, base_dir: str | os.PathLike | None = None, **more: Any) -> Result:
+        seed: int | None = None, base_dir: str | os.PathLike | None = None, progress: Any = False,
+        **more: Any) -> Result:
     """Run one scenario and return its Result.
 
-    scenario:  a path to a YAML file, YAML text, or a dict of the scenario itself;
+    scenario:  a path to a YAML file, a bundled scenario's name (``"motorcycle_110s"``,
+               see ``list_bundled()``), YAML text, or a dict of the scenario itself;
                None runs the bundled default (like ``packsim run``).
     overrides: a dict merged into the scenario, nested (``{"pack": {"cell":
                {"capacity_Ah": 3.0}}}``) or with dotted keys (``{"pack.cell.capacity_Ah":
@@ -173,17 +193,29 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
     base_dir:  where relative CSV paths of YAML text or a dict resolve (default: the
                current folder; a file's own folder for a path).
 
+    progress:  True: a progress bar over simulated time (tqdm.auto: a widget in Jupyter,
+               nothing on stdout); or a callable progress(t_s, end_s), called every 1 %.
+
     The GIL is released while the simulation runs: threads run scenarios in parallel.
     """
     from .result import _from_handle
-    return _from_handle(_run_handle(scenario, flatten_overrides(overrides, more), _validate_seed(seed), base_dir))
+    pairs, seed = flatten_overrides(overrides, more), _validate_seed(seed)
+    if progress is False or progress is None:
+        return _from_handle(_run_handle(scenario, pairs, seed, base_dir))
+    if progress is True:
+        from ._progress import tqdm_progress
+        with tqdm_progress() as report:
+            return _from_handle(_run_handle(scenario, pairs, seed, base_dir, report))
+    if not callable(progress):
+        raise TypeError(f"progress must be a bool or a callable(t_s, end_s), got {type(progress).__name__}")
+    return _from_handle(_run_handle(scenario, pairs, seed, base_dir, progress))
 
 
-def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any):
+def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any, progress: Any = None):
     """run() up to the C++ RunHandle; overrides already flattened, seed validated."""
     core = _core()
     base = _path_arg("base_dir", base_dir)
     if scenario is None:
         scenario = core.default_scenario_path()
     source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
-    return core.run(source, is_file, pairs, seed, name, base)
+    return core.run(source, is_file, pairs, seed, name, base, progress)

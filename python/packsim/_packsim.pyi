@@ -1,5 +1,5 @@
 """Type hints for the compiled extension packsim._packsim (python/src/module.cpp)."""
-from typing import Any, Optional
+from typing import Any, Callable, Optional
 
 import numpy as np
 
@@ -11,6 +11,8 @@ class RunHandle:
         """{HDF5 dataset path: read-only numpy view of the C++ recording} (no copy)."""
     def save(self, path: str) -> None:
         """Write the result HDF5 exactly as ``packsim run -o PATH`` does."""
+    def image(self) -> bytes:
+        """The same HDF5 file built in memory (uncompressed), as bytes; nothing is written."""
     @property
     def scenario_yaml(self) -> str: ...
     @property
@@ -19,16 +21,22 @@ class RunHandle:
     def seed(self) -> int: ...
 
 def run(source: str, is_file: bool, overrides: list[tuple[str, str]], seed: Optional[int] = None,
-        file_name: str = "<scenario>", base_dir: str = ".") -> RunHandle:
+        file_name: str = "<scenario>", base_dir: str = ".",
+        progress: Optional[Callable[[float, float], None]] = None) -> RunHandle:
     """Load a scenario (a file if is_file, else YAML text), apply (dotted key, YAML value)
-    overrides and simulate it with the GIL released. Raises packsim.ScenarioError for bad
-    input, RuntimeError for a failed run."""
+    overrides and simulate it with the GIL released; progress(t_s, end_s) is called every
+    1 % of simulated time. Raises packsim.ScenarioError for bad input, RuntimeError for a
+    failed run."""
 
 def apply_overrides(yaml_text: str, overrides: list[tuple[str, str]], file_name: str = "<scenario>") -> str:
     """The scenario text with (dotted key, YAML value) overrides applied."""
 
 def bundled_scenario_dir() -> str: ...
 def default_scenario_path() -> str: ...
+def bundled_catalog() -> list[tuple[str, str, str, str]]:
+    """[(kind, name, path, description)] of the bundled scenarios and cell presets."""
+def scenario_arg_path(arg: str) -> str:
+    """An existing file, else a bundled scenario by name (ValueError naming the closest)."""
 
 # --- `packsim check` (python/src/check_bindings.cpp) -----------------------------------
 def check_file(path: str) -> dict[str, Any]:

@@ -4,13 +4,16 @@ threads and notebooks alike).
     from packsim import plot
     plot.cells(r, "voltage")        # lines for <= 24 cells, a heatmap above
     plot.current_soc(r)
-    plot.bms_timeline(r)            # state, actuators, faults, events
+    plot.bms_timeline(r)            # state, commanded vs hardware actuators, faults, events
+    plot.measured_vs_truth(r)       # what the BMS read vs the simulated truth, SOC estimate
     plot.balancing(r)               # None when the result has no balance mask
     plot.balance_time(packsim.balance_time(resistor=[22, 33, 47]))   # time to balance vs R
     plot.plot_all(r, "figures/")    # all of them as PNG; what `packsim plot` writes
 
 Every function takes a Result (or a path to a result file) and returns a
-matplotlib Figure. ``python -m packsim.plot RESULT.h5 -o DIR`` writes the PNGs.
+matplotlib Figure. Every time plot marks the run's fault injections and trips
+(python/packsim/_plot_marks.py); voltage, temperature and current plots draw the BMS's
+protection limits. ``python -m packsim.plot RESULT.h5 -o DIR`` writes the PNGs.
 """
 from __future__ import annotations
 
@@ -22,9 +25,11 @@ from typing import Any
 
 import numpy as np
 
+from ._plot_marks import draw_limits, mark_events
 from .result import Result, load
 
-__all__ = ["cells", "current_soc", "bms_timeline", "balancing", "balance_time", "plot_all", "main", "LINE_LIMIT"]
+__all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "balance_time", "plot_all",
+           "main", "LINE_LIMIT", "timeline_rows"]
 
 LINE_LIMIT = 24  # more cells than this: a heatmap instead of one line per cell
 
@@ -33,6 +38,11 @@ _QUANTITIES = {
     "temperature": ("truth/cell_temp_C", "cell temperature (°C)"),
     "soc": ("truth/cell_soc", "cell SOC (-)"),
     "current": ("truth/cell_current_A", "cell current (A)"),
+}
+# Protection limits drawn on each quantity's plot: (limit name, label, sign).
+_LIMITS = {
+    "voltage": [("cell_overvoltage_V", "over-voltage", 1.0), ("cell_undervoltage_V", "under-voltage", 1.0)],
+    "temperature": [("overtemperature_C", "over-temperature", 1.0)],
 }
 
 
@@ -91,11 +101,15 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
     fig = _figure()
     ax = fig.add_subplot()
     if n <= line_limit:
-        import matplotlib as mpl
-        colors = mpl.colormaps["viridis"](np.linspace(0.0, 0.9, n))
+        marked = _highlighted_cells(r, a)
         for j in range(n):
-            ax.plot(t, a[:, j], color=colors[j], lw=1.0, label=f"cell {j + 1}")
-        ax.legend(ncol=max(1, (n + 11) // 12), fontsize="small", loc="best")
+            if j not in marked:
+                ax.plot(t, a[:, j], color="0.65", lw=0.7, label="other cells" if j == min(set(range(n)) - set(marked),
+                                                                                          default=-1) else None)
+        for k, (j, why) in enumerate(marked.items()):
+            ax.plot(t, a[:, j], color=f"C{k}", lw=1.6, label=f"cell {j + 1} ({why})")
+        draw_limits(ax, r, [lim for lim in _LIMITS.get(quantity, []) if _near(lim, r, a)])
+        ax.legend(fontsize="small", loc="lower left")
         ax.set_ylabel(label)
     else:
         dt = t[1] - t[0] if t.size > 1 else 1.0
@@ -104,11 +118,53 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
                        cmap="inferno" if quantity == "temperature" else "viridis")
         fig.colorbar(im, ax=ax, label=label)
         ax.set_ylabel("cell")
+        for j, why in _highlighted_cells(r, a).items():
+            ax.annotate(f"cell {j + 1} ({why})", (1.0, j + 1), xycoords=("axes fraction", "data"), xytext=(-4, 0),
+                        textcoords="offset points", ha="right", va="center", fontsize=7, color="w")
     ax.set_xlabel(tlabel)
     ax.set_title(_title(r, f"{quantity} of {n} cells"))
     if n <= line_limit:
         ax.grid(alpha=0.3)
+    mark_events(ax, r, _time(r)[2])
     return fig
+
+
+def _near(lim: tuple[str, str, float], r: Result, a: np.ndarray) -> bool:
+    """A limit worth drawing: within the data's range widened by its own span (a
+    far-away limit would only squash the curves)."""
+    from ._plot_marks import limit
+    v = limit(r, lim[0])
+    if v is None or a.size == 0:
+        return False
+    lo, hi = float(np.nanmin(a)), float(np.nanmax(a))
+    pad = max(hi - lo, 0.05 * max(abs(lo), abs(hi), 1.0))
+    return lo - pad <= lim[2] * v <= hi + pad
+
+
+def _faulted_cells(r: Result) -> set[int]:
+    """0-based cells a fault injection names ("hot_cell cell 5, 25 W")."""
+    import re
+    out = set()
+    for ev in r.events:
+        if ev["kind"] == "fault_injected":
+            out |= {int(m) - 1 for m in re.findall(r"\bcell (\d+)", str(ev["detail"]))}
+    return out
+
+
+def _highlighted_cells(r: Result, a: np.ndarray) -> dict[int, str]:
+    """{cell index: why} for the cell reaching the lowest value, the one reaching the
+    highest, and every cell a fault injection names."""
+    if a.size == 0:
+        return {}
+    marked: dict[int, str] = {}
+    for j in sorted(_faulted_cells(r)):
+        if 0 <= j < a.shape[1]:
+            marked[j] = "fault injected"
+    lo, hi = int(np.argmin(np.nanmin(a, axis=0))), int(np.argmax(np.nanmax(a, axis=0)))
+    marked[lo] = marked[lo] + ", min" if lo in marked else "min"
+    if hi != lo:
+        marked[hi] = marked[hi] + ", max" if hi in marked else "max"
+    return marked
 
 
 def current_soc(r: Result | str | os.PathLike):
@@ -126,6 +182,9 @@ def current_soc(r: Result | str | os.PathLike):
     ax_v = ax_i.twinx()
     ax_v.plot(t, r["truth/pack_voltage_V"], lw=1.0, color="C3", label="pack voltage")
     ax_v.set_ylabel("pack voltage (V)", color="C3")
+    draw_limits(ax_i, r, [lim for lim in [("overcurrent_discharge_A", "over-current", 1.0),
+                                          ("overcurrent_charge_A", "charge over-current", -1.0)]
+                          if _near(lim, r, r["truth/pack_current_A"])])
     lines = ax_i.get_legend_handles_labels()
     more = ax_v.get_legend_handles_labels()
     ax_i.legend(lines[0] + more[0], lines[1] + more[1], fontsize="small", loc="best")
@@ -134,10 +193,15 @@ def current_soc(r: Result | str | os.PathLike):
     soc = r["truth/cell_soc"]
     ax_s.fill_between(t, soc.min(axis=1), soc.max(axis=1), color="C2", alpha=0.3, label="min..max cell")
     ax_s.plot(t, soc.mean(axis=1), color="C2", lw=1.2, label="mean cell")
+    if "bms/soc_estimate_permille" in r:
+        ax_s.step(t, r["bms/soc_estimate_permille"] / 1000.0, where="post", color="C1", lw=1.0,
+                  label="BMS estimate")
     ax_s.set_ylabel("SOC (-)")
     ax_s.set_xlabel(tlabel)
     ax_s.legend(fontsize="small", loc="best")
     ax_s.grid(alpha=0.3)
+    mark_events(ax_s, r, _time(r)[2], labels=False)
+    mark_events(ax_i, r, _time(r)[2])
     return fig
 
 
@@ -154,23 +218,45 @@ def _state_names(r: Result) -> dict[int, str]:
     return out
 
 
-def _binary_rows(r: Result) -> list[tuple[str, np.ndarray]]:
-    """Every 0/1 per-sample dataset of bms/ (relay, FETs, precharge, contactors ...)."""
-    rows = []
+def _is_flag(r: Result, a: np.ndarray) -> bool:
+    return a.ndim == 1 and a.shape[0] == r.n_samples and a.dtype.kind in "biu" and a.size > 0 \
+        and a.max() <= 1 and a.min() >= 0
+
+
+def timeline_rows(r: Result) -> list[tuple[str, np.ndarray, str]]:
+    """The on/off rows of the BMS timeline, top to bottom: (label, mask, source) with
+    source "commanded" (what the firmware asked for, bms/) or "hardware" (what the
+    relay, FETs, fuse and FAULT line did, hardware/). Each actuator's command sits
+    right above its hardware state, so a relay that opened without the firmware (a
+    hung MCU, a FAULT line) or stayed closed though commanded open (a weld) shows."""
+    rows: list[tuple[str, np.ndarray, str]] = []
+    hw = r.group("hardware")
+    done = set()
     for name, a in r.bms.items():
-        if a.ndim == 1 and a.shape[0] == r.n_samples and a.dtype.kind in "biu" and name not in ("state",) \
-                and not name.startswith("fault") and "balanc" not in name:
-            if a.size and a.max() <= 1 and a.min() >= 0:
-                rows.append((name, a.astype(bool)))
+        if name == "state" or name.startswith("fault") or "balanc" in name or not _is_flag(r, a) \
+                or "names" in r.attrs.get(f"bms/{name}", {}):  # an enum that happens to stay 0 or 1
+            continue
+        if name not in hw or not _is_flag(r, hw[name]):  # a flag the firmware sets (monitor_fault, ...)
+            rows.append((f"{name.replace('_', ' ')} (firmware)", a.astype(bool), "commanded"))
+            continue
+        thing = name.removesuffix("_closed").removesuffix("_on").replace("_", " ")
+        rows.append((f"{thing}: commanded", a.astype(bool), "commanded"))
+        rows.append((f"{thing}: {'contact' if name.endswith('_closed') else 'conducting'} (hardware)",
+                     hw[name].astype(bool), "hardware"))
+        done.add(name)
+    for name, a in hw.items():
+        if name not in done and "balanc" not in name and _is_flag(r, a):
+            rows.append((f"{name.replace('_', ' ')} (hardware)", a.astype(bool), "hardware"))
     return rows
 
 
 def bms_timeline(r: Result | str | os.PathLike):
-    """What the BMS did: its state, its relay/FET commands, each fault that was ever
-    active (dark) or latched (light), and the run's events as vertical lines."""
+    """What the BMS did: its state, each relay/FET command next to what the hardware
+    did (timeline_rows), each fault that was ever active (dark) or latched (light),
+    and the injections and trips as vertical lines."""
     r = _result(r)
     t, tlabel, scale = _time(r)
-    actuators = _binary_rows(r)
+    actuators = timeline_rows(r)
     faults: list[tuple[str, np.ndarray, np.ndarray]] = []
     if "bms/fault_active" in r and r.fault_names:
         act, lat = r.faults("active"), r.faults("latched")
@@ -193,9 +279,10 @@ def bms_timeline(r: Result | str | os.PathLike):
 
     labels = []
     y = 0
-    for name, on in actuators:
-        ax_bars.broken_barh(_intervals(on, t), (y - 0.35, 0.7), color="C2")
-        labels.append(name.replace("_", " "))
+    for label, on, source in actuators:
+        ax_bars.broken_barh(_intervals(on, t), (y - 0.35, 0.7), color="C2" if source == "commanded" else "C0",
+                            label=label)
+        labels.append(label)
         y += 1
     for name, act, lat in faults:
         ax_bars.broken_barh(_intervals(lat, t), (y - 0.35, 0.7), color="C3", alpha=0.3)
@@ -210,19 +297,51 @@ def bms_timeline(r: Result | str | os.PathLike):
     if not labels:
         ax_bars.text(0.5, 0.5, "no commands or faults recorded", transform=ax_bars.transAxes, ha="center")
 
-    # Events that explain the picture: injections, faults, relay moves. Periodic
-    # state echoes would only clutter it.
-    shown = {"fault_injected": "C4", "fault_removed": "C4", "fault_active": "C3", "fault_latched": "C3", "relay": "k"}
-    for ev in r.events:
-        color = shown.get(ev["kind"])
-        if color is None:
-            continue
-        x = ev["time_s"] / scale
-        for ax in (ax_state, ax_bars):
-            ax.axvline(x, color=color, lw=0.8, ls="--", alpha=0.7)
-        if ev["kind"] in ("fault_injected", "fault_latched", "relay"):
-            ax_state.annotate(f"{ev['kind']}: {ev['detail']}"[:48], (x, 1.0), xycoords=("data", "axes fraction"),
-                              rotation=90, va="top", ha="right", fontsize=7, color=color)
+    mark_events(ax_state, r, scale)
+    mark_events(ax_bars, r, scale, labels=False)
+    return fig
+
+
+def measured_vs_truth(r: Result | str | os.PathLike):
+    """What the BMS read next to the simulated truth: the lowest and highest cell voltage
+    (monitor ICs vs truth), the hottest temperature (thermistors vs cells), and the
+    pack SOC (the firmware's estimate vs the mean cell SOC)."""
+    r = _result(r)
+    t, tlabel, scale = _time(r)
+    fig = _figure(10, 8)
+    ax_v, ax_t, ax_s = fig.subplots(3, 1, sharex=True)
+    v = r["truth/cell_voltage_V"]
+    ax_v.plot(t, v.min(axis=1), color="C0", lw=1.2, label="truth min cell")
+    ax_v.plot(t, v.max(axis=1), color="C3", lw=1.2, label="truth max cell")
+    if "measured/cell_voltage_mV" in r:
+        m = r["measured/cell_voltage_mV"] / 1000.0
+        ax_v.plot(t, m.min(axis=1), color="C0", lw=0.8, ls="--", label="measured min")
+        ax_v.plot(t, m.max(axis=1), color="C3", lw=0.8, ls="--", label="measured max")
+    draw_limits(ax_v, r, [lim for lim in _LIMITS["voltage"] if _near(lim, r, v)])
+    ax_v.set_ylabel("cell voltage (V)")
+    ax_v.legend(fontsize="small", loc="lower left")
+    ax_v.set_title(_title(r, "measured vs truth"))
+    temp = r["truth/cell_temp_C"]
+    ax_t.plot(t, temp.max(axis=1), color="C3", lw=1.2, label="truth hottest cell")
+    if "measured/temperature_dC" in r and r["measured/temperature_dC"].size:
+        d = r["measured/temperature_dC"].astype(float)
+        d[d == -32768] = np.nan  # open or shorted sensor
+        with np.errstate(all="ignore"):
+            hottest = np.nanmax(d, axis=1) / 10.0 if not np.all(np.isnan(d)) else np.full(len(t), np.nan)
+        ax_t.plot(t, hottest, color="C3", lw=0.8, ls="--", label="measured hottest thermistor")
+    draw_limits(ax_t, r, [lim for lim in _LIMITS["temperature"] if _near(lim, r, temp)])
+    ax_t.set_ylabel("temperature (°C)")
+    ax_t.legend(fontsize="small", loc="upper left")
+    ax_s.plot(t, r["truth/cell_soc"].mean(axis=1), color="C2", lw=1.2, label="truth (mean cell)")
+    if "bms/soc_estimate_permille" in r:
+        ax_s.step(t, r["bms/soc_estimate_permille"] / 1000.0, where="post", color="C1", lw=1.0,
+                  label="BMS estimate")
+    ax_s.set_ylabel("SOC (-)")
+    ax_s.set_xlabel(tlabel)
+    ax_s.legend(fontsize="small", loc="best")
+    for ax in (ax_v, ax_t, ax_s):
+        ax.grid(alpha=0.3)
+        mark_events(ax, r, scale, labels=ax is ax_v)
     return fig
 
 
@@ -263,6 +382,7 @@ def balancing(r: Result | str | os.PathLike):
     ax_duty.barh(np.arange(1, n + 1), duty, color="C1")
     ax_duty.set_xlabel("time balancing (%)")
     ax_duty.grid(axis="x", alpha=0.3)
+    mark_events(ax, r, _time(r)[2])
     return fig
 
 
@@ -330,6 +450,7 @@ def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, 
         ("cell_temperatures", cells(r, "temperature")),
         ("current_soc", current_soc(r)),
         ("bms_timeline", bms_timeline(r)),
+        ("measured_vs_truth", measured_vs_truth(r)),
         ("balancing", balancing(r)),
     ]
     written = []

@@ -7,9 +7,8 @@ table. Nothing is hard-wired: a dataset the C++ writer gains appears here unchan
 """
 from __future__ import annotations
 
+import io
 import os
-import shutil
-import tempfile
 from collections.abc import Iterator, Mapping
 from typing import Any
 
@@ -31,8 +30,19 @@ def _text(v: Any) -> Any:
     return v
 
 
+# HDF5's dimension-scale bookkeeping (docs/results.md, "netCDF layout"): structure, not
+# metadata a user reads, and object references h5py cannot write back as they are.
+_LAYOUT_ATTRS = frozenset({"CLASS", "NAME", "REFERENCE_LIST", "DIMENSION_LIST", "_Netcdf4Dimid",
+                           "_Netcdf4Coordinates"})
+
+
 def _attrs(h5attrs) -> dict[str, Any]:
-    return {k: _text(h5attrs[k]) for k in h5attrs.keys()}
+    return {k: _text(h5attrs[k]) for k in h5attrs.keys() if k not in _LAYOUT_ATTRS}
+
+
+def _is_scale(obj) -> bool:
+    c = obj.attrs.get("CLASS")
+    return c is not None and _text(c) == "DIMENSION_SCALE"
 
 
 def _read_dataset(ds) -> np.ndarray:
@@ -58,7 +68,7 @@ def _read_dataset(ds) -> np.ndarray:
     return a
 
 
-def _read_h5(path: str | os.PathLike, prefer: Mapping[str, np.ndarray] | None = None):
+def _read_h5(path: str | os.PathLike | io.BytesIO, prefer: Mapping[str, np.ndarray] | None = None):
     """(datasets, attrs) of a result file. Datasets in `prefer` with the same shape and
     dtype as in the file are taken from there instead of being read (no copy)."""
     try:
@@ -71,18 +81,28 @@ def _read_h5(path: str | os.PathLike, prefer: Mapping[str, np.ndarray] | None = 
     with h5py.File(path, "r") as f:
         attrs[""] = _attrs(f.attrs)
 
-        def visit(name: str, obj) -> None:
-            a = _attrs(obj.attrs)
-            if a:
-                attrs[name] = a
-            if isinstance(obj, h5py.Dataset):
+        # Walked by link name, not by object: /time_s is also linked as /truth/time_s
+        # (one dataset, several names). Dimension scales other than /time_s are the
+        # coordinates of the netCDF layout, not results.
+        def walk(group, prefix: str) -> None:
+            for key in sorted(group.keys()):
+                obj = group[key]
+                name = prefix + key
+                if isinstance(obj, h5py.Dataset) and _is_scale(obj) and name != "time_s":
+                    continue
+                a = _attrs(obj.attrs)
+                if a:
+                    attrs[name] = a
+                if isinstance(obj, h5py.Group):
+                    walk(obj, name + "/")
+                    continue
                 p = prefer.get(name)
                 if p is not None and p.shape == obj.shape and p.dtype == obj.dtype:
                     datasets[name] = p
                 else:
                     datasets[name] = _read_dataset(obj)
 
-        f.visititems(visit)
+        walk(f, "")
     return datasets, attrs
 
 
@@ -98,16 +118,11 @@ def load(path: str | os.PathLike) -> "Result":
 def _from_handle(handle) -> "Result":
     """A Result around a C++ run. The recorded arrays are NumPy views into the C++
     result (no copy). Attributes, the events table, the summary and any dataset the
-    binding does not list come from the C++ HDF5 writer itself (a temporary file), so
-    names, shapes, dtypes and metadata are exactly those of ``packsim run``'s file."""
+    binding does not list come from the C++ HDF5 writer itself, which builds the file
+    in memory (nothing is written to disk), so names, shapes, dtypes and metadata are
+    exactly those of ``packsim run``'s file."""
     views = handle.arrays()
-    tmpdir = tempfile.mkdtemp(prefix="packsim-")
-    try:
-        tmp = os.path.join(tmpdir, "result.h5")
-        handle.save(tmp)
-        datasets, attrs = _read_h5(tmp, prefer=views)
-    finally:
-        shutil.rmtree(tmpdir, ignore_errors=True)
+    datasets, attrs = _read_h5(io.BytesIO(handle.image()), prefer=views)
     return Result(datasets, attrs, handle=handle)
 
 

@@ -3,7 +3,8 @@
 //   run(...)          load a scenario (file or text) with overrides, simulate with the
 //                     GIL released, return a RunHandle that owns the C++ result
 //   RunHandle         arrays() -> {hdf5 path: numpy view into the result, no copy},
-//                     save(path) -> the CLI's HDF5 writer
+//                     save(path) -> the CLI's HDF5 writer; image() -> the same file
+//                     built in memory, as bytes
 //   apply_overrides   core/scenario/overrides.hpp, for Python users and tests
 //   check_*           `packsim check` (check_bindings.cpp)
 //   Sweep, run_batch, run_sweep_case ...   `packsim batch` (batch_bindings.cpp)
@@ -21,6 +22,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -28,6 +30,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/version.hpp"
 #include "python/src/bindings.hpp"
@@ -46,15 +49,32 @@ std::mutex& hdf5Mutex() {
 }
 
 std::shared_ptr<RunHandle> run(const std::string& source, bool is_file, const Overrides& overrides,
-                               std::optional<uint64_t> seed, const std::string& file_name, const std::string& base_dir) {
+                               std::optional<uint64_t> seed, const std::string& file_name, const std::string& base_dir,
+                               const py::object& progress) {
   auto h = std::make_shared<RunHandle>();
   {
     py::gil_scoped_release release;  // loading and simulating touch no Python object
     h->scenario = loadScenarioSource(source, is_file, overrides, file_name, base_dir);
     if (seed) h->scenario.run.seed = *seed;  // exactly as `packsim run --seed N`
-    h->result = runScenario(h->scenario);
+    StopCondition report;
+    if (!progress.is_none())  // progress(t_s, end_s) every 1 % of the run, with the GIL held just for it
+      report = progressCondition(h->scenario.endTime_s(), [&progress](double t_s, double end_s) {
+        py::gil_scoped_acquire gil;
+        progress(t_s, end_s);
+      });
+    h->result = runScenario(h->scenario, report);
   }
   return h;
+}
+
+py::bytes image(const RunHandle& h) {
+  std::string bytes;
+  {
+    py::gil_scoped_release release;
+    std::lock_guard<std::mutex> lock(hdf5Mutex());
+    bytes = resultHdf5Image(h.scenario, h.result);
+  }
+  return py::bytes(bytes);
 }
 
 void save(const RunHandle& h, const std::string& path) {
@@ -112,18 +132,27 @@ PYBIND11_MODULE(_packsim, m) {
            "{HDF5 dataset path: read-only numpy view of the C++ recording} (no copy; the arrays keep "
            "this handle alive)")
       .def("save", &save, py::arg("path"), "write the result HDF5 exactly as `packsim run -o PATH` does")
+      .def("image", &image, "the result HDF5 file built in memory (uncompressed), as bytes; nothing is written")
       .def_property_readonly("scenario_yaml", [](const RunHandle& h) { return h.scenario.text; })
       .def_property_readonly("scenario_name", [](const RunHandle& h) { return h.scenario.name; })
       .def_property_readonly("seed", [](const RunHandle& h) { return h.scenario.run.seed; });
 
   m.def("run", &run, py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("seed") = py::none(),
-        py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".",
+        py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".", py::arg("progress") = py::none(),
         "Load a scenario (a file path if is_file, else YAML text named file_name whose relative paths resolve "
-        "against base_dir), apply the (dotted key, YAML value) overrides, run it with the GIL released.");
+        "against base_dir), apply the (dotted key, YAML value) overrides, run it with the GIL released; "
+        "progress(t_s, end_s), if given, is called every 1 % of simulated time.");
   m.def("apply_overrides", &applyOverrides, py::arg("yaml_text"), py::arg("overrides"),
         py::arg("file_name") = "<scenario>", "The scenario text with (dotted key, YAML value) overrides applied.");
   m.def("bundled_scenario_dir", &bundledScenarioDir, "Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).");
   m.def("default_scenario_path", &defaultScenarioPath, "The scenario `packsim run` uses without arguments.");
+  m.def("bundled_catalog", []() {
+    std::vector<std::tuple<std::string, std::string, std::string, std::string>> out;
+    for (const CatalogEntry& e : bundledCatalog()) out.emplace_back(e.kind, e.name, e.path, e.description);
+    return out;
+  }, "[(kind, name, path, description)] of the bundled scenarios and cell presets, as `packsim list` prints them.");
+  m.def("scenario_arg_path", &scenarioArgPath, py::arg("arg"),
+        "A scenario argument as a path: an existing file, else a bundled scenario by name (ValueError if none).");
   bindCheck(m);
   bindBatch(m);
   bindBalance(m);

@@ -1,7 +1,9 @@
 """`pip install .` builds the extension with scikit-build-core from the same CMake project,
 and the installed package works on its own: imports from where pip put it, finds the
-bundled scenarios inside itself, ships its type hints, and simulates what the CMake
-build simulates."""
+bundled scenarios inside itself, ships its type hints, simulates what the CMake
+build simulates, and installs the `packsim` command (the program shipped in the wheel)
+that runs bundled scenarios by name from any folder. Nothing compiled in points into the
+source tree."""
 from __future__ import annotations
 
 import os
@@ -37,15 +39,26 @@ def test_pip_install_builds_a_working_package(tmp_path, simple_yaml):
     # No build isolation: the build tools of this environment (scripts/install-deps.sh
     # installs scikit-build-core and pybind11), and a persistent CMake build folder so a
     # rerun only rebuilds what changed. The wheel builds the extension target alone.
-    site = tmp_path / "site"
-    cmd = [sys.executable, "-m", "pip", "install", str(REPO), "--no-deps", "--no-build-isolation", "--no-cache-dir",
-           "--target", str(site), f"--config-settings=build-dir={REPO / 'build-wheel'}", "-q"]
+    # One build: the wheel, then `pip install` of that wheel (what `pip install .` does).
+    site, dist = tmp_path / "site", tmp_path / "dist"
+    cmd = [sys.executable, "-m", "pip", "wheel", str(REPO), "--no-deps", "--no-build-isolation", "--no-cache-dir",
+           "-w", str(dist), f"--config-settings=build-dir={REPO / 'build-wheel'}", "-q"]
     done = subprocess.run(cmd, capture_output=True, text=True, cwd=tmp_path)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    wheels = list(dist.glob("packsim-*.whl"))
+    assert len(wheels) == 1
+    done = subprocess.run([sys.executable, "-m", "pip", "install", str(wheels[0]), "--no-deps", "--no-cache-dir",
+                           "--target", str(site), "-q"], capture_output=True, text=True, cwd=tmp_path)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
 
     pkg = site / "packsim"
     assert (pkg / "_packsim.pyi").is_file() and (pkg / "py.typed").is_file()
     assert list(pkg.glob("_packsim*.so"))
+    program = pkg / "_bin" / "packsim"
+    assert program.is_file() and os.access(program, os.X_OK)
+    # No path into the source tree is compiled into what the wheel ships.
+    for binary in [program, *pkg.glob("_packsim*.so")]:
+        assert str(REPO).encode() not in binary.read_bytes(), binary
 
     # A fresh interpreter that sees only the installed package (not the build tree).
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PACKSIM_SCENARIOS")}
@@ -72,3 +85,36 @@ def test_pip_install_builds_a_working_package(tmp_path, simple_yaml):
             np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12, err_msg=k)
     np.testing.assert_array_equal(installed["measured/cell_voltage_mV"], here["measured/cell_voltage_mV"])
     assert installed.events == here.events
+
+    check_installed_command(site, tmp_path)
+
+
+def _installed_env(site: Path) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "PACKSIM_SCENARIOS", "PACKSIM_PYTHONPATH", "PACKSIM_PYTHON")}
+    env["PYTHONPATH"] = str(site)
+    return env
+
+
+def check_installed_command(site: Path, tmp_path: Path) -> None:
+    """The console script and `python -m packsim` of an installed package, run from a
+    folder with no scenarios in it."""
+    script = site / "bin" / "packsim"
+    assert script.is_file(), "pip installed no packsim command"
+    env = _installed_env(site)
+    work = tmp_path / "elsewhere"
+    work.mkdir()
+    listed = subprocess.run([str(script), "list"], capture_output=True, text=True, cwd=work, env=env)
+    assert listed.returncode == 0, listed.stderr
+    assert "motorcycle_110s" in listed.stdout and str(site / "packsim" / "scenarios") in listed.stdout
+    ran = subprocess.run([sys.executable, "-m", "packsim", "run", "bench_6s_ncr18650_2C", "-o", "b.h5", "-q",
+                          "--set", "pack.initial_soc=0.8"], capture_output=True, text=True, cwd=work, env=env)
+    assert ran.returncode == 0, ran.stderr
+    here = packsim.run("bench_6s_ncr18650_2C", {"pack.initial_soc": 0.8})
+    np.testing.assert_allclose(packsim.load(work / "b.h5")["truth/cell_voltage_V"], here["truth/cell_voltage_V"],
+                               rtol=1e-9, atol=1e-12)
+    # export through the installed command uses the installed package and interpreter
+    exp = subprocess.run([str(script), "export", "b.h5", "--format", "csv"], capture_output=True, text=True,
+                         cwd=work, env=env)
+    assert exp.returncode == 0, exp.stderr
+    assert (work / "b_csv" / "samples.csv").is_file()

@@ -1,0 +1,239 @@
+#include "core/io/hdf5_layout.hpp"
+
+#include <hdf5_hl.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace packsim {
+
+namespace {
+
+// Long names of the datasets whose name alone says too little. Others get one derived
+// from the name (longNameOf).
+struct LongName {
+  const char* path;
+  const char* long_name;
+};
+constexpr LongName kLongNames[] = {
+    {"/time_s", "simulation time"},
+    {"/truth/cell_voltage_V", "cell terminal voltage (simulated truth)"},
+    {"/truth/cell_current_A", "cell current, positive discharging (simulated truth)"},
+    {"/truth/cell_soc", "cell state of charge (simulated truth)"},
+    {"/truth/cell_temp_C", "cell temperature (simulated truth)"},
+    {"/truth/pack_voltage_V", "pack terminal voltage (simulated truth)"},
+    {"/truth/pack_current_A", "pack current, positive discharging (simulated truth)"},
+    {"/truth/balance_current_A", "balancing current per series cell (simulated truth)"},
+    {"/truth/board_temp_C", "BMS board temperature (simulated truth)"},
+    {"/truth/balancer_bus_V", "active balancer bus voltage (simulated truth)"},
+    {"/truth/charger_current_A", "charger output current (simulated truth)"},
+    {"/measured/cell_voltage_mV", "series cell voltage as read by the monitor ICs"},
+    {"/measured/temperature_dC", "thermistor temperature as read by the monitor ICs"},
+    {"/measured/current_mA", "pack current as read by the current sensor"},
+    {"/measured/bus_voltage_mV", "bus (load side) voltage as read by the BMS"},
+    {"/bms/state", "BMS state machine state (see names)"},
+    {"/bms/fault_active", "active fault bits (see /bms fault_bits)"},
+    {"/bms/fault_latched", "latched fault bits (see /bms fault_bits)"},
+    {"/bms/relay_closed", "main relay commanded closed by the firmware"},
+    {"/bms/discharge_fet_on", "discharge FET commanded on by the firmware"},
+    {"/bms/charge_fet_on", "charge FET commanded on by the firmware"},
+    {"/bms/precharge_closed", "precharge relay commanded closed by the firmware"},
+    {"/bms/precharge_phase", "precharge sequence phase (see names)"},
+    {"/bms/soc_estimate_permille", "pack state of charge estimated by the firmware"},
+    {"/bms/monitor_fault", "monitor IC fault seen by the firmware"},
+    {"/bms/comm_bad", "consecutive bad replies per monitor IC"},
+    {"/bms/telemetry", "telemetry frame bytes (see layout)"},
+    {"/bms/balance_mask", "balancing switches commanded per series cell"},
+    {"/bms/balance_status", "balancing status (see names)"},
+    {"/bms/charger_enable", "charger enable commanded by the firmware"},
+    {"/bms/charger_request_mA", "charge current requested by the firmware"},
+    {"/hardware/relay_closed", "main relay contact closed (hardware)"},
+    {"/hardware/precharge_closed", "precharge relay contact closed (hardware)"},
+    {"/hardware/fuse_blown", "fuse blown (hardware)"},
+    {"/hardware/discharge_fet_on", "discharge FET conducting (hardware)"},
+    {"/hardware/charge_fet_on", "charge FET conducting (hardware)"},
+    {"/hardware/monitor_fault_line", "monitor IC FAULT line asserted (hardware)"},
+    {"/hardware/bus_voltage_V", "bus (load side) voltage (hardware)"},
+    {"/hardware/fet_loss_W", "power dissipated in the FETs (hardware)"},
+    {"/hardware/balancing", "balancing switch conducting per series cell (hardware)"},
+    {"/events", "events: time_s, kind, detail"},
+};
+
+// The dimension of a dataset's second axis, by name first, then by its length.
+struct DimByName {
+  const char* name;  // dataset base name
+  const char* dim;
+};
+constexpr DimByName kDimByName[] = {
+    {"telemetry", "telemetry_byte"},   {"comm_bad", "device"},        {"temperature_dC", "thermistor"},
+    {"balance_current_A", "series"},   {"balance_mask", "series"},    {"balancing", "series"},
+};
+
+class Obj {
+ public:
+  explicit Obj(hid_t id, const std::string& what) : id_(id) {
+    if (id_ < 0) throw std::runtime_error("HDF5: cannot open " + what);
+  }
+  ~Obj() { H5Oclose(id_); }
+  Obj(const Obj&) = delete;
+  Obj& operator=(const Obj&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+};
+
+void check(herr_t e, const std::string& what) {
+  if (e < 0) throw std::runtime_error("HDF5: cannot " + what);
+}
+
+std::string baseName(const std::string& path) { return path.substr(path.rfind('/') + 1); }
+std::string parentOf(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  return slash == 0 ? "/" : path.substr(0, slash);
+}
+std::string join(const std::string& group, const std::string& name) { return (group == "/" ? "" : group) + "/" + name; }
+
+bool hasAttr(hid_t obj, const char* name) { return H5Aexists(obj, name) > 0; }
+
+void stringAttr(hid_t obj, const char* name, const std::string& value) {
+  hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.empty() ? 1 : value.size());
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  hid_t space = H5Screate(H5S_SCALAR);
+  hid_t a = H5Acreate2(obj, name, type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t e = a < 0 ? -1 : H5Awrite(a, type, value.c_str());
+  if (a >= 0) H5Aclose(a);
+  H5Sclose(space);
+  H5Tclose(type);
+  check(e, std::string("write attribute ") + name);
+}
+
+std::string longNameOf(const std::string& path) {
+  for (const LongName& l : kLongNames)
+    if (path == l.path) return l.long_name;
+  // truth/cell_voltage_V -> "cell voltage (truth)"
+  std::string name = baseName(path);
+  const size_t unit = name.rfind('_');
+  if (unit != std::string::npos && unit + 1 < name.size() && name.find_first_of("ABCDEFGHIJKLMNOPQRSTUVWXYZ", unit) != std::string::npos)
+    name.erase(unit);
+  for (char& c : name)
+    if (c == '_') c = ' ';
+  const std::string group = baseName(parentOf(path));
+  return group.empty() ? name : name + " (" + group + ")";
+}
+
+std::string dimensionName(const std::string& path, hsize_t length, const LayoutSizes& z) {
+  const std::string name = baseName(path);
+  for (const DimByName& d : kDimByName)
+    if (name == d.name) return d.dim;
+  const bool truth = parentOf(path) == "/truth";
+  if (length == z.cells && (truth || length != z.series)) return "cell";
+  if (length == z.series) return "series";
+  if (length == z.thermistors) return "thermistor";
+  if (length == z.devices) return "device";
+  return name + "_index";
+}
+
+std::vector<std::string> datasetPaths(hid_t file) {
+  std::vector<std::string> out;
+  auto visit = [](hid_t group, const char* name, const H5L_info_t*, void* data) -> herr_t {
+    const hid_t obj = H5Oopen(group, name, H5P_DEFAULT);
+    if (obj < 0) return -1;
+    if (H5Iget_type(obj) == H5I_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
+    H5Oclose(obj);
+    return 0;
+  };
+  check(H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, visit, &out), "list the datasets");
+  return out;
+}
+
+class Layout {
+ public:
+  Layout(hid_t file, const LayoutSizes& z) : file_(file), z_(z) {}
+
+  void run() {
+    const std::vector<std::string> paths = datasetPaths(file_);  // before any link is added
+    {
+      Obj time(H5Dopen2(file_, "/time_s", H5P_DEFAULT), "/time_s");
+      check(H5DSset_scale(time, "time_s"), "make /time_s a dimension scale");
+    }
+    for (const std::string& p : paths) describe(p);
+  }
+
+ private:
+  void describe(const std::string& path) {
+    Obj ds(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
+    if (!hasAttr(ds, "long_name")) stringAttr(ds, "long_name", longNameOf(path));
+    if (path == "/time_s") return;
+    hid_t space = H5Dget_space(ds);
+    hsize_t dims[2] = {0, 0};
+    const int rank = H5Sget_simple_extent_dims(space, dims, nullptr);
+    H5Sclose(space);
+    if (rank < 1 || rank > 2) return;
+    const std::string group = parentOf(path);
+    if (dims[0] == z_.samples && path != "/events") {
+      attach(ds, 0, timeScale(group));
+    } else {
+      attach(ds, 0, indexScale(group, path == "/events" ? "event" : baseName(path) + "_index", dims[0]));
+    }
+    if (rank == 2) attach(ds, 1, indexScale(group, dimensionName(path, dims[1], z_), dims[1]));
+  }
+
+  void attach(hid_t ds, unsigned axis, const std::string& scalePath) {
+    Obj scale(H5Dopen2(file_, scalePath.c_str(), H5P_DEFAULT), scalePath);
+    check(H5DSattach_scale(ds, scale, axis), "attach dimension scale " + scalePath);
+  }
+
+  // /time_s, hard-linked into `group` on first use.
+  std::string timeScale(const std::string& group) {
+    const std::string link = join(group, "time_s");
+    if (group != "/" && H5Lexists(file_, link.c_str(), H5P_DEFAULT) <= 0)
+      check(H5Lcreate_hard(file_, "/time_s", file_, link.c_str(), H5P_DEFAULT, H5P_DEFAULT), "link " + link);
+    return link;
+  }
+
+  // group/name holding 1..length; a name already taken with another length gets a suffix.
+  std::string indexScale(const std::string& group, std::string name, hsize_t length) {
+    for (int k = 2;; ++k) {
+      const std::string path = join(group, name);
+      if (H5Lexists(file_, path.c_str(), H5P_DEFAULT) <= 0) return createIndex(path, name, length);
+      Obj existing(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
+      hid_t space = H5Dget_space(existing);
+      hsize_t n = 0;
+      H5Sget_simple_extent_dims(space, &n, nullptr);
+      H5Sclose(space);
+      if (n == length && H5DSis_scale(existing) > 0) return path;
+      name = baseName(path) + "_" + std::to_string(k);
+    }
+  }
+
+  std::string createIndex(const std::string& path, const std::string& name, hsize_t length) {
+    std::vector<int32_t> index(length);
+    for (hsize_t i = 0; i < length; ++i) index[i] = static_cast<int32_t>(i + 1);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_obj_track_times(dcpl, 0);
+    hid_t space = H5Screate_simple(1, &length, nullptr);
+    hid_t ds = H5Dcreate2(file_, path.c_str(), H5T_NATIVE_INT32, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    H5Sclose(space);
+    H5Pclose(dcpl);
+    if (ds < 0) throw std::runtime_error("HDF5: cannot create " + path);
+    herr_t e = length ? H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()) : 0;
+    if (e >= 0) e = H5DSset_scale(ds, name.c_str());
+    H5Dclose(ds);
+    check(e, "write dimension scale " + path);
+    Obj obj(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
+    stringAttr(obj, "long_name", name + " number (1-based)");
+    return path;
+  }
+
+  hid_t file_;
+  LayoutSizes z_;
+};
+
+}  // namespace
+
+void addNetcdfLayout(hid_t file, const LayoutSizes& sizes) { Layout(file, sizes).run(); }
+
+}  // namespace packsim

@@ -1,0 +1,137 @@
+"""Results in the formats other tools read: ``packsim export result.h5 --format csv``.
+
+    packsim.export("race.h5", "csv")                # -> race_csv/{samples,events,summary}.csv
+    packsim.export(r, "mat", "race.mat")            # MATLAB (scipy.io.savemat)
+    packsim.export(r, "parquet")                    # -> <name>.parquet (pyarrow, via pandas)
+
+csv      a folder: samples.csv (one row per sample, column per 1-D dataset and per
+         channel of 2-D ones, ``truth/cell_voltage_V[3]`` 1-based), events.csv and
+         summary.csv (name, value)
+mat      one variable per dataset, named by path with "/" -> "_"
+         (``truth_cell_voltage_V``, [samples, channels]); ``events`` and ``summary`` as
+         structs, ``attrs`` with the file's attributes (scenario_yaml, seed, ...)
+parquet  the samples table (columns as in csv); the file's attributes, the summary and
+         the events as JSON in the schema's key-value metadata
+
+Values are exported as stored (firmware units stay mV, 0.1 degC, ... as in their names).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from typing import Any
+
+import numpy as np
+
+from .result import Result, _need, load
+
+__all__ = ["export", "FORMATS"]
+
+FORMATS = ("csv", "mat", "parquet")
+
+
+def _default_output(source: str | None, name: str, fmt: str) -> str:
+    stem = os.path.splitext(source)[0] if source else name
+    return stem + ("_csv" if fmt == "csv" else "." + fmt)
+
+
+def _json_default(v: Any) -> Any:
+    if isinstance(v, np.generic):
+        return v.item()
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    return str(v)
+
+
+def _to_csv(r: Result, out: str) -> list[str]:
+    pd = _need("pandas")
+    os.makedirs(out, exist_ok=True)
+    files = [os.path.join(out, n) for n in ("samples.csv", "events.csv", "summary.csv")]
+    r.to_dataframe("samples").to_csv(files[0])
+    r.to_dataframe("events").to_csv(files[1], index=False)
+    pd.DataFrame({"name": list(r.summary), "value": list(r.summary.values())}).to_csv(files[2], index=False)
+    return files
+
+
+def _to_mat(r: Result, out: str) -> list[str]:
+    try:
+        from scipy.io import savemat
+    except ImportError as e:
+        raise ImportError("exporting to .mat needs scipy (pip install scipy)") from e
+    data: dict[str, Any] = {}
+    for path, a in r.datasets.items():
+        if path == "events":
+            continue
+        data[path.replace("/", "_")] = np.asarray(a)
+    ev = r.events_array
+    data["events"] = {"time_s": np.asarray(ev["time_s"], dtype=float),
+                      "kind": np.array([str(x) for x in ev["kind"]], dtype=object),
+                      "detail": np.array([str(x) for x in ev["detail"]], dtype=object)}
+    data["summary"] = {k: v for k, v in r.summary.items()}
+    data["attrs"] = {k: v for k, v in r.attrs.get("", {}).items()}
+    savemat(out, data, appendmat=False, long_field_names=True, do_compression=True, oned_as="column")
+    return [out]
+
+
+def _to_parquet(r: Result, out: str) -> list[str]:
+    _need("pyarrow")
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    table = pa.Table.from_pandas(r.to_dataframe("samples"), preserve_index=True)
+    meta = dict(table.schema.metadata or {})
+    meta[b"packsim.attrs"] = json.dumps(r.attrs.get("", {}), default=_json_default).encode()
+    meta[b"packsim.summary"] = json.dumps(r.summary, default=_json_default).encode()
+    meta[b"packsim.events"] = json.dumps(r.events, default=_json_default).encode()
+    pq.write_table(table.replace_schema_metadata(meta), out)
+    return [out]
+
+
+_WRITERS = {"csv": _to_csv, "mat": _to_mat, "parquet": _to_parquet}
+
+
+def export(result: Result | str | os.PathLike, format: str, output: str | os.PathLike | None = None) -> list[str]:
+    """Write a result (a Result or a result HDF5 file) as csv, mat or parquet; returns
+    the files written. output: the file (mat, parquet) or folder (csv); default next
+    to the result file (or named after the scenario for a run not saved)."""
+    if format not in _WRITERS:
+        raise ValueError(f"format must be one of {', '.join(FORMATS)}, not {format!r}")
+    r = result if isinstance(result, Result) else load(result)
+    out = os.fspath(output) if output is not None else _default_output(r.source, r.scenario_name, format)
+    parent = os.path.dirname(os.path.abspath(out))
+    os.makedirs(parent, exist_ok=True)
+    # Written under a temporary name and renamed when complete: a failed export leaves
+    # nothing half-written behind.
+    tmp = out + ".tmp"
+    try:
+        written = _WRITERS[format](r, tmp)
+        if format == "csv" and os.path.isdir(out):
+            import shutil
+            shutil.rmtree(out)
+        os.replace(tmp, out)
+    except BaseException:
+        import shutil
+        shutil.rmtree(tmp, ignore_errors=True) if os.path.isdir(tmp) else (os.path.exists(tmp) and os.remove(tmp))
+        raise
+    return [out + f[len(tmp):] for f in written]
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog="packsim export", description="convert a packsim result file")
+    ap.add_argument("result", help="result HDF5 file")
+    ap.add_argument("--format", required=True, choices=FORMATS)
+    ap.add_argument("-o", "--output", help="output file (mat, parquet) or folder (csv)")
+    a = ap.parse_args(argv)
+    try:
+        files = export(a.result, a.format, a.output)
+    except (ImportError, OSError, ValueError) as e:
+        print(f"packsim export: error: {e}", file=sys.stderr)
+        return 1
+    for f in files:
+        print(f)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,87 @@
+"""docs/results.md lists every dataset the writer produces (with its type), every enum
+value and every fault bit: run each bundled scenario briefly and compare, so the page
+cannot drift from the writer."""
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import h5py
+import pytest
+
+import packsim
+
+DOC = (Path(__file__).resolve().parents[2] / "docs" / "results.md").read_text()
+ROWS = [line for line in DOC.splitlines() if line.startswith("| `/")]
+
+
+def _bundled():
+    return [p for p in packsim.bundled_scenarios("**/*.yaml") if "/cells/" not in p]
+
+
+def _row_of(path: str) -> str | None:
+    for row in ROWS:
+        if f"`/{path}`" in row.split("|")[1]:
+            return row
+    return None
+
+
+@pytest.fixture(scope="module")
+def written(tmp_path_factory):
+    """Every dataset path -> (dtype, attrs), over all bundled scenarios run for 3 s."""
+    out: dict[str, tuple] = {}
+    kinds: set[str] = set()
+    folder = tmp_path_factory.mktemp("doc")
+    for i, scenario in enumerate(_bundled()):
+        r = packsim.run(scenario, {"run.duration_s": 3})
+        kinds |= {e["kind"] for e in r.events}
+        f = folder / f"{i}.h5"
+        r.save(f)
+        with h5py.File(f, "r") as h:
+            def walk(g, prefix):
+                for k in g:
+                    o = g[k]
+                    if isinstance(o, h5py.Group):
+                        walk(o, prefix + k + "/")
+                    else:
+                        out[prefix + k] = (o.dtype, {a: o.attrs[a] for a in o.attrs})
+            walk(h, "")
+            out["/bms attrs"] = (None, dict(h["bms"].attrs))
+    return out, kinds
+
+
+def test_every_dataset_is_documented_with_its_type(written):
+    datasets, _ = written
+    assert len(_bundled()) >= 10
+    missing, wrong = [], []
+    for path, (dtype, _) in datasets.items():
+        if dtype is None:
+            continue
+        # the hard links of /time_s into each group are documented with the scales
+        row = _row_of(path) or (_row_of("time_s") if path.endswith("/time_s") else None)
+        if row is None and re.search(rf"`/{re.escape(path)}`", DOC):
+            continue  # a dimension scale, listed in the layout table
+        if row is None:
+            missing.append(path)
+        elif dtype.names is None and path.split("/")[0] != "time_s" and str(dtype) not in row:
+            wrong.append(f"{path}: {dtype}")
+    assert not missing, f"datasets missing from docs/results.md: {missing}"
+    assert not wrong, f"types docs/results.md gets wrong: {wrong}"
+
+
+def test_every_enum_value_and_fault_bit_is_documented(written):
+    datasets, kinds = written
+    for path, (_, attrs) in datasets.items():
+        names = attrs.get("names")
+        if names is None:
+            continue
+        names = names.decode() if isinstance(names, bytes) else str(names)
+        for pair in names.split(","):
+            assert f"`{pair}`" in _row_of(path), f"{path}: {pair} not in docs/results.md"
+    bits = datasets["/bms attrs"][1]["fault_bits"]
+    bits = bits.decode() if isinstance(bits, bytes) else str(bits)
+    for i, name in enumerate(bits.split(",")):
+        assert f"{i} `{name}`" in DOC, f"fault bit {i} {name} not in docs/results.md"
+    events_row = _row_of("events")
+    for kind in kinds:
+        assert f"`{kind}`" in events_row, f"event kind {kind} not in docs/results.md"
