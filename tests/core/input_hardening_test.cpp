@@ -141,10 +141,10 @@ TEST(CliErrors, MistypedSubcommandSuggestsTheClosest) {
 }
 
 TEST(CliErrors, MistypedOptionSuggestsTheClosest) {
-  const CliResult r = runCli("run --sed 3");
+  const CliResult r = runCli("run --seeed 3");  // (--sed is as close to --set as to --seed)
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
-  EXPECT_NE(r.err.find("packsim run: error: unknown option '--sed'; did you mean '--seed'?"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("packsim run: error: unknown option '--seeed'; did you mean '--seed'?"), std::string::npos) << r.err;
 }
 
 TEST(CliErrors, NegativeSeedIsOneShortLine) {
