@@ -23,6 +23,10 @@ struct Expectations {
   std::optional<double> min_cell_V_above;
   std::optional<double> max_temp_C_below;
   std::optional<double> energy_delivered_Wh_above;
+  // Against the `compare:` reference run: energy delivered lost (reference − this run)
+  // above this figure; this run's lowest cell below the reference's.
+  std::optional<double> energy_lost_vs_compare_Wh_above;
+  std::optional<bool> min_cell_V_below_compare;
 };
 
 }  // namespace packsim

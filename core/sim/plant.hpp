@@ -108,9 +108,13 @@ class Plant {
   // branch k obeys dv/dt = (i·R - v)/τ, with its rate given by derivatives().
   struct RcBranch {
     int state = 0;     // index in the state vector
-    double tau_s = 0;  // R·C of the branch
+    double tau_s = 0;  // R·C of the branch (a constant pair)
+    int cell = 0, pair = 0;
+    bool variable = false;  // R or C depends on SOC / temperature: see rcTau_s
   };
   std::vector<RcBranch> rcBranches() const;
+  // R·C of a branch at the state x (its constant tau_s unless it is variable).
+  double rcTau_s(const double* x, const RcBranch& b) const;
   // Smallest time constant (s) of the states an explicit update advances (everything
   // but the RC branches' own decay): thermal nodes, and within parallel groups the
   // current split's feedback on SOC and RC voltages. A state added to the plant adds

@@ -58,6 +58,21 @@ struct Recording {
   size_t samples() const { return time_s.size(); }
 };
 
+// A reference run of the `compare:` scenario (core/sim/comparison). Losses are the
+// chemical energy the cells gave minus the energy delivered (heat, RC charge): the
+// energy lost against the reference is this run's losses minus the reference's — for a
+// power load (same energy out) the extra energy drawn, for a current load the energy
+// out that went missing.
+struct Comparison {
+  bool present = false;
+  std::string name;
+  double energy_delivered_Wh = 0.0;
+  double losses_Wh = 0.0;       // reference's chemical energy drawn - energy delivered
+  double min_cell_V = 0.0;
+  double this_losses_Wh = 0.0;  // the same for this run
+  double lostWh() const { return this_losses_Wh - losses_Wh; }
+};
+
 struct Summary {
   std::string scenario;
   double duration_s = 0.0;
@@ -83,6 +98,7 @@ struct Summary {
   double energy_start_Wh = 0.0;
   double energy_left_Wh = 0.0;
   double energy_stranded_Wh = 0.0;
+  Comparison compare;  // against the `compare:` scenario, when the scenario names one
 };
 
 struct RunResult {

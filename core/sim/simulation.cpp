@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/sim/bms_bridge.hpp"
+#include "core/sim/comparison.hpp"
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
@@ -151,6 +152,7 @@ RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
 
   RunResult r = tracker.finish(integ.state() + plant.stateSize());
   r.solver = integ.stats();
+  compareWithReference(s, r);  // the `compare:` reference run, if the scenario names one
   return r;
 }
 
