@@ -105,6 +105,13 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
     c.has_entropic = true;
     c.docv_dT_V_per_K = readCheckedCurve(m, "docv_dT_V_per_K", Range::closed(-0.01, 0.01), CurveRule::Finite, q);
   }
+  if (auto h = m.optionalMap("hysteresis")) {
+    c.has_hysteresis = true;
+    c.hysteresis_max_V = readCheckedCurve(*h, "max_V", Range::closed(0.0, 1.0), CurveRule::NonNegative, q);
+    c.hysteresis_rate_per_Ah = h->number("rate_per_Ah", Range{0.0, 1e5, true, false});
+    c.hysteresis_instant_V = h->number("instantaneous_V", 0.0, Range::closed(0.0, 1.0));
+    h->finish();
+  }
   if (m.has("rc_pairs")) {
     for (YamlMap rc : m.mapList("rc_pairs")) {
       RcPair p;

@@ -62,8 +62,8 @@ void FastIntegrator::substep(double h, double t_end) {
   // exponential update (x += h·f + (τ(1-e^{-h/τ}) - h)·f).
   // A branch whose R or C varies (SOC, temperature) takes its τ at the sub-step's start.
   for (size_t k : variableRc_) {
-    const double tau = plant_.rcTau_s(x, rcBranches_[k]);
-    rcGain_[k] = tau > 0.0 ? -tau * std::expm1(-h / tau) - h : -h;
+    const double tau = plant_.rcTau_s(x, sig_, rcBranches_[k]);
+    rcGain_[k] = !(tau < INFINITY) ? 0.0 : tau > 0.0 ? -tau * std::expm1(-h / tau) - h : -h;
   }
   for (int i = 0; i < n_; ++i) x[i] += h * f[i];
   const size_t nrc = rcState_.size();

@@ -11,7 +11,9 @@
 //   RC branch  v <- v + τ·f_v·(1 - e^{-h/τ})          exact exponential update of
 //              ( = v·e^{-h/τ} + i·R·(1 - e^{-h/τ}) )   dv/dt = (i·R - v)/τ, i frozen
 //                                                      (τ of a pair that varies with
-//                                                      SOC or temperature: at the start)
+//                                                      SOC or temperature: at the start;
+//                                                      a hysteresis state likewise, with
+//                                                      τ = 3600/(γ·|i|))
 //   others     x <- x + h·f_x                          explicit Euler: SOC, temperatures,
 //                                                      any state the plant adds later
 //   quadrature q <- q + h/2·(g(t, x) + g(t+h, x'))     trapezoid (charge, energies, heat)

@@ -18,6 +18,7 @@ Plant::Plant(const Scenario& s)
   pack_.cells = std::move(cells.params);
   initialSoc_ = std::move(cells.initial_soc);
   pack_.layout.n_rc = static_cast<int>(s.pack.cell.rc.size());
+  pack_.layout.hysteresis = s.pack.cell.has_hysteresis;
 
   const ThermalConfig& th = s.thermal;
   for (int c = 0; c < pack_.cellCount(); ++c) {
@@ -282,13 +283,18 @@ std::vector<Plant::RcBranch> Plant::rcBranches() const {
     for (int k = 0; k < pack_.layout.n_rc; ++k)
       b.push_back({c * stride_ + pack_.layout.rc(k), p.rc[static_cast<size_t>(k)].tau_s(), c, k,
                    p.rc[static_cast<size_t>(k)].variable});
+    if (pack_.layout.hysteresis) b.push_back({c * stride_ + pack_.layout.hyst(), INFINITY, c, -1, true, true});
   }
   return b;
 }
 
-double Plant::rcTau_s(const double* x, const RcBranch& b) const {
+double Plant::rcTau_s(const double* x, const PlantSignals& sig, const RcBranch& b) const {
   const CellParams& p = pack_.cells[static_cast<size_t>(b.cell)];
   if (!b.variable) return b.tau_s;
+  if (b.hysteresis) {  // dh/dt = k·(target - h), k = γ·|i|/3600
+    const double k = p.hysteresis_rate_per_Ah * std::fabs(sig.cell_current_A[static_cast<size_t>(b.cell)]) / 3600.0;
+    return k > 0.0 ? 1.0 / k : INFINITY;
+  }
   const double* xc = cellStates(x, b.cell);
   const double t_C = pack_.cellTemp_C(b.cell, xc);
   const RcPair& rc = p.rc[static_cast<size_t>(b.pair)];
@@ -338,6 +344,14 @@ double Plant::explicitTimeConstant_s() const {
         if (!(r0_min > 0.0)) continue;
         if (slope_max > 0.0) tau = std::min(tau, 3600.0 * p.capacity_Ah * r0_min / slope_max);
         if (!p.rc.empty()) tau = std::min(tau, c_min * r0_min);
+        if (p.has_hysteresis) {
+          // h moves the cell's EMF, hence its share of the group current, hence dh/dt:
+          // rate γ·(M + h)/(3600·R0) <= γ·2·M_max/(3600·R0).
+          double m_max = 0.0;
+          for (int i = 0; i <= kGrid; ++i)
+            m_max = std::max(m_max, p.hysteresis_max_V.eval(static_cast<double>(i) / kGrid, p.axisCapacity_Ah(), t_C));
+          if (m_max > 0.0) tau = std::min(tau, 3600.0 * r0_min / (p.hysteresis_rate_per_Ah * 2.0 * m_max));
+        }
       }
     }
   }

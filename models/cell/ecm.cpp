@@ -1,9 +1,12 @@
 #include "models/cell/ecm.hpp"
 
+#include <cmath>
+
 namespace packsim {
 
 bool CellParams::usesTemperature() const {
   if (ocv_V.dependsOnTemperature() || r0_ohm.dependsOnTemperature() || has_entropic) return true;
+  if (has_hysteresis && hysteresis_max_V.dependsOnTemperature()) return true;
   if (has_r0_charge && r0_charge_ohm.dependsOnTemperature()) return true;
   for (const RcPair& k : rc)
     if (k.variable && (k.r_curve.dependsOnTemperature() || k.c_curve.dependsOnTemperature() ||
@@ -40,11 +43,22 @@ double emf(const CellParams& p, const double* x) { return emfAt(p, x, kReference
 double emf(const CellParams& p, const double* x, double ocv_V) {
   double v = ocv_V;
   for (size_t k = 0; k < p.rc.size(); ++k) v -= x[1 + k];
+  if (p.has_hysteresis) v += x[1 + p.rc.size()];
   return v;
 }
 
+namespace {
+
+double sign(double i_A) { return i_A > 0.0 ? 1.0 : i_A < 0.0 ? -1.0 : 0.0; }
+
+}  // namespace
+
+double instantHysteresis_V(const CellParams& p, double i_A) {
+  return p.has_hysteresis ? -p.hysteresis_instant_V * sign(i_A) : 0.0;
+}
+
 double terminalVoltage(const CellParams& p, const double* x, double i_A, double temp_C) {
-  return emfAt(p, x, temp_C) - i_A * r0(p, x[CellLayout::soc], temp_C, i_A);
+  return emfAt(p, x, temp_C) + instantHysteresis_V(p, i_A) - i_A * r0(p, x[CellLayout::soc], temp_C, i_A);
 }
 
 double heat_W(const CellParams& p, const double* x, double i_A) {
@@ -55,6 +69,7 @@ double heatWithR0_W(const CellParams& p, const double* x, double i_A, double r0_
   double q = i_A * i_A * r0_ohm;
   for (size_t k = 0; k < p.rc.size(); ++k) q += x[1 + k] * x[1 + k] / rcR_ohm(p.rc[k], p, x[CellLayout::soc], temp_C);
   if (p.has_entropic) q += reversibleHeat_W(p, x[CellLayout::soc], i_A, temp_C);
+  if (p.has_hysteresis) q -= i_A * (x[1 + p.rc.size()] + instantHysteresis_V(p, i_A));
   return q;
 }
 
@@ -74,6 +89,11 @@ void derivatives(const CellParams& p, const double* x, double i_A, double* dx, d
       const double r = rcR_ohm(rc, p, x[CellLayout::soc], temp_C), c = rcC_F(rc, p, x[CellLayout::soc], temp_C);
       dx[1 + k] = i_A / c - x[1 + k] / (r * c);
     }
+  }
+  if (p.has_hysteresis) {
+    const size_t h = 1 + p.rc.size();
+    const double m = p.hysteresis_max_V.eval(x[CellLayout::soc], p.axisCapacity_Ah(), temp_C);
+    dx[h] = p.hysteresis_rate_per_Ah * std::fabs(i_A) / 3600.0 * (-m * sign(i_A) - x[h]);
   }
 }
 

@@ -3,17 +3,22 @@
 //
 //   states    soc            state of charge, 1 = full
 //             v_rc[k]        voltage across RC pair k [V]
+//             h              hysteresis voltage [V] (only with a hysteresis block)
 //   inputs    i_A            cell current [A], positive discharges
 //             T              cell temperature [°C] (a node of the thermal network)
 //   equations d soc/dt    = -(eta(i)·i + i_sd + i_int) / (3600·Q)
 //                           i_int: current through an internal short (not at the terminals)
 //                           eta = 1 on discharge, coulombic_efficiency on charge
 //             d v_rc[k]/dt = i / C_k(soc,T) - v_rc[k] / (R_k(soc,T)·C_k(soc,T))
-//   output    v_term = OCV(soc,T) - i·R0(soc,T,sign i) - Σ v_rc[k]
-//             R0 on charge (i < 0) is r0_charge_ohm when given, else r0_ohm
+//             d h/dt      = γ·|i|/3600 · (-M(soc,T)·sgn(i) - h)    one-state hysteresis:
+//                           h tends to -M while discharging, +M while charging
+//   output    v_term = OCV(soc,T) + h - M0·sgn(i) - i·R0(soc,T,sign i) - Σ v_rc[k]
+//             R0 on charge (i < 0) is r0_charge_ohm when given, else r0_ohm;
+//             M0 the instantaneous hysteresis (0 by default)
 //   heat      q_W = i²·R0 + Σ v_rc[k]² / R_k       Joule heat in R0 and the RC resistors
 //                 - i·T_K·dOCV/dT(soc)              reversible (entropic) heat, when given:
 //                                                   absorbed on discharge where dOCV/dT > 0
+//                 - i·(h - M0·sgn(i))               hysteresis loss, when given
 //
 // Curves over discharged Ah use the nominal capacity axis_capacity_Ah (the preset's),
 // not the cell's own: see models/cell/curve.hpp. The struct is a constant description:
@@ -45,6 +50,10 @@ struct CellParams {
   Curve r0_charge_ohm = Curve::constant(0.01);
   bool has_entropic = false;          // reversible heat from dOCV/dT
   Curve docv_dT_V_per_K = Curve::constant(0.0);
+  bool has_hysteresis = false;        // one more state per cell: h
+  Curve hysteresis_max_V = Curve::constant(0.0);  // M(soc,T)
+  double hysteresis_rate_per_Ah = 0.0;            // γ
+  double hysteresis_instant_V = 0.0;              // M0
   double r0_scale = 1.0;              // per-cell spread of R0 around the curve
   std::vector<RcPair> rc;
   double coulombic_efficiency = 1.0;  // applied to charging current
@@ -62,9 +71,11 @@ struct CellParams {
 // Index map of one cell's electrical states; the thermal state lives in the network.
 struct CellLayout {
   int n_rc = 0;
-  int size() const { return 1 + n_rc; }
+  bool hysteresis = false;
+  int size() const { return 1 + n_rc + (hysteresis ? 1 : 0); }
   static constexpr int soc = 0;
   int rc(int k) const { return 1 + k; }
+  int hyst() const { return 1 + n_rc; }  // valid when hysteresis
 };
 
 namespace ecm {
@@ -83,6 +94,8 @@ double terminalVoltage(const CellParams& p, const double* x, double i_A, double 
 double heat_W(const CellParams& p, const double* x, double i_A);  // at kReferenceTemp_C
 // Heat with R0 already evaluated at the cell's SOC (r0_ohm = r0(p, soc, T, i)).
 double heatWithR0_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double temp_C);
+// The instantaneous hysteresis term -M0·sgn(i) (0 without hysteresis or current).
+double instantHysteresis_V(const CellParams& p, double i_A);
 // Reversible heat alone: -i·T_K·dOCV/dT (0 without a dOCV/dT curve).
 double reversibleHeat_W(const CellParams& p, double soc, double i_A, double temp_C);
 // Writes d/dt of the electrical states into dx (same layout as x).

@@ -55,7 +55,7 @@ void Pack::groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm, d
     const double* x = x_cell(first + k);
     const double t_C = cellTemp_C(first + k, x);
     const double gk = 1.0 / ecm::r0(p, x[CellLayout::soc], t_C, i_sign_A);
-    sum_e_over_r += ecm::emfAt(p, x, t_C) * gk;
+    sum_e_over_r += (ecm::emfAt(p, x, t_C) + ecm::instantHysteresis_V(p, i_sign_A)) * gk;
     sum_g += gk;
   }
   e_V = sum_e_over_r / sum_g;
@@ -75,7 +75,7 @@ double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_ce
     r0 = ecm::r0(p, x[CellLayout::soc], t_C, i_group_A);
     if (ocv_cell) ocv_cell[i] = ocv;
     if (r0_cell) r0_cell[i] = r0;
-    return ecm::emf(p, x, ocv);
+    return ecm::emf(p, x, ocv) + ecm::instantHysteresis_V(p, i_group_A);
   };
   if (parallel == 1) {
     double r0 = 0.0;
