@@ -19,6 +19,7 @@ Plant::Plant(const Scenario& s)
   initialSoc_ = std::move(cells.initial_soc);
   pack_.layout.n_rc = static_cast<int>(s.pack.cell.rc.size());
   pack_.layout.hysteresis = s.pack.cell.has_hysteresis;
+  pack_.cacheTemperatureUse();
 
   const ThermalConfig& th = s.thermal;
   for (int c = 0; c < pack_.cellCount(); ++c) {

@@ -109,7 +109,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       sm.min_cell_time_s = t;
     }
     if (!sm.limit_reached && v <= plant_.pack().cells[static_cast<size_t>(c)].v_min_V) noteLimit(t, x, c);
-    noteSocRange(t, x, c);
+    const double soc = plant_.cellStates(x, c)[CellLayout::soc];
+    if (soc < 0.0 || soc > 1.0) noteSocRange(t, x, c);
     if (T > sm.max_temp_C) {
       sm.max_temp_C = T;
       sm.hottest_cell = c + 1;

@@ -120,13 +120,11 @@ double Curve::at(double x, double temp_C) const {
   return y * std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - 1.0 / (ref_temp_C + kZeroCelsius_K)));
 }
 
-double Curve::eval(double soc, double axis_capacity_Ah) const {
-  if (kind == Kind::Constant && arrhenius_K == 0.0) return coeffs[0];
-  return at(axisValue(soc, axis_capacity_Ah), kReferenceTemp_C);
-}
+double Curve::eval(double soc, double axis_capacity_Ah) const { return eval(soc, axis_capacity_Ah, kReferenceTemp_C); }
 
 double Curve::eval(double soc, double axis_capacity_Ah, double temp_C) const {
   if (kind == Kind::Constant && arrhenius_K == 0.0) return coeffs[0];
+  if (!dependsOnTemperature()) return at(axisValue(soc, axis_capacity_Ah));  // the 1-D path, as without T
   return at(axisValue(soc, axis_capacity_Ah), temp_C);
 }
 

@@ -24,10 +24,6 @@ double r0(const CellParams& p, double soc, double temp_C, double i_A) {
   return p.r0_scale * c.eval(soc, p.axisCapacity_Ah(), temp_C);
 }
 
-double rcR_ohm(const RcPair& rc, const CellParams& p, double soc, double temp_C) {
-  return rc.variable ? rc.r_curve.eval(soc, p.axisCapacity_Ah(), temp_C) : rc.r_ohm;
-}
-
 double rcC_F(const RcPair& rc, const CellParams& p, double soc, double temp_C) {
   if (!rc.variable) return rc.c_F;
   const double q = p.axisCapacity_Ah();
@@ -53,9 +49,7 @@ double sign(double i_A) { return i_A > 0.0 ? 1.0 : i_A < 0.0 ? -1.0 : 0.0; }
 
 }  // namespace
 
-double instantHysteresis_V(const CellParams& p, double i_A) {
-  return p.has_hysteresis ? -p.hysteresis_instant_V * sign(i_A) : 0.0;
-}
+
 
 double terminalVoltage(const CellParams& p, const double* x, double i_A, double temp_C) {
   return emfAt(p, x, temp_C) + instantHysteresis_V(p, i_A) - i_A * r0(p, x[CellLayout::soc], temp_C, i_A);

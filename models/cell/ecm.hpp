@@ -83,7 +83,9 @@ namespace ecm {
 double ocv(const CellParams& p, double soc, double temp_C = kReferenceTemp_C);
 // R0 for a current i_A (positive discharges; i_A < 0 selects the charge R0).
 double r0(const CellParams& p, double soc, double temp_C = kReferenceTemp_C, double i_A = 0.0);
-double rcR_ohm(const RcPair& rc, const CellParams& p, double soc, double temp_C);
+inline double rcR_ohm(const RcPair& rc, const CellParams& p, double soc, double temp_C) {
+  return rc.variable ? rc.r_curve.eval(soc, p.axisCapacity_Ah(), temp_C) : rc.r_ohm;
+}
 double rcC_F(const RcPair& rc, const CellParams& p, double soc, double temp_C);
 // OCV minus RC polarisation: the voltage behind R0.
 double emfAt(const CellParams& p, const double* x, double temp_C);
@@ -95,7 +97,10 @@ double heat_W(const CellParams& p, const double* x, double i_A);  // at kReferen
 // Heat with R0 already evaluated at the cell's SOC (r0_ohm = r0(p, soc, T, i)).
 double heatWithR0_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double temp_C);
 // The instantaneous hysteresis term -M0·sgn(i) (0 without hysteresis or current).
-double instantHysteresis_V(const CellParams& p, double i_A);
+inline double instantHysteresis_V(const CellParams& p, double i_A) {
+  if (!p.has_hysteresis) return 0.0;
+  return i_A > 0.0 ? -p.hysteresis_instant_V : i_A < 0.0 ? p.hysteresis_instant_V : 0.0;
+}
 // Reversible heat alone: -i·T_K·dOCV/dT (0 without a dOCV/dT curve).
 double reversibleHeat_W(const CellParams& p, double soc, double i_A, double temp_C);
 // Writes d/dt of the electrical states into dx (same layout as x).

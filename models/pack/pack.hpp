@@ -15,6 +15,7 @@
 // charge R0 when the group current is negative (a parallel cell is taken to carry the
 // sign of its group's current).
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "models/cell/ecm.hpp"
@@ -27,11 +28,21 @@ struct Pack {
   std::vector<CellParams> cells;  // series·parallel entries
   CellLayout layout;              // shared by every cell (same number of RC pairs)
   double interconnect_ohm = 0.0;  // total busbar/interconnect resistance in the current path
+  // Per cell: whether its curves read the temperature (CellParams::usesTemperature),
+  // worked out once by cacheTemperatureUse(); empty: asked of the cell each time.
+  std::vector<uint8_t> uses_temp;
+
+  void cacheTemperatureUse() {
+    uses_temp.resize(cells.size());
+    for (size_t i = 0; i < cells.size(); ++i) uses_temp[i] = cells[i].usesTemperature() ? 1 : 0;
+  }
 
   int cellCount() const { return series * parallel; }
   // Temperature of cell i for its curves (kReferenceTemp_C if none depends on it).
   double cellTemp_C(int i, const double* x) const {
-    return cells[static_cast<size_t>(i)].usesTemperature() ? x[layout.size()] : kReferenceTemp_C;
+    const size_t ci = static_cast<size_t>(i);
+    const bool uses = ci < uses_temp.size() ? uses_temp[ci] != 0 : cells[ci].usesTemperature();
+    return uses ? x[layout.size()] : kReferenceTemp_C;
   }
   // Thevenin equivalent of group g: EMF (V) and resistance (Ω); i_sign_A < 0 selects
   // the charge R0.
