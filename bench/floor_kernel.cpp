@@ -51,6 +51,7 @@ FloorPack::FloorPack(const Plant& plant, double cell_to_cell_W_per_K, double amb
   for (size_t c = 0; c < n; ++c) {
     const CellParams& p = pk.cells[c];
     cap_Ah_.push_back(p.capacity_Ah);
+    axisCap_Ah_.push_back(p.axisCapacity_Ah());  // curves over discharged Ah: the nominal Q
     r0Scale_.push_back(p.r0_scale);
     eff_.push_back(p.coulombic_efficiency);
     selfDis_A_.push_back(p.self_discharge_A);
@@ -85,8 +86,8 @@ double FloorPack::step(double i, double* v_V) {
   double tLeftOld = 0.0;  // old temperature of cell c-1 (already overwritten in temp_)
   for (int c = 0; c < n; ++c) {
     const double soc = soc_[c];
-    const double ocv = ocv_.eval(soc, cap_Ah_[c]);
-    const double r0 = r0Scale_[c] * r0_.eval(soc, cap_Ah_[c]);
+    const double ocv = ocv_.eval(soc, axisCap_Ah_[c]);
+    const double r0 = r0Scale_[c] * r0_.eval(soc, axisCap_Ah_[c]);
     double v = ocv - i * r0;
     double q = i * i * r0;
     for (int k = 0; k < nrc_; ++k) {

@@ -57,7 +57,7 @@ class FloorPack {
   FlatCurve ocv_, r0_;
   double ambient_C_ = 25.0, gLink_ = 0.0, h_ = 0.0;
   // parameters (per cell; RC per pair k at k·n + c)
-  std::vector<double> cap_Ah_, r0Scale_, eff_, selfDis_A_, heatCap_, gAmb_, rcR_, rcTau_;
+  std::vector<double> cap_Ah_, axisCap_Ah_, r0Scale_, eff_, selfDis_A_, heatCap_, gAmb_, rcR_, rcTau_;
   // derived for h
   std::vector<double> socGain_, tempGain_, rcA_;
   // states

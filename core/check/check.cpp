@@ -122,6 +122,19 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     fail(fmt("energy delivered %.2f Wh is not above %.2f Wh", sm.energy_delivered_Wh, *e.energy_delivered_Wh_above));
 
   judgeEstimates(e, sm, fail);
+  if (e.energy_lost_vs_compare_Wh_above || e.min_cell_V_below_compare) {
+    const Comparison& c = sm.compare;
+    if (!c.present) {
+      fail("no comparison run (compare: {scenario: ...})");
+    } else {
+      const double lost = c.lostWh();
+      if (e.energy_lost_vs_compare_Wh_above && !(lost > *e.energy_lost_vs_compare_Wh_above))
+        fail("energy lost against " + c.name +
+             fmt(" %.2f Wh is not above ", lost) + fmt("%.2f Wh", *e.energy_lost_vs_compare_Wh_above));
+      if (e.min_cell_V_below_compare && *e.min_cell_V_below_compare && !(sm.min_cell_V < c.min_cell_V))
+        fail(fmt("lowest cell %.4f V is not below ", sm.min_cell_V) + c.name + fmt("'s %.4f V", c.min_cell_V));
+    }
+  }
 
   // Detection latency of every injected fault.
   for (const Event& inj : r.events) {

@@ -31,6 +31,10 @@ struct Expectations {
   std::optional<double> energy_delivered_Wh_above;
   std::vector<SocErrorBound> soc_error_max_below, soc_error_rms_below, soc_error_end_below;  // |end|
   std::optional<double> capacity_error_below;   // |SOH estimate / true - 1|; needs an estimate
+  // Against the `compare:` reference run: energy delivered lost (reference − this run)
+  // above this figure; this run's lowest cell below the reference's.
+  std::optional<double> energy_lost_vs_compare_Wh_above;
+  std::optional<bool> min_cell_V_below_compare;
 };
 
 }  // namespace packsim

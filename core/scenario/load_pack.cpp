@@ -1,8 +1,10 @@
 #include <bms/bms_limits.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
+#include "core/scenario/curve_domain.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_sections.hpp"
 
@@ -10,7 +12,9 @@ namespace packsim {
 
 namespace fs = std::filesystem;
 
-// A curve is a number (constant), {poly: [...], axis}, or {x: [...], y: [...], axis}.
+// A curve is a number (constant), {poly: [...], axis}, {x: [...], y: [...], axis}, or a
+// 2-D table {x: [...], temp_C: [...], y: [[row at temp_C[0]], …], axis}; a 1-D form
+// may carry an Arrhenius factor {arrhenius_K, ref_temp_C}.
 Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
   const YAML::Node n = parent.node(key);
   if (n.IsScalar()) return Curve::constant(parent.number(key, yRange));
@@ -19,34 +23,110 @@ Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
   const CurveAxis axis = axisName == "soc" ? CurveAxis::Soc : CurveAxis::Discharged_Ah;
   Curve c;
   if (m.has("poly")) {
-    if (m.has("x") || m.has("y")) throw m.error("give either poly or an x/y table, not both");
+    if (m.has("x") || m.has("y") || m.has("temp_C")) throw m.error("give either poly or an x/y table, not both");
     c = Curve::polynomial(m.numbers("poly", Range{}), axis);
   } else if (m.has("x") || m.has("y")) {
     std::vector<double> xs = m.numbers("x", Range{}, 2);
-    std::vector<double> ys = m.numbers("y", yRange, 2);
-    if (xs.size() != ys.size())
-      throw m.errorAt("y", "has " + std::to_string(ys.size()) + " values but x has " + std::to_string(xs.size()));
     for (size_t i = 1; i < xs.size(); ++i)
       if (!(xs[i] > xs[i - 1])) throw m.errorAt("x", "values must increase strictly");
-    c = Curve::table(std::move(xs), std::move(ys), axis);
+    if (m.has("temp_C")) {
+      std::vector<double> temps = m.numbers("temp_C", Range::closed(-60.0, 150.0), 1);
+      for (size_t i = 1; i < temps.size(); ++i)
+        if (!(temps[i] > temps[i - 1])) throw m.errorAt("temp_C", "values must increase strictly");
+      const YAML::Node rowsNode = m.node("y");
+      if (!rowsNode.IsSequence() || rowsNode.size() != temps.size())
+        throw m.errorAt("y", "a 2-D table needs one row of y per temp_C value (" + std::to_string(temps.size()) + " rows)");
+      const std::string yField = m.path().empty() ? "y" : m.path() + ".y";
+      std::vector<std::vector<double>> rows;
+      for (size_t j = 0; j < rowsNode.size(); ++j) {
+        const YAML::Node row = rowsNode[j];
+        char rowName[64];
+        std::snprintf(rowName, sizeof rowName, "row %zu (temp_C %g)", j + 1, temps[j]);
+        if (!row.IsSequence() || row.size() != xs.size())
+          throw m.errorAt(row, yField, std::string(rowName) + " needs " + std::to_string(xs.size()) + " values, one per x");
+        std::vector<double> r;
+        for (const YAML::Node& v : row) {
+          double d = 0.0;
+          if (!v.IsScalar() || !YAML::convert<double>::decode(v, d) || !std::isfinite(d))
+            throw m.errorAt(v, yField, std::string(rowName) + ": expected a finite number");
+          if (!yRange.contains(d))
+            throw m.errorAt(v, yField, std::string(rowName) + ": value " + v.Scalar() + " outside " + yRange.describe());
+          r.push_back(d);
+        }
+        rows.push_back(std::move(r));
+      }
+      c = Curve::table2d(std::move(xs), std::move(temps), rows, axis);
+    } else {
+      std::vector<double> ys = m.numbers("y", yRange, 2);
+      if (xs.size() != ys.size())
+        throw m.errorAt("y", "has " + std::to_string(ys.size()) + " values but x has " + std::to_string(xs.size()));
+      c = Curve::table(std::move(xs), std::move(ys), axis);
+    }
   } else {
-    throw m.error("expected 'poly: [...]' (highest power first) or a table 'x: [...]', 'y: [...]'");
+    throw m.error("expected 'poly: [...]' (highest power first), a table 'x: [...]', 'y: [...]', or a 2-D table "
+                  "'x: [...]', 'temp_C: [...]', 'y: [[...], ...]'");
+  }
+  if (m.has("arrhenius_K") || m.has("ref_temp_C")) {
+    if (c.kind == Curve::Kind::Table2D)
+      throw m.error("a 2-D table over temp_C carries its temperature dependence; drop arrhenius_K / ref_temp_C");
+    const double k = m.number("arrhenius_K", Range::closed(-30000.0, 30000.0));
+    const double ref = m.number("ref_temp_C", Range::closed(-60.0, 150.0));
+    c = c.withArrhenius(k, ref);
   }
   m.finish();
   return c;
 }
 
-CellParams readCell(YamlMap m) {
+namespace {
+
+// Reads a curve and checks it over SOC 0..1 (and its temperatures): see curve_domain.hpp.
+Curve readCheckedCurve(YamlMap& m, const std::string& key, Range yRange, CurveRule rule, double axis_capacity_Ah) {
+  Curve c = readCurve(m, key, yRange);
+  if (auto err = curveDomainError(c, rule, axis_capacity_Ah)) throw m.errorAt(key, *err);
+  return c;
+}
+
+}  // namespace
+
+// axis_capacity_Ah: the nominal capacity the curves over discharged Ah refer to (the
+// preset's); 0: this cell's own capacity_Ah.
+CellParams readCell(YamlMap m, double axis_capacity_Ah) {
   CellParams c;
   c.capacity_Ah = m.number("capacity_Ah", Range::positive());
-  c.ocv_V = readCurve(m, "ocv_V", Range::closed(0.0, 10.0));
-  c.r0_ohm = readCurve(m, "r0_ohm", Range::positive());
+  c.axis_capacity_Ah = axis_capacity_Ah > 0.0 ? axis_capacity_Ah : c.capacity_Ah;
+  const double q = c.axis_capacity_Ah;
+  c.ocv_V = readCheckedCurve(m, "ocv_V", Range::closed(0.0, 10.0), CurveRule::Ocv, q);
+  c.r0_ohm = readCheckedCurve(m, "r0_ohm", Range::positive(), CurveRule::Positive, q);
+  if (m.has("r0_charge_ohm")) {
+    c.has_r0_charge = true;
+    c.r0_charge_ohm = readCheckedCurve(m, "r0_charge_ohm", Range::positive(), CurveRule::Positive, q);
+  }
+  if (m.has("docv_dT_V_per_K")) {
+    c.has_entropic = true;
+    c.docv_dT_V_per_K = readCheckedCurve(m, "docv_dT_V_per_K", Range::closed(-0.01, 0.01), CurveRule::Finite, q);
+  }
+  if (auto h = m.optionalMap("hysteresis")) {
+    c.has_hysteresis = true;
+    c.hysteresis_max_V = readCheckedCurve(*h, "max_V", Range::closed(0.0, 1.0), CurveRule::NonNegative, q);
+    c.hysteresis_rate_per_Ah = h->number("rate_per_Ah", Range{0.0, 1e5, true, false});
+    c.hysteresis_instant_V = h->number("instantaneous_V", 0.0, Range::closed(0.0, 1.0));
+    h->finish();
+  }
   if (m.has("rc_pairs")) {
     for (YamlMap rc : m.mapList("rc_pairs")) {
       RcPair p;
-      p.r_ohm = rc.number("r_ohm", Range::positive());
       if (rc.has("c_F") == rc.has("tau_s")) throw rc.error("give exactly one of c_F or tau_s");
-      p.c_F = rc.has("c_F") ? rc.number("c_F", Range::positive()) : rc.number("tau_s", Range::positive()) / p.r_ohm;
+      p.by_tau = rc.has("tau_s");
+      const std::string cKey = p.by_tau ? "tau_s" : "c_F";
+      p.r_curve = readCheckedCurve(rc, "r_ohm", Range::positive(), CurveRule::Positive, q);
+      Curve cc = readCheckedCurve(rc, cKey, Range::positive(), CurveRule::Positive, q);
+      p.variable = !p.r_curve.isConstant() || !cc.isConstant();
+      if (p.variable) {
+        (p.by_tau ? p.tau_curve : p.c_curve) = cc;
+      } else {
+        p.r_ohm = p.r_curve.coeffs[0];
+        p.c_F = p.by_tau ? cc.coeffs[0] / p.r_ohm : cc.coeffs[0];
+      }
       rc.finish();
       c.rc.push_back(p);
     }
@@ -92,7 +172,7 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
                                   (near.empty() ? "" : "; did you mean '" + near + "'?") + " (available: " + list + ")");
   }
   const YAML::Node preset = parseYaml(readScenarioText(path, "cell preset"), path);
-  readCell(YamlMap(preset, path, ""));  // the preset alone must be valid
+  const CellParams nominal = readCell(YamlMap(preset, path, ""));  // the preset alone must be valid
   YAML::Node merged = YAML::Clone(preset);
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
     const std::string key = it->first.Scalar();
@@ -102,7 +182,9 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
     if (static_cast<const YAML::Node&>(merged)[key]) merged[key] = it->second;  // const: a lookup must not add the key
     else merged.force_insert(it->first, it->second);
   }
-  return readCell(YamlMap(merged, m.file(), m.path()));
+  // Curves over discharged Ah keep meaning the preset's discharged charge, even where
+  // the scenario gives this cell another capacity.
+  return readCell(YamlMap(merged, m.file(), m.path()), nominal.capacity_Ah);
 }
 
 CellSpread readSpread(YamlMap m) {

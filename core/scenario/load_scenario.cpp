@@ -180,6 +180,15 @@ Scenario loadScenarioChain(const std::string& text, const std::string& file, con
   }
   s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount());
   s.expect = readExpect(m.optionalMap("expect"));
+  if (auto c = m.optionalMap("compare")) {
+    const std::string rel = c->string("scenario");
+    const fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
+    if (!fs::exists(path)) throw c->errorAt("scenario", "file not found: " + path.string());
+    c->finish();
+    s.compare_scenario = path.string();
+  }
+  if ((s.expect.energy_lost_vs_compare_Wh_above || s.expect.min_cell_V_below_compare) && s.compare_scenario.empty())
+    throw m.map("expect").error("energy_lost_vs_compare_Wh_above / min_cell_V_below_compare need a compare: {scenario: ...}");
   m.finish();
 
   // Cross-field checks, reported at the field a user would change.

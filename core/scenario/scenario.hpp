@@ -204,6 +204,9 @@ struct Scenario {
   OutputConfig output;
   std::vector<FaultInjection> faults;
   Expectations expect;
+  // `compare: {scenario: other.yaml}`: a reference scenario (path resolved) run as well,
+  // so the summary states what this run lost or gained against it (core/sim/comparison).
+  std::string compare_scenario;
 
   double endTime_s() const;
 };

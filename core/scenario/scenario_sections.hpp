@@ -11,9 +11,12 @@ namespace packsim {
 
 
 
-// A curve is a number (constant), {poly: [...], axis}, or {x: [...], y: [...], axis}.
+// A curve is a number (constant), {poly: [...], axis}, {x: [...], y: [...], axis}, or a
+// 2-D table over temp_C; 1-D forms may add {arrhenius_K, ref_temp_C}.
 Curve readCurve(YamlMap& parent, const std::string& key, Range yRange);
-CellParams readCell(YamlMap m);
+// axis_capacity_Ah: what curves over discharged Ah refer to (a preset's capacity); 0:
+// the cell's own capacity_Ah. Every curve is checked over SOC 0..1 (curve_domain.hpp).
+CellParams readCell(YamlMap m, double axis_capacity_Ah = 0.0);
 PackConfig readPack(YamlMap m, const std::string& baseDir);
 ThermalConfig readThermal(std::optional<YamlMap> m, int cells);
 TimeSeries readAmbient(std::optional<YamlMap> m);

@@ -17,7 +17,9 @@ FastIntegrator::FastIntegrator(const Plant& plant, const PlantInputs& inputs, co
   x_.assign(size, 0.0);
   rates_.assign(size, 0.0);
   quadStart_.assign(kQuadCount, 0.0);
-  for (const Plant::RcBranch& b : plant.rcBranches()) {
+  rcBranches_ = plant.rcBranches();
+  for (const Plant::RcBranch& b : rcBranches_) {
+    if (b.variable) variableRc_.push_back(rcState_.size());
     rcState_.push_back(b.state);
     rcTau_s_.push_back(b.tau_s);
   }
@@ -58,6 +60,11 @@ void FastIntegrator::substep(double h, double t_end) {
   for (int q = 0; q < kQuadCount; ++q) quadStart_[static_cast<size_t>(q)] = f[n_ + q];
   // Explicit Euler on every plant state, then the RC branches corrected to the exact
   // exponential update (x += h·f + (τ(1-e^{-h/τ}) - h)·f).
+  // A branch whose R or C varies (SOC, temperature) takes its τ at the sub-step's start.
+  for (size_t k : variableRc_) {
+    const double tau = plant_.rcTau_s(x, sig_, rcBranches_[k]);
+    rcGain_[k] = !(tau < INFINITY) ? 0.0 : tau > 0.0 ? -tau * std::expm1(-h / tau) - h : -h;
+  }
   for (int i = 0; i < n_; ++i) x[i] += h * f[i];
   const size_t nrc = rcState_.size();
   for (size_t k = 0; k < nrc; ++k) {

@@ -10,6 +10,10 @@
 //
 //   RC branch  v <- v + τ·f_v·(1 - e^{-h/τ})          exact exponential update of
 //              ( = v·e^{-h/τ} + i·R·(1 - e^{-h/τ}) )   dv/dt = (i·R - v)/τ, i frozen
+//                                                      (τ of a pair that varies with
+//                                                      SOC or temperature: at the start;
+//                                                      a hysteresis state likewise, with
+//                                                      τ = 3600/(γ·|i|))
 //   others     x <- x + h·f_x                          explicit Euler: SOC, temperatures,
 //                                                      any state the plant adds later
 //   quadrature q <- q + h/2·(g(t, x) + g(t+h, x'))     trapezoid (charge, energies, heat)
@@ -67,6 +71,8 @@ class FastIntegrator : public Integrator {
   std::vector<double> quadStart_;
   std::vector<int> rcState_;
   std::vector<double> rcTau_s_;
+  std::vector<Plant::RcBranch> rcBranches_;
+  std::vector<size_t> variableRc_;  // branches whose τ is taken at every sub-step
   std::vector<double> rcGain_;   // extra factor on top of the Euler step: τ(1-e^{-h/τ}) - h
   double gainStep_s_ = -1.0;     // h the gains were computed for
   PlantSignals sig_;

@@ -18,6 +18,8 @@ Plant::Plant(const Scenario& s)
   pack_.cells = std::move(cells.params);
   initialSoc_ = std::move(cells.initial_soc);
   pack_.layout.n_rc = static_cast<int>(s.pack.cell.rc.size());
+  pack_.layout.hysteresis = s.pack.cell.has_hysteresis;
+  pack_.cacheTemperatureUse();
 
   const ThermalConfig& th = s.thermal;
   for (int c = 0; c < pack_.cellCount(); ++c) {
@@ -107,7 +109,7 @@ void Plant::packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double
   r_ohm = pack_.interconnect_ohm;
   for (int g = 0; g < pack_.series; ++g) {
     double eg = 0.0, rg = 0.0;
-    pack_.groupThevenin(g, cellX, eg, rg);
+    pack_.groupThevenin(g, cellX, eg, rg, in.charger_limit_A > 0.0 ? -1.0 : 1.0);
     const double ix = converterA(in, static_cast<size_t>(g));
     const double k = balancingFactor(in, g, rg);
     e_V += k * (eg - rg * ix);
@@ -152,7 +154,8 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     const CellParams& p = pack_.cells[ci];
-    double q = ecm::heat_W(p, cellX(c), sig.cell_current_A[ci], sig.cell_r0_ohm[ci]);
+    const double* xc = cellX(c);
+    double q = ecm::heatWithR0_W(p, xc, sig.cell_current_A[ci], sig.cell_r0_ohm[ci], pack_.cellTemp_C(c, xc));
     sig.internal_A[ci] = 0.0;
     if (f) {
       if (ci < f->cell_heat_W.size()) {
@@ -200,7 +203,7 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
     double a = 0.0, b = 0.0;
     for (int g = 0; g < pack_.series; ++g) {
       double eg = 0.0, rg = 0.0;
-      pack_.groupThevenin(g, cellX, eg, rg);
+      pack_.groupThevenin(g, cellX, eg, rg, I);
       const double k = balancingFactor(in, g, rg);
       a += k * (eg - rg * (I + converterA(in, static_cast<size_t>(g))));
       b += k * rg;
@@ -215,7 +218,7 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
     double v = 0.0, iBal = 0.0;
     if (balancingOn(in, gi)) {
       double eg = 0.0, rg = 0.0;
-      pack_.groupThevenin(g, cellX, eg, rg);
+      pack_.groupThevenin(g, cellX, eg, rg, iString);
       v = balancer_.loadedFactor(rg) * (eg - rg * iString);
       iBal = balancer_.current_A(v);
       v = pack_.splitGroup(g, iString + iBal, cellX, sig.cell_current_A.data(), sig.cell_ocv_V.data(),
@@ -246,7 +249,9 @@ void Plant::derivatives(double t, const double* x, const PlantInputs& in, double
   evaluate(t, x, in, sig);
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
-    ecm::derivatives(pack_.cells[ci], cellStates(x, c), sig.cell_current_A[ci], dx + c * stride_, sig.internal_A[ci]);
+    const double* xc = cellStates(x, c);
+    ecm::derivatives(pack_.cells[ci], xc, sig.cell_current_A[ci], dx + c * stride_, sig.internal_A[ci],
+                     pack_.cellTemp_C(c, xc));
   }
   // Thermal network on gathered temperatures; rates scattered to the state slots.
   thermal_.derivatives(sig.node_temp_C.data(), sig.heat_W.data(), sig.ambient_C, coolant_C_,
@@ -255,13 +260,21 @@ void Plant::derivatives(double t, const double* x, const PlantInputs& in, double
   if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
 }
 
-void Plant::quadratures([[maybe_unused]] const double* x, const PlantSignals& sig, double* dq) const {
-  // Joule heat only: heat injected by a scripted fault is not drawn from the cells.
+void Plant::quadratures(const double* x, const PlantSignals& sig, double* dq) const {
+  // Heat from the cells (Joule, and reversible where a cell has dOCV/dT): heat injected
+  // by a scripted fault is not drawn from the cells. The chemical energy released is
+  // ∫OCV·I, plus the reversible heat -I·T·dOCV/dT where given (the enthalpy), so that
+  // chemical = load + heat + stored holds in both cases.
   double heat = sig.pack_current_A * sig.pack_current_A * pack_.interconnect_ohm - sig.injected_heat_W, chem = 0.0;
   for (int j = 0; j < thermal_.nodeCount(); ++j) heat += sig.heat_W[static_cast<size_t>(j)];
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     chem += sig.cell_ocv_V[ci] * (sig.cell_current_A[ci] + sig.internal_A[ci]);
+    const CellParams& p = pack_.cells[ci];
+    if (p.has_entropic) {
+      const double* xc = cellStates(x, c);
+      chem += ecm::reversibleHeat_W(p, xc[CellLayout::soc], sig.cell_current_A[ci], pack_.cellTemp_C(c, xc));
+    }
   }
   // Balancing heat sits in the board node's heat_W when there is one.
   if (boardNode_ < 0) heat += sig.balance_heat_W;
@@ -284,9 +297,24 @@ std::vector<Plant::RcBranch> Plant::rcBranches() const {
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const CellParams& p = pack_.cells[static_cast<size_t>(c)];
     for (int k = 0; k < pack_.layout.n_rc; ++k)
-      b.push_back({c * stride_ + pack_.layout.rc(k), p.rc[static_cast<size_t>(k)].tau_s()});
+      b.push_back({c * stride_ + pack_.layout.rc(k), p.rc[static_cast<size_t>(k)].tau_s(), c, k,
+                   p.rc[static_cast<size_t>(k)].variable});
+    if (pack_.layout.hysteresis) b.push_back({c * stride_ + pack_.layout.hyst(), INFINITY, c, -1, true, true});
   }
   return b;
+}
+
+double Plant::rcTau_s(const double* x, const PlantSignals& sig, const RcBranch& b) const {
+  const CellParams& p = pack_.cells[static_cast<size_t>(b.cell)];
+  if (!b.variable) return b.tau_s;
+  if (b.hysteresis) {  // dh/dt = k·(target - h), k = γ·|i|/3600
+    const double k = p.hysteresis_rate_per_Ah * std::fabs(sig.cell_current_A[static_cast<size_t>(b.cell)]) / 3600.0;
+    return k > 0.0 ? 1.0 / k : INFINITY;
+  }
+  const double* xc = cellStates(x, b.cell);
+  const double t_C = pack_.cellTemp_C(b.cell, xc);
+  const RcPair& rc = p.rc[static_cast<size_t>(b.pair)];
+  return ecm::rcR_ohm(rc, p, xc[CellLayout::soc], t_C) * ecm::rcC_F(rc, p, xc[CellLayout::soc], t_C);
 }
 
 // Thermal node j: by Gershgorin, the eigenvalues of its row of the network lie within
@@ -311,20 +339,36 @@ double Plant::explicitTimeConstant_s() const {
       tau = std::min(tau, thermal_.heat_capacity_J_per_K[static_cast<size_t>(j)] / g[static_cast<size_t>(j)]);
   if (pack_.parallel > 1) {
     constexpr int kGrid = 200;
+    // A cell whose curves depend on temperature is bounded over the cell
+    // temperatures a run can see (kOperatingTemps_C); the others at one temperature.
+    static constexpr double kOperatingTemps_C[] = {-40.0, -20.0, 0.0, 25.0, 45.0, 60.0, 80.0};
     for (const CellParams& p : pack_.cells) {
-      double r0_min = INFINITY, slope_max = 0.0, prev = ecm::ocv(p, 0.0);
-      for (int i = 0; i <= kGrid; ++i) {
-        const double soc = static_cast<double>(i) / kGrid;
-        r0_min = std::min(r0_min, ecm::r0(p, soc));
-        if (i > 0) {
-          const double v = ecm::ocv(p, soc);
-          slope_max = std::max(slope_max, std::fabs(v - prev) * kGrid);
-          prev = v;
+      const bool hot = p.usesTemperature();
+      for (const double t_C : kOperatingTemps_C) {
+        if (!hot && t_C != kReferenceTemp_C) continue;
+        double r0_min = INFINITY, slope_max = 0.0, prev = ecm::ocv(p, 0.0, t_C), c_min = INFINITY;
+        for (int i = 0; i <= kGrid; ++i) {
+          const double soc = static_cast<double>(i) / kGrid;
+          r0_min = std::min({r0_min, ecm::r0(p, soc, t_C, 1.0), ecm::r0(p, soc, t_C, -1.0)});
+          for (const RcPair& rc : p.rc) c_min = std::min(c_min, ecm::rcC_F(rc, p, soc, t_C));
+          if (i > 0) {
+            const double v = ecm::ocv(p, soc, t_C);
+            slope_max = std::max(slope_max, std::fabs(v - prev) * kGrid);
+            prev = v;
+          }
+        }
+        if (!(r0_min > 0.0)) continue;
+        if (slope_max > 0.0) tau = std::min(tau, 3600.0 * p.capacity_Ah * r0_min / slope_max);
+        if (!p.rc.empty()) tau = std::min(tau, c_min * r0_min);
+        if (p.has_hysteresis) {
+          // h moves the cell's EMF, hence its share of the group current, hence dh/dt:
+          // rate γ·(M + h)/(3600·R0) <= γ·2·M_max/(3600·R0).
+          double m_max = 0.0;
+          for (int i = 0; i <= kGrid; ++i)
+            m_max = std::max(m_max, p.hysteresis_max_V.eval(static_cast<double>(i) / kGrid, p.axisCapacity_Ah(), t_C));
+          if (m_max > 0.0) tau = std::min(tau, 3600.0 * r0_min / (p.hysteresis_rate_per_Ah * 2.0 * m_max));
         }
       }
-      if (!(r0_min > 0.0)) continue;
-      if (slope_max > 0.0) tau = std::min(tau, 3600.0 * p.capacity_Ah * r0_min / slope_max);
-      for (const RcPair& rc : p.rc) tau = std::min(tau, rc.c_F * r0_min);
     }
   }
   if (busIndex_ >= 0) {

@@ -2,7 +2,8 @@
 // thermal network's nodes, under the inputs the actuators, the load and the injected
 // faults hold fixed between discontinuities.
 //
-//   state layout  cell i: [soc, v_rc_1 … v_rc_K, T]  at i·stride   (stride = K + 2)
+//   state layout  cell i: [soc, v_rc_1 … v_rc_K, (h), T]  at i·stride   (stride = K + 2,
+//                 + 1 with hysteresis)
 //                 extra thermal nodes (board, FETs, …) after the cells
 //   quadratures   [charge out (A·s), energy to load (J), heat (J), chemical energy (J),
 //                  balancing charge (A·s), balancing heat (J), converter energy from /
@@ -113,9 +114,15 @@ class Plant {
   // branch k obeys dv/dt = (i·R - v)/τ, with its rate given by derivatives().
   struct RcBranch {
     int state = 0;     // index in the state vector
-    double tau_s = 0;  // R·C of the branch
+    double tau_s = 0;  // R·C of the branch (a constant pair)
+    int cell = 0, pair = 0;
+    bool variable = false;    // R or C depends on SOC / temperature: see rcTau_s
+    bool hysteresis = false;  // the cell's hysteresis state: dh/dt = (target - h)/τ, τ = 3600/(γ·|i|)
   };
   std::vector<RcBranch> rcBranches() const;
+  // τ of a branch at the state x with the signals evaluated there (its constant tau_s
+  // unless it is variable; infinite for a hysteresis state without current).
+  double rcTau_s(const double* x, const PlantSignals& sig, const RcBranch& b) const;
   // Smallest time constant (s) of the states an explicit update advances (everything
   // but the RC branches' own decay): thermal nodes, and within parallel groups the
   // current split's feedback on SOC and RC voltages. A state added to the plant adds

@@ -66,6 +66,21 @@ struct Recording {
   size_t samples() const { return time_s.size(); }
 };
 
+// A reference run of the `compare:` scenario (core/sim/comparison). Losses are the
+// chemical energy the cells gave minus the energy delivered (heat, RC charge): the
+// energy lost against the reference is this run's losses minus the reference's — for a
+// power load (same energy out) the extra energy drawn, for a current load the energy
+// out that went missing.
+struct Comparison {
+  bool present = false;
+  std::string name;
+  double energy_delivered_Wh = 0.0;
+  double losses_Wh = 0.0;       // reference's chemical energy drawn - energy delivered
+  double min_cell_V = 0.0;
+  double this_losses_Wh = 0.0;  // the same for this run
+  double lostWh() const { return this_losses_Wh - losses_Wh; }
+};
+
 struct Summary {
   std::string scenario;
   double duration_s = 0.0;
@@ -101,6 +116,7 @@ struct Summary {
   int display_bars_hidden_max = 0;    // most bars the display showed below the truth's
   int display_bars_extra_max = 0;     // most bars it showed above the truth's
   const SocErrorStats& socErrorSelected() const { return soc_estimator == "ekf" ? soc_error_ekf : soc_error_coulomb; }
+  Comparison compare;  // against the `compare:` scenario, when the scenario names one
 };
 
 struct RunResult {

@@ -8,6 +8,7 @@
 #include <bms/bms_telemetry.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <stdexcept>
 
@@ -40,6 +41,21 @@ void RunTracker::noteLimit(double t, const double* x, int cell) {
   sm.limit_cell = cell + 1;
   limitSoc_.clear();
   for (int c = 0; c < plant_.pack().cellCount(); ++c) limitSoc_.push_back(plant_.cellStates(x, c)[CellLayout::soc]);
+}
+
+// A cell driven past empty or full is outside every curve's meaning: one event per
+// cell and direction, the first time it happens (summary_text lists them).
+void RunTracker::noteSocRange(double t, const double* x, int cell) {
+  const double soc = plant_.cellStates(x, cell)[CellLayout::soc];
+  const size_t ci = static_cast<size_t>(cell);
+  if (socOut_.empty()) socOut_.assign(static_cast<size_t>(plant_.pack().cellCount()), 0);
+  const uint8_t bit = soc < 0.0 ? 1 : soc > 1.0 ? 2 : 0;
+  if (bit == 0 || (socOut_[ci] & bit)) return;
+  socOut_[ci] |= bit;
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "cell %d %s (SOC %.4f, capacity %.3f Ah)", cell + 1,
+                bit == 1 ? "below SOC 0" : "above SOC 1", soc, plant_.pack().cells[ci].capacity_Ah);
+  event(t, "soc_out_of_range", buf);
 }
 
 void RunTracker::setHardware(const HardwareSim* hw) {
@@ -98,6 +114,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       sm.min_cell_time_s = t;
     }
     if (!sm.limit_reached && v <= plant_.pack().cells[static_cast<size_t>(c)].v_min_V) noteLimit(t, x, c);
+    const double soc = plant_.cellStates(x, c)[CellLayout::soc];
+    if (soc < 0.0 || soc > 1.0) noteSocRange(t, x, c);
     if (T > sm.max_temp_C) {
       sm.max_temp_C = T;
       sm.hottest_cell = c + 1;

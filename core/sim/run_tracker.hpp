@@ -29,6 +29,7 @@ class RunTracker {
  private:
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
   void noteLimit(double t, const double* x, int cell);
+  void noteSocRange(double t, const double* x, int cell);
   void recordBalancing(const double* x, const PlantSignals& sig, const bms::Outputs& out);
   // State estimation against the truth (issue 17).
   double trueMeanSoc(const double* x) const;
@@ -53,6 +54,7 @@ class RunTracker {
   uint64_t lastLost_ = 0;
   uint8_t lastBalanceStatus_ = 0;
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
+  std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
 };
 
 }  // namespace packsim

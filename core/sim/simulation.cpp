@@ -11,6 +11,7 @@
 
 #include "core/balance/noise_floor.hpp"
 #include "core/sim/bms_bridge.hpp"
+#include "core/sim/comparison.hpp"
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
@@ -156,6 +157,7 @@ RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
 
   RunResult r = tracker.finish(integ.state() + plant.stateSize());
   r.solver = integ.stats();
+  compareWithReference(s, r);  // the `compare:` reference run, if the scenario names one
   return r;
 }
 

@@ -1,5 +1,6 @@
 #include "core/sim/summary_text.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -69,6 +70,24 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
       if (e.kind == "fault_active") os << "                  " << fmt("%.2f", e.time_s) << " s  " << e.detail << "\n";
   } else {
     os << "BMS             no trip\n";
+  }
+  if (m.compare.present) {
+    const Comparison& c = m.compare;
+    const double lost = c.lostWh();
+    os << "compared with   " << c.name << ": " << fmt("%.2f", c.energy_delivered_Wh) << " Wh out, "
+       << fmt("%.2f", c.losses_Wh) << " Wh lost in the cells there; " << fmt("%.2f", c.this_losses_Wh) << " Wh here: "
+       << fmt("%.2f", std::fabs(lost)) << " Wh " << (lost >= 0.0 ? "more" : "less") << " energy lost; lowest cell "
+       << fmt("%.3f", c.min_cell_V) << " V there\n";
+  }
+  // Cells driven past empty or full (never silent): the first of each direction and a count.
+  for (const char* dir : {"below SOC 0", "above SOC 1"}) {
+    int count = 0;
+    const Event* first = nullptr;
+    for (const Event& e : r.events)
+      if (e.kind == "soc_out_of_range" && e.detail.find(dir) != std::string::npos && count++ == 0) first = &e;
+    if (first)
+      os << "SOC range       " << first->detail << " at " << fmt("%.2f", first->time_s) << " s"
+         << (count > 1 ? "; " + std::to_string(count) + " cells in all" : std::string()) << "\n";
   }
   // What the switching hardware did on its own, and configuration warnings.
   bool contactOpenedAfterTrip = false;

@@ -1,6 +1,7 @@
 #include "models/cell/curve.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace packsim {
@@ -21,11 +22,19 @@ Curve Curve::polynomial(std::vector<double> coeffs_high_first, CurveAxis axis) {
   return c;
 }
 
+namespace {
+
+void requireIncreasing(const std::vector<double>& v, const char* what) {
+  for (size_t i = 1; i < v.size(); ++i)
+    if (!(v[i] > v[i - 1])) throw std::invalid_argument(std::string(what) + " values must increase strictly");
+}
+
+}  // namespace
+
 Curve Curve::table(std::vector<double> xs, std::vector<double> ys, CurveAxis axis) {
   if (xs.size() != ys.size() || xs.size() < 2)
     throw std::invalid_argument("table needs x and y of equal length >= 2");
-  for (size_t i = 1; i < xs.size(); ++i)
-    if (!(xs[i] > xs[i - 1])) throw std::invalid_argument("table x values must increase strictly");
+  requireIncreasing(xs, "table x");
   Curve c;
   c.kind = Kind::Table;
   c.axis = axis;
@@ -34,13 +43,47 @@ Curve Curve::table(std::vector<double> xs, std::vector<double> ys, CurveAxis axi
   return c;
 }
 
-double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
-  if (xs.size() == 1 || x <= xs.front()) return ys.front();
-  if (x >= xs.back()) return ys.back();
-  const auto it = std::upper_bound(xs.begin(), xs.end(), x);
-  const size_t i = static_cast<size_t>(it - xs.begin());
+Curve Curve::table2d(std::vector<double> xs, std::vector<double> temps_C, const std::vector<std::vector<double>>& rows,
+                     CurveAxis axis) {
+  if (xs.size() < 2 || temps_C.empty() || rows.size() != temps_C.size())
+    throw std::invalid_argument("2-D table needs x (>= 2 values) and one row of y per temperature");
+  requireIncreasing(xs, "table x");
+  requireIncreasing(temps_C, "table temp_C");
+  Curve c;
+  c.kind = Kind::Table2D;
+  c.axis = axis;
+  for (const auto& row : rows) {
+    if (row.size() != xs.size()) throw std::invalid_argument("2-D table: every row needs as many values as x");
+    c.ys.insert(c.ys.end(), row.begin(), row.end());
+  }
+  c.xs = std::move(xs);
+  c.temps_C = std::move(temps_C);
+  return c;
+}
+
+Curve Curve::withArrhenius(double k, double ref_C) const {
+  if (kind == Kind::Table2D) throw std::invalid_argument("a 2-D table carries its temperature dependence itself");
+  Curve c = *this;
+  c.arrhenius_K = k;
+  c.ref_temp_C = ref_C;
+  return c;
+}
+
+namespace {
+
+// interpolate() over n points of xs and ys (ys may be one row of a 2-D table).
+double interpolateN(const double* xs, const double* ys, size_t n, double x) {
+  if (n == 1 || x <= xs[0]) return ys[0];
+  if (x >= xs[n - 1]) return ys[n - 1];
+  const size_t i = static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
   const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
   return ys[i - 1] + w * (ys[i] - ys[i - 1]);
+}
+
+}  // namespace
+
+double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+  return interpolateN(xs.data(), ys.data(), xs.size(), x);
 }
 
 double Curve::at(double x) const {
@@ -54,13 +97,35 @@ double Curve::at(double x) const {
     }
     case Kind::Table:
       return interpolate(xs, ys, x);
+    case Kind::Table2D:
+      return at(x, kReferenceTemp_C);
   }
   return 0.0;
 }
 
-double Curve::eval(double soc, double capacity_Ah) const {
-  if (kind == Kind::Constant) return coeffs[0];
-  return at(axis == CurveAxis::Soc ? soc : (1.0 - soc) * capacity_Ah);
+double Curve::at(double x, double temp_C) const {
+  if (kind == Kind::Table2D) {
+    // Row interpolation in x, then linear between the two rows around temp_C.
+    const size_t n = xs.size();
+    auto row = [&](size_t j) { return interpolateN(xs.data(), ys.data() + j * n, n, x); };
+    if (temps_C.size() == 1 || temp_C <= temps_C.front()) return row(0);
+    if (temp_C >= temps_C.back()) return row(temps_C.size() - 1);
+    const size_t j = static_cast<size_t>(std::upper_bound(temps_C.begin(), temps_C.end(), temp_C) - temps_C.begin());
+    const double w = (temp_C - temps_C[j - 1]) / (temps_C[j] - temps_C[j - 1]);
+    const double lo = row(j - 1);
+    return lo + w * (row(j) - lo);
+  }
+  const double y = at(x);
+  if (arrhenius_K == 0.0) return y;
+  return y * std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - 1.0 / (ref_temp_C + kZeroCelsius_K)));
+}
+
+double Curve::eval(double soc, double axis_capacity_Ah) const { return eval(soc, axis_capacity_Ah, kReferenceTemp_C); }
+
+double Curve::eval(double soc, double axis_capacity_Ah, double temp_C) const {
+  if (kind == Kind::Constant && arrhenius_K == 0.0) return coeffs[0];
+  if (!dependsOnTemperature()) return at(axisValue(soc, axis_capacity_Ah));  // the 1-D path, as without T
+  return at(axisValue(soc, axis_capacity_Ah), temp_C);
 }
 
 }  // namespace packsim

@@ -1,11 +1,18 @@
-// A scalar function of one cell variable, given as a polynomial or a table.
+// A scalar function of one cell variable and, optionally, the cell's temperature,
+// given as a polynomial or a table.
 //
 //   polynomial: y = c[0]·x^n + c[1]·x^(n-1) + … + c[n]   (highest power first, as
 //               numpy.polyval and spreadsheet trendlines write it)
 //   table:      linear interpolation between (x[i], y[i]); held flat beyond the ends
+//   table 2-D:  one row of y over x per grid temperature temps_C[j]; bilinear in
+//               (x, T), held flat beyond the grid in both directions
+//   Arrhenius:  any 1-D form times exp(arrhenius_K · (1/T_K - 1/T_ref_K)),
+//               T_K = temp_C + 273.15 (arrhenius_K = 0: no temperature factor)
 //
-// The axis says what x is: state of charge (0…1) or capacity discharged in Ah
-// (x = (1 - SOC)·capacity_Ah), the form many bench fits use.
+// The axis says what x is: state of charge (0…1) or capacity discharged in Ah,
+// x = (1 - SOC)·Q_axis, where Q_axis is the *nominal* capacity of the cell the curve
+// was measured on (the preset's capacity_Ah), not a weaker cell's own: every cell
+// then reaches the curve's knee at its own SOC 0.
 #pragma once
 #include <string>
 #include <vector>
@@ -14,20 +21,38 @@ namespace packsim {
 
 enum class CurveAxis { Soc, Discharged_Ah };
 
+constexpr double kZeroCelsius_K = 273.15;
+constexpr double kReferenceTemp_C = 25.0;  // where a temperature-free caller evaluates
+
 struct Curve {
-  enum class Kind { Constant, Polynomial, Table };
+  enum class Kind { Constant, Polynomial, Table, Table2D };
   Kind kind = Kind::Constant;
   CurveAxis axis = CurveAxis::Soc;
   std::vector<double> coeffs;  // polynomial, highest power first; constant: one value
-  std::vector<double> xs, ys;  // table, xs strictly increasing
+  std::vector<double> xs, ys;  // table, xs strictly increasing; 2-D: ys row-major [temp][x]
+  std::vector<double> temps_C; // 2-D table: grid temperatures, strictly increasing
+  double arrhenius_K = 0.0;    // 0: no Arrhenius factor
+  double ref_temp_C = kReferenceTemp_C;
 
   static Curve constant(double value);
   static Curve polynomial(std::vector<double> coeffs_high_first, CurveAxis axis = CurveAxis::Soc);
   static Curve table(std::vector<double> xs, std::vector<double> ys, CurveAxis axis = CurveAxis::Soc);
+  // rows[j] is y over xs at temps_C[j].
+  static Curve table2d(std::vector<double> xs, std::vector<double> temps_C, const std::vector<std::vector<double>>& rows,
+                       CurveAxis axis = CurveAxis::Soc);
+  Curve withArrhenius(double arrhenius_K, double ref_temp_C) const;
 
-  double eval(double soc, double capacity_Ah) const;
-  double at(double x) const;  // evaluated on the curve's own axis
-  bool isConstant() const { return kind == Kind::Constant; }
+  // Without temperature (a curve that depends on it is read at kReferenceTemp_C).
+  double eval(double soc, double axis_capacity_Ah) const;
+  double eval(double soc, double axis_capacity_Ah, double temp_C) const;
+  double at(double x) const;                 // 1-D part on the curve's own axis
+  double at(double x, double temp_C) const;  // with the temperature dependence
+  // x on the curve's own axis for a state of charge.
+  double axisValue(double soc, double axis_capacity_Ah) const {
+    return axis == CurveAxis::Soc ? soc : (1.0 - soc) * axis_capacity_Ah;
+  }
+  bool isConstant() const { return kind == Kind::Constant && arrhenius_K == 0.0; }
+  bool dependsOnTemperature() const { return kind == Kind::Table2D || arrhenius_K != 0.0; }
 };
 
 // Linear interpolation in a table (xs strictly increasing, ys of the same length),
