@@ -62,7 +62,7 @@ def main(argv: list[str]) -> int:
         import numpy  # noqa: F401
         import scipy.optimize  # noqa: F401
     except ImportError as e:
-        print(f"packsim fit: error: needs Python 3 with NumPy and SciPy (pip install numpy scipy): {e}",
+        print(f"packsim fit: error: needs Python 3 with the packsim package, NumPy and SciPy (pip install numpy scipy): {e}",
               file=sys.stderr)
         return 2
     from .fit import FitError, fit

@@ -71,7 +71,7 @@ def test_cli_without_python_exits_2(cli, tmp_path):
     p = subprocess.run([str(cli), "fit", "a.csv", "-o", "x.yaml"], capture_output=True, text=True,
                        env=_env(PACKSIM_PYTHON=str(tmp_path / "no-python")))
     assert p.returncode == 2
-    assert "needs Python 3 with NumPy and SciPy: cannot run" in p.stderr
+    assert "needs Python 3 with the packsim package, NumPy and SciPy: cannot run" in p.stderr
 
 
 def test_cli_without_scipy_exits_2(cli, tmp_path):
