@@ -7,7 +7,11 @@
 //                            LSB + 0.5-1 mV noise ⇒ a BMS cannot tell 2 mV apart
 //                            within a few samples); the fast scheme is exact for the
 //                            RC branches at held current, so what remains is CVODE's
-//                            own error (rtol 1e-6) and the explicit SOC/thermal update.
+//                            own error and the explicit SOC/thermal update. The
+//                            reference runs at rtol <= 1e-7: at the default 1e-6 CVODE's
+//                            own SOC error reaches ~1e-4 on the scooter ride (a power
+//                            load restarting it at every profile step; measured against
+//                            rtol 1e-9), and the test is about the fast scheme's error.
 //   SOC            1e-4   -- 0.01 % of capacity, far below any SOC estimator's error.
 //   temperature    0.05 K -- half the BMS's 0.1 °C reading resolution.
 //   trip           same decision and same reasons; time within 2 ticks + 0.5 s. A
@@ -92,7 +96,10 @@ TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
     SCOPED_TRACE(name);
     Scenario s = loadScenarioFile(path.string());
     s.run.solver = RunConfig::Solver::Cvode;
+    const double scenarioRtol = s.run.rtol;
+    s.run.rtol = std::min(scenarioRtol, 1e-7);
     const RunResult ref = runScenario(s);
+    s.run.rtol = scenarioRtol;
     s.run.solver = RunConfig::Solver::Fast;
     const RunResult fast = runScenario(s);
     const Differences d = compare(ref, fast);
