@@ -96,4 +96,4 @@ def test_python_m_packsim_fit(tmp_path):
     assert yaml.safe_load((tmp_path / "c.yaml").read_text())["capacity_Ah"] == 2
     p = subprocess.run([sys.executable, "-m", "packsim", "fitt"], capture_output=True, text=True,
                        env=_env(PYTHONPATH=here))
-    assert p.returncode == 2 and "python -m packsim {fit}" in p.stderr
+    assert p.returncode == 2 and "did you mean 'fit'" in p.stderr
