@@ -86,8 +86,9 @@ enum class SocEstimator : uint8_t { CoulombCounting = 0, Ekf = 1 };
 // The EKF's 1-RC model of one series group, as flashed (not the plant's truth):
 //   v = OCV(soc) - v1 - R0(soc)·I,   dv1/dt = (r1·I - v1) / tau1,   dsoc/dt = -I / capacity
 // with the OCV table and capacity of SocConfig; R0 is a table on the OCV table's SOC
-// points (r0_mOhm[i] at SOC i/(ocvPoints-1)). Noise: voltage reading (measurement),
-// SOC and v1 random walks per second (process).
+// points (r0_mOhm[i] at SOC i/(ocvPoints-1)), valid at r0RefTemp_C and scaled by an
+// Arrhenius factor on the group's measured temperature (bms_ekf.hpp). Noise: voltage
+// reading (measurement), SOC and v1 random walks per second (process).
 struct EkfConfig {
   float r0_mOhm[kMaxOcvPoints];
   float r1_mOhm;
@@ -97,6 +98,12 @@ struct EkfConfig {
   float v1SdPerSqrtS_mV;    // v1 process noise, 1 sigma per sqrt(second)
   float initialSoc;         // < 0: from the OCV table at the first reading
   float initialSocSd;       // 1 sigma of the initial SOC
+  // Temperature correction of R0: r0_mOhm × exp(r0ArrheniusK · (1/T_K − 1/T_ref_K)).
+  float r0ArrheniusK;       // 0: R0 does not depend on temperature (no expf per tick)
+  float r0RefTemp_C;        // the temperature the r0_mOhm table is valid at
+  uint8_t cellThermFirst;   // cell thermistors: channels [first, first + count)
+  uint8_t cellThermCount;
+  uint8_t groupThermistor[kMaxCells];  // the channel nearest each series group (a cell thermistor)
 };
 
 // SOC estimate: coulomb counting, anchored to the OCV table at start-up and again

@@ -175,7 +175,8 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   const bool complete = acquisitionComplete(cfg, s.acq);
   const uint16_t meanCell = static_cast<uint16_t>(cfg.cellCount > 0 ? tm.packVoltage_mV / cfg.cellCount : 0u);
   socUpdate(cfg.soc, s.soc, complete, meanCell, tm.packCurrent_mA, in.now_ms);
-  ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, complete, tm.cellVoltage_mV, tm.packCurrent_mA, in.now_ms);
+  ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, complete, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
+            in.now_ms);
   historyQuantities(cfg, s, in, tm, s.quantity);
   protectionUpdate(cfg, s.quantity, in.now_ms, s.protection);
 

@@ -2,6 +2,7 @@
 
 #include <math.h>
 
+#include "bms_measure.hpp"
 #include "bms_soc.hpp"
 
 namespace bms {
@@ -33,13 +34,40 @@ float tableSlope(const SocConfig& c, const float* y, float soc) {
   return (y[i + 1] - y[i]) * static_cast<float>(c.ocvPoints - 1);
 }
 
+// Each group's R0 factor from this tick's thermistor readings: its own channel when
+// valid, else the mean of the valid cell thermistors, else the reference (1).
+void setR0Scales(const EkfConfig& k, EkfState& s, uint16_t groups, const int16_t temp_dC[]) {
+  if (k.r0ArrheniusK == 0.0f || temp_dC == nullptr) {
+    for (uint16_t g = 0; g < groups; ++g) s.group[g].r0Scale = 1.0f;
+    return;
+  }
+  const uint16_t first = k.cellThermFirst;
+  const uint16_t end = static_cast<uint16_t>(first + k.cellThermCount);
+  const uint16_t last = end > kMaxThermistors ? kMaxThermistors : end;
+  float factor[kMaxThermistors];  // per cell channel; 0 where the reading is invalid
+  int32_t sum_dC = 0;
+  uint16_t valid = 0;
+  for (uint16_t ch = first; ch < last; ++ch) {
+    factor[ch] = 0.0f;
+    if (temp_dC[ch] == kTempInvalid_dC) continue;
+    factor[ch] = ekfR0Factor(k, static_cast<float>(temp_dC[ch]) * 0.1f);
+    sum_dC += temp_dC[ch];
+    ++valid;
+  }
+  const float mean = valid > 0 ? ekfR0Factor(k, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
+  for (uint16_t g = 0; g < groups; ++g) {
+    const uint16_t ch = k.groupThermistor[g];
+    s.group[g].r0Scale = ch >= first && ch < last && factor[ch] > 0.0f ? factor[ch] : mean;
+  }
+}
+
 void start(const SocConfig& c, EkfState& s, uint16_t groups, const uint16_t cell_mV[], int32_t current_mA) {
   const EkfConfig& k = c.ekf;
   for (uint16_t g = 0; g < groups; ++g) {
     EkfGroup& e = s.group[g];
     // The reading plus the R0 drop at the SOC the reading itself suggests.
     const float loaded = socFromOcv(c, cell_mV[g]);
-    const float drop_mV = r0At_mOhm(c, loaded) * static_cast<float>(current_mA) * 1e-3f;
+    const float drop_mV = r0At_mOhm(c, loaded) * e.r0Scale * static_cast<float>(current_mA) * 1e-3f;
     const float ocv_mV = static_cast<float>(cell_mV[g]) + drop_mV;
     const uint16_t ocv = static_cast<uint16_t>(ocv_mV < 0.0f ? 0.0f : (ocv_mV > 65535.0f ? 65535.0f : ocv_mV));
     e.soc = k.initialSoc >= 0.0f ? k.initialSoc : socFromOcv(c, ocv);
@@ -56,7 +84,13 @@ void start(const SocConfig& c, EkfState& s, uint16_t groups, const uint16_t cell
 void ekfReset(EkfState& s) {
   s.started = false;
   s.last_ms = 0;
-  for (uint16_t g = 0; g < kMaxCells; ++g) s.group[g] = EkfGroup{0.0f, 0.0f, 0.0f, 0.0f, 0.0f};
+  for (uint16_t g = 0; g < kMaxCells; ++g) s.group[g] = EkfGroup{0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 1.0f};
+}
+
+float ekfR0Factor(const EkfConfig& k, float temp_C) {
+  if (k.r0ArrheniusK == 0.0f) return 1.0f;
+  const float t_C = temp_C < -55.0f ? -55.0f : (temp_C > 125.0f ? 125.0f : temp_C);
+  return expf(k.r0ArrheniusK * (1.0f / (t_C + 273.15f) - 1.0f / (k.r0RefTemp_C + 273.15f)));
 }
 
 float ocvAt_mV(const SocConfig& c, float soc) {
@@ -92,10 +126,11 @@ float ekfPackSoc(const EkfState& s, uint16_t groups) {
 }
 
 void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
-               int32_t current_mA, uint32_t now_ms) {
+               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms) {
   const uint32_t dt_ms = now_ms - s.last_ms;
   s.last_ms = now_ms;
   if (c.ocvPoints < 2) return;  // no table, no model
+  if (valid) setR0Scales(c.ekf, s, groups, temp_dC);
   if (!s.started) {
     if (valid) start(c, s, groups, cell_mV, current_mA);
     return;
@@ -120,12 +155,13 @@ void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, con
     e.p11 = a * a * e.p11 + qV1;
     if (!valid) continue;  // no fresh complete reading: prediction only
     // Update with this group's reading.
-    // OCV and R0 (value and slope) from the one table segment holding soc.
+    // OCV and R0 (value and slope, at the group's temperature) from the one table
+    // segment holding soc.
     uint8_t i;
     float frac;
     segment(c, e.soc, i, frac);
     const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
-    const float r0Lo = k.r0_mOhm[i], r0Hi = k.r0_mOhm[i + 1];
+    const float r0Lo = k.r0_mOhm[i] * e.r0Scale, r0Hi = k.r0_mOhm[i + 1] * e.r0Scale;
     const float i_A = i_mA * 1e-3f;
     const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * i_A) * perUnitSoc;
     const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * i_A;

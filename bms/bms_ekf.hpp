@@ -4,13 +4,19 @@
 //   state  x = [soc, v1_mV]                    (positive I discharges)
 //   predict soc -= I·dt / capacity;   v1 = a·v1 + r1·I·(1 - a),   a = exp(-dt / tau1)
 //           P = F·P·F' + Q·dt,        F = diag(1, a)
-//   update  v_pred = OCV(soc) - v1 - R0(soc)·I,   H = [dOCV/dsoc - I·dR0/dsoc, -1]
+//   update  v_pred = OCV(soc) - v1 - R0(soc,T)·I,   H = [dOCV/dsoc - I·dR0/dsoc, -1]
 //           K = P·H' / (H·P·H' + R);  x += K·(v_meas - v_pred);  P = (I - K·H)·P
+//   R0      R0(soc,T) = r0_mOhm(soc) · exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)),
+//           T_K = T + 273.15, T_ref = r0RefTemp_C, T the group's *measured* temperature:
+//           its own thermistor channel (groupThermistor) if that reads valid, else the
+//           mean of the valid cell thermistors, else T_ref (factor 1); T is held
+//           within -55…125 °C. Recomputed on every complete reading.
 //
-// Started at the first complete reading from the OCV of the reading plus its r0·I drop
+// Started at the first complete reading from the OCV of the reading plus its R0·I drop
 // (or from EkfConfig::initialSoc); R0(soc) is linear in the table like the OCV. Fixed arrays, float, no allocation:
-// sizeof(EkfGroup) = 20 bytes per series group (5.1 KiB for kMaxCells = 256; 2.2 KiB
-// for the 110 groups of system D).
+// sizeof(EkfGroup) = 24 bytes per series group (6.1 KiB for kMaxCells = 256; 2.6 KiB
+// for the 110 groups of system D). Per tick with a temperature factor: one expf per
+// valid cell thermistor plus one for their mean.
 #pragma once
 #include <cstdint>
 
@@ -23,6 +29,7 @@ struct EkfGroup {
   float soc;
   float v1_mV;
   float p00, p01, p11;  // covariance [soc², soc·mV, mV²]
+  float r0Scale;        // R0's temperature factor at the last complete reading (1 = T_ref)
 };
 
 struct EkfState {
@@ -33,15 +40,20 @@ struct EkfState {
 
 void ekfReset(EkfState& s);
 // One tick over `groups` series groups. `valid` = a complete cell measurement.
+// `temp_dC` = this tick's thermistor readings (kTempInvalid_dC where invalid; nullptr:
+// none, R0 at r0RefTemp_C).
 void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
-               int32_t current_mA, uint32_t now_ms);
+               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms);
+// R0's temperature factor exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)) at temp_C (held within
+// -55…125 °C); exactly 1 when r0ArrheniusK = 0.
+float ekfR0Factor(const EkfConfig& k, float temp_C);
 // Mean SOC over the groups (0..1); 0 before the first reading.
 float ekfPackSoc(const EkfState& s, uint16_t groups);
 // Slope of the OCV table at soc, mV per unit SOC (the segment's; 0 for a flat table).
 float ocvSlope_mV(const SocConfig& c, float soc);
 // OCV table at soc (linear, clamped), mV.
 float ocvAt_mV(const SocConfig& c, float soc);
-// The EKF's R0 table at soc and its slope per unit SOC, mOhm.
+// The EKF's R0 table at soc and its slope per unit SOC, mOhm (at r0RefTemp_C).
 float r0At_mOhm(const SocConfig& c, float soc);
 float r0Slope_mOhm(const SocConfig& c, float soc);
 

@@ -35,6 +35,8 @@ SocEstimationSettings readSocEstimation(YamlMap& m) {
   }
   if (m.has("cell_r1_ohm")) e.cell_r1_ohm = m.number("cell_r1_ohm", Range::closed(0.0, 10.0));
   if (m.has("tau1_s")) e.tau1_s = m.number("tau1_s", Range::closed(0.01, 100000.0));
+  if (m.has("r0_arrhenius_K")) e.r0_arrhenius_K = m.number("r0_arrhenius_K", Range::closed(0.0, 20000.0));
+  e.r0_ref_temp_C = m.number("r0_ref_temp_C", e.r0_ref_temp_C, Range::closed(-40.0, 85.0));
   if (auto k = m.optionalMap("ekf")) {
     e.voltage_sd_mV = k->number("voltage_sd_mV", e.voltage_sd_mV, Range::closed(0.01, 1000.0));
     e.soc_walk_per_sqrt_h = k->number("soc_walk_per_sqrt_h", e.soc_walk_per_sqrt_h, Range::closed(0.0, 1.0));

@@ -122,6 +122,8 @@ struct SocEstimationSettings {
   std::vector<double> cell_r0_ohm;     // one value, or one per OCV point; empty: the cell's R0 at those points
   double cell_r1_ohm = -1.0;
   double tau1_s = -1.0;
+  double r0_arrhenius_K = -1.0;        // R0's temperature factor; < 0: the cell's (0: none)
+  double r0_ref_temp_C = 25.0;         // where cell_r0_ohm (given or the cell's) holds
   double voltage_sd_mV = 10.0;         // EKF measurement noise + model error
   double soc_walk_per_sqrt_h = 0.01;   // EKF SOC process noise
   double v1_walk_mV_per_sqrt_s = 2.0;  // EKF v1 process noise

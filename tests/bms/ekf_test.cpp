@@ -1,8 +1,10 @@
 // The EKF per series group against an independent 1-RC cell integrated here in double
 // (exact exponential update), with the firmware configured to the same model: it must
 // converge from a wrong initial SOC and then track; the OCV table helpers agree with
-// the table; the covariance stays positive.
+// the table; the covariance stays positive; R0's temperature factor follows each
+// group's measured temperature.
 #include <bms/bms_ekf.hpp>
+#include <bms/bms_measure.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,7 +22,7 @@ bms::SocConfig config() {
   c.ocv_mV[2] = 4200;
   c.restCurrent_mA = 100;
   c.rest_ms = 10000;
-  c.ekf = bms::EkfConfig{{30.0f, 20.0f, 20.0f}, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f};
+  c.ekf = bms::EkfConfig{{30.0f, 20.0f, 20.0f}, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f, 0.0f, 25.0f, 0, 0, {}};
   return c;
 }
 
@@ -57,7 +59,7 @@ TEST(Ekf, ConvergesFromAWrongInitialSocAndTracks) {
     const double i_A = (k / 300) % 2 == 0 ? 2.0 : 0.2;  // 30 s at 1C, 30 s at 0.1C
     const uint16_t v = static_cast<uint16_t>(std::lround(ocvTrue_mV(soc) - v1_mV - r0True_ohm(soc) * i_A * 1e3));
     const int32_t i_mA = static_cast<int32_t>(std::lround(i_A * 1e3));
-    bms::ekfUpdate(c, s, 1, true, &v, i_mA, t_ms);
+    bms::ekfUpdate(c, s, 1, true, &v, i_mA, nullptr, t_ms);
     if (k == 0) EXPECT_EQ(s.group[0].soc, 0.5f);  // started where it was told
     if (t_ms >= 60000) worstAfter60s = std::fmax(worstAfter60s, std::fabs(s.group[0].soc - soc));
     EXPECT_GE(s.group[0].p00, 0.0f);
@@ -77,11 +79,107 @@ TEST(Ekf, PredictsByChargeWithoutReadings) {
   bms::EkfState s;
   bms::ekfReset(s);
   const uint16_t v[2] = {3500, 3500};
-  bms::ekfUpdate(c, s, 2, true, v, 0, 0);  // starts from the OCV: 0.5
+  bms::ekfUpdate(c, s, 2, true, v, 0, nullptr, 0);  // starts from the OCV: 0.5
   EXPECT_NEAR(bms::ekfPackSoc(s, 2), 0.5f, 1e-4f);
-  for (uint32_t t = 100; t <= 360000; t += 100) bms::ekfUpdate(c, s, 2, false, v, 1000, t);
+  for (uint32_t t = 100; t <= 360000; t += 100) bms::ekfUpdate(c, s, 2, false, v, 1000, nullptr, t);
   // 1 A for 360 s from 2000 mAh: -0.05.
   EXPECT_NEAR(bms::ekfPackSoc(s, 2), 0.45f, 1e-4f);
+}
+
+// R0's Arrhenius factor, computed here in double: exp(K·(1/T_K − 1/T_ref_K)).
+double arrhenius(double k_K, double temp_C, double ref_C) {
+  return std::exp(k_K * (1.0 / (temp_C + 273.15) - 1.0 / (ref_C + 273.15)));
+}
+
+// Two groups, each nearest its own cell thermistor (channels 0 and 1); channel 2 is a
+// board thermistor outside the cell range that must never be read.
+bms::SocConfig thermalConfig() {
+  bms::SocConfig c = config();
+  c.ekf.r0ArrheniusK = 2000.0f;
+  c.ekf.r0RefTemp_C = 25.0f;
+  c.ekf.cellThermFirst = 0;
+  c.ekf.cellThermCount = 2;
+  c.ekf.groupThermistor[0] = 0;
+  c.ekf.groupThermistor[1] = 1;
+  return c;
+}
+
+TEST(Ekf, R0FollowsEachGroupsMeasuredTemperature) {
+  const bms::SocConfig c = thermalConfig();
+  bms::EkfState s;
+  bms::ekfReset(s);
+  const uint16_t v[2] = {3500, 3500};
+  int16_t t_dC[3] = {0, 450, 900};  // group 0 at 0 °C, group 1 at 45 °C, board at 90 °C
+  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 0);
+  EXPECT_NEAR(s.group[0].r0Scale, arrhenius(2000.0, 0.0, 25.0), 1e-4);   // 1.85
+  EXPECT_NEAR(s.group[1].r0Scale, arrhenius(2000.0, 45.0, 25.0), 1e-4);  // 0.66
+  EXPECT_NEAR(bms::ekfR0Factor(c.ekf, 25.0f), 1.0f, 1e-6f);
+  // Group 0's thermistor opens: it takes the mean of the valid cell thermistors (45 °C
+  // alone, never the board's 90 °C).
+  t_dC[0] = bms::kTempInvalid_dC;
+  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 100);
+  EXPECT_NEAR(s.group[0].r0Scale, arrhenius(2000.0, 45.0, 25.0), 1e-4);
+  // Both valid again, group 0 at 10 °C: the mean fallback is not used.
+  t_dC[0] = 100;
+  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 200);
+  EXPECT_NEAR(s.group[0].r0Scale, arrhenius(2000.0, 10.0, 25.0), 1e-4);
+  // No valid cell thermistor: the reference (the flashed table as it is).
+  t_dC[0] = t_dC[1] = bms::kTempInvalid_dC;
+  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 300);
+  EXPECT_EQ(s.group[0].r0Scale, 1.0f);
+  EXPECT_EQ(s.group[1].r0Scale, 1.0f);
+  // Without a factor (K = 0) the temperature is not read at all.
+  bms::SocConfig flat = c;
+  flat.ekf.r0ArrheniusK = 0.0f;
+  t_dC[0] = -200;
+  bms::ekfUpdate(flat, s, 2, true, v, 1000, t_dC, 400);
+  EXPECT_EQ(s.group[0].r0Scale, 1.0f);
+}
+
+// The mean fallback is the factor of the mean temperature (10 °C and 40 °C: 25 °C, 1.0).
+TEST(Ekf, R0FallbackIsTheFactorOfTheMeanCellTemperature) {
+  bms::SocConfig c = thermalConfig();
+  c.ekf.groupThermistor[0] = 7;  // a channel that is no cell thermistor
+  bms::EkfState s;
+  bms::ekfReset(s);
+  const uint16_t v[2] = {3500, 3500};
+  const int16_t t_dC[2] = {100, 400};
+  bms::ekfUpdate(c, s, 2, true, v, 0, t_dC, 0);
+  EXPECT_NEAR(s.group[0].r0Scale, 1.0f, 1e-5f);
+  EXPECT_NEAR(s.group[1].r0Scale, arrhenius(2000.0, 40.0, 25.0), 1e-4);
+}
+
+// A cell at 0 °C whose R0 is the table × its Arrhenius factor (1.85): with the
+// thermistor reading 0 °C the EKF tracks it as well as at the reference; told 25 °C
+// (the old, temperature-blind firmware) it misreads the larger drop as a lower SOC.
+double worstErrorOnAColdCell(int16_t measured_dC) {
+  bms::SocConfig c = thermalConfig();
+  c.ekf.initialSoc = 0.9f;
+  bms::EkfState s;
+  bms::ekfReset(s);
+  const double factor = arrhenius(2000.0, 0.0, 25.0);
+  double soc = 0.9, v1_mV = 0.0, worst = 0.0;
+  const double cap_As = 2.0 * 3600.0, r1 = 0.010, tau = 30.0, dt = 0.1;
+  uint32_t t_ms = 0;
+  const int16_t t_dC[2] = {measured_dC, measured_dC};
+  for (int k = 0; k <= 18000; ++k, t_ms += 100) {  // half an hour at 100 ms
+    const double i_A = (k / 300) % 2 == 0 ? 2.0 : 0.2;
+    const uint16_t v = static_cast<uint16_t>(
+        std::lround(ocvTrue_mV(soc) - v1_mV - r0True_ohm(soc) * factor * i_A * 1e3));
+    bms::ekfUpdate(c, s, 1, true, &v, static_cast<int32_t>(std::lround(i_A * 1e3)), t_dC, t_ms);
+    worst = std::fmax(worst, std::fabs(s.group[0].soc - soc));
+    const double a = std::exp(-dt / tau);
+    v1_mV = a * v1_mV + r1 * i_A * 1e3 * (1.0 - a);
+    soc -= i_A * dt / cap_As;
+  }
+  return worst;
+}
+
+TEST(Ekf, TracksAColdCellWithItsMeasuredTemperature) {
+  const double right = worstErrorOnAColdCell(0), blind = worstErrorOnAColdCell(250);
+  EXPECT_LT(right, 0.01);
+  EXPECT_GT(blind, 2.0 * right);
+  EXPECT_GT(blind, 0.01);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "core/check/check.hpp"
 #include "core/scenario/overrides.hpp"
+#include "core/sim/bms_bridge.hpp"
 #include "core/sim/simulation.hpp"
 #include "test_support.hpp"
 
@@ -87,6 +88,39 @@ TEST(SocEstimation, EkfGroupErrorPointsAtTheMisreadGroup) {
   EXPECT_LT(r.summary.soc_error_ekf.max, r.summary.soc_error_ekf_group_max / 6);  // the pack mean carries 1/12
 }
 
+// The firmware's R0 temperature correction, as flashed from the scenario: the LiPo
+// preset's own Arrhenius factor (2000 K at 25 °C) unless the scenario gives one; each
+// series group reads the cell thermistor nearest it (system A: cells 2, 5, 8, 11).
+TEST(SocEstimation, FirmwareR0TemperatureCorrectionComesFromTheCellDatasheet) {
+  bms::SocConfig c{};
+  setSocConfig(c, loadScenarioFileWithOverrides(eco(), {}));
+  EXPECT_EQ(c.ekf.r0ArrheniusK, 2000.0f);
+  EXPECT_EQ(c.ekf.r0RefTemp_C, 25.0f);
+  EXPECT_EQ(c.ekf.cellThermFirst, 0);
+  EXPECT_EQ(c.ekf.cellThermCount, 4);
+  const uint8_t nearest[12] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3};
+  for (int g = 0; g < 12; ++g) EXPECT_EQ(c.ekf.groupThermistor[g], nearest[g]) << "group " << g;
+  // The table is R0 at the reference temperature: at 35 °C it is the 25 °C table × the
+  // factor (the LiPo's R0 is flat at 8 mOhm from half full up).
+  setSocConfig(c, loadScenarioFileWithOverrides(eco(), {{"bms.soc.r0_ref_temp_C", "35"}}));
+  EXPECT_NEAR(c.ekf.r0_mOhm[10], 8.0 * std::exp(2000.0 * (1.0 / 308.15 - 1.0 / 298.15)), 1e-4);
+  setSocConfig(c, loadScenarioFileWithOverrides(eco(), {{"bms.soc.r0_arrhenius_K", "0"}}));
+  EXPECT_EQ(c.ekf.r0ArrheniusK, 0.0f);
+  // An R0 table over temperature (the LTO preset, every row the 25 °C row × 8, 4, 1.8,
+  // 1, 0.8 at -30, -15, 0, 25, 45 °C): the least-squares fit through the reference,
+  // K = Σ x·ln f / Σ x², x = 1/T_K - 1/298.15 K, computed here from those factors.
+  double sxy = 0.0, sxx = 0.0;
+  const double temps_C[5] = {-30, -15, 0, 25, 45}, factor[5] = {8, 4, 1.8, 1, 0.8};
+  for (int j = 0; j < 5; ++j) {
+    const double x = 1.0 / (temps_C[j] + 273.15) - 1.0 / 298.15;
+    sxy += x * std::log(factor[j]);
+    sxx += x * x;
+  }
+  setSocConfig(c, loadScenarioFileWithOverrides(test::scenarioDir() + "/scooter_16s_lto.yaml", {}));
+  // 2566 K; the preset's rows are rounded (its 0 °C row is ×1.80…1.82), hence 0.1 %.
+  EXPECT_NEAR(c.ekf.r0ArrheniusK, sxy / sxx, 2.6);
+}
+
 TEST(SocEstimation, BadEstimatorKeysAreClearErrors) {
   auto message = [](const Overrides& o) {
     try {
@@ -101,6 +135,8 @@ TEST(SocEstimation, BadEstimatorKeysAreClearErrors) {
   EXPECT_NE(message({{"bms.soc.display_bars_V", "[3.3, 3.4]"}}).find("at least 7 values"), std::string::npos);
   EXPECT_NE(message({{"bms.soc.cell_r0_ohm", "[0.01, 0.02]"}}).find("one per OCV table point (11)"), std::string::npos);
   EXPECT_NO_THROW(loadScenarioFileWithOverrides(eco(), {{"bms.soc.cell_r0_ohm", "0.008"}}));
+  EXPECT_NE(message({{"bms.soc.r0_arrhenius_K", "-5"}}).find("bms.soc.r0_arrhenius_K"), std::string::npos);
+  EXPECT_NE(message({{"bms.soc.r0_ref_temp", "20"}}).find("did you mean 'r0_ref_temp_C'"), std::string::npos);
   EXPECT_NE(message({{"expect", "{soc_error_max_below: {ekf: 2}}"}}).find("expect.soc_error_max_below.ekf"),
             std::string::npos);
   EXPECT_NE(message({{"expect", "{soc_error_max_below: {ekff: 0.1}}"}}).find("did you mean"), std::string::npos);
