@@ -53,6 +53,18 @@ std::string parseNumber(const std::string& text, double& v) {
   return "";
 }
 
+// A number that `ok` accepts; `bound` ("> 0") names the rule in the error and the help.
+CLI::Validator boundedNumber(bool (*ok)(double), const std::string& bound) {
+  return CLI::Validator(
+      [ok, bound](std::string& text) {
+        double v = 0.0;
+        const std::string bad = parseNumber(text, v);
+        if (!bad.empty()) return bad;
+        return ok(v) ? std::string() : "must be " + bound + ", got " + text;
+      },
+      "NUMBER " + bound);
+}
+
 }  // namespace
 
 std::string unknownSubcommandError(const CLI::App& app, int argc, const char* const* argv) {
@@ -91,26 +103,8 @@ int reportParseError(CLI::App& app, const CLI::ParseError& e) {
   return kExitBadInput;
 }
 
-CLI::Validator nonNegativeNumber() {
-  return CLI::Validator(
-      [](std::string& text) {
-        double v = 0.0;
-        const std::string bad = parseNumber(text, v);
-        if (!bad.empty()) return bad;
-        return v >= 0.0 ? std::string() : "must be >= 0, got " + text;
-      },
-      "NUMBER >= 0");
-}
+CLI::Validator nonNegativeNumber() { return boundedNumber([](double v) { return v >= 0.0; }, ">= 0"); }
 
-CLI::Validator positiveNumber() {
-  return CLI::Validator(
-      [](std::string& text) {
-        double v = 0.0;
-        const std::string bad = parseNumber(text, v);
-        if (!bad.empty()) return bad;
-        return v > 0.0 ? std::string() : "must be > 0, got " + text;
-      },
-      "NUMBER > 0");
-}
+CLI::Validator positiveNumber() { return boundedNumber([](double v) { return v > 0.0; }, "> 0"); }
 
 }  // namespace packsim

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from ._atomic import replaced_when_done
 from ._fit_data import FitError, read_test, rest_mask
 from ._fit_ecm import Layout, fit_group, prepare, soc_trace
 from ._fit_preset import preset_yaml
@@ -132,14 +133,8 @@ def _write_atomic(path: str, data: bytes) -> None:
     if not os.path.isdir(folder):
         raise FitError(f"{path}: no such folder {folder}")
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=".packsim-fit-", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with replaced_when_done(path, tmp), os.fdopen(fd, "wb") as f:
+        f.write(data)
 
 
 def parse_soc_grid(spec: Any) -> np.ndarray:

@@ -167,6 +167,17 @@ def _highlighted_cells(r: Result, a: np.ndarray) -> dict[int, str]:
     return marked
 
 
+def _finish_soc_axis(ax, r: Result, t: np.ndarray, tlabel: str) -> None:
+    """The BMS's SOC estimate (when recorded) over the truth already drawn on `ax`, then
+    the axis labels and legend every SOC panel has."""
+    if "bms/soc_estimate_permille" in r:
+        ax.step(t, r["bms/soc_estimate_permille"] / 1000.0, where="post", color="C1", lw=1.0,
+                label="BMS estimate")
+    ax.set_ylabel("SOC (-)")
+    ax.set_xlabel(tlabel)
+    ax.legend(fontsize="small", loc="best")
+
+
 def current_soc(r: Result | str | os.PathLike):
     """Pack current (truth and what the BMS measured) and voltage above; cell SOC
     (min..max band and mean) below."""
@@ -193,12 +204,7 @@ def current_soc(r: Result | str | os.PathLike):
     soc = r["truth/cell_soc"]
     ax_s.fill_between(t, soc.min(axis=1), soc.max(axis=1), color="C2", alpha=0.3, label="min..max cell")
     ax_s.plot(t, soc.mean(axis=1), color="C2", lw=1.2, label="mean cell")
-    if "bms/soc_estimate_permille" in r:
-        ax_s.step(t, r["bms/soc_estimate_permille"] / 1000.0, where="post", color="C1", lw=1.0,
-                  label="BMS estimate")
-    ax_s.set_ylabel("SOC (-)")
-    ax_s.set_xlabel(tlabel)
-    ax_s.legend(fontsize="small", loc="best")
+    _finish_soc_axis(ax_s, r, t, tlabel)
     ax_s.grid(alpha=0.3)
     mark_events(ax_s, r, _time(r)[2], labels=False)
     mark_events(ax_i, r, _time(r)[2])
@@ -333,12 +339,7 @@ def measured_vs_truth(r: Result | str | os.PathLike):
     ax_t.set_ylabel("temperature (°C)")
     ax_t.legend(fontsize="small", loc="upper left")
     ax_s.plot(t, r["truth/cell_soc"].mean(axis=1), color="C2", lw=1.2, label="truth (mean cell)")
-    if "bms/soc_estimate_permille" in r:
-        ax_s.step(t, r["bms/soc_estimate_permille"] / 1000.0, where="post", color="C1", lw=1.0,
-                  label="BMS estimate")
-    ax_s.set_ylabel("SOC (-)")
-    ax_s.set_xlabel(tlabel)
-    ax_s.legend(fontsize="small", loc="best")
+    _finish_soc_axis(ax_s, r, t, tlabel)
     for ax in (ax_v, ax_t, ax_s):
         ax.grid(alpha=0.3)
         mark_events(ax, r, scale, labels=ax is ax_v)
@@ -463,16 +464,24 @@ def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, 
     return written
 
 
+def _matplotlib_or_error(prog: str) -> bool:
+    """Whether matplotlib can be imported; if not, says so on stderr as `prog` (the CLI
+    then exits 1)."""
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        print(f"{prog}: error: matplotlib is not installed (pip install matplotlib)", file=sys.stderr)
+        return False
+    return True
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="packsim plot", description="Write the figures of a packsim result as PNG.")
     p.add_argument("result", help="result HDF5 file")
     p.add_argument("-o", "--output", default=".", help="folder for the PNG files (default: .)")
     p.add_argument("--dpi", type=int, default=120, help="resolution (default: 120)")
     a = p.parse_args(argv)
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        print("packsim plot: error: matplotlib is not installed (pip install matplotlib)", file=sys.stderr)
+    if not _matplotlib_or_error("packsim plot"):
         return 1
     if not os.path.isfile(a.result):
         print(f"packsim plot: error: {a.result}: no such result file", file=sys.stderr)

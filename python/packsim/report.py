@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from ._atomic import replaced_when_done
 from .result import Result, load
 
 __all__ = ["report", "result_html", "batch_html"]
@@ -153,15 +154,8 @@ def report(source: Result | str | os.PathLike, output: str | os.PathLike, *, dpi
     page = batch_html(source, dpi=dpi) if is_batch else result_html(source, dpi=dpi)
     output = os.fspath(output)
     os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
-    tmp = output + ".tmp"
-    try:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(page)
-        os.replace(tmp, output)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with replaced_when_done(output) as tmp, open(tmp, "w", encoding="utf-8") as f:
+        f.write(page)
     return output
 
 
@@ -171,10 +165,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("-o", "--output", required=True, help="HTML file to write")
     ap.add_argument("--dpi", type=int, default=100)
     a = ap.parse_args(argv)
-    try:
-        import matplotlib  # noqa: F401
-    except ImportError:
-        print("packsim report: error: matplotlib is not installed (pip install matplotlib)", file=sys.stderr)
+    from .plot import _matplotlib_or_error
+    if not _matplotlib_or_error("packsim report"):
         return 1
     if not os.path.exists(a.source):
         print(f"packsim report: error: {a.source}: no such result file or batch folder", file=sys.stderr)

@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from ._atomic import replaced_when_done
+
 __all__ = ["Result", "load"]
 
 EVENTS = "events"
@@ -370,24 +372,17 @@ def _write_h5(path: str, datasets: Mapping[str, np.ndarray], attrs: Mapping[str,
             obj.attrs[k] = v
 
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    tmp = path + ".tmp"
-    try:
-        with h5py.File(tmp, "w", track_order=False) as f:
-            put_attrs(f, attrs.get("", {}))
-            for p, a in datasets.items():
-                if a.dtype.names:
-                    dt = np.dtype([(n, h5py.string_dtype("utf-8") if a.dtype[n].kind == "O" else a.dtype[n])
-                                   for n in a.dtype.names])
-                    f.create_dataset(p, data=a.astype(dt), dtype=dt)
-                else:
-                    f.create_dataset(p, data=a)
-            for p, a in attrs.items():
-                if p and p in f:
-                    put_attrs(f[p], a)
-                elif p:
-                    put_attrs(f.create_group(p), a)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
+    with replaced_when_done(path) as tmp, h5py.File(tmp, "w", track_order=False) as f:
+        put_attrs(f, attrs.get("", {}))
+        for p, a in datasets.items():
+            if a.dtype.names:
+                dt = np.dtype([(n, h5py.string_dtype("utf-8") if a.dtype[n].kind == "O" else a.dtype[n])
+                               for n in a.dtype.names])
+                f.create_dataset(p, data=a.astype(dt), dtype=dt)
+            else:
+                f.create_dataset(p, data=a)
+        for p, a in attrs.items():
+            if p and p in f:
+                put_attrs(f[p], a)
+            elif p:
+                put_attrs(f.create_group(p), a)

@@ -11,6 +11,7 @@
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
+#include "plant_only.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -20,24 +21,10 @@ constexpr double kI = 3.0, kQ = 2.0, kR0 = 0.02, kR1 = 0.01, kC1 = 1000.0, kSoc0
 
 double ocv(double soc) { return 3.4 + 0.8 * soc; }
 
-struct PlantOnly : OdeSystem {
-  const Plant& plant;
-  PlantInputs in;
-  PlantSignals sig;
-  explicit PlantOnly(const Plant& p) : plant(p), sig(p.makeSignals()) {
-    in.relay_closed = true;
-    in.load.i0_A = kI;
-  }
-  int size() const override { return plant.stateSize(); }
-  int halfBandwidth() const override { return plant.bandwidth(); }
-  std::vector<double> absTolerances() const override { return std::vector<double>(size(), 1e-12); }
-  void rhs(double t, const double* x, double* dx) override { plant.derivatives(t, x, in, dx, sig); }
-};
-
 TEST(CellAnalytic, ConstantCurrentMatchesClosedForm) {
   Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 3600}\n");
   const Plant plant(s);
-  PlantOnly ode(plant);
+  test::PlantOnly ode(plant, kI);
   CvodeIntegrator integ(ode, 1e-10);
   std::vector<double> x(plant.stateSize());
   plant.initialState(x.data());
@@ -59,7 +46,7 @@ TEST(CellAnalytic, ConstantCurrentMatchesClosedForm) {
 TEST(CellAnalytic, TemperatureApproachesSteadyState) {
   Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 3600}\n");
   const Plant plant(s);
-  PlantOnly ode(plant);
+  test::PlantOnly ode(plant, kI);
   CvodeIntegrator integ(ode, 1e-10);
   std::vector<double> x(plant.stateSize());
   plant.initialState(x.data());

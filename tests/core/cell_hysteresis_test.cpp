@@ -81,7 +81,7 @@ TEST(CellHysteresis, EnergyBalanceIncludesTheHysteresisVoltage) {
 }
 
 TEST(CellHysteresis, BadBlockIsRefused) {
-  std::string y = test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10}\n";
+  std::string y = test::simpleCellYaml() + test::kSimpleLoadYaml;
   y.replace(y.find("    r0_ohm: 0.02\n"), 17, "    r0_ohm: 0.02\n    hysteresis: {max_V: {poly: [0.04, -0.01]}, rate_per_Ah: 20}\n");
   try {
     test::scenarioFromYaml(y);

@@ -13,6 +13,7 @@
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
+#include "plant_only.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -89,20 +90,6 @@ TEST(CellTemperature, ChargeR0AppliesWhenCharging) {
   expectClosedForm(yaml, 1.0, 0.02);   // discharging: r0_ohm
 }
 
-struct PlantOnly : OdeSystem {
-  const Plant& plant;
-  PlantInputs in;
-  PlantSignals sig;
-  PlantOnly(const Plant& p, double i_A) : plant(p), sig(p.makeSignals()) {
-    in.relay_closed = true;
-    in.load.i0_A = i_A;
-  }
-  int size() const override { return plant.stateSize(); }
-  int halfBandwidth() const override { return plant.bandwidth(); }
-  std::vector<double> absTolerances() const override { return std::vector<double>(size(), 1e-12); }
-  void rhs(double t, const double* x, double* dx) override { plant.derivatives(t, x, in, dx, sig); }
-};
-
 TEST(CellTemperature, ReversibleHeatShiftsTheSteadyTemperature) {
   // dOCV/dT = +0.5 mV/K: discharge absorbs I·T·dOCV/dT (≈ 0.45 W at 3 A), more than
   // the Joule heat 0.27 W, so the cell settles *below* ambient.
@@ -112,7 +99,7 @@ TEST(CellTemperature, ReversibleHeatShiftsTheSteadyTemperature) {
   e.pack.cell.has_entropic = true;
   e.pack.cell.docv_dT_V_per_K = Curve::constant(kD);
   const Plant plant(e);
-  PlantOnly ode(plant, kI);
+  test::PlantOnly ode(plant, kI);
   CvodeIntegrator integ(ode, 1e-10);
   std::vector<double> x(static_cast<size_t>(plant.stateSize()));
   plant.initialState(x.data());

@@ -52,14 +52,14 @@ TEST(Comparison, ColdRideAgainstTheFiveDegreeRide) {
 
 TEST(Comparison, MissingReferenceFileIsALoadError) {
   try {
-    test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10}\ncompare: {scenario: nope.yaml}\n");
+    test::scenarioFromYaml(test::simpleCellYaml() + test::kSimpleLoadYaml + "compare: {scenario: nope.yaml}\n");
     FAIL() << "accepted";
   } catch (const ScenarioError& e) {
     EXPECT_NE(std::string(e.what()).find("compare.scenario: file not found"), std::string::npos) << e.what();
   }
   try {
-    test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10}\n"
-                                                    "expect: {energy_lost_vs_compare_Wh_above: 1}\n");
+    test::scenarioFromYaml(test::simpleCellYaml() + test::kSimpleLoadYaml +
+                           "expect: {energy_lost_vs_compare_Wh_above: 1}\n");
     FAIL() << "accepted";
   } catch (const ScenarioError& e) {
     EXPECT_NE(std::string(e.what()).find("need a compare:"), std::string::npos) << e.what();

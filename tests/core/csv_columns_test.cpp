@@ -25,12 +25,7 @@ Scenario withCsv(const std::string& csvYaml) {
 }
 
 std::string errorOf(const std::string& csvYaml) {
-  try {
-    withCsv(csvYaml);
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "<no error>";
+  return test::scenarioErrorOf([&] { withCsv(csvYaml); });
 }
 
 TEST(CsvColumns, PicksColumnsByNameIgnoresOthersAndScales) {

@@ -13,16 +13,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string errorOf(const std::string& yaml) {
-  try {
-    test::scenarioFromYaml(yaml);
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+std::string errorOf(const std::string& yaml) { return test::yamlErrorOf(yaml); }
 
-const std::string kLoad = "load: {current_A: 1}\nrun: {duration_s: 10}\n";
+const std::string& kLoad = test::kSimpleLoadYaml;
 
 // The simple cell with one line of its cell block replaced (`key: ...` on line `line`).
 std::string cellWith(const std::string& key, const std::string& value) {
@@ -128,12 +121,7 @@ TEST(CurveDomain, PresetCurveNamesThePresetFile) {
     y.replace(from, to - from, "  cell: {preset: bad_cell}\n");
     std::ofstream(dir / "s.yaml") << y;
   }
-  std::string e = "<no error>";
-  try {
-    loadScenarioFile((dir / "s.yaml").string());
-  } catch (const ScenarioError& err) {
-    e = err.what();
-  }
+  const std::string e = test::fileErrorOf(dir / "s.yaml");
   EXPECT_TRUE(has(e, "bad_cell.yaml:3:")) << e;
   EXPECT_TRUE(has(e, "r0_ohm: must be > 0")) << e;
   fs::remove_all(dir);

@@ -17,34 +17,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("packsim_hardening_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return test::freshTempDir("packsim_hardening_", name); }
 
 void write(const fs::path& p, const std::string& text) { std::ofstream(p) << text; }
 
-std::string loadError(const fs::path& file) {
-  try {
-    loadScenarioFile(file.string());
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+std::string loadError(const fs::path& file) { return test::fileErrorOf(file); }
 
-std::string yamlError(const std::string& yaml) {
-  try {
-    test::scenarioFromYaml(yaml);
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+std::string yamlError(const std::string& yaml) { return test::yamlErrorOf(yaml); }
 
-const std::string kLoad = "load: {current_A: 1}\nrun: {duration_s: 10}\n";
+const std::string& kLoad = test::kSimpleLoadYaml;
 
 TEST(InputHardening, ExtendsItselfIsACycleNotACrash) {
   const fs::path d = freshDir("self");

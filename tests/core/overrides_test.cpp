@@ -11,19 +11,14 @@
 namespace packsim {
 namespace {
 
-const std::string kLoad = "load: {current_A: 1}\nrun: {duration_s: 10}\n";
+const std::string& kLoad = test::kSimpleLoadYaml;
 
 std::string base() { return test::simpleCellYaml() + kLoad; }
 
 Scenario withOverrides(const Overrides& o) { return loadScenarioWithOverrides(base(), o, "test.yaml", test::scenarioDir()); }
 
 std::string errorOf(const Overrides& o) {
-  try {
-    withOverrides(o);
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "<no error>";
+  return test::scenarioErrorOf([&] { withOverrides(o); });
 }
 
 TEST(Overrides, NoOverridesReturnsTheTextUnchanged) {

@@ -25,12 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path freshDir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("packsim_interrupt_" + name);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path freshDir(const std::string& name) { return test::freshTempDir("packsim_interrupt_", name); }
 
 std::string readText(const fs::path& p) {
   std::ifstream in(p);

@@ -13,16 +13,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string errorOf(const std::string& yaml) {
-  try {
-    test::scenarioFromYaml(yaml);
-  } catch (const ScenarioError& e) {
-    return e.what();
-  }
-  return "<no error>";
-}
+std::string errorOf(const std::string& yaml) { return test::yamlErrorOf(yaml); }
 
-const std::string kLoad = "load: {current_A: 1}\nrun: {duration_s: 10}\n";
+const std::string& kLoad = test::kSimpleLoadYaml;
 
 TEST(ScenarioErrors, UnknownKeySuggestsClosest) {
   std::string y = test::simpleCellYaml() + kLoad;

@@ -30,6 +30,31 @@ std::string simpleCellYaml(int series) {
 
 Scenario scenarioFromYaml(const std::string& yaml) { return loadScenarioText(yaml, "test.yaml", scenarioDir()); }
 
+std::string scenarioErrorOf(const std::function<void()>& load) {
+  try {
+    load();
+  } catch (const ScenarioError& e) {
+    return e.what();
+  }
+  return "<no error>";
+}
+
+std::string yamlErrorOf(const std::string& yaml) {
+  return scenarioErrorOf([&] { scenarioFromYaml(yaml); });
+}
+
+std::string fileErrorOf(const std::filesystem::path& file) {
+  return scenarioErrorOf([&] { loadScenarioFile(file.string()); });
+}
+
+std::filesystem::path freshTempDir(const std::string& prefix, const std::string& name) {
+  namespace fs = std::filesystem;
+  const fs::path d = fs::temp_directory_path() / (prefix + name);
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail) {
   for (const Event& e : r.events)
     if (e.kind == kind && e.detail.compare(0, detail.size(), detail) == 0) return e.time_s;

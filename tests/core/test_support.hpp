@@ -1,5 +1,7 @@
 // Helpers shared by the core tests: inline-YAML scenarios and result queries.
 #pragma once
+#include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -12,7 +14,17 @@ namespace packsim::test {
 // A one-cell (or N-cell) scenario with constant, simple parameters; `extra` is
 // appended YAML (load, bms, run sections …).
 std::string simpleCellYaml(int series = 1);
+// A 1 A constant load for 10 s, to append to simpleCellYaml().
+inline const std::string kSimpleLoadYaml = "load: {current_A: 1}\nrun: {duration_s: 10}\n";
 Scenario scenarioFromYaml(const std::string& yaml);
+// The message of the ScenarioError `load` throws, or "<no error>".
+std::string scenarioErrorOf(const std::function<void()>& load);
+// The message of the ScenarioError loading inline YAML (as scenarioFromYaml), or "<no error>".
+std::string yamlErrorOf(const std::string& yaml);
+// The message of the ScenarioError loading a scenario file, or "<no error>".
+std::string fileErrorOf(const std::filesystem::path& file);
+// An empty folder `prefix` + `name` under the system temp folder (removed first if there).
+std::filesystem::path freshTempDir(const std::string& prefix, const std::string& name);
 // First event of a kind with a detail starting with `detail` (or -1).
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail = "");
 // Index of the recorded sample at time t (exact tick match).

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import packsim
+from h5_tree import datasets as h5_datasets
 
 xr = pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")
@@ -30,17 +31,8 @@ def written(cli, tmp_path_factory):
 
 
 def _datasets(path):
-    out = {}
     with h5py.File(path, "r") as f:
-        def walk(g, prefix):
-            for k in g:
-                o = g[k]
-                if isinstance(o, h5py.Group):
-                    walk(o, prefix + k + "/")
-                else:
-                    out[prefix + k] = o
-        walk(f, "")
-        return {k: (v.shape, v.compression, v.shuffle, v.chunks, dict(v.attrs)) for k, v in out.items()}
+        return {k: (v.shape, v.compression, v.shuffle, v.chunks, dict(v.attrs)) for k, v in h5_datasets(f)}
 
 
 def test_each_group_opens_in_xarray_on_real_coordinates(written):

@@ -10,6 +10,7 @@ import h5py
 import pytest
 
 import packsim
+from h5_tree import datasets as h5_datasets
 
 DOC = (Path(__file__).resolve().parents[2] / "docs" / "results.md").read_text()
 ROWS = [line for line in DOC.splitlines() if line.startswith("| `/")]
@@ -38,14 +39,8 @@ def written(tmp_path_factory):
         f = folder / f"{i}.h5"
         r.save(f)
         with h5py.File(f, "r") as h:
-            def walk(g, prefix):
-                for k in g:
-                    o = g[k]
-                    if isinstance(o, h5py.Group):
-                        walk(o, prefix + k + "/")
-                    else:
-                        out[prefix + k] = (o.dtype, {a: o.attrs[a] for a in o.attrs})
-            walk(h, "")
+            for path, o in h5_datasets(h):
+                out[path] = (o.dtype, {a: o.attrs[a] for a in o.attrs})
             out["/bms attrs"] = (None, dict(h["bms"].attrs))
     return out, kinds
 
