@@ -33,21 +33,21 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   // R0 independent of temperature until configured (reference 25 °C, no thermistors).
   c.soc.ekf = EkfConfig{{}, 0.0f, 30.0f, 10.0f, 1.7e-4f, 2.0f, -1.0f, 0.05f, 0.0f, 25.0f, 0, 0, {}};
   c.soc.sohMinDeltaSoc = 0.3f;
-  // DOMAIN.md system C: < 3.3 V one bar, one more per 0.1 V up to 3.9 V, above 4.0 V eight.
+  // reference system C: < 3.3 V one bar, one more per 0.1 V up to 3.9 V, above 4.0 V eight.
   const uint16_t bars[kDisplayBars - 1] = {3300, 3400, 3500, 3600, 3700, 3800, 4001};
   for (uint8_t i = 0; i + 1 < kDisplayBars; ++i) c.soc.displayBars_mV[i] = bars[i];
   c.weldSettle_ms = 50;
   c.weldCurrent_mA = 500;
   c.relayAuxFeedback = true;
   c.balanceTime_s = 60;
-  // Balancing defaults after open firmware (HARDWARE.md) and DOMAIN.md system C: start at
+  // Balancing defaults after open firmware (the parts' datasheets) and reference system C: start at
   // 50 mV spread, stop at 10 mV, never below 3.3 V, pause above 70 °C board temperature.
   c.balance = BalanceConfig{false, BalanceWhen::ChargingOrRest, 50, 10, 3300, 700, 600, false, 200,
                             10u * 60u * 1000u, 1000, 0, 0, 1, 1, 0};
   c.chargeRequest_mA = 0;
   c.chargeFullCell_mV = 0;
 
-  // The table. Which actuator a fault opens follows DOMAIN.md system A: the monitor
+  // The table. Which actuator a fault opens follows reference system A: the monitor
   // side (relay) isolates on voltage, current, temperature, E-switch and comm; the MCU
   // opens the discharge MOSFET on over-current, over-temperature and the E-switch.
   using Q = Quantity;

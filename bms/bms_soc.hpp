@@ -36,7 +36,7 @@ float socFromOcv(const SocConfig& c, uint16_t cell_mV);
 // One tick. `valid` = a complete cell measurement is available.
 void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV, int32_t current_mA, uint32_t now_ms);
 float socValue(const SocConfig& c, const SocState& s);
-// SOC display (DOMAIN.md system C): 1 + the number of thresholds at or below cell_mV.
+// SOC display (reference system C): 1 + the number of thresholds at or below cell_mV.
 uint8_t socDisplayBars(const SocConfig& c, uint16_t cell_mV);
 
 }  // namespace bms

@@ -1,5 +1,5 @@
 // The telemetry frame the BMS sends to the data-acquisition unit every tick (I2C in
-// DOMAIN.md system A). Fixed layout, little-endian, CRC-8 (poly 0x07) at the end:
+// reference system A). Fixed layout, little-endian, CRC-8 (poly 0x07) at the end:
 //
 //   0 sync 0xA5 | 1 payload length | 2 state | 3 precharge phase
 //   4 bits: relay, precharge, discharge FET, charge FET, monitor fault

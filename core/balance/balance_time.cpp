@@ -82,7 +82,7 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
     s.bms.run_request = true;
   }
   if (o.when) s.bms.balancing.when = *o.when;
-  s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (DOMAIN.md D)
+  s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (docs/reference-systems.md D)
   s.output.interval_s = std::max(60.0, s.bms.tick_s);
   s.run.duration_s = o.max_hours * 3600.0;
   s.run.stop_after_trip_s = 0.0;

@@ -8,7 +8,7 @@
 //                 the scenario configures it: start/stop thresholds, decision period,
 //                 `when`, `no_adjacent`, minimum cell voltage, board pause, averaging,
 //                 the monitor's balancing timer. Only the BMS tick is raised to at least
-//                 1 s (decisions at 1 Hz are ample; DOMAIN.md D). Two times come out:
+//                 1 s (decisions at 1 Hz are ample; docs/reference-systems.md D). Two times come out:
 //       firmware_h  when the firmware declared balanced (its status went to Balanced
 //                   after balancing and stayed there); NaN if it never did, with why
 //       true_h      when the true rest voltages (OCV) of all series groups first came

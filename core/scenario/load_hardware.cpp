@@ -23,7 +23,7 @@ constexpr AfeModelInfo kAfeModels[] = {
     {"bq76952", bms::AfeModel::Bq76952, 16, 3},
 };
 
-// The cell channel of each monitor class (HARDWARE.md).
+// The cell channel of each monitor class (the parts' datasheets).
 void afeDefaults(const AfeModelInfo& m, MonitorConfig& a, AdcChannel& adc) {
   a.model = m.model;
   switch (m.model) {

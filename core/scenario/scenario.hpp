@@ -130,7 +130,7 @@ struct SocEstimationSettings {
   double initial_soc = -1.0;           // EKF start; < 0: from the first reading's OCV
   double initial_soc_sd = 0.05;
   double soh_min_delta_soc = 0.3;      // capacity estimate across rested points this far apart
-  std::vector<double> display_bars_V;  // 7 thresholds; empty: DOMAIN.md system C's table
+  std::vector<double> display_bars_V;  // 7 thresholds; empty: reference system C's table
 };
 
 struct BmsSettings {

@@ -1,5 +1,5 @@
 // Configuration of a simulated monitor-IC stack (constant during a run). Three
-// classes after TI parts (HARDWARE.md):
+// classes after TI parts (the parts' datasheets):
 //   bq76pl536a: 3-6 cells/device, 14-bit ADC (6250/16383 mV LSB), 2 thermistors,
 //               SPI frames with CRC-8, secondary COV/CUV/OT comparators latching FAULT
 //   bq76pl455a: up to 16 cells/device, 5 V/65535 LSB, 2 aux thermistors, UART

@@ -1,4 +1,4 @@
-// Active balancer (DOMAIN.md system B): one isolated bidirectional DC/DC converter per
+// Active balancer (reference system B): one isolated bidirectional DC/DC converter per
 // module (series group), all exchanging energy with a shared supercapacitor bus.
 //
 //   converter k   module-side current I_k (+ draws from the module, - feeds it),

@@ -5,7 +5,7 @@
 //   blown when Q >= i2t_A2s (permanent)
 //
 // With the defaults (30 A, I²t 2500 A²s) the blow times land in the blade-fuse bands
-// of HARDWARE.md: 135 % ≈ 4.5 s, 200 % ≈ 1.0 s, 350 % ≈ 0.25 s, 600 % ≈ 0.08 s.
+// of the datasheets: 135 % ≈ 4.5 s, 200 % ≈ 1.0 s, 350 % ≈ 0.25 s, 600 % ≈ 0.08 s.
 #pragma once
 
 namespace packsim {

@@ -1,4 +1,4 @@
-// Power MOSFET with its body / parallel Schottky diode (DOMAIN.md system A: the
+// Power MOSFET with its body / parallel Schottky diode (reference system A: the
 // discharge FET's diode carries the charge current). With the gate on it conducts
 // both ways through Rds_on; off, only the diode conducts, in its forward direction.
 //

@@ -11,7 +11,7 @@
 namespace packsim {
 
 struct RelayConfig {
-  double close_delay_s = 0.0;  // HARDWARE.md: operate <= 25 ms
+  double close_delay_s = 0.0;  // datasheet: operate <= 25 ms
   double open_delay_s = 0.0;   // release <= 10 ms
 };
 

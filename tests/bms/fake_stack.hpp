@@ -1,5 +1,5 @@
 // Test-side BQ76PL536A-like replies built byte by byte from the register layout of
-// HARDWARE.md (independent of the simulator's monitor model), so the firmware can be
+// the datasheets (independent of the simulator's monitor model), so the firmware can be
 // driven tick by tick with chosen cell voltages, temperatures and comm faults.
 #pragma once
 #include <bms/bms_config.hpp>

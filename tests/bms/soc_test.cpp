@@ -77,7 +77,7 @@ TEST(Soc, NoCapacityFromASmallSocChange) {
   EXPECT_EQ(s.capacityEstimate_mAh, 0.0f);
 }
 
-// DOMAIN.md system C display: < 3.3 V one bar, one per 0.1 V up to 3.9 V, > 4.0 V eight.
+// reference system C display: < 3.3 V one bar, one per 0.1 V up to 3.9 V, > 4.0 V eight.
 TEST(Soc, DisplayBarsFollowTheSystemCTable) {
   bms::SocConfig c = config();
   const uint16_t bars[bms::kDisplayBars - 1] = {3300, 3400, 3500, 3600, 3700, 3800, 4001};

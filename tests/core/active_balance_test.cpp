@@ -1,4 +1,4 @@
-// Active balancing (DOMAIN.md system B checks) on the bundled 4s3p proof-of-concept.
+// Active balancing (reference system B checks) on the bundled 4s3p proof-of-concept.
 #include <gtest/gtest.h>
 
 #include <cmath>

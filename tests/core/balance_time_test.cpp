@@ -1,4 +1,4 @@
-// Time to balance (core/balance/balance_time) against DOMAIN.md systems C and D, and the
+// Time to balance (core/balance/balance_time) against reference systems C and D, and the
 // passive balancing branch's charge and heat accounting against a closed form.
 #include <gtest/gtest.h>
 
@@ -16,7 +16,7 @@ namespace {
 
 Scenario preset(const std::string& rel) { return loadScenarioFile(test::scenarioDir() + "/" + rel); }
 
-// DOMAIN.md C: 47 ohm at 3.6 V is 76.6 mA and 0.276 W; 0.561 Ah takes 7.32 h analytic.
+// docs/reference-systems.md C: 47 ohm at 3.6 V is 76.6 mA and 0.276 W; 0.561 Ah takes 7.32 h analytic.
 TEST(BalanceTime, SystemCAnalyticMatchesDomainFigures) {
   BalanceTimeOptions o;
   o.resistors_ohm = {47.0};
@@ -163,7 +163,7 @@ TEST(BalanceTime, DuringChargeAddsTheTimeTheBleedCurrentCosts) {
   EXPECT_FALSE(w.within_rating) << "4.2 V across 47 ohm is 0.375 W > the scenario's 0.25 W resistors";
 }
 
-// DOMAIN.md D: 1 Ah at 70 mA is about 14 h; 36 resistors on at 3.6 V dissipate 9.92 W.
+// docs/reference-systems.md D: 1 Ah at 70 mA is about 14 h; 36 resistors on at 3.6 V dissipate 9.92 W.
 TEST(BalanceTime, SystemDMaintenanceBalancingAndBoardPower) {
   BalanceTimeOptions o;
   o.delta_Ah = 1.0;

@@ -15,7 +15,7 @@ namespace {
 
 Scenario systemD() { return loadScenarioFile(test::scenarioDir() + "/balance/motorcycle_110s_balancing.yaml"); }
 
-// DOMAIN.md D: all 36 resistors of a board on at 3.6 V put 36·3.6²/47 = 9.92 W into that
+// docs/reference-systems.md D: all 36 resistors of a board on at 3.6 V put 36·3.6²/47 = 9.92 W into that
 // board; the fourth board (cells 109-110) takes its own two.
 TEST(BoardNodes, EachBoardTakesTheHeatOfTheCellsItMonitors) {
   Scenario s = systemD();

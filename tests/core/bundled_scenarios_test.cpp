@@ -1,5 +1,5 @@
 // Every bundled scenario passes its expect block, and the reference packs show the
-// figures of DOMAIN.md.
+// figures of docs/reference-systems.md.
 #include <gtest/gtest.h>
 
 #include <filesystem>

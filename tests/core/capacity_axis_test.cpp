@@ -1,7 +1,7 @@
 // Curves over discharged Ah use the preset's nominal capacity (models/cell/curve.hpp):
 // a weaker cell reaches the curve's knee at its own SOC 0. Before, a 20 % weaker
 // module read the nominal curve at (1 - soc)·its own Q, showed ~3.4 V at its SOC 0
-// and ended the race no earlier than healthy ones (DOMAIN.md system B's situation).
+// and ended the race no earlier than healthy ones (reference system B's situation).
 // And a cell driven past empty or full is an event and a summary line, never silent.
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-// CC-CV charger (models/hw/charger) on the DOMAIN.md system C cell: constant current at
+// CC-CV charger (models/hw/charger) on the reference system C cell: constant current at
 // 885 mA until the terminal reaches 4.2 V, then constant voltage with a falling current,
 // ending at the taper end current; a charge-side fault stops it.
 #include <gtest/gtest.h>

@@ -39,7 +39,7 @@ TEST(Check, MetExpectationsPass) {
 }
 
 TEST(Check, CliReportsEveryScenarioAndFailsTheBatch) {
-  const fs::path dir = fs::temp_directory_path() / "packsim_check_cli";
+  const fs::path dir = test::processTempDir("packsim_check_cli");
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "a_good.yaml") << test::simpleCellYaml() << "load: {current_A: 1}\nrun: {duration_s: 5}\nexpect: {no_trip: true}\n";

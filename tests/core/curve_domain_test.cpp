@@ -111,7 +111,7 @@ TEST(CurveDomain, TableShapeErrors) {
 
 // A bad curve in a preset file names the preset file and its line.
 TEST(CurveDomain, PresetCurveNamesThePresetFile) {
-  const fs::path dir = fs::temp_directory_path() / "packsim_curve_domain_test";
+  const fs::path dir = test::processTempDir("packsim_curve_domain_test");
   fs::create_directories(dir / "cells");
   {
     std::ofstream(dir / "cells" / "bad_cell.yaml") << "capacity_Ah: 2.0\nocv_V: {poly: [0.8, 3.4]}\n"

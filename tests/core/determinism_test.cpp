@@ -14,7 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 TEST(Determinism, SameSeedGivesBitIdenticalDatasets) {
-  const fs::path dir = fs::temp_directory_path() / "packsim_determinism";
+  const fs::path dir = test::processTempDir("packsim_determinism");
   fs::create_directories(dir);
   const Scenario s = loadScenarioFile(test::scenarioDir() + "/eco_marathon_12s.yaml");
   const std::string a = (dir / "a.h5").string(), b = (dir / "b.h5").string(), c = (dir / "c.h5").string();

@@ -103,8 +103,8 @@ struct CliResult {
 
 CliResult runCli(const std::string& args) {
   // One file per test: ctest runs the tests of this binary in parallel processes.
-  const fs::path errFile = fs::temp_directory_path() /
-                           ("packsim_hardening_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".err");
+  const fs::path errFile = test::processTempDir("packsim_hardening") /
+                           ("cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".err");
   const int rc = std::system((std::string(PACKSIM_BINARY) + " " + args + " >/dev/null 2>" + errFile.string()).c_str());
   std::ifstream in(errFile);
   std::stringstream ss;

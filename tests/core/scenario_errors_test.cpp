@@ -70,7 +70,7 @@ TEST(ScenarioErrors, ThresholdBeyondSensorRange) {
 class CsvErrors : public ::testing::Test {
  protected:
   std::string run(const std::string& csv) {
-    const fs::path dir = fs::temp_directory_path() / "packsim_csv";
+    const fs::path dir = test::processTempDir("packsim_csv");
     fs::create_directories(dir);
     std::ofstream(dir / "p.csv") << csv;
     return errorOf(test::simpleCellYaml() + "load: {csv: " + (dir / "p.csv").string() + "}\n");
@@ -99,7 +99,7 @@ TEST_F(CsvErrors, WrongColumnCount) {
 
 // The CLI turns a bad scenario into exit status 2 and leaves no result file.
 TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
-  const fs::path dir = fs::temp_directory_path() / "packsim_cli_bad";
+  const fs::path dir = test::processTempDir("packsim_cli_bad");
   fs::remove_all(dir);
   fs::create_directories(dir);
   std::ofstream(dir / "bad.yaml") << "name: bad\npack: {series: 2, cell: {capacity_Ah: -1, ocv_V: 3.7, r0_ohm: 0.01}}\n"

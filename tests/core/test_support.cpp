@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <unistd.h>
+
 #include <hdf5.h>
 
 #include <cmath>
@@ -47,9 +49,15 @@ std::string fileErrorOf(const std::filesystem::path& file) {
   return scenarioErrorOf([&] { loadScenarioFile(file.string()); });
 }
 
+std::filesystem::path processTempDir(const std::string& name) {
+  const std::filesystem::path d = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(d);
+  return d;
+}
+
 std::filesystem::path freshTempDir(const std::string& prefix, const std::string& name) {
   namespace fs = std::filesystem;
-  const fs::path d = fs::temp_directory_path() / (prefix + name);
+  const fs::path d = processTempDir(prefix + name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

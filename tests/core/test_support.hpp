@@ -25,6 +25,9 @@ std::string yamlErrorOf(const std::string& yaml);
 std::string fileErrorOf(const std::filesystem::path& file);
 // An empty folder `prefix` + `name` under the system temp folder (removed first if there).
 std::filesystem::path freshTempDir(const std::string& prefix, const std::string& name);
+// A folder of this test process under the system temp folder (created, not emptied):
+// <tmp>/<name>_<pid>, so concurrent test runs (ctest -j, a sanitizer build) never share one.
+std::filesystem::path processTempDir(const std::string& name);
 // First event of a kind with a detail starting with `detail` (or -1).
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail = "");
 // Index of the recorded sample at time t (exact tick match).

@@ -7,7 +7,7 @@
 namespace packsim {
 namespace {
 
-// DOMAIN.md system C: Rint(x) with x = capacity discharged in Ah, highest power first.
+// reference system C: Rint(x) with x = capacity discharged in Ah, highest power first.
 const std::vector<double> kRint = {0.0292, -0.1914, 0.4481, -0.457, 0.1991, 0.0695};
 
 TEST(Curve, PolynomialHighestPowerFirst) {
