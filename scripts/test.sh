@@ -17,7 +17,7 @@ build/packsim check scenarios
 echo "== BMS core cross-compiled for Cortex-M4 (freestanding, no exceptions, no RTTI)"
 bms/cross_check.sh build/bms-cortex-m4
 
-echo "== fuzz smoke: each loader harness ${FUZZ_SECONDS:-30} s under libFuzzer + ASan + UBSan (build-fuzz/)"
+echo "== fuzz smoke: each loader harness, a fixed seed and input count, under libFuzzer + ASan + UBSan (build-fuzz/)"
 scripts/fuzz.sh
 
 if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
