@@ -25,6 +25,7 @@ enum class FaultKind {
   CurrentSensorDrift, // current-sense offset (A), optionally growing (A/h) from the start
   ChargerOvervoltage, // charger output above its setpoint (V)
   HostDead,           // the MCU hangs: no more BMS ticks, its outputs hold their last level
+  ResetRequest,       // operator reset GPIO asserted (one BMS tick unless duration_s)
 };
 
 const char* faultKindName(FaultKind k);

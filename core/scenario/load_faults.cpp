@@ -31,6 +31,7 @@ constexpr KindInfo kKinds[] = {
     {"current_sensor_drift", FaultKind::CurrentSensorDrift},
     {"charger_overvoltage", FaultKind::ChargerOvervoltage},
     {"host_dead", FaultKind::HostDead},
+    {"reset_request", FaultKind::ResetRequest},
 };
 
 struct QuantityInfo {
@@ -148,6 +149,7 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
       break;
     case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
     case FaultKind::HostDead: break;
+    case FaultKind::ResetRequest: break;
   }
   f.finish();
   return inj;
@@ -209,6 +211,7 @@ std::string FaultInjection::describe() const {
       break;
     case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
     case FaultKind::HostDead: std::snprintf(buf, sizeof buf, "host_dead"); break;
+    case FaultKind::ResetRequest: std::snprintf(buf, sizeof buf, "reset_request"); break;
   }
   return buf;
 }

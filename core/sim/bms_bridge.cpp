@@ -195,6 +195,7 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   in.monitorFaultPin = stack_.faultLine();
   in.chargerPresent = s_.bms.charger_present;
   in.runRequest = s_.bms.run_request;
+  in.resetRequest = f.reset_requested;
   in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
 }
 

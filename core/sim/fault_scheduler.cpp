@@ -38,6 +38,13 @@ double FaultScheduler::quantity(Quantity q, double t, const double* x, const Pla
   return 0.0;
 }
 
+// How long an injection stays on once started (0: for the rest of the run). A reset
+// request without `duration_s` is a press of the button: asserted for one BMS tick.
+double FaultScheduler::activeFor_s(const FaultInjection& inj) const {
+  if (inj.duration_s > 0.0) return inj.duration_s;
+  return inj.kind == FaultKind::ResetRequest ? s_.bms.tick_s : 0.0;
+}
+
 bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults,
                             RunTracker& tracker) {
   bool changed = false;
@@ -52,7 +59,7 @@ bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, 
       tr.start_s = t;
       changed = true;
       tracker.event(t, "fault_injected", inj.describe() + (inj.hasCondition ? " (when " + inj.when.text + ")" : ""));
-    } else if (inj.duration_s > 0.0 && t >= tr.start_s + inj.duration_s - 1e-9) {
+    } else if (const double d_s = activeFor_s(inj); d_s > 0.0 && t >= tr.start_s + d_s - 1e-9) {
       tr.active = false;
       tr.done = true;
       changed = true;
@@ -99,6 +106,7 @@ void FaultScheduler::apply(HardwareFaults& f) const {
         break;
       case FaultKind::ChargerOvervoltage: f.charger_overvoltage_V += inj.value; break;
       case FaultKind::HostDead: f.host_dead = true; break;
+      case FaultKind::ResetRequest: f.reset_requested = true; break;
     }
   }
 }

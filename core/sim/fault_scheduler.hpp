@@ -27,6 +27,7 @@ class FaultScheduler {
  private:
   double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;
   void apply(HardwareFaults& f) const;
+  double activeFor_s(const FaultInjection& inj) const;
 
   struct Track {
     double start_s = -1.0;

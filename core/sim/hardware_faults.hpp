@@ -32,6 +32,7 @@ struct HardwareFaults {
   double extra_load_A = 0.0;                 // over-current load step, added to the profile
   double charger_overvoltage_V = 0.0;        // charger output above its setpoint
   bool host_dead = false;                    // MCU hung: no BMS step, outputs frozen
+  bool reset_requested = false;              // operator reset GPIO asserted
   std::vector<double> cell_heat_W;           // extra heat per cell (hot cell)
   std::vector<double> cell_leak_ohm;         // internal short per cell; 0 = none
 };

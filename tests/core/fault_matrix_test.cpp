@@ -4,12 +4,22 @@
 //     [delay, delay + one tick] (comm loss: the N-th bad reply, so [(N-1)·tick, N·tick]);
 //   - the pack current (plant truth) zero from detection + one tick + the relay's own
 //     release time on, and the relay contact never closing again while latched;
-// and the nuisance case of the same presets: a discharge 5 % below the over-current
-// threshold for a minute never raises over-current. Runs are short (a few seconds of
+//   - a reset request (the operator's GPIO, `kind: reset_request`) 0.7 s after the
+//     latest allowed detection, with the fault still present, changes nothing: the relay
+//     stays open and the fault stays latched to the end of the run. An over-current is
+//     the exception: with the relay open no current flows, the BMS sees nothing left, so
+//     the reset closes the relay into the still-present load; the same fault must then
+//     trip again within its bound from the re-close and open the relay again;
+// and, apart from the table: a reset after a removable fault has gone (an over-current
+// that ends, the E-switch released) closes the relay again; the nuisance cases of the
+// same presets: a discharge 5 % below the over-current threshold for a minute never
+// raises over-current, and a hot cell that cools before the over-temperature debounce
+// ends never trips. Runs are short (a few seconds of
 // simulated time, fast integrator where the solver does not matter).
 //
 // The table of detection latencies is docs/hardening.md's fault matrix: the test fails
 // when the two differ; PACKSIM_UPDATE_DOCS=1 rewrites the doc's table from this run.
+#include <bms/bms_faults.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,6 +49,7 @@ const Preset kPresets[] = {{"A eco-marathon 12s", "eco_marathon_12s.yaml"},
                            {"E scooter 16s LTO", "scooter_16s_lto.yaml"}};
 
 constexpr double kInject_s = 2.0;  // on a tick of every preset
+constexpr double kResetAfter_s = 0.7;  // reset request this long after the latest allowed detection
 
 struct FaultKindRow {
   const char* name;      // as in the table
@@ -46,6 +57,9 @@ struct FaultKindRow {
   // The `faults:` entry for a preset (its thresholds), and the [lo, hi] latency bound.
   std::function<std::string(const Scenario&)> entry;
   std::function<std::pair<double, double>(const Scenario&)> bound_s;
+  // Whether the BMS still sees the fault once the relay is open. An over-current does
+  // not (no current flows), so a reset closes the relay into it and it trips again.
+  bool seenWhileOpen = true;
 };
 
 std::pair<double, double> debounced(const ProtectionConfig& p, const Scenario& s) {
@@ -68,7 +82,7 @@ const std::vector<FaultKindRow>& rows() {
   static const std::vector<FaultKindRow> r = {
       {"overcurrent (+1.25 x threshold)", "overcurrent_discharge",
        [](const Scenario& s) { return at("kind: overcurrent, current_A: " + num(1.25 * s.bms.overcurrent_discharge.threshold)); },
-       [](const Scenario& s) { return debounced(s.bms.overcurrent_discharge, s); }},
+       [](const Scenario& s) { return debounced(s.bms.overcurrent_discharge, s); }, false},
       {"estop (internal)", "estop", [](const Scenario&) { return at("kind: estop, switch: internal"); },
        [](const Scenario& s) { return debounced(s.bms.estop, s); }},
       {"channel_offset (+1 V, cell 1)", "cell_overvoltage",
@@ -93,7 +107,7 @@ const std::vector<FaultKindRow>& rows() {
 // A short run of `preset` with `extra` YAML merged on top (fast integrator, every tick recorded).
 std::string shortRun(const Preset& p, const Scenario& base, const std::string& extra, double duration_s) {
   return "extends: " + test::scenarioDir() + "/" + p.file + "\nrun: {duration_s: " + num(duration_s) +
-         ", stop_after_trip_s: 1, solver: fast}\noutput: {interval_s: " + num(base.bms.tick_s) + "}\nexpect: {}\n" + extra;
+         ", stop_after_trip_s: 1.5, solver: fast}\noutput: {interval_s: " + num(base.bms.tick_s) + "}\nexpect: {}\n" + extra;
 }
 
 struct Cell {
@@ -109,13 +123,27 @@ const Event* firstAfter(const RunResult& r, double t, const std::string& kind, c
   return nullptr;
 }
 
+uint32_t faultBit(const std::string& name) {
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+    if (name == bms::faultName(static_cast<bms::FaultId>(i))) return 1u << i;
+  ADD_FAILURE() << "no BMS fault named " << name;
+  return 0;
+}
+
 Cell runCell(const Preset& p, const FaultKindRow& row) {
   Cell c;
   Scenario s;
+  double reset_s = 0.0;
   try {
     const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
-    s = loadScenarioText(shortRun(p, base, "faults: [" + row.entry(base) + "]\n", kInject_s + 3.0), p.file,
-                         test::scenarioDir());
+    // The reset comes 0.7 s after the latest allowed detection (inside the 1.5 s the run
+    // goes on after the trip, leaving time to see an over-current trip again); the fault
+    // itself is never removed.
+    reset_s = kInject_s + row.bound_s(base).second + kResetAfter_s;
+    s = loadScenarioText(shortRun(p, base,
+                                  "faults: [" + row.entry(base) + ", {kind: reset_request, at_s: " + num(reset_s) + "}]\n",
+                                  kInject_s + 3.0),
+                         p.file, test::scenarioDir());
   } catch (const ScenarioError& e) {  // the fault needs hardware this preset lacks
     c.why = e.message();
     return c;
@@ -145,13 +173,51 @@ Cell runCell(const Preset& p, const FaultKindRow& row) {
   int checked = 0;
   for (size_t i = 0; i < rec.time_s.size(); ++i) {
     if (rec.time_s[i] < zeroFrom - 1e-9) continue;
+    if (!row.seenWhileOpen && rec.time_s[i] >= reset_s - 1e-9) break;
     ++checked;
     EXPECT_LT(std::fabs(rec.pack_current_A[i]), 1e-9) << "current " << rec.pack_current_A[i] << " A at " << rec.time_s[i];
     if (std::fabs(rec.pack_current_A[i]) >= 1e-9) break;
   }
   EXPECT_GE(checked, 5);  // 1 s after the trip at the slowest tick (100 ms)
   const Event* opened = firstAfter(r, kInject_s, "relay_contact", "opened");
-  if (opened) EXPECT_EQ(firstAfter(r, opened->time_s, "relay_contact", "closed"), nullptr) << "relay closed again";
+  const Event* reclosed = opened ? firstAfter(r, opened->time_s, "relay_contact", "closed") : nullptr;
+  if (row.seenWhileOpen) EXPECT_EQ(reclosed, nullptr) << "relay closed again";
+  else if (reclosed) EXPECT_GE(reclosed->time_s, reset_s - 1e-9) << "relay closed again before the reset";
+  // The reset request with the fault still present: it was issued (an event, before the
+  // run's end) and did nothing — the detected fault stays latched, the relay open.
+  const Event* reset = firstAfter(r, kInject_s, "fault_injected", "reset_request");
+  EXPECT_NE(reset, nullptr) << "the reset request at " << reset_s << " s was never issued";
+  const uint32_t bit = faultBit(name);
+  if (!row.seenWhileOpen) {  // closed into the fault again: tripped again, opened again
+    if (!reclosed) {
+      ADD_FAILURE() << "the reset did not close the relay (the over-current was no longer seen)";
+      return c;
+    }
+    const Event* again = firstAfter(r, reclosed->time_s, "fault_active", name);
+    if (!again) {
+      ADD_FAILURE() << name << " not raised again after the reset";
+      return c;
+    }
+    EXPECT_LE(again->time_s - reclosed->time_s, hi + 1e-9);
+    const Event* reopened = firstAfter(r, again->time_s, "relay_contact", "opened");
+    if (!reopened) {
+      ADD_FAILURE() << "the relay did not open again";
+      return c;
+    }
+    EXPECT_EQ(firstAfter(r, reopened->time_s, "relay_contact", "closed"), nullptr) << "relay closed a third time";
+    EXPECT_NE(rec.fault_latched.back() & bit, 0u);
+    EXPECT_LT(std::fabs(rec.pack_current_A.back()), 1e-9);
+    return c;
+  }
+  int afterReset = 0;
+  for (size_t i = 0; reset && i < rec.time_s.size(); ++i) {
+    if (rec.time_s[i] < reset->time_s - 1e-9) continue;
+    ++afterReset;
+    EXPECT_NE(rec.fault_latched[i] & bit, 0u) << name << " unlatched by the reset at " << rec.time_s[i] << " s";
+    EXPECT_EQ(rec.hw_relay_closed[i], 0) << "relay contact closed at " << rec.time_s[i] << " s";
+    if ((rec.fault_latched[i] & bit) == 0 || rec.hw_relay_closed[i] != 0) break;
+  }
+  EXPECT_GE(afterReset, 3);  // the run goes on for a while after the reset
   return c;
 }
 
@@ -215,6 +281,121 @@ TEST(FaultMatrix, OvercurrentFivePercentBelowThresholdNeverTrips) {
     EXPECT_FALSE(r.summary.tripped) << r.summary.trip_reason;
     EXPECT_NEAR(r.rec.pack_current_A[k], i_A, 0.01 * i_A);
   }
+}
+
+// A removable fault: the fault goes at 3 s (over-current for 1 s, longer than any preset's
+// delay; the E-switch pulled for 0.5 s), the reset comes at 3.5 s. Until the reset the relay
+// stays open (latched); after it the firmware precharges and closes the relay again.
+TEST(FaultMatrix, ResetAfterARemovableFaultHasGoneClosesTheRelay) {
+  struct Case {
+    const char* fault;
+    std::function<std::string(const Scenario&)> entry;
+  };
+  const Case cases[] = {
+      {"overcurrent_discharge",
+       [](const Scenario& s) {
+         return "{kind: overcurrent, current_A: " + num(1.25 * s.bms.overcurrent_discharge.threshold) +
+                ", at_s: 2, duration_s: 1}";
+       }},
+      {"estop", [](const Scenario&) { return std::string("{kind: estop, switch: internal, at_s: 2.5, duration_s: 0.5}"); }},
+  };
+  constexpr double kReset_s = 3.5;
+  for (const Preset& p : kPresets) {
+    for (const Case& k : cases) {
+      SCOPED_TRACE(std::string(p.label) + " x " + k.fault);
+      const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
+      const Scenario s = loadScenarioText(
+          "extends: " + test::scenarioDir() + "/" + p.file + "\nrun: {duration_s: 15, stop_after_trip_s: 100, solver: fast}\n" +
+              "output: {interval_s: " + num(base.bms.tick_s) + "}\nexpect: {}\nfaults: [" + k.entry(base) +
+              ", {kind: reset_request, at_s: " + num(kReset_s) + "}]\n",
+          p.file, test::scenarioDir());
+      const RunResult r = runScenario(s);
+      const Event* det = firstAfter(r, 2.0, "fault_active", k.fault);
+      ASSERT_NE(det, nullptr) << "no " << k.fault;
+      const Event* opened = firstAfter(r, det->time_s, "relay_contact", "opened");
+      ASSERT_NE(opened, nullptr);
+      const Event* closed = firstAfter(r, opened->time_s, "relay_contact", "closed");
+      ASSERT_NE(closed, nullptr) << "the relay never closed again after the reset";
+      EXPECT_GE(closed->time_s, kReset_s - 1e-9) << "closed before the reset";
+      const size_t end = r.rec.time_s.size() - 1;
+      EXPECT_EQ(r.rec.fault_latched[end], 0u);
+      EXPECT_EQ(r.rec.hw_relay_closed[end], 1);
+    }
+  }
+}
+
+// Hot cell that cools in time (bench system C: thermistor on cell 2, over-temperature
+// 60 °C for 1 s, 100 ms tick, no load). The firmware starts the debounce at the first
+// tick whose reading is above 60.0 °C and restarts it at any tick at or below, so the
+// reading must stay above for 1 s (11 ticks) to trip.
+//
+// Heat: 20 W into cell 2. The thermistor reads the cell's node directly (no lag of its
+// own), so the reading stops rising at the tick the heat is removed. Near 60 °C the cell
+// (C = 42 J/K, g = 0.15 W/K to 25 °C ambient, plus its neighbours) heats at about
+// (20 − 0.15·35)/42 ≈ 0.35 K/s and cools, once the heat is gone, at ≥ 0.15·35/42 ≈
+// 0.125 K/s. Removing the heat at the first tick the reading is above 60 °C leaves an
+// overshoot of at most one tick's rise, ≈ 0.035 K, gone again in ≈ 0.3 s < 1 s: no trip.
+// Removing it one delay plus two ticks later keeps the reading above for > 1 s: a trip,
+// 1 s (+ at most one tick) after the first reading above 60 °C.
+//
+// The first-crossing time is found from a run with the heat left on (runs with the same
+// seed are identical up to the heat's removal), not guessed from the model.
+TEST(FaultMatrix, HotCellThatCoolsBeforeTheDebounceEndsNeverTrips) {
+  const Preset& p = kPresets[2];  // C bench 6s NCR18650
+  const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
+  ASSERT_EQ(base.hardware.thermistor_cells.at(0), 1);  // thermistor 1 on cell 2
+  const int limit_dC = static_cast<int>(std::lround(base.bms.overtemperature.threshold * 10.0));
+  const double delay_s = base.bms.overtemperature.delay_s, tick_s = base.bms.tick_s;
+  constexpr double kHeatOn_s = 1.0;
+  auto run = [&](double duration_s) {
+    const std::string dur = duration_s > 0.0 ? ", duration_s: " + num(duration_s) : "";
+    const Scenario s = loadScenarioText(
+        "extends: " + test::scenarioDir() + "/" + p.file + "\nrun: {duration_s: 200, stop_after_trip_s: 1, solver: fast}\n" +
+            "output: {interval_s: " + num(tick_s) + "}\nexpect: {}\nload: {current_A: 0}\n" +
+            "faults: [{kind: hot_cell, cell: 2, heat_W: 20, at_s: " + num(kHeatOn_s) + dur + "}]\n",
+        p.file, test::scenarioDir());
+    return runScenario(s);
+  };
+  auto reading = [](const RunResult& r, size_t i) { return r.rec.meas_temperature_dC[i * r.rec.thermistors]; };
+  // Longest stretch of consecutive readings above the limit, in s (first to last tick).
+  auto longestAbove_s = [&](const RunResult& r) {
+    double longest = -1.0, since = -1.0;
+    for (size_t i = 0; i < r.rec.time_s.size(); ++i) {
+      if (reading(r, i) > limit_dC) {
+        if (since < 0.0) since = r.rec.time_s[i];
+        longest = std::max(longest, r.rec.time_s[i] - since);
+      } else {
+        since = -1.0;
+      }
+    }
+    return longest;
+  };
+
+  const RunResult calib = run(0.0);
+  double cross_s = -1.0;
+  for (size_t i = 0; i < calib.rec.time_s.size() && cross_s < 0.0; ++i)
+    if (reading(calib, i) > limit_dC) cross_s = calib.rec.time_s[i];
+  ASSERT_GT(cross_s, kHeatOn_s) << "20 W never heated the thermistor past the limit";
+  const Event* calibTrip = firstAfter(calib, 0.0, "fault_active", "overtemperature");
+  ASSERT_NE(calibTrip, nullptr);
+  EXPECT_NEAR(calibTrip->time_s - cross_s, delay_s, 1e-6);  // the reading only rises: no restart
+
+  // Heat removed at the first tick above the limit: above for a moment, never trips.
+  const RunResult brief = run(cross_s - kHeatOn_s);
+  const double briefAbove_s = longestAbove_s(brief);
+  EXPECT_GE(briefAbove_s, 0.0) << "the reading never passed the limit: the test proves nothing";
+  EXPECT_LT(briefAbove_s, delay_s);
+  EXPECT_EQ(firstAfter(brief, 0.0, "fault_active", "overtemperature"), nullptr);
+  EXPECT_FALSE(brief.summary.tripped) << brief.summary.trip_reason;
+  std::printf("hot cell: reading above %.1f C from %.1f s; heat removed then: above for %.1f s, no trip\n",
+              limit_dC / 10.0, cross_s, briefAbove_s);
+
+  // Heat removed one delay plus two ticks later: trips, as the heat left on does.
+  const RunResult longer = run(cross_s - kHeatOn_s + delay_s + 2.0 * tick_s);
+  const Event* trip = firstAfter(longer, 0.0, "fault_active", "overtemperature");
+  ASSERT_NE(trip, nullptr) << "the longer heat pulse did not trip";
+  EXPECT_NEAR(trip->time_s, calibTrip->time_s, 1e-6);
+  EXPECT_TRUE(longer.summary.tripped);
 }
 
 }  // namespace

@@ -48,6 +48,23 @@ TEST(FaultScript, TimedInjectionEndsAfterItsDuration) {
   EXPECT_FALSE(r.summary.tripped);
 }
 
+// A reset request is a press of the operator's button: the GPIO is asserted for one BMS
+// tick (10 ms here) unless `duration_s` says longer; both ends are events. After an
+// E-switch pulled for 1 s and released, it is what brings the relay back.
+TEST(FaultScript, ResetRequestHoldsTheGpioForOneTick) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() +
+                                            "load: {current_A: 1}\nrun: {duration_s: 8, stop_after_trip_s: 100}\n"
+                                            "output: {interval_s: 0.01}\n"
+                                            "faults:\n  - {kind: estop, switch: internal, at_s: 1, duration_s: 1}\n"
+                                            "  - {kind: reset_request, at_s: 3}\n");
+  const RunResult r = runScenario(s);
+  EXPECT_NEAR(test::eventTime(r, "fault_injected", "reset_request"), 3.0, 1e-9);
+  EXPECT_NEAR(test::eventTime(r, "fault_removed", "reset_request"), 3.0 + s.bms.tick_s, 1e-9);
+  EXPECT_EQ(r.rec.pack_current_A[test::sampleAt(r.rec, 2.99)], 0.0);  // latched until the reset
+  EXPECT_EQ(r.rec.fault_latched[test::sampleAt(r.rec, 8.0)], 0u);
+  EXPECT_EQ(r.rec.pack_current_A[test::sampleAt(r.rec, 8.0)], 1.0);   // the relay closed again
+}
+
 // A hot cell in a 3-cell chain: the steady temperatures equal the solution of the
 // network's linear equations  (G_amb·I + L)·T = q + G_amb·T_amb.
 TEST(FaultScript, HotCellReachesTheNetworkSteadyState) {

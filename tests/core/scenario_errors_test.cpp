@@ -29,6 +29,13 @@ TEST(ScenarioErrors, UnknownTopLevelSection) {
   EXPECT_NE(e.find("outptu: unknown key; did you mean 'output'?"), std::string::npos) << e;
 }
 
+TEST(ScenarioErrors, ResetRequestTakesNoTarget) {
+  const std::string e = errorOf(test::simpleCellYaml() + kLoad + "faults:\n  - {kind: reset_request, at_s: 1, cell: 1}\n");
+  EXPECT_NE(e.find("cell: unknown key"), std::string::npos) << e;
+  const std::string k = errorOf(test::simpleCellYaml() + kLoad + "faults:\n  - {kind: reset_requst, at_s: 1}\n");
+  EXPECT_NE(k.find("did you mean 'reset_request'?"), std::string::npos) << k;
+}
+
 TEST(ScenarioErrors, WrongType) {
   std::string y = test::simpleCellYaml() + kLoad;
   y.replace(y.find("r0_ohm: 0.02"), 12, "r0_ohm: low");
