@@ -9,19 +9,14 @@
 
 #include <cmath>
 
+#include "soc_fixture.hpp"
+
 namespace {
 
 // OCV 3000 mV (empty) .. 4200 mV (full) in 3 points, 2000 mAh, r0 30 mOhm empty and
 // 20 mOhm from half full up, r1 10 mOhm, 30 s.
 bms::SocConfig config() {
-  bms::SocConfig c{};
-  c.capacity_mAh = 2000.0f;
-  c.ocvPoints = 3;
-  c.ocv_mV[0] = 3000;
-  c.ocv_mV[1] = 3500;
-  c.ocv_mV[2] = 4200;
-  c.restCurrent_mA = 100;
-  c.rest_ms = 10000;
+  bms::SocConfig c = bms_test::socConfig(3500);
   c.ekf = bms::EkfConfig{{30.0f, 20.0f, 20.0f}, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f, 0.0f, 25.0f, 0, 0, {}};
   return c;
 }

@@ -3,20 +3,12 @@
 #include <bms/bms_soc.hpp>
 #include <gtest/gtest.h>
 
+#include "soc_fixture.hpp"
+
 namespace {
 
 // A straight OCV line 3000 mV (empty) .. 4200 mV (full), 2000 mAh, rest 10 s below 100 mA.
-bms::SocConfig config() {
-  bms::SocConfig c{};
-  c.capacity_mAh = 2000.0f;
-  c.ocvPoints = 3;
-  c.ocv_mV[0] = 3000;
-  c.ocv_mV[1] = 3600;
-  c.ocv_mV[2] = 4200;
-  c.restCurrent_mA = 100;
-  c.rest_ms = 10000;
-  return c;
-}
+bms::SocConfig config() { return bms_test::socConfig(3600); }
 
 TEST(Soc, OcvTableIsLinearAndClamped) {
   const bms::SocConfig c = config();
