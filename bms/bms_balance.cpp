@@ -81,7 +81,7 @@ struct Readings {
   uint16_t min_mV, max_mV;
 };
 
-// Adds this tick's readings to the block; a full block becomes the new means. Restarts
+// Adds this tick's readings to the block; a full block replaces the means. Restarts
 // while balancing is not permitted (a silent device reads 0).
 void accumulate(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted) {
   const uint8_t n = cfg.balance.averageReadings;
