@@ -4,19 +4,13 @@
 #pragma once
 #include <vector>
 
-namespace packsim {
+#include "models/afe/device_faults.hpp"
 
-enum class ThermistorFault { None, Open, Short };
+namespace packsim {
 
 struct ChannelError {
   double gain_error = 0.0;  // relative, added to the configured part error (0.055 = +5.5 %)
   double offset_V = 0.0;
-};
-
-struct MonitorDeviceFault {
-  bool silent = false;          // no reply at all (timeout)
-  double crc_error_rate = 0.0;  // probability that a reply frame is corrupted
-  int stuck_byte = -1;          // -1 healthy; 0x00 or 0xFF: every byte of the reply reads so
 };
 
 struct HardwareFaults {

@@ -1,0 +1,127 @@
+/* packsim firmware contract, version 1: the board as a BMS firmware sees it.
+ *
+ * A firmware is code that runs on the BMS microcontroller. On the bench it is
+ * linked with a board-support layer that implements the services below on real
+ * peripherals; in packsim the simulator implements them on a simulated pack. The
+ * firmware cannot tell the difference: it only ever calls the services it is given
+ * and never sees simulator memory (`psfw_board` is an opaque handle it passes back).
+ *
+ *   entry:     a firmware library exports `psfw_firmware_entry`, which returns its
+ *              description: name, RAM it needs, init, and its periodic tasks
+ *   clock:     now_ms / now_us advance with simulated time; bus transactions and
+ *              delay_us take the time they take on real hardware
+ *   buses:     byte transactions with the monitor ICs, in their own frame formats
+ *              and CRCs (SPI for the BQ76PL536A class, UART for the BQ76PL455A
+ *              class, I2C for the BQ76952 class)
+ *   ADC:       current sense, load-bus voltage, thermistors on the MCU's own ADC
+ *   GPIO:      E-switches, relay auxiliary contact, monitor FAULT line, charger
+ *              present, run and reset requests in; relay, precharge, FETs, charger
+ *              enable out
+ *   DAC:       the charger current request
+ *   telemetry: bytes out to the data-acquisition unit
+ *   events:    a short text the firmware wants in the run's event log
+ *
+ * No allocation: the host hands the firmware `instance_bytes` of zeroed RAM
+ * (8-byte aligned) at init, as a linker would place its static RAM. Plain C99 so a
+ * firmware written in C or C++ builds against it with any compiler, including
+ * arm-none-eabi-gcc.
+ */
+#ifndef PACKSIM_FW_H
+#define PACKSIM_FW_H
+
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define PSFW_ABI_VERSION 1u
+#define PSFW_MAX_TASKS 8u
+
+typedef struct psfw_board psfw_board; /* opaque: the firmware passes it back, never dereferences it */
+
+/* Buses. A pack with several monitor chains numbers them from 0. */
+#define PSFW_BUS_MONITOR(n) ((uint8_t)(n))
+
+/* bus_transfer results (>= 0: bytes received) */
+#define PSFW_BUS_TIMEOUT (-1) /* nothing answered within the timeout */
+#define PSFW_BUS_ERROR (-2)   /* no such bus, or arguments the bus cannot carry */
+
+/* ADC channels */
+enum psfw_adc_channel {
+  PSFW_ADC_CURRENT = 0,     /* current-sense amplifier, signed code */
+  PSFW_ADC_BUS_VOLTAGE = 1, /* load-bus divider (precharge), unsigned code */
+  PSFW_ADC_THERMISTOR0 = 16 /* + n: thermistor n on the MCU's own ADC, ratiometric code */
+};
+
+/* GPIO inputs (1 = asserted) */
+enum psfw_gpio_in {
+  PSFW_IN_ESWITCH_INTERNAL = 0, /* latching E-switch inside the vehicle: 1 = pulled */
+  PSFW_IN_ESWITCH_EXTERNAL = 1,
+  PSFW_IN_RELAY_AUX = 2,        /* main relay auxiliary contact: 1 = closed */
+  PSFW_IN_MONITOR_FAULT = 3,    /* FAULT / ALERT line of the monitor ICs */
+  PSFW_IN_CHARGER_PRESENT = 4,
+  PSFW_IN_RUN_REQUEST = 5,      /* key / drive enable */
+  PSFW_IN_RESET_REQUEST = 6     /* operator reset of latched faults */
+};
+
+/* GPIO outputs (1 = on) */
+enum psfw_gpio_out {
+  PSFW_OUT_RELAY = 0,           /* main relay coil (normally open) */
+  PSFW_OUT_PRECHARGE = 1,
+  PSFW_OUT_DISCHARGE_FET = 2,
+  PSFW_OUT_CHARGE_FET = 3,
+  PSFW_OUT_CHARGER_ENABLE = 4
+};
+
+/* DAC / analog outputs */
+enum psfw_dac_channel {
+  PSFW_DAC_CHARGER_CURRENT_MA = 0 /* charger current limit request, mA */
+};
+
+typedef struct psfw_board_api {
+  uint32_t abi_version; /* PSFW_ABI_VERSION of the host */
+  uint32_t (*now_ms)(psfw_board* b);
+  uint32_t (*now_us)(psfw_board* b);
+  void (*delay_us)(psfw_board* b, uint32_t us);
+  /* One transaction on a bus: tx_len bytes out, then up to rx_len bytes in (SPI:
+   * clocked after the command; UART: the reply frame; I2C: a write, then a read
+   * after a repeated start when rx_len > 0). Returns the bytes received or
+   * PSFW_BUS_TIMEOUT / PSFW_BUS_ERROR; the clock advances by the transaction time. */
+  int32_t (*bus_transfer)(psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t tx_len, uint8_t* rx,
+                          uint16_t rx_len);
+  int32_t (*adc_read)(psfw_board* b, uint8_t channel);
+  int32_t (*gpio_read)(psfw_board* b, uint8_t pin);
+  void (*gpio_write)(psfw_board* b, uint8_t pin, int32_t level);
+  void (*dac_write)(psfw_board* b, uint8_t channel, int32_t value);
+  void (*telemetry_send)(psfw_board* b, const uint8_t* bytes, uint16_t len);
+  void (*event)(psfw_board* b, const char* text); /* NUL-terminated, at most 120 characters kept */
+} psfw_board_api;
+
+typedef struct psfw_task {
+  uint32_t period_ms; /* run every period_ms, first at init + period_ms */
+  uint32_t budget_us; /* worst-case execution budget; 0 = the period */
+  void (*run)(void* ram, psfw_board* b, const psfw_board_api* api);
+} psfw_task;
+
+typedef struct psfw_firmware {
+  uint32_t abi_version; /* PSFW_ABI_VERSION the firmware was built against */
+  const char* name;
+  uint32_t instance_bytes; /* zeroed RAM the host provides */
+  /* Called once at power-up with the firmware's own configuration blob; returns 0
+   * on success. */
+  int32_t (*init)(void* ram, psfw_board* b, const psfw_board_api* api, const uint8_t* config,
+                  uint32_t config_len);
+  uint32_t task_count;
+  psfw_task tasks[PSFW_MAX_TASKS];
+} psfw_firmware;
+
+/* The one symbol a firmware library exports. */
+typedef const psfw_firmware* (*psfw_entry_fn)(void);
+#define PSFW_ENTRY_SYMBOL "psfw_firmware_entry"
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PACKSIM_FW_H */

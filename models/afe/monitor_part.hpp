@@ -1,0 +1,71 @@
+// The part API every register-level monitor-IC model implements (one file per IC:
+// bq76pl536a, bq76pl455a, bq76952). A MonitorChain is what one MCU bus reaches: a
+// stack of devices on a vertical SPI bus or a UART daisy chain, or one I2C device.
+// It answers bus transactions byte for byte, in the part's own frame format and
+// CRC, from a register map the firmware drivers share (bms/afe/<part>_regs.h).
+//
+//   each step:  analog(d) is filled with the truth at t (cells at the pins, thermistors,
+//               die, shunt current), comm faults are set, advance(t) runs the device's
+//               own comparators/protections, conversions and balancing timers; then
+//               the firmware's transfers at t (and later, within the step) are answered.
+//   outputs:    the FAULT / ALERT line, each cell's balancing switch, BQ76952 FETs.
+//
+// Comm faults act on the bytes: a silent device (or every device above a broken
+// link) does not answer and does not receive writes; a stuck device drives every
+// reply byte to 0x00 or 0xFF; a CRC error rate flips one bit of a reply with that
+// probability. The FAULT line is its own wire and works without the link.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "models/afe/device_faults.hpp"
+#include "models/afe/monitor_config.hpp"
+
+namespace packsim {
+
+// What one device's pins see at t.
+struct DeviceAnalog {
+  std::vector<double> cell_V;           // its cells, bottom first (truth at the pins)
+  std::vector<double> cell_gain_error;  // injected per channel (added to the part's own)
+  std::vector<double> cell_offset_V;    // injected per channel
+  std::vector<double> therm_C;          // its thermistor inputs
+  std::vector<ThermistorFault> therm_fault;
+  double die_C = 25.0;
+  double current_A = 0.0;               // through the shunt (BQ76952), positive discharges
+};
+
+struct BusTransfer {
+  int received = -1;        // bytes received, -1 = timeout (nothing answered)
+  double duration_s = 0.0;  // time the transaction held the bus
+};
+
+class MonitorChain {
+ public:
+  virtual ~MonitorChain() = default;
+
+  virtual int deviceCount() const = 0;
+  virtual int cellsOf(int d) const = 0;
+  virtual DeviceAnalog& analog(int d) = 0;  // sized at construction; fill before advance(t)
+  virtual void setCommFault(int d, const MonitorDeviceFault& f) = 0;
+  virtual void setBrokenLinkAbove(int d) = 0;  // -1: link intact
+
+  // The devices' own protections, conversions in progress and timers advance to t.
+  virtual void advance(double t) = 0;
+  // One transaction started by the MCU at t: txLen bytes out, up to rxLen bytes in.
+  virtual BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) = 0;
+
+  // Pins and switches the rest of the hardware sees.
+  virtual bool faultLine() const = 0;
+  virtual bool balancing(int d, int cell) const = 0;  // cell index within device d
+  virtual bool dischargeFetOn() const { return true; }  // BQ76952 FETs; others: not in the path
+  virtual bool chargeFetOn() const { return true; }
+};
+
+// Factories, one per part (each in its own file).
+std::unique_ptr<MonitorChain> makeBq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
+std::unique_ptr<MonitorChain> makeBq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
+std::unique_ptr<MonitorChain> makeBq76952Chain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
+
+}  // namespace packsim
