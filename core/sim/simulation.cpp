@@ -1,7 +1,5 @@
 #include "core/sim/simulation.hpp"
 
-#include "core/balance/noise_floor.hpp"
-
 #include <bms/bms_core.hpp>
 #include <cmath>
 #include <cstdio>
@@ -54,111 +52,154 @@ class PlantOde : public OdeSystem {
 
 }  // namespace
 
-RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
-  const Plant plant(s);
-  HardwareFaults faults;  // healthy until a scripted injection switches something on
+struct SimulationRun::Impl {
+  explicit Impl(const Scenario& sc)
+      : s(sc),
+        plant(sc),
+        ode(plant, sc.run, inputs),
+        cfg(makeBmsConfig(sc)),
+        hw(sc, plant),
+        rng(sc.run.seed),
+        sig(plant.makeSignals()),
+        tracker(sc, plant, cfg),
+        scheduler(sc, plant),
+        tick_s(sc.bms.tick_s),
+        recordEvery(std::max(1L, std::lround(sc.output.interval_s / sc.bms.tick_s))),
+        end_s(sc.endTime_s()),
+        lastTick(static_cast<long>(std::floor(sc.endTime_s() / sc.bms.tick_s + 1e-9))) {
+    inputs.faults = &faults;  // healthy until a scripted injection switches something on
+    inputs.load = s.load.segmentAt(0.0);
+    if (s.run.solver == RunConfig::Solver::Fast)
+      solver = std::make_unique<FastIntegrator>(plant, inputs,
+                                                FastSettings{s.run.fast_max_substep_s, s.run.fast_substep_fraction});
+    else
+      solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol);
+    fast = dynamic_cast<const FastIntegrator*>(solver.get());
+
+    std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
+    plant.initialState(x.data());
+    solver->reset(0.0, x.data());
+
+    bms::init(core);
+    in.runRequest = true;
+    tracker.setHardware(&hw);
+    // The firmware reads every device each tick: a stack that cannot be read out within
+    // one tick would in reality deliver older readings than simulated here. Say so.
+    const double readout_s = stackReadoutTime_s(s.hardware.afe, s.pack.series);
+    if (readout_s > s.bms.tick_s) {
+      char note[200];
+      std::snprintf(note, sizeof note, "reading the %d-device monitor stack takes %.1f ms, longer than the %.0f ms BMS tick",
+                    s.hardware.afe.devices, readout_s * 1e3, s.bms.tick_s * 1e3);
+      tracker.event(0.0, "config_warning", note);
+    }
+    // A balancing stop threshold below what the measurement noise of N channels allows.
+    if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
+    scheduler.reset(faults);
+  }
+
+  bool step(const StopCondition& stopWhen);
+
+  const Scenario& s;
+  const Plant plant;
+  HardwareFaults faults;
   PlantInputs inputs;
-  inputs.faults = &faults;
-  inputs.load = s.load.segmentAt(0.0);
-  PlantOde ode(plant, s.run, inputs);
+  PlantOde ode;
   std::unique_ptr<Integrator> solver;
-  if (s.run.solver == RunConfig::Solver::Fast)
-    solver = std::make_unique<FastIntegrator>(plant, inputs,
-                                              FastSettings{s.run.fast_max_substep_s, s.run.fast_substep_fraction});
-  else
-    solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol);
-  Integrator& integ = *solver;
-  const auto* fast = dynamic_cast<const FastIntegrator*>(solver.get());
-
-  std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
-  plant.initialState(x.data());
-  integ.reset(0.0, x.data());
-
-  const bms::Config cfg = makeBmsConfig(s);
-  HardwareSim hw(s, plant);  // monitor ICs, sensors, relay, FETs, fuse, precharge (bms_bridge)
-  bms::CoreState core;
-  bms::init(core);
+  const FastIntegrator* fast = nullptr;
+  const bms::Config cfg;
+  HardwareSim hw;  // monitor ICs, sensors, relay, FETs, fuse, precharge (bms_bridge)
+  bms::CoreState core{};
   bms::Inputs in{};
   bms::Outputs out{};
-  in.runRequest = true;
+  Rng rng;
+  PlantSignals sig;
+  RunTracker tracker;
+  FaultScheduler scheduler;
+  const double tick_s;
+  const long recordEvery;
+  const double end_s;
+  const long lastTick;
+  long k = 0;
+  bool ended = false;
+};
 
-  Rng rng(s.run.seed);
-  PlantSignals sig = plant.makeSignals();
-  RunTracker tracker(s, plant, cfg);
-  tracker.setHardware(&hw);
-  // The firmware reads every device each tick: a stack that cannot be read out within
-  // one tick would in reality deliver older readings than simulated here. Say so.
-  const double readout_s = stackReadoutTime_s(s.hardware.afe, s.pack.series);
-  if (readout_s > s.bms.tick_s) {
-    char note[200];
-    std::snprintf(note, sizeof note, "reading the %d-device monitor stack takes %.1f ms, longer than the %.0f ms BMS tick",
-                  s.hardware.afe.devices, readout_s * 1e3, s.bms.tick_s * 1e3);
-    tracker.event(0.0, "config_warning", note);
+bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
+  if (ended) return false;
+  Integrator& integ = *solver;
+  const double t = static_cast<double>(k) * tick_s;
+  const double* xs = integ.state();
+
+  // 1. scripted faults due at t_k switch on (or off); then sample the truth at t_k
+  //    (the fast integrator's last evaluation already sits at (t_k, x_k) under these
+  //    inputs unless it restarted since: no second evaluation of the same point)
+  const PlantSignals* now = fast ? fast->signalsAt(t) : nullptr;
+  const bool reuse = now != nullptr;
+  if (!reuse) plant.evaluate(t, xs, inputs, sig);
+  const bool faultChanged = scheduler.update(t, xs, reuse ? *now : sig, faults, tracker);
+  if (faultChanged) plant.evaluate(t, xs, inputs, sig);
+  if (!reuse || faultChanged) now = &sig;
+  const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
+  hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
+
+  // 2. the firmware decides (a hung MCU does not: its pins hold their last level,
+  //    and only the monitor ICs' own FAULT line can still open the relay)
+  if (!faults.host_dead) bms::step(cfg, core, in, out);
+
+  // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
+  //    FETs, precharge) whose state the plant sees from t_k
+  const bool relayChanged = hw.actuate(t, out, sg, faults, inputs);
+
+  // 4. record
+  tracker.tick(t, xs, sg, out);
+  const bool stop = k >= lastTick || tracker.stopRequested(t) || hw.chargeComplete() ||
+                    (stopWhen && stopWhen(t, xs, sg, out));
+  if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
+  if (stop) {
+    ended = true;
+    return false;
   }
-  // A balancing stop threshold below what the measurement noise of N channels allows.
-  if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
-  FaultScheduler scheduler(s, plant);
-  scheduler.reset(faults);
 
-  const double tick_s = s.bms.tick_s;
-  const long recordEvery = std::max(1L, std::lround(s.output.interval_s / tick_s));
-  const double end_s = s.endTime_s();
-  const long lastTick = static_cast<long>(std::floor(end_s / tick_s + 1e-9));
-
-  for (long k = 0;; ++k) {
-    const double t = static_cast<double>(k) * tick_s;
-    const double* xs = integ.state();
-
-    // 1. scripted faults due at t_k switch on (or off); then sample the truth at t_k
-    //    (the fast integrator's last evaluation already sits at (t_k, x_k) under these
-    //    inputs unless it restarted since: no second evaluation of the same point)
-    const PlantSignals* now = fast ? fast->signalsAt(t) : nullptr;
-    const bool reuse = now != nullptr;
-    if (!reuse) plant.evaluate(t, xs, inputs, sig);
-    const bool faultChanged = scheduler.update(t, xs, reuse ? *now : sig, faults, tracker);
-    if (faultChanged) plant.evaluate(t, xs, inputs, sig);
-    if (!reuse || faultChanged) now = &sig;
-    const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
-    hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
-
-    // 2. the firmware decides (a hung MCU does not: its pins hold their last level,
-    //    and only the monitor ICs' own FAULT line can still open the relay)
-    if (!faults.host_dead) bms::step(cfg, core, in, out);
-
-    // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
-    //    FETs, precharge) whose state the plant sees from t_k
-    const bool relayChanged = hw.actuate(t, out, sg, faults, inputs);
-
-    // 4. record
-    tracker.tick(t, xs, sg, out);
-    const bool stop = k >= lastTick || tracker.stopRequested(t) || hw.chargeComplete() ||
-                      (stopWhen && stopWhen(t, xs, sg, out));
-    if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
-    if (stop) break;
-
-    // 5. advance the plant to t_k+1 across load breakpoints
-    const double t_next = static_cast<double>(k + 1) * tick_s;
-    bool restart = relayChanged || faultChanged;
-    double tc = t;
-    while (tc < t_next) {
-      if (restart) integ.reset(tc, integ.state());
-      const double t_to = std::min(t_next, inputs.load.t1_s);
-      integ.advance(t_to, std::min(inputs.load.t1_s, end_s + tick_s));
-      tc = t_to;
-      restart = false;
-      if (tc >= inputs.load.t1_s) {  // next piece of the load profile
-        inputs.load = s.load.segmentAt(tc);
-        restart = true;
-      }
-    }
+  // 5. advance the plant to t_k+1 across load breakpoints
+  const double t_next = static_cast<double>(k + 1) * tick_s;
+  bool restart = relayChanged || faultChanged;
+  double tc = t;
+  while (tc < t_next) {
     if (restart) integ.reset(tc, integ.state());
-    tracker.checkFinite(t_next, integ.state(), ode.size());
+    const double t_to = std::min(t_next, inputs.load.t1_s);
+    integ.advance(t_to, std::min(inputs.load.t1_s, end_s + tick_s));
+    tc = t_to;
+    restart = false;
+    if (tc >= inputs.load.t1_s) {  // next piece of the load profile
+      inputs.load = s.load.segmentAt(tc);
+      restart = true;
+    }
   }
+  if (restart) integ.reset(tc, integ.state());
+  tracker.checkFinite(t_next, integ.state(), ode.size());
+  ++k;
+  return true;
+}
 
-  RunResult r = tracker.finish(integ.state() + plant.stateSize());
-  r.solver = integ.stats();
-  compareWithReference(s, r);  // the `compare:` reference run, if the scenario names one
+SimulationRun::SimulationRun(const Scenario& s) : impl_(std::make_unique<Impl>(s)) {}
+SimulationRun::~SimulationRun() = default;
+
+bool SimulationRun::step(const StopCondition& stopWhen) { return impl_->step(stopWhen); }
+double SimulationRun::time_s() const { return static_cast<double>(impl_->k) * impl_->tick_s; }
+bool SimulationRun::ended() const { return impl_->ended; }
+
+RunResult SimulationRun::finish() {
+  Impl& m = *impl_;
+  RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
+  r.solver = m.solver->stats();
+  compareWithReference(m.s, r);  // the `compare:` reference run, if the scenario names one
   return r;
+}
+
+RunResult runScenario(const Scenario& s, const StopCondition& stopWhen) {
+  SimulationRun run(s);
+  while (run.step(stopWhen)) {
+  }
+  return run.finish();
 }
 
 }  // namespace packsim

@@ -14,6 +14,7 @@
 #include <bms/bms_hal.hpp>
 
 #include <functional>
+#include <memory>
 
 #include "core/scenario/scenario.hpp"
 #include "core/sim/plant.hpp"
@@ -24,6 +25,28 @@ namespace packsim {
 // Optional early end, judged once per tick after step 2 (t_k, the plant state and
 // signals sampled at t_k, the firmware's outputs); true ends the run at t_k.
 using StopCondition = std::function<bool(double t_s, const double* x, const PlantSignals& sig, const bms::Outputs& out)>;
+
+// One run, one BMS tick at a time (an FMU or a firmware host drives it step by step).
+// runScenario is `while (run.step(stopWhen)) {}` then finish().
+class SimulationRun {
+ public:
+  explicit SimulationRun(const Scenario& s);
+  ~SimulationRun();
+  SimulationRun(const SimulationRun&) = delete;
+  SimulationRun& operator=(const SimulationRun&) = delete;
+
+  // Ticks 1–5 at t_k, then advances k. Returns false once the run has ended (at its end
+  // time, on the stop condition, a tracker stop or a finished charge); the ending tick
+  // is recorded.
+  bool step(const StopCondition& stopWhen = {});
+  double time_s() const;  // t_k of the next step
+  bool ended() const;
+  RunResult finish();  // once, after the last step
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 RunResult runScenario(const Scenario& s, const StopCondition& stopWhen = {});
 
