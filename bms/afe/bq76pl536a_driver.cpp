@@ -50,6 +50,12 @@ uint8_t cellsOf(const Bq536Config& c, uint8_t d) {
   return static_cast<uint8_t>(left < c.cellsPerDevice ? left : c.cellsPerDevice);
 }
 
+// Devices the driver serves: the configured count, at most one per stack address.
+uint8_t devicesOf(const Bq536Config& c) {
+  const uint8_t cap = BQ536_ADDR_MAX < kMaxDevices ? static_cast<uint8_t>(BQ536_ADDR_MAX) : kMaxDevices;
+  return c.deviceCount < cap ? c.deviceCount : cap;
+}
+
 uint8_t channelsOf(const Bq536Config& c) {
   return static_cast<uint8_t>(c.cellsPerDevice + 1u + c.thermistorsPerDevice);  // cells, GPAI, TSx
 }
@@ -80,7 +86,7 @@ bool bq536Init(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_bo
   //    stack that is already addressed resets top to bottom in one frame).
   writeReg(c, b, api, BQ536_ADDR_BROADCAST, BQ536_RESET, BQ536_RESET_KEY);
   // 2. Bottom-up: the lowest unaddressed device answers address 0 and takes the next one.
-  for (uint8_t d = 0; d < c.deviceCount; ++d) {
+  for (uint8_t d = 0; d < devicesOf(c); ++d) {
     writeReg(c, b, api, BQ536_ADDR_DISCOVERY, BQ536_ADDRESS_CONTROL, addrOf(d));
     uint8_t got = 0;
     if (readRegs(c, s, b, api, addrOf(d), BQ536_ADDRESS_CONTROL, 1, &got) != FrameResult::Ok) break;
@@ -114,7 +120,7 @@ bool bq536Init(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_bo
     for (uint8_t i = 0; i < kConfigCount; ++i) same = same && back[i] == image[i];
     if (same) ++s.configured;
   }
-  return s.addressed == c.deviceCount && s.configured == c.deviceCount;
+  return c.deviceCount <= devicesOf(c) && s.addressed == c.deviceCount && s.configured == c.deviceCount;
 }
 
 void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api,
@@ -123,7 +129,7 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
   writeReg(c, b, api, BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, BQ536_CONV_START);
   const uint32_t conv_us = static_cast<uint32_t>(channelsOf(c)) * c.conversionPerChannel_us;
   api->delay_us(b, conv_us);
-  for (uint8_t d = 0; d < c.deviceCount; ++d) {
+  for (uint8_t d = 0; d < devicesOf(c); ++d) {
     uint8_t v[BQ536_RESULTS_LEN];
     uint8_t flags[BQ536_FLAGS_LEN];
     FrameResult r = readRegs(c, s, b, api, addrOf(d), BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN, v);
@@ -178,7 +184,7 @@ void bq536ClearFaults(const Bq536Config& c, psfw_board* b, const psfw_board_api*
 void bq536SetBalance(const Bq536Config& c, psfw_board* b, const psfw_board_api* api, const uint32_t* mask,
                      uint32_t time_s) {
   const uint8_t timeCode = bq536_cb_time_code(time_s);
-  for (uint8_t d = 0; d < c.deviceCount; ++d) {
+  for (uint8_t d = 0; d < devicesOf(c); ++d) {
     uint8_t bits = 0;
     for (uint8_t i = 0; i < cellsOf(c, d); ++i) {
       const uint16_t cell = static_cast<uint16_t>(d * c.cellsPerDevice + i);

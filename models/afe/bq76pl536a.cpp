@@ -293,8 +293,9 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   reached_.resize(dev_.size());
   const int n = reach(reached_.data());
 
-  if (tx[0] & 1u) {  // write frame
+  if (tx[0] & 1u) {  // write frame: acted on once the device has it all
     if (txLen < BQ536_WRITE_FRAME_LEN) return r;
+    const double tEnd = t + r.duration_s;
     const bool crcOk = bms::crcCrc8(tx, 3) == tx[3];
     for (int i = 0; i < n; ++i) {
       Device& dv = dev_[static_cast<size_t>(reached_[static_cast<size_t>(i)])];
@@ -305,7 +306,8 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
         refreshStatus(dv);
         continue;
       }
-      write(dv, t, tx[1], tx[2]);
+      settle(dv, tEnd);
+      write(dv, tEnd, tx[1], tx[2]);
     }
     return r;
   }

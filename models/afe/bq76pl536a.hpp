@@ -18,7 +18,8 @@
 //                cell order (as MonitorStack); conversion noise from its own stream in
 //                the fixed order GPAI, VCELL1..n, TS1, TS2 per conversion; CRC bit flips
 //                from a third stream.
-//   link time:   (tx + rx bytes) · 8 / MonitorConfig::baud (the SPI clock, Hz).
+//   link time:   (tx + rx bytes) · 8 / MonitorConfig::baud (the SPI clock, Hz). A write
+//                acts at the end of its frame; a read answers from the state at its start.
 //   FAULT line:  any device's COV/CUV (FAULT_STATUS) or OT1/OT2 (ALERT_STATUS) latch;
 //                the housekeeping bits (POR, AR, CRC) show in the registers only.
 #pragma once

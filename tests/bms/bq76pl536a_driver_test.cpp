@@ -224,5 +224,25 @@ TEST(Bq536Driver, ReadOutTakesTheTimeTheLinkAllows) {
   EXPECT_NEAR(r.board.t_s - t0, expect_s, 1e-12);
 }
 
+TEST(Bq536Driver, ResultsCountOnlyOnceDataReadySays) {
+  MonitorConfig mc = modelConfig();
+  mc.conversion_s_per_channel = 1e-3;  // a slow ADC: 9 channels take 9 ms
+  Rig slow(mc);
+  ASSERT_TRUE(slow.init());
+  slow.cfg.conversionPerChannel_us = 1000;  // the driver waits the real conversion time
+  const double t0 = slow.board.t_s;
+  slow.readAll();
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(slow.res[d], bms::FrameResult::Ok) << d;
+  EXPECT_GE(slow.board.t_s - t0, 9e-3);
+  // A driver that waits too little reads old results with DRDY clear: no reading
+  // (a fast link, so the whole read-out ends before the 9 ms conversion).
+  mc.baud = 1e7;
+  Rig hasty(mc);
+  ASSERT_TRUE(hasty.init());
+  hasty.cfg.conversionPerChannel_us = 100;
+  hasty.readAll();
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(hasty.res[d], bms::FrameResult::Timeout) << d;
+}
+
 }  // namespace
 }  // namespace packsim

@@ -185,12 +185,13 @@ TEST(Bq76pl536a, ConversionTakesItsTimeAndDataReadyFollows) {
   bus.t = 1.0;
   chain.advance(bus.t);
   bus.write(1, BQ536_ADC_CONVERT, BQ536_CONV_START);
+  const double start = 1.0 + bus.last.duration_s;  // the command acts at the end of its frame
   // 9 channels (GPAI, 6 cells, 2 TS) × 6 µs: before that, DRDY clear and old results (0).
-  bus.t = 1.0 + 53e-6;
+  bus.t = start + 53e-6;
   std::vector<uint8_t> v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
   EXPECT_EQ(v[0] & BQ536_DS_DRDY, 0);
   EXPECT_EQ(be16(v, BQ536_VCELL1), 0);
-  bus.t = 1.0 + 54e-6;
+  bus.t = start + 54e-6;
   v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
   EXPECT_NE(v[0] & BQ536_DS_DRDY, 0);
   double sum = 0.0;
@@ -211,7 +212,7 @@ TEST(Bq76pl536a, ConversionTakesItsTimeAndDataReadyFollows) {
   bus.write(1, BQ536_ADC_CONTROL, BQ536_AC_TS1 | BQ536_AC_TS2 | 1);  // cells 1-2, TS1, TS2: 4 channels
   bus.t = 2.0;
   bus.write(1, BQ536_ADC_CONVERT, BQ536_CONV_START);
-  bus.t = 2.0 + 24e-6;
+  bus.t = 2.0 + bus.last.duration_s + 24e-6;
   v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
   EXPECT_NE(v[0] & BQ536_DS_DRDY, 0);
   EXPECT_EQ(be16(v, BQ536_VCELL1), std::lround(3.0 / kLsb_V));
@@ -321,23 +322,25 @@ TEST(Bq76pl536a, BalancingTimerExpiresOnTheDevice) {
   bus.t = 10.0;
   bus.write(1, BQ536_CB_TIME, 2);  // 2 s
   bus.write(1, BQ536_CB_CTRL, 0x05);
+  const double on = 10.0 + bus.last.duration_s;  // switched on at the end of the frame
   EXPECT_TRUE(chain.balancing(0, 0));
   EXPECT_FALSE(chain.balancing(0, 1));
   EXPECT_TRUE(chain.balancing(0, 2));
   EXPECT_NE(bus.reg(1, BQ536_DEVICE_STATUS) & BQ536_DS_CBT, 0);
-  chain.advance(11.9);
+  chain.advance(on + 1.9);
   EXPECT_TRUE(chain.balancing(0, 0));
-  chain.advance(12.0);
+  chain.advance(on + 2.0);
   EXPECT_FALSE(chain.balancing(0, 0));
-  bus.t = 12.0;
+  bus.t = on + 2.0;
   EXPECT_EQ(bus.reg(1, BQ536_CB_CTRL), 0);
   EXPECT_EQ(bus.reg(1, BQ536_DEVICE_STATUS) & BQ536_DS_CBT, 0);
   // Minute units: 0x80 | 1 = 60 s.
   bus.write(1, BQ536_CB_TIME, BQ536_CBT_MINUTES | 1);
   bus.write(1, BQ536_CB_CTRL, 0x20);
-  chain.advance(71.9);
+  const double on2 = bus.t + bus.last.duration_s;
+  chain.advance(on2 + 59.9);
   EXPECT_TRUE(chain.balancing(0, 5));
-  chain.advance(72.0);
+  chain.advance(on2 + 60.0);
   EXPECT_FALSE(chain.balancing(0, 5));
 }
 
