@@ -286,6 +286,7 @@ int Bq76pl536aChain::reach(int* out) const {
 BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) {
   BusTransfer r;
   r.duration_s = linkTime_s(txLen + rxLen);
+  if (rx == nullptr) rxLen = 0;
   for (Device& dv : dev_) settle(dv, t);
   r.received = rxLen > 0 ? -1 : 0;
   if (tx == nullptr || txLen < BQ536_READ_REQUEST_LEN) return r;
