@@ -138,22 +138,18 @@ uint8_t pl455Init(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
 
   // Thresholds shared by every device, broadcast.
   write8(c, b, api, kBroadcast, PL455_REG_OVERSMPL, c.oversamplingLog2);
-  const uint8_t comp[2] = {compField(c.compUv_mV, PL455_COMP_UV_BASE_MV), compField(c.compOv_mV, PL455_COMP_OV_BASE_MV)};
-  writeRegs(c, b, api, kBroadcast, PL455_REG_COMP_UV, comp, 2);
-  const uint16_t uv = cellCode(c.cellUv_mV), ov = cellCode(c.cellOv_mV);
-  const uint8_t cell[4] = {static_cast<uint8_t>(uv >> 8), static_cast<uint8_t>(uv), static_cast<uint8_t>(ov >> 8),
-                           static_cast<uint8_t>(ov)};
-  writeRegs(c, b, api, kBroadcast, PL455_REG_CELL_UV, cell, 4);
-  // AUX0/AUX1 UV (hot) and OV (unused: top of range), interleaved in the map.
-  uint8_t aux[8];
-  for (uint8_t k = 0; k < 2; ++k) {
-    const uint16_t hot = k < thermsOf(c) ? c.auxHotCode : 0;
-    aux[4 * k] = static_cast<uint8_t>(hot >> 8);
-    aux[4 * k + 1] = static_cast<uint8_t>(hot);
-    aux[4 * k + 2] = 0xFF;
-    aux[4 * k + 3] = 0xFF;
+  if (c.compUv_mV != 0) write8(c, b, api, kBroadcast, PL455_REG_COMP_UV, compField(c.compUv_mV, PL455_COMP_UV_BASE_MV));
+  if (c.compOv_mV != 0) write8(c, b, api, kBroadcast, PL455_REG_COMP_OV, compField(c.compOv_mV, PL455_COMP_OV_BASE_MV));
+  for (uint8_t k = 0; k < 2; ++k) {  // CELL_UV, CELL_OV
+    const uint16_t mV = k == 0 ? c.cellUv_mV : c.cellOv_mV;
+    if (mV == 0) continue;
+    const uint16_t code = cellCode(mV);
+    const uint8_t bytes[2] = {static_cast<uint8_t>(code >> 8), static_cast<uint8_t>(code)};
+    writeRegs(c, b, api, kBroadcast, static_cast<uint8_t>(PL455_REG_CELL_UV + 2 * k), bytes, 2);
   }
-  writeRegs(c, b, api, kBroadcast, PL455_REG_AUX_UV(0), aux, 8);
+  // AUX over temperature (UV: the NTC reads low when hot) on the inputs in use.
+  const uint8_t hot[2] = {static_cast<uint8_t>(c.auxHotCode >> 8), static_cast<uint8_t>(c.auxHotCode)};
+  for (uint8_t k = 0; k < thermsOf(c) && c.auxHotCode != 0; ++k) writeRegs(c, b, api, kBroadcast, PL455_REG_AUX_UV(k), hot, 2);
   const uint16_t fo = c.comparators ? kFaultOut : 0;
   const uint8_t foBytes[2] = {static_cast<uint8_t>(fo >> 8), static_cast<uint8_t>(fo)};
   writeRegs(c, b, api, kBroadcast, PL455_REG_FO_CTRL, foBytes, 2);

@@ -29,6 +29,7 @@ struct Pl455Config {
   uint8_t thermistorsPerDevice;  // AUX inputs read, 0..2
   uint8_t oversamplingLog2;      // OVERSMPL: 2^n samples averaged per channel
   bool comparators;              // secondary comparators on, driving the FAULT line
+  // Thresholds written at init; 0 keeps the device's EEPROM values.
   uint16_t compUv_mV, compOv_mV; // comparator thresholds (25 mV steps)
   uint16_t cellUv_mV, cellOv_mV; // ADC checks on every sample
   uint16_t auxHotCode;           // AUX code below which an NTC input is over temperature

@@ -32,7 +32,8 @@ uint8_t compField(double v, unsigned base_mV) {
   return static_cast<uint8_t>(std::clamp(steps, 0.0, double{PL455_COMP_MAX_STEPS}) * 2.0);
 }
 double compVolts(uint8_t field, unsigned base_mV) {
-  return (base_mV + (field >> PL455_COMP_SHIFT) * double{PL455_COMP_STEP_MV}) * 1e-3;
+  // exact for every 25 mV step (4300 / 1000 is the double nearest 4.3)
+  return (base_mV + (field >> PL455_COMP_SHIFT) * double{PL455_COMP_STEP_MV}) / 1000.0;
 }
 
 // Which registers a write stores, which are write-1-to-clear fault flags, and which
@@ -106,6 +107,8 @@ Bq76pl455aChain::Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64
       set16(e, PL455_REG_AUX_UV(k), k < nt ? clampU16(hotCode) : 0);
       set16(e, PL455_REG_AUX_OV(k), 0xFFFF);
     }
+    // The part trips at the scenario's ot_C exactly; the register shows it rounded.
+    for (size_t k = 0; k < 2; ++k) dv.eepromHotCode[k] = k < nt ? hotCode : 0.0;
     powerUp(dv);
   }
 }
@@ -118,6 +121,8 @@ int Bq76pl455aChain::cellsOf(int d) const {
 void Bq76pl455aChain::powerUp(Device& dv) {
   dv.reg = dv.eeprom;  // faults, STATUS, CBENBL, ADDR and the command registers come up 0
   dv.addressed = dv.autoAddress = false;
+  dv.hotCode[0] = dv.eepromHotCode[0];
+  dv.hotCode[1] = dv.eepromHotCode[1];
   dv.cov = dv.cuv = dv.hot[0] = dv.hot[1] = DebounceTimer{};
   dv.balanceUntil_s = 0.0;
   dv.held.fill(0);
@@ -174,7 +179,7 @@ void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
   for (int k = 0; k < nt; ++k) {
     const size_t ks = static_cast<size_t>(k);
     const double code = thermCodeIdeal(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks]);
-    const bool hot = code < get16(dv.reg, PL455_REG_AUX_UV(static_cast<unsigned>(k)));
+    const bool hot = code < dv.hotCode[k];
     if (dv.hot[k].held(t, hot, p.ot_delay_s))
       set16(dv.reg, PL455_REG_FAULT_AUX, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_AUX) | PL455_FAULT_AUX_UV(k)));
   }
@@ -306,6 +311,8 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
     }
   }
   auto touched = [&](unsigned a, unsigned size) { return f.reg < a + size && a < f.reg + f.size; };
+  for (unsigned k = 0; k < 2; ++k)
+    if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k));
   if (touched(PL455_REG_DEV_CTRL, 1)) {
     const uint8_t c = dv.reg[PL455_REG_DEV_CTRL];
     if (c & PL455_DEV_CTRL_RESET) return powerUp(dv);
@@ -323,6 +330,7 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
     if (unlocked)
       for (unsigned a = 0; a < PL455_REG_COUNT; ++a)
         if (inEeprom(a)) dv.eeprom[a] = dv.reg[a];
+    if (unlocked) dv.eepromHotCode[0] = dv.hotCode[0], dv.eepromHotCode[1] = dv.hotCode[1];
   }
   if (touched(PL455_REG_CMD, 1) && dv.reg[PL455_REG_CMD] == PL455_CMD_SAMPLE) startSample(dv, d, t);
 }

@@ -10,7 +10,9 @@
 //                data-ready, ADC UV/OV checks against CELL_UV/CELL_OV latch FAULT_UV/OV);
 //                comparators compare the true pin voltages with COMP_UV/COMP_OV and
 //                the AUX inputs' noiseless code with AUXn_UV (below = NTC hot), each
-//                latching after its MonitorConfig::secondary delay; CBENBL clears when
+//                latching after its MonitorConfig::secondary delay (the EEPROM's AUX
+//                threshold is the exact code of secondary.ot_C, so the frame-level
+//                MonitorStack's trip times carry over); CBENBL clears when
 //                the CBCONFIG balance time has run out
 //   transfer:    command frames in (a frame with a wrong CRC is dropped and flagged in
 //                FAULT_COM), response frames out: top device first for broadcasts; a
@@ -62,6 +64,9 @@ class Bq76pl455aChain final : public MonitorChain {
     std::array<uint8_t, 256> eeprom{};
     bool addressed = false, autoAddress = false;
     DebounceTimer cov, cuv, hot[2];
+    // AUX over-temperature threshold in (unrounded) code units: the EEPROM's exact
+    // value until the host writes AUXn_UV, then the written code.
+    double hotCode[2] = {0.0, 0.0}, eepromHotCode[2] = {0.0, 0.0};
     double balanceUntil_s = 0.0;
     // sample results: held (readable) and pending (converting until ready_s)
     std::array<uint16_t, kResultSlots> held{}, pending{};

@@ -194,6 +194,25 @@ TEST(Bq76pl455aDriver, DriverThresholdsReachTheDevice) {
   r.board.wait(0.0);
   r.board.wait(1.01);
   EXPECT_TRUE(r.chain.faultLine());
+  // An AUX threshold at 50 degC: an input at 55 degC trips it (the EEPROM's is 65).
+  Rig t(1, 16, 16);
+  Rng none(1);
+  t.cfg.auxHotCode = static_cast<uint16_t>(t.mcfg.thermistor.code(50.0, none));
+  t.init();
+  t.chain.analog(0).therm_C[0] = 55.0;
+  t.board.wait(0.0);
+  t.board.wait(1.01);
+  EXPECT_TRUE(t.chain.faultLine());
+  // Zero thresholds keep the EEPROM's (65 degC): 55 degC does not trip.
+  Rig k(1, 16, 16);
+  k.cfg.auxHotCode = 0;
+  k.cfg.compOv_mV = 0;
+  k.init();
+  k.chain.analog(0).therm_C[0] = 55.0;
+  k.chain.analog(0).cell_V[2] = 4.15;
+  k.board.wait(0.0);
+  k.board.wait(1.01);
+  EXPECT_FALSE(k.chain.faultLine());
 }
 
 TEST(Bq76pl455aDriver, BalancingReachesTheDeviceAndExpiresThere) {

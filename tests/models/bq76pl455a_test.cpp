@@ -11,6 +11,7 @@
 #include <bms/afe/bq76pl455a_regs.h>
 
 #include "models/afe/bq76pl455a.hpp"
+#include "models/afe/monitor_stack.hpp"
 
 namespace packsim {
 namespace {
@@ -278,6 +279,66 @@ TEST(Bq76pl455a, HotOrShortedThermistorLatchesAuxFault) {
   r.wait(0.0);
   r.wait(1.01);
   EXPECT_EQ(r.read16(0, PL455_REG_FAULT_AUX), PL455_FAULT_AUX_UV(0));
+}
+
+// The chain's own protection reproduces the frame-level MonitorStack's: driven by the
+// same truth on a 10 ms step, both FAULT lines rise on the same step (COV, CUV and
+// over-temperature ramps, a shorted NTC).
+struct Drive {
+  int cell = -1;       // series position ramped, or -1
+  double v0 = 0, dv_per_s = 0;
+  int therm = -1;      // thermistor channel ramped, or -1
+  double T0 = 25, dT_per_s = 0;
+  bool shortTherm = false;
+};
+
+double tripTime(MonitorStack* stack, Bq76pl455aChain* chain, const Drive& drv) {
+  const int devices = 2, cells = 16;
+  MonitorTruth truth;
+  if (stack) truth = stack->makeTruth();
+  for (int k = 0; k < 2000; ++k) {
+    const double t = 0.01 * k;
+    for (int d = 0; d < devices; ++d)
+      for (int c = 0; c < cells; ++c) {
+        const int pos = d * cells + c;
+        const double v = pos == drv.cell ? drv.v0 + drv.dv_per_s * t : 3.7;
+        if (stack) truth.cell_V[static_cast<size_t>(pos)] = v;
+        if (chain) chain->analog(d).cell_V[static_cast<size_t>(c)] = v;
+      }
+    for (int ch = 0; ch < devices * 2; ++ch) {
+      const double T = ch == drv.therm ? drv.T0 + drv.dT_per_s * t : 25.0;
+      const bool shorted = drv.shortTherm && ch == drv.therm && t >= 2.0;
+      if (stack) {
+        truth.therm_C[static_cast<size_t>(ch)] = T;
+        truth.therm_fault[static_cast<size_t>(ch)] = shorted ? SensorFault::Short : SensorFault::None;
+      }
+      if (chain) {
+        chain->analog(ch / 2).therm_C[static_cast<size_t>(ch % 2)] = T;
+        chain->analog(ch / 2).therm_fault[static_cast<size_t>(ch % 2)] = shorted ? ThermistorFault::Short : ThermistorFault::None;
+      }
+    }
+    if (stack) stack->update(t, truth);
+    if (chain) chain->advance(t);
+    if (stack ? stack->faultLine() : chain->faultLine()) return t;
+  }
+  return -1.0;
+}
+
+TEST(Bq76pl455a, OwnProtectionTripsOnTheSameStepAsTheFrameLevelStack) {
+  const std::vector<Drive> drives = {
+      {20, 4.28, 0.013, -1, 25, 0, false},   // COV 4.30 V, 1 s
+      {3, 2.83, -0.021, -1, 25, 0, false},   // CUV 2.80 V
+      {-1, 0, 0, 3, 63.0, 0.17, false},      // OT 65 degC on device 1, input 1
+      {-1, 0, 0, 0, 25.0, 0.0, true},        // a shorted NTC looks hot
+  };
+  for (size_t i = 0; i < drives.size(); ++i) {
+    const MonitorConfig c = pl455Config(2, 16);
+    MonitorStack stack(c, 32, 5);
+    Bq76pl455aChain chain(c, 32, 5);
+    const double expected = tripTime(&stack, nullptr, drives[i]);
+    ASSERT_GT(expected, 0.0) << i;
+    EXPECT_DOUBLE_EQ(tripTime(nullptr, &chain, drives[i]), expected) << i;
+  }
 }
 
 TEST(Bq76pl455a, BalancingStopsOnTheDeviceWhenItsTimeRunsOut) {
