@@ -56,8 +56,8 @@ MonitorConfig pl455Config(int devices, int cells) {
 }
 
 struct Rig {
-  explicit Rig(int devices = 2, int cells = 16, uint64_t seed = 7)
-      : chain(pl455Config(devices, cells), devices * cells, seed) {
+  explicit Rig(int devices = 2, int cells = 16, uint64_t seed = 7, double noise_V = 0.0)
+      : chain(withNoise(pl455Config(devices, cells), noise_V), devices * cells, seed) {
     for (int d = 0; d < devices; ++d)
       for (int c = 0; c < cells; ++c) chain.analog(d).cell_V[static_cast<size_t>(c)] = 3.5003 + 0.01 * c + 0.2 * d;
   }
@@ -69,6 +69,10 @@ struct Rig {
     t += last.duration_s;
     rx.resize(static_cast<size_t>(std::max(0, last.received)));
     return rx;
+  }
+  static MonitorConfig withNoise(MonitorConfig c, double noise_V) {
+    c.cell_adc.noise_rms = noise_V;
+    return c;
   }
   void writeAll(uint8_t reg, std::vector<uint8_t> data) { send(frame(PL455_REQ_BROADCAST_NR, -1, reg, data)); }
   void write(int d, uint8_t reg, std::vector<uint8_t> data) { send(frame(PL455_REQ_SINGLE_NR, d, reg, data)); }
@@ -339,6 +343,59 @@ TEST(Bq76pl455a, OwnProtectionTripsOnTheSameStepAsTheFrameLevelStack) {
     ASSERT_GT(expected, 0.0) << i;
     EXPECT_DOUBLE_EQ(tripTime(nullptr, &chain, drives[i]), expected) << i;
   }
+}
+
+TEST(Bq76pl455a, GroupRequestsReachTheDevicesOfThatGroup) {
+  Rig r(3, 16);
+  r.autoAddress();
+  r.write(1, PL455_REG_GROUP_ID, {5});
+  r.write(2, PL455_REG_GROUP_ID, {5});
+  r.send(frame(PL455_REQ_GROUP_NR, 5, PL455_REG_COMP_UV, {0x22}));
+  EXPECT_NE(r.read(0, PL455_REG_COMP_UV, 2)[1], 0x22);
+  EXPECT_EQ(r.read(1, PL455_REG_COMP_UV, 2)[1], 0x22);
+  EXPECT_EQ(r.read(2, PL455_REG_COMP_UV, 2)[1], 0x22);
+  const auto both = r.send(frame(PL455_REQ_GROUP_R, 5, PL455_REG_ADDR, {1}), 10);
+  ASSERT_EQ(both.size(), 10u);
+  EXPECT_EQ(both[1], 2);  // the top one first
+  EXPECT_EQ(both[6], 1);
+}
+
+TEST(Bq76pl455a, ChannelErrorsAreTheFrameLevelStacksForTheSameSeed) {
+  MonitorConfig c = pl455Config(2, 16);
+  c.channel_gain_sd = 2e-3;
+  c.channel_offset_sd_V = 1e-3;
+  const MonitorStack stack(c, 32, 21);
+  const Bq76pl455aChain chain(c, 32, 21);
+  for (int k = 0; k < 32; ++k) {
+    EXPECT_EQ(chain.channelGain(k), stack.channelGain(k));
+    EXPECT_EQ(chain.channelOffset_V(k), stack.channelOffset_V(k));
+  }
+  EXPECT_NE(chain.channelGain(0), chain.channelGain(1));
+}
+
+TEST(Bq76pl455a, OversamplingAveragesTheConversionNoise) {
+  // cell_adc.noise_rms is the noise at MonitorConfig::oversampling (1 here); OVERSMPL = 2
+  // averages 4 samples: the spread of the codes halves.
+  auto spread = [](uint8_t log2) {
+    Rig r(1, 16, 99, 2e-3);
+    for (int k = 0; k < 16; ++k) r.chain.analog(0).cell_V[static_cast<size_t>(k)] = 3.6;
+    r.autoAddress();
+    r.write(0, PL455_REG_CHANNELS, {0xFF, 0xFF, 0x00, 0x00});
+    r.write(0, PL455_REG_OVERSMPL, {log2});
+    double sum = 0, sum2 = 0;
+    int n = 0;
+    for (int k = 0; k < 40; ++k) {
+      const auto rep = r.send(frame(PL455_REQ_SINGLE_R, 0, PL455_REG_CMD, {PL455_CMD_SAMPLE}), 35);
+      for (int i = 0; i < 16; ++i) {
+        const double v = ((rep[1 + 2 * i] << 8) | rep[2 + 2 * i]) * (5.0 / 65535.0) - 3.6;
+        sum += v, sum2 += v * v, ++n;
+      }
+    }
+    return std::sqrt(sum2 / n - (sum / n) * (sum / n));
+  };
+  const double one = spread(0), four = spread(2);
+  EXPECT_NEAR(one, 2e-3, 0.2e-3);  // 640 samples: the estimate is within 10 %
+  EXPECT_NEAR(four, 1e-3, 0.1e-3);
 }
 
 TEST(Bq76pl455a, BalancingStopsOnTheDeviceWhenItsTimeRunsOut) {
