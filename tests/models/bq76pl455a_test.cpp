@@ -130,6 +130,22 @@ TEST(Bq76pl455a, DevicesAnswerSingleRequestsOnlyAfterAutoAddressing) {
   }
 }
 
+TEST(Bq76pl455a, AcceptsFramesAsPublishedForThePart) {
+  // Command frames as published in TI's support forum for this part (auto-addressing
+  // one device, clearing its faults, reading STATUS): an independent check of the
+  // frame layout and the CRC byte order.
+  Rig r(1, 16);
+  r.send({0xF1, 0x0E, 0x10, 0x54, 0x5F});              // DEVCONFIG = 0x10, broadcast
+  r.send({0xF1, 0x0C, 0x08, 0x55, 0x35});              // DEV_CTRL: auto-address
+  r.send({0xF1, 0x0A, 0x00, 0x57, 0x53});              // ADDR = 0
+  r.send({0x92, 0x00, 0x52, 0xFF, 0xC0, 0x59, 0xAC});  // FAULT_SUM: clear all, device 0
+  const auto status = r.send({0x81, 0x00, 0x51, 0x00, 0x15, 0xAC}, 4);  // read STATUS
+  ASSERT_EQ(status.size(), 4u);
+  EXPECT_TRUE(replyValid(status));
+  EXPECT_EQ(r.read16(0, PL455_REG_FAULT_COM), 0);  // no frame was dropped for its CRC
+  EXPECT_EQ(r.read(0, PL455_REG_ADDR, 2)[1], 0);
+}
+
 TEST(Bq76pl455a, RegistersReadBackWritesAndIgnoreReadOnlyOnes) {
   Rig r;
   r.autoAddress();
