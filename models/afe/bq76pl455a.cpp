@@ -1,0 +1,463 @@
+#include "models/afe/bq76pl455a.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <bms/afe/bq76pl455a_regs.h>
+#include <bms/bms_crc.hpp>
+
+#include "models/pack/cell_spread.hpp"
+
+namespace packsim {
+
+namespace {
+
+constexpr uint32_t kBalanceTime_s[PL455_BALANCE_TIME_CODES] = PL455_BALANCE_TIME_S_INIT;
+
+uint16_t get16(const std::array<uint8_t, 256>& r, unsigned a) {
+  return static_cast<uint16_t>((r[a] << 8) | r[a + 1]);
+}
+void set16(std::array<uint8_t, 256>& r, unsigned a, uint16_t v) {
+  r[a] = static_cast<uint8_t>(v >> 8);
+  r[a + 1] = static_cast<uint8_t>(v & 0xFF);
+}
+uint32_t get32(const std::array<uint8_t, 256>& r, unsigned a) {
+  return (static_cast<uint32_t>(get16(r, a)) << 16) | get16(r, a + 2);
+}
+uint16_t clampU16(double v) { return static_cast<uint16_t>(std::clamp(std::nearbyint(v), 0.0, 65535.0)); }
+
+// COMP_UV / COMP_OV field for a threshold (nearest 25 mV step) and back.
+uint8_t compField(double v, unsigned base_mV) {
+  const double steps = std::nearbyint((v * 1e3 - base_mV) / PL455_COMP_STEP_MV);
+  return static_cast<uint8_t>(std::clamp(steps, 0.0, double{PL455_COMP_MAX_STEPS}) * 2.0);
+}
+double compVolts(uint8_t field, unsigned base_mV) {
+  // exact for every 25 mV step (4300 / 1000 is the double nearest 4.3)
+  return (base_mV + (field >> PL455_COMP_SHIFT) * double{PL455_COMP_STEP_MV}) / 1000.0;
+}
+
+// Which registers a write stores, which are write-1-to-clear fault flags, and which
+// are read only; the EEPROM holds the configuration registers.
+enum class Access { Stored, ReadOnly, ClearOnOne };
+Access access(unsigned a) {
+  if (a == PL455_REG_SREV || a == PL455_REG_STATUS) return Access::ReadOnly;
+  if (a >= PL455_REG_FAULT_SUM && a <= PL455_REG_FAULT_GPI) return Access::ClearOnOne;
+  return Access::Stored;
+}
+bool inEeprom(unsigned a) {
+  return (a >= PL455_REG_CHANNELS && a <= PL455_REG_CBCONFIG && a != PL455_REG_ADDR && a != PL455_REG_DEV_CTRL) ||
+         (a >= PL455_REG_FO_CTRL && a < PL455_REG_FO_CTRL + 2) ||
+         (a >= PL455_REG_COMP_UV && a < PL455_REG_AUX_OV(7) + 2);
+}
+
+// Noiseless ratiometric code of a thermistor input (what its comparator sees).
+double thermCodeIdeal(const Thermistor& th, double temp_C, ThermistorFault f) {
+  if (f == ThermistorFault::Open) return static_cast<double>(th.fullScaleCode());
+  if (f == ThermistorFault::Short) return 0.0;
+  const double r = th.resistance_ohm(temp_C);
+  return static_cast<double>(th.fullScaleCode()) * r / (th.pullup_ohm + r);
+}
+
+}  // namespace
+
+Bq76pl455aChain::Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed)
+    : cfg_(cfg),
+      cells_(cellCount),
+      dev_(static_cast<size_t>(cfg.devices)),
+      noise_(deriveSeed(seed, 0x455)),
+      comm_(deriveSeed(seed, 0x455C)) {
+  // Per-channel errors: the same stream and order as the frame-level MonitorStack.
+  Rng rng(deriveSeed(seed, 0xAFE));
+  gain_.assign(static_cast<size_t>(cellCount), 0.0);
+  offset_.assign(static_cast<size_t>(cellCount), 0.0);
+  for (int c = 0; c < cellCount; ++c) {
+    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
+    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
+  }
+  const SecondaryProtection& p = cfg.secondary;
+  const double lsb = cfg.cell_adc.lsb;
+  int log2os = 0;
+  while ((1 << log2os) < cfg.oversampling && log2os < static_cast<int>(PL455_OVERSMPL_MAX_LOG2)) ++log2os;
+  for (int d = 0; d < cfg.devices; ++d) {
+    Device& dv = dev_[static_cast<size_t>(d)];
+    const size_t n = static_cast<size_t>(cellsOf(d)), nt = static_cast<size_t>(cfg.thermistors_per_device);
+    dv.analog.cell_V.assign(n, 0.0);
+    dv.analog.cell_gain_error.assign(n, 0.0);
+    dv.analog.cell_offset_V.assign(n, 0.0);
+    dv.analog.therm_C.assign(nt, 25.0);
+    dv.analog.therm_fault.assign(nt, ThermistorFault::None);
+    // The EEPROM as the scenario programmed it: today's secondary protection.
+    auto& e = dv.eeprom;
+    e[PL455_REG_SREV] = 0x0C;
+    e[PL455_REG_OVERSMPL] = static_cast<uint8_t>(log2os);
+    e[PL455_REG_NCHAN] = static_cast<uint8_t>(n);
+    e[PL455_REG_DEVCONFIG] = static_cast<uint8_t>(PL455_DEVCONFIG_ADDR_SEL | (p.enabled ? PL455_DEVCONFIG_COMP_ENA : 0));
+    set16(e, PL455_REG_COMCONFIG,
+          static_cast<uint16_t>((1u << PL455_COMCONFIG_BAUD_SHIFT) | PL455_COMCONFIG_UART_EN | PL455_COMCONFIG_COMM_HIGH |
+                                PL455_COMCONFIG_COMM_LOW | PL455_COMCONFIG_FAULT_HIGH | PL455_COMCONFIG_FAULT_LOW));
+    set16(e, PL455_REG_FO_CTRL,
+          p.enabled ? PL455_FAULT_SUM_CMPUV | PL455_FAULT_SUM_CMPOV | PL455_FAULT_SUM_AUXUV : 0);
+    e[PL455_REG_COMP_UV] = compField(p.cuv_V, PL455_COMP_UV_BASE_MV);
+    e[PL455_REG_COMP_OV] = compField(p.cov_V, PL455_COMP_OV_BASE_MV);
+    // ADC checks: code < CELL_UV is under (v < cuv_V), code > CELL_OV is over (v > cov_V).
+    set16(e, PL455_REG_CELL_UV, clampU16(std::ceil(p.cuv_V / lsb - 1e-9)));
+    set16(e, PL455_REG_CELL_OV, clampU16(std::floor(p.cov_V / lsb + 1e-9)));
+    const double hotCode = thermCodeIdeal(cfg.thermistor, p.ot_C, ThermistorFault::None);
+    for (unsigned k = 0; k < 8; ++k) {
+      set16(e, PL455_REG_AUX_UV(k), k < nt ? clampU16(hotCode) : 0);
+      set16(e, PL455_REG_AUX_OV(k), 0xFFFF);
+    }
+    // The part trips at the scenario's ot_C exactly; the register shows it rounded.
+    for (size_t k = 0; k < 2; ++k) dv.eepromHotCode[k] = k < nt ? hotCode : 0.0;
+    powerUp(dv);
+  }
+}
+
+int Bq76pl455aChain::cellsOf(int d) const {
+  const int first = d * cfg_.cells_per_device;
+  return std::max(0, std::min(cfg_.cells_per_device, cells_ - first));
+}
+
+void Bq76pl455aChain::powerUp(Device& dv) {
+  dv.reg = dv.eeprom;  // faults, STATUS, CBENBL, ADDR and the command registers come up 0
+  dv.addressed = dv.autoAddress = false;
+  dv.hotCode[0] = dv.eepromHotCode[0];
+  dv.hotCode[1] = dv.eepromHotCode[1];
+  dv.cov = dv.cuv = dv.hot[0] = dv.hot[1] = DebounceTimer{};
+  dv.balanceUntil_s = 0.0;
+  dv.held.fill(0);
+  dv.pending.fill(0);
+  dv.heldChannels = dv.pendingChannels = 0;
+  dv.ready_s = -1.0;
+}
+
+bool Bq76pl455aChain::hears(int d) const {
+  if (brokenAbove_ >= 0 && d > brokenAbove_) return false;
+  return !dev_[static_cast<size_t>(d)].comm.silent;
+}
+
+// A conversion whose time has come becomes the held result; the ADC thresholds
+// are checked on it.
+void Bq76pl455aChain::settle(Device& dv, double t) {
+  if (dv.ready_s < 0.0 || t < dv.ready_s - 1e-12) return;
+  dv.held = dv.pending;
+  dv.heldChannels = dv.pendingChannels;
+  dv.ready_s = -1.0;
+  dv.reg[PL455_REG_STATUS] |= PL455_STATUS_DRDY;
+  const uint16_t uvCode = get16(dv.reg, PL455_REG_CELL_UV), ovCode = get16(dv.reg, PL455_REG_CELL_OV);
+  uint16_t uv = get16(dv.reg, PL455_REG_FAULT_UV), ov = get16(dv.reg, PL455_REG_FAULT_OV);
+  const unsigned nchan = std::min<unsigned>(dv.reg[PL455_REG_NCHAN], 16);
+  for (unsigned k = 1; k <= nchan; ++k) {
+    if ((dv.heldChannels & PL455_CH_CELL(k)) == 0) continue;
+    const uint16_t code = dv.held[15 + k];
+    if (code < uvCode) uv = static_cast<uint16_t>(uv | (1u << (k - 1)));
+    if (code > ovCode) ov = static_cast<uint16_t>(ov | (1u << (k - 1)));
+  }
+  set16(dv.reg, PL455_REG_FAULT_UV, uv);
+  set16(dv.reg, PL455_REG_FAULT_OV, ov);
+}
+
+// The secondary comparators, independent of the ADC: true pin voltages against
+// COMP_UV / COMP_OV, the AUX inputs' code against AUXn_UV (an NTC reads low when
+// hot, 0 when shorted), each latching after its delay.
+void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
+  if ((dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) == 0) return;
+  const SecondaryProtection& p = cfg_.secondary;
+  const double ov_V = compVolts(dv.reg[PL455_REG_COMP_OV], PL455_COMP_OV_BASE_MV);
+  const double uv_V = compVolts(dv.reg[PL455_REG_COMP_UV], PL455_COMP_UV_BASE_MV);
+  uint16_t over = 0, under = 0;
+  for (int c = 0; c < cellsOf(d); ++c) {
+    const double v = dv.analog.cell_V[static_cast<size_t>(c)];
+    if (v > ov_V) over = static_cast<uint16_t>(over | (1u << c));
+    if (v < uv_V) under = static_cast<uint16_t>(under | (1u << c));
+  }
+  if (dv.cov.held(t, over != 0, p.cov_delay_s))
+    set16(dv.reg, PL455_REG_FAULT_2OV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2OV) | over));
+  if (dv.cuv.held(t, under != 0, p.cuv_delay_s))
+    set16(dv.reg, PL455_REG_FAULT_2UV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2UV) | under));
+  const int nt = std::min(cfg_.thermistors_per_device, 2);
+  for (int k = 0; k < nt; ++k) {
+    const size_t ks = static_cast<size_t>(k);
+    const double code = thermCodeIdeal(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks]);
+    const bool hot = code < dv.hotCode[k];
+    if (dv.hot[k].held(t, hot, p.ot_delay_s))
+      set16(dv.reg, PL455_REG_FAULT_AUX, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_AUX) | PL455_FAULT_AUX_UV(k)));
+  }
+}
+
+void Bq76pl455aChain::advance(double t) {
+  for (int d = 0; d < cfg_.devices; ++d) {
+    Device& dv = dev_[static_cast<size_t>(d)];
+    settle(dv, t);
+    runComparators(dv, d, t);
+    // The balance timer runs on the device: CBENBL clears when it expires.
+    if (get16(dv.reg, PL455_REG_CBENBL) != 0 && t >= dv.balanceUntil_s - 1e-9) set16(dv.reg, PL455_REG_CBENBL, 0);
+  }
+}
+
+uint16_t Bq76pl455aChain::faultSummary(const Device& dv) const {
+  const auto& r = dv.reg;
+  const uint16_t aux = get16(r, PL455_REG_FAULT_AUX);
+  uint16_t s = 0;
+  if (get16(r, PL455_REG_FAULT_UV)) s |= PL455_FAULT_SUM_UV;
+  if (get16(r, PL455_REG_FAULT_OV)) s |= PL455_FAULT_SUM_OV;
+  if (aux & 0x00FF) s |= PL455_FAULT_SUM_AUXUV;
+  if (aux & 0xFF00) s |= PL455_FAULT_SUM_AUXOV;
+  if (get16(r, PL455_REG_FAULT_2UV)) s |= PL455_FAULT_SUM_CMPUV;
+  if (get16(r, PL455_REG_FAULT_2OV)) s |= PL455_FAULT_SUM_CMPOV;
+  if (get16(r, PL455_REG_FAULT_COM)) s |= PL455_FAULT_SUM_COMM;
+  if (r[PL455_REG_FAULT_SYS]) s |= PL455_FAULT_SUM_SYS;
+  if (get16(r, PL455_REG_FAULT_DEV)) s |= PL455_FAULT_SUM_CHIP;
+  if (r[PL455_REG_FAULT_GPI]) s |= PL455_FAULT_SUM_GPI;
+  return s;
+}
+
+bool Bq76pl455aChain::faultLine() const {
+  for (const Device& dv : dev_)
+    if ((faultSummary(dv) & get16(dv.reg, PL455_REG_FO_CTRL)) != 0) return true;
+  return false;
+}
+
+bool Bq76pl455aChain::balancing(int d, int cell) const {
+  return (get16(dev_[static_cast<size_t>(d)].reg, PL455_REG_CBENBL) >> cell) & 1u;
+}
+
+// Write 1s to latched flags: a flag clears only when its condition is gone.
+void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
+  auto& r = dv.reg;
+  auto clear16 = [&](unsigned a, uint16_t mask) { set16(r, a, static_cast<uint16_t>(get16(r, a) & ~mask)); };
+  if (addr == PL455_REG_FAULT_SUM || addr == PL455_REG_FAULT_SUM + 1) {
+    const uint16_t g = static_cast<uint16_t>(addr == PL455_REG_FAULT_SUM ? bits << 8 : bits);
+    if (g & PL455_FAULT_SUM_UV) set16(r, PL455_REG_FAULT_UV, 0);
+    if (g & PL455_FAULT_SUM_OV) set16(r, PL455_REG_FAULT_OV, 0);
+    if (g & PL455_FAULT_SUM_AUXUV)
+      for (int k = 0; k < 2; ++k)
+        if (!dv.hot[k].active()) clear16(PL455_REG_FAULT_AUX, PL455_FAULT_AUX_UV(k));
+    if (g & PL455_FAULT_SUM_AUXOV) clear16(PL455_REG_FAULT_AUX, 0xFF00);
+    if ((g & PL455_FAULT_SUM_CMPUV) && !dv.cuv.active()) set16(r, PL455_REG_FAULT_2UV, 0);
+    if ((g & PL455_FAULT_SUM_CMPOV) && !dv.cov.active()) set16(r, PL455_REG_FAULT_2OV, 0);
+    if (g & PL455_FAULT_SUM_COMM) set16(r, PL455_REG_FAULT_COM, 0);
+    if (g & PL455_FAULT_SUM_SYS) r[PL455_REG_FAULT_SYS] = 0;
+    if (g & PL455_FAULT_SUM_CHIP) set16(r, PL455_REG_FAULT_DEV, 0);
+    if (g & PL455_FAULT_SUM_GPI) r[PL455_REG_FAULT_GPI] = 0;
+    return;
+  }
+  // A detail register: comparator flags hold while their condition does.
+  const bool cmpHeld = (addr == PL455_REG_FAULT_2UV || addr == PL455_REG_FAULT_2UV + 1) ? dv.cuv.active()
+                       : (addr == PL455_REG_FAULT_2OV || addr == PL455_REG_FAULT_2OV + 1) ? dv.cov.active()
+                                                                                           : false;
+  if (addr == PL455_REG_FAULT_AUX + 1)
+    for (int k = 0; k < 2; ++k)
+      if (dv.hot[k].active()) bits = static_cast<uint8_t>(bits & ~PL455_FAULT_AUX_UV(k));
+  if (!cmpHeld) r[addr] = static_cast<uint8_t>(r[addr] & ~bits);
+}
+
+// Sample the selected channels now; the result is held once the conversion time
+// has passed. Noise draws in a fixed order: cells bottom up, module, AUX inputs.
+void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
+  const uint32_t ch = get32(dv.reg, PL455_REG_CHANNELS);
+  const int samples = 1 << std::min<unsigned>(dv.reg[PL455_REG_OVERSMPL] & PL455_OVERSMPL_LOG2_MASK, PL455_OVERSMPL_MAX_LOG2);
+  int selected = 0;
+  for (int b = 0; b < kResultSlots; ++b) selected += (ch >> b) & 1u;
+  // cell_adc.noise_rms is the noise at the configured oversampling; the register's
+  // setting averages more or fewer samples.
+  AdcChannel base = cfg_.cell_adc;
+  base.noise_rms *= std::sqrt(static_cast<double>(std::max(1, cfg_.oversampling)) / samples);
+  dv.pending.fill(0);
+  const int n = cellsOf(d), first = d * cfg_.cells_per_device;
+  for (int c = 0; c < n; ++c) {
+    if ((ch & PL455_CH_CELL(static_cast<unsigned>(c + 1))) == 0) continue;
+    const size_t cell = static_cast<size_t>(first + c), cs = static_cast<size_t>(c);
+    AdcChannel a = base;
+    a.gain_error += gain_[cell] + dv.analog.cell_gain_error[cs];
+    a.offset += offset_[cell] + dv.analog.cell_offset_V[cs];
+    dv.pending[static_cast<size_t>(16 + c)] = static_cast<uint16_t>(a.convert(dv.analog.cell_V[cs], noise_));
+  }
+  if (ch & PL455_CH_MODULE) {
+    double module_V = 0.0;
+    for (double v : dv.analog.cell_V) module_V += v;
+    if (cfg_.module_noise_V > 0.0) module_V += cfg_.module_noise_V * standardNormal(noise_);
+    dv.pending[6] = clampU16(module_V / (PL455_MODULE_FULL_SCALE_MV * 1e-3 / PL455_CODE_FULL_SCALE));
+  }
+  for (int k = 0; k < 8; ++k) {
+    if ((ch & PL455_CH_AUX(static_cast<unsigned>(k))) == 0 || k >= cfg_.thermistors_per_device) continue;
+    const size_t ks = static_cast<size_t>(k);
+    const ThermistorFault f = dv.analog.therm_fault[ks];
+    const int64_t code = f == ThermistorFault::Open    ? cfg_.thermistor.fullScaleCode()
+                         : f == ThermistorFault::Short ? 0
+                                                       : cfg_.thermistor.code(dv.analog.therm_C[ks], noise_);
+    dv.pending[static_cast<size_t>(8 + k)] = static_cast<uint16_t>(code);
+  }
+  if (ch & PL455_CH_DIE_TEMP)
+    dv.pending[7] = static_cast<uint16_t>(static_cast<int16_t>(std::clamp(std::nearbyint(dv.analog.die_C * 10.0), -32768.0, 32767.0)));
+  dv.pendingChannels = ch;
+  dv.ready_s = t + selected * samples * cfg_.conversion_s_per_channel;
+  dv.reg[PL455_REG_STATUS] = static_cast<uint8_t>(dv.reg[PL455_REG_STATUS] & ~PL455_STATUS_DRDY);
+}
+
+void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool takesAddress) {
+  for (unsigned i = 0; i < f.size; ++i) {
+    const unsigned a = f.reg + i;
+    if (a >= PL455_REG_COUNT) break;
+    const uint8_t v = f.data[i];
+    if (a == PL455_REG_ADDR) {  // only auto-addressing assigns an address
+      if (takesAddress) dv.reg[a] = v, dv.addressed = true, dv.autoAddress = false;
+      continue;
+    }
+    switch (access(a)) {
+      case Access::ReadOnly: break;
+      case Access::ClearOnOne: clearWritten(dv, static_cast<uint8_t>(a), v); break;
+      case Access::Stored: dv.reg[a] = v; break;
+    }
+  }
+  auto touched = [&](unsigned a, unsigned size) { return f.reg < a + size && a < f.reg + f.size; };
+  for (unsigned k = 0; k < 2; ++k)
+    if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k));
+  if (touched(PL455_REG_DEV_CTRL, 1)) {
+    const uint8_t c = dv.reg[PL455_REG_DEV_CTRL];
+    if (c & PL455_DEV_CTRL_RESET) return powerUp(dv);
+    if (c & PL455_DEV_CTRL_AUTO_ADDRESS) dv.autoAddress = true, dv.addressed = false;
+  }
+  if (touched(PL455_REG_CBENBL, 2)) {
+    const uint32_t code = (dv.reg[PL455_REG_CBCONFIG] & PL455_CBCONFIG_TIME_MASK) >> PL455_CBCONFIG_TIME_SHIFT;
+    const uint16_t mask = static_cast<uint16_t>(get16(dv.reg, PL455_REG_CBENBL) & ((1u << cellsOf(d)) - 1u));
+    set16(dv.reg, PL455_REG_CBENBL, kBalanceTime_s[code] == 0 ? 0 : mask);
+    dv.balanceUntil_s = t + kBalanceTime_s[code];
+  }
+  if (touched(PL455_REG_EE_BURN, 1) && dv.reg[PL455_REG_EE_BURN] == PL455_EE_BURN_GO) {
+    dv.reg[PL455_REG_EE_BURN] = 0;
+    const bool unlocked = get32(dv.reg, PL455_REG_MAGIC1) == PL455_MAGIC1_KEY && get32(dv.reg, PL455_REG_MAGIC2) == PL455_MAGIC2_KEY;
+    if (unlocked)
+      for (unsigned a = 0; a < PL455_REG_COUNT; ++a)
+        if (inEeprom(a)) dv.eeprom[a] = dv.reg[a];
+    if (unlocked) dv.eepromHotCode[0] = dv.hotCode[0], dv.eepromHotCode[1] = dv.hotCode[1];
+  }
+  if (touched(PL455_REG_CMD, 1) && dv.reg[PL455_REG_CMD] == PL455_CMD_SAMPLE) startSample(dv, d, t);
+}
+
+bool Bq76pl455aChain::addressedBy(const Frame& f, int d) const {
+  const Device& dv = dev_[static_cast<size_t>(d)];
+  switch (f.req & ~0x10u) {  // with or without response alike
+    case PL455_REQ_SINGLE_R: return dv.addressed && dv.reg[PL455_REG_ADDR] == f.address;
+    case PL455_REQ_GROUP_R: return dv.addressed && dv.reg[PL455_REG_GROUP_ID] == f.address;
+    case PL455_REQ_BROADCAST_R: return true;
+    default: return false;
+  }
+}
+
+std::vector<uint8_t> Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double& ready_s) {
+  std::vector<uint8_t> out(1, 0);
+  ready_s = t;
+  if (f.reg == PL455_REG_CMD) {
+    // A sample request with response: the results once converted; SEND_HELD: as held now.
+    const uint8_t cmd = f.size > 0 ? f.data[0] : PL455_CMD_SAMPLE;
+    if (cmd == PL455_CMD_SAMPLE && acceptsWrites(d)) {
+      startSample(dv, d, t);
+      ready_s = dv.ready_s;
+    }
+    const bool fresh = cmd == PL455_CMD_SAMPLE && acceptsWrites(d);
+    if (!fresh) settle(dv, t);
+    const auto& values = fresh ? dv.pending : dv.held;
+    const uint32_t ch = fresh ? dv.pendingChannels : dv.heldChannels;
+    for (int b = kResultSlots - 1; b >= 0; --b) {
+      if (((ch >> b) & 1u) == 0) continue;
+      out.push_back(static_cast<uint8_t>(values[static_cast<size_t>(b)] >> 8));
+      out.push_back(static_cast<uint8_t>(values[static_cast<size_t>(b)] & 0xFF));
+    }
+  } else {
+    settle(dv, t);
+    set16(dv.reg, PL455_REG_FAULT_SUM, faultSummary(dv));
+    const unsigned count = (f.size > 0 ? f.data[0] & 0x7Fu : 0u) + 1u;
+    for (unsigned i = 0; i < count; ++i) out.push_back(f.reg + i < PL455_REG_COUNT ? dv.reg[f.reg + i] : 0);
+  }
+  if (out.size() == 1) return {};  // nothing selected: no reply
+  out[0] = static_cast<uint8_t>(out.size() - 2);
+  const uint16_t crc = bms::crcCrc16(out.data(), out.size());
+  out.push_back(static_cast<uint8_t>(crc & 0xFF));
+  out.push_back(static_cast<uint8_t>(crc >> 8));
+  corrupt(dv, out);
+  return out;
+}
+
+// Comm faults act on the reply bytes: stuck drives every byte; a CRC error rate
+// flips one bit with that probability (draws only where the rate is set).
+void Bq76pl455aChain::corrupt(const Device& dv, std::vector<uint8_t>& bytes) {
+  if (dv.comm.stuck_byte >= 0) {
+    std::fill(bytes.begin(), bytes.end(), static_cast<uint8_t>(dv.comm.stuck_byte));
+  } else if (dv.comm.crc_error_rate > 0.0) {
+    const double u = static_cast<double>(comm_() >> 11) * 0x1.0p-53;
+    if (u < dv.comm.crc_error_rate) {
+      const uint64_t r = comm_();
+      bytes[r % bytes.size()] ^= static_cast<uint8_t>(1u << ((r >> 32) % 8));
+    }
+  }
+}
+
+BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) {
+  const double byte_s = PL455_UART_BITS_PER_BYTE / cfg_.baud;
+  double now = t + static_cast<double>(txLen) * byte_s;  // the command is in once its last byte is
+  advance(now);
+  size_t received = 0;
+  bool expectReply = false;
+  size_t pos = 0;
+  while (pos < txLen && (tx[pos] & PL455_INIT_COMMAND) != 0) {
+    Frame f;
+    const uint8_t init = tx[pos];
+    f.req = init & PL455_REQ_MASK;
+    const bool addressed = (f.req & ~0x10u) != PL455_REQ_BROADCAST_R;
+    const size_t regBytes = (init & PL455_INIT_ADDR16) ? 2 : 1;
+    f.size = PL455_SIZE_BYTES(init & PL455_INIT_SIZE_MASK);
+    const size_t len = 1 + (addressed ? 1 : 0) + regBytes + f.size + 2;
+    if (pos + len > txLen) break;  // a truncated frame: nobody acts on it
+    const uint8_t* p = tx + pos + 1;
+    if (addressed) f.address = *p++;
+    f.reg = regBytes == 2 ? static_cast<uint16_t>((p[0] << 8) | p[1]) : p[0];
+    f.data = p + regBytes;
+    const uint16_t crc = bms::crcCrc16(tx + pos, len - 2);
+    const bool crcOk = tx[pos + len - 2] == (crc & 0xFF) && tx[pos + len - 1] == (crc >> 8);
+    pos += len;
+    const bool withReply = (f.req & 0x10u) == 0;
+    if (!crcOk) {  // dropped by every device that heard it, and flagged
+      for (int d = 0; d < cfg_.devices; ++d) {
+        Device& dv = dev_[static_cast<size_t>(d)];
+        if (acceptsWrites(d)) set16(dv.reg, PL455_REG_FAULT_COM, get16(dv.reg, PL455_REG_FAULT_COM) | PL455_FAULT_COM_UART_CRC);
+      }
+      expectReply = expectReply || withReply;
+      continue;
+    }
+    // Auto-addressing: a broadcast ADDR write goes to the lowest device still waiting for one.
+    int capture = -1;
+    if (!withReply && !addressed && f.reg <= PL455_REG_ADDR && PL455_REG_ADDR < f.reg + f.size)
+      for (int d = 0; d < cfg_.devices && capture < 0; ++d)
+        if (acceptsWrites(d) && dev_[static_cast<size_t>(d)].autoAddress) capture = d;
+    if (!withReply) {
+      for (int d = 0; d < cfg_.devices; ++d)
+        if (acceptsWrites(d) && addressedBy(f, d)) write(dev_[static_cast<size_t>(d)], d, f, now, d == capture);
+      continue;
+    }
+    expectReply = true;
+    // Every addressed device acts on the frame when it arrives; replies travel down
+    // the chain one after the other, the top device's first.
+    const double arrived_s = now;
+    for (int d = cfg_.devices - 1; d >= 0; --d) {
+      if (!hears(d) || !addressedBy(f, d)) continue;
+      double ready_s = arrived_s;
+      const std::vector<uint8_t> bytes = reply(dev_[static_cast<size_t>(d)], d, f, arrived_s, ready_s);
+      if (bytes.empty()) continue;
+      now = std::max(now, ready_s) + static_cast<double>(bytes.size()) * byte_s;
+      for (uint8_t b : bytes)
+        if (received < rxLen) rx[received++] = b;
+    }
+  }
+  BusTransfer r;
+  if (expectReply && received < rxLen) now += kResponseTimeout_s;  // the MCU waited for more
+  r.received = expectReply && received == 0 && rxLen > 0 ? -1 : static_cast<int>(received);
+  r.duration_s = now - t;
+  return r;
+}
+
+std::unique_ptr<MonitorChain> makeBq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {
+  return std::make_unique<Bq76pl455aChain>(cfg, cellCount, seed);
+}
+
+}  // namespace packsim

@@ -1,0 +1,106 @@
+// A BQ76PL455A daisy chain as the MCU's UART sees it: up to 16 devices of up to 16
+// cells each, answering command frames byte for byte from the register map in
+// bms/afe/bq76pl455a_regs.h (frame format and CRC there).
+//
+//   per device:  registers (reset from an EEPROM image built from MonitorConfig),
+//                address state (unaddressed after power-up / reset until the
+//                auto-address broadcast sequence), held sample results and a pending
+//                conversion, comparator debounce timers, balancing expiry
+//   advance(t):  a conversion whose time has passed becomes the held result (STATUS
+//                data-ready, ADC UV/OV checks against CELL_UV/CELL_OV latch FAULT_UV/OV);
+//                comparators compare the true pin voltages with COMP_UV/COMP_OV and
+//                the AUX inputs' noiseless code with AUXn_UV (below = NTC hot), each
+//                latching after its MonitorConfig::secondary delay (the EEPROM's AUX
+//                threshold is the exact code of secondary.ot_C, so the frame-level
+//                MonitorStack's trip times carry over); CBENBL clears when
+//                the CBCONFIG balance time has run out
+//   transfer:    command frames in (a frame with a wrong CRC is dropped and flagged in
+//                FAULT_COM), response frames out: top device first for broadcasts; a
+//                sample reply waits for its conversion (channels x oversamples x
+//                conversion_s_per_channel); every byte takes 10 bits at MonitorConfig::baud
+//   outputs:     FAULT line = any device's FAULT_SUM & FO_CTRL; CBENBL bits
+//
+// Faults are latched until the host writes 1 to their FAULT_SUM bit (or detail bit)
+// and the condition is gone. Per-channel gain/offset errors are drawn once from the
+// seed (the same stream as the frame-level MonitorStack); conversion noise and CRC
+// corruption draw from two more seed streams in a fixed order, so the same seed and
+// the same transactions give the same bytes.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "models/afe/debounce_timer.hpp"
+#include "models/afe/monitor_part.hpp"
+#include "models/sensors/adc.hpp"
+
+namespace packsim {
+
+class Bq76pl455aChain final : public MonitorChain {
+ public:
+  Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
+
+  int deviceCount() const override { return cfg_.devices; }
+  int cellsOf(int d) const override;
+  DeviceAnalog& analog(int d) override { return dev_[static_cast<size_t>(d)].analog; }
+  void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
+  void setBrokenLinkAbove(int d) override { brokenAbove_ = d; }
+  void advance(double t) override;
+  BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
+  bool faultLine() const override;
+  bool balancing(int d, int cell) const override;
+
+  // The part's own channel errors drawn from the seed (tests use them).
+  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
+  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+
+  // Seconds a device waits after the last byte it expected before the MCU gives up.
+  static constexpr double kResponseTimeout_s = 1e-3;
+
+ private:
+  static constexpr int kResultSlots = 32;  // one per CHANNELS bit
+  struct Device {
+    std::array<uint8_t, 256> reg{};
+    std::array<uint8_t, 256> eeprom{};
+    bool addressed = false, autoAddress = false;
+    DebounceTimer cov, cuv, hot[2];
+    // AUX over-temperature threshold in (unrounded) code units: the EEPROM's exact
+    // value until the host writes AUXn_UV, then the written code.
+    double hotCode[2] = {0.0, 0.0}, eepromHotCode[2] = {0.0, 0.0};
+    double balanceUntil_s = 0.0;
+    // sample results: held (readable) and pending (converting until ready_s)
+    std::array<uint16_t, kResultSlots> held{}, pending{};
+    uint32_t heldChannels = 0, pendingChannels = 0;
+    double ready_s = -1.0;  // < 0: no conversion pending
+    DeviceAnalog analog;
+    MonitorDeviceFault comm;
+  };
+  struct Frame {  // one command frame as received
+    uint8_t req = 0, address = 0, size = 0;
+    uint16_t reg = 0;
+    const uint8_t* data = nullptr;
+  };
+
+  void powerUp(Device& dv);
+  void settle(Device& dv, double t);
+  void runComparators(Device& dv, int d, double t);
+  bool hears(int d) const;      // on an intact link and not silent
+  bool acceptsWrites(int d) const { return hears(d) && dev_[static_cast<size_t>(d)].comm.stuck_byte < 0; }
+  bool addressedBy(const Frame& f, int d) const;
+  void write(Device& dv, int d, const Frame& f, double t, bool takesAddress);
+  void clearWritten(Device& dv, uint8_t addr, uint8_t bits);
+  void startSample(Device& dv, int d, double t);
+  uint16_t faultSummary(const Device& dv) const;
+  // One device's reply to f (data read or sample); ready_s: when it can start sending.
+  std::vector<uint8_t> reply(Device& dv, int d, const Frame& f, double t, double& ready_s);
+  void corrupt(const Device& dv, std::vector<uint8_t>& bytes);
+
+  MonitorConfig cfg_;
+  int cells_;
+  int brokenAbove_ = -1;
+  std::vector<Device> dev_;
+  std::vector<double> gain_, offset_;
+  Rng noise_, comm_;
+};
+
+}  // namespace packsim
