@@ -423,5 +423,68 @@ TEST(Bq76952, ChannelErrorsFromTheSeedAsTheFrameLevelModelAndBytesDeterministic)
   EXPECT_NE(ra, ro);
 }
 
+// The register-level part acts on its protections when the frame-level model does
+// (models/afe/monitor_stack.cpp, the behaviour bundled scenarios were judged with):
+// the same step of each condition opens and re-closes the same FET within one
+// measurement loop (thresholds differ only by the part's data-memory steps).
+TEST(Bq76952, ProtectionsOpenAndRecloseTheFetsWhenTheFrameLevelModelDoes) {
+  struct Case {
+    const char* name;
+    double cell_V, current_A, ts1_C, ts3_C;
+  };
+  const Case cases[] = {
+      {"COV", 4.40, 0.0, 25, 25},  {"CUV", 2.40, 0.0, 25, 25},    {"OCC", 3.7, -5.0, 25, 25},
+      {"OCD1", 3.7, 9.0, 25, 25},  {"SCD", 3.7, 120.0, 25, 25},   {"OTC", 3.7, 0.0, 57, 25},
+      {"OTD", 3.7, 0.0, 62, 25},   {"OTF", 3.7, 0.0, 25, 85},     {"UT", 3.7, 0.0, -5, 25},
+  };
+  for (const Case& k : cases) {
+    MonitorConfig c = config(false);
+    c.measurement_period_s = 0.06;
+    Bq76952Chain dev(c, 4, 1);
+    MonitorStack stack(c, 4, 1);
+    MonitorTruth truth = stack.makeTruth();
+    bms::Outputs out{};
+    out.afeFetEnable = out.chargeFetOn = out.dischargeFetOn = true;
+    stack.hostWrite(0.0, out, truth);
+    Host h{dev, false};
+    h.sub(BQ952_SUB_FET_ENABLE);
+    // First time each FET opens and re-closes, per model: [model][chg/dsg][open/close]
+    double when[2][2][2];
+    for (auto& a : when)
+      for (auto& b : a) b[0] = b[1] = -1.0;
+    const double dt = 0.01;
+    for (int i = 1; i <= 1400; ++i) {
+      const double t = i * dt;
+      const bool on = t >= 1.0 && t < 5.0;  // the condition holds from 1 s to 5 s
+      DeviceAnalog& a = dev.analog(0);
+      for (int n = 0; n < 4; ++n) a.cell_V[n] = truth.cell_V[n] = n == 2 && on ? k.cell_V : 3.7;
+      a.current_A = truth.current_A = on ? k.current_A : 0.0;
+      a.therm_C = {on ? k.ts1_C : 25.0, 25.0, on ? k.ts3_C : 25.0};
+      for (int n = 0; n < 3; ++n) truth.therm_C[n] = a.therm_C[n];
+      stack.update(t, truth);
+      dev.advance(t);
+      const bool state[2][2] = {{stack.chargeAllowed(), stack.dischargeAllowed()},
+                                {dev.chargeFetOn(), dev.dischargeFetOn()}};
+      for (int m = 0; m < 2; ++m)
+        for (int f = 0; f < 2; ++f) {
+          if (!state[m][f] && when[m][f][0] < 0) when[m][f][0] = t;
+          if (state[m][f] && when[m][f][0] >= 0 && when[m][f][1] < 0) when[m][f][1] = t;
+        }
+    }
+    bool anyTrip = false;
+    for (int f = 0; f < 2; ++f) {
+      const char* fet = f == 0 ? "CHG" : "DSG";
+      // Both open it, or neither does.
+      EXPECT_EQ(when[0][f][0] < 0, when[1][f][0] < 0) << k.name << " " << fet;
+      if (when[0][f][0] < 0) continue;
+      anyTrip = true;
+      EXPECT_NEAR(when[1][f][0], when[0][f][0], c.measurement_period_s + 1e-9) << k.name << " " << fet << " opens";
+      EXPECT_GT(when[0][f][1], 0.0) << k.name << " " << fet;
+      EXPECT_NEAR(when[1][f][1], when[0][f][1], c.measurement_period_s + 1e-9) << k.name << " " << fet << " recloses";
+    }
+    EXPECT_TRUE(anyTrip) << k.name;
+  }
+}
+
 }  // namespace
 }  // namespace packsim
