@@ -9,8 +9,11 @@ namespace {
 constexpr uint8_t kAddrW = static_cast<uint8_t>(BQ952_I2C_ADDR << 1);
 constexpr uint8_t kAddrR = static_cast<uint8_t>(kAddrW | 1u);
 constexpr uint16_t kScdThresholds_mV[BQ952_SCD_SETTINGS] = BQ952_SCD_THRESHOLDS_MV;
-// Largest direct read: 0x3E..0x61 (subcommand echo, buffer, checksum, length).
-constexpr uint8_t kMaxRead = BQ952_RESP_LENGTH - BQ952_SUBCMD_LOW + 1;
+// A subcommand's reply block: 0x3E..0x61 (echo, buffer, checksum, length).
+constexpr uint8_t kSubcmdBlock = BQ952_RESP_LENGTH - BQ952_SUBCMD_LOW + 1;
+// The measurement block: cells 1..16, stack, PACK, LD, CC2 (0x14..0x3B).
+constexpr uint8_t kMeasureBlock = BQ952_CC2_CURRENT + 2 - BQ952_CELL_VOLTAGE(1);
+constexpr uint8_t kMaxRead = kSubcmdBlock > kMeasureBlock ? kSubcmdBlock : kMeasureBlock;
 constexpr uint8_t kMaxWrite = 2 + BQ952_TRANSFER_BUFFER_LEN;
 
 uint16_t le16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
@@ -27,6 +30,7 @@ uint8_t busOf(const Bq952DriverConfig& c, uint8_t d) { return static_cast<uint8_
 // One block read from a direct command: [addr][cmd] then n data bytes (each with its
 // CRC in CRC mode). A bad CRC is retried.
 FrameResult readDirect(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, uint8_t cmd, uint8_t* out, uint8_t n) {
+  if (n > kMaxRead) return FrameResult::BadLength;
   const uint8_t tx[2] = {kAddrW, cmd};
   uint8_t rx[2 * kMaxRead];
   const uint16_t rxLen = static_cast<uint16_t>(c.crc ? 2 * n : n);
@@ -54,6 +58,7 @@ FrameResult readDirect(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, 
 // One write to a direct command, auto-incrementing: [addr][cmd][data...].
 FrameResult writeDirect(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, uint8_t cmd, const uint8_t* data,
                         uint8_t n) {
+  if (n > kMaxWrite) return FrameResult::BadLength;
   uint8_t tx[2 + 2 * kMaxWrite];
   tx[0] = kAddrW;
   tx[1] = cmd;
@@ -89,8 +94,8 @@ FrameResult subcommandRead(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t
                            uint8_t n) {
   FrameResult r = subcommand(drv, c, d, code);
   if (r != FrameResult::Ok) return r;
-  uint8_t b[kMaxRead];
-  r = readDirect(drv, c, d, BQ952_SUBCMD_LOW, b, kMaxRead);
+  uint8_t b[kSubcmdBlock];
+  r = readDirect(drv, c, d, BQ952_SUBCMD_LOW, b, kSubcmdBlock);
   if (r != FrameResult::Ok) return r;
   const uint8_t* data = b + (BQ952_TRANSFER_BUFFER - BQ952_SUBCMD_LOW);
   if (le16(b) != code) return FrameResult::BadHeader;
@@ -105,6 +110,7 @@ FrameResult subcommandRead(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t
 // A subcommand (or data-memory) write: address + data, then checksum and length.
 FrameResult subcommandWrite(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, uint16_t code,
                             const uint8_t* data, uint8_t n) {
+  if (n > BQ952_TRANSFER_BUFFER_LEN) return FrameResult::BadLength;
   uint8_t w[kMaxWrite];
   w[0] = static_cast<uint8_t>(code & 0xFF);
   w[1] = static_cast<uint8_t>(code >> 8);
@@ -128,6 +134,8 @@ uint8_t nearestScd(uint16_t mV) {
 // value / step, rounded, for unsigned firmware units
 uint32_t steps(uint32_t value, float step) { return static_cast<uint32_t>(static_cast<float>(value) / step + 0.5f); }
 
+constexpr uint8_t kMaxDmRows = 48;
+
 struct DmRow {
   uint16_t address;
   uint8_t bytes;
@@ -137,6 +145,7 @@ struct DmRow {
 // The data-memory image the configuration asks for: one row per setting.
 uint8_t dmRows(const Bq952DriverConfig& c, DmRow* rows) {
   const Bq952ProtectionConfig& p = c.protection;
+  const Bq952AutoBalanceConfig& b = c.autoBalance;
   const int8_t h = static_cast<int8_t>(p.tempRecovery_C);
   const DmRow table[] = {
       {BQ952_DM_DA_CONFIG, 1, 0x04 | (c.userAmps & 0x03)},
@@ -159,13 +168,21 @@ uint8_t dmRows(const Bq952DriverConfig& c, DmRow* rows) {
       {BQ952_DM_OTF_THRESHOLD, 1, p.otf_C}, {BQ952_DM_OTF_DELAY, 1, p.otDelay_s}, {BQ952_DM_OTF_RECOVERY, 1, p.otf_C - h},
       {BQ952_DM_UTC_THRESHOLD, 1, p.utc_C}, {BQ952_DM_UTC_DELAY, 1, p.utDelay_s}, {BQ952_DM_UTC_RECOVERY, 1, p.utc_C + h},
       {BQ952_DM_UTD_THRESHOLD, 1, p.utd_C}, {BQ952_DM_UTD_DELAY, 1, p.utDelay_s}, {BQ952_DM_UTD_RECOVERY, 1, p.utd_C + h},
+      {BQ952_DM_CB_CONFIG, 1, c.balancingConfig},
+      {BQ952_DM_CB_MIN_CELL_TEMP, 1, b.minCellTemp_C},
+      {BQ952_DM_CB_MAX_CELL_TEMP, 1, b.maxCellTemp_C},
+      {BQ952_DM_CB_MAX_INT_TEMP, 1, b.maxIntTemp_C},
+      {BQ952_DM_CB_MAX_CELLS, 1, b.maxCells},
+      {BQ952_DM_CB_CHG_MIN_CELL_V, 2, b.minCell_mV}, {BQ952_DM_CB_CHG_MIN_DELTA, 1, b.startDelta_mV},
+      {BQ952_DM_CB_CHG_STOP_DELTA, 1, b.stopDelta_mV},
+      {BQ952_DM_CB_RLX_MIN_CELL_V, 2, b.minCell_mV}, {BQ952_DM_CB_RLX_MIN_DELTA, 1, b.startDelta_mV},
+      {BQ952_DM_CB_RLX_STOP_DELTA, 1, b.stopDelta_mV},
   };
+  static_assert(sizeof(table) / sizeof(table[0]) <= kMaxDmRows, "data-memory table larger than its buffer");
   const uint8_t n = static_cast<uint8_t>(sizeof(table) / sizeof(table[0]));
   for (uint8_t k = 0; k < n; ++k) rows[k] = table[k];
   return n;
 }
-constexpr uint8_t kMaxDmRows = 32;
-
 void encodeRow(const DmRow& r, uint8_t* bytes) {
   const uint32_t v = static_cast<uint32_t>(r.value);
   bytes[0] = static_cast<uint8_t>(v & 0xFF);
@@ -249,7 +266,7 @@ FrameResult bq952Read(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, D
   }
   if (r != FrameResult::Ok) return r;
   // Cells 1..16, stack, PACK, LD, CC2.
-  uint8_t v[BQ952_CC2_CURRENT + 2 - BQ952_CELL_VOLTAGE(1)];
+  uint8_t v[kMeasureBlock];
   r = readDirect(drv, c, d, BQ952_CELL_VOLTAGE(1), v, sizeof(v));
   if (r != FrameResult::Ok) return r;
   uint8_t s[BQ952_SAFETY_STATUS_C + 1 - BQ952_SAFETY_ALERT_A];

@@ -17,6 +17,8 @@
 //   balancing:  CB_ACTIVE_CELLS with the mask; the device ends balancing on its own one
 //               Cell Balance Interval after the last write, so the driver re-arms it at
 //               half the interval until the requested time is up, then writes 0.
+//               With balancingConfig set the part balances on its own (configured
+//               at configure with its thresholds); the host then writes no mask.
 //   FETs:       ALL_FETS_ON / CHG_PCHG_OFF / DSG_PDSG_OFF / ALL_FETS_OFF.
 // Signs: DeviceReading current and charge are positive in discharge (the part reports
 // charge positive; the driver turns it round).
@@ -42,6 +44,16 @@ struct Bq952ProtectionConfig {
   uint8_t tempRecovery_C;          // hysteresis: recovery = threshold -/+ this
 };
 
+// The part's autonomous balancing (used when balancingConfig has BQ952_CB_CHG or
+// BQ952_CB_RLX): the same thresholds for the charging and the relax case.
+struct Bq952AutoBalanceConfig {
+  int8_t minCellTemp_C, maxCellTemp_C, maxIntTemp_C;
+  uint8_t maxCells;       // balanced at once
+  uint16_t minCell_mV;    // only cells above this
+  uint8_t startDelta_mV;  // start this far above the lowest cell
+  uint8_t stopDelta_mV;   // stop here
+};
+
 struct Bq952DriverConfig {
   uint8_t deviceCount;          // one device per bus
   uint8_t firstBus;             // device d sits on bus firstBus + d
@@ -56,6 +68,8 @@ struct Bq952DriverConfig {
   bool writeProtections;        // configure the protections below (else keep the part's)
   Bq952ProtectionConfig protection;
   uint8_t balanceInterval_s;    // Cell Balance Interval written at configure (>= 2)
+  uint8_t balancingConfig;      // Balancing Configuration (BQ952_CB_*); 0: host-controlled only
+  Bq952AutoBalanceConfig autoBalance;
 };
 
 struct Bq952DeviceState {

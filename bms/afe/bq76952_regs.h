@@ -165,6 +165,22 @@
 #define BQ952_DM_UTD_DELAY 0x92AAu
 #define BQ952_DM_UTD_RECOVERY 0x92ABu
 #define BQ952_DM_PROT_RECOVERY_TIME 0x92AFu /* U1 s: OCC / OCD recovery */
+#define BQ952_DM_DSG_CURRENT_THRESHOLD 0x9310u /* I2 userA: above it the pack discharges */
+#define BQ952_DM_CHG_CURRENT_THRESHOLD 0x9312u /* I2 userA: above it the pack charges */
+#define BQ952_DM_CB_CONFIG 0x9335u          /* H1 Balancing Configuration: */
+#define BQ952_CB_CHG 0x01u                  /*   autonomous balancing while charging */
+#define BQ952_CB_RLX 0x02u                  /*   autonomous balancing at rest (relax) */
+#define BQ952_CB_NO_CMD 0x10u               /*   host balancing commands ignored */
+#define BQ952_DM_CB_MIN_CELL_TEMP 0x9336u   /* I1 degC */
+#define BQ952_DM_CB_MAX_CELL_TEMP 0x9337u   /* I1 degC */
+#define BQ952_DM_CB_MAX_INT_TEMP 0x9338u    /* I1 degC */
+#define BQ952_DM_CB_MAX_CELLS 0x933Au       /* U1: cells balanced at once */
+#define BQ952_DM_CB_CHG_MIN_CELL_V 0x933Bu  /* I2 mV */
+#define BQ952_DM_CB_CHG_MIN_DELTA 0x933Du   /* U1 mV: start above the lowest cell */
+#define BQ952_DM_CB_CHG_STOP_DELTA 0x933Eu  /* U1 mV: stop at */
+#define BQ952_DM_CB_RLX_MIN_CELL_V 0x933Fu  /* I2 mV */
+#define BQ952_DM_CB_RLX_MIN_DELTA 0x9341u   /* U1 mV */
+#define BQ952_DM_CB_RLX_STOP_DELTA 0x9342u  /* U1 mV */
 #define BQ952_DM_CB_INTERVAL 0x9339u        /* U1 s: host balancing ends this long after the last CB_ACTIVE_CELLS write */
 #define BQ952_DM_MFG_STATUS_INIT 0x9343u    /* H2: FET_EN at power-up */
 

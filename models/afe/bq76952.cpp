@@ -150,6 +150,20 @@ void Bq76952Chain::initDataMemory() {
     putDm(static_cast<uint16_t>(r.at + 2), i8(r.recovery_C));
   }
   putDm(BQ952_DM_CB_INTERVAL, 20);
+  // Autonomous balancing: off (the part's defaults for its thresholds).
+  putDm(BQ952_DM_CB_CONFIG, 0);
+  putDm(BQ952_DM_CB_MIN_CELL_TEMP, i8(-20));
+  putDm(BQ952_DM_CB_MAX_CELL_TEMP, 60);
+  putDm(BQ952_DM_CB_MAX_INT_TEMP, 70);
+  putDm(BQ952_DM_CB_MAX_CELLS, 1);
+  put16(BQ952_DM_CB_CHG_MIN_CELL_V, 3900);
+  putDm(BQ952_DM_CB_CHG_MIN_DELTA, 40);
+  putDm(BQ952_DM_CB_CHG_STOP_DELTA, 20);
+  put16(BQ952_DM_CB_RLX_MIN_CELL_V, 3900);
+  putDm(BQ952_DM_CB_RLX_MIN_DELTA, 40);
+  putDm(BQ952_DM_CB_RLX_STOP_DELTA, 20);
+  put16(BQ952_DM_DSG_CURRENT_THRESHOLD, 100);  // userA (1 mA)
+  put16(BQ952_DM_CHG_CURRENT_THRESHOLD, 50);
   put16(BQ952_DM_MFG_STATUS_INIT, 0);  // FET test mode until the host sends FET_ENABLE
 }
 
@@ -187,6 +201,21 @@ void Bq76952Chain::decodeSettings() {
   temp(BQ952_DM_UTD_THRESHOLD, s.utd_C, s.utd_delay_s, s.utd_recovery_C);
   s.userA_A = BQ952_USER_AMPS_TENTHS_MA(dataMemory(BQ952_DM_DA_CONFIG) & 0x03u) * 1e-4;
   s.cb_interval_s = dataMemory(BQ952_DM_CB_INTERVAL);
+  s.cbConfig = dataMemory(BQ952_DM_CB_CONFIG);
+  s.cbMinCell_C = dmI8(BQ952_DM_CB_MIN_CELL_TEMP);
+  s.cbMaxCell_C = dmI8(BQ952_DM_CB_MAX_CELL_TEMP);
+  s.cbMaxInt_C = dmI8(BQ952_DM_CB_MAX_INT_TEMP);
+  s.cbMaxCells = dataMemory(BQ952_DM_CB_MAX_CELLS);
+  const uint16_t minV[2] = {BQ952_DM_CB_CHG_MIN_CELL_V, BQ952_DM_CB_RLX_MIN_CELL_V};
+  const uint16_t start[2] = {BQ952_DM_CB_CHG_MIN_DELTA, BQ952_DM_CB_RLX_MIN_DELTA};
+  const uint16_t stop[2] = {BQ952_DM_CB_CHG_STOP_DELTA, BQ952_DM_CB_RLX_STOP_DELTA};
+  for (int m = 0; m < 2; ++m) {
+    s.cbMinCell_mV[m] = static_cast<int16_t>(dm16(minV[m]));
+    s.cbStartDelta_mV[m] = dataMemory(start[m]);
+    s.cbStopDelta_mV[m] = dataMemory(stop[m]);
+  }
+  s.chgThreshold_A = static_cast<int16_t>(dm16(BQ952_DM_CHG_CURRENT_THRESHOLD)) * s.userA_A;
+  s.dsgThreshold_A = static_cast<int16_t>(dm16(BQ952_DM_DSG_CURRENT_THRESHOLD)) * s.userA_A;
 }
 
 // --- power-up ------------------------------------------------------------------
@@ -206,7 +235,8 @@ void Bq76952Chain::powerOn(double t) {
   heldAt_s = -1.0;
   cc_As = 0.0;
   ccLast_s = ccSince_s = t;
-  balanceMask_ = 0;
+  balanceMask_ = autoMask_ = 0;
+  autoEval_s = -1.0;
   subLo_ = subHi_ = checksum_ = length_ = 0;
   buffer_.fill(0);
   subReady_s = t;
@@ -325,14 +355,58 @@ void Bq76952Chain::advance(double t) {
   }
   // Host balancing ends on the device when the host stops re-arming it.
   if (balanceMask_ != 0 && t - balanceArmed_s >= s_.cb_interval_s - 1e-9) balanceMask_ = 0;
+  balanceAutonomously(t);
   alarmStatus_ |= alarmRaw();
+}
+
+void Bq76952Chain::balanceAutonomously(double t) {
+  const Settings& p = s_;
+  if (!(p.cbConfig & (BQ952_CB_CHG | BQ952_CB_RLX)) || balanceMask_ != 0) {
+    autoMask_ = 0;
+    return;
+  }
+  if (autoEval_s >= 0.0 && t - autoEval_s < p.cb_interval_s - 1e-9) return;
+  autoEval_s = t;
+  // Which case: charging (current into the pack above its threshold) or at rest.
+  const double charge_A = -heldCurrent_A;
+  const bool charging = charge_A > p.chgThreshold_A;
+  const bool relaxed = !charging && heldCurrent_A <= p.dsgThreshold_A;
+  const int m = charging && (p.cbConfig & BQ952_CB_CHG) ? 0 : relaxed && (p.cbConfig & BQ952_CB_RLX) ? 1 : -1;
+  bool tempsOk = (analog_.die_C <= p.cbMaxInt_C);
+  for (int k = 0; k < std::min(cfg_.thermistors_per_device, 2); ++k)  // cell thermistors (TS3: FETs)
+    tempsOk = tempsOk && heldTs_C[static_cast<size_t>(k)] >= p.cbMinCell_C && heldTs_C[static_cast<size_t>(k)] <= p.cbMaxCell_C;
+  if (m < 0 || !tempsOk) {
+    autoMask_ = 0;
+    return;
+  }
+  // The device's own readings: start above Min Delta, keep until Stop Delta.
+  int vmin = 1 << 20;
+  for (int c = 0; c < cells_; ++c) vmin = std::min<int>(vmin, cell_mV[static_cast<size_t>(c)]);
+  std::array<int, BQ952_MAX_CELLS> order{};
+  for (int c = 0; c < cells_; ++c) order[static_cast<size_t>(c)] = c;
+  std::stable_sort(order.begin(), order.begin() + cells_,
+                   [&](int a, int b) { return cell_mV[static_cast<size_t>(a)] > cell_mV[static_cast<size_t>(b)]; });
+  uint16_t pick = 0;
+  int picked = 0;
+  for (int i = 0; i < cells_ && picked < p.cbMaxCells; ++i) {
+    const int c = order[static_cast<size_t>(i)];
+    const int v = cell_mV[static_cast<size_t>(c)];
+    const bool was = (autoMask_ >> c) & 1u;
+    const double delta = v - vmin;
+    const bool wanted = v >= p.cbMinCell_mV[m] && (delta >= p.cbStartDelta_mV[m] || (was && delta > p.cbStopDelta_mV[m]));
+    const uint16_t neighbours = static_cast<uint16_t>((c > 0 ? 1u << (c - 1) : 0u) | (1u << (c + 1)));
+    if (!wanted || (pick & neighbours)) continue;
+    pick = static_cast<uint16_t>(pick | (1u << c));
+    ++picked;
+  }
+  autoMask_ = pick;
 }
 
 uint16_t Bq76952Chain::alarmRaw() const {
   uint16_t raw = 0;
   if (statusA_) raw |= BQ952_AL_SSA;
   if (statusB_) raw |= BQ952_AL_SSBC;
-  if (balanceMask_) raw |= BQ952_AL_CB;
+  if (balanceMask_ | autoMask_) raw |= BQ952_AL_CB;
   if (!chargeFetOn()) raw |= BQ952_AL_XCHG;
   if (!dischargeFetOn()) raw |= BQ952_AL_XDSG;
   return raw;
@@ -343,7 +417,7 @@ uint16_t Bq76952Chain::alarmRaw() const {
 bool Bq76952Chain::faultLine() const { return (alarmStatus_ & alarmEnable_) != 0; }
 
 bool Bq76952Chain::balancing(int d, int cell) const {
-  return d == 0 && cell >= 0 && cell < cells_ && !cfgUpdate_ && (balanceMask_ & (1u << cell)) != 0;
+  return d == 0 && cell >= 0 && cell < cells_ && !cfgUpdate_ && ((balanceMask_ | autoMask_) & (1u << cell)) != 0;
 }
 
 bool Bq76952Chain::chargeFetOn() const {
@@ -544,7 +618,7 @@ void Bq76952Chain::subcommandAddressed(double t) {
       ccSince_s = t;
       break;
     case BQ952_SUB_CB_ACTIVE_CELLS:
-      putLe16(out, balanceMask_);
+      putLe16(out, static_cast<uint16_t>(balanceMask_ | autoMask_));
       len = 2;
       break;
     case BQ952_SUB_CBSTATUS1:
@@ -553,7 +627,7 @@ void Bq76952Chain::subcommandAddressed(double t) {
       break;
     case BQ952_SUB_SET_CFGUPDATE:
       cfgUpdate_ = true;
-      balanceMask_ = 0;
+      balanceMask_ = autoMask_ = 0;
       break;
     case BQ952_SUB_EXIT_CFGUPDATE:
       if (cfgUpdate_) {
@@ -584,7 +658,8 @@ void Bq76952Chain::commitTransfer(double t) {
     for (int i = 0; i < dataLen; ++i) putDm(static_cast<uint16_t>(code + i), buffer_[static_cast<size_t>(i)]);
     return;
   }
-  if (code == BQ952_SUB_CB_ACTIVE_CELLS && dataLen == 2 && !cfgUpdate_) {
+  if (code == BQ952_SUB_CB_ACTIVE_CELLS && dataLen == 2 && !cfgUpdate_ && !(s_.cbConfig & BQ952_CB_NO_CMD)) {
+    autoMask_ = 0;  // host-controlled balancing takes over
     const uint16_t all = static_cast<uint16_t>((1u << cells_) - 1u);
     const uint16_t mask = static_cast<uint16_t>((buffer_[0] | (buffer_[1] << 8)) & all);
     if (mask != 0 && balanceMask_ == 0) balanceStarted_s = t;

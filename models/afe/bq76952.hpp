@@ -23,6 +23,12 @@
 //                      the host writes 0, on RESET or CONFIG_UPDATE, or on the device
 //                      once Cell Balance Interval (data memory, default 20 s) has passed
 //                      since the last CB_ACTIVE_CELLS write.
+//                      Autonomous balancing (Balancing Configuration CB_CHG / CB_RLX):
+//                      every Cell Balance Interval, while charging or at rest, with the
+//                      cell and die temperatures in their limits and no host balancing,
+//                      the device balances the highest cells above Min Cell V that sit
+//                      Min Delta above the lowest (kept until Stop Delta), at most Max
+//                      Cells at once and never two neighbours.
 //   coulomb counter:   one conversion per 250 ms (DASTATUS6, RESET_PASSQ).
 // Signs: DeviceAnalog::current_A is positive in discharge; the part's CC2 and
 // accumulated charge are positive in charge, as on the real device.
@@ -78,6 +84,12 @@ class Bq76952Chain : public MonitorChain {
     double utd_C = 0, utd_delay_s = 0, utd_recovery_C = 0;
     double userA_A = 0.001;
     double cb_interval_s = 20.0;
+    // autonomous balancing: [0] charging, [1] relax
+    uint8_t cbConfig = 0;
+    double cbMinCell_C = -20, cbMaxCell_C = 60, cbMaxInt_C = 70;
+    int cbMaxCells = 1;
+    double cbMinCell_mV[2] = {3900, 3900}, cbStartDelta_mV[2] = {40, 40}, cbStopDelta_mV[2] = {20, 20};
+    double chgThreshold_A = 0.05, dsgThreshold_A = 0.1;
   };
 
   bool replies() const;  // not silent, link intact
@@ -90,6 +102,7 @@ class Bq76952Chain : public MonitorChain {
   int8_t dmI8(uint16_t address) const { return static_cast<int8_t>(dataMemory(address)); }
 
   void measure(double t);
+  void balanceAutonomously(double t);
   void protect(double t);
   uint8_t fetStatus() const;
   uint16_t alarmRaw() const;
@@ -128,7 +141,9 @@ class Bq76952Chain : public MonitorChain {
   // coulomb counter (charge positive in discharge, as the analog input)
   double cc_As = 0.0, ccLast_s = 0.0, ccSince_s = 0.0;
   // host balancing
-  uint16_t balanceMask_ = 0;
+  uint16_t balanceMask_ = 0;  // host-controlled
+  uint16_t autoMask_ = 0;     // chosen by the device
+  double autoEval_s = -1.0;
   double balanceArmed_s = 0.0, balanceStarted_s = 0.0;
   double now_s = 0.0;
   // subcommand interface

@@ -281,5 +281,21 @@ TEST(Bq76952Driver, SameSeedSameReadings) {
   EXPECT_NE(run(9), run(10));
 }
 
+TEST(Bq76952Driver, ConfiguresAutonomousBalancing) {
+  Rig rig(modelConfig(true), 8);
+  rig.cfg.balancingConfig = BQ952_CB_CHG;
+  rig.cfg.autoBalance = bms::Bq952AutoBalanceConfig{0, 45, 70, 1, 3500, 30, 10};
+  ASSERT_EQ(bms::bq952Configure(rig.drv, rig.cfg, 0), bms::FrameResult::Ok);
+  // Charging at 2 A; cells 3.60 .. 3.67 V: only cells 4..8 sit >= 30 mV over the lowest,
+  // and one cell at a time: the highest, cell 8 (from the next 20 s evaluation on).
+  rig.dev.analog(0).current_A = -2.0;
+  rig.run(20.0);
+  for (int c = 0; c < 8; ++c) EXPECT_EQ(rig.dev.balancing(0, c), c == 7) << c;
+  // Not while discharging (CB_RLX off too).
+  rig.dev.analog(0).current_A = 2.0;
+  rig.run(20.0);
+  for (int c = 0; c < 8; ++c) EXPECT_FALSE(rig.dev.balancing(0, c)) << c;
+}
+
 }  // namespace
 }  // namespace packsim

@@ -486,5 +486,50 @@ TEST(Bq76952, ProtectionsOpenAndRecloseTheFetsWhenTheFrameLevelModelDoes) {
   }
 }
 
+// Autonomous balancing (TRM: every Cell Balance Interval, highest cells above Min Cell V
+// and Min Delta above the lowest, at most Max Cells, no two neighbours, stop at Stop Delta).
+TEST(Bq76952, AutonomousBalancingPicksCellsByItsThresholdsEachInterval) {
+  Bq76952Chain dev(config(false), 4, 1);
+  DeviceAnalog& a = dev.analog(0);
+  a.cell_V = {3.95, 4.00, 4.05, 4.06};
+  a.therm_C = {25.0, 25.0, 25.0};
+  Host h{dev, false};
+  h.settle(0.01);
+  EXPECT_FALSE(dev.balancing(0, 3));  // off by default
+  h.sub(BQ952_SUB_SET_CFGUPDATE);
+  h.subWrite(BQ952_DM_CB_CONFIG, {BQ952_CB_RLX});
+  h.subWrite(BQ952_DM_CB_MAX_CELLS, {2});
+  h.sub(BQ952_SUB_EXIT_CFGUPDATE);
+  h.settle(0.01);
+  // Deltas over the lowest (3950 mV): 50, 100, 110 mV, all >= 40. Highest first: cell 4,
+  // then cell 3 is its neighbour, so cell 2.
+  EXPECT_FALSE(dev.balancing(0, 0));
+  EXPECT_TRUE(dev.balancing(0, 1));
+  EXPECT_FALSE(dev.balancing(0, 2));
+  EXPECT_TRUE(dev.balancing(0, 3));
+  EXPECT_EQ(h.subRead(BQ952_SUB_CB_ACTIVE_CELLS, 2)[0], 0x0A);
+  // Cell 4 falls to 20 mV over the lowest (= Stop Delta): it stops at the next
+  // evaluation, 20 s on, not before; cell 3 (50 mV) is the highest, so cell 2 waits.
+  a.cell_V = {3.95, 4.00, 4.05, 3.97};
+  h.settle(19.0);
+  EXPECT_TRUE(dev.balancing(0, 3));
+  h.settle(1.0);
+  EXPECT_FALSE(dev.balancing(0, 3));
+  EXPECT_TRUE(dev.balancing(0, 2));
+  EXPECT_FALSE(dev.balancing(0, 1));
+  // Discharging (not relax): no autonomous balancing at the next evaluation.
+  a.current_A = 5.0;
+  h.settle(20.0);
+  EXPECT_EQ(h.subRead(BQ952_SUB_CB_ACTIVE_CELLS, 2)[0], 0);
+  // At rest again but a cell thermistor above Max Cell Temp (60 degC): none either.
+  a.current_A = 0.0;
+  a.therm_C = {65.0, 25.0, 25.0};
+  h.settle(20.0);
+  EXPECT_EQ(h.subRead(BQ952_SUB_CB_ACTIVE_CELLS, 2)[0], 0);
+  a.therm_C = {25.0, 25.0, 25.0};
+  h.settle(20.0);
+  EXPECT_EQ(h.subRead(BQ952_SUB_CB_ACTIVE_CELLS, 2)[0], 0x04);
+}
+
 }  // namespace
 }  // namespace packsim
