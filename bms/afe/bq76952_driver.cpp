@@ -133,6 +133,13 @@ uint8_t nearestScd(uint16_t mV) {
 }
 // value / step, rounded, for unsigned firmware units
 uint32_t steps(uint32_t value, float step) { return static_cast<uint32_t>(static_cast<float>(value) / step + 0.5f); }
+uint32_t clampU(uint32_t v, uint32_t lo, uint32_t hi) { return v < lo ? lo : v > hi ? hi : v; }
+// OCC / OCD1 delay setting: (n + 2) x 3.3 ms, n = 1..127
+int32_t ocDelay(uint16_t ms) {
+  const uint32_t n = steps(ms, BQ952_PROT_DELAY_LSB_MS);
+  return static_cast<int32_t>(clampU(n > BQ952_OC_DELAY_OFFSET ? n - BQ952_OC_DELAY_OFFSET : 0, BQ952_OC_DELAY_MIN,
+                                     BQ952_OC_DELAY_MAX));
+}
 
 constexpr uint8_t kMaxDmRows = 48;
 
@@ -150,16 +157,16 @@ uint8_t dmRows(const Bq952DriverConfig& c, DmRow* rows) {
   const DmRow table[] = {
       {BQ952_DM_DA_CONFIG, 1, 0x04 | (c.userAmps & 0x03)},
       {BQ952_DM_CB_INTERVAL, 1, c.balanceInterval_s},
-      {BQ952_DM_COV_THRESHOLD, 1, static_cast<int32_t>(steps(p.cov_mV, BQ952_COV_CUV_LSB_MV))},
+      {BQ952_DM_COV_THRESHOLD, 1, static_cast<int32_t>(clampU(steps(p.cov_mV, BQ952_COV_CUV_LSB_MV), BQ952_COV_MIN, BQ952_COV_MAX))},
       {BQ952_DM_COV_DELAY, 2, static_cast<int32_t>(steps(p.covDelay_ms, BQ952_PROT_DELAY_LSB_MS))},
       {BQ952_DM_COV_RECOVERY_HYST, 1, static_cast<int32_t>(steps(p.covRecovery_mV, BQ952_COV_CUV_LSB_MV))},
-      {BQ952_DM_CUV_THRESHOLD, 1, static_cast<int32_t>(steps(p.cuv_mV, BQ952_COV_CUV_LSB_MV))},
+      {BQ952_DM_CUV_THRESHOLD, 1, static_cast<int32_t>(clampU(steps(p.cuv_mV, BQ952_COV_CUV_LSB_MV), BQ952_CUV_MIN, BQ952_CUV_MAX))},
       {BQ952_DM_CUV_DELAY, 2, static_cast<int32_t>(steps(p.cuvDelay_ms, BQ952_PROT_DELAY_LSB_MS))},
       {BQ952_DM_CUV_RECOVERY_HYST, 1, static_cast<int32_t>(steps(p.cuvRecovery_mV, BQ952_COV_CUV_LSB_MV))},
-      {BQ952_DM_OCC_THRESHOLD, 1, static_cast<int32_t>(steps(p.occ_mV, BQ952_OC_THRESHOLD_LSB_MV))},
-      {BQ952_DM_OCC_DELAY, 1, static_cast<int32_t>(steps(p.occDelay_ms, BQ952_PROT_DELAY_LSB_MS))},
-      {BQ952_DM_OCD1_THRESHOLD, 1, static_cast<int32_t>(steps(p.ocd1_mV, BQ952_OC_THRESHOLD_LSB_MV))},
-      {BQ952_DM_OCD1_DELAY, 1, static_cast<int32_t>(steps(p.ocd1Delay_ms, BQ952_PROT_DELAY_LSB_MS))},
+      {BQ952_DM_OCC_THRESHOLD, 1, static_cast<int32_t>(clampU(steps(p.occ_mV, BQ952_OC_THRESHOLD_LSB_MV), BQ952_OCC_MIN, BQ952_OCC_MAX))},
+      {BQ952_DM_OCC_DELAY, 1, ocDelay(p.occDelay_ms)},
+      {BQ952_DM_OCD1_THRESHOLD, 1, static_cast<int32_t>(clampU(steps(p.ocd1_mV, BQ952_OC_THRESHOLD_LSB_MV), BQ952_OCD1_MIN, BQ952_OCD1_MAX))},
+      {BQ952_DM_OCD1_DELAY, 1, ocDelay(p.ocd1Delay_ms)},
       {BQ952_DM_SCD_THRESHOLD, 1, nearestScd(p.scd_mV)},
       {BQ952_DM_SCD_RECOVERY_TIME, 1, p.currentRecovery_s},
       {BQ952_DM_PROT_RECOVERY_TIME, 1, p.currentRecovery_s},

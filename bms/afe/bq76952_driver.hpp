@@ -31,7 +31,9 @@
 
 namespace bms {
 
-// The part's protections in firmware units (written to data memory at configure).
+// The part's protections in firmware units (written to data memory at configure, in
+// the part's steps; a value outside the part's range is written as its nearest limit:
+// validate the configuration before it reaches the firmware).
 struct Bq952ProtectionConfig {
   uint16_t cov_mV, covDelay_ms, covRecovery_mV;
   uint16_t cuv_mV, cuvDelay_ms, cuvRecovery_mV;

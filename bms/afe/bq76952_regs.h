@@ -137,16 +137,16 @@
 #define BQ952_DM_CHG_FET_PROT_B 0x9266u
 #define BQ952_DM_DSG_FET_PROT_A 0x9269u     /* H1: which A faults open DSG */
 #define BQ952_DM_DSG_FET_PROT_B 0x926Au
-#define BQ952_DM_CUV_THRESHOLD 0x9275u      /* U1, 50.6 mV */
+#define BQ952_DM_CUV_THRESHOLD 0x9275u      /* U1 20..90, 50.6 mV */
 #define BQ952_DM_CUV_DELAY 0x9276u          /* U2, 3.3 ms */
-#define BQ952_DM_COV_THRESHOLD 0x9278u      /* U1, 50.6 mV */
+#define BQ952_DM_COV_THRESHOLD 0x9278u      /* U1 20..110, 50.6 mV */
 #define BQ952_DM_COV_DELAY 0x9279u          /* U2, 3.3 ms */
 #define BQ952_DM_CUV_RECOVERY_HYST 0x927Bu  /* U1, 50.6 mV */
 #define BQ952_DM_COV_RECOVERY_HYST 0x927Cu  /* U1, 50.6 mV */
-#define BQ952_DM_OCC_THRESHOLD 0x9280u      /* U1, 2 mV across the shunt */
-#define BQ952_DM_OCC_DELAY 0x9281u          /* U1, 3.3 ms */
-#define BQ952_DM_OCD1_THRESHOLD 0x9282u     /* U1, 2 mV */
-#define BQ952_DM_OCD1_DELAY 0x9283u         /* U1, 3.3 ms */
+#define BQ952_DM_OCC_THRESHOLD 0x9280u      /* U1 2..62, 2 mV across the shunt */
+#define BQ952_DM_OCC_DELAY 0x9281u          /* U1 1..127: (n + 2) x 3.3 ms */
+#define BQ952_DM_OCD1_THRESHOLD 0x9282u     /* U1 2..100, 2 mV */
+#define BQ952_DM_OCD1_DELAY 0x9283u         /* U1 1..127: (n + 2) x 3.3 ms */
 #define BQ952_DM_SCD_THRESHOLD 0x9286u      /* U1: index into BQ952_SCD_THRESHOLDS_MV */
 #define BQ952_DM_SCD_RECOVERY_TIME 0x9294u  /* U1, s */
 #define BQ952_DM_OTC_THRESHOLD 0x929Au      /* I1 degC */
@@ -190,6 +190,17 @@
 #define BQ952_TEMP_LSB_K 0.1f
 #define BQ952_COV_CUV_LSB_MV 50.6f
 #define BQ952_PROT_DELAY_LSB_MS 3.3f
+#define BQ952_OC_DELAY_OFFSET 2u            /* OCC/OCD1 delay = (setting + 2) x 3.3 ms */
+#define BQ952_COV_MIN 20u
+#define BQ952_COV_MAX 110u
+#define BQ952_CUV_MIN 20u
+#define BQ952_CUV_MAX 90u
+#define BQ952_OCC_MIN 2u
+#define BQ952_OCC_MAX 62u
+#define BQ952_OCD1_MIN 2u
+#define BQ952_OCD1_MAX 100u
+#define BQ952_OC_DELAY_MIN 1u
+#define BQ952_OC_DELAY_MAX 127u
 #define BQ952_OC_THRESHOLD_LSB_MV 2.0f
 #define BQ952_USER_AMPS_DEFAULT 1u          /* DA Configuration USER_AMPS: 1 mA */
 /* DA Configuration USER_AMPS field -> one userA in 0.1 mA */

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -17,7 +19,6 @@ constexpr uint8_t kAddrR = static_cast<uint8_t>(kAddrW | 1u);
 constexpr uint16_t kScdThresholds_mV[BQ952_SCD_SETTINGS] = BQ952_SCD_THRESHOLDS_MV;
 constexpr double kCcConversion_s = BQ952_CC_CONVERSION_US * 1e-6;
 
-uint8_t u8(double v) { return static_cast<uint8_t>(std::clamp(std::nearbyint(v), 0.0, 255.0)); }
 uint8_t i8(double v) { return static_cast<uint8_t>(static_cast<int8_t>(std::clamp(std::nearbyint(v), -128.0, 127.0))); }
 uint16_t u16(double v) { return static_cast<uint16_t>(std::clamp(std::nearbyint(v), 0.0, 65535.0)); }
 int16_t i16(double v) { return static_cast<int16_t>(std::clamp(std::nearbyint(v), -32768.0, 32767.0)); }
@@ -27,6 +28,11 @@ void putLe16(uint8_t* p, uint16_t v) {
 }
 void putLe32(uint8_t* p, uint32_t v) {
   for (int i = 0; i < 4; ++i) p[i] = static_cast<uint8_t>((v >> (8 * i)) & 0xFF);
+}
+std::string fmt(double v) {
+  std::ostringstream o;
+  o << std::setprecision(5) << v;
+  return o.str();
 }
 bool isDataMemory(uint16_t code) { return code >= BQ952_DM_FIRST && code <= BQ952_DM_LAST; }
 uint8_t crcOf(std::initializer_list<uint8_t> bytes) {
@@ -119,22 +125,36 @@ void Bq76952Chain::initDataMemory() {
   putDm(BQ952_DM_DSG_FET_PROT_A, BQ952_SA_SCD | BQ952_SA_OCD2 | BQ952_SA_OCD1 | BQ952_SA_CUV);
   putDm(BQ952_DM_DSG_FET_PROT_B, BQ952_SB_OTF | BQ952_SB_OTINT | BQ952_SB_OTD | BQ952_SB_UTINT | BQ952_SB_UTD);
   const double mvStep = BQ952_COV_CUV_LSB_MV, msStep = BQ952_PROT_DELAY_LSB_MS;
-  putDm(BQ952_DM_CUV_THRESHOLD, u8(p.cuv_V * 1e3 / mvStep));
-  put16(BQ952_DM_CUV_DELAY, u16(p.cuv_delay_s * 1e3 / msStep));
-  putDm(BQ952_DM_CUV_RECOVERY_HYST, u8(p.cuv_recovery_V * 1e3 / mvStep));
-  putDm(BQ952_DM_COV_THRESHOLD, u8(p.cov_V * 1e3 / mvStep));
-  put16(BQ952_DM_COV_DELAY, u16(p.cov_delay_s * 1e3 / msStep));
-  putDm(BQ952_DM_COV_RECOVERY_HYST, u8(p.cov_recovery_V * 1e3 / mvStep));
-  putDm(BQ952_DM_OCC_THRESHOLD, u8(p.occ_mV / BQ952_OC_THRESHOLD_LSB_MV));
-  putDm(BQ952_DM_OCC_DELAY, u8(p.occ_delay_s * 1e3 / msStep));
-  putDm(BQ952_DM_OCD1_THRESHOLD, u8(p.ocd1_mV / BQ952_OC_THRESHOLD_LSB_MV));
-  putDm(BQ952_DM_OCD1_DELAY, u8(p.ocd1_delay_s * 1e3 / msStep));
+  // A setting the part cannot hold is an error, never a silent clamp.
+  auto setting = [](const char* name, double value, double unit, double step, int offset, int lo, int hi) {
+    const int n = static_cast<int>(std::nearbyint(value / step)) - offset;
+    if (n < lo || n > hi)
+      throw std::invalid_argument("bq76952: protection " + std::string(name) + " = " + fmt(value * unit) +
+                                  " is outside what the part holds (" + fmt((lo + offset) * step * unit) + " .. " +
+                                  fmt((hi + offset) * step * unit) + ")");
+    return n;
+  };
+  putDm(BQ952_DM_CUV_THRESHOLD, static_cast<uint8_t>(setting("cuv_V", p.cuv_V * 1e3, 1e-3, mvStep, 0, BQ952_CUV_MIN, BQ952_CUV_MAX)));
+  put16(BQ952_DM_CUV_DELAY, static_cast<uint16_t>(setting("cuv_delay_ms", p.cuv_delay_s * 1e3, 1, msStep, 0, 1, 2047)));
+  putDm(BQ952_DM_CUV_RECOVERY_HYST, static_cast<uint8_t>(setting("cuv_recovery_V", p.cuv_recovery_V * 1e3, 1e-3, mvStep, 0, 0, 20)));
+  putDm(BQ952_DM_COV_THRESHOLD, static_cast<uint8_t>(setting("cov_V", p.cov_V * 1e3, 1e-3, mvStep, 0, BQ952_COV_MIN, BQ952_COV_MAX)));
+  put16(BQ952_DM_COV_DELAY, static_cast<uint16_t>(setting("cov_delay_ms", p.cov_delay_s * 1e3, 1, msStep, 0, 1, 2047)));
+  putDm(BQ952_DM_COV_RECOVERY_HYST, static_cast<uint8_t>(setting("cov_recovery_V", p.cov_recovery_V * 1e3, 1e-3, mvStep, 0, 0, 20)));
+  const double ocStep = BQ952_OC_THRESHOLD_LSB_MV;
+  const int off = BQ952_OC_DELAY_OFFSET;
+  putDm(BQ952_DM_OCC_THRESHOLD, static_cast<uint8_t>(setting("occ_mV", p.occ_mV, 1, ocStep, 0, BQ952_OCC_MIN, BQ952_OCC_MAX)));
+  putDm(BQ952_DM_OCC_DELAY, static_cast<uint8_t>(setting("occ_delay_ms", p.occ_delay_s * 1e3, 1, msStep, off,
+                                                         BQ952_OC_DELAY_MIN, BQ952_OC_DELAY_MAX)));
+  putDm(BQ952_DM_OCD1_THRESHOLD, static_cast<uint8_t>(setting("ocd1_mV", p.ocd1_mV, 1, ocStep, 0, BQ952_OCD1_MIN, BQ952_OCD1_MAX)));
+  putDm(BQ952_DM_OCD1_DELAY, static_cast<uint8_t>(setting("ocd1_delay_ms", p.ocd1_delay_s * 1e3, 1, msStep, off,
+                                                          BQ952_OC_DELAY_MIN, BQ952_OC_DELAY_MAX)));
   uint8_t scd = 0;  // the nearest setting
   for (uint8_t k = 1; k < BQ952_SCD_SETTINGS; ++k)
     if (std::fabs(kScdThresholds_mV[k] - p.scd_mV) < std::fabs(kScdThresholds_mV[scd] - p.scd_mV)) scd = k;
   putDm(BQ952_DM_SCD_THRESHOLD, scd);
-  putDm(BQ952_DM_SCD_RECOVERY_TIME, u8(p.current_recovery_s));
-  putDm(BQ952_DM_PROT_RECOVERY_TIME, u8(p.current_recovery_s));
+  const uint8_t recovery = static_cast<uint8_t>(setting("current_recovery_ms", p.current_recovery_s * 1e3, 1, 1e3, 0, 0, 255));
+  putDm(BQ952_DM_SCD_RECOVERY_TIME, recovery);
+  putDm(BQ952_DM_PROT_RECOVERY_TIME, recovery);
   const double h = p.temp_recovery_C;
   const struct {
     uint16_t at;
@@ -145,9 +165,9 @@ void Bq76952Chain::initDataMemory() {
       {BQ952_DM_UTD_THRESHOLD, p.utd_C, p.ut_delay_s, p.utd_C + h},
   };
   for (const auto& r : temps) {  // threshold, delay, recovery: three consecutive bytes
-    putDm(r.at, i8(r.threshold_C));
-    putDm(static_cast<uint16_t>(r.at + 1), u8(r.delay_s));
-    putDm(static_cast<uint16_t>(r.at + 2), i8(r.recovery_C));
+    putDm(r.at, static_cast<uint8_t>(setting("temperature threshold (degC)", r.threshold_C, 1, 1, 0, -40, 120)));
+    putDm(static_cast<uint16_t>(r.at + 1), static_cast<uint8_t>(setting("ot/ut_delay_ms", r.delay_s * 1e3, 1, 1e3, 0, 0, 255)));
+    putDm(static_cast<uint16_t>(r.at + 2), static_cast<uint8_t>(setting("temperature recovery (degC)", r.recovery_C, 1, 1, 0, -40, 120)));
   }
   putDm(BQ952_DM_CB_INTERVAL, 20);
   // Autonomous balancing: off (the part's defaults for its thresholds).
@@ -183,9 +203,9 @@ void Bq76952Chain::decodeSettings() {
   s.cov_delay_s = dm16(BQ952_DM_COV_DELAY) * sStep;
   s.cov_recovery_V = dataMemory(BQ952_DM_COV_RECOVERY_HYST) * mvStep;
   s.occ_mV = dataMemory(BQ952_DM_OCC_THRESHOLD) * BQ952_OC_THRESHOLD_LSB_MV;
-  s.occ_delay_s = dataMemory(BQ952_DM_OCC_DELAY) * sStep;
+  s.occ_delay_s = (dataMemory(BQ952_DM_OCC_DELAY) + BQ952_OC_DELAY_OFFSET) * sStep;
   s.ocd1_mV = dataMemory(BQ952_DM_OCD1_THRESHOLD) * BQ952_OC_THRESHOLD_LSB_MV;
-  s.ocd1_delay_s = dataMemory(BQ952_DM_OCD1_DELAY) * sStep;
+  s.ocd1_delay_s = (dataMemory(BQ952_DM_OCD1_DELAY) + BQ952_OC_DELAY_OFFSET) * sStep;
   s.scd_mV = kScdThresholds_mV[dataMemory(BQ952_DM_SCD_THRESHOLD) % BQ952_SCD_SETTINGS];
   s.current_recovery_s = dataMemory(BQ952_DM_PROT_RECOVERY_TIME);
   s.scd_recovery_s = dataMemory(BQ952_DM_SCD_RECOVERY_TIME);

@@ -6,6 +6,8 @@
 #include <bms/afe/bq76952_regs.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "models/afe/bq76952.hpp"
@@ -529,6 +531,32 @@ TEST(Bq76952, AutonomousBalancingPicksCellsByItsThresholdsEachInterval) {
   a.therm_C = {25.0, 25.0, 25.0};
   h.settle(20.0);
   EXPECT_EQ(h.subRead(BQ952_SUB_CB_ACTIVE_CELLS, 2)[0], 0x04);
+}
+
+// MonitorConfig::bq's defaults land on the part's documented data-memory defaults
+// (TRM: COV 86, COV delay 74, CUV 50, OCC 2 / delay 4, OCD1 4 / delay 1, SCD 100 mV);
+// a value the part cannot hold is an error naming the setting, not a silent clamp.
+TEST(Bq76952, ProgrammedSettingsAreThePartsDefaultsAndOutOfRangeIsAnError) {
+  Bq76952Chain dev(config(false), 4, 1);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_COV_THRESHOLD), 86);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_COV_DELAY), 74);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_CUV_THRESHOLD), 50);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_OCC_THRESHOLD), 2);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_OCC_DELAY), 4);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_OCD1_THRESHOLD), 4);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_OCD1_DELAY), 1);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_SCD_THRESHOLD), 5);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_CHG_FET_PROT_A), 0x98);  // SCD, OCC, COV
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_DSG_FET_PROT_A), 0xE4);  // SCD, OCD2, OCD1, CUV
+  MonitorConfig c = config(false);
+  c.bq.ocd1_delay_s = 1.0;  // OCD1 Delay holds at most (127 + 2) x 3.3 ms
+  try {
+    Bq76952Chain bad(c, 4, 1);
+    ADD_FAILURE() << "accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("ocd1_delay_ms"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(Bq76952Chain(config(false), 17, 1), std::invalid_argument);
 }
 
 }  // namespace
