@@ -5,8 +5,10 @@ and compares the result files bit for bit.
     scripts/compare_results.py --base OLD_PACKSIM [--new build/packsim]
     scripts/compare_results.py --base-ref main     [--new build/packsim]
 
---base-ref builds that git ref's `packsim` in a temporary worktree first (the build
-directory is kept under the output folder, so a second run reuses it).
+--base-ref builds that git ref's `packsim` in a detached git worktree under the work
+folder first (with ccache when installed). Without --workdir the worktree is removed
+at the end; with --workdir it is kept, and a second run reuses its build (remove it
+with `git worktree remove --force DIR/tree-REF`).
 
 For each scenario (scenarios/**/*.yaml as `packsim check` collects them: not cells/ or
 profiles/) both binaries run it with the same file and seed; then every group,
@@ -18,6 +20,7 @@ scenario; exit status 1 on any difference, 2 if a run fails on one side only.
 Attributes expected to differ between builds are ignored, and only these:
 """
 import argparse
+import atexit
 import os
 import re
 import shutil
@@ -55,7 +58,9 @@ def build_ref(ref, workdir):
     build = tree / "build"
     if not (build / "CMakeCache.txt").exists():
         gen = ["-G", "Ninja"] if shutil.which("ninja") else []
-        subprocess.run(["cmake", "-S", str(tree), "-B", str(build), *gen, "-DCMAKE_POLICY_VERSION_MINIMUM=3.5",
+        cache = ["-DCMAKE_CXX_COMPILER_LAUNCHER=ccache", "-DCMAKE_C_COMPILER_LAUNCHER=ccache"] \
+            if shutil.which("ccache") else []
+        subprocess.run(["cmake", "-S", str(tree), "-B", str(build), *gen, *cache, "-DCMAKE_POLICY_VERSION_MINIMUM=3.5",
                         "-DCMAKE_BUILD_TYPE=RelWithDebInfo"], check=True)
     subprocess.run(["cmake", "--build", str(build), "-j", os.environ.get("JOBS", "2"), "--target", "packsim"],
                    check=True)
@@ -154,7 +159,13 @@ def main():
 
     workdir = Path(args.workdir) if args.workdir else Path(tempfile.mkdtemp(prefix="packsim-compare-"))
     workdir.mkdir(parents=True, exist_ok=True)
-    base_bin = Path(args.base) if args.base else build_ref(args.base_ref, workdir)
+    if not args.base:
+        base_bin = build_ref(args.base_ref, workdir)
+        if not args.workdir:  # a temporary build: drop its worktree when done
+            atexit.register(subprocess.run, ["git", "-C", str(REPO), "worktree", "remove", "--force",
+                                             str(base_bin.parent.parent)], check=False)
+    else:
+        base_bin = Path(args.base)
     new_bin = Path(args.new)
     for b in (base_bin, new_bin):
         if not os.access(b, os.X_OK):
