@@ -7,6 +7,7 @@
 #include <bms/bms_config.hpp>
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -160,6 +161,38 @@ TEST(ProtectionTable, MisspelledProtectionGetsTheClosestName) {
   const std::string e = test::yamlErrorOf(test::simpleCellYaml() + test::kSimpleLoadYaml +
                                           "bms:\n  protections:\n    overtemprature_charge: {threshold_C: 40}\n");
   EXPECT_NE(e.find("did you mean 'overtemperature_charge'"), std::string::npos) << e;
+}
+
+// docs/scenario.md lists every protection: a threshold with its SI unit and default
+// (and "off" for the tiers that are off by default), a flag rule among the flag rules.
+TEST(ProtectionTable, ScenarioDocListsEveryRow) {
+  std::ifstream in(test::scenarioDir() + "/../docs/scenario.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string doc = std::regex_replace(ss.str(), std::regex("\\s+"), " ");
+  doc = std::regex_replace(doc, std::regex("\xE2\x88\x92"), "-");  // U+2212 minus sign
+  const size_t list = doc.find("Protections (`unit`, default threshold):");
+  const size_t flags = doc.find("flag rules without a threshold", list);
+  ASSERT_NE(list, std::string::npos);
+  ASSERT_NE(flags, std::string::npos);
+  for (const ProtectionSpec& s : protectionSpecs()) {
+    const std::string name = bms::faultName(s.id);
+    SCOPED_TRACE(name);
+    const size_t at = doc.find("`" + name + "` ", list);
+    const size_t atFlag = doc.find("`" + name + "`", flags);
+    if (s.use == ThresholdUse::None) {
+      EXPECT_NE(atFlag, std::string::npos);
+      EXPECT_LT(atFlag, doc.find(". ", flags));
+      continue;
+    }
+    ASSERT_LT(at, flags);
+    std::smatch m;
+    const std::string entry = doc.substr(at + name.size() + 3, 200);
+    ASSERT_TRUE(std::regex_search(entry, m, std::regex("^\\(([A-Z])[^,)]*, (-?[0-9.]+)([^)]*)\\)"))) << entry;
+    EXPECT_EQ(m[1].str(), s.unit);
+    EXPECT_EQ(std::stod(m[2].str()), defaultProtection(s.id).threshold);
+    EXPECT_EQ(m[3].str().find("off") != std::string::npos, !defaultProtection(s.id).enabled) << m[3].str();
+  }
 }
 
 // The event text of every row, against the strings the hand-written switch produced
