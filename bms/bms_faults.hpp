@@ -1,9 +1,9 @@
 // The protection table: one row per fault, the only place a protection is defined.
 // A row names the fault (the string the events, the scenario key and the result files
 // use), what it compares, its default threshold / hysteresis / delay in firmware
-// units, its severity, whether it latches and what it opens. Rows are indexed by
-// FaultId, checked at compile time (bms_faults.cpp). The simulator derives its own columns (YAML key,
-// SI unit and scale, allowed range) from these rows: core/scenario/protection_table.hpp.
+// units, its severity, whether it latches and what it opens; indexed by FaultId, checked
+// at compile time (bms_faults.cpp). The simulator derives its columns (YAML key, SI unit
+// and scale, range, event text) from these rows: core/scenario/protection_table.hpp.
 //
 // Adding a protection: one FaultId below and its row in bms_faults.cpp (same position),
 // then its simulator row in core/scenario/protection_table.cpp.
