@@ -9,36 +9,9 @@
 
 namespace bms {
 
-// What a protection rule compares. The core computes each quantity once per tick.
-enum class Quantity : uint8_t {
-  MaxCell_mV = 0,
-  MinCell_mV,
-  DischargeCurrent_mA,  // +I (positive current discharges)
-  ChargeCurrent_mA,     // -I
-  MaxTemp_dC,
-  MaxTempCharging_dC,   // max temperature while the charger is connected, else "cold"
-  MinTemp_dC,
-  MinTempCharging_dC,   // min temperature while the charger is connected, else "warm"
-  MaxDie_dC,            // hottest monitor IC die
-  CommBadFrames,        // worst consecutive-bad-reply count over the devices
-  CellSumError_mV,      // worst |stack channel - sum of cells| per cell, over devices
-  InvalidThermistors,   // thermistor channels at a rail
-  CurrentCodeAtRail,    // 1 while the current-sense code sits at either rail
-  EStopPulled,          // 1 while an E-switch is pulled
-  MonitorFaultLine,     // 1 while a monitor IC reports its own latched fault
-  RelayStuckClosed,     // 1 while the relay, commanded open for the settle time, still
-                        // carries current or its auxiliary contact still reads closed
-  PrechargeFailed,      // 1 once every precharge attempt timed out
-  CellSpread_mV,        // max - min cell
-  Count
-};
-constexpr uint8_t kQuantityCount = static_cast<uint8_t>(Quantity::Count);
-
-// One row of the protection table. A fault becomes active when `quantity` is beyond
-// `threshold` (above or below, by `tripAbove`) continuously for `delay_ms`; a
-// non-latching fault clears once the quantity is back by `hysteresis`.
+// One rule of the flashed protection table: the settings of a FaultRow
+// (bms_faults.hpp) after the integrator's overrides. rules[i] is FaultId i.
 struct ProtectionRule {
-  FaultId id;
   Quantity quantity;
   bool tripAbove;
   int32_t threshold;
@@ -141,6 +114,9 @@ struct BalanceConfig {
   uint8_t boardCount;        // > 1: boards of cellsPerBoard cells, boardThermCount / boardCount thermistors each,
   uint16_t cellsPerBoard;    //      each pausing only its own cells (≤ kMaxBoards)
 };
+
+// Current that still counts as flowing through a relay commanded open (RelayWelded).
+constexpr int32_t kDefaultWeldCurrent_mA = 500;
 
 struct Config {
   uint16_t cellCount;

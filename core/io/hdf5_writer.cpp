@@ -214,12 +214,12 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
     const struct {
       const char* name;
       const ProtectionConfig& p;
-    } limits[] = {{"limit_cell_overvoltage_V", s.bms.cell_overvoltage},
-                  {"limit_cell_undervoltage_V", s.bms.cell_undervoltage},
-                  {"limit_overtemperature_C", s.bms.overtemperature},
-                  {"limit_undertemperature_C", s.bms.undertemperature},
-                  {"limit_overcurrent_discharge_A", s.bms.overcurrent_discharge},
-                  {"limit_overcurrent_charge_A", s.bms.overcurrent_charge}};
+    } limits[] = {{"limit_cell_overvoltage_V", s.bms.protection(bms::FaultId::CellOverVoltage)},
+                  {"limit_cell_undervoltage_V", s.bms.protection(bms::FaultId::CellUnderVoltage)},
+                  {"limit_overtemperature_C", s.bms.protection(bms::FaultId::OverTemperature)},
+                  {"limit_undertemperature_C", s.bms.protection(bms::FaultId::UnderTemperatureDischarge)},
+                  {"limit_overcurrent_discharge_A", s.bms.protection(bms::FaultId::OverCurrentDischarge)},
+                  {"limit_overcurrent_charge_A", s.bms.protection(bms::FaultId::OverCurrentCharge)}};
     for (const auto& l : limits)
       if (l.p.enabled) w.attr(bms, l.name, l.p.threshold);
   }

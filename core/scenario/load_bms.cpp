@@ -64,29 +64,14 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   if (!m) return b;
   b.tick_s = static_cast<double>(m->integer("tick_ms", 10, 1, 10000)) * 1e-3;
   if (auto p = m->optionalMap("protections")) {
-    const Range temp = Range::closed(-60.0, 150.0);
-    b.cell_overvoltage = readProtection(*p, "cell_overvoltage", "V", b.cell_overvoltage, Range::closed(1.0, 5.0));
-    b.cell_undervoltage = readProtection(*p, "cell_undervoltage", "V", b.cell_undervoltage, Range::closed(0.5, 4.5));
-    b.overcurrent_discharge =
-        readProtection(*p, "overcurrent_discharge", "A", b.overcurrent_discharge, Range::positive());
-    b.overcurrent_charge = readProtection(*p, "overcurrent_charge", "A", b.overcurrent_charge, Range::positive());
-    b.overtemperature = readProtection(*p, "overtemperature", "C", b.overtemperature, Range::closed(0.0, 150.0));
-    b.overtemperature_charge = readProtection(*p, "overtemperature_charge", "C", b.overtemperature_charge, temp);
-    b.undertemperature = readProtection(*p, "undertemperature", "C", b.undertemperature, temp);
-    b.undertemperature_charge = readProtection(*p, "undertemperature_charge", "C", b.undertemperature_charge, temp);
-    b.board_overtemperature = readProtection(*p, "board_overtemperature", "C", b.board_overtemperature, temp);
-    b.cell_sum_plausibility =
-        readProtection(*p, "cell_sum_plausibility", "V", b.cell_sum_plausibility, Range::closed(0.001, 1.0));
-    b.relay_welded = readProtection(*p, "relay_welded", "A", b.relay_welded, Range::positive());
-    b.temperature_warning = readProtection(*p, "temperature_warning", "C", b.temperature_warning, temp);
-    b.cell_imbalance = readProtection(*p, "cell_imbalance", "V", b.cell_imbalance, Range::closed(0.001, 2.0));
-    b.thermistor_fault = readFlagRule(*p, "thermistor_fault", b.thermistor_fault);
-    b.current_sensor_fault = readFlagRule(*p, "current_sensor_fault", b.current_sensor_fault);
-    b.estop = readFlagRule(*p, "estop", b.estop);
-    b.monitor_fault = readFlagRule(*p, "monitor_fault", b.monitor_fault);
-    b.comm_loss = readFlagRule(*p, "comm_loss", b.comm_loss);
-    b.precharge_failed = readFlagRule(*p, "precharge_failed", b.precharge_failed);
-    if (!(b.cell_undervoltage.threshold < b.cell_overvoltage.threshold))
+    for (const ProtectionSpec& spec : protectionSpecs()) {
+      ProtectionConfig& pc = b.protection(spec.id);
+      const std::string key = bms::faultName(spec.id);
+      pc = spec.use == ThresholdUse::None
+               ? readFlagRule(*p, key, pc)
+               : readProtection(*p, key, spec.unit, pc, Range{spec.min, spec.max, spec.minOpen, false});
+    }
+    if (!(b.protection(bms::FaultId::CellUnderVoltage).threshold < b.protection(bms::FaultId::CellOverVoltage).threshold))
       throw p->error("cell_undervoltage.threshold_V must be below cell_overvoltage.threshold_V");
     p->finish();
   }

@@ -198,7 +198,7 @@ Scenario loadScenarioChain(const std::string& text, const std::string& file, con
     throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
   checkBalancing(m, s);
   const double senseRange_A = s.hardware.current_sense.zeroCode() * s.hardware.current_sense.lsb_A();
-  for (const auto* p : {&s.bms.overcurrent_discharge, &s.bms.overcurrent_charge}) {
+  for (const auto* p : {&s.bms.protection(bms::FaultId::OverCurrentDischarge), &s.bms.protection(bms::FaultId::OverCurrentCharge)}) {
     if (p->enabled && p->threshold >= senseRange_A) {
       std::ostringstream os;
       os << "over-current threshold " << p->threshold << " A is beyond the current sensor's range of +/-"

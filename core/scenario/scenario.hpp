@@ -2,12 +2,14 @@
 // settings, load, ambient, run and output options. core/scenario/load_scenario.cpp
 // fills it strictly from YAML; everything downstream trusts it.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
+#include "core/scenario/protection_table.hpp"
 #include "models/afe/monitor_config.hpp"
 #include "models/balance/active_balancer.hpp"
 #include "models/balance/passive_balancer.hpp"
@@ -76,14 +78,6 @@ struct HardwareConfig {
   int thermistorCount() const { return static_cast<int>(thermistor_cells.size()) + balancing.board_thermistors * balancing.boards; }
 };
 
-struct ProtectionConfig {
-  bool enabled = true;
-  double threshold = 0.0;   // V, A or °C by protection
-  double hysteresis = 0.0;  // same unit
-  double delay_s = 0.0;
-  int opens = -1;           // bms::ActuatorBits it opens; -1 = the firmware table's default
-};
-
 // Contactor precharge sequencing of the BMS (bms::PrechargeConfig in SI units).
 struct PrechargeSettings {
   bool enabled = false;
@@ -135,26 +129,8 @@ struct SocEstimationSettings {
 
 struct BmsSettings {
   double tick_s = 0.01;
-  ProtectionConfig cell_overvoltage{true, 4.25, 0.05, 0.5};
-  ProtectionConfig cell_undervoltage{true, 3.0, 0.1, 0.5};
-  ProtectionConfig overcurrent_discharge{true, 30.0, 1.0, 0.1};
-  ProtectionConfig overcurrent_charge{true, 5.0, 0.5, 0.1};
-  ProtectionConfig overtemperature{true, 60.0, 5.0, 1.0};
-  // Added with the firmware-grade core (issue 3).
-  ProtectionConfig overtemperature_charge{true, 45.0, 5.0, 1.0};
-  ProtectionConfig undertemperature{true, -20.0, 5.0, 1.0};
-  ProtectionConfig undertemperature_charge{true, 0.0, 5.0, 1.0};
-  ProtectionConfig board_overtemperature{true, 105.0, 10.0, 1.0};
-  ProtectionConfig cell_sum_plausibility{true, 0.05, 0.01, 1.0};  // V per cell
-  ProtectionConfig thermistor_fault{true, 0.0, 0.0, 1.0};
-  ProtectionConfig current_sensor_fault{true, 0.0, 0.0, 0.5};
-  ProtectionConfig relay_welded{true, 0.5, 0.0, 0.2};             // A after the release time
-  ProtectionConfig monitor_fault{true, 0.0, 0.0, 0.0};
-  ProtectionConfig estop{true, 0.0, 0.0, 0.0};
-  ProtectionConfig comm_loss{true, 0.0, 0.0, 0.0};
-  ProtectionConfig precharge_failed{true, 0.0, 0.0, 0.0};
-  ProtectionConfig temperature_warning{false, 51.7, 2.0, 1.0};  // warning tier: logged, opens nothing
-  ProtectionConfig cell_imbalance{false, 0.05, 0.01, 1.0};        // info tier
+  // One per bms::FaultId, defaults from the firmware table (core/scenario/protection_table.hpp).
+  std::array<ProtectionConfig, bms::kFaultCount> protections = defaultProtections();
   int comm_loss_count = 5;          // consecutive bad replies of one device
   double weld_settle_s = 0.05;      // relay release time before current means "welded"
   bool relay_aux_feedback = true;   // the relay's auxiliary contact is read (closed after open = welded)
@@ -168,6 +144,9 @@ struct BmsSettings {
   BalanceSettings balancing;
   double charge_current_A = 0.0;    // charger current request; 0: the charger's own current_A
   double charge_full_cell_V = 0.0;  // BMS ends the charge when a cell reads this; 0: the charger ends it
+
+  ProtectionConfig& protection(bms::FaultId id) { return protections[static_cast<size_t>(id)]; }
+  const ProtectionConfig& protection(bms::FaultId id) const { return protections[static_cast<size_t>(id)]; }
 };
 
 struct RunConfig {

@@ -98,28 +98,20 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.balanceTime_s = b.balance_time_s;
   setBalancing(c, s);
 
+  // The protection table: SI settings scaled to firmware units row by row.
   using F = bms::FaultId;
-  setRule(rule(c, F::CellOverVoltage), b.cell_overvoltage, 1e3);
-  setRule(rule(c, F::CellUnderVoltage), b.cell_undervoltage, 1e3);
-  setRule(rule(c, F::OverCurrentDischarge), b.overcurrent_discharge, 1e3);
-  setRule(rule(c, F::OverCurrentCharge), b.overcurrent_charge, 1e3);
-  setRule(rule(c, F::OverTemperature), b.overtemperature, 10.0);
-  setRule(rule(c, F::OverTemperatureCharge), b.overtemperature_charge, 10.0);
-  setRule(rule(c, F::UnderTemperatureDischarge), b.undertemperature, 10.0);
-  setRule(rule(c, F::UnderTemperatureCharge), b.undertemperature_charge, 10.0);
-  setRule(rule(c, F::BoardOverTemperature), b.board_overtemperature, 10.0);
-  setRule(rule(c, F::PlausibilityCellSum), b.cell_sum_plausibility, 1e3);
-  setFlagRule(rule(c, F::RelayWelded), b.relay_welded);
-  c.weldCurrent_mA = toInt(b.relay_welded.threshold * 1e3);
+  for (const ProtectionSpec& spec : protectionSpecs()) {
+    const ProtectionConfig& p = b.protection(spec.id);
+    switch (spec.use) {
+      case ThresholdUse::Rule: setRule(rule(c, spec.id), p, spec.scale); break;
+      case ThresholdUse::None: setFlagRule(rule(c, spec.id), p); break;
+      case ThresholdUse::WeldCurrent:
+        setFlagRule(rule(c, spec.id), p);
+        c.weldCurrent_mA = toInt(p.threshold * spec.scale);
+        break;
+    }
+  }
   c.relayAuxFeedback = b.relay_aux_feedback;
-  setRule(rule(c, F::TemperatureWarning), b.temperature_warning, 10.0);
-  setRule(rule(c, F::CellImbalance), b.cell_imbalance, 1e3);
-  setFlagRule(rule(c, F::ThermistorFault), b.thermistor_fault);
-  setFlagRule(rule(c, F::CurrentSensorFault), b.current_sensor_fault);
-  setFlagRule(rule(c, F::EStop), b.estop);
-  setFlagRule(rule(c, F::MonitorFault), b.monitor_fault);
-  setFlagRule(rule(c, F::PrechargeFailed), b.precharge_failed);
-  setFlagRule(rule(c, F::CommLoss), b.comm_loss);
   rule(c, F::CommLoss).threshold = b.comm_loss_count - 1;  // trips at the N-th bad reply
   return c;
 }

@@ -68,39 +68,8 @@ void RunTracker::event(double t, const std::string& kind, const std::string& det
 }
 
 std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) const {
-  const bms::Telemetry& tm = out.telemetry;
   const bms::ProtectionRule& rule = cfg_.rules[static_cast<int>(id)];
-  std::ostringstream os;
-  os.setf(std::ios::fixed);
-  os.precision(3);
-  switch (rule.quantity) {
-    case bms::Quantity::MaxCell_mV: os << "max cell " << tm.maxCell_mV * 1e-3 << " V > " << rule.threshold * 1e-3 << " V"; break;
-    case bms::Quantity::MinCell_mV: os << "min cell " << tm.minCell_mV * 1e-3 << " V < " << rule.threshold * 1e-3 << " V"; break;
-    case bms::Quantity::DischargeCurrent_mA:
-      os << "current " << tm.packCurrent_mA * 1e-3 << " A > " << rule.threshold * 1e-3 << " A"; break;
-    case bms::Quantity::ChargeCurrent_mA:
-      os << "charge current " << -tm.packCurrent_mA * 1e-3 << " A > " << rule.threshold * 1e-3 << " A"; break;
-    case bms::Quantity::MaxTemp_dC: os << "max temperature " << tm.maxTemp_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
-    case bms::Quantity::MaxTempCharging_dC:
-      os << "max temperature while charging " << tm.maxTemp_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
-    case bms::Quantity::MinTemp_dC: os << "min temperature " << tm.minTemp_dC * 0.1 << " C < " << rule.threshold * 0.1 << " C"; break;
-    case bms::Quantity::MinTempCharging_dC:
-      os << "min temperature while charging " << tm.minTemp_dC * 0.1 << " C < " << rule.threshold * 0.1 << " C"; break;
-    case bms::Quantity::MaxDie_dC: os << "monitor die " << tm.maxDie_dC * 0.1 << " C > " << rule.threshold * 0.1 << " C"; break;
-    case bms::Quantity::CommBadFrames: os << (rule.threshold + 1) << " consecutive bad monitor replies"; break;
-    case bms::Quantity::CellSumError_mV: os << "sum of cells off the module channel by > " << rule.threshold << " mV per cell"; break;
-    case bms::Quantity::InvalidThermistors: os << "thermistor reading at a rail (open or shorted)"; break;
-    case bms::Quantity::CurrentCodeAtRail: os << "current-sense code at a rail"; break;
-    case bms::Quantity::EStopPulled: os << "E-switch pulled"; break;
-    case bms::Quantity::MonitorFaultLine: os << "monitor IC protection latched (FAULT line)"; break;
-    case bms::Quantity::RelayStuckClosed:
-      os << "relay commanded open but current " << std::abs(tm.packCurrent_mA) * 1e-3 << " A still flows or its aux contact reads closed"; break;
-    case bms::Quantity::PrechargeFailed: os << "precharge did not finish in any attempt"; break;
-    case bms::Quantity::CellSpread_mV: os << "cell spread " << (tm.maxCell_mV - tm.minCell_mV) << " mV > " << rule.threshold << " mV"; break;
-    case bms::Quantity::Count: break;
-  }
-  os << " for " << rule.delay_ms << " ms";
-  return os.str();
+  return protectionDetail(id, rule.threshold, rule.delay_ms, out.telemetry);
 }
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {

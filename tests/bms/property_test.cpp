@@ -175,11 +175,12 @@ TEST(FirmwareProperties, RandomSequencesKeepTheSafetyProperties) {
       // 3. isolation within delay + one tick of a continuous violation
       for (uint8_t i = 0; i < bms::kFaultCount; ++i) {
         const bms::ProtectionRule& rule = cfg.rules[i];
+        const auto id = static_cast<bms::FaultId>(i);
         if (!((fatalMask >> i) & 1u)) continue;
         int32_t q = rig.s.quantity[static_cast<uint8_t>(rule.quantity)];
-        if (rule.id == bms::FaultId::OverCurrentDischarge) q = g.current_mA;  // independent of the core
-        if (rule.id == bms::FaultId::OverCurrentCharge) q = -g.current_mA;
-        if (rule.id == bms::FaultId::EStop) q = g.eStop ? 1 : 0;
+        if (id == bms::FaultId::OverCurrentDischarge) q = g.current_mA;  // independent of the core
+        if (id == bms::FaultId::OverCurrentCharge) q = -g.current_mA;
+        if (id == bms::FaultId::EStop) q = g.eStop ? 1 : 0;
         if (!beyond(rule, q)) {
           violating[i] = false;
           continue;
@@ -187,10 +188,10 @@ TEST(FirmwareProperties, RandomSequencesKeepTheSafetyProperties) {
         if (!violating[i]) violating[i] = true, since[i] = now;
         if (now - since[i] < rule.delay_ms) continue;
         if (!(o.faultActive & (1u << i)))
-          bad.add(seed, k, now, bms::faultName(rule.id), " beyond its threshold for ", now - since[i], " ms (delay ",
+          bad.add(seed, k, now, bms::faultName(id), " beyond its threshold for ", now - since[i], " ms (delay ",
                   rule.delay_ms, ") but not active");
         if (o.relayClose && (rule.opens & bms::kActRelay))
-          bad.add(seed, k, now, bms::faultName(rule.id), " active but the relay is commanded closed");
+          bad.add(seed, k, now, bms::faultName(id), " active but the relay is commanded closed");
       }
     });
   }

@@ -81,17 +81,17 @@ std::string num(double v) {
 const std::vector<FaultKindRow>& rows() {
   static const std::vector<FaultKindRow> r = {
       {"overcurrent (+1.25 x threshold)", "overcurrent_discharge",
-       [](const Scenario& s) { return at("kind: overcurrent, current_A: " + num(1.25 * s.bms.overcurrent_discharge.threshold)); },
-       [](const Scenario& s) { return debounced(s.bms.overcurrent_discharge, s); }, false},
+       [](const Scenario& s) { return at("kind: overcurrent, current_A: " + num(1.25 * s.bms.protection(bms::FaultId::OverCurrentDischarge).threshold)); },
+       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::OverCurrentDischarge), s); }, false},
       {"estop (internal)", "estop", [](const Scenario&) { return at("kind: estop, switch: internal"); },
-       [](const Scenario& s) { return debounced(s.bms.estop, s); }},
+       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::EStop), s); }},
       {"channel_offset (+1 V, cell 1)", "cell_overvoltage",
        [](const Scenario&) { return at("kind: channel_offset, cell: 1, offset_mV: 1000"); },
-       [](const Scenario& s) { return debounced(s.bms.cell_overvoltage, s); }},
+       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::CellOverVoltage), s); }},
       {"thermistor_open (1)", "thermistor_fault", [](const Scenario&) { return at("kind: thermistor_open, thermistor: 1"); },
-       [](const Scenario& s) { return debounced(s.bms.thermistor_fault, s); }},
+       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::ThermistorFault), s); }},
       {"thermistor_short (1)", "thermistor_fault", [](const Scenario&) { return at("kind: thermistor_short, thermistor: 1"); },
-       [](const Scenario& s) { return debounced(s.bms.thermistor_fault, s); }},
+       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::ThermistorFault), s); }},
       {"device_silent (1)", "comm_loss", [](const Scenario&) { return at("kind: device_silent, device: 1"); },
        [](const Scenario& s) {
          return std::make_pair((s.bms.comm_loss_count - 1) * s.bms.tick_s, s.bms.comm_loss_count * s.bms.tick_s);
@@ -271,7 +271,7 @@ TEST(FaultMatrix, OvercurrentFivePercentBelowThresholdNeverTrips) {
   for (const Preset& p : kPresets) {
     SCOPED_TRACE(p.label);
     const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
-    const double i_A = 0.95 * base.bms.overcurrent_discharge.threshold;
+    const double i_A = 0.95 * base.bms.protection(bms::FaultId::OverCurrentDischarge).threshold;
     const Scenario s = loadScenarioText(shortRun(p, base, "load: {current_A: " + num(i_A) + "}\npack: {initial_soc: 1.0}\n", 60.0),
                                         p.file, test::scenarioDir());
     const RunResult r = runScenario(s);
@@ -294,7 +294,7 @@ TEST(FaultMatrix, ResetAfterARemovableFaultHasGoneClosesTheRelay) {
   const Case cases[] = {
       {"overcurrent_discharge",
        [](const Scenario& s) {
-         return "{kind: overcurrent, current_A: " + num(1.25 * s.bms.overcurrent_discharge.threshold) +
+         return "{kind: overcurrent, current_A: " + num(1.25 * s.bms.protection(bms::FaultId::OverCurrentDischarge).threshold) +
                 ", at_s: 2, duration_s: 1}";
        }},
       {"estop", [](const Scenario&) { return std::string("{kind: estop, switch: internal, at_s: 2.5, duration_s: 0.5}"); }},
@@ -344,8 +344,8 @@ TEST(FaultMatrix, HotCellThatCoolsBeforeTheDebounceEndsNeverTrips) {
   const Preset& p = kPresets[2];  // C bench 6s NCR18650
   const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
   ASSERT_EQ(base.hardware.thermistor_cells.at(0), 1);  // thermistor 1 on cell 2
-  const int limit_dC = static_cast<int>(std::lround(base.bms.overtemperature.threshold * 10.0));
-  const double delay_s = base.bms.overtemperature.delay_s, tick_s = base.bms.tick_s;
+  const int limit_dC = static_cast<int>(std::lround(base.bms.protection(bms::FaultId::OverTemperature).threshold * 10.0));
+  const double delay_s = base.bms.protection(bms::FaultId::OverTemperature).delay_s, tick_s = base.bms.tick_s;
   constexpr double kHeatOn_s = 1.0;
   auto run = [&](double duration_s) {
     const std::string dur = duration_s > 0.0 ? ", duration_s: " + num(duration_s) : "";

@@ -93,15 +93,15 @@ class TripTest : public ::testing::TestWithParam<TripCase> {};
 Scenario load(const TripCase& c, const std::string& yaml) {
   Scenario s = test::scenarioFromYaml(yaml);
   if (std::string(c.name).rfind("overcurrent", 0) == 0) {
-    s.bms.cell_undervoltage.enabled = false;  // 61 A·0.05 Ω would also under-voltage the cell
-    s.bms.cell_overvoltage.enabled = false;
+    s.bms.protection(bms::FaultId::CellUnderVoltage).enabled = false;  // 61 A·0.05 Ω would also under-voltage the cell
+    s.bms.protection(bms::FaultId::CellOverVoltage).enabled = false;
   }
   s.bms.charger_present = c.onCharger;
   for (const std::string& d : c.disable) {
-    if (d == "overtemperature") s.bms.overtemperature.enabled = false;
-    if (d == "overtemperature_charge") s.bms.overtemperature_charge.enabled = false;
-    if (d == "overcurrent_discharge") s.bms.overcurrent_discharge.enabled = false;
-    if (d == "overcurrent_charge") s.bms.overcurrent_charge.enabled = false;
+    if (d == "overtemperature") s.bms.protection(bms::FaultId::OverTemperature).enabled = false;
+    if (d == "overtemperature_charge") s.bms.protection(bms::FaultId::OverTemperatureCharge).enabled = false;
+    if (d == "overcurrent_discharge") s.bms.protection(bms::FaultId::OverCurrentDischarge).enabled = false;
+    if (d == "overcurrent_charge") s.bms.protection(bms::FaultId::OverCurrentCharge).enabled = false;
   }
   return s;
 }

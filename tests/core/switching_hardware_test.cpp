@@ -86,8 +86,8 @@ TEST(Fuse, SustainedOvercurrentBlowsItInTheLoop) {
   // (60 A is beyond the ±33 A range of its current sense, so with the BMS intact the
   // rail-stuck current-sensor fault opens the relay after 500 ms, before the fuse.)
   Scenario s = loadScenarioFile(std::string(PACKSIM_SCENARIO_DIR) + "/eco_marathon_12s.yaml");
-  s.bms.overcurrent_discharge.enabled = false;
-  s.bms.current_sensor_fault.enabled = false;
+  s.bms.protection(bms::FaultId::OverCurrentDischarge).enabled = false;
+  s.bms.protection(bms::FaultId::CurrentSensorFault).enabled = false;
   s.load = test::scenarioFromYaml(
                "name: x\npack: {series: 1, cell: {capacity_Ah: 1, ocv_V: 3.5, r0_ohm: 0.01}}\n"
                "load: {segments: [{duration_s: 10, current_A: 10}, {duration_s: 5, current_A: 60}]}\n")
