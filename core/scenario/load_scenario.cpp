@@ -219,17 +219,6 @@ std::string readScenarioText(const std::string& path, const std::string& what) {
   return os.str();
 }
 
-std::string bundledScenarioDir() {
-  if (const char* env = std::getenv("PACKSIM_SCENARIOS"); env && *env) return env;
-  const std::string exe = executableDir();
-  const std::string found = firstFolderWith({exe + "/scenarios", exe + "/../scenarios"}, "cells");
-  if (found.empty())
-    throw ScenarioError("", 0, 0, "", "cannot find the bundled scenarios next to the packsim executable (" +
-                        (exe.empty() ? std::string("unknown folder") : exe) +
-                        "); set PACKSIM_SCENARIOS to the scenarios folder");
-  return found;
-}
-
 Scenario loadScenarioFile(const std::string& path) {
   const std::string text = readScenarioText(path);
   const std::string dir = fs::path(path).parent_path().string();

@@ -6,13 +6,11 @@
 #include <string>
 
 #include "core/scenario/scenario.hpp"
+#include "core/scenario/scenario_paths.hpp"  // bundledScenarioDir
 
 namespace packsim {
 
 Scenario loadScenarioFile(const std::string& path);
-// Folder of the bundled scenarios, found at run time (core/io/install_paths.hpp);
-// $PACKSIM_SCENARIOS overrides. A ScenarioError if there is none.
-std::string bundledScenarioDir();
 // The file's text as written (a ScenarioError "cannot open <what>" naming it if it
 // cannot be read).
 std::string readScenarioText(const std::string& path, const std::string& what = "scenario file");

@@ -30,6 +30,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/scenario/scenario_paths.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/version.hpp"
