@@ -46,6 +46,8 @@ void deepMerge(YAML::Node base, const YAML::Node& child) {
 // that extends one already in it is a cycle, reported with the whole chain.
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
                            std::vector<std::string>& chain);
+Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text, const std::string& file,
+                               const std::string& base_dir, std::vector<std::string>& chain);
 
 std::string chainKey(const std::string& file) {
   std::error_code ec;
@@ -126,11 +128,21 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   return loadScenarioChain(text, file, base_dir, chain);
 }
 
+Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const std::string& file,
+                          const std::string& base_dir) {
+  std::vector<std::string> chain{chainKey(file)};
+  return loadScenarioTreeChain(tree, text, file, base_dir, chain);
+}
+
 namespace {
 
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
                            std::vector<std::string>& chain) {
-  const YAML::Node given = parseYaml(text, file);
+  return loadScenarioTreeChain(parseYaml(text, file), text, file, base_dir, chain);
+}
+
+Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text, const std::string& file,
+                               const std::string& base_dir, std::vector<std::string>& chain) {
   if (!given || given.IsNull()) throw ScenarioError(file, 1, 1, "", "the scenario is empty");
   const YAML::Node root = resolveExtends(given, file, base_dir, chain);
   YamlMap m(root, file, "");
