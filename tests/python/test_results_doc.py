@@ -115,3 +115,27 @@ def test_every_documented_dataset_is_a_channel():
     documented = {row.split("|")[1].strip().strip("`") for row in table.splitlines() if row.startswith("| `/")}
     assert len(documented) >= 40
     assert documented - known == set(), "docs/results.md lists datasets the channel table does not have"
+
+
+def _names(result, path):
+    raw = result.attrs[path]["names"]
+    raw = raw.decode() if isinstance(raw, bytes) else str(raw)
+    return {pair.split("=", 1)[1] for pair in raw.split(",")}
+
+
+def test_event_details_use_the_names_of_the_enum_attributes():
+    # bms/bms_names.hpp is the one spelling: events and `names` attributes agree.
+    r = packsim.run(packsim.bundled_scenario_dir() + "/balance/bench_6s_balancing.yaml", {"run.duration_s": 30})
+    states, phases, status = _names(r, "bms/state"), _names(r, "bms/precharge_phase"), _names(r, "bms/balance_status")
+    seen = set()
+    for e in r.events:
+        if e["kind"] == "bms_state":
+            assert set(e["detail"].split(" -> ")) <= states, e
+        elif e["kind"] == "precharge":
+            assert e["detail"].split(" (")[0] in phases, e
+        elif e["kind"] == "balancing":
+            assert e["detail"] in status, e
+        else:
+            continue
+        seen.add(e["kind"])
+    assert seen >= {"bms_state", "balancing"}
