@@ -6,7 +6,6 @@ namespace bms {
 
 void init(CoreState& s) {
   s.state = State::Init;
-  s.stateEntered_ms = 0;
   s.firstTick = true;
   protectionReset(s.protection);
   for (uint8_t q = 0; q < kQuantityCount; ++q) s.quantity[q] = 0;
@@ -21,18 +20,6 @@ void init(CoreState& s) {
   s.dischargeFetCmd = false;
   s.chargeFetCmd = false;
   s.relayOpenSince_ms = 0;
-}
-
-const char* stateName(State st) {
-  switch (st) {
-    case State::Init: return "init";
-    case State::Standby: return "standby";
-    case State::Normal: return "normal";
-    case State::Error: return "error";
-    case State::Precharge: return "precharge";
-    case State::Charge: return "charge";
-  }
-  return "unknown";
 }
 
 namespace {
@@ -189,10 +176,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
     case State::Charge: next = onCharge(cfg, s, in); break;
     case State::Error: next = onError(cfg, s, in); break;
   }
-  if (next != s.state) {
-    s.state = next;
-    s.stateEntered_ms = in.now_ms;
-  }
+  s.state = next;
   s.firstTick = false;
 
   // Commands by state, then whatever the fault table keeps open.

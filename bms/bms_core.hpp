@@ -25,6 +25,7 @@
 #include "bms_ekf.hpp"
 #include "bms_hal.hpp"
 #include "bms_measure.hpp"
+#include "bms_names.hpp"
 #include "bms_protect.hpp"
 #include "bms_soc.hpp"
 
@@ -39,7 +40,6 @@ struct PrechargeState {
 
 struct CoreState {
   State state;
-  uint32_t stateEntered_ms;
   bool firstTick;
   ProtectionState protection;
   int32_t quantity[kQuantityCount];
@@ -59,7 +59,5 @@ struct CoreState {
 
 void init(CoreState& s);
 void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out);
-
-const char* stateName(State st);
 
 }  // namespace bms

@@ -8,7 +8,7 @@
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/yaml_map.hpp"
-#include "models/pack/cell_spread.hpp"
+#include "models/random/random.hpp"
 
 namespace packsim {
 

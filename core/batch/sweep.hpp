@@ -48,7 +48,7 @@ struct Sweep {
   std::string summaryCsvPath() const;                // <output_dir>/summary.csv
 };
 
-// Seed of Monte Carlo sample i: splitmix64 via deriveSeed (models/pack/cell_spread.hpp,
+// Seed of Monte Carlo sample i: splitmix64 via deriveSeed (models/random/random.hpp,
 // the same derivation the cell spread uses for its streams), masked to [0, 2^31-1].
 uint64_t monteCarloSeed(uint64_t master_seed, uint64_t sample);
 

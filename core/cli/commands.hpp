@@ -6,7 +6,8 @@
 #include <vector>
 
 #include "core/cli/bundled_catalog.hpp"    // presetPath, bundledCatalog
-#include "core/scenario/load_scenario.hpp"  // bundledScenarioDir
+#include "core/scenario/load_scenario.hpp"
+#include "core/scenario/scenario_paths.hpp"  // bundledScenarioDir
 
 namespace packsim {
 

@@ -2,6 +2,8 @@
 
 #include <hdf5_hl.h>
 
+#include "core/sim/result_channels.hpp"
+
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -9,66 +11,6 @@
 namespace packsim {
 
 namespace {
-
-// Long names of the datasets whose name alone says too little. Others get one derived
-// from the name (longNameOf).
-struct LongName {
-  const char* path;
-  const char* long_name;
-};
-constexpr LongName kLongNames[] = {
-    {"/time_s", "simulation time"},
-    {"/truth/cell_voltage_V", "cell terminal voltage (simulated truth)"},
-    {"/truth/cell_current_A", "cell current, positive discharging (simulated truth)"},
-    {"/truth/cell_soc", "cell state of charge (simulated truth)"},
-    {"/truth/cell_temp_C", "cell temperature (simulated truth)"},
-    {"/truth/pack_voltage_V", "pack terminal voltage (simulated truth)"},
-    {"/truth/pack_current_A", "pack current, positive discharging (simulated truth)"},
-    {"/truth/balance_current_A", "balancing current per series cell (simulated truth)"},
-    {"/truth/board_temp_C", "BMS board temperature (simulated truth)"},
-    {"/truth/balancer_bus_V", "active balancer bus voltage (simulated truth)"},
-    {"/truth/charger_current_A", "charger output current (simulated truth)"},
-    {"/measured/cell_voltage_mV", "series cell voltage as read by the monitor ICs"},
-    {"/measured/temperature_dC", "thermistor temperature as read by the monitor ICs"},
-    {"/measured/current_mA", "pack current as read by the current sensor"},
-    {"/measured/bus_voltage_mV", "bus (load side) voltage as read by the BMS"},
-    {"/bms/state", "BMS state machine state (see names)"},
-    {"/bms/fault_active", "active fault bits (see /bms fault_bits)"},
-    {"/bms/fault_latched", "latched fault bits (see /bms fault_bits)"},
-    {"/bms/relay_closed", "main relay commanded closed by the firmware"},
-    {"/bms/discharge_fet_on", "discharge FET commanded on by the firmware"},
-    {"/bms/charge_fet_on", "charge FET commanded on by the firmware"},
-    {"/bms/precharge_closed", "precharge relay commanded closed by the firmware"},
-    {"/bms/precharge_phase", "precharge sequence phase (see names)"},
-    {"/bms/soc_estimate_permille", "pack state of charge estimated by the firmware"},
-    {"/bms/monitor_fault", "monitor IC fault seen by the firmware"},
-    {"/bms/comm_bad", "consecutive bad replies per monitor IC"},
-    {"/bms/telemetry", "telemetry frame bytes (see layout)"},
-    {"/bms/balance_mask", "balancing switches commanded per series cell"},
-    {"/bms/balance_status", "balancing status (see names)"},
-    {"/bms/charger_enable", "charger enable commanded by the firmware"},
-    {"/bms/charger_request_mA", "charge current requested by the firmware"},
-    {"/hardware/relay_closed", "main relay contact closed (hardware)"},
-    {"/hardware/precharge_closed", "precharge relay contact closed (hardware)"},
-    {"/hardware/fuse_blown", "fuse blown (hardware)"},
-    {"/hardware/discharge_fet_on", "discharge FET conducting (hardware)"},
-    {"/hardware/charge_fet_on", "charge FET conducting (hardware)"},
-    {"/hardware/monitor_fault_line", "monitor IC FAULT line asserted (hardware)"},
-    {"/hardware/bus_voltage_V", "bus (load side) voltage (hardware)"},
-    {"/hardware/fet_loss_W", "power dissipated in the FETs (hardware)"},
-    {"/hardware/balancing", "balancing switch conducting per series cell (hardware)"},
-    {"/events", "events: time_s, kind, detail"},
-};
-
-// The dimension of a dataset's second axis, by name first, then by its length.
-struct DimByName {
-  const char* name;  // dataset base name
-  const char* dim;
-};
-constexpr DimByName kDimByName[] = {
-    {"telemetry", "telemetry_byte"},   {"comm_bad", "device"},        {"temperature_dC", "thermistor"},
-    {"balance_current_A", "series"},   {"balance_mask", "series"},    {"balancing", "series"},
-};
 
 class Obj {
  public:
@@ -111,8 +53,8 @@ void stringAttr(hid_t obj, const char* name, const std::string& value) {
 }
 
 std::string longNameOf(const std::string& path) {
-  for (const LongName& l : kLongNames)
-    if (path == l.path) return l.long_name;
+  if (const ResultChannel* c = findResultChannel(path)) return c->long_name;
+  if (path == "/events") return "events: time_s, kind, detail";
   // truth/cell_voltage_V -> "cell voltage (truth)"
   std::string name = baseName(path);
   const size_t unit = name.rfind('_');
@@ -126,8 +68,7 @@ std::string longNameOf(const std::string& path) {
 
 std::string dimensionName(const std::string& path, hsize_t length, const LayoutSizes& z) {
   const std::string name = baseName(path);
-  for (const DimByName& d : kDimByName)
-    if (name == d.name) return d.dim;
+  if (const ResultChannel* c = findResultChannel(path); c && c->axis != Axis::None) return axisName(c->axis);
   const bool truth = parentOf(path) == "/truth";
   if (length == z.cells && (truth || length != z.series)) return "cell";
   if (length == z.series) return "series";

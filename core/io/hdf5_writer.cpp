@@ -17,9 +17,11 @@
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <variant>
 #include <vector>
 
 #include "core/io/hdf5_layout.hpp"
+#include "core/sim/result_channels.hpp"
 #include "core/version.hpp"
 
 namespace packsim {
@@ -185,29 +187,23 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   w.attr(file, "tick_s", s.bms.tick_s);
   w.attr(file, "sign_convention", "positive current discharges the pack");
 
-  w.dataset("/time_s", rec.time_s, n, 0, "s");
-  w.group("/truth");
-  w.dataset("/truth/cell_voltage_V", rec.cell_voltage_V, n, cells, "V");
-  w.dataset("/truth/cell_current_A", rec.cell_current_A, n, cells, "A");
-  w.dataset("/truth/cell_soc", rec.cell_soc, n, cells, "1");
-  w.dataset("/truth/cell_temp_C", rec.cell_temp_C, n, cells, "degC");
-  w.dataset("/truth/pack_voltage_V", rec.pack_voltage_V, n, 0, "V");
-  w.dataset("/truth/pack_current_A", rec.pack_current_A, n, 0, "A");
-
-  w.group("/measured");
-  w.dataset("/measured/cell_voltage_mV", rec.meas_cell_voltage_mV, n, static_cast<size_t>(rec.groups), "mV");
-  w.dataset("/measured/temperature_dC", rec.meas_temperature_dC, n, static_cast<size_t>(rec.thermistors), "0.1 degC");
-  w.dataset("/measured/current_mA", rec.meas_current_mA, n, 0, "mA");
+  // Every recorded channel (core/sim/result_channels.hpp), each group on first use.
+  std::vector<std::string> groups;
+  for (const ResultChannel& c : resultChannels()) {
+    if (!isRecorded(c, rec)) continue;
+    const std::string path = c.path;
+    const std::string group = path.substr(0, path.rfind('/'));
+    if (!group.empty() && std::find(groups.begin(), groups.end(), group) == groups.end()) {
+      w.group(group.c_str());
+      groups.push_back(group);
+    }
+    std::visit([&](const auto& col) { w.dataset(path, rec.*(col.data), n, axisLength(c.axis, rec), c.units); }, c.column);
+    if (c.attr.name) w.attrOn(c.path, c.attr.name, c.attr.value(rec));
+  }
+  // Attributes that come from the scenario rather than the recording.
   std::string therm;
   for (int c : s.hardware.thermistor_cells) therm += (therm.empty() ? "" : ",") + std::to_string(c + 1);
   w.attrOn("/measured", "thermistor_cells", therm);
-  w.attrOn("/measured/temperature_dC", "invalid_value", "-32768 (sensor open or shorted)");
-
-  w.group("/bms");
-  w.dataset("/bms/state", rec.bms_state, n, 0, nullptr);
-  w.attrOn("/bms/state", "names", "0=init,1=standby,2=normal,3=error,4=precharge,5=charge");
-  w.dataset("/bms/fault_active", rec.fault_active, n, 0, nullptr);
-  w.dataset("/bms/fault_latched", rec.fault_latched, n, 0, nullptr);
   w.attrOn("/bms", "fault_bits", faultNames());
   {  // the protection limits the plots draw (an attribute only when the protection is on)
     Handle bms(H5Oopen(file, "/bms", H5P_DEFAULT), H5Oclose, "/bms");
@@ -223,60 +219,6 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
     for (const auto& l : limits)
       if (l.p.enabled) w.attr(bms, l.name, l.p.threshold);
   }
-  w.dataset("/bms/relay_closed", rec.relay_closed, n, 0, nullptr);
-  w.dataset("/bms/discharge_fet_on", rec.discharge_fet_on, n, 0, nullptr);
-  w.dataset("/bms/charge_fet_on", rec.charge_fet_on, n, 0, nullptr);
-  w.dataset("/bms/precharge_closed", rec.precharge_closed, n, 0, nullptr);
-  w.dataset("/bms/precharge_phase", rec.precharge_phase, n, 0, nullptr);
-  w.attrOn("/bms/precharge_phase", "names", "0=idle,1=charging,2=closing,3=pause,4=done,5=failed");
-  w.dataset("/bms/soc_estimate_permille", rec.soc_estimate_permille, n, 0, "0.1 %");
-  w.dataset("/bms/monitor_fault", rec.monitor_fault, n, 0, nullptr);
-  w.dataset("/bms/comm_bad", rec.comm_bad, n, static_cast<size_t>(rec.devices), "replies");
-  w.dataset("/bms/telemetry", rec.telemetry, n, bms::kTelemetryFrameBytes, "bytes");
-  w.attrOn("/bms/telemetry", "layout", "bms/bms_telemetry.hpp: A5,len,state,precharge,bits,active u32,latched u32,"
-                                      "soc u16,current_mA i32,pack_mV u32,min_mV u16,max_mV u16,maxT_dC i16,"
-                                      "minT_dC i16,lost,crc8 (little-endian)");
-  w.dataset("/measured/bus_voltage_mV", rec.meas_bus_voltage_mV, n, 0, "mV");
-  if (!rec.hw_relay_closed.empty()) {
-    w.group("/hardware");
-    w.dataset("/hardware/relay_closed", rec.hw_relay_closed, n, 0, nullptr);
-    w.dataset("/hardware/precharge_closed", rec.hw_precharge_closed, n, 0, nullptr);
-    w.dataset("/hardware/fuse_blown", rec.hw_fuse_blown, n, 0, nullptr);
-    w.dataset("/hardware/discharge_fet_on", rec.hw_discharge_fet_on, n, 0, nullptr);
-    w.dataset("/hardware/charge_fet_on", rec.hw_charge_fet_on, n, 0, nullptr);
-    w.dataset("/hardware/monitor_fault_line", rec.hw_fault_line, n, 0, nullptr);
-    w.dataset("/hardware/bus_voltage_V", rec.hw_bus_voltage_V, n, 0, "V");
-    w.dataset("/hardware/fet_loss_W", rec.hw_fet_loss_W, n, 0, "W");
-  }
-
-  if (rec.has_balancing || rec.has_active_balancer) {
-    const size_t series = static_cast<size_t>(rec.groups);
-    w.dataset("/truth/balance_current_A", rec.balance_current_A, n, series, "A");
-    w.attrOn("/truth/balance_current_A", "meaning", rec.has_active_balancer
-                                                        ? "active balancer converter current, + drawn from the module"
-                                                        : "passive balancing resistor current per series cell");
-    w.dataset("/bms/balance_mask", rec.balance_mask, n, series, nullptr);
-    w.dataset("/bms/balance_status", rec.balance_status, n, 0, nullptr);
-    w.attrOn("/bms/balance_status", "names", "0=disabled,1=not_allowed,2=board_hot,3=balanced,4=balancing");
-    if (!rec.hw_relay_closed.empty()) w.dataset("/hardware/balancing", rec.hw_balancing, n, series, nullptr);
-  }
-  if (rec.has_board) w.dataset("/truth/board_temp_C", rec.board_temp_C, n, 0, "degC");
-  if (rec.has_active_balancer) w.dataset("/truth/balancer_bus_V", rec.balancer_bus_V, n, 0, "V");
-  if (rec.has_charger) {
-    w.dataset("/truth/charger_current_A", rec.charger_current_A, n, 0, "A");
-    w.dataset("/bms/charger_enable", rec.charger_enable, n, 0, nullptr);
-    w.dataset("/bms/charger_request_mA", rec.charger_request_mA, n, 0, "mA");
-  }
-  // State estimation (issue 17; docs/state-estimation.md).
-  w.dataset("/truth/soc_mean", rec.soc_truth_mean, n, 0, "1");
-  w.dataset("/truth/soc_display_bars", rec.soc_display_bars_truth, n, 0, "bars");
-  w.attrOn("/truth/soc_display_bars", "meaning", "the SOC display's table applied to the true mean cell OCV");
-  w.dataset("/bms/soc_coulomb", rec.soc_coulomb, n, 0, "1");
-  w.dataset("/bms/soc_ekf", rec.soc_ekf, n, 0, "1");
-  w.dataset("/bms/soc_ekf_group_permille", rec.soc_ekf_group_permille, n, static_cast<size_t>(rec.groups), "0.1 %");
-  w.dataset("/bms/capacity_estimate_Ah", rec.capacity_estimate_Ah, n, 0, "Ah");
-  w.attrOn("/bms/capacity_estimate_Ah", "meaning", "series-group capacity between two rested OCV points; 0 = none yet");
-  w.dataset("/bms/soc_display_bars", rec.soc_display_bars, n, 0, "bars");
   w.attrOn("/bms/soc_estimate_permille", "estimator", s.bms.soc_estimation.estimator);
   w.events(r.events);
 

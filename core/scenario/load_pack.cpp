@@ -144,9 +144,7 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
 
 namespace {
 
-std::vector<std::string> presetDirs(const std::string& baseDir) {
-  return {baseDir + "/cells", bundledScenarioDir() + "/cells"};
-}
+std::vector<std::string> presetDirs(const std::string& baseDir) { return cellPresetDirs(baseDir); }
 
 // `cell: {preset: NAME, <field>: <override>…}`: the preset file (cells/NAME.yaml next
 // to the scenario, or bundled) is validated on its own, then the scenario's fields

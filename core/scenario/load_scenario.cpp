@@ -46,6 +46,8 @@ void deepMerge(YAML::Node base, const YAML::Node& child) {
 // that extends one already in it is a cycle, reported with the whole chain.
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
                            std::vector<std::string>& chain);
+Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text, const std::string& file,
+                               const std::string& base_dir, std::vector<std::string>& chain);
 
 std::string chainKey(const std::string& file) {
   std::error_code ec;
@@ -126,11 +128,21 @@ Scenario loadScenarioText(const std::string& text, const std::string& file, cons
   return loadScenarioChain(text, file, base_dir, chain);
 }
 
+Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const std::string& file,
+                          const std::string& base_dir) {
+  std::vector<std::string> chain{chainKey(file)};
+  return loadScenarioTreeChain(tree, text, file, base_dir, chain);
+}
+
 namespace {
 
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
                            std::vector<std::string>& chain) {
-  const YAML::Node given = parseYaml(text, file);
+  return loadScenarioTreeChain(parseYaml(text, file), text, file, base_dir, chain);
+}
+
+Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text, const std::string& file,
+                               const std::string& base_dir, std::vector<std::string>& chain) {
   if (!given || given.IsNull()) throw ScenarioError(file, 1, 1, "", "the scenario is empty");
   const YAML::Node root = resolveExtends(given, file, base_dir, chain);
   YamlMap m(root, file, "");
@@ -217,17 +229,6 @@ std::string readScenarioText(const std::string& path, const std::string& what) {
   std::ostringstream os;
   os << in.rdbuf();
   return os.str();
-}
-
-std::string bundledScenarioDir() {
-  if (const char* env = std::getenv("PACKSIM_SCENARIOS"); env && *env) return env;
-  const std::string exe = executableDir();
-  const std::string found = firstFolderWith({exe + "/scenarios", exe + "/../scenarios"}, "cells");
-  if (found.empty())
-    throw ScenarioError("", 0, 0, "", "cannot find the bundled scenarios next to the packsim executable (" +
-                        (exe.empty() ? std::string("unknown folder") : exe) +
-                        "); set PACKSIM_SCENARIOS to the scenarios folder");
-  return found;
 }
 
 Scenario loadScenarioFile(const std::string& path) {

@@ -6,18 +6,24 @@
 #include <string>
 
 #include "core/scenario/scenario.hpp"
+#include "core/scenario/scenario_paths.hpp"  // bundledScenarioDir
+
+namespace YAML {
+class Node;
+}
 
 namespace packsim {
 
 Scenario loadScenarioFile(const std::string& path);
-// Folder of the bundled scenarios, found at run time (core/io/install_paths.hpp);
-// $PACKSIM_SCENARIOS overrides. A ScenarioError if there is none.
-std::string bundledScenarioDir();
 // The file's text as written (a ScenarioError "cannot open <what>" naming it if it
 // cannot be read).
 std::string readScenarioText(const std::string& path, const std::string& what = "scenario file");
 // `file` names the text in errors; `base_dir` resolves relative CSV paths.
 Scenario loadScenarioText(const std::string& text, const std::string& file = "<scenario>",
                           const std::string& base_dir = ".");
+// The same from a tree already parsed (and perhaps edited: core/scenario/overrides.hpp);
+// errors carry the positions the tree's nodes have. `text` is kept as Scenario::text.
+Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const std::string& file,
+                          const std::string& base_dir);
 
 }  // namespace packsim

@@ -149,41 +149,46 @@ bool related(const std::string& field, const std::string& overridden) {
   return field == overridden || under(field, overridden) || under(overridden, field);
 }
 
+// The scenario's tree with every override applied in place: nodes the overrides do not
+// replace keep their line and column in the original text.
+YAML::Node overriddenTree(const std::string& yamlText, const Overrides& overrides, const std::string& file) {
+  YAML::Node root = parseYaml(yamlText, file);
+  if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
+  if (!root.IsMap()) throw errorAtNode(file, root, "", "the scenario is not a mapping of key: value pairs");
+  for (const auto& [key, value] : overrides) applyOne(root, key, value, file);
+  return root;
+}
+
+// The overridden scenario as text: what ran, kept with the results (comments dropped).
+std::string emitted(const YAML::Node& root, const std::string& file) {
+  YAML::Emitter out;
+  out << root;
+  if (!out.good()) throw ScenarioError(file, 0, 0, "", "cannot write the overridden scenario: " + out.GetLastError());
+  return std::string(out.c_str()) + "\n";
+}
+
 }  // namespace
 
 std::string applyOverrides(const std::string& yamlText, const Overrides& dottedKeyToYamlValue,
                            const std::string& fileForErrors) {
   if (dottedKeyToYamlValue.empty()) return yamlText;
-  YAML::Node root = parseYaml(yamlText, fileForErrors);
-  if (!root || root.IsNull()) root = YAML::Node(YAML::NodeType::Map);
-  if (!root.IsMap()) throw errorAtNode(fileForErrors, root, "", "the scenario is not a mapping of key: value pairs");
-  for (const auto& [key, value] : dottedKeyToYamlValue) applyOne(root, key, value, fileForErrors);
-  YAML::Emitter out;
-  out << root;
-  if (!out.good()) throw ScenarioError(fileForErrors, 0, 0, "", "cannot write the overridden scenario: " + out.GetLastError());
-  return std::string(out.c_str()) + "\n";
+  return emitted(overriddenTree(yamlText, dottedKeyToYamlValue, fileForErrors), fileForErrors);
 }
 
 Scenario loadScenarioWithOverrides(const std::string& yamlText, const Overrides& overrides, const std::string& file,
                                    const std::string& base_dir) {
   if (overrides.empty()) return loadScenarioText(yamlText, file, base_dir);
-  const std::string merged = applyOverrides(yamlText, overrides, file);
+  const YAML::Node root = overriddenTree(yamlText, overrides, file);
   try {
-    return loadScenarioText(merged, file, base_dir);
+    return loadScenarioTree(root, emitted(root, file), file, base_dir);
   } catch (const ScenarioError& e) {
-    // Lines and columns of the re-emitted text mean nothing to the user. An error on a
-    // field an override touched is that override's; report it so.
+    // A value an override put in has no position in the file: an error on a field an
+    // override touched is that override's; report it so.
     for (auto it = overrides.rbegin(); it != overrides.rend(); ++it) {
       if (related(e.field(), loaderFieldName(parsePath(it->first, file))))
         throw ScenarioError(file, 0, 0, e.field(), e.message() + " (after override " + it->first + " = " + it->second + ")");
     }
-    // Otherwise the original text is probably wrong by itself: report its own error.
-    try {
-      loadScenarioText(yamlText, file, base_dir);
-    } catch (const ScenarioError& original) {
-      if (original.field() == e.field() && original.message() == e.message()) throw;
-    }
-    throw ScenarioError(file + " (with overrides applied)", e.line(), e.column(), e.field(), e.message());
+    throw;  // an untouched field: the tree kept its position in the original text
   }
 }
 

@@ -25,15 +25,17 @@ namespace packsim {
 // (dotted key, YAML value text), applied in order (a later key wins).
 using Overrides = std::vector<std::pair<std::string, std::string>>;
 
-// Returns the scenario text with the overrides applied (re-emitted by yaml-cpp, so
-// comments are dropped). Throws ScenarioError naming `fileForErrors` and the key.
+// Returns the scenario text with the overrides applied (the edited tree emitted by
+// yaml-cpp, so comments are dropped). Throws ScenarioError naming `fileForErrors` and the key.
 // With no overrides the text is returned unchanged.
 std::string applyOverrides(const std::string& yamlText, const Overrides& dottedKeyToYamlValue,
                            const std::string& fileForErrors);
 
-// applyOverrides + loadScenarioText. A ScenarioError the loader raises on a field an
-// override set is reported against that override (line/column 0, the message saying
-// which override); one on an untouched field keeps its position in the original text.
+// The overrides applied on the parsed tree, which the loader reads directly (one parse,
+// no re-emitted text in between); Scenario::text is the overridden scenario emitted.
+// A ScenarioError the loader raises on a field an override set is reported against
+// that override (line/column 0, the message saying which override and the allowed
+// range); one on an untouched field keeps its position in the original text.
 Scenario loadScenarioWithOverrides(const std::string& yamlText, const Overrides& overrides,
                                    const std::string& file = "<scenario>", const std::string& base_dir = ".");
 // Same for a file: relative CSV paths resolve against the file's folder.

@@ -142,7 +142,6 @@ void CvodeIntegrator::advance(double t_out, double t_stop) {
 }
 
 const double* CvodeIntegrator::state() const { return N_VGetArrayPointer(impl_->y); }
-double* CvodeIntegrator::mutableState() { return N_VGetArrayPointer(impl_->y); }
 
 CvodeStats CvodeIntegrator::stats() const {
   CvodeStats s = base_;

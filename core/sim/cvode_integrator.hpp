@@ -28,10 +28,12 @@ class CvodeIntegrator : public Integrator {
   // Integrates to t_out without stepping past t_stop (t_stop >= t_out).
   void advance(double t_out, double t_stop) override;
   const double* state() const override;
-  double* mutableState();
   double time() const override { return t_; }
   CvodeStats stats() const override;
   const char* name() const override { return "cvode"; }
+  // Never: CVODE's last right-hand side was taken at a trial point inside its step,
+  // not at the interpolated t_out, so the loop evaluates the plant itself.
+  const PlantSignals* signalsAt(double) const override { return nullptr; }
 
  private:
   struct Impl;

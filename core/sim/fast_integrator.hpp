@@ -52,10 +52,9 @@ class FastIntegrator : public Integrator {
   const char* name() const override { return "fast"; }
   // The largest sub-step the rule allows (s).
   double maxSubstep_s() const { return hMax_; }
-  // The plant's signals at (t, state()) under the inputs held since the last reset,
-  // when the last sub-step ended at t (no reset since); nullptr otherwise. The loop
-  // samples them instead of evaluating the plant a second time at the same point.
-  const PlantSignals* signalsAt(double t) const { return ratesValid_ && t == t_ ? &sig_ : nullptr; }
+  // The signals of the last sub-step's end, when it ended at t (Integrator::signalsAt):
+  // the loop samples them instead of evaluating the plant a second time there.
+  const PlantSignals* signalsAt(double t) const override { return ratesValid_ && t == t_ ? &sig_ : nullptr; }
 
  private:
   void evaluateRates();        // rates_ at (t_, x_)

@@ -6,12 +6,15 @@
 //   FastIntegrator   (core/sim/fast_integrator.hpp)   fixed sub-steps per tick:
 //                    exponential RC update, explicit SOC / temperature / quadratures
 //
-// The loop owns time: reset() at every discontinuity (an input of the ODE jumps),
+// The ODE of the plant (states + quadratures, core/sim/plant_ode.hpp) is what both
+// integrate. The loop owns time: reset() at every discontinuity (an input of the ODE jumps),
 // advance(t_out, t_stop) between them. Inputs are held fixed between two resets.
 #pragma once
 #include <memory>
 
 namespace packsim {
+
+struct PlantSignals;
 
 struct SolverStats {
   long steps = 0;      // internal steps (CVODE) or sub-steps (fast)
@@ -31,6 +34,11 @@ class Integrator {
   virtual double time() const = 0;
   virtual SolverStats stats() const = 0;
   virtual const char* name() const = 0;  // "cvode" or "fast", as in run.solver
+  // The plant's signals at (t, state()) under the inputs held since the last reset,
+  // when the integrator evaluated the plant exactly there as the end of its last step
+  // (no reset since); nullptr otherwise, and the loop evaluates the plant itself. The
+  // signals stay valid until the next advance() or reset().
+  virtual const PlantSignals* signalsAt(double t) const = 0;
 };
 
 }  // namespace packsim

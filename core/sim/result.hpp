@@ -16,7 +16,8 @@ struct Event {
   std::string detail;
 };
 
-// Per-sample arrays are row-major [sample][channel].
+// Per-sample arrays are row-major [sample][channel]. Each vector is one row of the
+// result-channel table (core/sim/result_channels.hpp), which fills and writes it.
 struct Recording {
   int cells = 0;        // series·parallel
   int groups = 0;       // series positions the monitor ICs read
@@ -45,6 +46,7 @@ struct Recording {
       hw_fault_line;
   std::vector<double> hw_bus_voltage_V, hw_fet_loss_W;
   // balancing and charging (issue 5): only filled when the scenario has the hardware
+  bool has_hardware = false;  // the switching hardware and monitors are recorded (/hardware)
   bool has_balancing = false, has_active_balancer = false, has_charger = false, has_board = false;
   std::vector<double> balance_current_A;      // [sample][series]: passive I_bal, or converter current (+ from the module)
   std::vector<uint8_t> balance_mask;          // [sample][series]: what the BMS commanded

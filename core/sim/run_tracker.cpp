@@ -1,9 +1,11 @@
 #include "core/sim/run_tracker.hpp"
 
+#include "core/sim/result_channels.hpp"
 #include "core/sim/stranded_energy.hpp"
 
 #include <bms/bms_balance.hpp>
 #include <bms/bms_core.hpp>
+#include <bms/bms_names.hpp>
 #include <bms/bms_soc.hpp>
 #include <bms/bms_telemetry.hpp>
 #include <algorithm>
@@ -60,6 +62,7 @@ void RunTracker::noteSocRange(double t, const double* x, int cell) {
 
 void RunTracker::setHardware(const HardwareSim* hw) {
   hw_ = hw;
+  r_.rec.has_hardware = hw != nullptr;
   r_.rec.devices = hw ? hw->monitors().config().devices : 0;
 }
 
@@ -137,9 +140,9 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       event(t, "active_balancer", h.active_safe_state ? "safe state: converters off" : "converters enabled");
     lastHw_ = h;
     const uint8_t phase = out.telemetry.prechargePhase;
-    static const char* const kPhase[] = {"idle", "charging", "closing", "pause", "done", "failed"};
-    if (phase != lastPrechargePhase_ && phase < 6)
-      event(t, "precharge", std::string(kPhase[phase]) + " (attempt " + std::to_string(out.telemetry.prechargeAttempts) + ")");
+    if (phase != lastPrechargePhase_ && phase < bms::kPrechargePhaseCount)
+      event(t, "precharge", std::string(bms::prechargePhaseName(static_cast<bms::PrechargePhase>(phase))) + " (attempt " +
+                                std::to_string(out.telemetry.prechargeAttempts) + ")");
     lastPrechargePhase_ = phase;
     if (out.telemetry.devicesLost != lastLost_) {
       for (int d = 0; d < 64; ++d)
@@ -149,8 +152,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     }
   }
   if ((r_.rec.has_balancing) && (first_ || out.balanceStatus != lastBalanceStatus_)) {
-    static const char* const kStatus[] = {"disabled", "not allowed now", "paused: board hot", "balanced", "balancing"};
-    if (out.balanceStatus < 5) event(t, "balancing", kStatus[out.balanceStatus]);
+    if (out.balanceStatus < bms::kBalanceStatusCount)
+      event(t, "balancing", bms::balanceStatusName(static_cast<bms::BalanceStatus>(out.balanceStatus)));
   }
   lastBalanceStatus_ = out.balanceStatus;
   judgeEstimates(x, sig, out);
@@ -164,68 +167,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
 }
 
 void RunTracker::record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
-  Recording& rec = r_.rec;
-  rec.time_s.push_back(t);
-  for (int c = 0; c < rec.cells; ++c) {
-    const size_t ci = static_cast<size_t>(c);
-    rec.cell_voltage_V.push_back(sig.cell_voltage_V[ci]);
-    rec.cell_current_A.push_back(sig.cell_current_A[ci]);
-    rec.cell_soc.push_back(plant_.cellStates(x, c)[CellLayout::soc]);
-    rec.cell_temp_C.push_back(x[plant_.tempIndex(c)]);
-  }
-  rec.pack_voltage_V.push_back(sig.pack_voltage_V);
-  rec.pack_current_A.push_back(sig.pack_current_A);
-  const bms::Telemetry& tm = out.telemetry;
-  for (int g = 0; g < rec.groups; ++g) rec.meas_cell_voltage_mV.push_back(tm.cellVoltage_mV[g]);
-  for (int k = 0; k < rec.thermistors; ++k) rec.meas_temperature_dC.push_back(tm.temperature_dC[k]);
-  rec.meas_current_mA.push_back(tm.packCurrent_mA);
-  rec.bms_state.push_back(static_cast<uint8_t>(out.state));
-  rec.fault_active.push_back(out.faultActive);
-  rec.fault_latched.push_back(out.faultLatched);
-  rec.relay_closed.push_back(out.relayClose ? 1 : 0);
-  rec.discharge_fet_on.push_back(out.dischargeFetOn ? 1 : 0);
-  rec.charge_fet_on.push_back(out.chargeFetOn ? 1 : 0);
-  rec.precharge_closed.push_back(out.prechargeClose ? 1 : 0);
-  rec.precharge_phase.push_back(tm.prechargePhase);
-  rec.monitor_fault.push_back(tm.monitorFault ? 1 : 0);
-  rec.soc_estimate_permille.push_back(tm.soc_permille);
-  rec.meas_bus_voltage_mV.push_back(tm.busVoltage_mV);
-  for (int d = 0; d < rec.devices; ++d) rec.comm_bad.push_back(tm.commBad[d]);
-  uint8_t frame[bms::kTelemetryFrameBytes];
-  bms::telemetryEncode(out, frame);
-  rec.telemetry.insert(rec.telemetry.end(), frame, frame + bms::kTelemetryFrameBytes);
-  recordBalancing(x, sig, out);
-  recordEstimates(x, sig, out);
-  if (hw_) {
-    const HardwareStatus& h = hw_->status();
-    rec.hw_relay_closed.push_back(h.relay_closed ? 1 : 0);
-    rec.hw_precharge_closed.push_back(h.precharge_closed ? 1 : 0);
-    rec.hw_fuse_blown.push_back(h.fuse_blown ? 1 : 0);
-    rec.hw_discharge_fet_on.push_back(h.discharge_fet_on ? 1 : 0);
-    rec.hw_charge_fet_on.push_back(h.charge_fet_on ? 1 : 0);
-    rec.hw_fault_line.push_back(h.fault_line ? 1 : 0);
-    rec.hw_bus_voltage_V.push_back(h.bus_V);
-    rec.hw_fet_loss_W.push_back(h.fet_loss_W);
-  }
-}
-
-void RunTracker::recordBalancing(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
-  Recording& rec = r_.rec;
-  if (rec.has_balancing || rec.has_active_balancer) {
-    for (int g = 0; g < rec.groups; ++g) {
-      rec.balance_current_A.push_back(sig.balance_current_A[static_cast<size_t>(g)]);
-      rec.balance_mask.push_back(bms::balanceBit(out.balanceMask, static_cast<uint16_t>(g)) ? 1 : 0);
-      rec.hw_balancing.push_back(hw_ && hw_->monitors().balancing(g, lastT_) ? 1 : 0);
-    }
-    rec.balance_status.push_back(out.balanceStatus);
-  }
-  if (rec.has_board) rec.board_temp_C.push_back(x[plant_.tempIndex(plant_.boardNode())]);
-  if (rec.has_active_balancer) rec.balancer_bus_V.push_back(sig.bus_V);
-  if (rec.has_charger) {
-    rec.charger_current_A.push_back(sig.charger_A);
-    rec.charger_enable.push_back(out.chargerEnable ? 1 : 0);
-    rec.charger_request_mA.push_back(out.chargerCurrentRequest_mA);
-  }
+  recordSample({t, x, sig, out, plant_, cfg_, hw_, r_.rec}, r_.rec);
 }
 
 bool RunTracker::stopRequested(double t) const {
@@ -276,21 +218,6 @@ RunResult RunTracker::finish(const double* q) {
   return std::move(r_);
 }
 
-// The truth an estimate is judged against: the mean SOC of every cell.
-double RunTracker::trueMeanSoc(const double* x) const {
-  double sum = 0.0;
-  for (int c = 0; c < plant_.pack().cellCount(); ++c) sum += plant_.cellStates(x, c)[CellLayout::soc];
-  return sum / plant_.pack().cellCount();
-}
-
-// The bars the display would show if it read the true open-circuit voltage (mean cell).
-uint8_t RunTracker::trueDisplayBars(const PlantSignals& sig) const {
-  double sum = 0.0;
-  for (double v : sig.cell_ocv_V) sum += v;
-  const double mean_mV = sum / static_cast<double>(sig.cell_ocv_V.size()) * 1e3;
-  return bms::socDisplayBars(cfg_.soc, static_cast<uint16_t>(std::clamp(std::lround(mean_mV), 0L, 65535L)));
-}
-
 void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   const bms::Telemetry& tm = out.telemetry;
   if (!tm.socCoulombValid && !tm.socEkfValid) return;
@@ -313,22 +240,10 @@ void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const 
   if (tm.socEkfValid) socErrorEkf_.add(tm.socEkf, truth);
   sm.capacity_estimate_Ah = tm.capacityEstimate_mAh * 1e-3;
   if (tm.socCoulombValid) {  // the display runs from the same complete reading
-    const int diff = static_cast<int>(trueDisplayBars(sig)) - static_cast<int>(tm.socDisplayBars);
+    const int diff = static_cast<int>(trueDisplayBars(cfg_, sig)) - static_cast<int>(tm.socDisplayBars);
     sm.display_bars_hidden_max = std::max(sm.display_bars_hidden_max, diff);
     sm.display_bars_extra_max = std::max(sm.display_bars_extra_max, -diff);
   }
-}
-
-void RunTracker::recordEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
-  Recording& rec = r_.rec;
-  const bms::Telemetry& tm = out.telemetry;
-  rec.soc_truth_mean.push_back(trueMeanSoc(x));
-  rec.soc_coulomb.push_back(tm.socCoulomb);
-  rec.soc_ekf.push_back(tm.socEkf);
-  for (int g = 0; g < rec.groups; ++g) rec.soc_ekf_group_permille.push_back(tm.socGroup_permille[g]);
-  rec.capacity_estimate_Ah.push_back(tm.capacityEstimate_mAh * 1e-3);
-  rec.soc_display_bars.push_back(tm.socDisplayBars);
-  rec.soc_display_bars_truth.push_back(trueDisplayBars(sig));
 }
 
 }  // namespace packsim

@@ -30,12 +30,8 @@ class RunTracker {
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
   void noteLimit(double t, const double* x, int cell);
   void noteSocRange(double t, const double* x, int cell);
-  void recordBalancing(const double* x, const PlantSignals& sig, const bms::Outputs& out);
   // State estimation against the truth (issue 17).
-  double trueMeanSoc(const double* x) const;
-  uint8_t trueDisplayBars(const PlantSignals& sig) const;
   void judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out);
-  void recordEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out);
 
   const Scenario& s_;
   const Plant& plant_;

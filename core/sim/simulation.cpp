@@ -14,43 +14,10 @@
 #include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
 #include "core/sim/plant.hpp"
+#include "core/sim/plant_ode.hpp"
 #include "core/sim/run_tracker.hpp"
 
 namespace packsim {
-
-namespace {
-
-// The plant plus its energy quadratures as one ODE for CVODE:
-// x = [plant states…, charge_As, load_J, heat_J, chem_J].
-class PlantOde : public OdeSystem {
- public:
-  PlantOde(const Plant& p, const RunConfig& run, const PlantInputs& in)
-      : plant_(p), run_(run), in_(in), sig_(p.makeSignals()) {}
-
-  int size() const override { return plant_.stateSize() + kQuadCount; }
-  int halfBandwidth() const override { return plant_.bandwidth(); }
-  // Cells couple within the band; extra thermal nodes and the quadratures do not.
-  int bandedSize() const override { return plant_.pack().cellCount() * plant_.stride(); }
-  std::vector<double> absTolerances() const override {
-    std::vector<double> a(static_cast<size_t>(size()), run_.atol_V);
-    for (int c = 0; c < plant_.pack().cellCount(); ++c) a[static_cast<size_t>(c * plant_.stride())] = run_.atol_soc;
-    for (int j = 0; j < plant_.thermal().nodeCount(); ++j) a[static_cast<size_t>(plant_.tempIndex(j))] = run_.atol_C;
-    for (int q = 0; q < kQuadCount; ++q) a[static_cast<size_t>(plant_.stateSize() + q)] = 1e-3;
-    return a;
-  }
-  void rhs(double t, const double* x, double* dx) override {
-    plant_.derivatives(t, x, in_, dx, sig_);
-    plant_.quadratures(x, sig_, dx + plant_.stateSize());
-  }
-
- private:
-  const Plant& plant_;
-  const RunConfig& run_;
-  const PlantInputs& in_;
-  PlantSignals sig_;
-};
-
-}  // namespace
 
 struct SimulationRun::Impl {
   explicit Impl(const Scenario& sc)
@@ -74,7 +41,6 @@ struct SimulationRun::Impl {
                                                 FastSettings{s.run.fast_max_substep_s, s.run.fast_substep_fraction});
     else
       solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol);
-    fast = dynamic_cast<const FastIntegrator*>(solver.get());
 
     std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
     plant.initialState(x.data());
@@ -105,7 +71,6 @@ struct SimulationRun::Impl {
   PlantInputs inputs;
   PlantOde ode;
   std::unique_ptr<Integrator> solver;
-  const FastIntegrator* fast = nullptr;
   const bms::Config cfg;
   HardwareSim hw;  // monitor ICs, sensors, relay, FETs, fuse, precharge (bms_bridge)
   bms::CoreState core{};
@@ -132,7 +97,7 @@ bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
   // 1. scripted faults due at t_k switch on (or off); then sample the truth at t_k
   //    (the fast integrator's last evaluation already sits at (t_k, x_k) under these
   //    inputs unless it restarted since: no second evaluation of the same point)
-  const PlantSignals* now = fast ? fast->signalsAt(t) : nullptr;
+  const PlantSignals* now = integ.signalsAt(t);
   const bool reuse = now != nullptr;
   if (!reuse) plant.evaluate(t, xs, inputs, sig);
   const bool faultChanged = scheduler.update(t, xs, reuse ? *now : sig, faults, tracker);

@@ -5,6 +5,7 @@
 
 #include <bms/bms_crc.hpp>
 #include "models/pack/cell_spread.hpp"
+#include "models/random/random.hpp"
 
 namespace packsim {
 
@@ -39,7 +40,7 @@ bool MonitorStack::Timer::running(double t, bool cond, double delay) {
 MonitorStack::MonitorStack(const MonitorConfig& cfg, int cellCount, uint64_t seed)
     : cfg_(cfg), cells_(cellCount), dev_(static_cast<size_t>(cfg.devices)) {
   // Per-channel errors are a property of the part: drawn once, from their own stream.
-  Rng rng(deriveSeed(seed, 0xAFE));
+  Rng rng(deriveSeed(seed, RngStream::MonitorChannelErrors));
   gain_.assign(static_cast<size_t>(cellCount), 0.0);
   offset_.assign(static_cast<size_t>(cellCount), 0.0);
   for (int c = 0; c < cellCount; ++c) {

@@ -71,8 +71,6 @@ class MonitorStack {
   bool chargeAllowed() const;
   bool balancing(int cell, double t) const;
   bool deviceFault(int d) const;
-  uint8_t bqSafetyA(int d) const { return dev_[static_cast<size_t>(d)].bqStatusA; }
-  uint8_t bqSafetyB(int d) const { return dev_[static_cast<size_t>(d)].bqStatusB; }
   double chargeCounter_As(int d) const { return dev_[static_cast<size_t>(d)].cc_As; }
 
   // Device d's channel errors drawn from the seed (tests use them).

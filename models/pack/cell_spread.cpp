@@ -3,20 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
-#include "models/sensors/adc.hpp"
+#include "models/random/random.hpp"
 
 namespace packsim {
 
-uint64_t deriveSeed(uint64_t seed, uint64_t stream) {
-  uint64_t z = seed + 0x9E3779B97F4A7C15ull * (stream + 1);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
 PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, int parallel, const CellSpread& spread,
                     const std::vector<CellOverride>& overrides, uint64_t seed) {
-  Rng rng(deriveSeed(seed, 1));
+  Rng rng(deriveSeed(seed, RngStream::CellSpread));
   auto z = [&rng] { return std::clamp(standardNormal(rng), -3.0, 3.0); };
   PackCells pc;
   pc.params.assign(static_cast<size_t>(count), nominal);

@@ -39,7 +39,4 @@ struct PackCells {
 PackCells drawCells(const CellParams& nominal, double nominal_soc, int count, int parallel, const CellSpread& spread,
                     const std::vector<CellOverride>& overrides, uint64_t seed);
 
-// splitmix64: derives independent seeds for separate random streams.
-uint64_t deriveSeed(uint64_t seed, uint64_t stream);
-
 }  // namespace packsim

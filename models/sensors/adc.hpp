@@ -6,27 +6,10 @@
 //   noise ~ N(0, noise_rms)
 #pragma once
 #include <cstdint>
-#include <random>
+
+#include "models/random/random.hpp"  // Rng, standardNormal
 
 namespace packsim {
-
-// The simulator's random source: a 64-bit Mersenne Twister plus the second normal of
-// the last Box-Muller pair, so each pair of uniforms yields two normals. A standard
-// UniformRandomBitGenerator, so std:: algorithms take it too.
-class Rng {
- public:
-  using result_type = std::mt19937_64::result_type;
-  explicit Rng(uint64_t seed = std::mt19937_64::default_seed) : engine_(seed) {}
-  result_type operator()() { return engine_(); }
-  static constexpr result_type min() { return std::mt19937_64::min(); }
-  static constexpr result_type max() { return std::mt19937_64::max(); }
-
- private:
-  friend double standardNormal(Rng& rng);
-  std::mt19937_64 engine_;
-  double spare_ = 0.0;
-  bool hasSpare_ = false;
-};
 
 struct AdcChannel {
   double lsb = 1.0;          // input units per code
@@ -38,10 +21,5 @@ struct AdcChannel {
 
   int64_t convert(double x, Rng& rng) const;
 };
-
-// Zero-mean unit normal drawn with a fixed algorithm (Box-Muller on 53-bit uniforms,
-// both outputs of each pair used in turn), so the noise sequence for a seed is the same
-// with every standard library.
-double standardNormal(Rng& rng);
 
 }  // namespace packsim

@@ -32,6 +32,8 @@ def apply_overrides(yaml_text: str, overrides: list[tuple[str, str]], file_name:
     """The scenario text with (dotted key, YAML value) overrides applied."""
 
 def bundled_scenario_dir() -> str: ...
+def result_channels() -> list[dict[str, Any]]:
+    """The result-channel table: [{path, units, axis, dtype, long_name}] in file order."""
 def default_scenario_path() -> str: ...
 def bundled_catalog() -> list[tuple[str, str, str, str]]:
     """[(kind, name, path, description)] of the bundled scenarios and cell presets."""

@@ -30,6 +30,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/scenario/scenario_paths.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/version.hpp"
@@ -137,6 +138,8 @@ PYBIND11_MODULE(_packsim, m) {
       .def_property_readonly("scenario_name", [](const RunHandle& h) { return h.scenario.name; })
       .def_property_readonly("seed", [](const RunHandle& h) { return h.scenario.run.seed; });
 
+  m.def("result_channels", &resultChannelTable,
+        "the result-channel table: [{path, units, axis, dtype, long_name}] in file order");
   m.def("run", &run, py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("seed") = py::none(),
         py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".", py::arg("progress") = py::none(),
         "Load a scenario (a file path if is_file, else YAML text named file_name whose relative paths resolve "

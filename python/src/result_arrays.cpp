@@ -4,7 +4,10 @@
 
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
+
+#include "core/sim/result_channels.hpp"
 
 namespace py = pybind11;
 
@@ -38,36 +41,28 @@ py::array view(const std::vector<T>& v, size_t rows, size_t cols, const py::obje
 py::dict recordingArrays(py::object handle) {
   const RunHandle& h = handle.cast<const RunHandle&>();
   const Recording& r = h.result.rec;
-  const size_t n = r.samples();
-  const auto cells = static_cast<size_t>(r.cells);
-  const auto groups = static_cast<size_t>(r.groups);
-  const auto therm = static_cast<size_t>(r.thermistors);
   py::dict d;
-  auto put = [&](const char* path, const auto& vec, size_t cols) { d[path] = view(vec, n, cols, handle, path); };
-  put("time_s", r.time_s, 0);
-  put("truth/cell_voltage_V", r.cell_voltage_V, cells);
-  put("truth/cell_current_A", r.cell_current_A, cells);
-  put("truth/cell_soc", r.cell_soc, cells);
-  put("truth/cell_temp_C", r.cell_temp_C, cells);
-  put("truth/pack_voltage_V", r.pack_voltage_V, 0);
-  put("truth/pack_current_A", r.pack_current_A, 0);
-  put("measured/cell_voltage_mV", r.meas_cell_voltage_mV, groups);
-  put("measured/temperature_dC", r.meas_temperature_dC, therm);
-  put("measured/current_mA", r.meas_current_mA, 0);
-  put("bms/state", r.bms_state, 0);
-  put("bms/fault_active", r.fault_active, 0);
-  put("bms/fault_latched", r.fault_latched, 0);
-  put("bms/relay_closed", r.relay_closed, 0);
-  put("bms/discharge_fet_on", r.discharge_fet_on, 0);
-  put("bms/charge_fet_on", r.charge_fet_on, 0);
-  put("truth/soc_mean", r.soc_truth_mean, 0);
-  put("truth/soc_display_bars", r.soc_display_bars_truth, 0);
-  put("bms/soc_coulomb", r.soc_coulomb, 0);
-  put("bms/soc_ekf", r.soc_ekf, 0);
-  put("bms/soc_ekf_group_permille", r.soc_ekf_group_permille, groups);
-  put("bms/capacity_estimate_Ah", r.capacity_estimate_Ah, 0);
-  put("bms/soc_display_bars", r.soc_display_bars, 0);
+  for (const ResultChannel& c : resultChannels()) {  // core/sim/result_channels.hpp
+    if (!isRecorded(c, r)) continue;
+    const char* key = c.path + 1;  // without the leading '/'
+    std::visit([&](const auto& col) { d[key] = view(r.*(col.data), r.samples(), axisLength(c.axis, r), handle, key); },
+               c.column);
+  }
   return d;
+}
+
+py::list resultChannelTable() {
+  py::list out;
+  for (const ResultChannel& c : resultChannels()) {
+    py::dict row;
+    row["path"] = c.path;
+    row["units"] = c.units ? py::object(py::str(c.units)) : py::object(py::none());
+    row["axis"] = axisName(c.axis);
+    row["dtype"] = dtypeName(c);
+    row["long_name"] = c.long_name;
+    out.append(row);
+  }
+  return out;
 }
 
 }  // namespace packsim::python

@@ -14,9 +14,11 @@ struct RunHandle {
 
 // {HDF5 dataset path ("time_s", "truth/cell_voltage_V", ...): read-only numpy array}
 // viewing the vectors of handle.result.rec without copying; each array keeps the
-// handle alive. Paths, shapes and dtypes are those core/io/hdf5_writer.cpp writes;
-// datasets missing here are read from the written file by the Python layer, so a new
-// dataset shows up in packsim.run results even before it is listed here.
+// handle alive: every channel of the result-channel table (core/sim/result_channels.hpp)
+// the run recorded, with the paths, shapes and dtypes core/io/hdf5_writer.cpp writes.
 pybind11::dict recordingArrays(pybind11::object handle);
+
+// The result-channel table as [{path, units, axis, dtype, long_name}] (docs test).
+pybind11::list resultChannelTable();
 
 }  // namespace packsim::python

@@ -118,6 +118,16 @@ TEST(Overrides, ErrorsInUntouchedFieldsKeepTheirOriginalPosition) {
   }
 }
 
+TEST(Overrides, ACrossFieldErrorOnAnUntouchedFieldPointsIntoTheOriginalText) {
+  // The overrides edit the parsed tree, so the loader still sees every original node
+  // with its line and column: the error sits where `output` is written (line 21).
+  const std::string y = "# a comment the emitted text would lose\n\n" + base() + "output: {interval_s: 0.5}\n";
+  const std::string e =
+      test::scenarioErrorOf([&] { loadScenarioWithOverrides(y, {{"bms.tick_ms", "1000"}}, "test.yaml", test::scenarioDir()); });
+  EXPECT_EQ(e.find("test.yaml:23:"), 0u) << e;
+  EXPECT_NE(e.find("interval_s must be at least the BMS tick"), std::string::npos) << e;
+}
+
 TEST(Overrides, FileVersionResolvesCsvAgainstTheFileFolder) {
   // The bundled default reads profiles/…csv relative to its own folder, whatever the cwd.
   const std::string path = test::scenarioDir() + "/eco_marathon_12s.yaml";

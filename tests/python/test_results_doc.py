@@ -1,6 +1,8 @@
 """docs/results.md lists every dataset the writer produces (with its type), every enum
 value and every fault bit: run each bundled scenario briefly and compare, so the page
-cannot drift from the writer."""
+cannot drift from the writer. Every row of the result-channel table
+(core/sim/result_channels.hpp, packsim._packsim.result_channels()) has its line with
+its shape, type and unit, and every documented dataset is a channel."""
 from __future__ import annotations
 
 import re
@@ -14,6 +16,11 @@ from h5_tree import datasets as h5_datasets
 
 DOC = (Path(__file__).resolve().parents[2] / "docs" / "results.md").read_text()
 ROWS = [line for line in DOC.splitlines() if line.startswith("| `/")]
+CHANNELS = packsim._packsim.result_channels()
+# The doc's shape column by the channel's second axis, and its spelling of units.
+SHAPE = {"": "[n]", "cell": "[n, cells]", "series": "[n, series]", "thermistor": "[n, thermistors]",
+         "device": "[n, devices]", "telemetry_byte": "[n, 33]"}
+DOC_UNIT = {"degC": "°C", "0.1 degC": "0.1 °C"}
 
 
 def _bundled():
@@ -80,3 +87,55 @@ def test_every_enum_value_and_fault_bit_is_documented(written):
     events_row = _row_of("events")
     for kind in kinds:
         assert f"`{kind}`" in events_row, f"event kind {kind} not in docs/results.md"
+
+
+def test_the_channel_table_is_complete_and_consistent():
+    paths = [c["path"] for c in CHANNELS]
+    assert len(paths) == len(set(paths)) >= 40
+    for c in CHANNELS:
+        group = c["path"].rsplit("/", 1)[0]
+        assert group in ("", "/truth", "/measured", "/bms", "/hardware"), c
+        assert c["axis"] in SHAPE and c["long_name"], c
+
+
+@pytest.mark.parametrize("channel", CHANNELS, ids=lambda c: c["path"])
+def test_every_channel_is_documented_with_shape_type_and_unit(channel):
+    row = _row_of(channel["path"][1:])
+    assert row is not None, f"{channel['path']} missing from docs/results.md"
+    cells = [c.strip() for c in row.split("|")]
+    assert cells[2] == f"{SHAPE[channel['axis']]} {channel['dtype']}", row
+    if channel["units"] is not None:
+        unit = DOC_UNIT.get(channel["units"], channel["units"])
+        assert re.match(rf"{re.escape(unit)}(?![A-Za-z0-9])", cells[3]), f"{channel['path']}: doc should start with {unit!r}"
+
+
+def test_every_documented_dataset_is_a_channel():
+    known = {c["path"] for c in CHANNELS} | {"/events", "/summary"}
+    table = DOC.split("## Datasets", 1)[1].split("\n## ", 1)[0]  # not the dimension scales' table
+    documented = {row.split("|")[1].strip().strip("`") for row in table.splitlines() if row.startswith("| `/")}
+    assert len(documented) >= 40
+    assert documented - known == set(), "docs/results.md lists datasets the channel table does not have"
+
+
+def _names(result, path):
+    raw = result.attrs[path]["names"]
+    raw = raw.decode() if isinstance(raw, bytes) else str(raw)
+    return {pair.split("=", 1)[1] for pair in raw.split(",")}
+
+
+def test_event_details_use_the_names_of_the_enum_attributes():
+    # bms/bms_names.hpp is the one spelling: events and `names` attributes agree.
+    r = packsim.run(packsim.bundled_scenario_dir() + "/balance/bench_6s_balancing.yaml", {"run.duration_s": 30})
+    states, phases, status = _names(r, "bms/state"), _names(r, "bms/precharge_phase"), _names(r, "bms/balance_status")
+    seen = set()
+    for e in r.events:
+        if e["kind"] == "bms_state":
+            assert set(e["detail"].split(" -> ")) <= states, e
+        elif e["kind"] == "precharge":
+            assert e["detail"].split(" (")[0] in phases, e
+        elif e["kind"] == "balancing":
+            assert e["detail"] in status, e
+        else:
+            continue
+        seen.add(e["kind"])
+    assert seen >= {"bms_state", "balancing"}

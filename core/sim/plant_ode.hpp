@@ -1,0 +1,38 @@
+// The plant plus its energy quadratures as one ODE for the CVODE adapter
+// (core/sim/cvode_integrator.hpp):
+//
+//   x = [plant states…, charge_As, load_J, heat_J, chem_J]
+//   dx/dt = [Plant::derivatives(t, x, inputs), Plant::quadratures(x, signals)]
+//
+// Absolute tolerances per component: run.atol_soc on each cell's SOC, run.atol_C on
+// every thermal node, 1e-3 on the quadratures (C, J) and run.atol_V on the rest (RC
+// voltages, hysteresis). The inputs are read at every evaluation; the loop changes them
+// only before an integrator reset.
+#pragma once
+#include <vector>
+
+#include "core/scenario/scenario.hpp"
+#include "core/sim/ode_system.hpp"
+#include "core/sim/plant.hpp"
+
+namespace packsim {
+
+class PlantOde : public OdeSystem {
+ public:
+  PlantOde(const Plant& p, const RunConfig& run, const PlantInputs& in);
+
+  int size() const override;
+  int halfBandwidth() const override;
+  // Cells couple within the band; extra thermal nodes and the quadratures do not.
+  int bandedSize() const override;
+  std::vector<double> absTolerances() const override;
+  void rhs(double t, const double* x, double* dx) override;
+
+ private:
+  const Plant& plant_;
+  const RunConfig& run_;
+  const PlantInputs& in_;
+  PlantSignals sig_;
+};
+
+}  // namespace packsim

@@ -1,0 +1,51 @@
+// The simulator's random numbers: one generator type and the derivation of independent
+// streams from the scenario's seed. Same seed, same streams, same run, bit for bit.
+//
+//   measurement noise         Rng(seed): the run's own stream, drawn tick by tick
+//   stream s of a seed        Rng(deriveSeed(seed, s)), s one of RngStream below
+//   Monte Carlo sample i      deriveSeed(master_seed, i) (core/batch/sweep.hpp)
+//
+// deriveSeed is splitmix64 of seed + (stream + 1)·0x9E3779B97F4A7C15: nearby seeds and
+// nearby streams give unrelated generators.
+#pragma once
+#include <cstdint>
+#include <random>
+
+namespace packsim {
+
+// Streams drawn once when a model is built, each from its own derived seed so that
+// turning one on does not shift the draws of another. The values are part of the
+// result: changing one changes every result that uses it.
+enum class RngStream : uint64_t {
+  CellSpread = 1,                 // cell-to-cell capacity / resistance / SOC spread (models/pack)
+  MonitorChannelErrors = 0xAFE,   // per-channel gain and offset of the monitor ICs (models/afe)
+};
+
+// The simulator's random source: a 64-bit Mersenne Twister plus the second normal of
+// the last Box-Muller pair, so each pair of uniforms yields two normals. A standard
+// UniformRandomBitGenerator, so std:: algorithms take it too.
+class Rng {
+ public:
+  using result_type = std::mt19937_64::result_type;
+  explicit Rng(uint64_t seed = std::mt19937_64::default_seed) : engine_(seed) {}
+  result_type operator()() { return engine_(); }
+  static constexpr result_type min() { return std::mt19937_64::min(); }
+  static constexpr result_type max() { return std::mt19937_64::max(); }
+
+ private:
+  friend double standardNormal(Rng& rng);
+  std::mt19937_64 engine_;
+  double spare_ = 0.0;
+  bool hasSpare_ = false;
+};
+
+// Zero-mean unit normal drawn with a fixed algorithm (Box-Muller on 53-bit uniforms,
+// both outputs of each pair used in turn), so the noise sequence for a seed is the same
+// with every standard library.
+double standardNormal(Rng& rng);
+
+// splitmix64: the seed of stream `stream` of `seed`.
+uint64_t deriveSeed(uint64_t seed, uint64_t stream);
+inline uint64_t deriveSeed(uint64_t seed, RngStream stream) { return deriveSeed(seed, static_cast<uint64_t>(stream)); }
+
+}  // namespace packsim

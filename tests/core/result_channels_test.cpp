@@ -1,0 +1,115 @@
+// The result-channel table against what a run records and what the writer writes: each
+// channel a run holds has samples × axis values and is written bit for bit under its
+// path with its unit; a channel the run does not hold is neither recorded nor written.
+#include "core/sim/result_channels.hpp"
+
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cstring>
+#include <set>
+#include <variant>
+
+#include "core/io/hdf5_writer.hpp"
+#include "core/scenario/overrides.hpp"
+#include "core/sim/simulation.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+struct Run {
+  Scenario s;
+  RunResult r;
+};
+
+Run runBundled(const std::string& name) {
+  Run run;
+  run.s = loadScenarioFileWithOverrides(test::scenarioDir() + "/" + name, {{"run.duration_s", "4"}});
+  run.r = runScenario(run.s);
+  return run;
+}
+
+std::string unitsOf(const std::string& file, const std::string& path) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, path.c_str(), H5P_DEFAULT);
+  std::string units;
+  if (H5Aexists(d, "units") > 0) {
+    const hid_t a = H5Aopen(d, "units", H5P_DEFAULT);
+    const hid_t t = H5Aget_type(a);
+    units.resize(H5Tget_size(t));
+    H5Aread(a, t, units.data());
+    units.resize(std::strlen(units.c_str()));
+    H5Tclose(t);
+    H5Aclose(a);
+  }
+  H5Dclose(d);
+  H5Fclose(f);
+  return units;
+}
+
+bool exists(const std::string& file, const std::string& path) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const bool e = H5Lexists(f, path.c_str(), H5P_DEFAULT) > 0;
+  H5Fclose(f);
+  return e;
+}
+
+void checkRun(const std::string& scenario, const std::set<std::string>& mustHave, const std::set<std::string>& mustLack) {
+  SCOPED_TRACE(scenario);
+  const Run run = runBundled(scenario);
+  const Recording& rec = run.r.rec;
+  ASSERT_GT(rec.samples(), 1u);
+  const std::string file = (test::processTempDir("result_channels") / "r.h5").string();
+  writeResultHdf5(file, run.s, run.r);
+  for (const ResultChannel& c : resultChannels()) {
+    SCOPED_TRACE(c.path);
+    const bool recorded = isRecorded(c, rec);
+    if (mustHave.count(c.path)) EXPECT_TRUE(recorded);
+    if (mustLack.count(c.path)) EXPECT_FALSE(recorded);
+    std::visit(
+        [&](const auto& col) {
+          const auto& v = rec.*(col.data);
+          using T = typename std::decay_t<decltype(v)>::value_type;
+          if (!recorded) {
+            EXPECT_TRUE(v.empty());
+            EXPECT_FALSE(exists(file, c.path));
+            return;
+          }
+          const size_t k = axisLength(c.axis, rec);
+          EXPECT_EQ(v.size(), rec.samples() * (c.axis == Axis::None ? 1 : k));
+          const std::vector<uint8_t> bytes = test::readDatasetBytes(file, c.path);
+          ASSERT_EQ(bytes.size(), v.size() * sizeof(T));
+          EXPECT_TRUE(v.empty() || std::memcmp(bytes.data(), v.data(), bytes.size()) == 0);
+          EXPECT_EQ(unitsOf(file, c.path), c.units ? c.units : "");
+        },
+        c.column);
+  }
+}
+
+TEST(ResultChannels, PathsAreUniqueAndFoundByPath) {
+  std::set<std::string> seen;
+  for (const ResultChannel& c : resultChannels()) {
+    EXPECT_TRUE(seen.insert(c.path).second) << c.path;
+    EXPECT_EQ(findResultChannel(c.path), &c);
+    EXPECT_EQ(c.path[0], '/');
+  }
+  EXPECT_EQ(findResultChannel("/truth/nothing"), nullptr);
+}
+
+TEST(ResultChannels, PassiveBalancingRunRecordsAndWritesItsChannels) {
+  checkRun("balance/bench_6s_balancing.yaml", {"/time_s", "/hardware/relay_closed", "/bms/balance_status", "/hardware/balancing"},
+           {"/truth/balancer_bus_V"});
+}
+
+TEST(ResultChannels, RunWithoutBalancingLacksItsChannels) {
+  checkRun("bench_6s_ncr18650_2C.yaml", {"/truth/cell_voltage_V", "/bms/telemetry"},
+           {"/bms/balance_status", "/hardware/balancing", "/truth/charger_current_A", "/truth/balancer_bus_V"});
+}
+
+TEST(ResultChannels, ActiveBalancerRunRecordsItsBus) {
+  checkRun("balance/solar_4s3p_active.yaml", {"/truth/balancer_bus_V", "/truth/balance_current_A"}, {});
+}
+
+}  // namespace
+}  // namespace packsim
