@@ -63,6 +63,7 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   BmsSettings b;
   if (!m) return b;
   b.tick_s = static_cast<double>(m->integer("tick_ms", 10, 1, 10000)) * 1e-3;
+  m->has("firmware");  // read with the scenario's folder: readFirmware (load_firmware.cpp)
   if (auto p = m->optionalMap("protections")) {
     const Range temp = Range::closed(-60.0, 150.0);
     b.cell_overvoltage = readProtection(*p, "cell_overvoltage", "V", b.cell_overvoltage, Range::closed(1.0, 5.0));

@@ -157,6 +157,7 @@ Scenario loadScenarioChain(const std::string& text, const std::string& file, con
                                  std::to_string(bms::kMaxBoards));
   }
   s.bms = readBms(m.optionalMap("bms"));
+  if (auto b = m.optionalMap("bms")) s.bms.firmware = readFirmware(b->optionalMap("firmware"), base_dir);
   {
     YamlMap load = m.map("load");
     if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)

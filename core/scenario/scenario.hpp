@@ -8,6 +8,7 @@
 
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
+#include "core/scenario/firmware_config.hpp"
 #include "models/afe/monitor_config.hpp"
 #include "models/balance/active_balancer.hpp"
 #include "models/balance/passive_balancer.hpp"
@@ -168,6 +169,7 @@ struct BmsSettings {
   BalanceSettings balancing;
   double charge_current_A = 0.0;    // charger current request; 0: the charger's own current_A
   double charge_full_cell_V = 0.0;  // BMS ends the charge when a cell reads this; 0: the charger ends it
+  FirmwareSettings firmware;        // absent: packsim's own core (bms/)
 };
 
 struct RunConfig {

@@ -194,6 +194,14 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   lastX_ = x;
 }
 
+void RunTracker::firmwareTrip(double t, const std::string& reason) {
+  Summary& sm = r_.summary;
+  if (sm.tripped) return;
+  sm.tripped = true;
+  sm.trip_time_s = t;
+  sm.trip_reason = reason;
+}
+
 void RunTracker::record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   Recording& rec = r_.rec;
   rec.time_s.push_back(t);
