@@ -1,0 +1,366 @@
+#include "models/afe/bq76pl536a.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <bms/bms_crc.hpp>
+#include "models/pack/cell_spread.hpp"
+
+namespace packsim {
+
+namespace {
+
+void putBe16(uint8_t* p, uint16_t v) {
+  p[0] = static_cast<uint8_t>(v >> 8);
+  p[1] = static_cast<uint8_t>(v & 0xFF);
+}
+
+uint16_t code16(int64_t code) { return static_cast<uint16_t>(std::clamp<int64_t>(code, 0, 65535)); }
+
+uint32_t roundedU32(double v) { return static_cast<uint32_t>(std::max(0.0, std::nearbyint(v))); }
+
+// The EEPROM image of CONFIG_COV..CONFIG_OTT (registers 0x42..0x47) as the team
+// programmed it: MonitorConfig::secondary in the part's steps.
+std::array<uint8_t, 8> programmedConfig(const MonitorConfig& cfg) {
+  const SecondaryProtection& p = cfg.secondary;
+  std::array<uint8_t, 8> e{};
+  const uint8_t off = p.enabled ? 0 : BQ536_CONFIG_DISABLE;
+  e[BQ536_CONFIG_COV - BQ536_FUNCTION_CONFIG] = static_cast<uint8_t>(off | bq536_cov_code(roundedU32(p.cov_V * 1e3)));
+  e[BQ536_CONFIG_COVT - BQ536_FUNCTION_CONFIG] = bq536_delay_code(roundedU32(p.cov_delay_s * 1e6));
+  e[BQ536_CONFIG_CUV - BQ536_FUNCTION_CONFIG] = static_cast<uint8_t>(off | bq536_cuv_code(roundedU32(p.cuv_V * 1e3)));
+  e[BQ536_CONFIG_CUVT - BQ536_FUNCTION_CONFIG] = bq536_delay_code(roundedU32(p.cuv_delay_s * 1e6));
+  const uint8_t ot = bq536_ot_code(static_cast<int32_t>(std::nearbyint(p.ot_C)));
+  uint8_t otReg = 0;
+  if (p.enabled && cfg.thermistors_per_device >= 1) otReg = ot;
+  if (p.enabled && cfg.thermistors_per_device >= 2) otReg = static_cast<uint8_t>(otReg | (ot << 4));
+  e[BQ536_CONFIG_OT - BQ536_FUNCTION_CONFIG] = otReg;
+  e[BQ536_CONFIG_OTT - BQ536_FUNCTION_CONFIG] = bq536_ott_code(roundedU32(p.ot_delay_s * 1e3));
+  return e;
+}
+
+}  // namespace
+
+Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed)
+    : cfg_(cfg),
+      dev_(static_cast<size_t>(std::max(cfg.devices, 0))),
+      noise_(deriveSeed(seed, 0x536A)),
+      commRng_(deriveSeed(seed, 0x536C)),
+      eeprom_(programmedConfig(cfg)) {
+  if (cfg.cells_per_device < 1 || cfg.cells_per_device > static_cast<int>(BQ536_CELLS_MAX))
+    throw std::invalid_argument("bq76pl536a: cells_per_device " + std::to_string(cfg.cells_per_device) +
+                                " outside 1..6");
+  if (cfg.devices < 1 || cfg.devices > static_cast<int>(BQ536_ADDR_MAX))
+    throw std::invalid_argument("bq76pl536a: devices " + std::to_string(cfg.devices) + " outside 1..62");
+  if (!(cfg.baud > 0.0)) throw std::invalid_argument("bq76pl536a: baud (SPI clock) must be > 0");
+  // Per-channel errors are a property of the part: drawn once, in cell order, from the
+  // stream MonitorStack uses (same seed -> same channel errors).
+  Rng rng(deriveSeed(seed, 0xAFE));
+  gain_.assign(static_cast<size_t>(cellCount), 0.0);
+  offset_.assign(static_cast<size_t>(cellCount), 0.0);
+  for (int c = 0; c < cellCount; ++c) {
+    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
+    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
+  }
+  const size_t therms = static_cast<size_t>(std::clamp(cfg.thermistors_per_device, 0, static_cast<int>(BQ536_TEMPS_MAX)));
+  for (size_t d = 0; d < dev_.size(); ++d) {
+    Device& dv = dev_[d];
+    dv.firstCell = static_cast<int>(d) * cfg.cells_per_device;
+    dv.cells = std::max(0, std::min(cfg.cells_per_device, cellCount - dv.firstCell));
+    const size_t n = static_cast<size_t>(dv.cells);
+    dv.analog.cell_V.assign(n, 0.0);
+    dv.analog.cell_gain_error.assign(n, 0.0);
+    dv.analog.cell_offset_V.assign(n, 0.0);
+    dv.analog.therm_C.assign(therms, 25.0);
+    dv.analog.therm_fault.assign(therms, ThermistorFault::None);
+    reset(dv);
+  }
+  reached_.reserve(dev_.size());
+}
+
+void Bq76pl536aChain::reset(Device& dv) {
+  dv.reg.fill(0);
+  std::copy(eeprom_.begin(), eeprom_.end(), dv.reg.begin() + BQ536_FUNCTION_CONFIG);
+  dv.reg[BQ536_FAULT_STATUS] = BQ536_FS_POR;
+  dv.reg[BQ536_ALERT_STATUS] = BQ536_AS_AR;
+  dv.shadowOpen = false;
+  dv.lastLatchWrite[0] = dv.lastLatchWrite[1] = 0;
+  dv.cov = DebounceTimer{};
+  dv.cuv = DebounceTimer{};
+  for (DebounceTimer& o : dv.ot) o = DebounceTimer{};
+  dv.converting = false;
+  dv.resultsValid = false;
+  dv.balanceUntil_s = 0.0;
+  refreshStatus(dv);
+}
+
+void Bq76pl536aChain::refreshStatus(Device& dv) {
+  uint8_t s = 0;
+  if (dv.resultsValid && !dv.converting) s |= BQ536_DS_DRDY;
+  if (dv.reg[BQ536_CB_CTRL] != 0) s |= BQ536_DS_CBT;
+  if (dv.reg[BQ536_ALERT_STATUS] != 0) s |= BQ536_DS_ALERT;
+  if (dv.reg[BQ536_FAULT_STATUS] != 0) s |= BQ536_DS_FAULT;
+  if (assigned(dv)) s |= BQ536_DS_ADDR_RQST;
+  dv.reg[BQ536_DEVICE_STATUS] = s;
+}
+
+void Bq76pl536aChain::settle(Device& dv, double t) {
+  // A conversion's results land when its last channel is done.
+  if (dv.converting && t >= dv.readyAt_s - 1e-12) {
+    for (size_t i = 0; i < dv.pending.size(); ++i)
+      if (dv.pendingMask[i]) dv.reg[BQ536_RESULTS_FIRST + i] = dv.pending[i];
+    dv.converting = false;
+    dv.resultsValid = true;
+  }
+  // The balancing timer runs on the device: it switches the cells off itself.
+  if (dv.reg[BQ536_CB_CTRL] != 0 && t >= dv.balanceUntil_s - 1e-9) dv.reg[BQ536_CB_CTRL] = 0;
+  refreshStatus(dv);
+}
+
+void Bq76pl536aChain::runComparators(Device& dv, double t) {
+  const DeviceAnalog& a = dv.analog;
+  const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
+  uint8_t over = 0, under = 0;
+  for (int c = 0; c < dv.cells; ++c) {
+    const double v = a.cell_V[static_cast<size_t>(c)];  // the pin voltage: comparators are not the ADC
+    if (!(covReg & BQ536_CONFIG_DISABLE) && v > bq536_cov_mV(covReg) * 1e-3) over |= static_cast<uint8_t>(1u << c);
+    if (!(cuvReg & BQ536_CONFIG_DISABLE) && v < bq536_cuv_mV(cuvReg) * 1e-3) under |= static_cast<uint8_t>(1u << c);
+  }
+  if (dv.cov.held(t, over != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_COVT]) * 1e-6)) {
+    dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_COV;
+    dv.reg[BQ536_COV_FAULT] |= over;
+  }
+  if (dv.cuv.held(t, under != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_CUVT]) * 1e-6)) {
+    dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_CUV;
+    dv.reg[BQ536_CUV_FAULT] |= under;
+  }
+  const double otDelay_s = dv.reg[BQ536_CONFIG_OTT] * BQ536_OTT_STEP_MS * 1e-3;
+  for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
+    const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);
+    bool hot = false;
+    if (nibble != 0 && k < a.therm_C.size()) {
+      // A shorted NTC looks infinitely hot to the comparator; an open one cold.
+      const ThermistorFault f = a.therm_fault[k];
+      hot = f == ThermistorFault::Short || (f == ThermistorFault::None && a.therm_C[k] > bq536_ot_C(nibble));
+    }
+    if (dv.ot[k].held(t, hot, otDelay_s)) dv.reg[BQ536_ALERT_STATUS] |= static_cast<uint8_t>(BQ536_AS_OT1 << k);
+  }
+}
+
+void Bq76pl536aChain::advance(double t) {
+  for (Device& dv : dev_) {
+    settle(dv, t);
+    runComparators(dv, t);
+    refreshStatus(dv);
+  }
+}
+
+void Bq76pl536aChain::startConversion(Device& dv, double t) {
+  const uint8_t sel = dv.reg[BQ536_ADC_CONTROL];
+  const int nCells = std::min<int>((sel & BQ536_AC_CELL_SEL_MASK) + 1, BQ536_CELLS_MAX);
+  dv.pending.fill(0);
+  std::fill(std::begin(dv.pendingMask), std::end(dv.pendingMask), uint8_t{0});
+  auto put = [&](uint8_t reg, uint16_t code) {
+    putBe16(&dv.pending[reg - BQ536_RESULTS_FIRST], code);
+    dv.pendingMask[reg - BQ536_RESULTS_FIRST] = dv.pendingMask[reg + 1 - BQ536_RESULTS_FIRST] = 1;
+  };
+  int channels = 0;
+  const DeviceAnalog& a = dv.analog;
+  // Fixed order: GPAI, VCELL1..n, TS1, TS2 (the noise stream depends on it).
+  if (sel & BQ536_AC_GPAI) {
+    double module_V = 0.0;
+    for (double v : a.cell_V) module_V += v;
+    if (cfg_.module_noise_V > 0.0) module_V += cfg_.module_noise_V * standardNormal(noise_);
+    const double lsb = BQ536_GPAI_CELL_LSBS * cfg_.cell_adc.lsb;
+    put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(std::nearbyint(module_V / lsb)), 0,
+                                               cfg_.cell_adc.code_max)));
+    ++channels;
+  }
+  for (int c = 0; c < nCells; ++c, ++channels) {
+    if (c >= dv.cells) {
+      put(BQ536_VCELL(c), 0);  // unpopulated input
+      continue;
+    }
+    const size_t i = static_cast<size_t>(c), cell = static_cast<size_t>(dv.firstCell + c);
+    AdcChannel adc = cfg_.cell_adc;
+    adc.gain_error += gain_[cell] + a.cell_gain_error[i];
+    adc.offset += offset_[cell] + a.cell_offset_V[i];
+    put(BQ536_VCELL(c), code16(adc.convert(a.cell_V[i], noise_)));
+  }
+  const uint8_t tsSel[BQ536_TEMPS_MAX] = {BQ536_AC_TS1, BQ536_AC_TS2};
+  const uint8_t tsBias[BQ536_TEMPS_MAX] = {BQ536_IO_TS1, BQ536_IO_TS2};
+  const uint8_t tsReg[BQ536_TEMPS_MAX] = {BQ536_TEMPERATURE1, BQ536_TEMPERATURE2};
+  for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
+    if (!(sel & tsSel[k])) continue;
+    ++channels;
+    uint16_t code = 0;  // no divider bias (or no thermistor): the input sits at 0
+    if (k < a.therm_C.size() && (dv.reg[BQ536_IO_CONTROL] & tsBias[k])) {
+      const ThermistorFault f = a.therm_fault[k];
+      if (f == ThermistorFault::Open) code = code16(cfg_.thermistor.fullScaleCode());
+      else if (f == ThermistorFault::None) code = code16(cfg_.thermistor.code(a.therm_C[k], noise_));
+    }
+    put(tsReg[k], code);
+  }
+  dv.converting = true;
+  dv.readyAt_s = t + channels * cfg_.conversion_s_per_channel;
+  settle(dv, t);  // a zero conversion time lands at once
+}
+
+void Bq76pl536aChain::clearLatches(Device& dv, uint8_t reg, uint8_t falling) {
+  // Written 1 then 0: a protection latch clears only once its condition is gone;
+  // the housekeeping bits (POR, CRC, AR, ...) clear at once.
+  uint8_t clear = falling;
+  if (reg == BQ536_FAULT_STATUS) {
+    if (dv.cov.active()) clear = static_cast<uint8_t>(clear & ~BQ536_FS_COV);
+    if (dv.cuv.active()) clear = static_cast<uint8_t>(clear & ~BQ536_FS_CUV);
+    if (clear & BQ536_FS_COV) dv.reg[BQ536_COV_FAULT] = 0;
+    if (clear & BQ536_FS_CUV) dv.reg[BQ536_CUV_FAULT] = 0;
+  } else {
+    for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k)
+      if (dv.ot[k].active()) clear = static_cast<uint8_t>(clear & ~(BQ536_AS_OT1 << k));
+  }
+  dv.reg[reg] = static_cast<uint8_t>(dv.reg[reg] & ~clear);
+}
+
+void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
+  const bool unlocked = dv.shadowOpen;
+  dv.shadowOpen = false;  // the key opens exactly one write
+  switch (reg) {
+    case BQ536_ALERT_STATUS:
+    case BQ536_FAULT_STATUS: {
+      uint8_t& last = dv.lastLatchWrite[reg == BQ536_FAULT_STATUS ? 1 : 0];
+      const uint8_t falling = static_cast<uint8_t>(last & ~value);
+      last = value;
+      clearLatches(dv, reg, falling);
+      break;
+    }
+    case BQ536_ADC_CONTROL:
+      dv.reg[reg] = static_cast<uint8_t>(value & 0x7F);
+      break;
+    case BQ536_IO_CONTROL:
+      dv.reg[reg] = value;
+      break;
+    case BQ536_CB_CTRL:
+    case BQ536_CB_TIME: {
+      if (reg == BQ536_CB_CTRL)
+        dv.reg[reg] = static_cast<uint8_t>(value & ((1u << dv.cells) - 1u));
+      else
+        dv.reg[reg] = static_cast<uint8_t>(value & (BQ536_CBT_MINUTES | BQ536_CBT_TIME_MASK));
+      // Either write (re)starts the timer while switches are on; a zero time stops them.
+      if (dv.reg[BQ536_CB_CTRL] != 0) dv.balanceUntil_s = t + bq536_cb_time_s(dv.reg[BQ536_CB_TIME]);
+      break;
+    }
+    case BQ536_ADC_CONVERT:
+      if (value & BQ536_CONV_START) startConversion(dv, t);
+      break;
+    case BQ536_SHDW_CTRL:
+      dv.shadowOpen = value == BQ536_SHDW_KEY;
+      break;
+    case BQ536_ADDRESS_CONTROL: {
+      const uint8_t a = static_cast<uint8_t>(value & BQ536_ADDR_MASK);
+      dv.reg[reg] = a != 0 && a != BQ536_ADDR_BROADCAST ? static_cast<uint8_t>(a | BQ536_ADDR_ASSIGNED) : 0;
+      break;
+    }
+    case BQ536_RESET:
+      if (value == BQ536_RESET_KEY) reset(dv);
+      break;
+    default:
+      // Protected configuration: only right after the shadow key. Others are read-only.
+      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) dv.reg[reg] = value;
+      break;
+  }
+  settle(dv, t);
+}
+
+int Bq76pl536aChain::reach(int* out) const {
+  int n = 0;
+  for (int d = 0; d < deviceCount(); ++d) {
+    if (brokenAbove_ >= 0 && d > brokenAbove_) break;
+    out[n++] = d;
+    if (!assigned(dev_[static_cast<size_t>(d)])) break;  // it does not pass frames up
+  }
+  return n;
+}
+
+BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) {
+  BusTransfer r;
+  r.duration_s = linkTime_s(txLen + rxLen);
+  if (rx == nullptr) rxLen = 0;
+  for (Device& dv : dev_) settle(dv, t);
+  r.received = rxLen > 0 ? -1 : 0;
+  if (tx == nullptr || txLen < BQ536_READ_REQUEST_LEN) return r;
+  const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);
+  reached_.resize(dev_.size());
+  const int n = reach(reached_.data());
+
+  if (tx[0] & 1u) {  // write frame: acted on once the device has it all
+    if (txLen < BQ536_WRITE_FRAME_LEN) return r;
+    const double tEnd = t + r.duration_s;
+    const bool crcOk = bms::crcCrc8(tx, 3) == tx[3];
+    for (int i = 0; i < n; ++i) {
+      Device& dv = dev_[static_cast<size_t>(reached_[static_cast<size_t>(i)])];
+      if (addr != BQ536_ADDR_BROADCAST && addressOf(dv) != addr) continue;
+      if (dv.comm.silent || dv.comm.stuck_byte >= 0) continue;  // its link does not take writes
+      if (!crcOk) {
+        dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_CRC;  // rejected, and flagged
+        refreshStatus(dv);
+        continue;
+      }
+      settle(dv, tEnd);
+      write(dv, tEnd, tx[1], tx[2]);
+    }
+    return r;
+  }
+
+  // read frame: the one device with that address answers
+  if (addr == BQ536_ADDR_BROADCAST || rxLen == 0) return r;
+  Device* target = nullptr;
+  for (int i = 0; i < n && target == nullptr; ++i) {
+    Device& dv = dev_[static_cast<size_t>(reached_[static_cast<size_t>(i)])];
+    if (addressOf(dv) == addr) target = &dv;
+  }
+  if (target == nullptr || target->comm.silent) return r;
+  const size_t count = tx[2];
+  uint8_t frame[3 + 256];
+  std::copy(tx, tx + 3, frame);
+  for (size_t i = 0; i < count; ++i) {
+    const size_t reg = static_cast<size_t>(tx[1]) + i;
+    frame[3 + i] = reg < BQ536_REGISTER_COUNT ? target->reg[reg] : 0;
+  }
+  frame[3 + count] = bms::crcCrc8(frame, 3 + count);
+  uint8_t* reply = frame + 3;
+  const size_t replyLen = count + 1;
+  const MonitorDeviceFault& c = target->comm;
+  if (c.stuck_byte >= 0) {
+    std::fill(reply, reply + replyLen, static_cast<uint8_t>(c.stuck_byte));
+  } else if (c.crc_error_rate > 0.0) {
+    const double u = static_cast<double>(commRng_() >> 11) * 0x1.0p-53;
+    if (u < c.crc_error_rate) {
+      const uint64_t b = commRng_();
+      reply[b % replyLen] ^= static_cast<uint8_t>(1u << ((b >> 32) % 8));
+    }
+  }
+  const size_t got = std::min(rxLen, replyLen);
+  std::copy(reply, reply + got, rx);
+  r.received = static_cast<int>(got);
+  return r;
+}
+
+bool Bq76pl536aChain::faultLine() const {
+  for (const Device& dv : dev_)
+    if ((dv.reg[BQ536_FAULT_STATUS] & (BQ536_FS_COV | BQ536_FS_CUV)) ||
+        (dv.reg[BQ536_ALERT_STATUS] & (BQ536_AS_OT1 | BQ536_AS_OT2)))
+      return true;
+  return false;
+}
+
+bool Bq76pl536aChain::balancing(int d, int cell) const {
+  return (dev_[static_cast<size_t>(d)].reg[BQ536_CB_CTRL] & (1u << cell)) != 0;
+}
+
+std::unique_ptr<MonitorChain> makeBq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {
+  return std::make_unique<Bq76pl536aChain>(cfg, cellCount, seed);
+}
+
+}  // namespace packsim

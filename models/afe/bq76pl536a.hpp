@@ -1,0 +1,100 @@
+// BQ76PL536A stack on a vertical SPI bus, answering the MCU's frames byte for byte
+// from each device's register file (layout: bms/afe/bq76pl536a_regs.h).
+//
+//   per device:  register file 0x00..0x4F, address (0 after reset), shadow-write key,
+//                conversion in progress (results land at start + channels · conversion
+//                time; DRDY clear until then), secondary COV/CUV/OT comparators with
+//                debounce timers run from the CONFIG_* registers, latches in
+//                FAULT_STATUS / ALERT_STATUS / COV_FAULT / CUV_FAULT, balance switches
+//                (CB_CTRL) switched off by the device when CB_TIME expires
+//   power-up:    every device as after RESET: address 0, POR and AR set, CONFIG_* from
+//                MonitorConfig::secondary (the EEPROM as programmed)
+//   analog:      cell code = AdcChannel(cell_adc + this channel's drawn gain/offset +
+//                the injected error)(V at the pins); GPAI = Σ cells + module noise, in
+//                6 cell LSBs; TEMPERATUREx = Thermistor code (0 without the IO_CONTROL
+//                bias; open = full scale, short = 0). The comparators see the true pin
+//                voltages and thermistor temperatures (they are not the ADC).
+//   random:      per-channel gain/offset drawn once from deriveSeed(seed, 0xAFE) in
+//                cell order (as MonitorStack); conversion noise from its own stream in
+//                the fixed order GPAI, VCELL1..n, TS1, TS2 per conversion; CRC bit flips
+//                from a third stream.
+//   link time:   (tx + rx bytes) · 8 / MonitorConfig::baud (the SPI clock, Hz). A write
+//                acts at the end of its frame; a read answers from the state at its start.
+//   FAULT line:  any device's COV/CUV (FAULT_STATUS) or OT1/OT2 (ALERT_STATUS) latch;
+//                the housekeeping bits (POR, AR, CRC) show in the registers only.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include <bms/afe/bq76pl536a_regs.h>
+
+#include "models/afe/debounce_timer.hpp"
+#include "models/afe/monitor_part.hpp"
+#include "models/sensors/adc.hpp"
+
+namespace packsim {
+
+class Bq76pl536aChain final : public MonitorChain {
+ public:
+  Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
+
+  int deviceCount() const override { return static_cast<int>(dev_.size()); }
+  int cellsOf(int d) const override { return dev_[static_cast<size_t>(d)].cells; }
+  DeviceAnalog& analog(int d) override { return dev_[static_cast<size_t>(d)].analog; }
+  void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
+  void setBrokenLinkAbove(int d) override { brokenAbove_ = d; }
+
+  void advance(double t) override;
+  BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
+
+  bool faultLine() const override;
+  bool balancing(int d, int cell) const override;
+
+  // The part's own drawn channel errors (series cell index), for tests.
+  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
+  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  // A register as the device holds it (tests; the firmware reads through transfer()).
+  uint8_t peek(int d, uint8_t reg) const { return dev_[static_cast<size_t>(d)].reg[reg]; }
+
+ private:
+  struct Device {
+    int firstCell = 0, cells = 0;
+    std::array<uint8_t, BQ536_REGISTER_COUNT> reg{};
+    bool shadowOpen = false;
+    uint8_t lastLatchWrite[2] = {0, 0};  // host's last value to ALERT_STATUS, FAULT_STATUS
+    DebounceTimer cov, cuv, ot[BQ536_TEMPS_MAX];
+    bool converting = false;
+    bool resultsValid = false;
+    double readyAt_s = 0.0;
+    std::array<uint8_t, BQ536_RESULTS_LEN> pending{};  // registers 0x00.. of the conversion in flight
+    uint8_t pendingMask[BQ536_RESULTS_LEN] = {};      // which of them it converts
+    double balanceUntil_s = 0.0;
+    DeviceAnalog analog;
+    MonitorDeviceFault comm;
+  };
+
+  uint8_t addressOf(const Device& dv) const { return dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_MASK; }
+  bool assigned(const Device& dv) const { return (dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_ASSIGNED) != 0; }
+  // Devices a frame reaches on its way up, bottom first (stops above an
+  // unaddressed device and at a broken link).
+  int reach(int* out) const;
+  void reset(Device& dv);
+  void settle(Device& dv, double t);
+  void runComparators(Device& dv, double t);
+  void refreshStatus(Device& dv);
+  void write(Device& dv, double t, uint8_t reg, uint8_t value);
+  void clearLatches(Device& dv, uint8_t reg, uint8_t falling);
+  void startConversion(Device& dv, double t);
+  double linkTime_s(size_t bytes) const { return static_cast<double>(bytes) * 8.0 / cfg_.baud; }
+
+  MonitorConfig cfg_;
+  std::vector<Device> dev_;
+  std::vector<double> gain_, offset_;
+  Rng noise_, commRng_;
+  int brokenAbove_ = -1;
+  std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
+  std::vector<int> reached_;         // scratch: devices one frame reaches
+};
+
+}  // namespace packsim

@@ -1,0 +1,473 @@
+// The BQ76PL536A stack model against the part's datasheet behaviour, frame by frame:
+// addressing, broadcast, reads and writes, protected writes, CRC, conversion time,
+// the secondary comparators and their latches, the balancing timer, comm faults.
+#include "models/afe/bq76pl536a.hpp"
+#include "models/afe/monitor_stack.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace packsim {
+namespace {
+
+// Bit-serial CRC-8 (x^8 + x^2 + x + 1, initial 0), written from the polynomial alone.
+uint8_t crc8BitSerial(const std::vector<uint8_t>& bytes) {
+  uint8_t crc = 0;
+  for (uint8_t byte : bytes)
+    for (int bit = 7; bit >= 0; --bit) {
+      const bool in = ((byte >> bit) & 1u) != 0;
+      const bool top = (crc & 0x80u) != 0;
+      crc = static_cast<uint8_t>(crc << 1);
+      if (in != top) crc ^= 0x07u;
+    }
+  return crc;
+}
+
+constexpr double kLsb_V = 6.25 / 16383.0;
+
+MonitorConfig config(int devices) {
+  MonitorConfig c;
+  c.devices = devices;
+  c.cells_per_device = 6;
+  c.thermistors_per_device = 2;
+  c.cell_adc.lsb = kLsb_V;
+  c.cell_adc.code_max = 16383;
+  return c;
+}
+
+struct Bus {
+  Bq76pl536aChain& chain;
+  double t = 0.0;
+  BusTransfer last;
+
+  void write(uint8_t addr, uint8_t reg, uint8_t value, bool goodCrc = true) {
+    std::vector<uint8_t> f = {static_cast<uint8_t>(addr * 2 + 1), reg, value};
+    f.push_back(static_cast<uint8_t>(crc8BitSerial(f) ^ (goodCrc ? 0 : 0x01)));
+    last = chain.transfer(t, f.data(), f.size(), nullptr, 0);
+  }
+  // Data bytes of a read (without the CRC); empty on timeout. Checks the reply CRC.
+  std::vector<uint8_t> read(uint8_t addr, uint8_t reg, uint8_t count, bool* crcOk = nullptr) {
+    const uint8_t tx[3] = {static_cast<uint8_t>(addr * 2), reg, count};
+    std::vector<uint8_t> rx(count + 1u, 0);
+    last = chain.transfer(t, tx, 3, rx.data(), rx.size());
+    if (last.received < 0) return {};
+    std::vector<uint8_t> all(tx, tx + 3);
+    all.insert(all.end(), rx.begin(), rx.begin() + count);
+    const bool ok = crc8BitSerial(all) == rx[count];
+    if (crcOk) *crcOk = ok;
+    else EXPECT_TRUE(ok) << "reply CRC";
+    rx.resize(count);
+    return rx;
+  }
+  uint8_t reg(uint8_t addr, uint8_t r) {
+    const std::vector<uint8_t> v = read(addr, r, 1);
+    return v.empty() ? 0xEE : v[0];
+  }
+  void addressAll(int n) {
+    write(BQ536_ADDR_BROADCAST, BQ536_RESET, BQ536_RESET_KEY);
+    for (int d = 0; d < n; ++d) write(0, BQ536_ADDRESS_CONTROL, static_cast<uint8_t>(d + 1));
+  }
+  void protectedWrite(uint8_t addr, uint8_t r, uint8_t v) {
+    write(addr, BQ536_SHDW_CTRL, BQ536_SHDW_KEY);
+    write(addr, r, v);
+  }
+};
+
+uint16_t be16(const std::vector<uint8_t>& v, size_t i) { return static_cast<uint16_t>((v[i] << 8) | v[i + 1]); }
+
+TEST(Bq76pl536a, PowerUpStateAndEepromFromTheSecondaryConfig) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  Bus bus{chain};
+  // Unaddressed: answers address 0; POR and AR latched; no address assigned.
+  EXPECT_EQ(bus.reg(0, BQ536_FAULT_STATUS), BQ536_FS_POR);
+  EXPECT_EQ(bus.reg(0, BQ536_ALERT_STATUS), BQ536_AS_AR);
+  EXPECT_EQ(bus.reg(0, BQ536_DEVICE_STATUS), BQ536_DS_FAULT | BQ536_DS_ALERT);
+  // CONFIG from MonitorConfig::secondary in datasheet steps: COV 4.35 V = 2.0 + 47·50 mV,
+  // 1 s = 10 × 100 ms; CUV 2.5 V = 0.7 + 18·0.1 V; OT 65 °C = 35 + 6·5 on both inputs;
+  // OTT 1 s = 100 × 10 ms.
+  const std::vector<uint8_t> cfg = bus.read(0, BQ536_CONFIG_COV, 6);
+  const std::vector<uint8_t> want = {47, 0x80 | 10, 18, 0x80 | 10, 0x66, 100};
+  EXPECT_EQ(cfg, want);
+  // The housekeeping latches do not drive the FAULT line.
+  EXPECT_FALSE(chain.faultLine());
+}
+
+TEST(Bq76pl536a, AutoAddressingBottomUpAndBroadcast) {
+  Bq76pl536aChain chain(config(3), 18, 1);
+  Bus bus{chain};
+  bus.write(0, BQ536_ADDRESS_CONTROL, 1);
+  EXPECT_EQ(bus.reg(1, BQ536_ADDRESS_CONTROL), 0x81);
+  EXPECT_NE(bus.reg(1, BQ536_DEVICE_STATUS) & BQ536_DS_ADDR_RQST, 0);
+  // The next device up now answers address 0; the third is behind it (no address yet).
+  EXPECT_EQ(bus.reg(0, BQ536_ADDRESS_CONTROL), 0x00);
+  bus.write(0, BQ536_ADDRESS_CONTROL, 2);
+  bus.write(0, BQ536_ADDRESS_CONTROL, 3);
+  EXPECT_EQ(bus.reg(2, BQ536_ADDRESS_CONTROL), 0x82);
+  EXPECT_EQ(bus.reg(3, BQ536_ADDRESS_CONTROL), 0x83);
+  EXPECT_TRUE(bus.read(0, BQ536_ADDRESS_CONTROL, 1).empty());  // nobody is unaddressed
+  // Broadcast writes reach every device; a broadcast read gets no answer.
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, BQ536_IO_TS1 | BQ536_IO_TS2);
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(chain.peek(d, BQ536_IO_CONTROL), 3);
+  EXPECT_TRUE(bus.read(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, 1).empty());
+  EXPECT_EQ(bus.last.received, -1);
+  // A write to one address reaches only that device.
+  bus.write(2, BQ536_IO_CONTROL, 0);
+  EXPECT_EQ(chain.peek(0, BQ536_IO_CONTROL), 3);
+  EXPECT_EQ(chain.peek(1, BQ536_IO_CONTROL), 0);
+  // A broadcast RESET puts every device back to address 0 with POR set.
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_RESET, BQ536_RESET_KEY);
+  for (int d = 0; d < 3; ++d) {
+    EXPECT_EQ(chain.peek(d, BQ536_ADDRESS_CONTROL), 0);
+    EXPECT_EQ(chain.peek(d, BQ536_FAULT_STATUS), BQ536_FS_POR);
+    EXPECT_EQ(chain.peek(d, BQ536_IO_CONTROL), 0);
+  }
+  // A wrong key is not a reset.
+  bus.addressAll(3);
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_RESET, 0x5A);
+  EXPECT_EQ(chain.peek(2, BQ536_ADDRESS_CONTROL), 0x83);
+}
+
+TEST(Bq76pl536a, ReplyCrcCoversTheWholeExchangeAndBadWriteCrcIsRejected) {
+  Bq76pl536aChain chain(config(2), 12, 1);
+  Bus bus{chain};
+  bus.addressAll(2);
+  bool ok = false;
+  for (uint8_t reg : {BQ536_DEVICE_STATUS, BQ536_ALERT_STATUS, BQ536_CONFIG_COV}) {
+    bus.read(2, reg, 4, &ok);
+    EXPECT_TRUE(ok);
+    EXPECT_EQ(bus.last.received, 5);
+  }
+  // A write with a wrong CRC changes nothing and flags CRC in FAULT_STATUS.
+  bus.write(1, BQ536_IO_CONTROL, 3, /*goodCrc=*/false);
+  EXPECT_EQ(chain.peek(0, BQ536_IO_CONTROL), 0);
+  EXPECT_NE(chain.peek(0, BQ536_FAULT_STATUS) & BQ536_FS_CRC, 0);
+  EXPECT_EQ(chain.peek(1, BQ536_FAULT_STATUS) & BQ536_FS_CRC, 0);
+  // ... cleared by writing 1 then 0.
+  bus.write(1, BQ536_FAULT_STATUS, BQ536_FS_CRC | BQ536_FS_POR);
+  bus.write(1, BQ536_FAULT_STATUS, 0);
+  EXPECT_EQ(chain.peek(0, BQ536_FAULT_STATUS), 0);
+  EXPECT_EQ(chain.peek(0, BQ536_DEVICE_STATUS) & BQ536_DS_FAULT, 0);
+}
+
+TEST(Bq76pl536a, ProtectedRegistersTakeOneWriteAfterTheShadowKey) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  Bus bus{chain};
+  bus.addressAll(1);
+  bus.write(1, BQ536_CONFIG_COV, 40);  // no key: refused
+  EXPECT_EQ(bus.reg(1, BQ536_CONFIG_COV), 47);
+  bus.protectedWrite(1, BQ536_CONFIG_COV, 40);
+  EXPECT_EQ(bus.reg(1, BQ536_CONFIG_COV), 40);
+  bus.write(1, BQ536_CONFIG_COV, 41);  // the key was used up
+  EXPECT_EQ(bus.reg(1, BQ536_CONFIG_COV), 40);
+  bus.write(1, BQ536_SHDW_CTRL, BQ536_SHDW_KEY);
+  bus.write(1, BQ536_IO_CONTROL, 0);  // any other write closes it
+  bus.write(1, BQ536_CONFIG_OTT, 5);
+  EXPECT_EQ(bus.reg(1, BQ536_CONFIG_OTT), 100);
+  bus.write(1, BQ536_SHDW_CTRL, 0x34);  // wrong key
+  bus.write(1, BQ536_CONFIG_OTT, 5);
+  EXPECT_EQ(bus.reg(1, BQ536_CONFIG_OTT), 100);
+  // Read-only results ignore writes.
+  bus.write(1, BQ536_VCELL1, 0x12);
+  EXPECT_EQ(bus.reg(1, BQ536_VCELL1), 0);
+}
+
+TEST(Bq76pl536a, ConversionTakesItsTimeAndDataReadyFollows) {
+  MonitorConfig cfg = config(1);
+  Bq76pl536aChain chain(cfg, 5, 1);  // 5 cells on a 6-cell part
+  const double cells_V[5] = {3.1, 3.25, 3.4, 3.55, 4.1};
+  for (int c = 0; c < 5; ++c) chain.analog(0).cell_V[static_cast<size_t>(c)] = cells_V[c];
+  chain.analog(0).therm_C = {30.0, 45.0};
+  Bus bus{chain};
+  bus.addressAll(1);
+  bus.write(1, BQ536_IO_CONTROL, BQ536_IO_TS1 | BQ536_IO_TS2);
+  bus.write(1, BQ536_ADC_CONTROL, BQ536_AC_ADC_ON | BQ536_AC_GPAI | BQ536_AC_TS1 | BQ536_AC_TS2 | 5);
+  bus.t = 1.0;
+  chain.advance(bus.t);
+  bus.write(1, BQ536_ADC_CONVERT, BQ536_CONV_START);
+  const double start = 1.0 + bus.last.duration_s;  // the command acts at the end of its frame
+  // 9 channels (GPAI, 6 cells, 2 TS) × 6 µs: before that, DRDY clear and old results (0).
+  bus.t = start + 53e-6;
+  std::vector<uint8_t> v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+  EXPECT_EQ(v[0] & BQ536_DS_DRDY, 0);
+  EXPECT_EQ(be16(v, BQ536_VCELL1), 0);
+  bus.t = start + 54e-6;
+  v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+  EXPECT_NE(v[0] & BQ536_DS_DRDY, 0);
+  double sum = 0.0;
+  for (int c = 0; c < 5; ++c) {
+    EXPECT_EQ(be16(v, BQ536_VCELL(c)), std::lround(cells_V[c] / kLsb_V)) << c;
+    sum += cells_V[c];
+  }
+  EXPECT_EQ(be16(v, BQ536_VCELL(5)), 0);  // unpopulated input
+  EXPECT_EQ(be16(v, BQ536_GPAI), std::lround(sum / (6 * kLsb_V)));
+  Rng unused(0);
+  EXPECT_EQ(be16(v, BQ536_TEMPERATURE1), cfg.thermistor.code(30.0, unused));
+  EXPECT_EQ(be16(v, BQ536_TEMPERATURE2), cfg.thermistor.code(45.0, unused));
+  // Without the divider bias a thermistor input reads 0; a shorter CELL_SEL converts
+  // fewer cells and leaves the others' results as they were.
+  chain.analog(0).cell_V[0] = 3.0;
+  chain.analog(0).cell_V[4] = 3.0;
+  bus.write(1, BQ536_IO_CONTROL, BQ536_IO_TS1);
+  bus.write(1, BQ536_ADC_CONTROL, BQ536_AC_TS1 | BQ536_AC_TS2 | 1);  // cells 1-2, TS1, TS2: 4 channels
+  bus.t = 2.0;
+  bus.write(1, BQ536_ADC_CONVERT, BQ536_CONV_START);
+  bus.t = 2.0 + bus.last.duration_s + 24e-6;
+  v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+  EXPECT_NE(v[0] & BQ536_DS_DRDY, 0);
+  EXPECT_EQ(be16(v, BQ536_VCELL1), std::lround(3.0 / kLsb_V));
+  EXPECT_EQ(be16(v, BQ536_VCELL(4)), std::lround(4.1 / kLsb_V));
+  EXPECT_EQ(be16(v, BQ536_TEMPERATURE1), cfg.thermistor.code(30.0, unused));
+  EXPECT_EQ(be16(v, BQ536_TEMPERATURE2), 0);
+}
+
+TEST(Bq76pl536a, CovLatchesAfterItsDelayAndClearsOnlyWhenGone) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  Bus bus{chain};
+  bus.addressAll(1);
+  bus.write(1, BQ536_FAULT_STATUS, BQ536_FS_POR);
+  bus.write(1, BQ536_FAULT_STATUS, 0);
+  for (double& v : chain.analog(0).cell_V) v = 3.7;
+  chain.advance(0.0);
+  chain.analog(0).cell_V[2] = 4.36;  // above 4.35 V
+  chain.advance(10.0);
+  chain.advance(10.99);
+  EXPECT_FALSE(chain.faultLine());
+  chain.advance(11.0);  // held for the programmed 1 s
+  EXPECT_TRUE(chain.faultLine());
+  bus.t = 11.0;
+  EXPECT_EQ(bus.reg(1, BQ536_FAULT_STATUS), BQ536_FS_COV);
+  EXPECT_EQ(bus.reg(1, BQ536_COV_FAULT), 0x04);
+  EXPECT_NE(bus.reg(1, BQ536_DEVICE_STATUS) & BQ536_DS_FAULT, 0);
+  // Still over: 1 then 0 does not clear it.
+  bus.write(1, BQ536_FAULT_STATUS, BQ536_FS_COV);
+  bus.write(1, BQ536_FAULT_STATUS, 0);
+  EXPECT_EQ(bus.reg(1, BQ536_FAULT_STATUS), BQ536_FS_COV);
+  // Gone: a write of 0 alone does not clear it; 1 then 0 does.
+  chain.analog(0).cell_V[2] = 4.2;
+  chain.advance(12.0);
+  EXPECT_TRUE(chain.faultLine());
+  bus.write(1, BQ536_FAULT_STATUS, 0);
+  EXPECT_EQ(bus.reg(1, BQ536_FAULT_STATUS), BQ536_FS_COV);
+  bus.write(1, BQ536_FAULT_STATUS, BQ536_FS_COV);
+  bus.write(1, BQ536_FAULT_STATUS, 0);
+  EXPECT_EQ(bus.reg(1, BQ536_FAULT_STATUS), 0);
+  EXPECT_EQ(bus.reg(1, BQ536_COV_FAULT), 0);
+  EXPECT_FALSE(chain.faultLine());
+}
+
+TEST(Bq76pl536a, CuvDelayInMicrosecondStepsAfterReprogramming) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  Bus bus{chain};
+  bus.addressAll(1);
+  bus.protectedWrite(1, BQ536_CONFIG_CUV, 23);  // 0.7 + 2.3 = 3.0 V
+  bus.protectedWrite(1, BQ536_CONFIG_CUVT, 5);  // 5 × 100 µs
+  for (double& v : chain.analog(0).cell_V) v = 3.05;
+  chain.advance(0.0);
+  chain.analog(0).cell_V[5] = 2.95;
+  chain.advance(1.0);
+  chain.advance(1.0 + 400e-6);
+  EXPECT_FALSE(chain.faultLine());
+  chain.advance(1.0 + 500e-6);
+  EXPECT_TRUE(chain.faultLine());
+  EXPECT_EQ(chain.peek(0, BQ536_CUV_FAULT), 0x20);
+  // Disabled comparator: never trips.
+  Bq76pl536aChain off(config(1), 6, 1);
+  Bus b2{off};
+  b2.addressAll(1);
+  b2.protectedWrite(1, BQ536_CONFIG_CUV, BQ536_CONFIG_DISABLE | 23);
+  for (double& v : off.analog(0).cell_V) v = 1.0;
+  off.advance(0.0);
+  off.advance(10.0);
+  EXPECT_FALSE(off.faultLine());
+}
+
+TEST(Bq76pl536a, OverTemperatureAlertFromEitherInput) {
+  MonitorConfig cfg = config(1);
+  Bq76pl536aChain chain(cfg, 6, 1);
+  for (double& v : chain.analog(0).cell_V) v = 3.7;
+  chain.analog(0).therm_C = {25.0, 66.0};  // OT2 over 65 °C
+  chain.advance(0.0);
+  chain.advance(0.99);
+  EXPECT_FALSE(chain.faultLine());
+  chain.advance(1.0);
+  EXPECT_TRUE(chain.faultLine());
+  EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS), BQ536_AS_AR | BQ536_AS_OT2);
+  // A shorted NTC looks hot, an open one cold.
+  Bq76pl536aChain shorted(cfg, 6, 1), open(cfg, 6, 1);
+  shorted.analog(0).therm_fault[0] = ThermistorFault::Short;
+  open.analog(0).therm_fault[0] = ThermistorFault::Open;
+  open.analog(0).therm_C[0] = 100.0;
+  for (auto* c : {&shorted, &open}) {
+    for (double& v : c->analog(0).cell_V) v = 3.7;
+    c->advance(0.0);
+    c->advance(2.0);
+  }
+  EXPECT_TRUE(shorted.faultLine());
+  EXPECT_FALSE(open.faultLine());
+  // secondary.enabled = false: the EEPROM holds the comparators off.
+  cfg.secondary.enabled = false;
+  Bq76pl536aChain disabled(cfg, 6, 1);
+  disabled.analog(0).therm_C = {99.0, 99.0};
+  for (double& v : disabled.analog(0).cell_V) v = 4.9;
+  disabled.advance(0.0);
+  disabled.advance(5.0);
+  EXPECT_FALSE(disabled.faultLine());
+}
+
+TEST(Bq76pl536a, BalancingTimerExpiresOnTheDevice) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  Bus bus{chain};
+  bus.addressAll(1);
+  bus.t = 10.0;
+  bus.write(1, BQ536_CB_TIME, 2);  // 2 s
+  bus.write(1, BQ536_CB_CTRL, 0x05);
+  const double on = 10.0 + bus.last.duration_s;  // switched on at the end of the frame
+  EXPECT_TRUE(chain.balancing(0, 0));
+  EXPECT_FALSE(chain.balancing(0, 1));
+  EXPECT_TRUE(chain.balancing(0, 2));
+  EXPECT_NE(bus.reg(1, BQ536_DEVICE_STATUS) & BQ536_DS_CBT, 0);
+  chain.advance(on + 1.9);
+  EXPECT_TRUE(chain.balancing(0, 0));
+  chain.advance(on + 2.0);
+  EXPECT_FALSE(chain.balancing(0, 0));
+  bus.t = on + 2.0;
+  EXPECT_EQ(bus.reg(1, BQ536_CB_CTRL), 0);
+  EXPECT_EQ(bus.reg(1, BQ536_DEVICE_STATUS) & BQ536_DS_CBT, 0);
+  // Minute units: 0x80 | 1 = 60 s.
+  bus.write(1, BQ536_CB_TIME, BQ536_CBT_MINUTES | 1);
+  bus.write(1, BQ536_CB_CTRL, 0x20);
+  const double on2 = bus.t + bus.last.duration_s;
+  chain.advance(on2 + 59.9);
+  EXPECT_TRUE(chain.balancing(0, 5));
+  chain.advance(on2 + 60.0);
+  EXPECT_FALSE(chain.balancing(0, 5));
+}
+
+TEST(Bq76pl536a, CommFaultsActOnTheBytes) {
+  Bq76pl536aChain chain(config(3), 18, 1);
+  Bus bus{chain};
+  bus.addressAll(3);
+  const std::vector<uint8_t> clean = bus.read(2, BQ536_CONFIG_COV, 6);
+  // Silent: no reply, and writes do not reach it.
+  chain.setCommFault(1, MonitorDeviceFault{true, 0.0, -1});
+  EXPECT_TRUE(bus.read(2, BQ536_CONFIG_COV, 6).empty());
+  EXPECT_EQ(bus.last.received, -1);
+  bus.write(2, BQ536_IO_CONTROL, 3);
+  EXPECT_EQ(chain.peek(1, BQ536_IO_CONTROL), 0);
+  EXPECT_EQ(bus.read(3, BQ536_CONFIG_COV, 6), clean);  // the others still answer
+  // Stuck: every reply byte reads the stuck value.
+  for (int stuck : {0x00, 0xFF}) {
+    chain.setCommFault(1, MonitorDeviceFault{false, 0.0, stuck});
+    const uint8_t tx[3] = {BQ536_FRAME_READ(2), BQ536_CONFIG_COV, 6};
+    uint8_t rx[7];
+    EXPECT_EQ(chain.transfer(0.0, tx, 3, rx, 7).received, 7);
+    for (uint8_t b : rx) EXPECT_EQ(b, stuck);
+  }
+  // CRC errors: exactly one bit of the reply flipped, at that rate.
+  chain.setCommFault(1, MonitorDeviceFault{false, 1.0, -1});
+  bool ok = true;
+  const std::vector<uint8_t> hit = bus.read(2, BQ536_CONFIG_COV, 6, &ok);
+  int flipped = 0;
+  for (size_t i = 0; i < clean.size(); ++i) flipped += __builtin_popcount(clean[i] ^ hit[i]);
+  EXPECT_LE(flipped, 1);  // the bit may be in the CRC byte instead
+  EXPECT_FALSE(ok);
+  // Broken link above device 0: devices 1 and 2 neither answer nor take writes.
+  chain.setCommFault(1, MonitorDeviceFault{});
+  chain.setBrokenLinkAbove(0);
+  EXPECT_FALSE(bus.read(1, BQ536_CONFIG_COV, 6).empty());
+  EXPECT_TRUE(bus.read(2, BQ536_CONFIG_COV, 6).empty());
+  EXPECT_TRUE(bus.read(3, BQ536_CONFIG_COV, 6).empty());
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, 1);
+  EXPECT_EQ(chain.peek(0, BQ536_IO_CONTROL), 1);
+  EXPECT_EQ(chain.peek(2, BQ536_IO_CONTROL), 0);
+}
+
+TEST(Bq76pl536a, TransactionTimeFollowsTheSpiClock) {
+  MonitorConfig cfg = config(1);
+  cfg.baud = 1e6;
+  Bq76pl536aChain chain(cfg, 6, 1);
+  Bus bus{chain};
+  bus.read(0, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+  EXPECT_DOUBLE_EQ(bus.last.duration_s, (3 + BQ536_RESULTS_LEN + 1) * 8 / 1e6);
+  bus.write(0, BQ536_IO_CONTROL, 0);
+  EXPECT_DOUBLE_EQ(bus.last.duration_s, 4 * 8 / 1e6);
+}
+
+TEST(Bq76pl536a, NoiseAndChannelErrorsAreDrawnFromTheSeed) {
+  MonitorConfig cfg = config(2);
+  cfg.cell_adc.noise_rms = 2e-3;
+  cfg.channel_gain_sd = 1e-3;
+  cfg.channel_offset_sd_V = 2e-3;
+  cfg.module_noise_V = 5e-3;
+  cfg.thermistor.noise_codes_rms = 2.0;
+  auto readout = [&](uint64_t seed) {
+    Bq76pl536aChain chain(cfg, 12, seed);
+    Bus bus{chain};
+    bus.addressAll(2);
+    bus.write(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, 3);
+    bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONTROL, 0x3D);
+    std::vector<uint8_t> all;
+    for (int k = 0; k < 3; ++k) {
+      for (int d = 0; d < 2; ++d)
+        for (double& v : chain.analog(d).cell_V) v = 3.6;
+      bus.t += 0.1;
+      bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, 1);
+      bus.t += 1e-3;
+      for (uint8_t a = 1; a <= 2; ++a) {
+        const std::vector<uint8_t> v = bus.read(a, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+        all.insert(all.end(), v.begin(), v.end());
+      }
+    }
+    return all;
+  };
+  EXPECT_EQ(readout(7), readout(7));
+  EXPECT_NE(readout(7), readout(8));
+}
+
+// The power-up EEPROM reproduces the frame-level model's secondary protection: same
+// trip instants of the FAULT line for the same truth at 10 ms steps, and the same
+// per-channel errors for the same seed.
+TEST(Bq76pl536a, SecondaryProtectionTripsWhenTheFrameLevelModelDoes) {
+  MonitorConfig cfg = config(2);
+  cfg.channel_gain_sd = 1e-3;
+  cfg.channel_offset_sd_V = 1e-3;
+  const int cells = 12;
+  struct Case { int cell; double from_V, to_V; int therm; double from_C, to_C; };
+  const Case cases[] = {{4, 4.30, 4.40, -1, 25, 25},   // COV
+                        {9, 2.60, 2.40, -1, 25, 25},   // CUV
+                        {0, 3.70, 3.70, 3, 60, 70}};   // OT on device 1, TS2
+  for (const Case& k : cases) {
+    Bq76pl536aChain chain(cfg, cells, 11);
+    MonitorStack stack(cfg, cells, 11);
+    MonitorTruth truth = stack.makeTruth();
+    double chainTrip = -1, stackTrip = -1;
+    for (int step = 0; step <= 500; ++step) {
+      const double t = 0.01 * step, f = std::min(1.0, t / 2.0);
+      for (int c = 0; c < cells; ++c) truth.cell_V[static_cast<size_t>(c)] = 3.7;
+      truth.cell_V[static_cast<size_t>(k.cell)] = k.from_V + f * (k.to_V - k.from_V);
+      if (k.therm >= 0) truth.therm_C[static_cast<size_t>(k.therm)] = k.from_C + f * (k.to_C - k.from_C);
+      for (int d = 0; d < 2; ++d) {
+        for (int c = 0; c < 6; ++c) chain.analog(d).cell_V[static_cast<size_t>(c)] = truth.cell_V[static_cast<size_t>(d * 6 + c)];
+        for (int j = 0; j < 2; ++j) chain.analog(d).therm_C[static_cast<size_t>(j)] = truth.therm_C[static_cast<size_t>(d * 2 + j)];
+      }
+      chain.advance(t);
+      stack.update(t, truth);
+      if (chainTrip < 0 && chain.faultLine()) chainTrip = t;
+      if (stackTrip < 0 && stack.faultLine()) stackTrip = t;
+    }
+    EXPECT_GT(stackTrip, 1.0);
+    EXPECT_DOUBLE_EQ(chainTrip, stackTrip);
+  }
+  Bq76pl536aChain chain(cfg, cells, 11);
+  MonitorStack stack(cfg, cells, 11);
+  for (int c = 0; c < cells; ++c) {
+    EXPECT_EQ(chain.channelGain(c), stack.channelGain(c));
+    EXPECT_EQ(chain.channelOffset_V(c), stack.channelOffset_V(c));
+  }
+}
+
+}  // namespace
+}  // namespace packsim
