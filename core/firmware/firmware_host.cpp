@@ -162,7 +162,7 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
         sink_.event(t_s, "config_warning", note);
       }
     }
-    sink_.event(t_s, "firmware", "loaded '" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
+    sink_.event(t_s, "firmware_loaded", "'" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
                                      std::to_string(fw_.instance_bytes) + " bytes RAM, " +
                                      std::to_string(s_.config.size()) + " bytes configuration)");
     callStart_ns_ = clock_ns_;
