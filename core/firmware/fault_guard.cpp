@@ -6,10 +6,23 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <ucontext.h>
+
+#include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
 #include <vector>
+
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+#define PACKSIM_GUARD_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#include <sanitizer/asan_interface.h>
+#define PACKSIM_GUARD_ASAN 1
+#endif
+#endif
 
 namespace packsim {
 
@@ -28,6 +41,19 @@ thread_local volatile sig_atomic_t tSignal = 0;
 thread_local volatile sig_atomic_t tInService = 0;
 thread_local volatile sig_atomic_t tWatchdogPending = 0;
 thread_local std::vector<char> tAltStack;
+thread_local uintptr_t tFaultSp = 0;  // stack pointer of the interrupted code
+
+uintptr_t stackPointerOf(void* uctx) {
+  const ucontext_t* u = static_cast<const ucontext_t*>(uctx);
+#if defined(__x86_64__)
+  return static_cast<uintptr_t>(u->uc_mcontext.gregs[REG_RSP]);
+#elif defined(__aarch64__)
+  return static_cast<uintptr_t>(u->uc_mcontext.sp);
+#else
+  (void)u;
+  return 0;
+#endif
+}
 
 int indexOf(int sig) {
   for (int i = 0; i < kSignalCount; ++i)
@@ -42,6 +68,7 @@ void onSignal(int sig, siginfo_t* info, void* uctx) {
   }
   if (tJump != nullptr) {
     tSignal = sig;
+    tFaultSp = stackPointerOf(uctx);
     siglongjmp(*tJump, sig == kWatchdogSignal ? 2 : 1);
   }
   // Not inside a firmware call on this thread: behave as before the guard.
@@ -64,8 +91,8 @@ void onSignal(int sig, siginfo_t* info, void* uctx) {
 void ensureAltStack() {
   if (!tAltStack.empty()) return;
   stack_t current{};
-  if (sigaltstack(nullptr, &current) == 0 && !(current.ss_flags & SS_DISABLE) && current.ss_size >= 65536) {
-    tAltStack.assign(1, 0);  // this thread already has one (a sanitizer's): keep it
+  if (sigaltstack(nullptr, &current) == 0 && !(current.ss_flags & SS_DISABLE)) {
+    tAltStack.assign(1, 0);  // this thread already has one (a sanitizer's, which it frees itself): keep it
     return;
   }
   tAltStack.assign(256 * 1024, 0);
@@ -162,6 +189,14 @@ GuardResult FaultGuard::run(void (*fn)(void*), void* ctx) {
   tJump = nullptr;
   tInService = 0;
   tWatchdogPending = 0;
+#ifdef PACKSIM_GUARD_ASAN
+  // Left from a signal handler on the alternate stack, ASan cannot tell which frames
+  // the jump abandoned: clear their redzones so later calls do not trip over them.
+  const uintptr_t top = reinterpret_cast<uintptr_t>(__builtin_frame_address(0));
+  if ((how == 1 || how == 2) && tFaultSp != 0 && tFaultSp < top)
+    __asan_unpoison_memory_region(reinterpret_cast<void*>(tFaultSp), top - tFaultSp);
+#endif
+  tFaultSp = 0;
   if (how == 1) r = {GuardOutcome::Crashed, static_cast<int>(tSignal)};
   if (how == 2) r = {GuardOutcome::Hung, 0};
   if (how == 3) r = {GuardOutcome::ContractBreak, 0};

@@ -61,12 +61,14 @@ struct FirmwareHost::Call {
   FirmwareHost* h;
   int task;
   const psfw_firmware* desc = nullptr;  // what the entry returned
+  char name[65] = {0};                   // its name, read inside the guard (a pointer into the library)
   static void run(void* p) {
     Call& c = *static_cast<Call*>(p);
     FirmwareHost& h = *c.h;
     psfw_board* board = reinterpret_cast<psfw_board*>(&h);
     if (c.task == -2) {
       c.desc = h.lib_.entry()();
+      if (c.desc && c.desc->name) std::strncpy(c.name, c.desc->name, sizeof c.name - 1);
     } else if (c.task == -1) {
       h.initResult_ = h.fw_.init ? h.fw_.init(h.ram_.get(), board, &h.api_, h.s_.config.data(),
                                               static_cast<uint32_t>(h.s_.config.size()))
@@ -125,10 +127,11 @@ bool FirmwareHost::guarded(const char* what, int task) {
   }
   if (task == -2) {
     if (!c.desc) {
-      fault(0.0, PSFW_ENTRY_SYMBOL " returned no descriptor");
+      fault(start_s, PSFW_ENTRY_SYMBOL " returned no descriptor");
       return false;
     }
     fw_ = *c.desc;
+    name_ = c.name[0] ? c.name : "(unnamed)";
   }
   return true;
 }
@@ -138,14 +141,17 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   in_ = &in;
   out_ = &out;
   clock_ns_ = std::max(clock_ns_, toNs(t_s));
+  const uint64_t windowEnd_ns = toNs(t_s) + tick_ns_;
+  // The handlers are installed only around ticks that call into the firmware.
+  bool due = !started_;
+  for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
+  if (!due) return;
   FaultGuard::Scope handlers;
   if (!started_) {
     started_ = true;
     if (!lib_.entry()) return fault(t_s, lib_.error());
     if (!guarded("the entry " PSFW_ENTRY_SYMBOL, -2)) return;
     if (const std::string bad = checkFirmwareDescriptor(fw_); !bad.empty()) return fault(t_s, bad);
-    // The descriptor's strings live in the library: read them under the guard too.
-    name_ = fw_.name ? std::string(fw_.name, strnlen(fw_.name, 64)) : std::string("(unnamed)");
     const size_t words = (std::max<uint32_t>(fw_.instance_bytes, 1u) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
     ram_.reset(new std::max_align_t[words]());
     nextDue_ns_.resize(fw_.task_count);
@@ -170,7 +176,6 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     if (!guarded("init", -1)) return;
     if (initResult_ != 0) return fault(t_s, "init returned " + std::to_string(initResult_) + " (not 0)");
   }
-  const uint64_t windowEnd_ns = toNs(t_s) + tick_ns_;
   while (!dead_) {
     int next = -1;
     for (uint32_t i = 0; i < fw_.task_count; ++i)
@@ -180,7 +185,7 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     const psfw_task& task = fw_.tasks[next];
     clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
     callStart_ns_ = clock_ns_;
-    callBudget_ns_ = uint64_t{task.budget_us ? task.budget_us : task.period_ms * 1000u} * 1000u;
+    callBudget_ns_ = (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u;
     if (!guarded("task", next)) return;
     ++runs_[static_cast<size_t>(next)];
     nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
