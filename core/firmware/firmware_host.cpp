@@ -153,7 +153,8 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     if (!guarded("the entry " PSFW_ENTRY_SYMBOL, -2)) return;
     if (const std::string bad = checkFirmwareDescriptor(fw_); !bad.empty()) return fault(t_s, bad);
     const size_t words = (std::max<uint32_t>(fw_.instance_bytes, 1u) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
-    ram_.reset(new std::max_align_t[words]());
+    ram_.reset(new std::max_align_t[words]);
+    std::memset(ram_.get(), 0, words * sizeof(std::max_align_t));  // every byte: value-init skips padding
     nextDue_ns_.resize(fw_.task_count);
     runs_.assign(fw_.task_count, 0);
     for (uint32_t i = 0; i < fw_.task_count; ++i) {
