@@ -195,10 +195,20 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
 }
 
 std::string FirmwareHost::status() const {
-  if (!dead_) return name_ + ": ran to the end";
+  std::string telemetry = "; " + std::to_string(telemetryFrames_) + " telemetry frames";
+  if (!lastTelemetry_.empty()) {
+    telemetry += ", the last:";
+    char hex[4];
+    for (size_t i = 0; i < std::min<size_t>(lastTelemetry_.size(), 16); ++i) {
+      std::snprintf(hex, sizeof hex, " %02x", lastTelemetry_[i]);
+      telemetry += hex;
+    }
+    if (lastTelemetry_.size() > 16) telemetry += " ...";
+  }
+  if (!dead_) return name_ + ": ran to the end" + telemetry;
   char t[32];
   std::snprintf(t, sizeof t, "%.3f s", faultTime_s_);
-  return name_ + ": firmware_fault at " + t + ": " + cause_;
+  return name_ + ": firmware_fault at " + t + ": " + cause_ + telemetry;
 }
 
 // --- board services -------------------------------------------------------------
