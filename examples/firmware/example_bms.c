@@ -26,7 +26,7 @@
 #include "afe/bq76pl536a_regs.h"
 #include "packsim_fw.h"
 
-#define EX_MAX_DEVICES 16
+#define EX_MAX_DEVICES 32
 #define EX_MAX_CELLS (EX_MAX_DEVICES * BQ536_CELLS_MAX)
 #define EX_BUS PSFW_BUS_MONITOR(0)
 
