@@ -45,7 +45,14 @@ typedef struct psfw_board psfw_board; /* opaque: the firmware passes it back, ne
 
 /* bus_transfer results (>= 0: bytes received) */
 #define PSFW_BUS_TIMEOUT (-1) /* nothing answered within the timeout */
-#define PSFW_BUS_ERROR (-2)   /* no such bus, or arguments the bus cannot carry */
+#define PSFW_BUS_ERROR (-2)   /* arguments the bus cannot carry (a frame the part does not accept) */
+/* Longest frame one transaction may carry either way; more, a bus id the board does
+ * not have, or a null buffer with a non-zero length is a contract break: the host
+ * stops the firmware (firmware_fault). */
+#define PSFW_BUS_MAX_FRAME 1024u
+
+/* adc_read / gpio_read of a channel or pin the board does not have */
+#define PSFW_NO_CHANNEL (-1)
 
 /* ADC channels */
 enum psfw_adc_channel {

@@ -107,6 +107,7 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   }
   for (const DetectionExpectation& d : e.detected) {
     const Event* ev = firstAfter(r, 0.0, "fault_active", d.fault + ":");
+    if (!ev) ev = firstAfter(r, 0.0, "firmware", "trip: " + d.fault);  // a library firmware's report
     if (!ev)
       fail("expected " + d.fault + fmt(" within [%.3f, %.3f] s, never raised", d.from_s, d.to_s));
     else if (ev->time_s < d.from_s - 1e-9 || ev->time_s > d.to_s + 1e-9)
@@ -141,18 +142,26 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     if (inj.kind != "fault_injected") continue;
     std::string line = inj.detail + fmt(" @%.3f s: ", inj.time_s);
     const Event* det = firstAfter(r, inj.time_s, "fault_active");
+    // A library firmware reports its detection as the event "trip: <reason>" (docs/firmware.md).
+    const Event* fwTrip = det ? nullptr : firstAfter(r, inj.time_s, "firmware", "trip: ");
+    std::string fwDetail;
+    if (fwTrip) {
+      fwDetail = fwTrip->detail.substr(6);
+      det = fwTrip;
+    }
     const Event* open = firstAfter(r, inj.time_s, "relay_contact", "opened");
     const Event* line_ = firstAfter(r, inj.time_s, "monitor_fault_line", "asserted");
     FaultLatency fl;
     fl.injected = inj.detail;
     fl.injected_at_s = inj.time_s;
+    const std::string detName = fwTrip ? fwDetail : det ? det->detail.substr(0, det->detail.find(':')) : "";
     if (det) {
-      fl.detected_fault = det->detail.substr(0, det->detail.find(':'));
+      fl.detected_fault = detName;
       fl.detection_latency_s = det->time_s - inj.time_s;
     }
     if (open) fl.relay_open_latency_s = open->time_s - inj.time_s;
     o.fault_latencies.push_back(fl);
-    if (det) line += det->detail.substr(0, det->detail.find(':')) + fmt(" after %.3f s", det->time_s - inj.time_s);
+    if (det) line += detName + fmt(" after %.3f s", det->time_s - inj.time_s);
     else line += "no BMS fault";
     if (line_ && (!det || line_->time_s < det->time_s))
       line += fmt(", monitor FAULT line after %.3f s", line_->time_s - inj.time_s);

@@ -63,6 +63,7 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   BmsSettings b;
   if (!m) return b;
   b.tick_s = static_cast<double>(m->integer("tick_ms", 10, 1, 10000)) * 1e-3;
+  m->has("firmware");  // read with the scenario's folder: readFirmware (load_firmware.cpp)
   if (auto p = m->optionalMap("protections")) {
     for (const ProtectionSpec& spec : protectionSpecs()) {
       ProtectionConfig& pc = b.protection(spec.id);

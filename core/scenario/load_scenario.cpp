@@ -169,6 +169,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
                                  std::to_string(bms::kMaxBoards));
   }
   s.bms = readBms(m.optionalMap("bms"));
+  if (auto b = m.optionalMap("bms")) s.bms.firmware = readFirmware(b->optionalMap("firmware"), base_dir);
   {
     YamlMap load = m.map("load");
     if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)

@@ -10,6 +10,7 @@
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
 #include "core/scenario/protection_table.hpp"
+#include "core/scenario/firmware_config.hpp"
 #include "models/afe/monitor_config.hpp"
 #include "models/balance/active_balancer.hpp"
 #include "models/balance/passive_balancer.hpp"
@@ -147,6 +148,7 @@ struct BmsSettings {
 
   ProtectionConfig& protection(bms::FaultId id) { return protections[static_cast<size_t>(id)]; }
   const ProtectionConfig& protection(bms::FaultId id) const { return protections[static_cast<size_t>(id)]; }
+  FirmwareSettings firmware;        // absent: packsim's own core (bms/)
 };
 
 struct RunConfig {

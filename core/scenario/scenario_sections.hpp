@@ -22,6 +22,8 @@ ThermalConfig readThermal(std::optional<YamlMap> m, int cells);
 TimeSeries readAmbient(std::optional<YamlMap> m);
 HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack);
 BmsSettings readBms(std::optional<YamlMap> m);
+// load_firmware.cpp: `bms.firmware` (library path resolved against baseDir)
+FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseDir);
 LoadProfile readLoad(YamlMap m, const std::string& baseDir);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors);

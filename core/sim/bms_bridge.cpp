@@ -120,6 +120,7 @@ HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
     : s_(s), plant_(plant), stack_(s.hardware.afe, s.pack.series, s.run.seed), truth_(stack_.makeTruth()) {
   afeTherm_ = std::min(s.hardware.thermistorCount(), stack_.thermistorChannels());
   if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
+  if (s.bms.firmware.library) chain_ = std::make_unique<MonitorChainPath>(s.hardware.afe, s.pack.series, s.run.seed);
 }
 
 void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
@@ -167,8 +168,12 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   truth_.broken_link_above = f.broken_link_above;
   truth_.current_A = sig.pack_current_A;
 
-  stack_.update(t, truth_);
-  stack_.read(t, truth_, rng, in);
+  if (chain_) {
+    chain_->update(t, truth_);  // the firmware reads it over the bus
+  } else {
+    stack_.update(t, truth_);
+    stack_.read(t, truth_, rng, in);
+  }
 
   // Thermistors beyond the monitor inputs sit on the MCU's own ADC.
   for (size_t k = static_cast<size_t>(afeTherm_); k < static_cast<size_t>(hw.thermistorCount()); ++k) {
@@ -184,7 +189,7 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   in.eSwitchInternal = f.estop_internal_pulled;
   in.eSwitchExternal = f.estop_external_pulled;
   in.relayAux = relay_.closed;
-  in.monitorFaultPin = stack_.faultLine();
+  in.monitorFaultPin = chain_ ? chain_->faultLine() : stack_.faultLine();
   in.chargerPresent = s_.bms.charger_present;
   in.runRequest = s_.bms.run_request;
   in.resetRequest = f.reset_requested;
@@ -195,11 +200,11 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
                           PlantInputs& pin) {
   const HardwareConfig& hw = s_.hardware;
   const double dt = s_.bms.tick_s;
-  stack_.hostWrite(t, out, truth_);
+  if (!chain_) stack_.hostWrite(t, out, truth_);  // a library firmware writes over the bus
 
   // The monitor FAULT line sits in series with the relay drive: it opens the relay
   // whatever the MCU commands.
-  st_.fault_line = stack_.faultLine();
+  st_.fault_line = chain_ ? chain_->faultLine() : stack_.faultLine();
   const bool drive = !(hw.fault_line_opens_relay && st_.fault_line);
   relayStep(hw.relay, relay_, out.relayClose && drive, f.relay_welded, t);
   relayStep(hw.precharge_relay, precharge_, out.prechargeClose && drive, false, t);
@@ -207,8 +212,8 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   // The current of the tick that just ended heats the fuse.
   fuseStep(hw.fuse, fuse_, sig.pack_current_A, dt);
 
-  const bool dsg = out.dischargeFetOn && stack_.dischargeAllowed();
-  const bool chg = out.chargeFetOn && stack_.chargeAllowed();
+  const bool dsg = out.dischargeFetOn && (chain_ ? chain_->dischargeAllowed() : stack_.dischargeAllowed());
+  const bool chg = out.chargeFetOn && (chain_ ? chain_->chargeAllowed() : stack_.chargeAllowed());
   const bool dischargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, 1.0) ||
                                 !mosfetConducts(hw.charge_fet, chg, 1.0);
   const bool chargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, -1.0) ||
@@ -262,7 +267,7 @@ bool HardwareSim::actuateBalancing(double t, const bms::Outputs& out, const Plan
   if (s_.hardware.balancing.present) {
     if (pin.balancing.size() != static_cast<size_t>(series)) pin.balancing.assign(static_cast<size_t>(series), 0);
     for (int g = 0; g < series; ++g) {
-      const uint8_t on = stack_.balancing(g, t) ? 1 : 0;
+      const uint8_t on = (chain_ ? chain_->balancing(g) : stack_.balancing(g, t)) ? 1 : 0;
       changed = changed || pin.balancing[static_cast<size_t>(g)] != on;
       pin.balancing[static_cast<size_t>(g)] = on;
     }

@@ -22,6 +22,7 @@
 
 #include "core/scenario/scenario.hpp"
 #include "core/sim/hardware_faults.hpp"
+#include "core/sim/monitor_chain_path.hpp"
 #include "core/sim/plant.hpp"
 #include "models/afe/monitor_stack.hpp"
 #include "models/hw/fuse.hpp"
@@ -61,6 +62,10 @@ class HardwareSim {
 
   const HardwareStatus& status() const { return st_; }
   const MonitorStack& monitors() const { return stack_; }
+  // A library firmware's buses (the register-level chain, monitor_chain_path.hpp) and
+  // the thermistors on the MCU's own ADC; packsim's core uses neither.
+  std::vector<MonitorBus*> monitorBuses() { return chain_ ? chain_->buses() : std::vector<MonitorBus*>{}; }
+  int mcuThermistorCount() const { return s_.hardware.thermistorCount() - afeTherm_; }
   // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the
   // balancing switches for the conversion, so the cells read without their I_bal·R0
   // drop (the state does not change in those milliseconds); otherwise `sig` itself.
@@ -79,6 +84,7 @@ class HardwareSim {
   PlantSignals pausedSig_;
   std::vector<double> moduleV_;  // active balancer: module voltages received from the BMS
   MonitorStack stack_;
+  std::unique_ptr<MonitorChainPath> chain_;  // with a library firmware: replaces stack_'s frames
   MonitorTruth truth_;
   int afeTherm_ = 0;  // thermistor channels on the monitor ICs
   RelayState relay_, precharge_;

@@ -119,6 +119,7 @@ struct Summary {
   int display_bars_extra_max = 0;     // most bars it showed above the truth's
   const SocErrorStats& socErrorSelected() const { return soc_estimator == "ekf" ? soc_error_ekf : soc_error_coulomb; }
   Comparison compare;  // against the `compare:` scenario, when the scenario names one
+  std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
 };
 
 struct RunResult {

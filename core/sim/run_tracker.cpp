@@ -166,6 +166,14 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   lastX_ = x;
 }
 
+void RunTracker::firmwareTrip(double t, const std::string& reason) {
+  Summary& sm = r_.summary;
+  if (sm.tripped) return;
+  sm.tripped = true;
+  sm.trip_time_s = t;
+  sm.trip_reason = reason;
+}
+
 void RunTracker::record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   recordSample({t, x, sig, out, plant_, cfg_, hw_, r_.rec}, r_.rec);
 }

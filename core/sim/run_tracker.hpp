@@ -23,6 +23,9 @@ class RunTracker {
   void checkFinite(double t, const double* x, int n) const;
   RunResult finish(const double* quadratures);
   void event(double t, const std::string& kind, const std::string& detail);
+  // A library firmware reported a trip (its event "trip: <reason>"); the first one is
+  // the summary's trip (packsim's core trips through its latched faults instead).
+  void firmwareTrip(double t, const std::string& reason);
   // The switching hardware and monitors whose actual state is recorded (bms_bridge).
   void setHardware(const HardwareSim* hw);
 

@@ -13,6 +13,7 @@
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
+#include "core/sim/library_firmware.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
 #include "core/sim/run_tracker.hpp"
@@ -52,7 +53,7 @@ struct SimulationRun::Impl {
     // The firmware reads every device each tick: a stack that cannot be read out within
     // one tick would in reality deliver older readings than simulated here. Say so.
     const double readout_s = stackReadoutTime_s(s.hardware.afe, s.pack.series);
-    if (readout_s > s.bms.tick_s) {
+    if (readout_s > s.bms.tick_s && !s.bms.firmware.library) {
       char note[200];
       std::snprintf(note, sizeof note, "reading the %d-device monitor stack takes %.1f ms, longer than the %.0f ms BMS tick",
                     s.hardware.afe.devices, readout_s * 1e3, s.bms.tick_s * 1e3);
@@ -61,6 +62,7 @@ struct SimulationRun::Impl {
     // A balancing stop threshold below what the measurement noise of N channels allows.
     if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
     scheduler.reset(faults);
+    if (s.bms.firmware.library) firmware = std::make_unique<LibraryFirmware>(s, hw, tracker);
   }
 
   bool step(const StopCondition& stopWhen);
@@ -80,6 +82,7 @@ struct SimulationRun::Impl {
   PlantSignals sig;
   RunTracker tracker;
   FaultScheduler scheduler;
+  std::unique_ptr<LibraryFirmware> firmware;  // bms.firmware: a user firmware instead of bms::step
   const double tick_s;
   const long recordEvery;
   const double end_s;
@@ -108,7 +111,12 @@ bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
 
   // 2. the firmware decides (a hung MCU does not: its pins hold their last level,
   //    and only the monitor ICs' own FAULT line can still open the relay)
-  if (!faults.host_dead) bms::step(cfg, core, in, out);
+  if (!faults.host_dead) {
+    if (firmware)
+      firmware->decide(t, in, out);
+    else
+      bms::step(cfg, core, in, out);
+  }
 
   // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
   //    FETs, precharge) whose state the plant sees from t_k
@@ -156,6 +164,7 @@ RunResult SimulationRun::finish() {
   Impl& m = *impl_;
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.solver = m.solver->stats();
+  if (m.firmware) r.summary.firmware_status = m.firmware->status();
   compareWithReference(m.s, r);  // the `compare:` reference run, if the scenario names one
   return r;
 }

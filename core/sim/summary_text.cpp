@@ -53,6 +53,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   os << "duration        " << fmt("%.1f", m.duration_s) << " s  (" << clockText(m.duration_s) << ")\n";
   os << "energy out      " << fmt("%.2f", m.energy_delivered_Wh) << " Wh  (" << fmt("%.3f", m.charge_delivered_Ah)
      << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
+  if (!m.firmware_status.empty()) os << "firmware        " << m.firmware_status << "\n";
   os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  cell " << m.min_cell << " at "
      << fmt("%.2f", m.min_cell_time_s) << " s\n";
   os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  cell " << m.hottest_cell << " at "

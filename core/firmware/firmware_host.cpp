@@ -1,0 +1,316 @@
+#include "core/firmware/firmware_host.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+namespace packsim {
+
+namespace {
+
+constexpr size_t kEventChars = 120;       // kept of one firmware event (the header's promise)
+constexpr size_t kTelemetryKeep = 256;    // bytes kept of the last telemetry frame
+
+FirmwareHost& host(psfw_board* b) { return *reinterpret_cast<FirmwareHost*>(b); }
+
+uint64_t toNs(double t_s) { return static_cast<uint64_t>(std::llround(t_s * 1e9)); }
+
+// The services as C entry points; each forwards to the host, marked as host code for
+// the watchdog (FaultGuard::enterService).
+template <typename R, typename F>
+R service(F&& f) {
+  FaultGuard::enterService();
+  const R r = f();
+  FaultGuard::leaveService();
+  return r;
+}
+template <typename F>
+void serviceVoid(F&& f) {
+  FaultGuard::enterService();
+  f();
+  FaultGuard::leaveService();
+}
+
+psfw_board_api makeApi() {
+  psfw_board_api a{};
+  a.abi_version = PSFW_ABI_VERSION;
+  a.now_ms = [](psfw_board* b) { return host(b).nowMs(); };
+  a.now_us = [](psfw_board* b) { return host(b).nowUs(); };
+  a.delay_us = [](psfw_board* b, uint32_t us) { serviceVoid([&] { host(b).delayUs(us); }); };
+  a.bus_transfer = [](psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
+    return service<int32_t>([&] { return host(b).busTransfer(bus, tx, txLen, rx, rxLen); });
+  };
+  a.adc_read = [](psfw_board* b, uint8_t ch) { return host(b).adcRead(ch); };
+  a.gpio_read = [](psfw_board* b, uint8_t pin) { return host(b).gpioRead(pin); };
+  a.gpio_write = [](psfw_board* b, uint8_t pin, int32_t level) { host(b).gpioWrite(pin, level); };
+  a.dac_write = [](psfw_board* b, uint8_t ch, int32_t v) { host(b).dacWrite(ch, v); };
+  a.telemetry_send = [](psfw_board* b, const uint8_t* bytes, uint16_t len) {
+    serviceVoid([&] { host(b).telemetrySend(bytes, len); });
+  };
+  a.event = [](psfw_board* b, const char* text) { serviceVoid([&] { host(b).firmwareEvent(text); }); };
+  return a;
+}
+
+}  // namespace
+
+// One guarded call: the entry (task -2), init (-1) or task n.
+struct FirmwareHost::Call {
+  FirmwareHost* h;
+  int task;
+  const psfw_firmware* desc = nullptr;  // what the entry returned
+  char name[65] = {0};                   // its name, read inside the guard (a pointer into the library)
+  static void run(void* p) {
+    Call& c = *static_cast<Call*>(p);
+    FirmwareHost& h = *c.h;
+    psfw_board* board = reinterpret_cast<psfw_board*>(&h);
+    if (c.task == -2) {
+      c.desc = h.lib_.entry()();
+      if (c.desc && c.desc->name) std::strncpy(c.name, c.desc->name, sizeof c.name - 1);
+    } else if (c.task == -1) {
+      h.initResult_ = h.fw_.init ? h.fw_.init(h.ram_.get(), board, &h.api_, h.s_.config.data(),
+                                              static_cast<uint32_t>(h.s_.config.size()))
+                                 : 0;
+    } else {
+      h.fw_.tasks[c.task].run(h.ram_.get(), board, &h.api_);
+    }
+  }
+};
+
+FirmwareHost::FirmwareHost(const FirmwareSettings& s, std::vector<MonitorBus*> buses, double tick_s,
+                           int mcuThermistors, FirmwareSink& sink)
+    : s_(s),
+      buses_(std::move(buses)),
+      tick_ns_(toNs(tick_s)),
+      mcuThermistors_(mcuThermistors),
+      sink_(sink),
+      lib_(s.library_path),
+      guard_(s.watchdog_s),
+      api_(makeApi()),
+      name_(s.library_path) {}
+
+FirmwareHost::~FirmwareHost() = default;
+
+void FirmwareHost::fault(double t_s, const std::string& cause) {
+  dead_ = true;
+  cause_ = cause;
+  faultTime_s_ = t_s;
+  sink_.event(t_s, "firmware_fault", cause + "; the MCU is stopped, its outputs hold their last levels");
+}
+
+void FirmwareHost::breakContract(const char* fmt, ...) {
+  va_list ap;
+  va_start(ap, fmt);
+  std::vsnprintf(breakCause_, sizeof breakCause_, fmt, ap);
+  va_end(ap);
+  FaultGuard::abandon();
+}
+
+// Runs one call under the guard; false (and the MCU dead) when it did not return cleanly.
+bool FirmwareHost::guarded(const char* what, int task) {
+  Call c{this, task};
+  breakCause_[0] = '\0';
+  const double start_s = clock_s();
+  const GuardResult r = guard_.run(&Call::run, &c);
+  std::string where = what;
+  if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
+  switch (r.outcome) {
+    case GuardOutcome::Ok: break;
+    case GuardOutcome::Crashed: fault(start_s, "crash in " + where + ": " + signalName(r.signal)); return false;
+    case GuardOutcome::Hung:
+      fault(start_s, "hang in " + where + ": still running after " + std::to_string(std::lround(s_.watchdog_s * 1e3)) +
+                         " ms of CPU time (watchdog_ms)");
+      return false;
+    case GuardOutcome::ContractBreak: fault(start_s, "contract break in " + where + ": " + breakCause_); return false;
+  }
+  if (task == -2) {
+    if (!c.desc) {
+      fault(start_s, PSFW_ENTRY_SYMBOL " returned no descriptor");
+      return false;
+    }
+    fw_ = *c.desc;
+    name_ = c.name[0] ? c.name : "(unnamed)";
+  }
+  return true;
+}
+
+void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
+  if (dead_) return;
+  in_ = &in;
+  out_ = &out;
+  clock_ns_ = std::max(clock_ns_, toNs(t_s));
+  const uint64_t windowEnd_ns = toNs(t_s) + tick_ns_;
+  // The handlers are installed only around ticks that call into the firmware.
+  bool due = !started_;
+  for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
+  if (!due) return;
+  FaultGuard::Scope handlers;
+  if (!started_) {
+    started_ = true;
+    if (!lib_.entry()) return fault(t_s, lib_.error());
+    if (!guarded("the entry " PSFW_ENTRY_SYMBOL, -2)) return;
+    if (const std::string bad = checkFirmwareDescriptor(fw_); !bad.empty()) return fault(t_s, bad);
+    const size_t words = (std::max<uint32_t>(fw_.instance_bytes, 1u) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+    ram_.reset(new std::max_align_t[words]);
+    std::memset(ram_.get(), 0, words * sizeof(std::max_align_t));  // every byte: value-init skips padding
+    nextDue_ns_.resize(fw_.task_count);
+    runs_.assign(fw_.task_count, 0);
+    for (uint32_t i = 0; i < fw_.task_count; ++i) {
+      const uint64_t p_ns = uint64_t{fw_.tasks[i].period_ms} * 1000000u;
+      nextDue_ns_[i] = p_ns;
+      if (p_ns % tick_ns_ != 0 || p_ns < tick_ns_) {
+        char note[200];
+        std::snprintf(note, sizeof note,
+                      "firmware task %u: its %u ms period is not a multiple of the %.0f ms BMS tick; it runs at its "
+                      "own due times, its pins and outputs resolved to the tick",
+                      i, fw_.tasks[i].period_ms, static_cast<double>(tick_ns_) * 1e-6);
+        sink_.event(t_s, "config_warning", note);
+      }
+    }
+    sink_.event(t_s, "firmware_loaded", "'" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
+                                     std::to_string(fw_.instance_bytes) + " bytes RAM, " +
+                                     std::to_string(s_.config.size()) + " bytes configuration)");
+    callStart_ns_ = clock_ns_;
+    callBudget_ns_ = 0;
+    if (!guarded("init", -1)) return;
+    if (initResult_ != 0) return fault(t_s, "init returned " + std::to_string(initResult_) + " (not 0)");
+  }
+  while (!dead_) {
+    int next = -1;
+    for (uint32_t i = 0; i < fw_.task_count; ++i)
+      if (nextDue_ns_[i] < windowEnd_ns && (next < 0 || nextDue_ns_[i] < nextDue_ns_[static_cast<size_t>(next)]))
+        next = static_cast<int>(i);
+    if (next < 0) break;
+    const psfw_task& task = fw_.tasks[next];
+    clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
+    callStart_ns_ = clock_ns_;
+    callBudget_ns_ = (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u;
+    if (!guarded("task", next)) return;
+    ++runs_[static_cast<size_t>(next)];
+    nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
+  }
+  callBudget_ns_ = 0;
+}
+
+std::string FirmwareHost::status() const {
+  std::string telemetry = "; " + std::to_string(telemetryFrames_) + " telemetry frames";
+  if (!lastTelemetry_.empty()) {
+    telemetry += ", the last:";
+    char hex[4];
+    for (size_t i = 0; i < std::min<size_t>(lastTelemetry_.size(), 16); ++i) {
+      std::snprintf(hex, sizeof hex, " %02x", lastTelemetry_[i]);
+      telemetry += hex;
+    }
+    if (lastTelemetry_.size() > 16) telemetry += " ...";
+  }
+  if (!dead_) return name_ + ": ran to the end" + telemetry;
+  char t[32];
+  std::snprintf(t, sizeof t, "%.3f s", faultTime_s_);
+  return name_ + ": firmware_fault at " + t + ": " + cause_ + telemetry;
+}
+
+// --- board services -------------------------------------------------------------
+
+void FirmwareHost::checkBudget() {
+  if (callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return;
+  breakContract("ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
+                static_cast<double>(clock_ns_ - callStart_ns_) * 1e-6, static_cast<double>(callBudget_ns_) * 1e-6);
+}
+
+void FirmwareHost::delayUs(uint32_t us) {
+  clock_ns_ += uint64_t{us} * 1000u;
+  checkBudget();
+}
+
+int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
+  if (bus >= buses_.size()) breakContract("bus_transfer on bus %u, this board has %zu", bus, buses_.size());
+  if (txLen > PSFW_BUS_MAX_FRAME || rxLen > PSFW_BUS_MAX_FRAME)
+    breakContract("bus_transfer of %u bytes out, %u in: more than PSFW_BUS_MAX_FRAME (%u)", txLen, rxLen,
+                  PSFW_BUS_MAX_FRAME);
+  if ((txLen > 0 && tx == nullptr) || (rxLen > 0 && rx == nullptr))
+    breakContract("bus_transfer with a null buffer and a non-zero length");
+  // The firmware's buffers are copied first: a bad pointer faults here, before the
+  // chain's state is touched.
+  uint8_t txCopy[PSFW_BUS_MAX_FRAME], rxCopy[PSFW_BUS_MAX_FRAME];
+  if (txLen > 0) std::memcpy(txCopy, tx, txLen);
+  if (rxLen > 0) std::memset(rx, 0, rxLen);
+  std::memset(rxCopy, 0, rxLen);
+  MonitorBus& b = *buses_[bus];
+  const double t_s = clock_s();
+  BusTransfer r;
+  bool threw = false;
+  try {
+    b.advanceTo(t_s);
+    r = b.chain->transfer(b.time_s, txCopy, txLen, rxCopy, rxLen);
+  } catch (const std::exception&) {
+    threw = true;
+  }
+  if (threw) breakContract("the monitor chain rejected the transaction on bus %u", bus);
+  if (r.received > static_cast<int>(rxLen)) breakContract("host error: the chain returned more bytes than asked for");
+  if (r.received > 0) std::memcpy(rx, rxCopy, static_cast<size_t>(r.received));
+  clock_ns_ += toNs(r.duration_s);
+  checkBudget();
+  return r.received < 0 ? PSFW_BUS_TIMEOUT : r.received;
+}
+
+int32_t FirmwareHost::adcRead(uint8_t channel) const {
+  if (channel == PSFW_ADC_CURRENT) return in_->currentCode;
+  if (channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
+  const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
+  if (n >= 0 && n < mcuThermistors_) return in_->mcuThermistorCode[n];
+  return PSFW_NO_CHANNEL;
+}
+
+int32_t FirmwareHost::gpioRead(uint8_t pin) const {
+  switch (pin) {
+    case PSFW_IN_ESWITCH_INTERNAL: return in_->eSwitchInternal;
+    case PSFW_IN_ESWITCH_EXTERNAL: return in_->eSwitchExternal;
+    case PSFW_IN_RELAY_AUX: return in_->relayAux;
+    case PSFW_IN_MONITOR_FAULT: return in_->monitorFaultPin;
+    case PSFW_IN_CHARGER_PRESENT: return in_->chargerPresent;
+    case PSFW_IN_RUN_REQUEST: return in_->runRequest;
+    case PSFW_IN_RESET_REQUEST: return in_->resetRequest;
+    default: return PSFW_NO_CHANNEL;
+  }
+}
+
+void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
+  const bool on = level != 0;
+  switch (pin) {
+    case PSFW_OUT_RELAY: out_->relayClose = on; break;
+    case PSFW_OUT_PRECHARGE: out_->prechargeClose = on; break;
+    case PSFW_OUT_DISCHARGE_FET: out_->dischargeFetOn = on; break;
+    case PSFW_OUT_CHARGE_FET: out_->chargeFetOn = on; break;
+    case PSFW_OUT_CHARGER_ENABLE: out_->chargerEnable = on; break;
+    default: break;  // an unconnected port pin
+  }
+}
+
+void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
+  if (channel == PSFW_DAC_CHARGER_CURRENT_MA) out_->chargerCurrentRequest_mA = std::max<int32_t>(0, value);
+}
+
+void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {
+  if (len > 0 && bytes == nullptr) breakContract("telemetry_send with a null buffer and a non-zero length");
+  uint8_t kept[kTelemetryKeep];  // copied first: a bad pointer faults before host data changes
+  const size_t n = std::min<size_t>(len, kTelemetryKeep);
+  if (n > 0) std::memcpy(kept, bytes, n);
+  ++telemetryFrames_;
+  lastTelemetry_.assign(kept, kept + n);
+}
+
+void FirmwareHost::firmwareEvent(const char* text) {
+  if (text == nullptr) breakContract("event with a null text");
+  char kept[kEventChars + 1];
+  size_t n = 0;
+  for (; n < kEventChars && text[n] != '\0'; ++n) kept[n] = (text[n] >= 0x20 && text[n] < 0x7F) ? text[n] : '?';
+  kept[n] = '\0';
+  const double t_s = clock_s();
+  static const char kTrip[] = "trip: ";
+  if (std::strncmp(kept, kTrip, sizeof kTrip - 1) == 0) sink_.trip(t_s, kept + sizeof kTrip - 1);
+  sink_.event(t_s, "firmware", kept);
+}
+
+}  // namespace packsim

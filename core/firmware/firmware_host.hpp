@@ -1,0 +1,115 @@
+// The board a user firmware runs on (bms/packsim_fw.h, docs/firmware.md): loads the
+// library, gives it zeroed RAM, runs its init and its periodic tasks, and implements
+// the board services on the simulated hardware.
+//
+// Scheduling (non-preemptive, like a cooperative main loop on the MCU): init runs at
+// t = 0; task i runs at n·period_i (n = 1, 2, ...). step(t) runs every instance due in
+// [t, t + tick) in time order, several due at once in declaration order. Each starts
+// at its due time or when the previous call finished, whichever is later; bus
+// transfers and delay_us advance the MCU clock by the time they take. The pins and ADC
+// hold what was sampled at t (step 1 of the tick) and the outputs act from the tick's
+// actuation (step 3): a task whose period is not a multiple of the BMS tick still runs
+// at its own due times on its clock, with its I/O resolved to the tick it falls in.
+//
+// Isolation (fault_guard.hpp): a crash, a hang past the watchdog, or a contract break
+// (bad bus id or frame length, a null buffer, init returning non-zero, an ABI
+// mismatch, a task running past its budget in simulated time through bus traffic or
+// delays) stops the firmware for good: one firmware_fault event, the MCU is dead and
+// its outputs hold their last levels, as for a hung host.
+#pragma once
+#include <bms/bms_hal.hpp>
+#include <bms/packsim_fw.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/firmware/fault_guard.hpp"
+#include "core/firmware/firmware_library.hpp"
+#include "core/firmware/monitor_bus.hpp"
+#include "core/scenario/firmware_config.hpp"
+
+namespace packsim {
+
+// Where the host's events go (the run's event log).
+class FirmwareSink {
+ public:
+  virtual ~FirmwareSink() = default;
+  virtual void event(double t_s, const std::string& kind, const std::string& detail) = 0;
+  // The firmware reported a trip: event text "trip: <reason>".
+  virtual void trip(double t_s, const std::string& reason) = 0;
+};
+
+class FirmwareHost {
+ public:
+  // buses: bus id n reaches buses[n] (not owned). mcuThermistors: thermistor channels
+  // on the MCU's own ADC (PSFW_ADC_THERMISTOR0 + n).
+  FirmwareHost(const FirmwareSettings& s, std::vector<MonitorBus*> buses, double tick_s, int mcuThermistors,
+               FirmwareSink& sink);
+  ~FirmwareHost();
+  FirmwareHost(const FirmwareHost&) = delete;
+  FirmwareHost& operator=(const FirmwareHost&) = delete;
+
+  // Step 2 of the tick at t_s: init on the first call, then the task instances due in
+  // [t_s, t_s + tick). `in` holds the pins and codes sampled at t_s; `out` receives the
+  // GPIO and DAC writes (left as they are once the firmware is dead).
+  void step(double t_s, const bms::Inputs& in, bms::Outputs& out);
+
+  bool dead() const { return dead_; }
+  const std::string& name() const { return name_; }
+  const std::string& faultCause() const { return cause_; }
+  double faultTime_s() const { return faultTime_s_; }
+  // One line for the summary: "<name>: ran to the end" or the fault.
+  std::string status() const;
+  uint64_t telemetryFrames() const { return telemetryFrames_; }
+  const std::vector<uint8_t>& lastTelemetry() const { return lastTelemetry_; }
+  double clock_s() const { return static_cast<double>(clock_ns_) * 1e-9; }
+  uint64_t taskRuns(int task) const { return runs_[static_cast<size_t>(task)]; }
+
+  // Board services (the psfw_board_api entries land here).
+  uint32_t nowMs() const { return static_cast<uint32_t>(clock_ns_ / 1000000u); }
+  uint32_t nowUs() const { return static_cast<uint32_t>(clock_ns_ / 1000u); }
+  void delayUs(uint32_t us);
+  int32_t busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen);
+  int32_t adcRead(uint8_t channel) const;
+  int32_t gpioRead(uint8_t pin) const;
+  void gpioWrite(uint8_t pin, int32_t level);
+  void dacWrite(uint8_t channel, int32_t value);
+  void telemetrySend(const uint8_t* bytes, uint16_t len);
+  void firmwareEvent(const char* text);
+
+ private:
+  struct Call;  // one guarded call into the firmware
+  bool guarded(const char* what, int task);
+  void fault(double t_s, const std::string& cause);
+  [[noreturn]] void breakContract(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+  void checkBudget();
+
+  const FirmwareSettings& s_;
+  std::vector<MonitorBus*> buses_;
+  uint64_t tick_ns_;
+  int mcuThermistors_;
+  FirmwareSink& sink_;
+  FirmwareLibrary lib_;
+  FaultGuard guard_;
+  psfw_firmware fw_{};
+  psfw_board_api api_{};
+  std::unique_ptr<std::max_align_t[]> ram_;
+  std::string name_;
+  bool started_ = false, dead_ = false;
+  std::string cause_;
+  double faultTime_s_ = 0.0;
+  char breakCause_[160] = {0};  // set before a longjmp out of a service
+  uint64_t clock_ns_ = 0;
+  std::vector<uint64_t> nextDue_ns_;
+  std::vector<uint64_t> runs_;
+  uint64_t callStart_ns_ = 0, callBudget_ns_ = 0;  // the running task's start and budget (0: none)
+  int32_t initResult_ = 0;
+  const bms::Inputs* in_ = nullptr;
+  bms::Outputs* out_ = nullptr;
+  uint64_t telemetryFrames_ = 0;
+  std::vector<uint8_t> lastTelemetry_;
+};
+
+}  // namespace packsim

@@ -1,0 +1,127 @@
+// `bms.firmware`: a user firmware library and its configuration blob (docs/firmware.md).
+//
+//   library:     a path (relative to the scenario's folder) or a bare name looked up in
+//                the scenario's folder, each folder of $PACKSIM_FIRMWARE_PATH and the
+//                folder of the packsim executable, as given and as lib<name>.so
+//   config:      a map of integers or lists of integers; the blob is each number as a
+//                little-endian int32, in the order written (a C struct of int32_t
+//                fields in that order reads it as is)
+//   config_file: raw bytes instead (relative to the scenario's folder)
+//   watchdog_ms: CPU time one init or task call may take before it counts as hung
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+
+#include "core/io/install_paths.hpp"
+#include "core/scenario/scenario_sections.hpp"
+
+namespace packsim {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr size_t kMaxConfigBytes = 65536;
+
+std::vector<std::string> libraryCandidates(const std::string& name, const std::string& baseDir) {
+  const fs::path given(name);
+  if (given.is_absolute()) return {name};
+  if (given.has_parent_path()) return {(fs::path(baseDir) / given).string()};
+  std::vector<std::string> dirs{baseDir};
+  if (const char* env = std::getenv("PACKSIM_FIRMWARE_PATH"); env && *env) {
+    std::stringstream ss(env);
+    for (std::string d; std::getline(ss, d, ':');)
+      if (!d.empty()) dirs.push_back(d);
+  }
+  if (const std::string exe = executableDir(); !exe.empty()) dirs.push_back(exe);
+  const bool bare = given.extension().empty();
+  std::vector<std::string> out;
+  for (const std::string& d : dirs) {
+    out.push_back((fs::path(d) / name).string());
+    if (bare) out.push_back((fs::path(d) / ("lib" + name + ".so")).string());
+  }
+  return out;
+}
+
+void appendInt32(std::vector<uint8_t>& blob, int32_t v) {
+  const uint32_t u = static_cast<uint32_t>(v);
+  for (int b = 0; b < 4; ++b) blob.push_back(static_cast<uint8_t>((u >> (8 * b)) & 0xFFu));
+}
+
+void appendNumber(const YamlMap& fw, const YAML::Node& n, const std::string& field, std::vector<uint8_t>& blob) {
+  const std::string expect = "expected an integer in [-2147483648, 2147483647] (each becomes a little-endian int32)";
+  if (!n.IsScalar()) throw fw.errorAt(n, field, expect);
+  long long v = 0;
+  try {
+    size_t used = 0;
+    v = std::stoll(n.Scalar(), &used, 0);
+    if (used != n.Scalar().size()) throw std::invalid_argument("trailing");
+  } catch (const std::exception&) {
+    throw fw.errorAt(n, field, expect + ", got '" + n.Scalar() + "'");
+  }
+  if (v < std::numeric_limits<int32_t>::min() || v > std::numeric_limits<int32_t>::max())
+    throw fw.errorAt(n, field, expect + ", got " + n.Scalar());
+  appendInt32(blob, static_cast<int32_t>(v));
+}
+
+std::vector<uint8_t> configBlob(YamlMap& fw) {
+  std::vector<uint8_t> blob;
+  const YAML::Node c = fw.node("config");
+  const std::string base = fw.path() + ".config";
+  if (!c.IsMap()) throw fw.errorAt("config", "expected a map of integers or lists of integers");
+  for (const auto& kv : c) {
+    const std::string field = base + "." + kv.first.Scalar();
+    const YAML::Node v = kv.second;
+    if (v.IsSequence()) {
+      for (size_t i = 0; i < v.size(); ++i) appendNumber(fw, v[i], field + "[" + std::to_string(i) + "]", blob);
+    } else {
+      appendNumber(fw, v, field, blob);
+    }
+  }
+  return blob;
+}
+
+std::vector<uint8_t> configFileBytes(YamlMap& fw, const std::string& baseDir) {
+  const std::string rel = fw.string("config_file");
+  const fs::path p = fs::path(rel).is_relative() ? fs::path(baseDir) / rel : fs::path(rel);
+  std::error_code ec;
+  if (!fs::is_regular_file(p, ec)) throw fw.errorAt("config_file", "file not found: " + p.string());
+  if (fs::file_size(p, ec) > kMaxConfigBytes)
+    throw fw.errorAt("config_file", "larger than " + std::to_string(kMaxConfigBytes) + " bytes: " + p.string());
+  std::ifstream in(p, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+}  // namespace
+
+FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseDir) {
+  FirmwareSettings f;
+  if (!m) return f;
+  f.library = true;
+  const std::string name = m->string("library");
+  std::string tried;
+  for (const std::string& c : libraryCandidates(name, baseDir)) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) {
+      f.library_path = fs::absolute(c, ec).string();
+      break;
+    }
+    tried += "\n  " + c;
+  }
+  if (f.library_path.empty())
+    throw m->errorAt("library", "firmware library '" + name + "' not found; tried:" + tried +
+                                    "\n(build it, give a path relative to the scenario, or set PACKSIM_FIRMWARE_PATH)");
+  if (m->has("config") && m->has("config_file")) throw m->errorAt("config_file", "give config or config_file, not both");
+  if (m->has("config")) f.config = configBlob(*m);
+  if (m->has("config_file")) f.config = configFileBytes(*m, baseDir);
+  if (f.config.size() > kMaxConfigBytes)
+    throw m->errorAt("config", "the blob is larger than " + std::to_string(kMaxConfigBytes) + " bytes");
+  f.watchdog_s = m->number("watchdog_ms", f.watchdog_s * 1e3, Range::closed(1.0, 60000.0)) * 1e-3;
+  m->finish();
+  return f;
+}
+
+}  // namespace packsim

@@ -1,0 +1,83 @@
+#include "core/sim/monitor_chain_path.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace packsim {
+
+namespace {
+
+// The register-level models this tree holds (core/CMakeLists.txt defines the macros
+// for the models/afe/<part>.cpp files present).
+std::unique_ptr<MonitorChain> makeChain(const MonitorConfig& cfg, [[maybe_unused]] int cellCount,
+                                        [[maybe_unused]] uint64_t seed) {
+  switch (cfg.model) {
+#ifdef PACKSIM_HAVE_BQ76PL536A
+    case bms::AfeModel::Bq76pl536a: return makeBq76pl536aChain(cfg, cellCount, seed);
+#endif
+#ifdef PACKSIM_HAVE_BQ76PL455A
+    case bms::AfeModel::Bq76pl455a: return makeBq76pl455aChain(cfg, cellCount, seed);
+#endif
+#ifdef PACKSIM_HAVE_BQ76952
+    case bms::AfeModel::Bq76952: return makeBq76952Chain(cfg, cellCount, seed);
+#endif
+    default: break;
+  }
+  throw std::runtime_error("this packsim build has no register-level model of the scenario's monitor part "
+                           "(hardware.afe.model), which a library firmware needs");
+}
+
+}  // namespace
+
+MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint64_t seed) : cfg_(cfg) {
+  bus_.chain = makeChain(cfg, cellCount, seed);
+  int first = 0;
+  for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
+    firstCell_.push_back(first);
+    first += bus_.chain->cellsOf(d);
+  }
+}
+
+void MonitorChainPath::update(double t, const MonitorTruth& truth) {
+  MonitorChain& c = *bus_.chain;
+  const int perDevice = cfg_.thermistors_per_device;
+  for (int d = 0; d < c.deviceCount(); ++d) {
+    DeviceAnalog& a = c.analog(d);
+    const size_t first = static_cast<size_t>(firstCell_[static_cast<size_t>(d)]);
+    for (size_t k = 0; k < a.cell_V.size() && first + k < truth.cell_V.size(); ++k) {
+      a.cell_V[k] = truth.cell_V[first + k];
+      if (k < a.cell_gain_error.size()) a.cell_gain_error[k] = truth.cell_gain_error[first + k];
+      if (k < a.cell_offset_V.size()) a.cell_offset_V[k] = truth.cell_offset_V[first + k];
+    }
+    for (size_t j = 0; j < a.therm_C.size() && static_cast<int>(j) < perDevice; ++j) {
+      const size_t ch = static_cast<size_t>(d * perDevice) + j;
+      if (ch >= truth.therm_C.size()) break;
+      a.therm_C[j] = truth.therm_C[ch];
+      if (j < a.therm_fault.size())
+        a.therm_fault[j] = truth.therm_fault[ch] == SensorFault::Open    ? ThermistorFault::Open
+                           : truth.therm_fault[ch] == SensorFault::Short ? ThermistorFault::Short
+                                                                          : ThermistorFault::None;
+    }
+    a.die_C = (static_cast<size_t>(d) < truth.board_C.size() ? truth.board_C[static_cast<size_t>(d)] : 25.0) +
+              cfg_.die_rise_C;
+    a.current_A = truth.current_A;
+    MonitorDeviceFault f;
+    if (static_cast<size_t>(d) < truth.comm.size()) {
+      const DeviceComm& dc = truth.comm[static_cast<size_t>(d)];
+      f.silent = dc.silent;
+      f.crc_error_rate = dc.crc_error_rate;
+      f.stuck_byte = dc.stuck_byte;
+    }
+    c.setCommFault(d, f);
+  }
+  c.setBrokenLinkAbove(truth.broken_link_above);
+  bus_.advanceTo(t);
+}
+
+bool MonitorChainPath::balancing(int cell) const {
+  const auto it = std::upper_bound(firstCell_.begin(), firstCell_.end(), cell);
+  const int d = static_cast<int>(it - firstCell_.begin()) - 1;
+  return d >= 0 && bus_.chain->balancing(d, cell - firstCell_[static_cast<size_t>(d)]);
+}
+
+}  // namespace packsim

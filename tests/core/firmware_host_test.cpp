@@ -1,0 +1,190 @@
+// The firmware host against tiny test firmwares (tests/firmware/probe_fw.c,
+// abi_mismatch_fw.c) on a fake monitor chain: the scheduler's periods and order, the
+// clock advancing with bus time, and every way a firmware can fail without taking the
+// simulator down.
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <sstream>
+
+#include "core/firmware/firmware_host.hpp"
+
+namespace packsim {
+namespace {
+
+// One device that answers every transaction with rxLen bytes of 0xA5 after 250 µs.
+class FakeChain : public MonitorChain {
+ public:
+  FakeChain() { analog_.cell_V.assign(6, 3.7); }
+  int deviceCount() const override { return 1; }
+  int cellsOf(int) const override { return 6; }
+  DeviceAnalog& analog(int) override { return analog_; }
+  void setCommFault(int, const MonitorDeviceFault&) override {}
+  void setBrokenLinkAbove(int) override {}
+  void advance(double t) override { advancedTo.push_back(t); }
+  BusTransfer transfer(double t, const uint8_t*, size_t, uint8_t* rx, size_t rxLen) override {
+    transfersAt.push_back(t);
+    for (size_t i = 0; i < rxLen; ++i) rx[i] = 0xA5;
+    return {static_cast<int>(rxLen), 250e-6};
+  }
+  bool faultLine() const override { return false; }
+  bool balancing(int, int) const override { return false; }
+
+  std::vector<double> advancedTo, transfersAt;
+
+ private:
+  DeviceAnalog analog_;
+};
+
+struct Log : FirmwareSink {
+  void event(double t, const std::string& kind, const std::string& detail) override {
+    events.push_back({t, kind, detail});
+  }
+  void trip(double t, const std::string& reason) override { trips.push_back({t, "trip", reason}); }
+  struct E {
+    double t;
+    std::string kind, detail;
+  };
+  std::vector<E> events, trips;
+  std::vector<std::string> of(const std::string& kind) const {
+    std::vector<std::string> v;
+    for (const E& e : events)
+      if (e.kind == kind) v.push_back(e.detail);
+    return v;
+  }
+};
+
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP };
+
+FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
+  FirmwareSettings s;
+  s.library = true;
+  s.library_path = lib;
+  s.watchdog_s = 0.2;
+  for (int32_t v : {mode, at_ms})
+    for (int b = 0; b < 4; ++b) s.config.push_back(static_cast<uint8_t>((static_cast<uint32_t>(v) >> (8 * b)) & 0xFF));
+  return s;
+}
+
+struct Bench {
+  explicit Bench(const FirmwareSettings& s, double tick_s = 0.01)
+      : settings(s), host(settings, {&bus}, tick_s, 2, log) {
+    bus.chain = std::make_unique<FakeChain>();
+  }
+  FakeChain& chain() { return static_cast<FakeChain&>(*bus.chain); }
+  void run(int ticks, double tick_s = 0.01) {
+    for (int k = 0; k < ticks; ++k) host.step(k * tick_s, in, out);
+  }
+  FirmwareSettings settings;
+  MonitorBus bus;
+  Log log;
+  FirmwareHost host;
+  bms::Inputs in{};
+  bms::Outputs out{};
+};
+
+// Init at 0, task i first at its period, then every period; tasks due together run
+// in declaration order; the 15 ms task (not a multiple of the 10 ms tick) at its own
+// due times on its clock.
+TEST(FirmwareHost, RunsEachTaskAtItsPeriodInDeclarationOrder) {
+  Bench b(probe(PROBE));
+  b.run(7);  // ticks 0..60 ms: instances due in [0, 70) ms
+  const std::vector<std::string> expected = {
+      "task0 10000", "task2 15000", "task0 20000", "task1 20000", "task0 30000", "task2 30000", "task0 40000",
+      "task1 40000", "task2 45000", "task0 50000", "task0 60000", "task1 60000", "task2 60000"};
+  EXPECT_EQ(b.log.of("firmware"), expected);
+  EXPECT_EQ(b.log.of("config_warning").size(), 1u);  // the 15 ms task
+  EXPECT_FALSE(b.host.dead());
+  EXPECT_EQ(b.host.taskRuns(0), 6u);
+}
+
+TEST(FirmwareHost, BusTransfersAdvanceTheClockByTheirDuration) {
+  Bench b(probe(BUS));
+  b.run(2);  // task 0 at 10 ms
+  ASSERT_EQ(b.log.of("firmware").size(), 1u);
+  EXPECT_EQ(b.log.of("firmware")[0], "bus 10000 10250 8");
+  ASSERT_EQ(b.chain().transfersAt.size(), 1u);
+  EXPECT_DOUBLE_EQ(b.chain().transfersAt[0], 0.010);
+  EXPECT_DOUBLE_EQ(b.chain().advancedTo.back(), 0.010);  // the chain caught up with the MCU clock first
+}
+
+TEST(FirmwareHost, AnAbiMismatchIsAFirmwareFault) {
+  Bench b(probe(PROBE, 0, PACKSIM_ABI_MISMATCH_FW));
+  b.run(3);
+  ASSERT_TRUE(b.host.dead());
+  EXPECT_NE(b.host.faultCause().find("ABI mismatch"), std::string::npos) << b.host.faultCause();
+  EXPECT_EQ(b.log.of("firmware_fault").size(), 1u);
+}
+
+TEST(FirmwareHost, InitReturningNonZeroIsAFirmwareFault) {
+  Bench b(probe(INIT_FAIL));
+  b.run(3);
+  ASSERT_TRUE(b.host.dead());
+  EXPECT_EQ(b.host.faultCause(), "init returned 7 (not 0)");
+  EXPECT_EQ(b.host.taskRuns(0), 0u);
+}
+
+TEST(FirmwareHost, AMissingLibraryIsAFirmwareFaultNotACrash) {
+  Bench b(probe(PROBE, 0, "/nonexistent/libfw.so"));
+  b.run(2);
+  ASSERT_TRUE(b.host.dead());
+  EXPECT_NE(b.host.faultCause().find("cannot load /nonexistent/libfw.so"), std::string::npos);
+}
+
+// A dead MCU: one firmware_fault, no further calls, the pins it drove hold their level.
+void expectDeadAfter(Mode mode, const std::string& causeStart, int at_ms = 30) {
+  Bench b(probe(mode, at_ms));
+  b.run(10);
+  ASSERT_TRUE(b.host.dead()) << causeStart;
+  EXPECT_EQ(b.host.faultCause().rfind(causeStart, 0), 0u) << b.host.faultCause();
+  EXPECT_EQ(b.log.of("firmware_fault").size(), 1u);
+  EXPECT_TRUE(b.out.relayClose);  // closed at init, frozen
+  EXPECT_NEAR(b.host.faultTime_s(), at_ms * 1e-3, 1e-3) << b.host.faultCause();
+  const uint64_t runs = b.host.taskRuns(0);
+  b.run(5);
+  EXPECT_EQ(b.host.taskRuns(0), runs);
+  EXPECT_NE(b.host.status().find("firmware_fault at"), std::string::npos);
+}
+
+TEST(FirmwareHost, ACrashStopsTheFirmwareNotTheSimulator) {
+  expectDeadAfter(CRASH, "crash in task 0 (period 10 ms): SIGSEGV");
+  expectDeadAfter(DIV0, "crash in task 0 (period 10 ms): SIGFPE");
+}
+
+TEST(FirmwareHost, AbortInInitIsACrash) {
+  Bench b(probe(ABORT));
+  b.run(2);
+  ASSERT_TRUE(b.host.dead());
+  EXPECT_EQ(b.host.faultCause().rfind("crash in init: SIGABRT", 0), 0u) << b.host.faultCause();
+}
+
+TEST(FirmwareHost, AHangIsStoppedByTheWatchdog) { expectDeadAfter(HANG, "hang in task 0 (period 10 ms)"); }
+
+TEST(FirmwareHost, ContractBreaksStopTheFirmware) {
+  expectDeadAfter(BAD_BUS, "contract break in task 0 (period 10 ms): bus_transfer on bus 9");
+  expectDeadAfter(BIG_RX, "contract break in task 0 (period 10 ms): bus_transfer of 4 bytes out, 1025 in");
+  // 250 µs a transfer against the 10 ms budget (the period): the 41st transfer is over.
+  expectDeadAfter(BUS_LOOP, "contract break in task 0 (period 10 ms): ran 10.250 ms of simulated time");
+}
+
+// The handlers are the process's own again after a guarded call.
+TEST(FirmwareHost, RestoresTheSignalHandlersAfterACrash) {
+  struct sigaction before{}, after{};
+  sigaction(SIGSEGV, nullptr, &before);
+  expectDeadAfter(CRASH, "crash in task 0");
+  sigaction(SIGSEGV, nullptr, &after);
+  EXPECT_EQ(before.sa_handler, after.sa_handler);
+  EXPECT_EQ(before.sa_flags & SA_SIGINFO, after.sa_flags & SA_SIGINFO);
+}
+
+TEST(FirmwareHost, ATripEventReachesTheSinkAsATrip) {
+  Bench b(probe(TRIP, 20));
+  b.run(5);
+  ASSERT_EQ(b.log.trips.size(), 1u);
+  EXPECT_EQ(b.log.trips[0].detail, "overcurrent_discharge");
+  EXPECT_DOUBLE_EQ(b.log.trips[0].t, 0.020);
+  EXPECT_FALSE(b.host.dead());
+}
+
+}  // namespace
+}  // namespace packsim

@@ -1,0 +1,101 @@
+/* A test firmware for the host's tests (tests/core/firmware_host_test.cpp,
+ * firmware_run_test.cpp): what it does is chosen by the first int32 of its
+ * configuration blob, the time it misbehaves by the second (ms, 0 = at once).
+ *
+ *   PROBE      three tasks (10, 20, 15 ms) each report "task<i> <now_us>"
+ *   BUS        task 0 reports the clock around one bus transfer:
+ *              "bus <before_us> <after_us> <received>"
+ *   CRASH      task 0 writes through a null pointer           (SIGSEGV)
+ *   HANG       task 0 never returns                            (watchdog)
+ *   ABORT      init calls abort()                              (SIGABRT)
+ *   DIV0       task 0 divides by zero                          (SIGFPE)
+ *   INIT_FAIL  init returns 7
+ *   BAD_BUS    task 0 transfers on bus 9
+ *   BIG_RX     task 0 asks for more than PSFW_BUS_MAX_FRAME bytes
+ *   BUS_LOOP   task 0 keeps transferring (its budget runs out in simulated time)
+ *   TRIP       task 0 reports "trip: overcurrent_discharge" once
+ * Every mode but PROBE closes the relay and the FETs at init, so a dead MCU leaves
+ * them closed.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "packsim_fw.h"
+
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP };
+
+typedef struct probe_ram {
+  int32_t mode, at_ms;
+  int32_t tripped;
+} probe_ram;
+
+static volatile int32_t probe_zero = 0;
+
+static void report(psfw_board* b, const psfw_board_api* api, int task) {
+  char text[48];
+  snprintf(text, sizeof text, "task%d %lu", task, (unsigned long)api->now_us(b));
+  api->event(b, text);
+}
+
+static void task0(void* ram, psfw_board* b, const psfw_board_api* api) {
+  probe_ram* r = (probe_ram*)ram;
+  uint8_t tx[4] = {1, 2, 3, 4}, rx[8];
+  if (r->mode == PROBE) return report(b, api, 0);
+  if ((int32_t)api->now_ms(b) < r->at_ms) return;
+  switch (r->mode) {
+    case BUS: {
+      char text[64];
+      const uint32_t before = api->now_us(b);
+      const int32_t got = api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
+      snprintf(text, sizeof text, "bus %lu %lu %ld", (unsigned long)before, (unsigned long)api->now_us(b), (long)got);
+      api->event(b, text);
+      break;
+    }
+    case CRASH: *(volatile int32_t*)(uintptr_t)probe_zero = 1; break;
+    case HANG:
+      for (;;) {
+      }
+    case DIV0: r->tripped = 10 / probe_zero; break;
+    case BAD_BUS: api->bus_transfer(b, 9, tx, 4, rx, 8); break;
+    case BIG_RX: api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, PSFW_BUS_MAX_FRAME + 1u); break;
+    case BUS_LOOP:
+      for (;;) api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
+    case TRIP:
+      if (!r->tripped) api->event(b, "trip: overcurrent_discharge");
+      r->tripped = 1;
+      break;
+    default: break;
+  }
+}
+
+static void task1(void* ram, psfw_board* b, const psfw_board_api* api) {
+  if (((probe_ram*)ram)->mode == PROBE) report(b, api, 1);
+}
+
+static void task2(void* ram, psfw_board* b, const psfw_board_api* api) {
+  if (((probe_ram*)ram)->mode == PROBE) report(b, api, 2);
+}
+
+static int32_t probe_init(void* ram, psfw_board* b, const psfw_board_api* api, const uint8_t* config, uint32_t len) {
+  probe_ram* r = (probe_ram*)ram;
+  if (len < 8) return 1;
+  memcpy(&r->mode, config, 4);
+  memcpy(&r->at_ms, config + 4, 4);
+  if (r->mode == ABORT) abort();
+  if (r->mode == INIT_FAIL) return 7;
+  if (r->mode != PROBE) {
+    api->gpio_write(b, PSFW_OUT_RELAY, 1);
+    api->gpio_write(b, PSFW_OUT_DISCHARGE_FET, 1);
+    api->gpio_write(b, PSFW_OUT_CHARGE_FET, 1);
+  }
+  return 0;
+}
+
+static const psfw_firmware probe_firmware = {
+    PSFW_ABI_VERSION, "probe", sizeof(probe_ram), probe_init, 3,
+    {{10, 0, task0}, {20, 0, task1}, {15, 0, task2}},
+};
+
+const psfw_firmware* psfw_firmware_entry(void) { return &probe_firmware; }
