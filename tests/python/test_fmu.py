@@ -1,0 +1,165 @@
+"""`packsim fmu`: the FMI 2.0 co-simulation FMU checked with fmpy (its validator and its
+simulator) against `packsim run` of the same scenario (docs/fmu.md)."""
+from __future__ import annotations
+
+import subprocess
+import zipfile
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+fmpy = pytest.importorskip("fmpy")
+from fmpy.validation import validate_fmu  # noqa: E402
+
+# A 6s bench pack on a step profile from a CSV (breakpoints on output points), with a
+# cell preset: both are files the FMU must carry in resources/.
+PROFILE = "time_s,current_A\n0,2.0\n30,6.0\n60,-1.5\n90,4.0\n120,4.0\n"
+BREAKPOINTS_S = [30.0, 60.0, 90.0]
+SCENARIO = """\
+name: fmu_bench
+seed: 11
+pack:
+  series: 6
+  initial_soc: 0.8
+  cell: {preset: ncr18650_3p1Ah}
+hardware:
+  thermistors: {at_cells: [2, 5]}
+bms:
+  tick_ms: 100
+  protections:
+    overcurrent_discharge: {threshold_A: 10, delay_ms: 200}
+load: {csv: profiles/steps.csv}
+run: {duration_s: 110}
+output: {interval_s: 1.0}
+"""
+# The same pack, 20 A injected on top of the load at 40 s: an over-current trip.
+FAULT = SCENARIO.replace("name: fmu_bench", "name: fmu_overcurrent").replace(
+    "output: {interval_s: 1.0}", "output: {interval_s: 0.1}\nfaults:\n  - {kind: overcurrent, current_A: 20, at_s: 40.0, duration_s: 5}"
+).replace("run: {duration_s: 110}", "run: {duration_s: 60, stop_after_trip_s: 5}")
+
+OUTPUTS = ["pack_voltage", "pack_current", "cell_voltage[1]", "soc_true", "soc_bms", "relay_closed", "tripped",
+           "fault_latched", "bms_state"]
+
+
+def _write(tmp: Path, name: str, text: str) -> Path:
+    (tmp / "profiles").mkdir(exist_ok=True)
+    (tmp / "profiles" / "steps.csv").write_text(PROFILE)
+    p = tmp / f"{name}.yaml"
+    p.write_text(text)
+    return p
+
+
+def _fmu(cli: Path, scenario: Path, out: Path) -> Path:
+    subprocess.run([str(cli), "fmu", str(scenario), "-o", str(out), "-q"], check=True, capture_output=True, text=True)
+    return out
+
+
+def _run(cli: Path, scenario: Path, out: Path) -> h5py.File:
+    subprocess.run([str(cli), "run", str(scenario), "-o", str(out), "-q"], check=True)
+    return h5py.File(out, "r")
+
+
+def _simulate(fmu: Path, stop_s: float, interval_s: float, signal=None):
+    return fmpy.simulate_fmu(str(fmu), stop_time=stop_s, output_interval=interval_s, output=OUTPUTS, input=signal)
+
+
+@pytest.fixture(scope="module")
+def bench(cli, tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("fmu")
+    scenario = _write(tmp, "fmu_bench", SCENARIO)
+    fmu = _fmu(cli, scenario, tmp / "bench.fmu")
+    return scenario, fmu, _run(cli, scenario, tmp / "bench.h5")
+
+
+def _truth(h5: h5py.File):
+    return {
+        "time": h5["truth/time_s"][()],
+        "pack_voltage": h5["truth/pack_voltage_V"][()],
+        "pack_current": h5["truth/pack_current_A"][()],
+        "cell_voltage[1]": h5["truth/cell_voltage_V"][()][:, 0],
+        "soc_true": h5["truth/soc_mean"][()],
+        "soc_bms": h5["bms/soc_estimate_permille"][()] * 1e-3,
+        "relay_closed": h5["hardware/relay_closed"][()],
+    }
+
+
+def test_fmu_passes_fmpy_validation(bench):
+    _, fmu, _ = bench
+    assert validate_fmu(str(fmu)) == []
+    names = set(zipfile.ZipFile(fmu).namelist())
+    assert {"modelDescription.xml", "binaries/linux64/packsim_fmu.so", "resources/scenario.yaml",
+            "resources/profiles/steps.csv", "resources/cells/ncr18650_3p1Ah.yaml"} <= names
+
+
+def test_fmu_without_inputs_reproduces_packsim_run(bench):
+    _, fmu, h5 = bench
+    ref = _truth(h5)
+    res = _simulate(fmu, 110.0, 1.0)
+    assert np.array_equal(res["time"], ref["time"])
+    # The same loop, ticks and solver calls: equal to the last bit.
+    for k in ("pack_voltage", "pack_current", "cell_voltage[1]", "soc_true", "soc_bms"):
+        assert np.max(np.abs(res[k] - ref[k])) == 0.0, k
+    assert np.array_equal(res["relay_closed"].astype(int), ref["relay_closed"].astype(int))
+
+
+def test_fmu_driven_by_the_load_signal_matches(bench):
+    """The CSV's steps as an fmpy input signal (a discontinuity is two rows at one time)."""
+    _, fmu, h5 = bench
+    ref = _truth(h5)
+    t, i = [0.0], [2.0]
+    for tb, ib in zip(BREAKPOINTS_S, [6.0, -1.5, 4.0]):
+        t += [tb, tb]
+        i += [i[-1], ib]
+    t.append(120.0)
+    i.append(i[-1])
+    signal = np.array(list(zip(t, i)), dtype=[("time", np.float64), ("load_current", np.float64)])
+    res = _simulate(fmu, 110.0, 1.0, signal)
+    # An input set at a communication point t acts on the plant from t; the outputs at t
+    # were sampled before it was set, so at a step's own time they show the value before
+    # the step. Everywhere else: solver tolerance.
+    at_step = np.isin(ref["time"], BREAKPOINTS_S)
+    # Measured: 9.5e-6 V pack, 1.6e-6 V cell, 9e-16 A, 4e-16 SOC (CVODE rtol 1e-6 with other stop times).
+    for k, tol in (("pack_voltage", 5e-5), ("pack_current", 1e-12), ("cell_voltage[1]", 1e-5), ("soc_true", 1e-12)):
+        err = np.max(np.abs(res[k][~at_step] - ref[k][~at_step]))
+        print(f"driven by the load signal: max |{k} error| = {err:.3g}")
+        assert err <= tol, (k, err)
+    assert np.array_equal(res["pack_current"][at_step], ref["pack_current"][np.flatnonzero(at_step) - 1])
+    assert np.array_equal(res["relay_closed"].astype(int), ref["relay_closed"].astype(int))
+
+
+def test_fmu_trips_on_overcurrent_at_the_same_time(cli, tmp_path):
+    scenario = _write(tmp_path, "fmu_overcurrent", FAULT)
+    fmu = _fmu(cli, scenario, tmp_path / "oc.fmu")
+    h5 = _run(cli, scenario, tmp_path / "oc.h5")
+    t = h5["truth/time_s"][()]
+    relay = h5["hardware/relay_closed"][()]
+    opened_s = t[np.flatnonzero((relay[:-1] == 1) & (relay[1:] == 0))[0] + 1]
+    res = _simulate(fmu, 60.0, 0.1)
+    fmu_opened_s = res["time"][np.flatnonzero(res["relay_closed"][:-1] & ~res["relay_closed"][1:])[0] + 1]
+    assert fmu_opened_s == pytest.approx(opened_s, abs=1e-9)
+    assert 40.2 <= opened_s <= 40.35  # the 200 ms debounce (+ a tick, relay release)
+    tripped_s = res["time"][np.argmax(res["tripped"])]
+    assert res["tripped"][-1] and tripped_s <= fmu_opened_s
+    assert res["fault_latched"][-1] != 0
+    # The FMU keeps running past the scenario's stop-after-trip: the importer's stop time rules.
+    assert res["time"][-1] == pytest.approx(60.0)
+
+
+def test_bad_scenario_fails_at_fmu_time(cli, tmp_path):
+    bad = _write(tmp_path, "bad", SCENARIO.replace("series: 6", "sereis: 6"))
+    out = tmp_path / "bad.fmu"
+    done = subprocess.run([str(cli), "fmu", str(bad), "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode != 0
+    assert "bad.yaml:" in done.stderr and "series" in done.stderr
+    assert not out.exists() and list(tmp_path.glob("bad.fmu*")) == []
+
+
+def test_fmu_rejects_a_step_that_is_not_whole_ticks(bench):
+    _, fmu, _ = bench
+    messages = []
+    with pytest.raises(Exception):
+        fmpy.simulate_fmu(str(fmu), stop_time=1.0, output_interval=0.25,
+                          logger=lambda *a: messages.append(str(a[-1])))
+    assert any("whole number of BMS ticks" in str(m) for m in messages)
