@@ -13,17 +13,20 @@
 // the importer's logger with fmi2Error. Instances share nothing (several per process).
 #include <fmi2Functions.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "core/fmu/fmu_variables.hpp"
 #include "core/fmu/model_description.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/sim/external_inputs.hpp"
+#include "models/cell/curve.hpp"  // kZeroCelsius_K
 
 namespace {
 
@@ -51,6 +54,9 @@ struct Instance {
     return fmi2Error;
   }
 };
+
+// The ambient range a scenario accepts (core/scenario/load_pack.cpp), in K.
+constexpr double kAmbientMin_K = -60.0 + kZeroCelsius_K, kAmbientMax_K = 100.0 + kZeroCelsius_K;
 
 Instance* self(fmi2Component c) { return static_cast<Instance*>(c); }
 
@@ -138,6 +144,9 @@ fmi2Status setValues(fmi2Component c, const fmi2ValueReference vr[], size_t nvr,
       if constexpr (std::is_same_v<V, fmi2Boolean>) x = value[i] ? 1.0 : 0.0;
       else x = static_cast<double>(value[i]);
       if (!std::isfinite(x)) return m.error(v.name + ": the value is not finite");
+      if (v.input == FmuInput::Ambient && !(x >= kAmbientMin_K && x <= kAmbientMax_K))
+        return m.error(v.name + " = " + std::to_string(x) + " K is outside " + std::to_string(kAmbientMin_K) + " .. " +
+                       std::to_string(kAmbientMax_K) + " K (-60 .. 100 degC, the scenario's range)");
       applyInput(m, vr[i], x);
     }
     return fmi2OK;

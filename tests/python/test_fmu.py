@@ -163,3 +163,117 @@ def test_fmu_rejects_a_step_that_is_not_whole_ticks(bench):
         fmpy.simulate_fmu(str(fmu), stop_time=1.0, output_interval=0.25,
                           logger=lambda *a: messages.append(str(a[-1])))
     assert any("whole number of BMS ticks" in str(m) for m in messages)
+
+
+class _Slave:
+    """One FMU instance driven by hand (fmpy's FMU2Slave), one communication step at a time."""
+
+    def __init__(self, fmu: Path, unzipped: str, name: str):
+        self.md = fmpy.read_model_description(str(fmu))
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+        self.fmu = fmpy.fmi2.FMU2Slave(guid=self.md.guid, unzipDirectory=unzipped,
+                                       modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
+        self.fmu.instantiate()
+        self.fmu.setupExperiment(startTime=0.0)
+        self.fmu.enterInitializationMode()
+        self.t = 0.0
+
+    def start(self):
+        self.fmu.exitInitializationMode()
+
+    def real(self, name: str) -> float:
+        return self.fmu.getReal([self.vr[name]])[0]
+
+    def boolean(self, name: str) -> bool:
+        return bool(self.fmu.getBoolean([self.vr[name]])[0])
+
+    def step(self, h: float):
+        self.fmu.doStep(currentCommunicationPoint=self.t, communicationStepSize=h)
+        self.t = round(self.t + h, 9)
+
+    def close(self):
+        self.fmu.terminate()
+        self.fmu.freeInstance()
+
+
+def test_two_instances_in_one_process_are_independent(bench, cli, tmp_path):
+    """Instance A alone reproduces `packsim run` while instance B, in the same library,
+    runs on inputs; B reproduces `packsim run` of the scenario that has those values
+    (a constant 3 A load, 45 degC ambient) although its own scenario has neither."""
+    scenario, fmu, h5 = bench
+    ref_a = _truth(h5)
+    other = _write(tmp_path, "other", SCENARIO.replace("load: {csv: profiles/steps.csv}",
+                                                       "load: {current_A: 3.0}\nambient: {temp_C: 45}"))
+    ref_b = _truth(_run(cli, other, tmp_path / "other.h5"))
+    unzipped = fmpy.extract(str(fmu))
+    a, b = _Slave(fmu, unzipped, "a"), _Slave(fmu, unzipped, "b")
+    b.fmu.setReal([b.vr["load_current"], b.vr["ambient_temperature"]], [3.0, 45.0 + 273.15])
+    a.start()
+    b.start()
+    va, vb, tb = [a.real("pack_voltage")], [b.real("pack_voltage")], [b.real("cell_temperature[1]")]
+    for _ in range(110):
+        a.step(1.0)
+        b.step(1.0)
+        va.append(a.real("pack_voltage"))
+        vb.append(b.real("pack_voltage"))
+        tb.append(b.real("cell_temperature[1]"))
+    a.close()
+    b.close()
+    assert np.array_equal(np.array(va), ref_a["pack_voltage"])
+    assert np.max(np.abs(np.array(vb) - ref_b["pack_voltage"])) <= 1e-9
+    temp_ref = h5py.File(tmp_path / "other.h5", "r")["truth/cell_temp_C"][()][:, 0] + 273.15
+    assert np.max(np.abs(np.array(tb) - temp_ref)) <= 1e-9
+    assert tb[-1] > tb[0]  # warming towards 45 degC
+
+
+def test_estop_input_opens_the_relay_one_tick_after_it_is_set(bench, cli, tmp_path):
+    """Pulling the internal E-switch through the input at t = 20 s does what the scripted
+    E-switch fault at 20 s does, one BMS tick later: the tick at 20 s ran before the input
+    was set (the FMU's outputs at 20 s were read then)."""
+    _, fmu, _ = bench
+    scripted = _write(tmp_path, "estop", SCENARIO.replace("output: {interval_s: 1.0}", "output: {interval_s: 0.1}\n"
+                                                           "faults:\n  - {kind: estop, switch: internal, at_s: 20}")
+                      .replace("run: {duration_s: 110}", "run: {duration_s: 25}"))
+    h5 = _run(cli, scripted, tmp_path / "estop.h5")
+    t_ref = h5["truth/time_s"][()]
+    relay_ref = h5["hardware/relay_closed"][()]
+    opened_ref = t_ref[np.flatnonzero((relay_ref[:-1] == 1) & (relay_ref[1:] == 0))[0] + 1]
+    s = _Slave(fmu, fmpy.extract(str(fmu)), "estop")
+    s.start()
+    opened = None
+    while s.t < 25.0 and opened is None:
+        if s.t == 20.0:
+            s.fmu.setBoolean([s.vr["estop_internal"]], [True])
+        s.step(0.1)
+        if s.t > 1.0 and not s.boolean("relay_closed"):
+            opened = s.t
+    s.close()
+    assert 20.0 <= opened_ref <= 20.1
+    assert opened == pytest.approx(opened_ref + 0.1, abs=1e-9)
+
+
+def test_the_wrong_load_input_and_a_bad_ambient_are_clean_errors(bench):
+    _, fmu, _ = bench
+    for start, expect in (({"load_power": 100.0}, "this scenario's load is a current; set load_current"),
+                          ({"ambient_temperature": 20.0}, "outside")):
+        messages = []
+        with pytest.raises(Exception):
+            fmpy.simulate_fmu(str(fmu), stop_time=1.0, output_interval=0.1, start_values=start,
+                              logger=lambda *a: messages.append(str(a[-1])))
+        assert any(expect in m for m in messages), messages
+
+
+def test_docs_list_every_variable_of_the_model_description(bench):
+    """docs/fmu.md's table against the FMU's variables (per-cell rows as `name[i]`)."""
+    import re
+
+    _, fmu, _ = bench
+    md = fmpy.read_model_description(str(fmu))
+    actual = {}
+    for v in md.modelVariables:
+        name = re.sub(r"\[\d+\]$", "[i]", v.name)
+        actual[name] = (v.causality, v.type, v.unit or "")
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "fmu.md").read_text()
+    rows = re.findall(r"^\| `([^`]+)` \| (input|output) \| (Real|Integer|Boolean) \|([^|]*)\|", doc, re.M)
+    documented = {name: (caus, typ, unit.strip()) for name, caus, typ, unit in rows}
+    assert documented == actual
