@@ -277,3 +277,17 @@ def test_docs_list_every_variable_of_the_model_description(bench):
     rows = re.findall(r"^\| `([^`]+)` \| (input|output) \| (Real|Integer|Boolean) \|([^|]*)\|", doc, re.M)
     documented = {name: (caus, typ, unit.strip()) for name, caus, typ, unit in rows}
     assert documented == actual
+
+
+def test_power_load_input_reproduces_the_scenario_with_that_power(cli, tmp_path):
+    """A power-load scenario takes `load_power`: 80 W set from the start is `packsim run`
+    of the same scenario with an 80 W load."""
+    base = SCENARIO.replace("load: {csv: profiles/steps.csv}", "load: {power_W: 50}").replace(
+        "run: {duration_s: 110}", "run: {duration_s: 30}")
+    fmu = _fmu(cli, _write(tmp_path, "p50", base), tmp_path / "p50.fmu")
+    ref = _truth(_run(cli, _write(tmp_path, "p80", base.replace("power_W: 50", "power_W: 80")), tmp_path / "p80.h5"))
+    res = fmpy.simulate_fmu(str(fmu), stop_time=30.0, output_interval=1.0, output=OUTPUTS,
+                            start_values={"load_power": 80.0})
+    assert np.max(np.abs(res["pack_voltage"] - ref["pack_voltage"])) <= 1e-9
+    closed = ref["relay_closed"] == 1
+    assert np.allclose(res["pack_voltage"][closed] * res["pack_current"][closed], 80.0, rtol=1e-9)
