@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <exception>
-#include <filesystem>
 #include <memory>
 #include <string>
 #include <type_traits>
@@ -184,8 +183,7 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     }
     const std::string dir = pathFromUri(resourceLocation);
     const std::string file = dir + "/scenario.yaml";
-    // Cell presets are copied to resources/cells; the loader's fallback folder must exist.
-    if (std::filesystem::is_directory(dir + "/cells")) setenv("PACKSIM_SCENARIOS", dir.c_str(), 0);
+    // A cell preset is in resources/cells, where the loader looks first.
     m->scenario = loadScenarioFile(file);
     const std::string want = fmuGuid(readScenarioText(file));
     if (!guid || want != guid) {

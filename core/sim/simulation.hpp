@@ -61,7 +61,7 @@ class SimulationRun {
   const bms::Outputs& outputs() const;
   const HardwareStatus& hardware() const;
   bool tripped() const;  // the BMS opened the relay on a latched fault (the summary's trip)
-  double time_s() const;  // t_k of the next step
+  double time_s() const;  // t_k of the next step(), or of the tick() just run
   bool ended() const;
   RunResult finish();  // once, after the last step
 
