@@ -45,14 +45,14 @@ void packCellPreset(const YAML::Node& cell, const fs::path& baseDir, FmuResource
 }  // namespace
 
 FmuResources collectFmuResources(const std::string& scenarioPath) {
-  const std::string text = readScenarioText(scenarioPath);
-  YAML::Node root = YAML::Load(text);
+  YAML::Node root = YAML::Load(resolvedScenarioText(scenarioPath));  // `extends:` merged in
   const fs::path baseDir = fs::path(scenarioPath).parent_path();
-  for (const char* key : {"extends", "compare"})
-    if (root[key])
-      throw errorAt(scenarioPath, root[key], key,
-                    std::string("packsim fmu cannot pack a scenario with `") + key +
-                        ":` yet; write the scenario out in one file");
+  if (root["compare"]) {
+    const std::string why = "packsim fmu cannot pack a scenario with a `compare:` reference run; remove it for the FMU";
+    const YAML::Node own = YAML::Load(readScenarioText(scenarioPath));
+    if (own["compare"]) throw errorAt(scenarioPath, own["compare"], "compare", why);
+    throw ScenarioError(scenarioPath, 0, 0, "compare", why + " (it comes with `extends:`)");
+  }
   FmuResources out;
   if (root["load"] && root["load"].IsMap() && root["load"]["csv"]) packLoadCsv(root["load"], baseDir, out);
   if (root["pack"] && root["pack"]["cell"] && root["pack"]["cell"].IsMap() && root["pack"]["cell"]["preset"])

@@ -1,8 +1,8 @@
 // What an FMU carries in resources/ so it runs without the scenario's folder: the
-// scenario (re-emitted with its file references pointing inside resources/) and every
-// file it references: the load CSV (profiles/<name>) and a cell preset (cells/<name>.yaml).
-// A scenario with `extends:` or `compare:` is refused with a ScenarioError naming the key
-// (its chain of files is not packed yet).
+// scenario (its `extends:` chain merged in, re-emitted with its file references pointing
+// inside resources/) and every file it references: the load CSV (profiles/<name>) and a
+// cell preset (cells/<name>.yaml). A scenario with `compare:` (a second, reference run)
+// is refused with a ScenarioError naming the key.
 #pragma once
 #include <map>
 #include <string>

@@ -19,5 +19,9 @@ std::string readScenarioText(const std::string& path, const std::string& what = 
 // `file` names the text in errors; `base_dir` resolves relative CSV paths.
 Scenario loadScenarioText(const std::string& text, const std::string& file = "<scenario>",
                           const std::string& base_dir = ".");
+// The file's YAML with its `extends:` chain merged in, as the loader reads it (relative
+// CSV paths of a base re-expressed against this file's folder): one self-contained
+// text for `packsim fmu`. Call after loading the file (errors are the loader's).
+std::string resolvedScenarioText(const std::string& path);
 
 }  // namespace packsim

@@ -154,6 +154,11 @@ def test_bad_scenario_fails_at_fmu_time(cli, tmp_path):
     assert done.returncode != 0
     assert "bad.yaml:" in done.stderr and "series" in done.stderr
     assert not out.exists() and list(tmp_path.glob("bad.fmu*")) == []
+    # A reference run (`compare:`) cannot be part of an FMU: refused, naming the key.
+    cold = Path(__file__).resolve().parents[2] / "scenarios" / "scooter_16s_lto_cold.yaml"
+    done = subprocess.run([str(cli), "fmu", str(cold), "-o", str(out)], capture_output=True, text=True)
+    assert done.returncode == 2 and "scooter_16s_lto_cold.yaml:" in done.stderr and "compare:" in done.stderr
+    assert not out.exists()
 
 
 def test_fmu_rejects_a_step_that_is_not_whole_ticks(bench):
@@ -291,3 +296,37 @@ def test_power_load_input_reproduces_the_scenario_with_that_power(cli, tmp_path)
     assert np.max(np.abs(res["pack_voltage"] - ref["pack_voltage"])) <= 1e-9
     closed = ref["relay_closed"] == 1
     assert np.allclose(res["pack_voltage"][closed] * res["pack_current"][closed], 80.0, rtol=1e-9)
+
+
+def test_the_fmu_leaves_the_process_environment_alone(bench, tmp_path):
+    """In a process without PACKSIM_SCENARIOS (a plain importer), an FMU with a cell preset
+    loads it from its own resources and sets nothing its process's children would inherit."""
+    import os
+    import sys
+
+    _, fmu, _ = bench
+    env = {k: v for k, v in os.environ.items() if k != "PACKSIM_SCENARIOS"}
+    script = ("import fmpy, subprocess\n"
+              f"fmpy.simulate_fmu({str(fmu)!r}, stop_time=2.0, output_interval=1.0)\n"
+              "print(subprocess.run(['sh', '-c', 'echo \"[$PACKSIM_SCENARIOS]\"'], capture_output=True, text=True).stdout)")
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "[]"
+
+
+def test_a_scenario_that_extends_another_is_packed_whole(cli, tmp_path):
+    """The bundled E-switch fault extends the eco-marathon race (another folder, its lap
+    CSV, a cell preset): the FMU carries the merged scenario and its files, and its first
+    seconds are `packsim run`'s to solver tolerance."""
+    src = Path(__file__).resolve().parents[2] / "scenarios" / "faults" / "a_estop.yaml"
+    fmu = _fmu(cli, src, tmp_path / "estop.fmu")
+    names = set(zipfile.ZipFile(fmu).namelist())
+    assert {"resources/profiles/eco_marathon_lap.csv", "resources/cells/lipo_5Ah.yaml"} <= names
+    assert validate_fmu(str(fmu)) == []
+    short = tmp_path / "short.yaml"
+    short.write_text(f"extends: {src}\nrun: {{duration_s: 5}}\n")
+    ref = _truth(_run(cli, short, tmp_path / "short.h5"))
+    res = _simulate(fmu, 5.0, 1.0)
+    # Only CVODE's stop time differs (the 5 s run stops at its own end): 2e-8 V measured.
+    for k, tol in (("pack_voltage", 1e-6), ("pack_current", 1e-9), ("cell_voltage[1]", 1e-6), ("soc_true", 1e-9)):
+        assert np.max(np.abs(res[k] - ref[k])) <= tol, k
