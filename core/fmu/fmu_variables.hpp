@@ -34,7 +34,7 @@ struct FmuVariable {
 // Value reference = index in the returned vector.
 std::vector<FmuVariable> fmuVariables(const Scenario& s);
 
-// The units the table uses: name and SI base-unit exponents, e.g. {"V", "kg=1, m=2, s=-3, A=-1"}.
+// The units the table uses: name and SI base-unit exponents (V = kg·m²·s⁻³·A⁻¹).
 struct FmuUnit {
   const char* name;
   int kg, m, s, A, K;
