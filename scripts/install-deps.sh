@@ -7,6 +7,7 @@ APT_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libsundials-dev libyaml-cpp-dev libhdf5-dev libeigen3-dev libgtest-dev libgmock-dev
   pybind11-dev libcli11-dev
+  libzip-dev                  # packsim fmu: writes the FMU archive
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # scripts/fuzz.sh: clang with libFuzzer (compiler-rt) and the OpenMP that SUNDIALS' CMake config asks for
   clang libclang-rt-14-dev libomp-14-dev
@@ -14,7 +15,8 @@ APT_PACKAGES=(
 # Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
 # Dask), and the build tools `pip install .` uses without build isolation.
 PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
-              "dask[distributed]" scikit-build-core pybind11)
+              "dask[distributed]" scikit-build-core pybind11
+              fmpy)  # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do

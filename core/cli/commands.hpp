@@ -72,6 +72,13 @@ struct ReportOptions {
   std::string output;  // HTML file
 };
 
+// `packsim fmu` (core/cli/cmd_fmu.cpp, docs/fmu.md).
+struct FmuCliOptions {
+  std::string scenario;  // a file or a bundled scenario's name
+  std::string output;    // the .fmu to write
+  bool quiet = false;
+};
+
 std::string defaultScenarioPath();
 int cmdList();
 int cmdReport(const ReportOptions& o);
@@ -84,6 +91,7 @@ int cmdPlot(const PlotOptions& o);
 int cmdBatch(const BatchCliOptions& o);
 int cmdBalanceTime(const BalanceTimeCliOptions& o);
 int cmdFit(const FitCliOptions& o);
+int cmdFmu(const FmuCliOptions& o);
 // Folder holding the pure-Python `packsim` package ($PACKSIM_PYTHONPATH overrides).
 std::string pythonPackageDir();
 

@@ -18,12 +18,18 @@ void addToolCommands(CLI::App& app, ToolCommands& t) {
                                              "of a batch folder (needs Python 3 with matplotlib)");
   t.reportCmd->add_option("source", t.reportOpts.source, "result HDF5 file or batch output folder")->required();
   t.reportCmd->add_option("-o,--output", t.reportOpts.output, "HTML file to write")->required();
+
+  t.fmuCmd = app.add_subcommand("fmu", "the scenario's pack, hardware and BMS as an FMI 2.0 co-simulation FMU (docs/fmu.md)");
+  t.fmuCmd->add_option("scenario", t.fmuOpts.scenario, "scenario YAML file or bundled scenario name")->required();
+  t.fmuCmd->add_option("-o,--output", t.fmuOpts.output, "FMU file to write")->required();
+  t.fmuCmd->add_flag("-q,--quiet", t.fmuOpts.quiet, "print nothing but errors");
 }
 
 std::optional<int> runToolCommand(const ToolCommands& t) {
   if (t.list->parsed()) return cmdList();
   if (t.exportCmd->parsed()) return cmdExport(t.exportOpts);
   if (t.reportCmd->parsed()) return cmdReport(t.reportOpts);
+  if (t.fmuCmd->parsed()) return cmdFmu(t.fmuOpts);
   return std::nullopt;
 }
 

@@ -1,5 +1,5 @@
 // The subcommands that list what is bundled and hand results to other tools:
-// `packsim list`, `packsim export`, `packsim report`. Registered on the CLI11 app by main.cpp with one
+// `packsim list`, `packsim export`, `packsim report`, `packsim fmu`. Registered on the CLI11 app by main.cpp with one
 // call, dispatched with another.
 #pragma once
 #include <CLI/CLI.hpp>
@@ -16,6 +16,8 @@ struct ToolCommands {
   ExportOptions exportOpts;
   CLI::App* reportCmd = nullptr;
   ReportOptions reportOpts;
+  CLI::App* fmuCmd = nullptr;
+  FmuCliOptions fmuOpts;
 };
 
 void addToolCommands(CLI::App& app, ToolCommands& t);

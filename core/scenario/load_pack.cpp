@@ -144,7 +144,13 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
 
 namespace {
 
-std::vector<std::string> presetDirs(const std::string& baseDir) { return cellPresetDirs(baseDir); }
+// The scenario's own cells/ first; the bundled folder is neither needed nor looked for
+// when the preset is there (an FMU carries its preset so, docs/fmu.md).
+std::vector<std::string> presetDirs(const std::string& baseDir, const std::string& name) {
+  std::error_code ec;
+  if (fs::exists(baseDir + "/cells/" + name + ".yaml", ec)) return {baseDir + "/cells"};
+  return cellPresetDirs(baseDir);
+}
 
 // `cell: {preset: NAME, <field>: <override>…}`: the preset file (cells/NAME.yaml next
 // to the scenario, or bundled) is validated on its own, then the scenario's fields
@@ -154,7 +160,7 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   const std::string name = m.string("preset");
   std::string path;
   std::vector<std::string> known;
-  for (const std::string& dir : presetDirs(baseDir)) {
+  for (const std::string& dir : presetDirs(baseDir, name)) {
     std::error_code ec;  // a name too long for the file system is "unknown", not an exception
     if (!fs::is_directory(dir, ec)) continue;
     for (const auto& e : fs::directory_iterator(dir, ec))

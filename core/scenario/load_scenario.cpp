@@ -134,6 +134,16 @@ Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const
   return loadScenarioTreeChain(tree, text, file, base_dir, chain);
 }
 
+std::string resolvedScenarioText(const std::string& path) {
+  const std::string dir = fs::path(path).parent_path().string();
+  std::vector<std::string> chain{chainKey(path)};
+  const YAML::Node root =
+      resolveExtends(parseYaml(readScenarioText(path), path), path, dir.empty() ? "." : dir, chain);
+  YAML::Emitter out;
+  out << root;
+  return std::string(out.c_str()) + "\n";
+}
+
 namespace {
 
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,

@@ -25,5 +25,9 @@ Scenario loadScenarioText(const std::string& text, const std::string& file = "<s
 // errors carry the positions the tree's nodes have. `text` is kept as Scenario::text.
 Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const std::string& file,
                           const std::string& base_dir);
+// The file's YAML with its `extends:` chain merged in, as the loader reads it (relative
+// CSV paths of a base re-expressed against this file's folder): one self-contained
+// text for `packsim fmu`. Call after loading the file (errors are the loader's).
+std::string resolvedScenarioText(const std::string& path);
 
 }  // namespace packsim

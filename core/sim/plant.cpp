@@ -181,7 +181,7 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
       const size_t gi = static_cast<size_t>(g);
       sig.heat_W[static_cast<size_t>(boardNodeOfGroup(g))] += sig.group_voltage_V[gi] * sig.balance_current_A[gi];
     }
-  sig.ambient_C = ambient_.at(t);
+  sig.ambient_C = in.ambient_C ? *in.ambient_C : ambient_.at(t);
 }
 
 // Group voltages and cell currents for the string current sig.pack_current_A, with

@@ -23,6 +23,7 @@
 // is block-banded, never dense. (Links from an extra node to many cells fall outside
 // the band; CVODE's Newton iteration treats them as a weak coupling.)
 #pragma once
+#include <optional>
 #include <vector>
 
 #include "core/scenario/scenario.hpp"
@@ -48,6 +49,7 @@ struct PlantInputs {
   bool bus_precharge = false;       // active balancer bus charging from the stack
   double charger_limit_A = 0.0;     // CC-CV charger on with this current limit; 0 = off
   double charger_setpoint_V = 0.0;
+  std::optional<double> ambient_C;  // set: replaces the scenario's ambient profile (an FMU's input)
 };
 
 // Everything the plant derives from a state at a time, reused between calls.

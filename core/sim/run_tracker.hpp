@@ -19,6 +19,7 @@ class RunTracker {
   void tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
   void record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
   bool stopRequested(double t) const;
+  bool tripped() const { return r_.summary.tripped; }
   // Throws if the integration produced a non-finite state.
   void checkFinite(double t, const double* x, int n) const;
   RunResult finish(const double* quadratures);

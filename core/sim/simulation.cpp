@@ -3,6 +3,7 @@
 #include <bms/bms_core.hpp>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -21,7 +22,7 @@
 namespace packsim {
 
 struct SimulationRun::Impl {
-  explicit Impl(const Scenario& sc)
+  Impl(const Scenario& sc, RunEnd end)
       : s(sc),
         plant(sc),
         ode(plant, sc.run, inputs),
@@ -33,8 +34,10 @@ struct SimulationRun::Impl {
         scheduler(sc, plant),
         tick_s(sc.bms.tick_s),
         recordEvery(std::max(1L, std::lround(sc.output.interval_s / sc.bms.tick_s))),
-        end_s(sc.endTime_s()),
-        lastTick(static_cast<long>(std::floor(sc.endTime_s() / sc.bms.tick_s + 1e-9))) {
+        end_s(sc.endTime_s()),  // past it (a driver's run) the integrators clamp t_stop to t_out
+        lastTick(end == RunEnd::Driver ? std::numeric_limits<long>::max()
+                                       : static_cast<long>(std::floor(sc.endTime_s() / sc.bms.tick_s + 1e-9))),
+        driverEnds(end == RunEnd::Driver) {
     inputs.faults = &faults;  // healthy until a scripted injection switches something on
     inputs.load = s.load.segmentAt(0.0);
     if (s.run.solver == RunConfig::Solver::Fast)
@@ -65,7 +68,8 @@ struct SimulationRun::Impl {
     if (s.bms.firmware.library) firmware = std::make_unique<LibraryFirmware>(s, hw, tracker);
   }
 
-  bool step(const StopCondition& stopWhen);
+  bool tick(const StopCondition& stopWhen);
+  void advance();
 
   const Scenario& s;
   const Plant plant;
@@ -87,14 +91,19 @@ struct SimulationRun::Impl {
   const long recordEvery;
   const double end_s;
   const long lastTick;
+  const bool driverEnds;
+  ExternalInputs ext;
+  const PlantSignals* sampled = nullptr;  // the signals of the last tick
+  bool restartNext = false;               // an input of the plant jumped at the last tick
   long k = 0;
   bool ended = false;
 };
 
-bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
+bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   if (ended) return false;
   Integrator& integ = *solver;
   const double t = static_cast<double>(k) * tick_s;
+  if (ext.applyToPlant(t, inputs)) integ.reset(t, integ.state());  // external inputs, if any
   const double* xs = integ.state();
 
   // 1. scripted faults due at t_k switch on (or off); then sample the truth at t_k
@@ -108,6 +117,7 @@ bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
   if (!reuse || faultChanged) now = &sig;
   const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
   hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
+  ext.applyToPins(in);
 
   // 2. the firmware decides (a hung MCU does not: its pins hold their last level,
   //    and only the monitor ICs' own FAULT line can still open the relay)
@@ -121,20 +131,29 @@ bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
   // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
   //    FETs, precharge) whose state the plant sees from t_k
   const bool relayChanged = hw.actuate(t, out, sg, faults, inputs);
+  sampled = &sg;
+  restartNext = relayChanged || faultChanged;
 
   // 4. record
   tracker.tick(t, xs, sg, out);
-  const bool stop = k >= lastTick || tracker.stopRequested(t) || hw.chargeComplete() ||
+  const bool stop = k >= lastTick || (!driverEnds && (tracker.stopRequested(t) || hw.chargeComplete())) ||
                     (stopWhen && stopWhen(t, xs, sg, out));
   if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
   if (stop) {
     ended = true;
     return false;
   }
+  return true;
+}
 
+void SimulationRun::Impl::advance() {
   // 5. advance the plant to t_k+1 across load breakpoints
+  Integrator& integ = *solver;
+  const double t = static_cast<double>(k) * tick_s;
   const double t_next = static_cast<double>(k + 1) * tick_s;
-  bool restart = relayChanged || faultChanged;
+  bool restart = restartNext;
+  if (ext.applyToPlant(t, inputs)) restart = true;  // set since the tick at t_k
+  sampled = nullptr;
   double tc = t;
   while (tc < t_next) {
     if (restart) integ.reset(tc, integ.state());
@@ -150,13 +169,27 @@ bool SimulationRun::Impl::step(const StopCondition& stopWhen) {
   if (restart) integ.reset(tc, integ.state());
   tracker.checkFinite(t_next, integ.state(), ode.size());
   ++k;
-  return true;
 }
 
-SimulationRun::SimulationRun(const Scenario& s) : impl_(std::make_unique<Impl>(s)) {}
+SimulationRun::SimulationRun(const Scenario& s, RunEnd end) : impl_(std::make_unique<Impl>(s, end)) {}
 SimulationRun::~SimulationRun() = default;
 
-bool SimulationRun::step(const StopCondition& stopWhen) { return impl_->step(stopWhen); }
+bool SimulationRun::step(const StopCondition& stopWhen) {
+  if (!impl_->tick(stopWhen)) return false;
+  impl_->advance();
+  return true;
+}
+bool SimulationRun::tick(const StopCondition& stopWhen) { return impl_->tick(stopWhen); }
+void SimulationRun::advance() {
+  if (!impl_->ended) impl_->advance();
+}
+void SimulationRun::setExternalInputs(const ExternalInputs& in) { impl_->ext = in; }
+const Plant& SimulationRun::plant() const { return impl_->plant; }
+const double* SimulationRun::state() const { return impl_->solver->state(); }
+const PlantSignals& SimulationRun::signals() const { return impl_->sampled ? *impl_->sampled : impl_->sig; }
+const bms::Outputs& SimulationRun::outputs() const { return impl_->out; }
+const HardwareStatus& SimulationRun::hardware() const { return impl_->hw.status(); }
+bool SimulationRun::tripped() const { return impl_->tracker.tripped(); }
 double SimulationRun::time_s() const { return static_cast<double>(impl_->k) * impl_->tick_s; }
 bool SimulationRun::ended() const { return impl_->ended; }
 

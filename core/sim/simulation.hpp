@@ -17,20 +17,27 @@
 #include <memory>
 
 #include "core/scenario/scenario.hpp"
+#include "core/sim/external_inputs.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/result.hpp"
 
 namespace packsim {
 
+struct HardwareStatus;
+
 // Optional early end, judged once per tick after step 2 (t_k, the plant state and
 // signals sampled at t_k, the firmware's outputs); true ends the run at t_k.
 using StopCondition = std::function<bool(double t_s, const double* x, const PlantSignals& sig, const bms::Outputs& out)>;
+
+// Who ends a run: the scenario (its end time, stop after a trip, a finished charge), or
+// only its driver, which stops stepping (an FMU: the importer's stop time rules).
+enum class RunEnd { Scenario, Driver };
 
 // One run, one BMS tick at a time (an FMU or a firmware host drives it step by step).
 // runScenario is `while (run.step(stopWhen)) {}` then finish().
 class SimulationRun {
  public:
-  explicit SimulationRun(const Scenario& s);
+  explicit SimulationRun(const Scenario& s, RunEnd end = RunEnd::Scenario);
   ~SimulationRun();
   SimulationRun(const SimulationRun&) = delete;
   SimulationRun& operator=(const SimulationRun&) = delete;
@@ -39,7 +46,22 @@ class SimulationRun {
   // time, on the stop condition, a tracker stop or a finished charge); the ending tick
   // is recorded.
   bool step(const StopCondition& stopWhen = {});
-  double time_s() const;  // t_k of the next step
+  // step()'s two halves, for a driver that sets inputs between them (an FMU runs
+  // advance() then tick(): its ticks in (t, t+h]). tick(): 1–4 at t_k, false once the
+  // run ended at t_k; advance(): 5, the plant to t_k+1, then k+1.
+  bool tick(const StopCondition& stopWhen = {});
+  void advance();
+  // Inputs from outside (core/sim/external_inputs.hpp), applied from the next tick or
+  // advance on.
+  void setExternalInputs(const ExternalInputs& in);
+  // What the last tick sampled and decided (valid until the next advance()).
+  const Plant& plant() const;
+  const double* state() const;  // x at t_k
+  const PlantSignals& signals() const;
+  const bms::Outputs& outputs() const;
+  const HardwareStatus& hardware() const;
+  bool tripped() const;  // the BMS opened the relay on a latched fault (the summary's trip)
+  double time_s() const;  // t_k of the next step(), or of the tick() just run
   bool ended() const;
   RunResult finish();  // once, after the last step
 

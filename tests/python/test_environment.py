@@ -8,7 +8,7 @@ import os
 import pytest
 
 # Modules some tests import only when present; scripts/install-deps.sh installs them all.
-OPTIONAL = ["pandas", "xarray", "nbformat", "nbclient", "ipykernel", "distributed", "scikit_build_core", "yaml"]
+OPTIONAL = ["pandas", "xarray", "nbformat", "nbclient", "ipykernel", "distributed", "scikit_build_core", "yaml", "fmpy"]
 
 
 def _missing() -> list[str]:
