@@ -21,7 +21,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import sys
 from collections.abc import Mapping, Sequence
 from typing import Any, Union
 
@@ -187,12 +186,6 @@ def _columns(sweep, outcomes: Sequence[Mapping[str, Any]], paths: Sequence[str |
     return cols
 
 
-def _case_task(index: int, sweep, resume: bool) -> dict:
-    """One Dask task: one case, by the C++ function the local thread pool runs."""
-    from . import _core
-    return _core().run_sweep_case(sweep, index, resume)
-
-
 def _check_client(client: Any) -> None:
     try:
         from distributed import Client
@@ -204,7 +197,7 @@ def _check_client(client: Any) -> None:
 
 def batch(sweep: SweepLike, client: Any = None, *, output_dir: str | os.PathLike[str] | None = None,
           threads: int | None = None, resume: bool = True, progress: bool = False,
-          base_dir: str | os.PathLike[str] | None = None) -> BatchResult:
+          base_dir: str | os.PathLike[str] | None = None, max_in_flight: int | None = None) -> BatchResult:
     """Run every case of a sweep and return their summaries as a table plus result paths.
 
     sweep:      a sweep YAML file, YAML text, a dict of the same keys, or a Sweep from
@@ -215,6 +208,11 @@ def batch(sweep: SweepLike, client: Any = None, *, output_dir: str | os.PathLike
     threads:    local only: threads in the pool (default: the sweep's, else every core).
     resume:     skip cases whose result file is complete and holds the same scenario.
     progress:   print progress (the CLI's bar locally; a line per case on Dask).
+    max_in_flight: Dask only: cases submitted at once (default: twice the cluster's
+                worker threads); a finished case's future is released before the next
+                is submitted, so memory stays bounded for any number of cases. While
+                the sweep runs, <output_dir>/summary.running.jsonl lists each finished
+                case (packsim/_dask_batch.py).
 
     The first case is loaded strictly before anything runs: a mistake in the sweep or
     the base scenario raises ScenarioError at once (as ``packsim batch`` exits 2).
@@ -230,6 +228,10 @@ def batch(sweep: SweepLike, client: Any = None, *, output_dir: str | os.PathLike
         _check_client(client)
         if threads is not None:
             raise ValueError("threads applies to local runs; on Dask the cluster's workers set the parallelism")
+    if max_in_flight is not None:
+        if client is None:
+            raise ValueError("max_in_flight applies to Dask runs (give a client); locally the thread count bounds the work")
+        _int_arg("max_in_flight", max_in_flight, 1)
     sw = load_sweep(sweep, output_dir=output_dir, base_dir=base_dir)
     if len(sw) > 0:
         core.validate_sweep_case(sw, 0)
@@ -239,20 +241,7 @@ def batch(sweep: SweepLike, client: Any = None, *, output_dir: str | os.PathLike
         return BatchResult(sw, rep["cases"], rep["csv_path"], threads=rep["threads"], wall_s=rep["wall_s"],
                            engine="threads")
 
-    import time
-    t0 = time.perf_counter()
-    n = len(sw)
-    shared = client.scatter(sw, broadcast=True, hash=False)  # the sweep (with the base text) goes to each worker once
-    futures = client.map(_case_task, list(range(n)), sweep=shared, resume=resume, pure=False,
-                         key=[f"packsim-{sw.name}-case_{c[1]}-{os.urandom(4).hex()}" for c in sw.cases])
-    if progress:
-        from distributed import as_completed
-        index = {f.key: i for i, f in enumerate(futures)}
-        for done, f in enumerate(as_completed(futures), 1):
-            i = index[f.key]
-            o = f.result()
-            what = "skipped (complete result)" if o["skipped"] else "ok" if o["ok"] else f"FAILED: {o['error']}"
-            print(f"[{done}/{n}] case_{sw.cases[i][1]} {what}", file=sys.stdout, flush=True)
-    outcomes = client.gather(futures)
-    csv_path = core.write_summary_csv(sw, outcomes)
-    return BatchResult(sw, outcomes, csv_path, threads=None, wall_s=time.perf_counter() - t0, engine="dask")
+    from ._dask_batch import run_on_dask
+    outcomes, csv_path, wall_s = run_on_dask(core, sw, client, resume=resume, progress=progress,
+                                             max_in_flight=max_in_flight)
+    return BatchResult(sw, outcomes, csv_path, threads=None, wall_s=wall_s, engine="dask")
