@@ -60,5 +60,15 @@ TEST(FetThermal, TheFetLossIsLoadSideSoTheCellHeatAndEnergyOutAreUnchanged) {
   EXPECT_NEAR(a.quad[kQuadChemEnergy_J], b.quad[kQuadChemEnergy_J], 1e-6 * b.quad[kQuadChemEnergy_J]);
 }
 
+TEST(FetThermal, AThermalNodeThatDoesNotExistIsAnErrorWithTheClosestName) {
+  std::string y = test::simpleCellYaml() + "thermal: {nodes: [{name: fets, heat_capacity_J_per_K: 10}]}\n" +
+                  test::kSimpleLoadYaml;
+  const std::string hw = "hardware:\n";
+  y.insert(y.find(hw) + hw.size(), "  discharge_fet: {thermal_node: fest}\n");
+  const std::string e = test::yamlErrorOf(y);
+  EXPECT_NE(e.find("thermal_node"), std::string::npos) << e;
+  EXPECT_NE(e.find("did you mean 'fets'"), std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace packsim
