@@ -66,6 +66,7 @@ void readFet(YamlMap& m, MosfetConfig& f) {
   f.rds_on_ohm = m.number("rds_on_ohm", f.rds_on_ohm, Range::nonNegative());
   f.diode_vf_V = m.number("diode_vf_V", f.diode_vf_V, Range::closed(0.0, 2.0));
   f.diode_r_ohm = m.number("diode_r_ohm", f.diode_r_ohm, Range::nonNegative());
+  f.thermal_node = m.string("thermal_node", f.thermal_node);
   m.finish();
 }
 

@@ -99,19 +99,26 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   return base;
 }
 
+// A hardware part's `key` names one of thermal.nodes.
+void checkThermalNode(YamlMap section, const char* key, const std::string& node, const Scenario& s) {
+  if (node.empty()) return;
+  std::vector<std::string> names;
+  for (const ThermalNodeConfig& n : s.thermal.nodes) names.push_back(n.name);
+  if (std::find(names.begin(), names.end(), node) != names.end()) return;
+  const std::string near = closestMatch(node, names);
+  throw section.errorAt(key, "no thermal node named '" + node + "' in thermal.nodes" +
+                                 (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+}
+
 // Balancing hardware against the thermal network and the BMS policy.
 void checkBalancing(YamlMap& root, const Scenario& s) {
   const PassiveBalancerConfig& b = s.hardware.balancing;
   auto hwMap = [&](const char* section) { return root.map("hardware").map(section); };
-  if (b.present && !b.board_node.empty()) {
-    std::vector<std::string> names;
-    for (const ThermalNodeConfig& n : s.thermal.nodes) names.push_back(n.name);
-    if (std::find(names.begin(), names.end(), b.board_node) == names.end()) {
-      const std::string near = closestMatch(b.board_node, names);
-      throw hwMap("balancing").errorAt("board_node", "no thermal node named '" + b.board_node + "' in thermal.nodes" +
-                                                         (near.empty() ? "" : " (did you mean '" + near + "'?)"));
-    }
-  }
+  if (b.present) checkThermalNode(hwMap("balancing"), "board_node", b.board_node, s);
+  if (!s.hardware.discharge_fet.thermal_node.empty())
+    checkThermalNode(hwMap("discharge_fet"), "thermal_node", s.hardware.discharge_fet.thermal_node, s);
+  if (!s.hardware.charge_fet.thermal_node.empty())
+    checkThermalNode(hwMap("charge_fet"), "thermal_node", s.hardware.charge_fet.thermal_node, s);
   if (s.hardware.thermistorCount() > bms::kMaxThermistors)
     throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
                                                               std::to_string(bms::kMaxThermistors));

@@ -238,12 +238,15 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   st_.fet_loss_W = mosfetLoss_W(hw.discharge_fet, dsg, sig.pack_current_A) + mosfetLoss_W(hw.charge_fet, chg, sig.pack_current_A);
 
   const bool changed = pin.relay_closed != mainClosed || pin.precharge_A != prechargeA ||
-                       pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked;
+                       pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked ||
+                       (plant_.fetNode() >= 0 && (pin.discharge_fet_on != dsg || pin.charge_fet_on != chg));
   const bool balancingChanged = actuateBalancing(t, out, sig, f, pin);
   pin.relay_closed = mainClosed;
   pin.precharge_A = prechargeA;
   pin.discharge_blocked = dischargeBlocked;
   pin.charge_blocked = chargeBlocked;
+  pin.discharge_fet_on = dsg;
+  pin.charge_fet_on = chg;
   return changed || balancingChanged;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "models/hw/charger.hpp"
+#include "models/hw/mosfet.hpp"
 
 namespace packsim {
 
@@ -51,6 +52,10 @@ Plant::Plant(const Scenario& s)
   stateSize_ = pack_.cellCount() * stride_ + (thermal_.nodeCount() - pack_.cellCount());
   balancer_ = s.hardware.balancing;
   if (balancer_.present && !balancer_.board_node.empty()) boardNode_ = thermal_.find(balancer_.board_node);
+  fet_[0] = s.hardware.discharge_fet;
+  fet_[1] = s.hardware.charge_fet;
+  for (int k = 0; k < 2; ++k)
+    if (fet_[k].present && !fet_[k].thermal_node.empty()) fetNode_[k] = thermal_.find(fet_[k].thermal_node);
   active_ = s.hardware.active_balancer;
   if (active_.present) busIndex_ = stateSize_++;
 }
@@ -181,6 +186,15 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
       const size_t gi = static_cast<size_t>(g);
       sig.heat_W[static_cast<size_t>(boardNodeOfGroup(g))] += sig.group_voltage_V[gi] * sig.balance_current_A[gi];
     }
+  // The FETs carry the pack current between the terminals and the load.
+  sig.fet_heat_W = 0.0;
+  const bool gate[2] = {in.discharge_fet_on, in.charge_fet_on};
+  for (int k = 0; k < 2; ++k)
+    if (fetNode_[k] >= 0) {
+      const double q = mosfetLoss_W(fet_[k], gate[k], sig.pack_current_A);
+      sig.heat_W[static_cast<size_t>(fetNode_[k])] += q;
+      sig.fet_heat_W += q;
+    }
   sig.ambient_C = in.ambient_C ? *in.ambient_C : ambient_.at(t);
 }
 
@@ -265,7 +279,9 @@ void Plant::quadratures(const double* x, const PlantSignals& sig, double* dq) co
   // by a scripted fault is not drawn from the cells. The chemical energy released is
   // ∫OCV·I, plus the reversible heat -I·T·dOCV/dT where given (the enthalpy), so that
   // chemical = load + heat + stored holds in both cases.
-  double heat = sig.pack_current_A * sig.pack_current_A * pack_.interconnect_ohm - sig.injected_heat_W, chem = 0.0;
+  // FET loss is load-side (inside the energy delivered at the terminals), so not counted here.
+  double heat = sig.pack_current_A * sig.pack_current_A * pack_.interconnect_ohm - sig.injected_heat_W -
+                sig.fet_heat_W, chem = 0.0;
   for (int j = 0; j < thermal_.nodeCount(); ++j) heat += sig.heat_W[static_cast<size_t>(j)];
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);

@@ -23,6 +23,7 @@
 // is block-banded, never dense. (Links from an extra node to many cells fall outside
 // the band; CVODE's Newton iteration treats them as a weak coupling.)
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -43,6 +44,8 @@ struct PlantInputs {
   double precharge_A = 0.0;
   bool discharge_blocked = false;
   bool charge_blocked = false;
+  bool discharge_fet_on = false;  // gates as driven (their I²·Rds_on heats a FET node)
+  bool charge_fet_on = false;
   // Balancing and charging (issue 5), per series group where a vector.
   std::vector<uint8_t> balancing;   // passive balancing switch actually on
   std::vector<double> converter_A;  // active balancer module-side current (+ into the bus)
@@ -67,6 +70,7 @@ struct PlantSignals {
   double pack_voltage_V = 0.0;
   double ambient_C = 25.0;
   double injected_heat_W = 0.0;  // heat from scripted faults (hot cell), not Joule heat
+  double fet_heat_W = 0.0;       // FET loss in a FET node: outside the pack terminals (load side)
   std::vector<double> balance_current_A;  // per group: passive I_bal, or converter module current
   double balance_heat_W = 0.0;            // passive balancing resistors + FETs
   double charger_A = 0.0;                 // into the pack
@@ -96,6 +100,8 @@ class Plant {
   int tempIndex(int node) const;
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }
   const std::vector<double>& initialSoc() const { return initialSoc_; }
+  // A FET's thermal node (-1 if none): its I²·Rds_on (or diode) loss heats it.
+  int fetNode() const { return std::max(fetNode_[0], fetNode_[1]); }
   // The balancing board's thermal node (-1 if none): the first board's.
   int boardNode() const { return boardNode_; }
   // Monitor boards (hardware.balancing.cells_per_board): board b's thermal node, -1 if none.
@@ -152,6 +158,8 @@ class Plant {
   PassiveBalancerConfig balancer_;
   ActiveBalancerConfig active_;
   int boardNode_ = -1;
+  int fetNode_[2] = {-1, -1};     // discharge FET, charge FET
+  MosfetConfig fet_[2];
   std::vector<int> boardNodes_;  // per monitor board; empty without a board node
   int busIndex_ = -1;
 };

@@ -5,6 +5,7 @@
 //   on:  v = I·Rds_on,  p = I²·Rds_on
 //   off: I in the diode's direction: v = Vf + I·R_diode, p = v·|I|;  otherwise blocks
 #pragma once
+#include <string>
 
 namespace packsim {
 
@@ -14,6 +15,7 @@ struct MosfetConfig {
   double diode_vf_V = 0.3;        // low-Vf Schottky
   double diode_r_ohm = 0.01;
   bool diode_passes_charge = true;  // diode forward direction = charge (negative) current
+  std::string thermal_node;         // thermal node its dissipation heats ("" = not modelled)
 };
 
 // Can current of this sign flow (positive = discharge)?
