@@ -139,10 +139,7 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
     truth_.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;
   }
   auto thermFault = [&](size_t k) {
-    if (k >= f.thermistor.size()) return SensorFault::None;
-    return f.thermistor[k] == ThermistorFault::Open    ? SensorFault::Open
-           : f.thermistor[k] == ThermistorFault::Short ? SensorFault::Short
-                                                        : SensorFault::None;
+    return k < f.thermistor.size() ? f.thermistor[k] : ThermistorFault::None;
   };
   auto thermTemp = [&](size_t k) {  // cell thermistors, then the balancing board's
     if (k >= hw.thermistor_cells.size()) {  // board thermistors, board by board
@@ -154,15 +151,10 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   for (size_t k = 0; k < truth_.therm_C.size(); ++k) {
     const bool used = static_cast<int>(k) < afeTherm_;
     truth_.therm_C[k] = used ? thermTemp(k) : 25.0;
-    truth_.therm_fault[k] = used ? thermFault(k) : SensorFault::None;
+    truth_.therm_fault[k] = used ? thermFault(k) : ThermistorFault::None;
   }
   for (size_t d = 0; d < truth_.comm.size(); ++d) {
-    DeviceComm c;
-    if (d < f.device.size()) {
-      c.silent = f.device[d].silent;
-      c.crc_error_rate = f.device[d].crc_error_rate;
-      c.stuck_byte = f.device[d].stuck_byte;
-    }
+    const MonitorDeviceFault c = d < f.device.size() ? f.device[d] : MonitorDeviceFault{};
     truth_.comm[d] = c;
   }
   truth_.broken_link_above = f.broken_link_above;
@@ -177,9 +169,9 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
 
   // Thermistors beyond the monitor inputs sit on the MCU's own ADC.
   for (size_t k = static_cast<size_t>(afeTherm_); k < static_cast<size_t>(hw.thermistorCount()); ++k) {
-    const SensorFault sf = thermFault(k);
-    const int64_t code = sf == SensorFault::Open    ? hw.thermistor.fullScaleCode()
-                         : sf == SensorFault::Short ? 0
+    const ThermistorFault sf = thermFault(k);
+    const int64_t code = sf == ThermistorFault::Open    ? hw.thermistor.fullScaleCode()
+                         : sf == ThermistorFault::Short ? 0
                                                     : hw.thermistor.code(thermTemp(k), rng);
     in.mcuThermistorCode[k - static_cast<size_t>(afeTherm_)] = static_cast<uint16_t>(code);
   }

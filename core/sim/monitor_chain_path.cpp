@@ -54,21 +54,13 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
       if (ch >= truth.therm_C.size()) break;
       a.therm_C[j] = truth.therm_C[ch];
       if (j < a.therm_fault.size())
-        a.therm_fault[j] = truth.therm_fault[ch] == SensorFault::Open    ? ThermistorFault::Open
-                           : truth.therm_fault[ch] == SensorFault::Short ? ThermistorFault::Short
-                                                                          : ThermistorFault::None;
+        a.therm_fault[j] = truth.therm_fault[ch];
     }
     a.die_C = (static_cast<size_t>(d) < truth.board_C.size() ? truth.board_C[static_cast<size_t>(d)] : 25.0) +
               cfg_.die_rise_C;
     a.current_A = truth.current_A;
-    MonitorDeviceFault f;
-    if (static_cast<size_t>(d) < truth.comm.size()) {
-      const DeviceComm& dc = truth.comm[static_cast<size_t>(d)];
-      f.silent = dc.silent;
-      f.crc_error_rate = dc.crc_error_rate;
-      f.stuck_byte = dc.stuck_byte;
-    }
-    c.setCommFault(d, f);
+    c.setCommFault(d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)]
+                                                                : MonitorDeviceFault{});
   }
   c.setBrokenLinkAbove(truth.broken_link_above);
   bus_.advanceTo(t);

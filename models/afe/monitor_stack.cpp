@@ -62,8 +62,8 @@ MonitorTruth MonitorStack::makeTruth() const {
   t.cell_offset_V.assign(n, 0.0);
   t.board_C.assign(static_cast<size_t>(cfg_.devices), 25.0);
   t.therm_C.assign(static_cast<size_t>(thermistorChannels()), 25.0);
-  t.therm_fault.assign(static_cast<size_t>(thermistorChannels()), SensorFault::None);
-  t.comm.assign(static_cast<size_t>(cfg_.devices), DeviceComm{});
+  t.therm_fault.assign(static_cast<size_t>(thermistorChannels()), ThermistorFault::None);
+  t.comm.assign(static_cast<size_t>(cfg_.devices), MonitorDeviceFault{});
   return t;
 }
 
@@ -131,8 +131,8 @@ void MonitorStack::updateSecondary(Device& dv, int d, double t, const MonitorTru
   for (int k = 0; k < cfg_.thermistors_per_device; ++k) {
     const size_t ch = static_cast<size_t>(d * cfg_.thermistors_per_device + k);
     // A shorted NTC looks infinitely hot to the comparator; an open one cold.
-    const SensorFault f = truth.therm_fault[ch];
-    const bool hot = f == SensorFault::Short || (f == SensorFault::None && truth.therm_C[ch] > p.ot_C);
+    const ThermistorFault f = truth.therm_fault[ch];
+    const bool hot = f == ThermistorFault::Short || (f == ThermistorFault::None && truth.therm_C[ch] > p.ot_C);
     if (dv.ot[k].running(t, hot, p.ot_delay_s)) dv.otLatched[k] = true;
   }
 }
@@ -149,8 +149,8 @@ void MonitorStack::updateBq952(Device& dv, int d, double t, const MonitorTruth& 
   }
   double tmax = -1e9, tmin = 1e9, tfet = -1e9;
   for (int k = 0; k < cfg_.thermistors_per_device; ++k) {
-    const SensorFault f = dv.heldThermFault[static_cast<size_t>(k)];
-    const double T = f == SensorFault::Open ? -273.0 : f == SensorFault::Short ? 1000.0 : dv.heldTherm_C[static_cast<size_t>(k)];
+    const ThermistorFault f = dv.heldThermFault[static_cast<size_t>(k)];
+    const double T = f == ThermistorFault::Open ? -273.0 : f == ThermistorFault::Short ? 1000.0 : dv.heldTherm_C[static_cast<size_t>(k)];
     if (k == 2) {
       tfet = T;  // TS3 sits on the FETs
       continue;
@@ -275,7 +275,7 @@ void MonitorStack::read(double t, const MonitorTruth& truth, Rng& rng, bms::Inpu
   const bool dsgOk = dischargeAllowed(), chgOk = chargeAllowed();
   for (int d = 0; d < cfg_.devices; ++d) {
     bms::AfeFrame& f = in.afe[d];
-    const DeviceComm& c = truth.comm[static_cast<size_t>(d)];
+    const MonitorDeviceFault& c = truth.comm[static_cast<size_t>(d)];
     if (!replies(d, truth)) continue;  // timeout: length 0
     buildFrame(dev_[static_cast<size_t>(d)], d, t, truth, dsgOk, chgOk, rng, f);
     if (c.stuck_byte >= 0) {
@@ -329,8 +329,8 @@ void MonitorStack::buildFrame(const Device& dv, int d, double t, const MonitorTr
   auto thermCode = [&](int k) -> uint16_t {
     const size_t ch = static_cast<size_t>(d * cfg_.thermistors_per_device + k);
     if (k >= cfg_.thermistors_per_device) return 0;
-    if (truth.therm_fault[ch] == SensorFault::Open) return static_cast<uint16_t>(cfg_.thermistor.fullScaleCode());
-    if (truth.therm_fault[ch] == SensorFault::Short) return 0;
+    if (truth.therm_fault[ch] == ThermistorFault::Open) return static_cast<uint16_t>(cfg_.thermistor.fullScaleCode());
+    if (truth.therm_fault[ch] == ThermistorFault::Short) return 0;
     return static_cast<uint16_t>(cfg_.thermistor.code(truth.therm_C[ch], rng));
   };
 

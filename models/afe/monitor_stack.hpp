@@ -20,18 +20,11 @@
 
 #include <bms/bms_hal.hpp>
 
+#include "models/afe/device_faults.hpp"
 #include "models/afe/monitor_config.hpp"
 #include "models/sensors/adc.hpp"
 
 namespace packsim {
-
-enum class SensorFault { None = 0, Open = 1, Short = 2 };
-
-struct DeviceComm {
-  bool silent = false;
-  double crc_error_rate = 0.0;
-  int stuck_byte = -1;
-};
 
 // What the stack sees at one read-out (sized once, reused).
 struct MonitorTruth {
@@ -40,8 +33,8 @@ struct MonitorTruth {
   std::vector<double> cell_offset_V;
   std::vector<double> board_C;           // per device: the board it sits on (its die = this + die_rise_C)
   std::vector<double> therm_C;           // per AFE thermistor channel
-  std::vector<SensorFault> therm_fault;
-  std::vector<DeviceComm> comm;          // per device
+  std::vector<ThermistorFault> therm_fault;
+  std::vector<MonitorDeviceFault> comm;          // per device
   int broken_link_above = -1;            // >= 0: devices above this index are silent
   double current_A = 0.0;                // positive discharges
 };
@@ -102,7 +95,7 @@ class MonitorStack {
     double heldAt_s = -1.0;
     std::array<double, bms::kMaxCellsPerDevice> heldCell_V{};
     std::array<double, bms::kMaxThermPerDevice> heldTherm_C{};
-    std::array<SensorFault, bms::kMaxThermPerDevice> heldThermFault{};
+    std::array<ThermistorFault, bms::kMaxThermPerDevice> heldThermFault{};
     double heldCurrent_A = 0.0;
   };
 

@@ -101,7 +101,7 @@ TEST(Monitor, StuckAndSilentDevicesAndABrokenLink) {
   EXPECT_EQ(rig.parse(2, r, 381.47f), bms::FrameResult::Timeout);
   EXPECT_EQ(rig.parse(3, r, 381.47f), bms::FrameResult::Ok);
   // A link broken above device 4 (index 3) silences 5 and 6 but not 1-4.
-  rig.truth.comm.assign(6, DeviceComm{});
+  rig.truth.comm.assign(6, MonitorDeviceFault{});
   rig.truth.broken_link_above = 3;
   rig.read(0.01);
   for (int d = 0; d < 6; ++d)

@@ -330,7 +330,7 @@ double tripTime(MonitorStack* stack, Bq76pl455aChain* chain, const Drive& drv) {
       const bool shorted = drv.shortTherm && ch == drv.therm && t >= 2.0;
       if (stack) {
         truth.therm_C[static_cast<size_t>(ch)] = T;
-        truth.therm_fault[static_cast<size_t>(ch)] = shorted ? SensorFault::Short : SensorFault::None;
+        truth.therm_fault[static_cast<size_t>(ch)] = shorted ? ThermistorFault::Short : ThermistorFault::None;
       }
       if (chain) {
         chain->analog(ch / 2).therm_C[static_cast<size_t>(ch % 2)] = T;
