@@ -38,6 +38,15 @@ _WHEEL_SCENARIOS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "sce
 if os.path.isdir(_WHEEL_SCENARIOS):
     os.environ.setdefault("PACKSIM_SCENARIOS", _WHEEL_SCENARIOS)
 
+# Firmware libraries a scenario names by bare name (bms.firmware.library): the C++ loader
+# looks next to the `packsim` executable, which in Python is the interpreter. Add the
+# package's _bin folder and, in a build tree (build/python/packsim), the build folder
+# where CMake puts them (e.g. the example firmware, libpacksim_example_bms.so).
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
+_FIRMWARE_DIRS = [os.path.join(_PACKAGE, "_bin"), os.path.dirname(os.path.dirname(_PACKAGE))]
+os.environ["PACKSIM_FIRMWARE_PATH"] = os.pathsep.join(
+    [d for d in [os.environ.get("PACKSIM_FIRMWARE_PATH", "")] + _FIRMWARE_DIRS if d])
+
 try:
     from . import _packsim
     __version__: str = _packsim.__version__
