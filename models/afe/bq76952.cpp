@@ -1,3 +1,4 @@
+#include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76952.hpp"
 
 #include <algorithm>
@@ -546,15 +547,7 @@ BusTransfer Bq76952Chain::transfer(double t, const uint8_t* tx, size_t txLen, ui
     for (size_t k = 0; k < rxLen; ++k) rx[k] = at(k);
   }
   // Comm faults act on the bytes.
-  if (fault_.stuck_byte >= 0) {
-    std::fill(rx, rx + rxLen, static_cast<uint8_t>(fault_.stuck_byte));
-  } else if (fault_.crc_error_rate > 0.0) {
-    const double u = static_cast<double>(comm_() >> 11) * 0x1.0p-53;
-    if (u < fault_.crc_error_rate) {
-      const uint64_t k = comm_();
-      rx[k % rxLen] ^= static_cast<uint8_t>(1u << ((k >> 32) % 8));
-    }
-  }
+  corruptReply(fault_, comm_, rx, rxLen);
   r.received = static_cast<int>(rxLen);
   return r;
 }

@@ -1,3 +1,4 @@
+#include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76pl455a.hpp"
 
 #include <algorithm>
@@ -382,15 +383,7 @@ std::vector<uint8_t> Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, d
 // Comm faults act on the reply bytes: stuck drives every byte; a CRC error rate
 // flips one bit with that probability (draws only where the rate is set).
 void Bq76pl455aChain::corrupt(const Device& dv, std::vector<uint8_t>& bytes) {
-  if (dv.comm.stuck_byte >= 0) {
-    std::fill(bytes.begin(), bytes.end(), static_cast<uint8_t>(dv.comm.stuck_byte));
-  } else if (dv.comm.crc_error_rate > 0.0) {
-    const double u = static_cast<double>(comm_() >> 11) * 0x1.0p-53;
-    if (u < dv.comm.crc_error_rate) {
-      const uint64_t r = comm_();
-      bytes[r % bytes.size()] ^= static_cast<uint8_t>(1u << ((r >> 32) % 8));
-    }
-  }
+  corruptReply(dv.comm, comm_, bytes.data(), bytes.size());
 }
 
 BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) {

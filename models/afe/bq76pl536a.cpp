@@ -1,3 +1,4 @@
+#include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76pl536a.hpp"
 
 #include <algorithm>
@@ -331,16 +332,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   frame[3 + count] = bms::crcCrc8(frame, 3 + count);
   uint8_t* reply = frame + 3;
   const size_t replyLen = count + 1;
-  const MonitorDeviceFault& c = target->comm;
-  if (c.stuck_byte >= 0) {
-    std::fill(reply, reply + replyLen, static_cast<uint8_t>(c.stuck_byte));
-  } else if (c.crc_error_rate > 0.0) {
-    const double u = static_cast<double>(commRng_() >> 11) * 0x1.0p-53;
-    if (u < c.crc_error_rate) {
-      const uint64_t b = commRng_();
-      reply[b % replyLen] ^= static_cast<uint8_t>(1u << ((b >> 32) % 8));
-    }
-  }
+  corruptReply(target->comm, commRng_, reply, replyLen);
   const size_t got = std::min(rxLen, replyLen);
   std::copy(reply, reply + got, rx);
   r.received = static_cast<int>(got);

@@ -1,4 +1,4 @@
-// packsim._packsim: the thin pybind11 layer over the C++ core (STYLE.md rule 11).
+// packsim._packsim: the thin pybind11 layer over the C++ core.
 //
 //   run(...)          load a scenario (file or text) with overrides, simulate with the
 //                     GIL released, return a RunHandle that owns the C++ result
