@@ -81,9 +81,9 @@ struct Readings {
   uint16_t min_mV, max_mV;
 };
 
-// Adds this tick's readings to the block; a full block replaces the means. Restarts
-// while balancing is not permitted (a silent device reads 0).
-void accumulate(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted) {
+// Adds a new read-out's readings to the block; a full block replaces the means.
+// Restarts while balancing is not permitted (a silent device reads 0).
+void accumulate(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool fresh) {
   const uint8_t n = cfg.balance.averageReadings;
   if (n <= 1) return;
   if (!permitted) {
@@ -92,6 +92,7 @@ void accumulate(const Config& cfg, BalanceState& s, const Telemetry& tm, bool pe
     s.haveMean = false;
     return;
   }
+  if (!fresh) return;  // the same reading again is no new sample
   for (uint16_t c = 0; c < cfg.cellCount; ++c) s.sum_mV[c] += tm.cellVoltage_mV[c];
   if (++s.summed < n) return;
   uint16_t lo = UINT16_MAX, hi = 0;
@@ -139,7 +140,7 @@ uint16_t chooseCells(const Config& cfg, const BalanceState& s, const Readings& t
 
 }  // namespace
 
-void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging,
+void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging, bool fresh,
                  uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount) {
   const BalanceConfig& b = cfg.balance;
   restUpdate(s.rest, tm.packCurrent_mA, b.restCurrent_mA, now_ms);
@@ -148,7 +149,7 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   // Decide at the configured period (once a first block mean exists when averaging);
   // hold the mask in between. Losing permission or a hot board stops balancing at once.
   const bool allowed = b.enabled && permitted;
-  accumulate(cfg, s, tm, allowed);
+  accumulate(cfg, s, tm, allowed, fresh);
   const bool averaging = b.averageReadings > 1;
   const Readings r = averaging ? Readings{s.mean_mV, s.meanMin_mV, s.meanMax_mV}
                                : Readings{tm.cellVoltage_mV, tm.minCell_mV, tm.maxCell_mV};

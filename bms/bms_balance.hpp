@@ -10,8 +10,8 @@
 //   cells     every cell more than stopDelta above the minimum and not below minCell,
 //             highest first; with noAdjacent a cell next to a chosen one is skipped
 //   readings  with averageReadings = N > 1 every comparison above uses each cell's mean
-//             of its last N readings (a block average, refreshed every N ticks while
-//             balancing is permitted): the minimum of many noisy single readings sits
+//             of its last N readings (a block average, refreshed every N read-outs
+//             while balancing is permitted): the minimum of many noisy single readings sits
 //             well under the truth, and cells already balanced would bleed
 //   timer     the mask is decided every period_ms and held in between; the monitor IC's
 //             balancing timer (balanceTime_s) is rewritten (re-armed) when half of it
@@ -57,9 +57,10 @@ struct BalanceState {
 void balanceReset(BalanceState& s);
 
 // One tick of the policy. `permitted`: the core allows balancing now; `charging`: the
-// pack is on the charger (state Charge). Writes the mask; `armCount` is incremented
-// when the monitor's balancing timer is to be rewritten this tick.
-void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging,
+// pack is on the charger (state Charge); `fresh`: the cell readings are a new read-out
+// (between read-outs the telemetry holds the last one). Writes the mask; `armCount` is
+// incremented when the monitor's balancing timer is to be rewritten this tick.
+void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging, bool fresh,
                  uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount);
 
 inline bool balanceBit(const uint32_t mask[kBalanceWords], uint16_t cell) {

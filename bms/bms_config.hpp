@@ -3,6 +3,9 @@
 #pragma once
 #include <cstdint>
 
+#include "afe/bq76952_driver.hpp"
+#include "afe/bq76pl455a_driver.hpp"
+#include "afe/bq76pl536a_driver.hpp"
 #include "bms_afe.hpp"
 #include "bms_faults.hpp"
 #include "bms_limits.hpp"
@@ -115,6 +118,23 @@ struct BalanceConfig {
   uint16_t cellsPerBoard;    //      each pausing only its own cells (≤ kMaxBoards)
 };
 
+// How often the firmware reads its monitor ICs (bms_firmware.hpp schedules the tasks).
+// Protections on the MCU's own inputs (current, E-switches, relay feedback) act at the
+// control tick; cell voltages and temperatures are as fresh as the last read-out.
+struct ReadoutConfig {
+  uint32_t period_ms;       // full read-out of every device: cells, temperatures, protection flags
+  uint32_t alertPeriod_ms;  // the devices' protection flags alone, between read-outs (0: not polled)
+};
+
+// Each part's driver settings as flashed; bms_monitor uses the one AfeConfig::model
+// names and sets the stack's shape fields in it (bus, devices, cells, thermistors)
+// from AfeConfig at init.
+struct MonitorDriverConfig {
+  Bq536Config pl536;
+  Pl455Config pl455;
+  Bq952DriverConfig bq952;
+};
+
 // Current that still counts as flowing through a relay commanded open (RelayWelded).
 constexpr int32_t kDefaultWeldCurrent_mA = 500;
 
@@ -124,6 +144,8 @@ struct Config {
   uint32_t tickPeriod_ms;
   SensorScaling scaling;
   AfeConfig afe;
+  ReadoutConfig readout;
+  MonitorDriverConfig drivers;
   PrechargeConfig precharge;
   SocConfig soc;
   uint32_t weldSettle_ms;       // relay release time allowed before current means "welded"

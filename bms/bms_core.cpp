@@ -160,9 +160,13 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   Telemetry& tm = out.telemetry;
   measure(cfg, in, s.acq, tm, s.quantity);
   const bool complete = acquisitionComplete(cfg, s.acq);
+  // Cell readings new since the last tick (a read-out arrived): the estimators correct
+  // with them once; between read-outs they only predict with the current.
+  const bool fresh = complete && s.acq.fresh;
+  s.acq.fresh = false;
   const uint16_t meanCell = static_cast<uint16_t>(cfg.cellCount > 0 ? tm.packVoltage_mV / cfg.cellCount : 0u);
-  socUpdate(cfg.soc, s.soc, complete, meanCell, tm.packCurrent_mA, in.now_ms);
-  ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, complete, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
+  socUpdate(cfg.soc, s.soc, fresh, meanCell, tm.packCurrent_mA, in.now_ms);
+  ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, fresh, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
             in.now_ms);
   historyQuantities(cfg, s, in, tm, s.quantity);
   protectionUpdate(cfg, s.quantity, in.now_ms, s.protection);
@@ -214,12 +218,11 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   s.chargeFetCmd = out.chargeFetOn;
 
   out.afeClearFaults = in.resetRequest;
-  out.afeFetEnable = true;
   // Balancing: only with every monitor answering, no fatal fault, and in a state where
   // the pack is idle, driving or charging.
   const bool balancePermitted = complete && !anyFatal &&
                                 (s.state == State::Standby || s.state == State::Normal || s.state == State::Charge);
-  balanceStep(cfg, s.balance, tm, balancePermitted, s.state == State::Charge, in.now_ms, out.balanceMask,
+  balanceStep(cfg, s.balance, tm, balancePermitted, s.state == State::Charge, fresh, in.now_ms, out.balanceMask,
               out.balanceArmCount);
   out.balanceStatus = static_cast<uint8_t>(s.balance.status);
   out.balanceTime_s = cfg.balanceTime_s;

@@ -1,6 +1,8 @@
-// The boundary between the BMS core and the hardware (or the simulator). Plain
-// fixed-size structs: what a microcontroller reads from its monitor ICs, ADC and GPIO,
-// and what it drives back. Nothing here points into simulator memory.
+// The boundary between the BMS core and the board. Plain fixed-size structs: what the
+// microcontroller reads from its own ADC and GPIO each control tick, and what it drives
+// back. The monitor ICs' readings reach the core through its acquisition
+// (bms_measure.hpp), filled by the read-out task over the bus (bms_firmware.hpp).
+// Nothing here points into simulator memory.
 #pragma once
 #include <cstdint>
 
@@ -12,7 +14,6 @@ namespace bms {
 
 struct Inputs {
   uint32_t now_ms;                           // millisecond tick counter (wraps after 49 days)
-  AfeFrame afe[kMaxDevices];                 // this tick's reply of each monitor IC, bottom first
   uint16_t mcuThermistorCode[kMaxThermistors];  // thermistors on the MCU's own ADC (after the AFE ones)
   int32_t currentCode;                       // current-sense ADC code (shunt + amplifier)
   uint16_t busVoltageCode;                   // ADC code of the load-bus divider (precharge)
@@ -42,8 +43,8 @@ struct Telemetry {
   int16_t minTemp_dC;
   int16_t maxDie_dC;
   uint16_t soc_permille;     // state-of-charge estimate, 0..1000
-  uint8_t commBad[kMaxDevices];  // consecutive bad replies per device (saturating)
-  uint8_t lastResult[kMaxDevices];  // FrameResult of this tick per device
+  uint8_t commBad[kMaxDevices];  // consecutive bad reads per device (saturating)
+  uint8_t lastResult[kMaxDevices];  // FrameResult of the last read of each device
   uint64_t devicesLost;      // bit per device (first 64): comm-loss count reached
   uint8_t prechargePhase;    // PrechargePhase
   uint8_t prechargeAttempts;
@@ -63,8 +64,7 @@ struct Outputs {
   bool prechargeClose;      // precharge path (relay or FET)
   bool dischargeFetOn;
   bool chargeFetOn;
-  bool afeClearFaults;      // write "clear" to every monitor IC's latched fault/alert flags
-  bool afeFetEnable;        // BQ76952: allow the device to drive its FETs (leave test mode)
+  bool afeClearFaults;      // clear every monitor IC's latched fault/alert flags (on the bus this tick)
   uint32_t balanceMask[kBalanceWords];  // bit per cell: balancing switch on
   uint16_t balanceTime_s;   // balancing timer to write with the mask (device enforces it)
   uint8_t balanceArmCount;  // +1 each time the host rewrites the balancing timer (re-arm)

@@ -10,7 +10,6 @@ constexpr uint8_t kMaxThermistors = 48;     // temperature channels (cells, boar
 constexpr uint8_t kMaxDevices = 64;         // monitor ICs on the bus / daisy chain
 constexpr uint8_t kMaxCellsPerDevice = 16;  // the largest monitor class (16-cell)
 constexpr uint8_t kMaxThermPerDevice = 3;   // thermistor inputs per monitor IC
-constexpr uint8_t kMaxFrameBytes = 64;      // longest monitor-IC reply frame
 constexpr uint8_t kMaxOcvPoints = 16;       // OCV table rows for the SOC estimate
 constexpr uint8_t kDisplayBars = 8;         // SOC display bars (reference system C)
 constexpr uint8_t kBalanceWords = (kMaxCells + 31) / 32;

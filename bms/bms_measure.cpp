@@ -27,14 +27,28 @@ void acquisitionReset(AcquisitionState& a) {
   for (uint8_t d = 0; d < kMaxDevices; ++d) {
     a.seen[d] = false;
     a.bad[d] = 0;
-    a.freshFault[d] = false;
+    a.last[d] = FrameResult::Timeout;
   }
+  a.fresh = false;
 }
 
 bool acquisitionComplete(const Config& cfg, const AcquisitionState& a) {
   for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d)
     if (!a.seen[d]) return false;
   return true;
+}
+
+void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* result, bool full) {
+  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
+    a.last[d] = result[d];
+    if (result[d] == FrameResult::Ok) {
+      a.bad[d] = 0;
+      if (full) a.seen[d] = true;
+    } else if (a.bad[d] < 255) {
+      ++a.bad[d];
+    }
+  }
+  if (full) a.fresh = true;
 }
 
 namespace {
@@ -45,31 +59,23 @@ int16_t checkedDeviceTemp(int16_t dC) { return (dC < -500 || dC > 2000) ? kTempI
 
 }  // namespace
 
-void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
+void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]) {
-  // 1. Driver: every device's reply.
+  // 1. Comm status of every device; the device's own protection counts from a read that
+  //    just succeeded (a device that stopped answering is the comm-loss rule's).
   uint8_t worstBad = 0;
   uint32_t worstSumError_mV = 0;
   int16_t maxDie = INT16_MIN;
   bool deviceFault = false;
   tm.devicesLost = 0;
   for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
-    const FrameResult res = afeParse(cfg.afe, cfg.cellCount, d, cfg.scaling.cellLsb_uV, in.afe[d], a.device[d]);
-    tm.lastResult[d] = static_cast<uint8_t>(res);
-    a.freshFault[d] = false;
-    if (res == FrameResult::Ok) {
-      a.seen[d] = true;
-      a.bad[d] = 0;
-      a.freshFault[d] = a.device[d].fault;
-    } else if (a.bad[d] < 255) {
-      ++a.bad[d];
-    }
+    tm.lastResult[d] = static_cast<uint8_t>(a.last[d]);
     tm.commBad[d] = a.bad[d];
     if (a.bad[d] > worstBad) worstBad = a.bad[d];
     if (a.bad[d] >= cfg.afe.commLossCount && d < 64) tm.devicesLost |= uint64_t{1} << d;
-    deviceFault = deviceFault || a.freshFault[d];
     if (!a.seen[d]) continue;
     const DeviceReading& r = a.device[d];
+    deviceFault = deviceFault || (a.bad[d] == 0 && r.fault);
     const uint8_t cells = afeCellsOf(cfg.afe, cfg.cellCount, d);
     uint32_t sum_mV = 0;
     for (uint8_t c = 0; c < cells; ++c) sum_mV += r.cell_mV[c];

@@ -1,9 +1,11 @@
-// Acquisition: runs the monitor-IC driver on every reply, keeps each device's last
-// good reading and its consecutive-bad-reply count, converts codes into firmware
-// units (mV, mA, deci-degC) and derives the per-tick quantities the protection table
-// compares. A device that has never answered contributes no cell values (the
-// comm-loss rule catches it); a device that stops answering keeps its last values
-// until the comm-loss rule trips.
+// Acquisition: the core's record of its monitor ICs. The read-out task hands it each
+// read-out's (or alert poll's) result per device: the drivers (bms_monitor.hpp) have
+// already written every good reading into `device`, so a device keeps its last good
+// reading; `bad` counts consecutive bad reads of it. Every control tick, measure()
+// converts the held readings and the MCU's own inputs into firmware units (mV, mA,
+// deci-degC) and derives the quantities the protection table compares. A device that
+// has never answered a full read-out contributes no cell values (the comm-loss rule
+// catches it); one that stops answering keeps its last values until that rule trips.
 #pragma once
 #include <cstdint>
 
@@ -21,19 +23,26 @@ int16_t thermistorCodeToDeciCelsius(const SensorScaling& s, uint16_t code);
 constexpr int16_t kTempInvalid_dC = INT16_MIN;
 
 struct AcquisitionState {
-  DeviceReading device[kMaxDevices];
-  bool seen[kMaxDevices];      // at least one good reply so far
-  uint8_t bad[kMaxDevices];    // consecutive bad replies (saturates at 255)
-  bool freshFault[kMaxDevices];  // this tick's good reply reported the device's own fault
+  DeviceReading device[kMaxDevices];  // last good reading of each device (drivers write here)
+  bool seen[kMaxDevices];             // at least one good full read-out so far
+  uint8_t bad[kMaxDevices];           // consecutive bad reads (saturates at 255)
+  FrameResult last[kMaxDevices];      // how the last read of each device ended
+  bool fresh;                         // a full read-out arrived since the last control tick
 };
 
 void acquisitionReset(AcquisitionState& a);
-// True once every device has answered at least once.
+// True once every device has answered at least one full read-out.
 bool acquisitionComplete(const Config& cfg, const AcquisitionState& a);
 
-// Parses this tick's replies, fills telemetry (voltages, temperatures, current, bus,
-// comm status, min/max) and the measurement quantities of the protection table.
-void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
+// The results of one read of the stack: a full read-out (cells, temperatures, flags;
+// full = true) or an alert poll (flags only). The drivers wrote the good readings into
+// a.device already; this counts good and bad reads per device.
+void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* result, bool full);
+
+// One control tick: the held readings plus the MCU's own inputs (current, bus voltage,
+// MCU thermistors, GPIO) into telemetry (voltages, temperatures, current, bus, comm
+// status, min/max) and the measurement quantities of the protection table.
+void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]);
 
 }  // namespace bms

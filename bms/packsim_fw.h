@@ -1,4 +1,4 @@
-/* packsim firmware contract, version 1: the board as a BMS firmware sees it.
+/* packsim firmware contract, version 2: the board as a BMS firmware sees it.
  *
  * A firmware is code that runs on the BMS microcontroller. On the bench it is
  * linked with a board-support layer that implements the services below on real
@@ -35,7 +35,10 @@
 extern "C" {
 #endif
 
-#define PSFW_ABI_VERSION 1u
+#define PSFW_ABI_VERSION 2u
+/* The oldest contract version this header's hosts still run: a version-1 firmware
+ * never calls what version 2 added (set_task_period). */
+#define PSFW_ABI_VERSION_MIN 1u
 #define PSFW_MAX_TASKS 8u
 
 typedef struct psfw_board psfw_board; /* opaque: the firmware passes it back, never dereferences it */
@@ -103,6 +106,11 @@ typedef struct psfw_board_api {
   void (*dac_write)(psfw_board* b, uint8_t channel, int32_t value);
   void (*telemetry_send)(psfw_board* b, const uint8_t* bytes, uint16_t len);
   void (*event)(psfw_board* b, const char* text); /* NUL-terminated, at most 120 characters kept */
+  /* Version 2. During init only: the period (0: the task never runs) and budget (0: the
+   * period) of task `task`, replacing the descriptor's, e.g. read-out rates from the
+   * firmware's configuration. Returns 0, or PSFW_NO_CHANNEL for a task the descriptor
+   * does not have or a call outside init. */
+  int32_t (*set_task_period)(psfw_board* b, uint32_t task, uint32_t period_ms, uint32_t budget_us);
 } psfw_board_api;
 
 typedef struct psfw_task {
@@ -112,7 +120,7 @@ typedef struct psfw_task {
 } psfw_task;
 
 typedef struct psfw_firmware {
-  uint32_t abi_version; /* PSFW_ABI_VERSION the firmware was built against */
+  uint32_t abi_version; /* PSFW_ABI_VERSION the firmware was built against (>= PSFW_ABI_VERSION_MIN) */
   const char* name;
   uint32_t instance_bytes; /* zeroed RAM the host provides */
   /* Called once at power-up with the firmware's own configuration blob; returns 0

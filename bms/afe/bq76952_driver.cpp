@@ -13,8 +13,20 @@ constexpr uint16_t kScdThresholds_mV[BQ952_SCD_SETTINGS] = BQ952_SCD_THRESHOLDS_
 constexpr uint8_t kSubcmdBlock = BQ952_RESP_LENGTH - BQ952_SUBCMD_LOW + 1;
 // The measurement block: cells 1..16, stack, PACK, LD, CC2 (0x14..0x3B).
 constexpr uint8_t kMeasureBlock = BQ952_CC2_CURRENT + 2 - BQ952_CELL_VOLTAGE(1);
+// Safety Alert A .. Safety Status C (0x02..0x07).
+constexpr uint8_t kSafetyBlock = BQ952_SAFETY_STATUS_C + 1 - BQ952_SAFETY_ALERT_A;
 constexpr uint8_t kMaxRead = kSubcmdBlock > kMeasureBlock ? kSubcmdBlock : kMeasureBlock;
 constexpr uint8_t kMaxWrite = 2 + BQ952_TRANSFER_BUFFER_LEN;
+
+// The safety block and FET_STATUS into the reading's protection flags.
+void applySafety(const uint8_t* s, uint8_t fetStatus, DeviceReading& out) {
+  const uint8_t alertA = s[0], statusA = s[1], alertB = s[2], statusB = s[3], statusC = s[5];
+  out.safetyA = statusA;
+  out.safetyB = statusB;
+  out.fetStatus = fetStatus;
+  out.fault = statusA != 0 || statusB != 0 || statusC != 0;
+  out.alert = alertA != 0 || alertB != 0 || (fetStatus & BQ952_FET_ALRT_PIN) != 0;
+}
 
 uint16_t le16(const uint8_t* p) { return static_cast<uint16_t>(p[0] | (p[1] << 8)); }
 uint32_t le32(const uint8_t* p) {
@@ -276,7 +288,7 @@ FrameResult bq952Read(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, D
   uint8_t v[kMeasureBlock];
   r = readDirect(drv, c, d, BQ952_CELL_VOLTAGE(1), v, sizeof(v));
   if (r != FrameResult::Ok) return r;
-  uint8_t s[BQ952_SAFETY_STATUS_C + 1 - BQ952_SAFETY_ALERT_A];
+  uint8_t s[kSafetyBlock];
   r = readDirect(drv, c, d, BQ952_SAFETY_ALERT_A, s, sizeof(s));
   if (r != FrameResult::Ok) return r;
   // Internal temperature .. FET Status.
@@ -307,13 +319,17 @@ FrameResult bq952Read(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, D
   const int64_t charge = static_cast<int64_t>(static_cast<int32_t>(le32(q))) * perUserAh_mAs +
                          ((static_cast<int64_t>(le32(q + 4)) * perUserAh_mAs) >> 32);
   out.charge_mAs = static_cast<int32_t>(-charge);
-  const uint8_t alertA = s[0], statusA = s[1], alertB = s[2], statusB = s[3], statusC = s[5];
-  out.safetyA = statusA;
-  out.safetyB = statusB;
-  out.fetStatus = t[BQ952_FET_STATUS - BQ952_INT_TEMPERATURE];
-  out.fault = statusA != 0 || statusB != 0 || statusC != 0;
-  out.alert = alertA != 0 || alertB != 0 || (out.fetStatus & BQ952_FET_ALRT_PIN) != 0;
+  applySafety(s, t[BQ952_FET_STATUS - BQ952_INT_TEMPERATURE], out);
   return FrameResult::Ok;
+}
+
+FrameResult bq952PollSafety(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, DeviceReading& io) {
+  uint8_t s[kSafetyBlock];
+  FrameResult r = readDirect(drv, c, d, BQ952_SAFETY_ALERT_A, s, sizeof(s));
+  uint8_t fet = 0;
+  if (r == FrameResult::Ok) r = readDirect(drv, c, d, BQ952_FET_STATUS, &fet, 1);
+  if (r == FrameResult::Ok) applySafety(s, fet, io);
+  return r;
 }
 
 FrameResult bq952SetBalance(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, uint16_t mask, uint32_t time_s) {

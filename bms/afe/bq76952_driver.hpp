@@ -13,6 +13,7 @@
 //               safety alerts/status, temperatures + FET status); FULLSCAN cleared.
 //               A bad CRC is retried `crcRetries` times; the result per device is a
 //               bms::FrameResult and a bms::DeviceReading in firmware units.
+//   poll:       Safety Alert/Status A..C and FET_STATUS only (between read-outs).
 //   faults:     write 1s to Alarm Status (latched bits clear once their condition is gone).
 //   balancing:  CB_ACTIVE_CELLS with the mask; the device ends balancing on its own one
 //               Cell Balance Interval after the last write, so the driver re-arms it at
@@ -93,6 +94,9 @@ void bq952Init(Bq952Driver& drv, psfw_board* board, const psfw_board_api* api);
 uint8_t bq952CellsOf(const Bq952DriverConfig& c, uint8_t d);
 FrameResult bq952Configure(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d);
 FrameResult bq952Read(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, DeviceReading& out);
+// Safety Alert/Status A..C and FET_STATUS alone: the quick poll between read-outs.
+// Updates only io's fault, alert, safetyA, safetyB and fetStatus, on Ok.
+FrameResult bq952PollSafety(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, DeviceReading& io);
 FrameResult bq952ClearFaults(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d);
 // Starts (mask != 0) or stops balancing for time_s seconds from now.
 FrameResult bq952SetBalance(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, uint16_t mask, uint32_t time_s);

@@ -81,6 +81,8 @@
 #define BQ952_SB_OTD 0x20u
 #define BQ952_SB_OTINT 0x40u
 #define BQ952_SB_OTF 0x80u
+/* Safety Alert / Status C */
+#define BQ952_SC_OCD3 0x80u
 
 /* Battery Status (16 bits) */
 #define BQ952_BS_CFGUPDATE 0x0001u
@@ -133,10 +135,12 @@
 #define BQ952_DM_DA_CONFIG 0x9303u          /* H1: bits 1:0 USER_AMPS (0.1, 1, 10, 100 mA) */
 #define BQ952_DM_ENABLED_PROT_A 0x9261u     /* H1: Safety A bits */
 #define BQ952_DM_ENABLED_PROT_B 0x9262u     /* H1: Safety B bits */
+#define BQ952_DM_ENABLED_PROT_C 0x9263u     /* H1: Safety C bits */
 #define BQ952_DM_CHG_FET_PROT_A 0x9265u     /* H1: which A faults open CHG */
 #define BQ952_DM_CHG_FET_PROT_B 0x9266u
 #define BQ952_DM_DSG_FET_PROT_A 0x9269u     /* H1: which A faults open DSG */
 #define BQ952_DM_DSG_FET_PROT_B 0x926Au
+#define BQ952_DM_DSG_FET_PROT_C 0x926Bu     /* H1: which C faults open DSG */
 #define BQ952_DM_CUV_THRESHOLD 0x9275u      /* U1 20..90, 50.6 mV */
 #define BQ952_DM_CUV_DELAY 0x9276u          /* U2, 3.3 ms */
 #define BQ952_DM_COV_THRESHOLD 0x9278u      /* U1 20..110, 50.6 mV */
@@ -148,6 +152,8 @@
 #define BQ952_DM_OCD1_THRESHOLD 0x9282u     /* U1 2..100, 2 mV */
 #define BQ952_DM_OCD1_DELAY 0x9283u         /* U1 1..127: (n + 2) x 3.3 ms */
 #define BQ952_DM_SCD_THRESHOLD 0x9286u      /* U1: index into BQ952_SCD_THRESHOLDS_MV */
+#define BQ952_DM_OCD3_THRESHOLD 0x928Au     /* I2 userA, negative: a discharge current */
+#define BQ952_DM_OCD3_DELAY 0x928Cu         /* U1 0..255 s */
 #define BQ952_DM_SCD_RECOVERY_TIME 0x9294u  /* U1, s */
 #define BQ952_DM_OTC_THRESHOLD 0x929Au      /* I1 degC */
 #define BQ952_DM_OTC_DELAY 0x929Bu          /* U1 s */
@@ -205,6 +211,12 @@
 #define BQ952_USER_AMPS_DEFAULT 1u          /* DA Configuration USER_AMPS: 1 mA */
 /* DA Configuration USER_AMPS field -> one userA in 0.1 mA */
 #define BQ952_USER_AMPS_TENTHS_MA(field) ((field) == 0u ? 1u : (field) == 1u ? 10u : (field) == 2u ? 100u : 1000u)
+/* The USER_AMPS field for a unit of `tenths_mA` (1, 10, 100 or 1000; larger -> 3). */
+static inline uint8_t bq952_user_amps_field(uint32_t tenths_mA) {
+  uint8_t f = 0;
+  while (f < 3u && BQ952_USER_AMPS_TENTHS_MA(f) < tenths_mA) ++f;
+  return f;
+}
 /* SCD threshold settings 0..15 in mV across the shunt */
 #define BQ952_SCD_THRESHOLDS_MV \
   { 10, 20, 40, 60, 80, 100, 125, 150, 175, 200, 250, 300, 350, 400, 450, 500 }

@@ -77,28 +77,32 @@ uint8_t compField(uint16_t mV, uint16_t base_mV) {
   return static_cast<uint8_t>((steps > PL455_COMP_MAX_STEPS ? PL455_COMP_MAX_STEPS : steps) << PL455_COMP_SHIFT);
 }
 
-uint16_t cellCode(uint16_t mV) {
-  const float code = static_cast<float>(mV) * static_cast<float>(PL455_CODE_FULL_SCALE) / PL455_CELL_FULL_SCALE_MV;
+uint16_t cellCode(const Pl455Config& c, uint16_t mV) {
+  const float code = static_cast<float>(mV) * 1000.0f / c.cellLsb_uV;
   return code >= 65535.0f ? 65535u : static_cast<uint16_t>(code + 0.5f);
+}
+
+// FAULT_SUM into the reading's protection flags.
+void applySummary(uint16_t summary, DeviceReading& r) {
+  r.fault = (summary & kFaultOut) != 0;
+  r.alert = (summary & (PL455_FAULT_SUM_UV | PL455_FAULT_SUM_OV)) != 0;
+  r.safetyA = static_cast<uint8_t>(summary & 0xFFu);
+  r.safetyB = static_cast<uint8_t>(summary >> 8);
 }
 
 // The held results of device d, highest CHANNELS bit first, into r.
 void decode(const Pl455Config& c, uint8_t d, const uint8_t* p, uint16_t summary, DeviceReading& r) {
   const uint8_t n = pl455CellsOf(c, d), nt = thermsOf(c);
-  const float cellLsb_uV = PL455_CELL_FULL_SCALE_MV * 1000.0f / static_cast<float>(PL455_CODE_FULL_SCALE);
   for (uint8_t i = 0; i < kMaxCellsPerDevice; ++i) r.cell_mV[i] = 0;
   for (uint8_t i = 0; i < kMaxThermPerDevice; ++i) r.thermCode[i] = 0, r.temp_dC[i] = 0;
-  for (uint8_t k = n; k >= 1; --k, p += 2) r.cell_mV[k - 1] = afeCellCodeToMv(be16(p), cellLsb_uV);
+  for (uint8_t k = n; k >= 1; --k, p += 2) r.cell_mV[k - 1] = afeCellCodeToMv(be16(p), c.cellLsb_uV);
   for (uint8_t k = nt; k >= 1; --k, p += 2) r.thermCode[k - 1] = be16(p);
   r.die_dC = static_cast<int16_t>(be16(p) * PL455_DIE_TEMP_DC_PER_CODE);
   p += 2;
   r.stack_mV = static_cast<uint32_t>(static_cast<float>(be16(p)) * PL455_MODULE_FULL_SCALE_MV /
                                          static_cast<float>(PL455_CODE_FULL_SCALE) + 0.5f);
-  r.fault = (summary & kFaultOut) != 0;
-  r.alert = (summary & (PL455_FAULT_SUM_UV | PL455_FAULT_SUM_OV)) != 0;
+  applySummary(summary, r);
   r.fetStatus = 0;
-  r.safetyA = static_cast<uint8_t>(summary & 0xFFu);
-  r.safetyB = static_cast<uint8_t>(summary >> 8);
   r.current_mA = 0;
   r.charge_mAs = 0;
 }
@@ -143,7 +147,7 @@ uint8_t pl455Init(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
   for (uint8_t k = 0; k < 2; ++k) {  // CELL_UV, CELL_OV
     const uint16_t mV = k == 0 ? c.cellUv_mV : c.cellOv_mV;
     if (mV == 0) continue;
-    const uint16_t code = cellCode(mV);
+    const uint16_t code = cellCode(c, mV);
     const uint8_t bytes[2] = {static_cast<uint8_t>(code >> 8), static_cast<uint8_t>(code)};
     writeRegs(c, b, api, kBroadcast, static_cast<uint8_t>(PL455_REG_CELL_UV + 2 * k), bytes, 2);
   }
@@ -194,6 +198,15 @@ void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
     }
     result[d] = r;
     s.last[d] = r;
+  }
+}
+
+void pl455PollFaults(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api, DeviceReading* io,
+                     FrameResult* result) {
+  uint8_t rx[8];
+  for (uint8_t d = 0; d < c.deviceCount; ++d) {
+    result[d] = requestRetried(c, s, b, api, d, PL455_REG_STATUS, 2, 3, rx);
+    if (result[d] == FrameResult::Ok) applySummary(be16(rx + 2), io[d]);
   }
 }
 

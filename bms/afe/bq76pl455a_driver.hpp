@@ -10,6 +10,7 @@
 //   pl455ReadAll:     one broadcast sample (all devices convert together), wait the
 //                     conversion time, then per device: STATUS + FAULT_SUM, then the held
 //                     results; a bad CRC is retried up to crcRetries times, a timeout is not
+//   pl455PollFaults:  STATUS + FAULT_SUM only, per device (between read-outs)
 //   pl455ClearFaults: write 1s to every FAULT_SUM group (broadcast)
 //   pl455WriteBalance: CBCONFIG time + CBENBL mask per device; the device ends it
 #pragma once
@@ -27,6 +28,7 @@ struct Pl455Config {
   uint8_t cellsPerDevice;        // the last device may hold fewer
   uint16_t cellCount;
   uint8_t thermistorsPerDevice;  // AUX inputs read, 0..2
+  float cellLsb_uV;              // VCELL scaling as flashed (5 V / 65535 nominal)
   uint8_t oversamplingLog2;      // OVERSMPL: 2^n samples averaged per channel
   bool comparators;              // secondary comparators on, driving the FAULT line
   // Thresholds written at init; 0 keeps the device's EEPROM values.
@@ -55,6 +57,10 @@ uint8_t pl455Init(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
 // Fills out[d] and result[d] for every device (out[d] only where result[d] is Ok).
 void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api, DeviceReading* out,
                   FrameResult* result);
+// STATUS + FAULT_SUM of every device: a quick poll between read-outs. Updates only
+// io[d]'s fault, alert, safetyA and safetyB, and only where result[d] is Ok.
+void pl455PollFaults(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api, DeviceReading* io,
+                     FrameResult* result);
 // Returns false if the bus refused the frame.
 bool pl455ClearFaults(const Pl455Config& c, psfw_board* b, const psfw_board_api* api);
 // balanceMask: one bit per cell of the whole chain (kBalanceWords words), bottom first.

@@ -77,6 +77,17 @@ void configImage(const Bq536Config& c, uint8_t* e) {
 
 constexpr uint8_t kConfigCount = BQ536_CONFIG_OTT + 1u - BQ536_CONFIG_COV;
 
+// ALERT_STATUS .. CUV_FAULT into the reading: the protections' latches (POR/AR/CRC are
+// housekeeping, not a cell fault).
+void applyFlags(const uint8_t* flags, DeviceReading& o) {
+  const uint8_t alert = flags[BQ536_ALERT_STATUS - BQ536_FLAGS_FIRST];
+  const uint8_t fault = flags[BQ536_FAULT_STATUS - BQ536_FLAGS_FIRST];
+  o.alert = (alert & (BQ536_AS_OT1 | BQ536_AS_OT2)) != 0;
+  o.fault = o.alert || (fault & (BQ536_FS_COV | BQ536_FS_CUV)) != 0;
+  o.safetyA = fault;
+  o.safetyB = alert;
+}
+
 }  // namespace
 
 bool bq536Init(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api) {
@@ -159,16 +170,19 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
                                            static_cast<float>(BQ536_GPAI_CELL_LSBS) * 0.001f +
                                        0.5f);
     o.die_dC = 0;  // the part has no die-temperature result (only the TSD flag)
-    const uint8_t alert = flags[BQ536_ALERT_STATUS - BQ536_FLAGS_FIRST];
-    const uint8_t fault = flags[BQ536_FAULT_STATUS - BQ536_FLAGS_FIRST];
-    // The protections' latches; POR/AR/CRC are housekeeping, not a cell fault.
-    o.alert = (alert & (BQ536_AS_OT1 | BQ536_AS_OT2)) != 0;
-    o.fault = o.alert || (fault & (BQ536_FS_COV | BQ536_FS_CUV)) != 0;
+    applyFlags(flags, o);
     o.fetStatus = 0;
-    o.safetyA = fault;
-    o.safetyB = alert;
     o.current_mA = 0;
     o.charge_mAs = 0;
+  }
+}
+
+void bq536PollFlags(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api, DeviceReading* io,
+                    FrameResult* res) {
+  for (uint8_t d = 0; d < devicesOf(c); ++d) {
+    uint8_t flags[BQ536_FLAGS_LEN];
+    res[d] = readRegs(c, s, b, api, addrOf(d), BQ536_FLAGS_FIRST, BQ536_FLAGS_LEN, flags);
+    if (res[d] == FrameResult::Ok) applyFlags(flags, io[d]);
   }
 }
 

@@ -11,6 +11,7 @@
 //              DEVICE_STATUS..TEMPERATURE2 and ALERT_STATUS..CUV_FAULT (a bad CRC is
 //              re-read up to crcRetries times; DRDY still clear is re-read after one
 //              more conversion time)
+//   poll:      ALERT_STATUS..CUV_FAULT only, per device (between read-outs)
 //   clear:     write 1 then 0 to the latch bits (FAULT_STATUS, ALERT_STATUS)
 //   balance:   per device CB_TIME then CB_CTRL (the device's timer switches them off)
 #pragma once
@@ -54,6 +55,11 @@ bool bq536Init(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_bo
 // out[d] filled only for a good reply.
 void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api,
                   DeviceReading* out, FrameResult* res);
+// The protection flags alone (ALERT_STATUS .. CUV_FAULT of every device): a quick poll
+// between full read-outs. Updates only io[d]'s fault, alert, safetyA and safetyB, and
+// only where res[d] is Ok.
+void bq536PollFlags(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api, DeviceReading* io,
+                    FrameResult* res);
 // Clears every device's latched protection and housekeeping flags (a latch whose
 // condition is still present stays set: the device decides).
 void bq536ClearFaults(const Bq536Config& c, psfw_board* b, const psfw_board_api* api);

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <limits>
+#include <optional>
 
 namespace packsim {
 
@@ -51,12 +53,15 @@ psfw_board_api makeApi() {
     serviceVoid([&] { host(b).telemetrySend(bytes, len); });
   };
   a.event = [](psfw_board* b, const char* text) { serviceVoid([&] { host(b).firmwareEvent(text); }); };
+  a.set_task_period = [](psfw_board* b, uint32_t task, uint32_t period_ms, uint32_t budget_us) {
+    return host(b).setTaskPeriod(task, period_ms, budget_us);
+  };
   return a;
 }
 
 }  // namespace
 
-// One guarded call: the entry (task -2), init (-1) or task n.
+// One call into the firmware: the entry (task -2), init (-1) or task n.
 struct FirmwareHost::Call {
   FirmwareHost* h;
   int task;
@@ -67,11 +72,11 @@ struct FirmwareHost::Call {
     FirmwareHost& h = *c.h;
     psfw_board* board = reinterpret_cast<psfw_board*>(&h);
     if (c.task == -2) {
-      c.desc = h.lib_.entry()();
+      c.desc = h.linked_ ? h.linked_ : h.lib_->entry()();
       if (c.desc && c.desc->name) std::strncpy(c.name, c.desc->name, sizeof c.name - 1);
     } else if (c.task == -1) {
-      h.initResult_ = h.fw_.init ? h.fw_.init(h.ram_.get(), board, &h.api_, h.s_.config.data(),
-                                              static_cast<uint32_t>(h.s_.config.size()))
+      h.initResult_ = h.fw_.init ? h.fw_.init(h.ram_.get(), board, &h.api_, h.config_.data(),
+                                              static_cast<uint32_t>(h.config_.size()))
                                  : 0;
     } else {
       h.fw_.tasks[c.task].run(h.ram_.get(), board, &h.api_);
@@ -81,15 +86,28 @@ struct FirmwareHost::Call {
 
 FirmwareHost::FirmwareHost(const FirmwareSettings& s, std::vector<MonitorBus*> buses, double tick_s,
                            int mcuThermistors, FirmwareSink& sink)
-    : s_(s),
+    : config_(s.config),
+      watchdog_s_(s.watchdog_s),
       buses_(std::move(buses)),
       tick_ns_(toNs(tick_s)),
       mcuThermistors_(mcuThermistors),
       sink_(sink),
-      lib_(s.library_path),
-      guard_(s.watchdog_s),
+      lib_(std::make_unique<FirmwareLibrary>(s.library_path)),
+      guard_(std::make_unique<FaultGuard>(s.watchdog_s)),
       api_(makeApi()),
       name_(s.library_path) {}
+
+FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, std::vector<MonitorBus*> buses,
+                           double tick_s, int mcuThermistors, FirmwareSink& sink)
+    : config_(std::move(config)),
+      watchdog_s_(0.0),
+      buses_(std::move(buses)),
+      tick_ns_(toNs(tick_s)),
+      mcuThermistors_(mcuThermistors),
+      sink_(sink),
+      linked_(linked),
+      api_(makeApi()),
+      name_(linked && linked->name ? linked->name : "(linked firmware)") {}
 
 FirmwareHost::~FirmwareHost() = default;
 
@@ -101,26 +119,34 @@ void FirmwareHost::fault(double t_s, const std::string& cause) {
 }
 
 void FirmwareHost::breakContract(const char* fmt, ...) {
+  if (breakCause_[0] != '\0') return;  // the first break of the call is its cause
   va_list ap;
   va_start(ap, fmt);
   std::vsnprintf(breakCause_, sizeof breakCause_, fmt, ap);
   va_end(ap);
-  FaultGuard::abandon();
+  if (guard_) FaultGuard::abandon();
 }
 
-// Runs one call under the guard; false (and the MCU dead) when it did not return cleanly.
-bool FirmwareHost::guarded(const char* what, int task) {
+// Runs one call (under the guard for a library); false (and the MCU dead) when it did
+// not return cleanly or broke the contract.
+bool FirmwareHost::call(const char* what, int task) {
   Call c{this, task};
   breakCause_[0] = '\0';
   const double start_s = clock_s();
-  const GuardResult r = guard_.run(&Call::run, &c);
+  GuardResult r;
+  if (guard_) {
+    r = guard_->run(&Call::run, &c);
+  } else {
+    Call::run(&c);
+    if (breakCause_[0] != '\0') r.outcome = GuardOutcome::ContractBreak;
+  }
   std::string where = what;
   if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
   switch (r.outcome) {
     case GuardOutcome::Ok: break;
     case GuardOutcome::Crashed: fault(start_s, "crash in " + where + ": " + signalName(r.signal)); return false;
     case GuardOutcome::Hung:
-      fault(start_s, "hang in " + where + ": still running after " + std::to_string(std::lround(s_.watchdog_s * 1e3)) +
+      fault(start_s, "hang in " + where + ": still running after " + std::to_string(std::lround(watchdog_s_ * 1e3)) +
                          " ms of CPU time (watchdog_ms)");
       return false;
     case GuardOutcome::ContractBreak: fault(start_s, "contract break in " + where + ": " + breakCause_); return false;
@@ -136,47 +162,57 @@ bool FirmwareHost::guarded(const char* what, int task) {
   return true;
 }
 
+// Power-up at t_s: the descriptor, RAM, init; then the tasks' first due times.
+void FirmwareHost::start(double t_s) {
+  started_ = true;
+  if (lib_ && !lib_->entry()) return fault(t_s, lib_->error());
+  if (!call("the entry " PSFW_ENTRY_SYMBOL, -2)) return;
+  if (const std::string bad = checkFirmwareDescriptor(fw_); !bad.empty()) return fault(t_s, bad);
+  const size_t words = (std::max<uint32_t>(fw_.instance_bytes, 1u) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
+  ram_.reset(new std::max_align_t[words]);
+  std::memset(ram_.get(), 0, words * sizeof(std::max_align_t));  // every byte: value-init skips padding
+  runs_.assign(fw_.task_count, 0);
+  sink_.event(t_s, "firmware_loaded", "'" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
+                                   std::to_string(fw_.instance_bytes) + " bytes RAM, " +
+                                   std::to_string(config_.size()) + " bytes configuration)");
+  callStart_ns_ = clock_ns_;
+  callBudget_ns_ = 0;
+  inInit_ = true;
+  const bool ok = call("init", -1);
+  inInit_ = false;
+  if (!ok) return;
+  if (initResult_ != 0) return fault(t_s, "init returned " + std::to_string(initResult_) + " (not 0)");
+  // Periods as init left them (set_task_period): first due one period after power-up.
+  nextDue_ns_.assign(fw_.task_count, std::numeric_limits<uint64_t>::max());
+  for (uint32_t i = 0; i < fw_.task_count; ++i) {
+    const uint64_t p_ns = uint64_t{fw_.tasks[i].period_ms} * 1000000u;
+    if (p_ns == 0) continue;  // switched off at init
+    nextDue_ns_[i] = toNs(t_s) + p_ns;
+    if (p_ns % tick_ns_ != 0 || p_ns < tick_ns_) {
+      char note[200];
+      std::snprintf(note, sizeof note,
+                    "firmware task %u: its %u ms period is not a multiple of the %.0f ms BMS tick; it runs at its "
+                    "own due times, its pins and outputs resolved to the tick",
+                    i, fw_.tasks[i].period_ms, static_cast<double>(tick_ns_) * 1e-6);
+      sink_.event(t_s, "config_warning", note);
+    }
+  }
+}
+
 void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   if (dead_) return;
   in_ = &in;
   out_ = &out;
   clock_ns_ = std::max(clock_ns_, toNs(t_s));
   const uint64_t windowEnd_ns = toNs(t_s) + tick_ns_;
-  // The handlers are installed only around ticks that call into the firmware.
   bool due = !started_;
   for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
   if (!due) return;
-  FaultGuard::Scope handlers;
-  if (!started_) {
-    started_ = true;
-    if (!lib_.entry()) return fault(t_s, lib_.error());
-    if (!guarded("the entry " PSFW_ENTRY_SYMBOL, -2)) return;
-    if (const std::string bad = checkFirmwareDescriptor(fw_); !bad.empty()) return fault(t_s, bad);
-    const size_t words = (std::max<uint32_t>(fw_.instance_bytes, 1u) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
-    ram_.reset(new std::max_align_t[words]);
-    std::memset(ram_.get(), 0, words * sizeof(std::max_align_t));  // every byte: value-init skips padding
-    nextDue_ns_.resize(fw_.task_count);
-    runs_.assign(fw_.task_count, 0);
-    for (uint32_t i = 0; i < fw_.task_count; ++i) {
-      const uint64_t p_ns = uint64_t{fw_.tasks[i].period_ms} * 1000000u;
-      nextDue_ns_[i] = p_ns;
-      if (p_ns % tick_ns_ != 0 || p_ns < tick_ns_) {
-        char note[200];
-        std::snprintf(note, sizeof note,
-                      "firmware task %u: its %u ms period is not a multiple of the %.0f ms BMS tick; it runs at its "
-                      "own due times, its pins and outputs resolved to the tick",
-                      i, fw_.tasks[i].period_ms, static_cast<double>(tick_ns_) * 1e-6);
-        sink_.event(t_s, "config_warning", note);
-      }
-    }
-    sink_.event(t_s, "firmware_loaded", "'" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
-                                     std::to_string(fw_.instance_bytes) + " bytes RAM, " +
-                                     std::to_string(s_.config.size()) + " bytes configuration)");
-    callStart_ns_ = clock_ns_;
-    callBudget_ns_ = 0;
-    if (!guarded("init", -1)) return;
-    if (initResult_ != 0) return fault(t_s, "init returned " + std::to_string(initResult_) + " (not 0)");
-  }
+  // A library's calls run under the guard, its handlers installed only around ticks
+  // that call into it.
+  std::optional<FaultGuard::Scope> handlers;
+  if (guard_) handlers.emplace();
+  if (!started_) start(t_s);
   while (!dead_) {
     int next = -1;
     for (uint32_t i = 0; i < fw_.task_count; ++i)
@@ -187,7 +223,7 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
     callStart_ns_ = clock_ns_;
     callBudget_ns_ = (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u;
-    if (!guarded("task", next)) return;
+    if (!call("task", next)) return;
     ++runs_[static_cast<size_t>(next)];
     nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
   }
@@ -213,10 +249,11 @@ std::string FirmwareHost::status() const {
 
 // --- board services -------------------------------------------------------------
 
-void FirmwareHost::checkBudget() {
-  if (callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return;
+bool FirmwareHost::checkBudget() {
+  if (callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return true;
   breakContract("ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
                 static_cast<double>(clock_ns_ - callStart_ns_) * 1e-6, static_cast<double>(callBudget_ns_) * 1e-6);
+  return false;
 }
 
 void FirmwareHost::delayUs(uint32_t us) {
@@ -225,12 +262,20 @@ void FirmwareHost::delayUs(uint32_t us) {
 }
 
 int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
-  if (bus >= buses_.size()) breakContract("bus_transfer on bus %u, this board has %zu", bus, buses_.size());
-  if (txLen > PSFW_BUS_MAX_FRAME || rxLen > PSFW_BUS_MAX_FRAME)
+  if (breakCause_[0] != '\0') return PSFW_BUS_ERROR;  // a linked-in firmware that broke the contract this call
+  if (bus >= buses_.size()) {
+    breakContract("bus_transfer on bus %u, this board has %zu", bus, buses_.size());
+    return PSFW_BUS_ERROR;
+  }
+  if (txLen > PSFW_BUS_MAX_FRAME || rxLen > PSFW_BUS_MAX_FRAME) {
     breakContract("bus_transfer of %u bytes out, %u in: more than PSFW_BUS_MAX_FRAME (%u)", txLen, rxLen,
                   PSFW_BUS_MAX_FRAME);
-  if ((txLen > 0 && tx == nullptr) || (rxLen > 0 && rx == nullptr))
+    return PSFW_BUS_ERROR;
+  }
+  if ((txLen > 0 && tx == nullptr) || (rxLen > 0 && rx == nullptr)) {
     breakContract("bus_transfer with a null buffer and a non-zero length");
+    return PSFW_BUS_ERROR;
+  }
   // The firmware's buffers are copied first: a bad pointer faults here, before the
   // chain's state is touched.
   uint8_t txCopy[PSFW_BUS_MAX_FRAME], rxCopy[PSFW_BUS_MAX_FRAME];
@@ -247,8 +292,14 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
   } catch (const std::exception&) {
     threw = true;
   }
-  if (threw) breakContract("the monitor chain rejected the transaction on bus %u", bus);
-  if (r.received > static_cast<int>(rxLen)) breakContract("host error: the chain returned more bytes than asked for");
+  if (threw) {
+    breakContract("the monitor chain rejected the transaction on bus %u", bus);
+    return PSFW_BUS_ERROR;
+  }
+  if (r.received > static_cast<int>(rxLen)) {
+    breakContract("host error: the chain returned more bytes than asked for");
+    return PSFW_BUS_ERROR;
+  }
   if (r.received > 0) std::memcpy(rx, rxCopy, static_cast<size_t>(r.received));
   clock_ns_ += toNs(r.duration_s);
   checkBudget();
@@ -292,8 +343,15 @@ void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
   if (channel == PSFW_DAC_CHARGER_CURRENT_MA) out_->chargerCurrentRequest_mA = std::max<int32_t>(0, value);
 }
 
+int32_t FirmwareHost::setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us) {
+  if (!inInit_ || task >= fw_.task_count) return PSFW_NO_CHANNEL;
+  fw_.tasks[task].period_ms = period_ms;
+  fw_.tasks[task].budget_us = budget_us;
+  return 0;
+}
+
 void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {
-  if (len > 0 && bytes == nullptr) breakContract("telemetry_send with a null buffer and a non-zero length");
+  if (len > 0 && bytes == nullptr) return breakContract("telemetry_send with a null buffer and a non-zero length");
   uint8_t kept[kTelemetryKeep];  // copied first: a bad pointer faults before host data changes
   const size_t n = std::min<size_t>(len, kTelemetryKeep);
   if (n > 0) std::memcpy(kept, bytes, n);
@@ -302,7 +360,7 @@ void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {
 }
 
 void FirmwareHost::firmwareEvent(const char* text) {
-  if (text == nullptr) breakContract("event with a null text");
+  if (text == nullptr) return breakContract("event with a null text");
   char kept[kEventChars + 1];
   size_t n = 0;
   for (; n < kEventChars && text[n] != '\0'; ++n) kept[n] = (text[n] >= 0x20 && text[n] < 0x7F) ? text[n] : '?';

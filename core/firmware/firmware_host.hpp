@@ -1,6 +1,7 @@
-// The board a user firmware runs on (bms/packsim_fw.h, docs/firmware.md): loads the
-// library, gives it zeroed RAM, runs its init and its periodic tasks, and implements
-// the board services on the simulated hardware.
+// The board a firmware runs on (bms/packsim_fw.h, docs/firmware.md): a user's library
+// (loaded at run time) or a firmware linked into packsim (its own core, bms_firmware.hpp).
+// The host gives it zeroed RAM, runs its init and its periodic tasks, and implements the
+// board services on the simulated hardware.
 //
 // Scheduling (non-preemptive, like a cooperative main loop on the MCU): init runs at
 // t = 0; task i runs at n·period_i (n = 1, 2, ...). step(t) runs every instance due in
@@ -11,11 +12,14 @@
 // actuation (step 3): a task whose period is not a multiple of the BMS tick still runs
 // at its own due times on its clock, with its I/O resolved to the tick it falls in.
 //
-// Isolation (fault_guard.hpp): a crash, a hang past the watchdog, or a contract break
-// (bad bus id or frame length, a null buffer, init returning non-zero, an ABI
-// mismatch, a task running past its budget in simulated time through bus traffic or
-// delays) stops the firmware for good: one firmware_fault event, the MCU is dead and
-// its outputs hold their last levels, as for a hung host.
+// Isolation: a contract break (bad bus id or frame length, a null buffer, init
+// returning non-zero, an ABI mismatch, a task running past its budget in simulated time
+// through bus traffic or delays) stops the firmware for good: one firmware_fault event,
+// the MCU is dead and its outputs hold their last levels, as for a hung host. A library
+// runs under the fault guard (fault_guard.hpp), which also catches a crash or a hang
+// past the watchdog and ends the call at once; a linked-in firmware is trusted code run
+// without the guard's signal handlers (its per-tick cost), so a service that finds a
+// contract break returns an error and the firmware is stopped when the call returns.
 #pragma once
 #include <bms/bms_hal.hpp>
 #include <bms/packsim_fw.h>
@@ -43,10 +47,14 @@ class FirmwareSink {
 
 class FirmwareHost {
  public:
-  // buses: bus id n reaches buses[n] (not owned). mcuThermistors: thermistor channels
-  // on the MCU's own ADC (PSFW_ADC_THERMISTOR0 + n).
+  // A user library (s.library_path, s.config, s.watchdog_s). buses: bus id n reaches
+  // buses[n] (not owned). mcuThermistors: thermistor channels on the MCU's own ADC
+  // (PSFW_ADC_THERMISTOR0 + n).
   FirmwareHost(const FirmwareSettings& s, std::vector<MonitorBus*> buses, double tick_s, int mcuThermistors,
                FirmwareSink& sink);
+  // A firmware linked into packsim, with its configuration blob.
+  FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, std::vector<MonitorBus*> buses,
+               double tick_s, int mcuThermistors, FirmwareSink& sink);
   ~FirmwareHost();
   FirmwareHost(const FirmwareHost&) = delete;
   FirmwareHost& operator=(const FirmwareHost&) = delete;
@@ -66,6 +74,8 @@ class FirmwareHost {
   const std::vector<uint8_t>& lastTelemetry() const { return lastTelemetry_; }
   double clock_s() const { return static_cast<double>(clock_ns_) * 1e-9; }
   uint64_t taskRuns(int task) const { return runs_[static_cast<size_t>(task)]; }
+  // The firmware's RAM (null before init): for a debug probe of a linked-in firmware.
+  const void* ram() const { return ram_.get(); }
 
   // Board services (the psfw_board_api entries land here).
   uint32_t nowMs() const { return static_cast<uint32_t>(clock_ns_ / 1000000u); }
@@ -78,26 +88,32 @@ class FirmwareHost {
   void dacWrite(uint8_t channel, int32_t value);
   void telemetrySend(const uint8_t* bytes, uint16_t len);
   void firmwareEvent(const char* text);
+  int32_t setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us);
 
  private:
-  struct Call;  // one guarded call into the firmware
-  bool guarded(const char* what, int task);
+  struct Call;  // one call into the firmware (guarded for a library)
+  bool call(const char* what, int task);
+  void start(double t_s);
   void fault(double t_s, const std::string& cause);
-  [[noreturn]] void breakContract(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
-  void checkBudget();
+  // Records the cause; under the guard the call ends here (longjmp), else the service
+  // returns and the firmware is stopped when its call returns.
+  void breakContract(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
+  bool checkBudget();
 
-  const FirmwareSettings& s_;
+  std::vector<uint8_t> config_;
+  double watchdog_s_;
   std::vector<MonitorBus*> buses_;
   uint64_t tick_ns_;
   int mcuThermistors_;
   FirmwareSink& sink_;
-  FirmwareLibrary lib_;
-  FaultGuard guard_;
+  std::unique_ptr<FirmwareLibrary> lib_;  // a user library; null for a linked-in firmware
+  const psfw_firmware* linked_ = nullptr;
+  std::unique_ptr<FaultGuard> guard_;     // libraries only
   psfw_firmware fw_{};
   psfw_board_api api_{};
   std::unique_ptr<std::max_align_t[]> ram_;
   std::string name_;
-  bool started_ = false, dead_ = false;
+  bool started_ = false, dead_ = false, inInit_ = false;
   std::string cause_;
   double faultTime_s_ = 0.0;
   char breakCause_[160] = {0};  // set before a longjmp out of a service

@@ -7,9 +7,10 @@
 namespace packsim {
 
 std::string checkFirmwareDescriptor(const psfw_firmware& fw) {
-  if (fw.abi_version != PSFW_ABI_VERSION)
+  if (fw.abi_version < PSFW_ABI_VERSION_MIN || fw.abi_version > PSFW_ABI_VERSION)
     return "ABI mismatch: the firmware was built against contract version " + std::to_string(fw.abi_version) +
-           ", this packsim implements version " + std::to_string(PSFW_ABI_VERSION);
+           ", this packsim runs versions " + std::to_string(PSFW_ABI_VERSION_MIN) + " to " +
+           std::to_string(PSFW_ABI_VERSION);
   if (fw.task_count > PSFW_MAX_TASKS)
     return "task_count " + std::to_string(fw.task_count) + " exceeds PSFW_MAX_TASKS (" + std::to_string(PSFW_MAX_TASKS) + ")";
   for (uint32_t i = 0; i < fw.task_count; ++i) {

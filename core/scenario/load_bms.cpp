@@ -63,6 +63,26 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   BmsSettings b;
   if (!m) return b;
   b.tick_s = static_cast<double>(m->integer("tick_ms", 10, 1, 10000)) * 1e-3;
+  if (auto r = m->optionalMap("readout")) {
+    // Whole ticks: the read-out task shares the control task's clock.
+    const long tick_ms = std::lround(b.tick_s * 1e3);
+    auto period = [&](const char* key, long lo) {
+      const long v = r->integer(key, tick_ms, lo, 3600000);
+      if (v % tick_ms != 0)
+        throw r->errorAt(key, std::string(key) + " = " + std::to_string(v) + " is not a multiple of bms.tick_ms (" +
+                                  std::to_string(tick_ms) + ")");
+      return static_cast<double>(v) * 1e-3;
+    };
+    b.readout.period_s = period("period_ms", tick_ms);
+    if (r->has("alert_period_ms")) {
+      b.readout.alert_period_s = period("alert_period_ms", tick_ms);
+      if (b.readout.alert_period_s >= b.readout.period_s)
+        throw r->errorAt("alert_period_ms", "must be shorter than period_ms (" +
+                                                std::to_string(std::lround(b.readout.period_s * 1e3)) +
+                                                " ms): the alert poll runs between read-outs");
+    }
+    r->finish();
+  }
   m->has("firmware");  // read with the scenario's folder: readFirmware (load_firmware.cpp)
   if (auto p = m->optionalMap("protections")) {
     for (const ProtectionSpec& spec : protectionSpecs()) {

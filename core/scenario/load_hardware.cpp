@@ -81,28 +81,38 @@ void readSecondary(YamlMap& m, SecondaryProtection& p) {
   m.finish();
 }
 
+// The part's own protections, in the ranges and steps its data memory holds (the
+// register-level model refuses a value between steps' ends; these ranges catch the rest
+// with the scenario's file and line).
 void readBq952(YamlMap& m, Bq952Protection& p) {
-  const Range ms = Range::closed(0.0, 60000.0);
-  const Range temp = Range::closed(-40.0, 150.0);
-  p.cov_V = m.number("cov_V", p.cov_V, Range::closed(1.0, 5.5));
-  p.cov_delay_s = m.number("cov_delay_ms", p.cov_delay_s * 1e3, ms) * 1e-3;
-  p.cov_recovery_V = m.number("cov_recovery_V", p.cov_recovery_V, Range::closed(0.0, 1.0));
-  p.cuv_V = m.number("cuv_V", p.cuv_V, Range::closed(1.0, 5.0));
-  p.cuv_delay_s = m.number("cuv_delay_ms", p.cuv_delay_s * 1e3, ms) * 1e-3;
-  p.cuv_recovery_V = m.number("cuv_recovery_V", p.cuv_recovery_V, Range::closed(0.0, 1.0));
-  p.occ_mV = m.number("occ_mV", p.occ_mV, Range::closed(2.0, 62.0));
-  p.occ_delay_s = m.number("occ_delay_ms", p.occ_delay_s * 1e3, ms) * 1e-3;
-  p.ocd1_mV = m.number("ocd1_mV", p.ocd1_mV, Range::closed(2.0, 200.0));
-  p.ocd1_delay_s = m.number("ocd1_delay_ms", p.ocd1_delay_s * 1e3, ms) * 1e-3;
+  const Range temp = Range::closed(-40.0, 120.0);
+  const Range seconds = Range::closed(0.0, 255000.0);        // U1, 1 s steps
+  const Range voltageDelay = Range::closed(3.3, 6755.1);     // U2 1..2047 x 3.3 ms
+  const Range currentDelay = Range::closed(9.9, 425.7);      // U1 1..127: (n + 2) x 3.3 ms
+  p.cov_V = m.number("cov_V", p.cov_V, Range::closed(1.012, 5.566));
+  p.cov_delay_s = m.number("cov_delay_ms", p.cov_delay_s * 1e3, voltageDelay) * 1e-3;
+  p.cov_recovery_V = m.number("cov_recovery_V", p.cov_recovery_V, Range::closed(0.0, 1.012));
+  p.cuv_V = m.number("cuv_V", p.cuv_V, Range::closed(1.012, 4.554));
+  p.cuv_delay_s = m.number("cuv_delay_ms", p.cuv_delay_s * 1e3, voltageDelay) * 1e-3;
+  p.cuv_recovery_V = m.number("cuv_recovery_V", p.cuv_recovery_V, Range::closed(0.0, 1.012));
+  p.occ_mV = m.number("occ_mV", p.occ_mV, Range::closed(4.0, 124.0));
+  p.occ_delay_s = m.number("occ_delay_ms", p.occ_delay_s * 1e3, currentDelay) * 1e-3;
+  p.ocd1_mV = m.number("ocd1_mV", p.ocd1_mV, Range::closed(4.0, 200.0));
+  p.ocd1_delay_s = m.number("ocd1_delay_ms", p.ocd1_delay_s * 1e3, currentDelay) * 1e-3;
   p.scd_mV = m.number("scd_mV", p.scd_mV, Range::closed(10.0, 500.0));
-  p.current_recovery_s = m.number("current_recovery_ms", p.current_recovery_s * 1e3, ms) * 1e-3;
+  // USER_AMPS: the unit of the part's current readings and of OCD3's threshold.
+  const std::string ua = m.choice("user_amps_mA", "1", {"0.1", "1", "10", "100"});
+  p.user_amps_A = std::stod(ua) * 1e-3;
+  p.ocd3_A = m.number("ocd3_A", p.ocd3_A, Range::closed(0.0, 32767.0 * p.user_amps_A));
+  p.ocd3_delay_s = m.number("ocd3_delay_ms", p.ocd3_delay_s * 1e3, seconds) * 1e-3;
+  p.current_recovery_s = m.number("current_recovery_ms", p.current_recovery_s * 1e3, seconds) * 1e-3;
   p.otc_C = m.number("otc_C", p.otc_C, temp);
   p.otd_C = m.number("otd_C", p.otd_C, temp);
   p.otf_C = m.number("otf_C", p.otf_C, temp);
-  p.ot_delay_s = m.number("ot_delay_ms", p.ot_delay_s * 1e3, ms) * 1e-3;
+  p.ot_delay_s = m.number("ot_delay_ms", p.ot_delay_s * 1e3, seconds) * 1e-3;
   p.utc_C = m.number("utc_C", p.utc_C, temp);
   p.utd_C = m.number("utd_C", p.utd_C, temp);
-  p.ut_delay_s = m.number("ut_delay_ms", p.ut_delay_s * 1e3, ms) * 1e-3;
+  p.ut_delay_s = m.number("ut_delay_ms", p.ut_delay_s * 1e3, seconds) * 1e-3;
   p.temp_recovery_C = m.number("temp_recovery_C", p.temp_recovery_C, Range::closed(0.0, 50.0));
   m.finish();
 }

@@ -128,11 +128,18 @@ struct SocEstimationSettings {
   std::vector<double> display_bars_V;  // 7 thresholds; empty: reference system C's table
 };
 
+// How often packsim's core reads its monitor ICs (bms::ReadoutConfig). 0: every tick.
+struct ReadoutSettings {
+  double period_s = 0.0;        // full read-out: cells, temperatures, the devices' flags
+  double alert_period_s = 0.0;  // the devices' protection flags alone, between read-outs (0: none)
+};
+
 struct BmsSettings {
   double tick_s = 0.01;
+  ReadoutSettings readout;
   // One per bms::FaultId, defaults from the firmware table (core/scenario/protection_table.hpp).
   std::array<ProtectionConfig, bms::kFaultCount> protections = defaultProtections();
-  int comm_loss_count = 5;          // consecutive bad replies of one device
+  int comm_loss_count = 5;          // consecutive bad reads of one device (read-outs and alert polls)
   double weld_settle_s = 0.05;      // relay release time before current means "welded"
   bool relay_aux_feedback = true;   // the relay's auxiliary contact is read (closed after open = welded)
   PrechargeSettings precharge;

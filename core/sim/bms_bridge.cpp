@@ -1,7 +1,10 @@
 #include "core/sim/bms_bridge.hpp"
 
+#include <bms/bms_firmware.hpp>
+
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "models/hw/charger.hpp"
 #include "models/hw/mosfet.hpp"
@@ -61,7 +64,44 @@ void setBalancing(bms::Config& c, const Scenario& s) {
   c.chargeFullCell_mV = static_cast<uint16_t>(std::lround(s.bms.charge_full_cell_V * 1e3));
 }
 
+// Read-out rates and the monitor drivers' settings: the parts' own protections as the
+// scenario configures them (the BQ76PL536A's comparators are written at init; the
+// BQ76PL455A's and BQ76952's EEPROM / OTP already hold the scenario's values).
+void setMonitorDrivers(bms::Config& c, const Scenario& s) {
+  const BmsSettings& b = s.bms;
+  const MonitorConfig& a = s.hardware.afe;
+  auto ms = [](double t_s) { return static_cast<uint32_t>(std::lround(t_s * 1e3)); };
+  c.readout.period_ms = b.readout.period_s > 0.0 ? ms(b.readout.period_s) : c.tickPeriod_ms;
+  c.readout.alertPeriod_ms = ms(b.readout.alert_period_s);
+  bms::Bq536Config& p536 = c.drivers.pl536;
+  const SecondaryProtection& sp = a.secondary;
+  p536.conversionPerChannel_us = static_cast<uint16_t>(std::lround(a.conversion_s_per_channel * 1e6));
+  p536.protectionEnabled = sp.enabled;
+  p536.cov_mV = static_cast<uint16_t>(std::lround(sp.cov_V * 1e3));
+  p536.covDelay_us = static_cast<uint32_t>(std::lround(sp.cov_delay_s * 1e6));
+  p536.cuv_mV = static_cast<uint16_t>(std::lround(sp.cuv_V * 1e3));
+  p536.cuvDelay_us = static_cast<uint32_t>(std::lround(sp.cuv_delay_s * 1e6));
+  p536.ot_C = static_cast<int16_t>(std::lround(sp.ot_C));
+  p536.otDelay_ms = static_cast<uint16_t>(ms(sp.ot_delay_s));
+  int log2 = 0;
+  while ((1 << log2) < a.oversampling) ++log2;
+  c.drivers.pl455.oversamplingLog2 = static_cast<uint8_t>(log2);
+  c.drivers.pl455.comparators = sp.enabled;
+  c.drivers.bq952.userAmps = bq952_user_amps_field(static_cast<uint32_t>(std::lround(a.bq.user_amps_A * 1e4)));
+  c.drivers.bq952.crc = a.crc;
+}
+
 }  // namespace
+
+std::vector<uint8_t> coreImage(const bms::Config& cfg) {
+  bms::CoreImage image{};
+  image.tag = bms::kCoreImageTag;
+  image.bytes = sizeof(bms::CoreImage);
+  image.cfg = cfg;
+  std::vector<uint8_t> blob(sizeof image);
+  std::memcpy(blob.data(), &image, sizeof image);
+  return blob;
+}
 
 bms::Config makeBmsConfig(const Scenario& s) {
   const HardwareConfig& hw = s.hardware;
@@ -83,6 +123,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.afe = bms::AfeConfig{a.model, static_cast<uint8_t>(a.devices), static_cast<uint8_t>(a.cells_per_device),
                          static_cast<uint8_t>(a.thermistors_per_device), a.crc,
                          static_cast<uint8_t>(b.comm_loss_count)};
+  setMonitorDrivers(c, s);
 
   const PrechargeSettings& p = b.precharge;
   c.precharge = bms::PrechargeConfig{p.enabled,
@@ -117,10 +158,12 @@ bms::Config makeBmsConfig(const Scenario& s) {
 }
 
 HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
-    : s_(s), plant_(plant), stack_(s.hardware.afe, s.pack.series, s.run.seed), truth_(stack_.makeTruth()) {
-  afeTherm_ = std::min(s.hardware.thermistorCount(), stack_.thermistorChannels());
+    : s_(s),
+      plant_(plant),
+      chain_(s.hardware.afe, s.pack.series, s.run.seed),
+      truth_(chain_.makeTruth()) {
+  afeTherm_ = std::min(s.hardware.thermistorCount(), chain_.thermistorChannels());
   if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
-  if (s.bms.firmware.library) chain_ = std::make_unique<MonitorChainPath>(s.hardware.afe, s.pack.series, s.run.seed);
 }
 
 void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
@@ -160,12 +203,7 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   truth_.broken_link_above = f.broken_link_above;
   truth_.current_A = sig.pack_current_A;
 
-  if (chain_) {
-    chain_->update(t, truth_);  // the firmware reads it over the bus
-  } else {
-    stack_.update(t, truth_);
-    stack_.read(t, truth_, rng, in);
-  }
+  chain_.update(t, truth_);  // the firmware reads it over the bus
 
   // Thermistors beyond the monitor inputs sit on the MCU's own ADC.
   for (size_t k = static_cast<size_t>(afeTherm_); k < static_cast<size_t>(hw.thermistorCount()); ++k) {
@@ -181,7 +219,7 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   in.eSwitchInternal = f.estop_internal_pulled;
   in.eSwitchExternal = f.estop_external_pulled;
   in.relayAux = relay_.closed;
-  in.monitorFaultPin = chain_ ? chain_->faultLine() : stack_.faultLine();
+  in.monitorFaultPin = chain_.faultLine();
   in.chargerPresent = s_.bms.charger_present;
   in.runRequest = s_.bms.run_request;
   in.resetRequest = f.reset_requested;
@@ -192,11 +230,9 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
                           PlantInputs& pin) {
   const HardwareConfig& hw = s_.hardware;
   const double dt = s_.bms.tick_s;
-  if (!chain_) stack_.hostWrite(t, out, truth_);  // a library firmware writes over the bus
-
   // The monitor FAULT line sits in series with the relay drive: it opens the relay
   // whatever the MCU commands.
-  st_.fault_line = chain_ ? chain_->faultLine() : stack_.faultLine();
+  st_.fault_line = chain_.faultLine();
   const bool drive = !(hw.fault_line_opens_relay && st_.fault_line);
   relayStep(hw.relay, relay_, out.relayClose && drive, f.relay_welded, t);
   relayStep(hw.precharge_relay, precharge_, out.prechargeClose && drive, false, t);
@@ -204,8 +240,8 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   // The current of the tick that just ended heats the fuse.
   fuseStep(hw.fuse, fuse_, sig.pack_current_A, dt);
 
-  const bool dsg = out.dischargeFetOn && (chain_ ? chain_->dischargeAllowed() : stack_.dischargeAllowed());
-  const bool chg = out.chargeFetOn && (chain_ ? chain_->chargeAllowed() : stack_.chargeAllowed());
+  const bool dsg = out.dischargeFetOn && chain_.dischargeAllowed();
+  const bool chg = out.chargeFetOn && chain_.chargeAllowed();
   const bool dischargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, 1.0) ||
                                 !mosfetConducts(hw.charge_fet, chg, 1.0);
   const bool chargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, -1.0) ||
@@ -262,7 +298,7 @@ bool HardwareSim::actuateBalancing(double t, const bms::Outputs& out, const Plan
   if (s_.hardware.balancing.present) {
     if (pin.balancing.size() != static_cast<size_t>(series)) pin.balancing.assign(static_cast<size_t>(series), 0);
     for (int g = 0; g < series; ++g) {
-      const uint8_t on = (chain_ ? chain_->balancing(g) : stack_.balancing(g, t)) ? 1 : 0;
+      const uint8_t on = chain_.balancing(g) ? 1 : 0;
       changed = changed || pin.balancing[static_cast<size_t>(g)] != on;
       pin.balancing[static_cast<size_t>(g)] = on;
     }

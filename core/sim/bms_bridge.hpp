@@ -1,20 +1,23 @@
 // The simulator side of the BMS boundary.
 //
 // makeBmsConfig: the firmware configuration from the scenario (nominal datasheet
-// scaling, SI thresholds -> firmware units, OCV table and capacity for the SOC).
+// scaling, SI thresholds -> firmware units, read-out rates and monitor-driver settings,
+// OCV table and capacity for the SOC). coreImage: it as the configuration blob packsim's
+// core firmware is flashed with (bms/bms_firmware.hpp).
 //
 // HardwareSim: everything between the plant and the MCU pins, as discrete models
 // advanced once per tick:
-//   sample(t)   truth -> monitor-IC reply frames (models/afe: quantisation, per-channel
-//               gain/offset error, noise, injected comm faults), MCU thermistor and
-//               current-sense codes, load-bus voltage code, GPIO (E-switches, relay aux
-//               contact, monitor FAULT line, charger present, run request)
-//   actuate(t)  the firmware's commands at t -> host writes to the monitors, relay
-//               coils (the monitor FAULT line is wired in series with the coil drive,
-//               so it opens the relay without the MCU), relay delays and weld, FETs
-//               (BQ76952: the device's own FET control), fuse I²t, precharge RC,
-//               balancing switches (monitor mask + timer), charger CC-CV, active
-//               balancer controller; fills the plant's inputs for [t, t + tick).
+//   sample(t)   truth -> the register-level monitor chain's analog inputs (the
+//               firmware reads it over the bus, monitor_chain_path.hpp); MCU
+//               thermistor and current-sense codes, load-bus voltage code, GPIO
+//               (E-switches, relay aux contact, monitor FAULT line, charger present,
+//               run and reset requests)
+//   actuate(t)  the firmware's pins at t -> relay coils (the monitor FAULT line is wired
+//               in series with the coil drive, so it opens the relay without the MCU),
+//               relay delays and weld, FETs (BQ76952: the device's own FET control),
+//               fuse I²t, precharge RC, balancing switches (as the monitor ICs hold
+//               them), charger CC-CV, active balancer controller; fills the plant's
+//               inputs for [t, t + tick).
 // Noise, quantisation and hardware faults live here and in models/, never in bms/.
 #pragma once
 #include <bms/bms_config.hpp>
@@ -24,7 +27,6 @@
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/monitor_chain_path.hpp"
 #include "core/sim/plant.hpp"
-#include "models/afe/monitor_stack.hpp"
 #include "models/hw/fuse.hpp"
 #include "models/hw/relay.hpp"
 #include "models/sensors/adc.hpp"
@@ -32,6 +34,8 @@
 namespace packsim {
 
 bms::Config makeBmsConfig(const Scenario& s);
+// The configuration blob of packsim's core firmware: a bms::CoreImage of cfg.
+std::vector<uint8_t> coreImage(const bms::Config& cfg);
 // The state-estimation part of it (core/sim/soc_config.cpp): the firmware's own OCV
 // table, capacity and 1-RC model per series group, EKF tuning, SOH and display tables.
 void setSocConfig(bms::SocConfig& c, const Scenario& s);
@@ -61,11 +65,13 @@ class HardwareSim {
   bool actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f, PlantInputs& pin);
 
   const HardwareStatus& status() const { return st_; }
-  const MonitorStack& monitors() const { return stack_; }
-  // A library firmware's buses (the register-level chain, monitor_chain_path.hpp) and
-  // the thermistors on the MCU's own ADC; packsim's core uses neither.
-  std::vector<MonitorBus*> monitorBuses() { return chain_ ? chain_->buses() : std::vector<MonitorBus*>{}; }
+  // The firmware's buses (the register-level monitor chain) and the thermistors on the
+  // MCU's own ADC.
+  std::vector<MonitorBus*> monitorBuses() { return chain_.buses(); }
   int mcuThermistorCount() const { return s_.hardware.thermistorCount() - afeTherm_; }
+  int monitorDevices() const { return s_.hardware.afe.devices; }
+  // Series group g's balancing switch as the monitor ICs hold it.
+  bool balancing(int g) const { return chain_.balancing(g); }
   // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the
   // balancing switches for the conversion, so the cells read without their I_bal·R0
   // drop (the state does not change in those milliseconds); otherwise `sig` itself.
@@ -83,8 +89,7 @@ class HardwareSim {
   PlantInputs pausedInputs_;      // the held inputs with every balancing switch open
   PlantSignals pausedSig_;
   std::vector<double> moduleV_;  // active balancer: module voltages received from the BMS
-  MonitorStack stack_;
-  std::unique_ptr<MonitorChainPath> chain_;  // with a library firmware: replaces stack_'s frames
+  MonitorChainPath chain_;
   MonitorTruth truth_;
   int afeTherm_ = 0;  // thermistor channels on the monitor ICs
   RelayState relay_, precharge_;

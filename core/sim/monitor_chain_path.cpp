@@ -7,35 +7,30 @@ namespace packsim {
 
 namespace {
 
-// The register-level models this tree holds (core/CMakeLists.txt defines the macros
-// for the models/afe/<part>.cpp files present).
-std::unique_ptr<MonitorChain> makeChain(const MonitorConfig& cfg, [[maybe_unused]] int cellCount,
-                                        [[maybe_unused]] uint64_t seed) {
+// The register-level model of the scenario's part (one file per part, models/afe).
+std::unique_ptr<MonitorChain> makeChain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {
   switch (cfg.model) {
-#ifdef PACKSIM_HAVE_BQ76PL536A
     case bms::AfeModel::Bq76pl536a: return makeBq76pl536aChain(cfg, cellCount, seed);
-#endif
-#ifdef PACKSIM_HAVE_BQ76PL455A
     case bms::AfeModel::Bq76pl455a: return makeBq76pl455aChain(cfg, cellCount, seed);
-#endif
-#ifdef PACKSIM_HAVE_BQ76952
     case bms::AfeModel::Bq76952: return makeBq76952Chain(cfg, cellCount, seed);
-#endif
-    default: break;
   }
-  throw std::runtime_error("this packsim build has no register-level model of the scenario's monitor part "
-                           "(hardware.afe.model), which a library firmware needs");
+  throw std::runtime_error("unknown monitor part (hardware.afe.model)");
 }
 
 }  // namespace
 
-MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint64_t seed) : cfg_(cfg) {
+MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint64_t seed)
+    : cfg_(cfg), cells_(cellCount) {
   bus_.chain = makeChain(cfg, cellCount, seed);
   int first = 0;
   for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
     firstCell_.push_back(first);
     first += bus_.chain->cellsOf(d);
   }
+}
+
+MonitorTruth MonitorChainPath::makeTruth() const {
+  return MonitorTruth(cells_, bus_.chain->deviceCount(), thermistorChannels());
 }
 
 void MonitorChainPath::update(double t, const MonitorTruth& truth) {

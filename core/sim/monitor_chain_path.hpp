@@ -1,24 +1,25 @@
-// HardwareSim's monitor ICs when a library firmware runs (bms.firmware): the
-// register-level chain of the scenario's part (models/afe, monitor_part.hpp) instead
-// of MonitorStack's pre-built frames. Each tick the chain's analog inputs are filled
-// from the same MonitorTruth the stack would see (cells at the pins, injected channel
-// errors, thermistors, die = board + die_rise_C, current), scripted comm faults are
-// set on its devices, and it advances to t; the firmware then talks to it byte for
-// byte over bus 0. Its FAULT line, balancing switches and (BQ76952) FETs drive the
-// rest of the hardware. packsim's own core never takes this path.
+// HardwareSim's monitor ICs: the register-level chain of the scenario's part
+// (models/afe, monitor_part.hpp), which every firmware talks to byte for byte over bus
+// 0 (packsim's own core included). Each tick the chain's analog inputs are filled from
+// a MonitorTruth (cells at the pins, injected channel errors, thermistors, die = board +
+// die_rise_C, current), scripted comm faults are set on its devices, and it advances to
+// t. Its FAULT line, balancing switches and (BQ76952) FETs drive the rest of the
+// hardware.
 #pragma once
 #include <vector>
 
 #include "core/firmware/monitor_bus.hpp"
-#include "models/afe/monitor_stack.hpp"
+#include "models/afe/monitor_truth.hpp"
 
 namespace packsim {
 
 class MonitorChainPath {
  public:
-  // Throws std::runtime_error if this build has no register-level model of the part.
   MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint64_t seed);
 
+  // A truth of the right shape for this chain, to fill each tick.
+  MonitorTruth makeTruth() const;
+  int thermistorChannels() const { return cfg_.devices * cfg_.thermistors_per_device; }
   void update(double t, const MonitorTruth& truth);
   bool faultLine() const { return bus_.chain->faultLine(); }
   bool balancing(int cell) const;  // series position
@@ -28,6 +29,7 @@ class MonitorChainPath {
 
  private:
   MonitorConfig cfg_;
+  int cells_;
   MonitorBus bus_;
   std::vector<int> firstCell_;  // per device: its bottom cell's series position
 };

@@ -154,7 +154,7 @@ std::vector<ResultChannel> makeChannels() {
    {"names", [](const Recording&) { return enumNames(&bms::balanceStatusName, bms::kBalanceStatusCount); }}},
   {"/hardware/balancing", nullptr, A::Series, P::BalancingHardware, "balancing switch conducting per series cell (hardware)",
    Column<uint8_t>{&Recording::hw_balancing, [](const S& s, V<uint8_t>& v) {
-     perGroup(s, v, [&](int g) { return flag(s.hw->monitors().balancing(g, s.t_s)); }); }}, kNoAttr},
+     perGroup(s, v, [&](int g) { return flag(s.hw->balancing(g)); }); }}, kNoAttr},
   {"/truth/board_temp_C", "degC", A::None, P::Board, "BMS board temperature (simulated truth)",
    Column<double>{&Recording::board_temp_C, [](const S& s, V<double>& v) { v.push_back(s.x[s.plant.tempIndex(s.plant.boardNode())]); }}, kNoAttr},
   {"/truth/balancer_bus_V", "V", A::None, P::ActiveBalancer, "active balancer bus voltage (simulated truth)",

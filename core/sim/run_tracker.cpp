@@ -63,7 +63,7 @@ void RunTracker::noteSocRange(double t, const double* x, int cell) {
 void RunTracker::setHardware(const HardwareSim* hw) {
   hw_ = hw;
   r_.rec.has_hardware = hw != nullptr;
-  r_.rec.devices = hw ? hw->monitors().config().devices : 0;
+  r_.rec.devices = hw ? hw->monitorDevices() : 0;
 }
 
 void RunTracker::event(double t, const std::string& kind, const std::string& detail) {

@@ -1,6 +1,5 @@
 #include "core/sim/simulation.hpp"
 
-#include <bms/bms_core.hpp>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -14,7 +13,7 @@
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
-#include "core/sim/library_firmware.hpp"
+#include "core/sim/mcu_firmware.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
 #include "core/sim/run_tracker.hpp"
@@ -50,22 +49,10 @@ struct SimulationRun::Impl {
     plant.initialState(x.data());
     solver->reset(0.0, x.data());
 
-    bms::init(core);
-    in.runRequest = true;
     tracker.setHardware(&hw);
-    // The firmware reads every device each tick: a stack that cannot be read out within
-    // one tick would in reality deliver older readings than simulated here. Say so.
-    const double readout_s = stackReadoutTime_s(s.hardware.afe, s.pack.series);
-    if (readout_s > s.bms.tick_s && !s.bms.firmware.library) {
-      char note[200];
-      std::snprintf(note, sizeof note, "reading the %d-device monitor stack takes %.1f ms, longer than the %.0f ms BMS tick",
-                    s.hardware.afe.devices, readout_s * 1e3, s.bms.tick_s * 1e3);
-      tracker.event(0.0, "config_warning", note);
-    }
     // A balancing stop threshold below what the measurement noise of N channels allows.
     if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
     scheduler.reset(faults);
-    if (s.bms.firmware.library) firmware = std::make_unique<LibraryFirmware>(s, hw, tracker);
   }
 
   bool tick(const StopCondition& stopWhen);
@@ -79,14 +66,13 @@ struct SimulationRun::Impl {
   std::unique_ptr<Integrator> solver;
   const bms::Config cfg;
   HardwareSim hw;  // monitor ICs, sensors, relay, FETs, fuse, precharge (bms_bridge)
-  bms::CoreState core{};
   bms::Inputs in{};
   bms::Outputs out{};
   Rng rng;
   PlantSignals sig;
   RunTracker tracker;
   FaultScheduler scheduler;
-  std::unique_ptr<LibraryFirmware> firmware;  // bms.firmware: a user firmware instead of bms::step
+  McuFirmware firmware{s, cfg, hw, tracker};  // packsim's core, or the scenario's library
   const double tick_s;
   const long recordEvery;
   const double end_s;
@@ -119,14 +105,11 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
   ext.applyToPins(in);
 
-  // 2. the firmware decides (a hung MCU does not: its pins hold their last level,
-  //    and only the monitor ICs' own FAULT line can still open the relay)
-  if (!faults.host_dead) {
-    if (firmware)
-      firmware->decide(t, in, out);
-    else
-      bms::step(cfg, core, in, out);
-  }
+  // 2. the firmware decides: its tasks due in [t_k, t_k+1) run on the MCU's clock,
+  //    talking to the monitor chain over the bus (a hung MCU does not: its pins hold
+  //    their last level, and only the monitor ICs' own FAULT line can still open the
+  //    relay)
+  if (!faults.host_dead) firmware.decide(t, in, out);
 
   // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
   //    FETs, precharge) whose state the plant sees from t_k
@@ -197,7 +180,7 @@ RunResult SimulationRun::finish() {
   Impl& m = *impl_;
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.solver = m.solver->stats();
-  if (m.firmware) r.summary.firmware_status = m.firmware->status();
+  if (m.firmware.isLibrary() || m.firmware.host().dead()) r.summary.firmware_status = m.firmware.status();
   compareWithReference(m.s, r);  // the `compare:` reference run, if the scenario names one
   return r;
 }

@@ -1,7 +1,10 @@
 // The co-simulation loop. core/ owns time; one BMS tick k (t_k = k·T_bms) is:
 //
-//   1. sample   sensors read the plant's truth at t_k -> raw codes (noise, quantisation)
-//   2. decide   bms::step(cfg, state, inputs(t_k), outputs)   -- the unchanged firmware
+//   1. sample   sensors read the plant's truth at t_k: the monitor ICs' pins, the MCU's
+//               ADC codes (noise, quantisation) and GPIO levels
+//   2. decide   the firmware's tasks due in [t_k, t_k+1) run on the MCU clock: packsim's
+//               core (bms/bms_firmware.hpp) or the scenario's library, each talking to
+//               the register-level monitor ICs over the bus at its own read-out rate
 //   3. actuate  relay/FET commands take effect at t_k
 //   4. record   truth, measurements and decisions of t_k (every output interval)
 //   5. advance  the plant integrates t_k -> t_k+1 under the held commands and the load,

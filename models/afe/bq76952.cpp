@@ -117,7 +117,8 @@ void Bq76952Chain::initDataMemory() {
     putDm(a, static_cast<uint8_t>(v & 0xFF));
     putDm(static_cast<uint16_t>(a + 1), static_cast<uint8_t>(v >> 8));
   };
-  putDm(BQ952_DM_DA_CONFIG, 0x04u | BQ952_USER_AMPS_DEFAULT);
+  const uint8_t userAmps = bq952_user_amps_field(static_cast<uint32_t>(std::lround(p.user_amps_A * 1e4)));
+  putDm(BQ952_DM_DA_CONFIG, static_cast<uint8_t>(0x04u | userAmps));
   putDm(BQ952_DM_ENABLED_PROT_A, BQ952_SA_CUV | BQ952_SA_COV | BQ952_SA_OCC | BQ952_SA_OCD1 | BQ952_SA_SCD);
   putDm(BQ952_DM_ENABLED_PROT_B, BQ952_SB_UTC | BQ952_SB_UTD | BQ952_SB_OTC | BQ952_SB_OTD | BQ952_SB_OTF);
   // Which faults open which FET (the part's defaults).
@@ -125,6 +126,8 @@ void Bq76952Chain::initDataMemory() {
   putDm(BQ952_DM_CHG_FET_PROT_B, BQ952_SB_OTF | BQ952_SB_OTINT | BQ952_SB_OTC | BQ952_SB_UTINT | BQ952_SB_UTC);
   putDm(BQ952_DM_DSG_FET_PROT_A, BQ952_SA_SCD | BQ952_SA_OCD2 | BQ952_SA_OCD1 | BQ952_SA_CUV);
   putDm(BQ952_DM_DSG_FET_PROT_B, BQ952_SB_OTF | BQ952_SB_OTINT | BQ952_SB_OTD | BQ952_SB_UTINT | BQ952_SB_UTD);
+  putDm(BQ952_DM_ENABLED_PROT_C, p.ocd3_A > 0.0 ? BQ952_SC_OCD3 : 0u);
+  putDm(BQ952_DM_DSG_FET_PROT_C, BQ952_SC_OCD3);
   const double mvStep = BQ952_COV_CUV_LSB_MV, msStep = BQ952_PROT_DELAY_LSB_MS;
   // A setting the part cannot hold is an error, never a silent clamp.
   auto setting = [](const char* name, double value, double unit, double step, int offset, int lo, int hi) {
@@ -149,6 +152,9 @@ void Bq76952Chain::initDataMemory() {
   putDm(BQ952_DM_OCD1_THRESHOLD, static_cast<uint8_t>(setting("ocd1_mV", p.ocd1_mV, 1, ocStep, 0, BQ952_OCD1_MIN, BQ952_OCD1_MAX)));
   putDm(BQ952_DM_OCD1_DELAY, static_cast<uint8_t>(setting("ocd1_delay_ms", p.ocd1_delay_s * 1e3, 1, msStep, off,
                                                           BQ952_OC_DELAY_MIN, BQ952_OC_DELAY_MAX)));
+  const double userA_A = BQ952_USER_AMPS_TENTHS_MA(userAmps) * 1e-4;
+  put16(BQ952_DM_OCD3_THRESHOLD, static_cast<uint16_t>(-setting("ocd3_A", p.ocd3_A, 1, userA_A, 0, 0, 32768)));
+  putDm(BQ952_DM_OCD3_DELAY, static_cast<uint8_t>(setting("ocd3_delay_ms", p.ocd3_delay_s * 1e3, 1, 1e3, 0, 0, 255)));
   uint8_t scd = 0;  // the nearest setting
   for (uint8_t k = 1; k < BQ952_SCD_SETTINGS; ++k)
     if (std::fabs(kScdThresholds_mV[k] - p.scd_mV) < std::fabs(kScdThresholds_mV[scd] - p.scd_mV)) scd = k;
@@ -191,6 +197,8 @@ void Bq76952Chain::initDataMemory() {
 void Bq76952Chain::decodeSettings() {
   Settings& s = s_;
   s.enabledA = dataMemory(BQ952_DM_ENABLED_PROT_A);
+  s.enabledC = dataMemory(BQ952_DM_ENABLED_PROT_C);
+  s.dsgFetC = dataMemory(BQ952_DM_DSG_FET_PROT_C);
   s.enabledB = dataMemory(BQ952_DM_ENABLED_PROT_B);
   s.chgFetA = dataMemory(BQ952_DM_CHG_FET_PROT_A);
   s.chgFetB = dataMemory(BQ952_DM_CHG_FET_PROT_B);
@@ -208,6 +216,7 @@ void Bq76952Chain::decodeSettings() {
   s.ocd1_mV = dataMemory(BQ952_DM_OCD1_THRESHOLD) * BQ952_OC_THRESHOLD_LSB_MV;
   s.ocd1_delay_s = (dataMemory(BQ952_DM_OCD1_DELAY) + BQ952_OC_DELAY_OFFSET) * sStep;
   s.scd_mV = kScdThresholds_mV[dataMemory(BQ952_DM_SCD_THRESHOLD) % BQ952_SCD_SETTINGS];
+  s.ocd3_delay_s = dataMemory(BQ952_DM_OCD3_DELAY);
   s.current_recovery_s = dataMemory(BQ952_DM_PROT_RECOVERY_TIME);
   s.scd_recovery_s = dataMemory(BQ952_DM_SCD_RECOVERY_TIME);
   auto temp = [&](uint16_t at, double& thr, double& delay, double& rec) {
@@ -235,6 +244,7 @@ void Bq76952Chain::decodeSettings() {
     s.cbStartDelta_mV[m] = dataMemory(start[m]);
     s.cbStopDelta_mV[m] = dataMemory(stop[m]);
   }
+  s.ocd3_A = -static_cast<int16_t>(dm16(BQ952_DM_OCD3_THRESHOLD)) * s.userA_A;
   s.chgThreshold_A = static_cast<int16_t>(dm16(BQ952_DM_CHG_CURRENT_THRESHOLD)) * s.userA_A;
   s.dsgThreshold_A = static_cast<int16_t>(dm16(BQ952_DM_DSG_CURRENT_THRESHOLD)) * s.userA_A;
 }
@@ -250,8 +260,8 @@ void Bq76952Chain::powerOn(double t) {
   por_ = true;
   alarmStatus_ = BQ952_AL_INITCOMP;
   alarmEnable_ = BQ952_AL_ENABLE_DEFAULT;
-  alertA_ = alertB_ = statusA_ = statusB_ = 0;
-  cov_ = cuv_ = occ_ = ocd1_ = otc_ = otd_ = otf_ = utc_ = utd_ = DebounceTimer{};
+  alertA_ = alertB_ = alertC_ = statusA_ = statusB_ = statusC_ = 0;
+  cov_ = cuv_ = occ_ = ocd1_ = ocd3_ = otc_ = otd_ = otf_ = utc_ = utd_ = DebounceTimer{};
   currentTrip_s = -1.0;
   heldAt_s = -1.0;
   cc_As = 0.0;
@@ -323,8 +333,8 @@ void Bq76952Chain::protect(double t) {
     tmin = std::min(tmin, T);
   }
   const double shunt_mV = heldCurrent_A * cfg_.shunt_ohm * 1e3;  // + discharge
-  const uint8_t enA = p.enabledA, enB = p.enabledB;
-  uint8_t alertA = 0, alertB = 0, A = statusA_, B = statusB_;
+  const uint8_t enA = p.enabledA, enB = p.enabledB, enC = p.enabledC;
+  uint8_t alertA = 0, alertB = 0, alertC = 0, A = statusA_, B = statusB_, C = statusC_;
   // One row per protection: alert condition, debounce, set and recovery.
   auto row = [&](uint8_t& alert, uint8_t& reg, uint8_t en, uint8_t bit, bool cond, DebounceTimer& timer, double delay_s,
                  bool recovered) {
@@ -346,11 +356,17 @@ void Bq76952Chain::protect(double t) {
   row(alertA, A, enA, BQ952_SA_OCC, -shunt_mV > p.occ_mV, occ_, p.occ_delay_s, false);
   row(alertA, A, enA, BQ952_SA_OCD1, shunt_mV > p.ocd1_mV, ocd1_, p.ocd1_delay_s, false);
   if ((enA & BQ952_SA_SCD) && shunt_mV > p.scd_mV) A = static_cast<uint8_t>(A | BQ952_SA_SCD), alertA |= BQ952_SA_SCD;
-  if ((A & currentBits) != 0 && before == 0) currentTrip_s = t;
+  // OCD3: the slow discharge limit, on the coulomb counter's current in userA.
+  const bool before3 = (C & BQ952_SC_OCD3) != 0;
+  row(alertC, C, enC, BQ952_SC_OCD3, heldCurrent_A > p.ocd3_A, ocd3_, p.ocd3_delay_s, false);
+  const bool tripped = (A & currentBits) != 0 || (C & BQ952_SC_OCD3) != 0;
+  if (tripped && before == 0 && !before3) currentTrip_s = t;
   const double recovery_s = (A & BQ952_SA_SCD) ? p.scd_recovery_s : p.current_recovery_s;
-  if ((A & currentBits) != 0 && t - currentTrip_s >= recovery_s - 1e-9 &&
-      std::fabs(shunt_mV) < std::min(p.occ_mV, p.ocd1_mV))
+  if (tripped && t - currentTrip_s >= recovery_s - 1e-9 && std::fabs(shunt_mV) < std::min(p.occ_mV, p.ocd1_mV) &&
+      !(heldCurrent_A > p.ocd3_A && (enC & BQ952_SC_OCD3))) {
     A = static_cast<uint8_t>(A & ~currentBits);
+    C = static_cast<uint8_t>(C & ~BQ952_SC_OCD3);
+  }
   // Temperature: recovery by hysteresis (absolute recovery thresholds).
   row(alertB, B, enB, BQ952_SB_OTC, tmax > p.otc_C, otc_, p.otc_delay_s, tmax < p.otc_recovery_C);
   row(alertB, B, enB, BQ952_SB_OTD, tmax > p.otd_C, otd_, p.otd_delay_s, tmax < p.otd_recovery_C);
@@ -359,8 +375,10 @@ void Bq76952Chain::protect(double t) {
   row(alertB, B, enB, BQ952_SB_UTD, tmin < p.utd_C, utd_, p.utd_delay_s, tmin > p.utd_recovery_C);
   alertA_ = alertA;
   alertB_ = alertB;
+  alertC_ = alertC;
   statusA_ = A;
   statusB_ = B;
+  statusC_ = C;
 }
 
 void Bq76952Chain::advance(double t) {
@@ -426,7 +444,7 @@ void Bq76952Chain::balanceAutonomously(double t) {
 uint16_t Bq76952Chain::alarmRaw() const {
   uint16_t raw = 0;
   if (statusA_) raw |= BQ952_AL_SSA;
-  if (statusB_) raw |= BQ952_AL_SSBC;
+  if (statusB_ || statusC_) raw |= BQ952_AL_SSBC;
   if (balanceMask_ | autoMask_) raw |= BQ952_AL_CB;
   if (!chargeFetOn()) raw |= BQ952_AL_XCHG;
   if (!dischargeFetOn()) raw |= BQ952_AL_XDSG;
@@ -446,7 +464,8 @@ bool Bq76952Chain::chargeFetOn() const {
 }
 
 bool Bq76952Chain::dischargeFetOn() const {
-  return fetEnabled_ && !cfgUpdate_ && !hostDsgOff_ && !(statusA_ & s_.dsgFetA) && !(statusB_ & s_.dsgFetB);
+  return fetEnabled_ && !cfgUpdate_ && !hostDsgOff_ && !(statusA_ & s_.dsgFetA) && !(statusB_ & s_.dsgFetB) &&
+         !(statusC_ & s_.dsgFetC);
 }
 
 uint8_t Bq76952Chain::fetStatus() const {
@@ -468,10 +487,12 @@ void Bq76952Chain::buildImage(std::array<uint8_t, BQ952_DIRECT_SPACE>& r) const 
   r[BQ952_SAFETY_STATUS_A] = statusA_;
   r[BQ952_SAFETY_ALERT_B] = alertB_;
   r[BQ952_SAFETY_STATUS_B] = statusB_;
+  r[BQ952_SAFETY_ALERT_C] = alertC_;
+  r[BQ952_SAFETY_STATUS_C] = statusC_;
   uint16_t battery = static_cast<uint16_t>(BQ952_BS_SEC_FULLACCESS << BQ952_BS_SEC_SHIFT);
   if (cfgUpdate_) battery |= BQ952_BS_CFGUPDATE;
   if (por_) battery |= BQ952_BS_POR;
-  if (statusA_ || statusB_) battery |= BQ952_BS_SS;
+  if (statusA_ || statusB_ || statusC_) battery |= BQ952_BS_SS;
   putLe16(&r[BQ952_BATTERY_STATUS], battery);
   for (int c = 0; c < cells_; ++c)
     putLe16(&r[BQ952_CELL_VOLTAGE(c + 1)], static_cast<uint16_t>(cell_mV[static_cast<size_t>(c)]));

@@ -75,9 +75,10 @@ class Bq76952Chain : public MonitorChain {
  private:
   // Protection settings decoded from data memory (what the device acts on).
   struct Settings {
-    uint8_t enabledA = 0, enabledB = 0, chgFetA = 0, chgFetB = 0, dsgFetA = 0, dsgFetB = 0;
+    uint8_t enabledA = 0, enabledB = 0, enabledC = 0, chgFetA = 0, chgFetB = 0, dsgFetA = 0, dsgFetB = 0, dsgFetC = 0;
     double cov_V = 0, cov_delay_s = 0, cov_recovery_V = 0, cuv_V = 0, cuv_delay_s = 0, cuv_recovery_V = 0;
     double occ_mV = 0, occ_delay_s = 0, ocd1_mV = 0, ocd1_delay_s = 0, scd_mV = 0;
+    double ocd3_A = 0, ocd3_delay_s = 0;  // discharge current (A) read by the coulomb counter
     double current_recovery_s = 0, scd_recovery_s = 0;
     double otc_C = 0, otc_delay_s = 0, otc_recovery_C = 0, otd_C = 0, otd_delay_s = 0, otd_recovery_C = 0;
     double otf_C = 0, otf_delay_s = 0, otf_recovery_C = 0, utc_C = 0, utc_delay_s = 0, utc_recovery_C = 0;
@@ -126,8 +127,8 @@ class Bq76952Chain : public MonitorChain {
   Settings s_;
   bool cfgUpdate_ = false, fetEnabled_ = false, hostChgOff_ = false, hostDsgOff_ = false, por_ = true;
   uint16_t alarmStatus_ = 0, alarmEnable_ = BQ952_AL_ENABLE_DEFAULT;
-  uint8_t alertA_ = 0, alertB_ = 0, statusA_ = 0, statusB_ = 0;
-  DebounceTimer cov_, cuv_, occ_, ocd1_, otc_, otd_, otf_, utc_, utd_;
+  uint8_t alertA_ = 0, alertB_ = 0, alertC_ = 0, statusA_ = 0, statusB_ = 0, statusC_ = 0;
+  DebounceTimer cov_, cuv_, occ_, ocd1_, ocd3_, otc_, otd_, otf_, utc_, utd_;
   double currentTrip_s = -1.0;
   // measurement loop: pins held at the last conversion, and the results
   double heldAt_s = -1.0;

@@ -38,6 +38,8 @@ struct Bq952Protection {
   double occ_mV = 4.0, occ_delay_s = 0.02;     // across the shunt
   double ocd1_mV = 8.0, ocd1_delay_s = 0.01;
   double scd_mV = 100.0;                         // 15 µs delay: within one read-out
+  double ocd3_A = 0.0, ocd3_delay_s = 2.0;       // slow discharge limit on the coulomb counter; 0 A: off
+  double user_amps_A = 0.001;                    // DA Configuration USER_AMPS: 0.1, 1, 10 or 100 mA
   double current_recovery_s = 5.0;
   double otc_C = 55.0, otd_C = 60.0, otf_C = 80.0, ot_delay_s = 2.0;
   double utc_C = 0.0, utd_C = 0.0, ut_delay_s = 2.0;
@@ -64,12 +66,5 @@ struct MonitorConfig {
   double baud = 250000.0;           // link speed for the read-out time
   double conversion_s_per_channel = 6e-6;
 };
-
-// Time to read one device: conversion of its channels plus its reply on the link
-// (10 bits per byte).
-double readoutTime_s(const MonitorConfig& c, int cells);
-// Time to read the whole stack once, device after device on one link. A device with its
-// own measurement loop (measurement_period_s > 0) is only read out, not converted.
-double stackReadoutTime_s(const MonitorConfig& c, int cellCount);
 
 }  // namespace packsim

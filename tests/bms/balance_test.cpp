@@ -33,8 +33,9 @@ struct Policy {
     tm.maxCell_mV = hi;
   }
   // One tick 1 s later; returns the mask as a bit per cell.
-  std::vector<int> tick(bool permitted = true, bool charging = false) {
-    bms::balanceStep(cfg, st, tm, permitted, charging, now_ms, mask, arms);
+  // fresh: the cells are a new read-out (every tick here unless said otherwise).
+  std::vector<int> tick(bool permitted = true, bool charging = false, bool fresh = true) {
+    bms::balanceStep(cfg, st, tm, permitted, charging, fresh, now_ms, mask, arms);
     now_ms += 1000;
     std::vector<int> on;
     for (uint16_t c = 0; c < cfg.cellCount; ++c) on.push_back(bms::balanceBit(mask, c) ? 1 : 0);
@@ -149,6 +150,20 @@ TEST(BalancePolicy, DecidesOnTheBlockMeanOfAverageReadings) {
   p.cfg.balance.averageReadings = 1;  // single readings: the same spike starts it at once
   p.cells({3700, 3760, 3700});
   EXPECT_EQ(p.tick(), (V{0, 1, 0}));
+}
+
+// With a read-out slower than the control tick the same reading is seen on many ticks;
+// only new read-outs fill the block: 4 read-outs, however many ticks lie between them.
+TEST(BalancePolicy, OnlyNewReadOutsFillTheAveragingBlock) {
+  Policy p(3);
+  p.cfg.balance.averageReadings = 4;
+  p.cells({3700, 3760, 3700});
+  for (int readout = 0; readout < 3; ++readout) {
+    EXPECT_EQ(p.tick(true, false, true), (V{0, 0, 0}));
+    for (int k = 0; k < 9; ++k) EXPECT_EQ(p.tick(true, false, false), (V{0, 0, 0})) << "the held reading again";
+  }
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Disabled) << "3 read-outs: no block yet, whatever the tick count";
+  EXPECT_EQ(p.tick(true, false, true), (V{0, 1, 0})) << "the 4th read-out completes the block";
 }
 
 // Two boards of two cells, one board thermistor each (channels 0 and 1): a hot board

@@ -35,6 +35,7 @@ bms::Pl455Config driverConfig(const MonitorConfig& m, int cellCount) {
   c.cellsPerDevice = static_cast<uint8_t>(m.cells_per_device);
   c.cellCount = static_cast<uint16_t>(cellCount);
   c.thermistorsPerDevice = 2;
+  c.cellLsb_uV = 5.0e6f / 65535.0f;  // the datasheet's
   c.oversamplingLog2 = 0;
   c.comparators = true;
   c.compUv_mV = 2800;

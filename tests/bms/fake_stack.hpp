@@ -1,12 +1,11 @@
-// Test-side BQ76PL536A-like replies built byte by byte from the register layout of
-// the datasheets (independent of the simulator's monitor model), so the firmware can be
-// driven tick by tick with chosen cell voltages, temperatures and comm faults.
+// Test-side monitor stack: what the drivers (bms_monitor.hpp) would hand the core after
+// a read-out, with chosen cell voltages, temperatures and comm faults, so the core can
+// be driven tick by tick without the bus. A silent device's read times out; a stuck one
+// answers bytes that fail the driver's header check.
 #pragma once
 #include <bms/bms_config.hpp>
 #include <bms/bms_core.hpp>
-#include <bms/bms_crc.hpp>
 
-#include <cstring>
 #include <vector>
 
 namespace bms_test {
@@ -26,52 +25,45 @@ inline bms::Config config(uint16_t cells, uint8_t thermistors) {
 struct FakeStack {
   std::vector<uint16_t> cell_mV;
   std::vector<uint16_t> thermCode;  // per AFE thermistor channel
-  int stackError_mV = 0;            // added to every device's module (GPAI) reading
+  int stackError_mV = 0;            // added to every device's module (stack) reading
   int16_t die_dC = 300;
-  uint8_t statusBits = 0;           // OR-ed into every device's STATUS byte
+  bool deviceFault = false;         // every device reports its own protection latched
   std::vector<int> silent;          // devices that do not answer
-  std::vector<int> stuck;           // devices that answer 0x00 …
-  uint8_t stuckByte = 0x00;
+  std::vector<int> stuck;           // devices that answer a stuck line (bad header)
 
   FakeStack(uint16_t cells, uint8_t therms, uint16_t mv = 3700) : cell_mV(cells, mv), thermCode(therms, 2048) {}
 
-  static void be(uint8_t* p, uint16_t v) {
-    p[0] = static_cast<uint8_t>(v >> 8);
-    p[1] = static_cast<uint8_t>(v & 0xFF);
+  static bool in(const std::vector<int>& v, int d) {
+    for (int x : v)
+      if (x == d) return true;
+    return false;
   }
 
-  void fill(const bms::Config& c, bms::Inputs& in) const {
-    for (int d = 0; d < bms::kMaxDevices; ++d) in.afe[d].length = 0;
+  // One full read-out into the core's acquisition.
+  void fill(const bms::Config& c, bms::CoreState& s) const {
+    bms::FrameResult res[bms::kMaxDevices];
     for (int d = 0; d < c.afe.deviceCount; ++d) {
-      bms::AfeFrame& f = in.afe[d];
-      bool isSilent = false, isStuck = false;
-      for (int s : silent) isSilent = isSilent || s == d;
-      for (int s : stuck) isStuck = isStuck || s == d;
-      if (isSilent) continue;
-      f.length = 29;  // 3 header + 25 data + CRC
-      std::memset(f.bytes, 0, sizeof f.bytes);
-      f.bytes[0] = static_cast<uint8_t>((d + 1) * 2);
-      f.bytes[1] = 0;
-      f.bytes[2] = 25;
-      uint8_t* p = f.bytes + 3;
-      p[0] = static_cast<uint8_t>(0x01 | statusBits);
+      res[d] = in(silent, d) ? bms::FrameResult::Timeout
+               : in(stuck, d) ? bms::FrameResult::BadHeader
+                              : bms::FrameResult::Ok;
+      if (res[d] != bms::FrameResult::Ok) continue;
+      bms::DeviceReading& r = s.acq.device[d];
+      r = bms::DeviceReading{};
       uint32_t sum = 0;
-      for (int k = 0; k < 6; ++k) {
+      for (int k = 0; k < c.afe.cellsPerDevice; ++k) {
         const int cell = d * c.afe.cellsPerDevice + k;
-        const uint16_t mv = (k < c.afe.cellsPerDevice && cell < c.cellCount) ? cell_mV[static_cast<size_t>(cell)] : 0;
-        be(p + 3 + 2 * k, mv);
-        sum += mv;
+        r.cell_mV[k] = cell < c.cellCount ? cell_mV[static_cast<size_t>(cell)] : 0;
+        sum += r.cell_mV[k];
       }
-      // GPAI LSB = 6 cell LSBs = 6 mV here.
-      be(p + 1, static_cast<uint16_t>((static_cast<int>(sum) + stackError_mV + 3) / 6));
-      for (int k = 0; k < 2; ++k) {
+      r.stack_mV = static_cast<uint32_t>(static_cast<int>(sum) + stackError_mV);
+      for (int k = 0; k < c.afe.thermistorsPerDevice; ++k) {
         const size_t ch = static_cast<size_t>(d * c.afe.thermistorsPerDevice + k);
-        be(p + 15 + 2 * k, ch < thermCode.size() ? thermCode[ch] : 2048);
+        r.thermCode[k] = ch < thermCode.size() ? thermCode[ch] : 2048;
       }
-      be(p + 23, static_cast<uint16_t>(die_dC));
-      f.bytes[28] = bms::crcCrc8(f.bytes, 28);
-      if (isStuck) std::memset(f.bytes, stuckByte, f.length);
+      r.die_dC = die_dC;
+      r.fault = deviceFault;
     }
+    bms::acquireResults(c, s.acq, res, true);
   }
 };
 
@@ -87,13 +79,13 @@ struct Rig {
   }
 };
 
-// Runs the core from t0 to t1 (exclusive) every period, refilling the frames each tick.
+// Runs the core from t0 to t1 (exclusive) every period, a read-out before each tick.
 template <typename Each>
 uint32_t run(const bms::Config& c, bms::CoreState& s, bms::Inputs& in, bms::Outputs& out, const FakeStack& st,
              uint32_t t0, uint32_t t1, Each each) {
   uint32_t t = t0;
   for (; t < t1; t += c.tickPeriod_ms) {
-    st.fill(c, in);
+    st.fill(c, s);
     in.now_ms = t;
     bms::step(c, s, in, out);
     each(t);

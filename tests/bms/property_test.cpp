@@ -130,7 +130,7 @@ void drive(uint32_t seed, long steps, Each each) {
       stack.cell_mV[c] = static_cast<uint16_t>(g.cell_mV[c] + (g.jitter_mV ? r.between(-g.jitter_mV, g.jitter_mV) : 0));
     stack.thermCode = g.thermCode;
     stack.silent = g.silent;
-    stack.fill(cfg, rig.in);
+    stack.fill(cfg, rig.s);
     rig.in.currentCode = 32768 + g.current_mA;
     rig.in.eSwitchInternal = g.eStop;
     rig.in.eSwitchExternal = false;

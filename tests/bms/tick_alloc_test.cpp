@@ -47,7 +47,7 @@ TEST(Core, TickAllocatesNothing) {
     in.resetRequest = k == 2000;
     in.busVoltageCode = static_cast<uint16_t>(k > 20 ? 44400 : 0);  // 1 mV codes: 12 x 3.7 V
     in.now_ms = t;
-    st.fill(cfg, in);
+    st.fill(cfg, s);
     bms::step(cfg, s, in, out);
     sawPrecharge = sawPrecharge || out.state == bms::State::Precharge;
     sawNormal = sawNormal || out.state == bms::State::Normal;

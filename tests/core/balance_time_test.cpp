@@ -6,7 +6,6 @@
 
 #include "core/balance/balance_time.hpp"
 #include "core/sim/plant.hpp"
-#include "models/afe/monitor_stack.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/balance/noise_floor.hpp"
 #include "test_support.hpp"
@@ -239,28 +238,6 @@ TEST(BalanceAccounting, ChargeAndHeatMatchTheClosedFormTo1e6) {
   EXPECT_NEAR(3600.0 * Q * (soc0 - socEnd), r.quad[kQuadBalanceCharge_As], 1e-6 * charge_As);
   // Energy: Σ∫OCV·I = heat (cells' I²R0 + balancing branch, in the board node) at zero load.
   EXPECT_NEAR(r.quad[kQuadChemEnergy_J], r.quad[kQuadHeat_J], 1e-6 * r.quad[kQuadChemEnergy_J]);
-}
-
-// The monitor IC (BQ76PL536A-like) stops balancing when its timer runs out unless the
-// host re-arms it; a dead host (outputs frozen, no re-arm) cannot keep a cell draining.
-TEST(MonitorBalanceTimer, StopsWhenTheTimerRunsOutUnlessReArmed) {
-  MonitorConfig cfg;
-  cfg.devices = 1;
-  cfg.cells_per_device = 2;
-  MonitorStack stack(cfg, 2, 1);
-  const MonitorTruth truth = stack.makeTruth();
-  bms::Outputs out{};
-  out.balanceMask[0] = 0b10;
-  out.balanceTime_s = 10;
-  stack.hostWrite(0.0, out, truth);
-  EXPECT_TRUE(stack.balancing(1, 9.5));
-  EXPECT_FALSE(stack.balancing(0, 9.5));
-  stack.hostWrite(9.0, out, truth);  // same mask, no re-arm: the timer is not rewritten
-  EXPECT_FALSE(stack.balancing(1, 10.0));
-  ++out.balanceArmCount;             // the host re-arms
-  stack.hostWrite(12.0, out, truth);
-  EXPECT_TRUE(stack.balancing(1, 21.5));
-  EXPECT_FALSE(stack.balancing(1, 22.0));
 }
 
 }  // namespace

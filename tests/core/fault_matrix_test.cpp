@@ -1,7 +1,9 @@
 // The fault matrix (issue 16): every fault kind against every bundled preset it applies
 // to, judged on the physical outcome rather than on the firmware's own word:
 //   - detected by the right BMS fault, its latency from the injection within
-//     [delay, delay + one tick] (comm loss: the N-th bad reply, so [(N-1)·tick, N·tick]);
+//     [delay, delay + one tick] on the MCU's own inputs, [delay, delay + one read-out
+//     period + one tick] through the monitor ICs (comm loss: the N-th bad read, so
+//     [(N-1)·I, N·I] for reads every I, read-outs and alert polls alike);
 //   - the pack current (plant truth) zero from detection + one tick + the relay's own
 //     release time on, and the relay contact never closing again while latched;
 //   - a reset request (the operator's GPIO, `kind: reset_request`) 0.7 s after the
@@ -62,8 +64,23 @@ struct FaultKindRow {
   bool seenWhileOpen = true;
 };
 
+// A fault on the MCU's own inputs (current, E-switch) is judged at every control tick.
 std::pair<double, double> debounced(const ProtectionConfig& p, const Scenario& s) {
   return {p.delay_s, p.delay_s + s.bms.tick_s};
+}
+
+// The firmware reads its monitor ICs every read-out period (bms.readout): a condition at
+// their inputs is seen at the first read-out at or after it.
+double readout_s(const Scenario& s) { return s.bms.readout.period_s > 0.0 ? s.bms.readout.period_s : s.bms.tick_s; }
+std::pair<double, double> throughMonitor(const ProtectionConfig& p, const Scenario& s) {
+  return {p.delay_s, p.delay_s + readout_s(s) + s.bms.tick_s};
+}
+// Every read of a device counts for comm loss: read-outs and the alert polls between.
+// The injection time is on a read of every preset, so the N-th bad read is N - 1 read
+// intervals later.
+std::pair<double, double> commLoss(const Scenario& s) {
+  const double every = s.bms.readout.alert_period_s > 0.0 ? s.bms.readout.alert_period_s : readout_s(s);
+  return {(s.bms.comm_loss_count - 1) * every, s.bms.comm_loss_count * every};
 }
 
 std::string at(const std::string& body) {
@@ -87,27 +104,25 @@ const std::vector<FaultKindRow>& rows() {
        [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::EStop), s); }},
       {"channel_offset (+1 V, cell 1)", "cell_overvoltage",
        [](const Scenario&) { return at("kind: channel_offset, cell: 1, offset_mV: 1000"); },
-       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::CellOverVoltage), s); }},
+       [](const Scenario& s) { return throughMonitor(s.bms.protection(bms::FaultId::CellOverVoltage), s); }},
       {"thermistor_open (1)", "thermistor_fault", [](const Scenario&) { return at("kind: thermistor_open, thermistor: 1"); },
-       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::ThermistorFault), s); }},
+       [](const Scenario& s) { return throughMonitor(s.bms.protection(bms::FaultId::ThermistorFault), s); }},
       {"thermistor_short (1)", "thermistor_fault", [](const Scenario&) { return at("kind: thermistor_short, thermistor: 1"); },
-       [](const Scenario& s) { return debounced(s.bms.protection(bms::FaultId::ThermistorFault), s); }},
+       [](const Scenario& s) { return throughMonitor(s.bms.protection(bms::FaultId::ThermistorFault), s); }},
       {"device_silent (1)", "comm_loss", [](const Scenario&) { return at("kind: device_silent, device: 1"); },
-       [](const Scenario& s) {
-         return std::make_pair((s.bms.comm_loss_count - 1) * s.bms.tick_s, s.bms.comm_loss_count * s.bms.tick_s);
-       }},
+       [](const Scenario& s) { return commLoss(s); }},
       {"device_stuck (1, 0xFF)", "comm_loss", [](const Scenario&) { return at("kind: device_stuck, device: 1, byte: 255"); },
-       [](const Scenario& s) {
-         return std::make_pair((s.bms.comm_loss_count - 1) * s.bms.tick_s, s.bms.comm_loss_count * s.bms.tick_s);
-       }},
+       [](const Scenario& s) { return commLoss(s); }},
   };
   return r;
 }
 
 // A short run of `preset` with `extra` YAML merged on top (fast integrator, every tick recorded).
-std::string shortRun(const Preset& p, const Scenario& base, const std::string& extra, double duration_s) {
+std::string shortRun(const Preset& p, const Scenario& base, const std::string& extra, double duration_s,
+                     double stopAfterTrip_s = 1.5) {
   return "extends: " + test::scenarioDir() + "/" + p.file + "\nrun: {duration_s: " + num(duration_s) +
-         ", stop_after_trip_s: 1.5, solver: fast}\noutput: {interval_s: " + num(base.bms.tick_s) + "}\nexpect: {}\n" + extra;
+         ", stop_after_trip_s: " + num(stopAfterTrip_s) + ", solver: fast}\noutput: {interval_s: " +
+         num(base.bms.tick_s) + "}\nexpect: {}\n" + extra;
 }
 
 struct Cell {
@@ -136,13 +151,13 @@ Cell runCell(const Preset& p, const FaultKindRow& row) {
   double reset_s = 0.0;
   try {
     const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
-    // The reset comes 0.7 s after the latest allowed detection (inside the 1.5 s the run
-    // goes on after the trip, leaving time to see an over-current trip again); the fault
+    // The reset comes 0.7 s after the latest allowed detection (the run goes on 1.5 s past
+    // it after the trip, leaving time to see an over-current trip again); the fault
     // itself is never removed.
     reset_s = kInject_s + row.bound_s(base).second + kResetAfter_s;
     s = loadScenarioText(shortRun(p, base,
                                   "faults: [" + row.entry(base) + ", {kind: reset_request, at_s: " + num(reset_s) + "}]\n",
-                                  kInject_s + 3.0),
+                                  reset_s + 2.3, row.bound_s(base).second + kResetAfter_s + 1.5),
                          p.file, test::scenarioDir());
   } catch (const ScenarioError& e) {  // the fault needs hardware this preset lacks
     c.why = e.message();

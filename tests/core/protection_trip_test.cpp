@@ -21,11 +21,12 @@ struct TripCase {
 
 // A cell with OCV 3.5 V (constant), R0 0.05 Ω: V = 3.5 - 0.05·I. Every protection
 // gets a distinct, known delay; the violation starts when the relay closes.
-std::string base(const std::string& load, double soc = 0.5, double temp = 25.0, const std::string& faults = "") {
+std::string base(const std::string& load, double soc = 0.5, double temp = 25.0, const std::string& faults = "",
+                 const std::string& afe = "") {
   return "name: trip\nseed: 1\n"
          "pack:\n  series: 2\n  initial_soc: " + std::to_string(soc) + "\n  initial_temp_C: " + std::to_string(temp) +
          "\n  cell: {capacity_Ah: 50, ocv_V: 3.5, r0_ohm: 0.05, heat_capacity_J_per_K: 1e6, g_ambient_W_per_K: 1}\n"
-         "hardware:\n"
+         "hardware:\n" + afe +
          "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
          "  thermistors: {at_cells: [1, 2]}\n"
          "  current_sense: {shunt_ohm: 0.0005, amp_gain: 20, noise_A_rms: 0}\n"
@@ -71,9 +72,12 @@ std::vector<TripCase> cases() {
       // Charging at 3 A at -1 C vs +1 C.
       {"undertemperature_charge", "undertemperature_charge", base("{current_A: -3}", 0.5, -1.0),
        base("{current_A: -3}", 0.5, 1.0), 0.8, false, {}, true},
-      // The monitor die runs 5 C above its hottest cell: 66 C -> 71 C vs 64 C -> 69 C.
-      {"board_overtemperature", "board_overtemperature", base("{current_A: 0}", 0.5, 66.0),
-       base("{current_A: 0}", 0.5, 64.0), 0.9, false, {"overtemperature", "overtemperature_charge"}},
+      // The monitor die runs 5 C above its hottest cell: 66 C -> 71 C vs 64 C -> 69 C. A
+      // part that converts its die temperature (the BQ76PL536A has only a shutdown flag).
+      {"board_overtemperature", "board_overtemperature",
+       base("{current_A: 0}", 0.5, 66.0, "", "  afe: {model: bq76pl455a, secondary: {enabled: false}}\n"),
+       base("{current_A: 0}", 0.5, 64.0, "", "  afe: {model: bq76pl455a, secondary: {enabled: false}}\n"), 0.9, false,
+       {"overtemperature", "overtemperature_charge"}},
       // Cell 1 reads 3 % high: its device's cell sum exceeds the stack reading by
       // 105 mV, 52.5 mV per cell > 20 mV; at 1 % (17.5 mV per cell) it does not.
       {"cell_sum_plausibility", "cell_sum_plausibility",

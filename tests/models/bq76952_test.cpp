@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "models/afe/bq76952.hpp"
-#include "models/afe/monitor_stack.hpp"
 
 namespace packsim {
 namespace {
@@ -398,16 +397,17 @@ TEST(Bq76952, TransactionTimeFollowsTheI2cClock) {
   EXPECT_NEAR(dev.transfer(0.0, tx, 2, rx, 4).duration_s, 66e-5, 1e-12);
 }
 
-TEST(Bq76952, ChannelErrorsFromTheSeedAsTheFrameLevelModelAndBytesDeterministic) {
+TEST(Bq76952, ChannelErrorsFromTheSeedAndBytesDeterministic) {
   MonitorConfig c = config(true);
   c.channel_gain_sd = 0.002;
   c.channel_offset_sd_V = 0.003;
   c.cell_adc.noise_rms = 0.002;
   Bq76952Chain a(c, 4, 77), b(c, 4, 77), other(c, 4, 78);
-  MonitorStack stack(c, 4, 77);
   for (int k = 0; k < 4; ++k) {
-    EXPECT_DOUBLE_EQ(a.channelGain(k), stack.channelGain(k));
-    EXPECT_DOUBLE_EQ(a.channelOffset_V(k), stack.channelOffset_V(k));
+    EXPECT_DOUBLE_EQ(a.channelGain(k), b.channelGain(k));
+    EXPECT_DOUBLE_EQ(a.channelOffset_V(k), b.channelOffset_V(k));
+    EXPECT_NE(a.channelGain(k), other.channelGain(k));
+    EXPECT_NE(a.channelGain(k), 0.0);
   }
   std::vector<uint8_t> ra, rb, ro;
   for (Bq76952Chain* d : {&a, &b, &other}) {
@@ -425,67 +425,106 @@ TEST(Bq76952, ChannelErrorsFromTheSeedAsTheFrameLevelModelAndBytesDeterministic)
   EXPECT_NE(ra, ro);
 }
 
-// The register-level part acts on its protections when the frame-level model does
-// (models/afe/monitor_stack.cpp, the behaviour bundled scenarios were judged with):
-// the same step of each condition opens and re-closes the same FET within one
-// measurement loop (thresholds differ only by the part's data-memory steps).
-TEST(Bq76952, ProtectionsOpenAndRecloseTheFetsWhenTheFrameLevelModelDoes) {
+// Each protection opens the FETs the part's default FET Protections tables name, at the
+// condition's start plus its data-memory delay (within one 60 ms measurement loop and one
+// 10 ms step), and re-closes them on the part's recovery: voltage and temperature by
+// hysteresis once the condition ends at 5 s, current after its recovery time (5 s after
+// the trip) with the current gone.
+TEST(Bq76952, ProtectionsOpenAndRecloseTheirFetsAfterTheirDelays) {
   struct Case {
     const char* name;
     double cell_V, current_A, ts1_C, ts3_C;
+    bool chg, dsg;          // which FET the part's defaults open
+    double open_s, close_s;  // expected
   };
+  // Delays in the part's steps: COV/CUV 74 x 3.3 ms; OCC (4 + 2) x 3.3 ms; OCD1 (1 + 2)
+  // x 3.3 ms; SCD at once; temperature 2 s.
+  const double vDelay = 74 * 0.0033, occDelay = 6 * 0.0033, ocd1Delay = 3 * 0.0033;
   const Case cases[] = {
-      {"COV", 4.40, 0.0, 25, 25},  {"CUV", 2.40, 0.0, 25, 25},    {"OCC", 3.7, -5.0, 25, 25},
-      {"OCD1", 3.7, 9.0, 25, 25},  {"SCD", 3.7, 120.0, 25, 25},   {"OTC", 3.7, 0.0, 57, 25},
-      {"OTD", 3.7, 0.0, 62, 25},   {"OTF", 3.7, 0.0, 25, 85},     {"UT", 3.7, 0.0, -5, 25},
+      {"COV", 4.40, 0.0, 25, 25, true, false, 1.0 + vDelay, 5.0},
+      {"CUV", 2.40, 0.0, 25, 25, false, true, 1.0 + vDelay, 5.0},
+      {"OCC", 3.7, -5.0, 25, 25, true, false, 1.0 + occDelay, 1.0 + occDelay + 5.0},
+      {"OCD1", 3.7, 9.0, 25, 25, false, true, 1.0 + ocd1Delay, 1.0 + ocd1Delay + 5.0},
+      {"SCD", 3.7, 120.0, 25, 25, true, true, 1.0, 6.0},
+      {"OTC", 3.7, 0.0, 57, 25, true, false, 3.0, 5.0},
+      {"OTD", 3.7, 0.0, 62, 25, true, true, 3.0, 5.0},  // 62 C is above OTC's 55 C too
+      {"OTF", 3.7, 0.0, 25, 85, true, true, 3.0, 5.0},
+      {"UT", 3.7, 0.0, -5, 25, true, true, 3.0, 5.0},   // UTC (CHG) and UTD (DSG)
   };
   for (const Case& k : cases) {
     MonitorConfig c = config(false);
     c.measurement_period_s = 0.06;
     Bq76952Chain dev(c, 4, 1);
-    MonitorStack stack(c, 4, 1);
-    MonitorTruth truth = stack.makeTruth();
-    bms::Outputs out{};
-    out.afeFetEnable = out.chargeFetOn = out.dischargeFetOn = true;
-    stack.hostWrite(0.0, out, truth);
     Host h{dev, false};
     h.sub(BQ952_SUB_FET_ENABLE);
-    // First time each FET opens and re-closes, per model: [model][chg/dsg][open/close]
-    double when[2][2][2];
-    for (auto& a : when)
-      for (auto& b : a) b[0] = b[1] = -1.0;
+    double when[2][2];  // [chg/dsg][open/close]
+    for (auto& w : when) w[0] = w[1] = -1.0;
     const double dt = 0.01;
     for (int i = 1; i <= 1400; ++i) {
       const double t = i * dt;
       const bool on = t >= 1.0 && t < 5.0;  // the condition holds from 1 s to 5 s
       DeviceAnalog& a = dev.analog(0);
-      for (int n = 0; n < 4; ++n) a.cell_V[n] = truth.cell_V[n] = n == 2 && on ? k.cell_V : 3.7;
-      a.current_A = truth.current_A = on ? k.current_A : 0.0;
+      for (int n = 0; n < 4; ++n) a.cell_V[n] = n == 2 && on ? k.cell_V : 3.7;
+      a.current_A = on ? k.current_A : 0.0;
       a.therm_C = {on ? k.ts1_C : 25.0, 25.0, on ? k.ts3_C : 25.0};
-      for (int n = 0; n < 3; ++n) truth.therm_C[n] = a.therm_C[n];
-      stack.update(t, truth);
       dev.advance(t);
-      const bool state[2][2] = {{stack.chargeAllowed(), stack.dischargeAllowed()},
-                                {dev.chargeFetOn(), dev.dischargeFetOn()}};
-      for (int m = 0; m < 2; ++m)
-        for (int f = 0; f < 2; ++f) {
-          if (!state[m][f] && when[m][f][0] < 0) when[m][f][0] = t;
-          if (state[m][f] && when[m][f][0] >= 0 && when[m][f][1] < 0) when[m][f][1] = t;
-        }
+      const bool state[2] = {dev.chargeFetOn(), dev.dischargeFetOn()};
+      for (int f = 0; f < 2; ++f) {
+        if (!state[f] && when[f][0] < 0) when[f][0] = t;
+        if (state[f] && when[f][0] >= 0 && when[f][1] < 0) when[f][1] = t;
+      }
     }
-    bool anyTrip = false;
+    const bool expect[2] = {k.chg, k.dsg};
+    const double slack = c.measurement_period_s + dt + 1e-9;
     for (int f = 0; f < 2; ++f) {
       const char* fet = f == 0 ? "CHG" : "DSG";
-      // Both open it, or neither does.
-      EXPECT_EQ(when[0][f][0] < 0, when[1][f][0] < 0) << k.name << " " << fet;
-      if (when[0][f][0] < 0) continue;
-      anyTrip = true;
-      EXPECT_NEAR(when[1][f][0], when[0][f][0], c.measurement_period_s + 1e-9) << k.name << " " << fet << " opens";
-      EXPECT_GT(when[0][f][1], 0.0) << k.name << " " << fet;
-      EXPECT_NEAR(when[1][f][1], when[0][f][1], c.measurement_period_s + 1e-9) << k.name << " " << fet << " recloses";
+      EXPECT_EQ(when[f][0] >= 0, expect[f]) << k.name << " " << fet;
+      if (!expect[f]) continue;
+      EXPECT_GE(when[f][0], k.open_s - 1e-9) << k.name << " " << fet << " opens";
+      EXPECT_LE(when[f][0], k.open_s + slack) << k.name << " " << fet << " opens";
+      EXPECT_GE(when[f][1], k.close_s - 1e-9) << k.name << " " << fet << " recloses";
+      EXPECT_LE(when[f][1], k.close_s + slack) << k.name << " " << fet << " recloses";
     }
-    EXPECT_TRUE(anyTrip) << k.name;
   }
+}
+
+// OCD3, the slow discharge limit on the coulomb counter (Safety C): a current above its
+// threshold in user amps for its whole seconds opens DSG; off unless configured.
+TEST(Bq76952, Ocd3OpensTheDischargeFetAfterWholeSeconds) {
+  MonitorConfig c = config(false);
+  c.bq.user_amps_A = 0.01;
+  c.bq.ocd3_A = 60.0;
+  c.bq.ocd3_delay_s = 1.0;
+  c.bq.ocd1_mV = 200.0;  // 200 A: out of the way
+  c.bq.scd_mV = 500.0;
+  Bq76952Chain dev(c, 4, 1);
+  Host h{dev, false};
+  h.sub(BQ952_SUB_FET_ENABLE);
+  double opened = -1.0;
+  for (int i = 1; i <= 400; ++i) {
+    const double t = i * 0.01;
+    DeviceAnalog& a = dev.analog(0);
+    for (double& v : a.cell_V) v = 3.7;
+    a.current_A = t >= 1.0 ? 65.0 : 59.0;  // 59 A never trips it
+    dev.advance(t);
+    if (!dev.dischargeFetOn() && opened < 0) opened = t;
+  }
+  EXPECT_NEAR(opened, 2.0, 0.011);
+  EXPECT_TRUE(dev.chargeFetOn()) << "OCD3 opens only DSG";
+  c.bq.ocd3_A = 0.0;  // off
+  Bq76952Chain off(c, 4, 1);
+  Host h2{off, false};
+  h2.sub(BQ952_SUB_FET_ENABLE);
+  for (int i = 1; i <= 400; ++i) {
+    off.analog(0).current_A = 65.0;
+    for (double& v : off.analog(0).cell_V) v = 3.7;
+    off.advance(i * 0.01);
+  }
+  EXPECT_TRUE(off.dischargeFetOn());
+  // A threshold the part cannot hold in its user amps is refused.
+  c.bq.user_amps_A = 0.001;
+  c.bq.ocd3_A = 60.0;  // 60,000 userA > 32,768
+  EXPECT_THROW(Bq76952Chain(c, 4, 1), std::invalid_argument);
 }
 
 // Autonomous balancing (TRM: every Cell Balance Interval, highest cells above Min Cell V

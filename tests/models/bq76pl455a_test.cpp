@@ -11,7 +11,6 @@
 #include <bms/afe/bq76pl455a_regs.h>
 
 #include "models/afe/bq76pl455a.hpp"
-#include "models/afe/monitor_stack.hpp"
 
 namespace packsim {
 namespace {
@@ -301,63 +300,50 @@ TEST(Bq76pl455a, HotOrShortedThermistorLatchesAuxFault) {
   EXPECT_EQ(r.read16(0, PL455_REG_FAULT_AUX), PL455_FAULT_AUX_UV(0));
 }
 
-// The chain's own protection reproduces the frame-level MonitorStack's: driven by the
-// same truth on a 10 ms step, both FAULT lines rise on the same step (COV, CUV and
-// over-temperature ramps, a shorted NTC).
+// The chain's own protection against its settings: driven on a 10 ms step, the FAULT
+// line rises one comparator delay (1 s) after the first step on which the condition
+// holds - a cell past COMP_OV / COMP_UV, an NTC hotter than the AUX threshold (its
+// exact code), a shorted NTC (code 0 reads hot).
 struct Drive {
   int cell = -1;       // series position ramped, or -1
   double v0 = 0, dv_per_s = 0;
   int therm = -1;      // thermistor channel ramped, or -1
   double T0 = 25, dT_per_s = 0;
   bool shortTherm = false;
+  double expected_s = 0;  // first step of the condition + 1 s
 };
 
-double tripTime(MonitorStack* stack, Bq76pl455aChain* chain, const Drive& drv) {
+double tripTime(Bq76pl455aChain& chain, const Drive& drv) {
   const int devices = 2, cells = 16;
-  MonitorTruth truth;
-  if (stack) truth = stack->makeTruth();
   for (int k = 0; k < 2000; ++k) {
     const double t = 0.01 * k;
     for (int d = 0; d < devices; ++d)
       for (int c = 0; c < cells; ++c) {
         const int pos = d * cells + c;
-        const double v = pos == drv.cell ? drv.v0 + drv.dv_per_s * t : 3.7;
-        if (stack) truth.cell_V[static_cast<size_t>(pos)] = v;
-        if (chain) chain->analog(d).cell_V[static_cast<size_t>(c)] = v;
+        chain.analog(d).cell_V[static_cast<size_t>(c)] = pos == drv.cell ? drv.v0 + drv.dv_per_s * t : 3.7;
       }
     for (int ch = 0; ch < devices * 2; ++ch) {
       const double T = ch == drv.therm ? drv.T0 + drv.dT_per_s * t : 25.0;
       const bool shorted = drv.shortTherm && ch == drv.therm && t >= 2.0;
-      if (stack) {
-        truth.therm_C[static_cast<size_t>(ch)] = T;
-        truth.therm_fault[static_cast<size_t>(ch)] = shorted ? ThermistorFault::Short : ThermistorFault::None;
-      }
-      if (chain) {
-        chain->analog(ch / 2).therm_C[static_cast<size_t>(ch % 2)] = T;
-        chain->analog(ch / 2).therm_fault[static_cast<size_t>(ch % 2)] = shorted ? ThermistorFault::Short : ThermistorFault::None;
-      }
+      chain.analog(ch / 2).therm_C[static_cast<size_t>(ch % 2)] = T;
+      chain.analog(ch / 2).therm_fault[static_cast<size_t>(ch % 2)] = shorted ? ThermistorFault::Short : ThermistorFault::None;
     }
-    if (stack) stack->update(t, truth);
-    if (chain) chain->advance(t);
-    if (stack ? stack->faultLine() : chain->faultLine()) return t;
+    chain.advance(t);
+    if (chain.faultLine()) return t;
   }
   return -1.0;
 }
 
-TEST(Bq76pl455a, OwnProtectionTripsOnTheSameStepAsTheFrameLevelStack) {
+TEST(Bq76pl455a, OwnProtectionTripsOneComparatorDelayAfterTheCondition) {
   const std::vector<Drive> drives = {
-      {20, 4.28, 0.013, -1, 25, 0, false},   // COV 4.30 V, 1 s
-      {3, 2.83, -0.021, -1, 25, 0, false},   // CUV 2.80 V
-      {-1, 0, 0, 3, 63.0, 0.17, false},      // OT 65 degC on device 1, input 1
-      {-1, 0, 0, 0, 25.0, 0.0, true},        // a shorted NTC looks hot
+      {20, 4.28, 0.013, -1, 25, 0, false, 1.54 + 1.0},    // COV 4.30 V: 4.28 + 0.013 t > 4.30 from 1.54 s
+      {3, 2.83, -0.021, -1, 25, 0, false, 1.43 + 1.0},    // CUV 2.80 V: from 1.43 s
+      {-1, 0, 0, 3, 63.0, 0.17, false, 11.77 + 1.0},      // OT 65 degC on device 1, input 1: from 11.77 s
+      {-1, 0, 0, 0, 25.0, 0.0, true, 2.0 + 1.0},          // a shorted NTC looks hot: from 2.0 s
   };
   for (size_t i = 0; i < drives.size(); ++i) {
-    const MonitorConfig c = pl455Config(2, 16);
-    MonitorStack stack(c, 32, 5);
-    Bq76pl455aChain chain(c, 32, 5);
-    const double expected = tripTime(&stack, nullptr, drives[i]);
-    ASSERT_GT(expected, 0.0) << i;
-    EXPECT_DOUBLE_EQ(tripTime(nullptr, &chain, drives[i]), expected) << i;
+    Bq76pl455aChain chain(pl455Config(2, 16), 32, 5);
+    EXPECT_NEAR(tripTime(chain, drives[i]), drives[i].expected_s, 0.005) << i;
   }
 }
 
@@ -376,17 +362,23 @@ TEST(Bq76pl455a, GroupRequestsReachTheDevicesOfThatGroup) {
   EXPECT_EQ(both[6], 1);
 }
 
-TEST(Bq76pl455a, ChannelErrorsAreTheFrameLevelStacksForTheSameSeed) {
+TEST(Bq76pl455a, ChannelErrorsAreDrawnFromTheSeed) {
   MonitorConfig c = pl455Config(2, 16);
   c.channel_gain_sd = 2e-3;
   c.channel_offset_sd_V = 1e-3;
-  const MonitorStack stack(c, 32, 21);
-  const Bq76pl455aChain chain(c, 32, 21);
+  const Bq76pl455aChain chain(c, 32, 21), same(c, 32, 21), other(c, 32, 22);
+  double sumSq = 0.0;
   for (int k = 0; k < 32; ++k) {
-    EXPECT_EQ(chain.channelGain(k), stack.channelGain(k));
-    EXPECT_EQ(chain.channelOffset_V(k), stack.channelOffset_V(k));
+    EXPECT_EQ(chain.channelGain(k), same.channelGain(k));
+    EXPECT_EQ(chain.channelOffset_V(k), same.channelOffset_V(k));
+    EXPECT_NE(chain.channelGain(k), other.channelGain(k));
+    sumSq += chain.channelGain(k) * chain.channelGain(k);
   }
   EXPECT_NE(chain.channelGain(0), chain.channelGain(1));
+  // 32 draws of sd 2e-3: the sample sd within a factor 1.6 (chi-square 32 dof, p < 0.01 each side).
+  const double sd = std::sqrt(sumSq / 32.0);
+  EXPECT_GT(sd, 2e-3 / 1.6);
+  EXPECT_LT(sd, 2e-3 * 1.6);
 }
 
 TEST(Bq76pl455a, OversamplingAveragesTheConversionNoise) {

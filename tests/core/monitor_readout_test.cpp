@@ -1,0 +1,267 @@
+// packsim's core reading the register-level monitor ICs through its own drivers
+// (bms/bms_monitor.hpp over the firmware contract): the datasheet LSB of each part,
+// injected communication faults as the driver reports them (CRC errors at their rate and
+// what its retries leave, stuck 0x00/0xFF, silent devices, a broken daisy-chain link),
+// the secondary protection's latch cleared through the bus, the BQ76952's coulomb
+// counter, the time a read-out holds the bus, and a read-out too slow for its period.
+#include <bms/bms_monitor.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "../models/chain_test_board.hpp"
+#include "core/sim/bms_bridge.hpp"
+#include "core/sim/monitor_chain_path.hpp"
+#include "core/sim/simulation.hpp"
+#include "models/afe/bq76pl536a.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+Scenario stackScenario(const std::string& model, int series) {
+  return test::scenarioFromYaml("name: afe\npack:\n  series: " + std::to_string(series) +
+                                "\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
+                                "hardware:\n  afe: {model: " + model + "}\n  cell_adc: {noise_mV_rms: 0}\n"
+                                "load: {current_A: 0}\nrun: {duration_s: 1}\n");
+}
+
+// The scenario's chain, its truth and the core's drivers on a test board.
+struct Rig {
+  Scenario s;
+  bms::Config cfg;
+  MonitorChainPath path;
+  MonitorTruth truth;
+  test::ChainTestBoard board;
+  bms::MonitorDrivers drv{};
+  bms::AcquisitionState acq{};
+  explicit Rig(const std::string& model, int series = 12)
+      : s(stackScenario(model, series)),
+        cfg(makeBmsConfig(s)),
+        path(s.hardware.afe, series, 7),
+        truth(path.makeTruth()),
+        board(*path.buses()[0]->chain) {
+    for (double& v : truth.cell_V) v = 3.7;
+    bms::acquisitionReset(acq);
+  }
+  // The chain sees the truth at the board's clock; then the core's call.
+  void update() { path.update(board.t_s, truth); }
+  bool init() {
+    update();
+    return bms::monitorInit(cfg, drv, acq, board.board(), board.api());
+  }
+  void readAll() {
+    update();
+    bms::monitorReadAll(cfg, drv, acq, board.board(), board.api());
+  }
+  void wait(double dt_s) {
+    board.t_s += dt_s;
+    update();
+  }
+};
+
+struct LsbCase {
+  const char* model;
+  double lsb_V;  // datasheet
+};
+
+class Lsb : public ::testing::TestWithParam<LsbCase> {};
+
+TEST_P(Lsb, CellCodesFollowTheDatasheetLsb) {
+  const LsbCase c = GetParam();
+  Rig rig(c.model);
+  rig.truth.cell_V[0] = 3.7;
+  rig.truth.cell_V[1] = 2.0123;
+  ASSERT_TRUE(rig.init());
+  rig.wait(0.1);  // a BQ76952 converts in its own measurement loop
+  rig.readAll();
+  ASSERT_EQ(rig.acq.last[0], bms::FrameResult::Ok);
+  for (int k = 0; k < 2; ++k) {
+    const double v = rig.truth.cell_V[static_cast<size_t>(k)];
+    // The code is the nearest LSB step; the firmware scales it back to mV.
+    const double expect_mV = std::round(v / c.lsb_V) * c.lsb_V * 1e3;
+    EXPECT_NEAR(rig.acq.device[0].cell_mV[k], expect_mV, 0.5 + 1e-9) << c.model << " cell " << k;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Monitor, Lsb,
+                         ::testing::Values(LsbCase{"bq76pl536a", 6.25 / 16383.0}, LsbCase{"bq76pl455a", 5.0 / 65535.0},
+                                           LsbCase{"bq76952", 1e-3}),
+                         [](const ::testing::TestParamInfo<LsbCase>& i) { return std::string(i.param.model); });
+
+// Each BQ76PL536A read-out reads two blocks per device (results, flags); a reply fails its
+// CRC with probability p. Without retries a read-out fails with 1 - (1 - p)²; with r
+// retries each block fails only when all 1 + r attempts do: 1 - (1 - p^(1+r))².
+TEST(Monitor, CrcErrorsAtTheirRateAndWhatRetriesLeave) {
+  const double p = 0.3;
+  for (int retries : {0, 2}) {
+    Rig rig("bq76pl536a", 12);
+    rig.cfg.drivers.pl536.crcRetries = static_cast<uint8_t>(retries);
+    ASSERT_TRUE(rig.init());
+    rig.truth.comm[1].crc_error_rate = p;
+    int bad = 0, badOther = 0;
+    const int n = 3000;
+    for (int k = 0; k < n; ++k) {
+      rig.wait(0.01);
+      rig.readAll();
+      bad += rig.acq.last[1] != bms::FrameResult::Ok;
+      badOther += rig.acq.last[0] != bms::FrameResult::Ok;
+    }
+    const double q = 1.0 - std::pow(1.0 - std::pow(p, 1 + retries), 2);
+    EXPECT_NEAR(bad, q * n, 5 * std::sqrt(n * q * (1 - q)) + 1) << retries << " retries";
+    EXPECT_EQ(badOther, 0);
+  }
+}
+
+TEST(Monitor, StuckAndSilentDevicesAndABrokenLink) {
+  Rig rig("bq76pl536a", 36);  // 6 devices of 6 cells
+  ASSERT_TRUE(rig.init());
+  rig.truth.comm[0].stuck_byte = 0xFF;
+  rig.truth.comm[1].stuck_byte = 0x00;
+  rig.truth.comm[2].silent = true;
+  rig.wait(0.01);
+  rig.readAll();
+  EXPECT_NE(rig.acq.last[0], bms::FrameResult::Ok);
+  EXPECT_NE(rig.acq.last[1], bms::FrameResult::Ok);
+  EXPECT_EQ(rig.acq.last[2], bms::FrameResult::Timeout);
+  EXPECT_EQ(rig.acq.last[3], bms::FrameResult::Ok);
+  EXPECT_EQ(rig.acq.bad[0], 1);
+  // A link broken above device 4 (index 3) silences 5 and 6 but not 1-4.
+  rig.truth.comm.assign(6, MonitorDeviceFault{});
+  rig.truth.broken_link_above = 3;
+  rig.wait(0.01);
+  rig.readAll();
+  for (int d = 0; d < 6; ++d)
+    EXPECT_EQ(rig.acq.last[d] == bms::FrameResult::Ok, d <= 3) << "device " << d + 1;
+  EXPECT_EQ(rig.acq.bad[5], 1);
+  EXPECT_EQ(rig.acq.bad[0], 0) << "a good read-out resets the count";
+  rig.wait(0.01);
+  rig.readAll();
+  EXPECT_EQ(rig.acq.bad[5], 2) << "two read-outs in a row";
+}
+
+TEST(Monitor, SecondaryOverVoltageLatchesUntilTheHostClearsIt) {
+  Rig rig("bq76pl536a", 12);
+  ASSERT_TRUE(rig.init());
+  const SecondaryProtection& p = rig.s.hardware.afe.secondary;
+  rig.truth.cell_V[7] = p.cov_V + 0.05;
+  for (double t = 0; t < p.cov_delay_s - 0.02; t += 0.01) rig.wait(0.01);
+  EXPECT_FALSE(rig.path.faultLine()) << "before its delay";
+  for (int k = 0; k < 4; ++k) rig.wait(0.01);
+  EXPECT_TRUE(rig.path.faultLine());
+  rig.readAll();
+  EXPECT_TRUE(rig.acq.device[1].fault);
+  EXPECT_FALSE(rig.acq.device[0].fault);
+  rig.truth.cell_V[7] = 3.7;  // condition gone: still latched
+  rig.wait(1.0);
+  EXPECT_TRUE(rig.path.faultLine());
+  bms::monitorClearFaults(rig.cfg, rig.drv, rig.board.board(), rig.board.api());
+  rig.wait(0.01);
+  EXPECT_FALSE(rig.path.faultLine());
+  rig.readAll();
+  EXPECT_FALSE(rig.acq.device[1].fault);
+  // The FAULT wire works without the link: a silent device still asserts it.
+  rig.truth.comm[1].silent = true;
+  rig.truth.cell_V[7] = p.cov_V + 0.05;
+  for (double t = 0; t < p.cov_delay_s + 0.05; t += 0.01) rig.wait(0.01);
+  EXPECT_TRUE(rig.path.faultLine());
+}
+
+TEST(Monitor, Bq76952CoulombCounterIntegratesTheCurrent) {
+  // 12 A for 10 s, then -4 A for 5 s: 100 A·s. The device converts every 250 ms, so the
+  // counter steps in 0.25 s x I; the driver reads it (positive in discharge) in mA·s.
+  Rig rig("bq76952", 16);
+  ASSERT_TRUE(rig.init());
+  const double t0 = rig.board.t_s;
+  rig.readAll();
+  const double before_As = rig.acq.device[0].charge_mAs * 1e-3;
+  while (rig.board.t_s < t0 + 10.0) {
+    rig.truth.current_A = 12.0;
+    rig.wait(0.01);
+  }
+  while (rig.board.t_s < t0 + 15.0) {
+    rig.truth.current_A = -4.0;
+    rig.wait(0.01);
+  }
+  rig.truth.current_A = 0.0;
+  rig.wait(0.3);  // the conversion that closes the last interval
+  rig.readAll();
+  ASSERT_EQ(rig.acq.last[0], bms::FrameResult::Ok);
+  EXPECT_NEAR(rig.acq.device[0].charge_mAs * 1e-3 - before_As, 12.0 * 10.0 - 4.0 * 5.0, 12.0 * 0.25 + 0.1);
+}
+
+TEST(Monitor, PerChannelErrorsAreDrawnFromTheSeedWithTheirSpread) {
+  // 240 channels with channel_gain_sd 1 % and channel_offset_sd 2 mV: the sample spread
+  // of 240 draws lies within ±15 % of the configured one (sd of an sd estimate ≈ 4.6 %),
+  // and the same seed draws the same errors.
+  Scenario s = stackScenario("bq76pl536a", 240);
+  s.hardware.afe.channel_gain_sd = 0.01;
+  s.hardware.afe.channel_offset_sd_V = 0.002;
+  const Bq76pl536aChain a(s.hardware.afe, 240, 11), b(s.hardware.afe, 240, 11), c(s.hardware.afe, 240, 12);
+  double g2 = 0.0, o2 = 0.0;
+  bool differs = false;
+  for (int k = 0; k < 240; ++k) {
+    g2 += a.channelGain(k) * a.channelGain(k);
+    o2 += a.channelOffset_V(k) * a.channelOffset_V(k);
+    ASSERT_EQ(a.channelGain(k), b.channelGain(k));
+    differs = differs || a.channelGain(k) != c.channelGain(k);
+  }
+  EXPECT_NEAR(std::sqrt(g2 / 240), 0.01, 0.0015);
+  EXPECT_NEAR(std::sqrt(o2 / 240), 0.002, 0.0003);
+  EXPECT_TRUE(differs);
+}
+
+// The BQ76PL536A stops balancing when the timer written with the mask runs out unless
+// the host writes it again: a dead host (no re-arm) cannot keep a cell draining.
+TEST(Monitor, BalancingStopsWhenTheDevicesTimerRunsOutUnlessReArmed) {
+  Rig rig("bq76pl536a", 12);
+  ASSERT_TRUE(rig.init());
+  uint32_t mask[bms::kBalanceWords] = {0b10};
+  const double t0 = rig.board.t_s;
+  bms::monitorWriteBalance(rig.cfg, rig.drv, rig.board.board(), rig.board.api(), mask, 10);
+  rig.wait(t0 + 9.5 - rig.board.t_s);
+  EXPECT_TRUE(rig.path.balancing(1));
+  EXPECT_FALSE(rig.path.balancing(0));
+  rig.wait(0.6);
+  EXPECT_FALSE(rig.path.balancing(1)) << "10 s after the write";
+  bms::monitorWriteBalance(rig.cfg, rig.drv, rig.board.board(), rig.board.api(), mask, 10);  // re-armed
+  const double t1 = rig.board.t_s;
+  rig.wait(t1 + 9.5 - rig.board.t_s);
+  EXPECT_TRUE(rig.path.balancing(1));
+  rig.wait(0.6);
+  EXPECT_FALSE(rig.path.balancing(1));
+}
+
+// A BQ76PL536A read-out on 1 Mbit/s SPI: the broadcast convert (4 bytes), the
+// conversion wait (6 cells + GPAI + 2 thermistors at 6 µs), then per device the results
+// (3-byte request + 19 registers + CRC) and the flags (3 + 4 + 1): 8 bits a byte.
+TEST(Monitor, ReadOutHoldsTheBusForItsFramesAndConversion) {
+  Rig rig("bq76pl536a", 12);
+  ASSERT_TRUE(rig.init());
+  rig.wait(0.01);
+  const double t0 = rig.board.t_s;
+  rig.readAll();
+  const double expected = (4 + 2 * ((3 + 19 + 1) + (3 + 4 + 1))) * 8 / 1e6 + 9 * 6e-6;
+  EXPECT_NEAR(rig.board.t_s - t0, expected, 1e-9);
+}
+
+// 60 cells = 10 devices ≈ 3 ms a read-out: fine every 10 ms; read every 2 ms tick it
+// cannot fit, and the firmware stops on its task budget (a firmware_fault).
+TEST(Monitor, AReadOutLongerThanItsPeriodStopsTheFirmware) {
+  std::string yaml = "name: slow\npack:\n  series: 60\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
+                     "hardware:\n  afe: {model: bq76pl536a}\nbms: {tick_ms: TICK}\nload: {current_A: 1}\n"
+                     "run: {duration_s: 1}\n";
+  const auto withTick = [&](const char* tick) {
+    std::string y = yaml;
+    y.replace(y.find("TICK"), 4, tick);
+    return runScenario(test::scenarioFromYaml(y));
+  };
+  EXPECT_LT(test::eventTime(withTick("10"), "firmware_fault"), 0.0);
+  const RunResult slow = withTick("2");
+  EXPECT_GE(test::eventTime(slow, "firmware_fault", "contract break in task 0 (period 2 ms): ran"), 0.0);
+  EXPECT_NE(slow.summary.firmware_status.find("over its 2.000 ms budget"), std::string::npos)
+      << slow.summary.firmware_status;
+}
+
+}  // namespace
+}  // namespace packsim
