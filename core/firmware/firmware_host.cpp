@@ -140,16 +140,11 @@ bool FirmwareHost::call(const char* what, int task) {
     Call::run(&c);
     if (breakCause_[0] != '\0') r.outcome = GuardOutcome::ContractBreak;
   }
-  std::string where = what;
-  if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
-  switch (r.outcome) {
-    case GuardOutcome::Ok: break;
-    case GuardOutcome::Crashed: fault(start_s, "crash in " + where + ": " + signalName(r.signal)); return false;
-    case GuardOutcome::Hung:
-      fault(start_s, "hang in " + where + ": still running after " + std::to_string(std::lround(watchdog_s_ * 1e3)) +
-                         " ms of CPU time (watchdog_ms)");
-      return false;
-    case GuardOutcome::ContractBreak: fault(start_s, "contract break in " + where + ": " + breakCause_); return false;
+  if (r.outcome != GuardOutcome::Ok) {
+    std::string where = what;
+    if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
+    failed(start_s, where, r);
+    return false;
   }
   if (task == -2) {
     if (!c.desc) {
@@ -160,6 +155,19 @@ bool FirmwareHost::call(const char* what, int task) {
     name_ = c.name[0] ? c.name : "(unnamed)";
   }
   return true;
+}
+
+// The firmware_fault of a call that did not return cleanly.
+void FirmwareHost::failed(double start_s, const std::string& where, const GuardResult& r) {
+  switch (r.outcome) {
+    case GuardOutcome::Ok: break;
+    case GuardOutcome::Crashed: fault(start_s, "crash in " + where + ": " + signalName(r.signal)); break;
+    case GuardOutcome::Hung:
+      fault(start_s, "hang in " + where + ": still running after " + std::to_string(std::lround(watchdog_s_ * 1e3)) +
+                         " ms of CPU time (watchdog_ms)");
+      break;
+    case GuardOutcome::ContractBreak: fault(start_s, "contract break in " + where + ": " + breakCause_); break;
+  }
 }
 
 // Power-up at t_s: the descriptor, RAM, init; then the tasks' first due times.

@@ -93,6 +93,7 @@ class FirmwareHost {
  private:
   struct Call;  // one call into the firmware (guarded for a library)
   bool call(const char* what, int task);
+  void failed(double start_s, const std::string& where, const GuardResult& r);
   void start(double t_s);
   void fault(double t_s, const std::string& cause);
   // Records the cause; under the guard the call ends here (longjmp), else the service

@@ -268,7 +268,7 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   const bool changed = pin.relay_closed != mainClosed || pin.precharge_A != prechargeA ||
                        pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked ||
                        (plant_.fetNode() >= 0 && (pin.discharge_fet_on != dsg || pin.charge_fet_on != chg));
-  const bool balancingChanged = actuateBalancing(t, out, sig, f, pin);
+  const bool balancingChanged = actuateBalancing(out, sig, f, pin);
   pin.relay_closed = mainClosed;
   pin.precharge_A = prechargeA;
   pin.discharge_blocked = dischargeBlocked;
@@ -291,7 +291,7 @@ const PlantSignals& HardwareSim::measurementView(double t, const double* x, cons
 
 // Balancing switches as the monitor ICs hold them (mask and timer), the charger's
 // CC-CV state under the BMS enable, and the active balancer's controller.
-bool HardwareSim::actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig,
+bool HardwareSim::actuateBalancing(const bms::Outputs& out, const PlantSignals& sig,
                                    const HardwareFaults& f, PlantInputs& pin) {
   bool changed = false;
   const int series = s_.pack.series;

@@ -80,7 +80,7 @@ class HardwareSim {
   bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done; }
 
  private:
-  bool actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
+  bool actuateBalancing(const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
                         PlantInputs& pin);
 
   const Scenario& s_;

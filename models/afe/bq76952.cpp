@@ -66,8 +66,8 @@ Bq76952Chain::Bq76952Chain(const MonitorConfig& cfg, int cellCount, uint64_t see
                                 std::to_string(cellCount));
   if (cfg.thermistors_per_device < 0 || cfg.thermistors_per_device > static_cast<int>(BQ952_MAX_TS))
     throw std::invalid_argument("bq76952: thermistors_per_device must be 0..3");
-  // Per-channel errors are a property of the part: drawn once, from their own stream
-  // (the same stream and order as the frame-level model).
+  // Per-channel errors are a property of the part: drawn once, in cell order, from their
+  // own stream (the same for every part).
   Rng rng(deriveSeed(seed, 0xAFE));
   gain_.assign(static_cast<size_t>(cellCount), 0.0);
   offset_.assign(static_cast<size_t>(cellCount), 0.0);

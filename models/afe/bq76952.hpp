@@ -8,7 +8,7 @@
 //                      errors, noise, 1 mV), stack (10 mV), TS1..TS3 through the
 //                      thermistor divider (0.1 K), die, CC2 current; FULLSCAN and
 //                      ADSCAN set in Alarm Status. Registers hold the last loop.
-//   protections:       as the frame-level model (monitor_stack.cpp): an alert bit at
+//   protections:       an alert bit at
 //                      once, the status bit after its delay; recovery by hysteresis
 //                      (voltage, temperature) or time with the current gone; the
 //                      thresholds, delays and enables come from data memory, which

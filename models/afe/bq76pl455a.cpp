@@ -67,7 +67,7 @@ Bq76pl455aChain::Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64
       dev_(static_cast<size_t>(cfg.devices)),
       noise_(deriveSeed(seed, 0x455)),
       comm_(deriveSeed(seed, 0x455C)) {
-  // Per-channel errors: the same stream and order as the frame-level MonitorStack.
+  // Per-channel errors: drawn once, in cell order, from their own stream (the same for every part).
   Rng rng(deriveSeed(seed, 0xAFE));
   gain_.assign(static_cast<size_t>(cellCount), 0.0);
   offset_.assign(static_cast<size_t>(cellCount), 0.0);

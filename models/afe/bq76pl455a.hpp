@@ -11,8 +11,8 @@
 //                comparators compare the true pin voltages with COMP_UV/COMP_OV and
 //                the AUX inputs' noiseless code with AUXn_UV (below = NTC hot), each
 //                latching after its MonitorConfig::secondary delay (the EEPROM's AUX
-//                threshold is the exact code of secondary.ot_C, so the frame-level
-//                MonitorStack's trip times carry over); CBENBL clears when
+//                threshold is the exact code of secondary.ot_C: the comparator
+//                trips exactly above ot_C); CBENBL clears when
 //                the CBCONFIG balance time has run out
 //   transfer:    command frames in (a frame with a wrong CRC is dropped and flagged in
 //                FAULT_COM), response frames out: top device first for broadcasts; a
@@ -22,7 +22,7 @@
 //
 // Faults are latched until the host writes 1 to their FAULT_SUM bit (or detail bit)
 // and the condition is gone. Per-channel gain/offset errors are drawn once from the
-// seed (the same stream as the frame-level MonitorStack); conversion noise and CRC
+// seed (in cell order, the same stream for every part); conversion noise and CRC
 // corruption draw from two more seed streams in a fixed order, so the same seed and
 // the same transactions give the same bytes.
 #pragma once

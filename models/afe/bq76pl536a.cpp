@@ -55,8 +55,8 @@ Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64
   if (cfg.devices < 1 || cfg.devices > static_cast<int>(BQ536_ADDR_MAX))
     throw std::invalid_argument("bq76pl536a: devices " + std::to_string(cfg.devices) + " outside 1..62");
   if (!(cfg.baud > 0.0)) throw std::invalid_argument("bq76pl536a: baud (SPI clock) must be > 0");
-  // Per-channel errors are a property of the part: drawn once, in cell order, from the
-  // stream MonitorStack uses (same seed -> same channel errors).
+  // Per-channel errors are a property of the part: drawn once, in cell order, from their
+  // own stream (the same for every part: same seed -> same channel errors).
   Rng rng(deriveSeed(seed, 0xAFE));
   gain_.assign(static_cast<size_t>(cellCount), 0.0);
   offset_.assign(static_cast<size_t>(cellCount), 0.0);

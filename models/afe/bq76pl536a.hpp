@@ -15,7 +15,7 @@
 //                bias; open = full scale, short = 0). The comparators see the true pin
 //                voltages and thermistor temperatures (they are not the ADC).
 //   random:      per-channel gain/offset drawn once from deriveSeed(seed, 0xAFE) in
-//                cell order (as MonitorStack); conversion noise from its own stream in
+//                cell order (the same stream for every part); conversion noise from its own stream in
 //                the fixed order GPAI, VCELL1..n, TS1, TS2 per conversion; CRC bit flips
 //                from a third stream.
 //   link time:   (tx + rx bytes) · 8 / MonitorConfig::baud (the SPI clock, Hz). A write

@@ -54,7 +54,7 @@ struct Log : FirmwareSink {
   }
 };
 
-enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP };
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME };
 
 FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
   FirmwareSettings s;
@@ -96,6 +96,18 @@ TEST(FirmwareHost, RunsEachTaskAtItsPeriodInDeclarationOrder) {
   EXPECT_EQ(b.log.of("config_warning").size(), 1u);  // the 15 ms task
   EXPECT_FALSE(b.host.dead());
   EXPECT_EQ(b.host.taskRuns(0), 6u);
+}
+
+// Contract v2: init may set a task's period from its configuration (0: off); a task
+// the descriptor lacks, or a call outside init, is refused.
+TEST(FirmwareHost, InitSetsTaskPeriodsOnlyDuringInit) {
+  Bench b(probe(RETIME));
+  b.run(10);  // instances due in [0, 100) ms
+  const std::vector<std::string> expected = {"retime 30000 -1", "retime 60000 -1", "retime 90000 -1"};
+  EXPECT_EQ(b.log.of("firmware"), expected);
+  EXPECT_FALSE(b.host.dead());
+  EXPECT_EQ(b.host.taskRuns(2), 0u) << "switched off at init";
+  EXPECT_EQ(b.host.taskRuns(1), 4u) << "untouched: 20 ms";
 }
 
 TEST(FirmwareHost, BusTransfersAdvanceTheClockByTheirDuration) {

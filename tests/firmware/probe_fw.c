@@ -14,6 +14,8 @@
  *   BIG_RX     task 0 asks for more than PSFW_BUS_MAX_FRAME bytes
  *   BUS_LOOP   task 0 keeps transferring (its budget runs out in simulated time)
  *   TRIP       task 0 reports "trip: overcurrent_discharge" once
+ *   RETIME     init sets task 0 to 30 ms and switches task 2 off (set_task_period);
+ *              task 0 reports "retime <now_us> <result of set_task_period now>"
  * Every mode but PROBE closes the relay and the FETs at init, so a dead MCU leaves
  * them closed.
  */
@@ -24,7 +26,7 @@
 
 #include "packsim_fw.h"
 
-enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP };
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME };
 
 typedef struct probe_ram {
   int32_t mode, at_ms;
@@ -43,6 +45,11 @@ static void task0(void* ram, psfw_board* b, const psfw_board_api* api) {
   probe_ram* r = (probe_ram*)ram;
   uint8_t tx[4] = {1, 2, 3, 4}, rx[8];
   if (r->mode == PROBE) return report(b, api, 0);
+  if (r->mode == RETIME) {
+    char text[48];
+    snprintf(text, sizeof text, "retime %lu %ld", (unsigned long)api->now_us(b), (long)api->set_task_period(b, 0, 10, 0));
+    return api->event(b, text);
+  }
   if ((int32_t)api->now_ms(b) < r->at_ms) return;
   switch (r->mode) {
     case BUS: {
@@ -85,6 +92,9 @@ static int32_t probe_init(void* ram, psfw_board* b, const psfw_board_api* api, c
   memcpy(&r->at_ms, config + 4, 4);
   if (r->mode == ABORT) abort();
   if (r->mode == INIT_FAIL) return 7;
+  if (r->mode == RETIME && (api->set_task_period(b, 0, 30, 0) != 0 || api->set_task_period(b, 2, 0, 0) != 0 ||
+                            api->set_task_period(b, 5, 10, 0) != PSFW_NO_CHANNEL))
+    return 9;
   if (r->mode != PROBE) {
     api->gpio_write(b, PSFW_OUT_RELAY, 1);
     api->gpio_write(b, PSFW_OUT_DISCHARGE_FET, 1);
