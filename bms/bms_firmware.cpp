@@ -55,25 +55,6 @@ void writeMonitors(CoreFirmwareRam& r, psfw_board* b, const psfw_board_api* api)
   }
 }
 
-int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint8_t* config, uint32_t len) {
-  CoreFirmwareRam& r = ramOf(ram);
-  if (config == nullptr || len != sizeof(CoreImage)) return 1;
-  uint32_t head[2];
-  std::memcpy(head, config, sizeof head);
-  if (head[0] != kCoreImageTag || head[1] != sizeof(CoreImage)) return 2;
-  std::memcpy(&r.cfg, config + offsetof(CoreImage, cfg), sizeof r.cfg);
-  const Config& c = r.cfg;
-  if (api->abi_version < 2u) return 3;  // needs set_task_period
-  if (api->set_task_period(b, kTaskReadout, c.readout.period_ms, 0) != 0 ||
-      api->set_task_period(b, kTaskAlerts, c.readout.alertPeriod_ms, 0) != 0 ||
-      api->set_task_period(b, kTaskControl, c.tickPeriod_ms, 0) != 0)
-    return 4;
-  init(r.core);
-  if (!monitorInit(c, r.monitors, r.core.acq, b, api))
-    api->event(b, "monitor stack: not every device took its address and configuration at init");
-  return 0;
-}
-
 void readoutTask(void* ram, psfw_board* b, const psfw_board_api* api) {
   CoreFirmwareRam& r = ramOf(ram);
   r.readoutDue_ms = api->now_ms(b);
@@ -94,6 +75,26 @@ void controlTask(void* ram, psfw_board* b, const psfw_board_api* api) {
   writePins(r.out, b, api);
   writeMonitors(r, b, api);
   api->telemetry_send(b, r.telemetry, telemetryEncode(r.out, r.telemetry));
+}
+
+int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint8_t* config, uint32_t len) {
+  CoreFirmwareRam& r = ramOf(ram);
+  if (config == nullptr || len != sizeof(CoreImage)) return 1;
+  uint32_t head[2];
+  std::memcpy(head, config, sizeof head);
+  if (head[0] != kCoreImageTag || head[1] != sizeof(CoreImage)) return 2;
+  std::memcpy(&r.cfg, config + offsetof(CoreImage, cfg), sizeof r.cfg);
+  const Config& c = r.cfg;
+  if (api->abi_version < 2u) return 3;  // needs set_task_period
+  if (api->set_task_period(b, kTaskReadout, c.readout.period_ms, 0) != 0 ||
+      api->set_task_period(b, kTaskAlerts, c.readout.alertPeriod_ms, 0) != 0 ||
+      api->set_task_period(b, kTaskControl, c.tickPeriod_ms, 0) != 0)
+    return 4;
+  init(r.core);
+  if (!monitorInit(c, r.monitors, r.core.acq, b, api))
+    api->event(b, "monitor stack: not every device took its address and configuration at init");
+  controlTask(ram, b, api);  // the outputs of power-up: every pin decided (open) from the first reading
+  return 0;
 }
 
 // Periods until init sets the configured ones (set_task_period).

@@ -5,7 +5,7 @@
 //
 //   configuration  the blob is a CoreImage: a tag, its size and the Config as flashed
 //   init           tasks set to the configured rates; the monitor stack addressed,
-//                  configured and read once
+//                  configured and read once; one control step (the power-up outputs)
 //   task 0 read-out  every readout.period_ms: every device in full into the acquisition
 //   task 1 alerts    every readout.alertPeriod_ms (not run when 0): the devices'
 //                    protection flags alone (skipped when a read-out has just read them)
