@@ -140,8 +140,14 @@ uint16_t chooseCells(const Config& cfg, const BalanceState& s, const Readings& t
 
 }  // namespace
 
+void balanceRange(const Config& cfg, const BalanceState& s, const Telemetry& tm, uint16_t& min_mV, uint16_t& max_mV) {
+  const bool averaging = cfg.balance.averageReadings > 1;
+  min_mV = averaging ? s.meanMin_mV : tm.minCell_mV;
+  max_mV = averaging ? s.meanMax_mV : tm.maxCell_mV;
+}
+
 void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging, bool fresh,
-                 uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount) {
+                 uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount, const uint16_t* packRange) {
   const BalanceConfig& b = cfg.balance;
   restUpdate(s.rest, tm.packCurrent_mA, b.restCurrent_mA, now_ms);
   updateBoard(b, s, tm);
@@ -151,8 +157,12 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   const bool allowed = b.enabled && permitted;
   accumulate(cfg, s, tm, allowed, fresh);
   const bool averaging = b.averageReadings > 1;
-  const Readings r = averaging ? Readings{s.mean_mV, s.meanMin_mV, s.meanMax_mV}
-                               : Readings{tm.cellVoltage_mV, tm.minCell_mV, tm.maxCell_mV};
+  Readings r = averaging ? Readings{s.mean_mV, s.meanMin_mV, s.meanMax_mV}
+                         : Readings{tm.cellVoltage_mV, tm.minCell_mV, tm.maxCell_mV};
+  if (packRange) {  // the other boards' cells count for the spread and the floor
+    r.min_mV = packRange[0] < r.min_mV ? packRange[0] : r.min_mV;
+    r.max_mV = packRange[1] > r.max_mV ? packRange[1] : r.max_mV;
+  }
   const bool due = (!averaging || s.haveMean) && (!s.decided || now_ms - s.lastDecision_ms >= b.period_ms);
   if (!allowed || s.boardPaused || due) {
     clearMask(s.mask);

@@ -58,10 +58,16 @@ void balanceReset(BalanceState& s);
 
 // One tick of the policy. `permitted`: the core allows balancing now; `charging`: the
 // pack is on the charger (state Charge); `fresh`: the cell readings are a new read-out
-// (between read-outs the telemetry holds the last one). Writes the mask; `armCount` is
-// incremented when the monitor's balancing timer is to be rewritten this tick.
+// (between read-outs the telemetry holds the last one); `packRange`: {min, max} of the
+// other boards' cells in a pack of several (bms_pack.hpp), or null: the spread and the
+// floor are the whole pack's, so a board whose cells all sit high bleeds them down to
+// the pack's lowest. Writes the mask; `armCount` is incremented when the monitor's
+// balancing timer is to be rewritten this tick.
 void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging, bool fresh,
-                 uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount);
+                 uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount, const uint16_t* packRange = nullptr);
+// The lowest and highest cell the policy compares on this board: the block means when
+// averaging (once a block is full), else the readings.
+void balanceRange(const Config& cfg, const BalanceState& s, const Telemetry& tm, uint16_t& min_mV, uint16_t& max_mV);
 
 inline bool balanceBit(const uint32_t mask[kBalanceWords], uint16_t cell) {
   return (mask[cell / 32] >> (cell % 32)) & 1u;

@@ -12,6 +12,7 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   const uint16_t devices = static_cast<uint16_t>(perDevice == 0 ? 0 : (cellCount + perDevice - 1) / perDevice);
   c.afe = AfeConfig{AfeModel::Bq76pl536a, static_cast<uint8_t>(devices), perDevice, 2, true, 5};
   c.readout = ReadoutConfig{c.tickPeriod_ms, 0};
+  c.pack = PackConfig{0, 1};
   // Drivers: a CRC failure is read again twice; the parts' own protections as their
   // datasheets ship them (BQ76PL536A comparators written at init, BQ76PL455A and
   // BQ76952 keep what their EEPROM / OTP holds).
@@ -69,7 +70,7 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const FaultRow& f = faultRow(static_cast<FaultId>(i));
     c.rules[i] = ProtectionRule{f.quantity, f.tripAbove, f.threshold, f.hysteresis, f.delay_ms,
-                                f.severity,  f.latch,     f.opens,     true};
+                                f.severity,  f.latch,     f.opens,     true,        FaultAction::Isolate};
   }
   return c;
 }

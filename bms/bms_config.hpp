@@ -24,6 +24,7 @@ struct ProtectionRule {
   bool latch;
   uint8_t opens;  // ActuatorBits
   bool enabled;
+  FaultAction action;  // what a fatal fault does (bms_faults.hpp)
 };
 
 // Conversion from monitor-IC codes to firmware units (the nominal datasheet values:
@@ -135,6 +136,13 @@ struct MonitorDriverConfig {
   Bq952DriverConfig bq952;
 };
 
+// Which monitor board this host serves in a pack of several (bms_pack.hpp): board 0 is
+// the pack host; boards = 1 is a pack with one host.
+struct PackConfig {
+  uint8_t board;
+  uint8_t boards;
+};
+
 // Current that still counts as flowing through a relay commanded open (RelayWelded).
 constexpr int32_t kDefaultWeldCurrent_mA = 500;
 
@@ -146,6 +154,7 @@ struct Config {
   AfeConfig afe;
   ReadoutConfig readout;
   MonitorDriverConfig drivers;
+  PackConfig pack;
   PrechargeConfig precharge;
   SocConfig soc;
   uint32_t weldSettle_ms;       // relay release time allowed before current means "welded"

@@ -14,6 +14,8 @@ void init(CoreState& s) {
   ekfReset(s.ekf);
   s.precharge = PrechargeState{PrechargePhase::Idle, 0, 0, false};
   balanceReset(s.balance);
+  packReset(s.pack);
+  s.balancePermitted = false;
   s.chargeComplete = false;
   s.relayCmd = false;
   s.prechargeCmd = false;
@@ -25,7 +27,9 @@ void init(CoreState& s) {
 namespace {
 
 bool eSwitchPulled(const Inputs& in) { return in.eSwitchInternal || in.eSwitchExternal; }
-bool fatal(const Config& cfg, const CoreState& s) { return fatalFaults(cfg, s.protection) != 0; }
+// While driving (state Normal) a MonitorWhileDriving fault only warns.
+bool driving(const CoreState& s) { return s.state == State::Normal; }
+bool fatal(const Config& cfg, const CoreState& s) { return fatalFaults(cfg, s.protection, driving(s)) != 0; }
 
 // Where a request leads once the pack may be connected.
 State connectedState(const Inputs& in) { return in.runRequest ? State::Normal : State::Charge; }
@@ -165,11 +169,16 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   const bool fresh = complete && s.acq.fresh;
   s.acq.fresh = false;
   const uint16_t meanCell = static_cast<uint16_t>(cfg.cellCount > 0 ? tm.packVoltage_mV / cfg.cellCount : 0u);
+  const bool member = packMember(cfg);
+  if (member)
+    packApplyShare(s.pack, tm, s.quantity);
+  else if (cfg.pack.boards > 1)
+    packMerge(cfg, s.pack, in.now_ms, tm, s.quantity);
   socUpdate(cfg.soc, s.soc, fresh, meanCell, tm.packCurrent_mA, in.now_ms);
   ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, fresh, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
             in.now_ms);
   historyQuantities(cfg, s, in, tm, s.quantity);
-  protectionUpdate(cfg, s.quantity, in.now_ms, s.protection);
+  if (!member) protectionUpdate(cfg, s.quantity, in.now_ms, driving(s), s.protection);  // a member has no relay
 
   State next = s.state;
   switch (s.state) {
@@ -203,7 +212,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
     case State::Init:
     case State::Standby: break;
   }
-  const uint8_t blocked = openedActuators(cfg, s.protection);
+  const uint8_t blocked = openedActuators(cfg, s.protection, driving(s));
   const bool anyFatal = fatal(cfg, s);
   const bool pulled = eSwitchPulled(in);
   out.relayClose = relay && !anyFatal && !pulled && (blocked & kActRelay) == 0;
@@ -220,10 +229,16 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   out.afeClearFaults = in.resetRequest;
   // Balancing: only with every monitor answering, no fatal fault, and in a state where
   // the pack is idle, driving or charging.
-  const bool balancePermitted = complete && !anyFatal &&
-                                (s.state == State::Standby || s.state == State::Normal || s.state == State::Charge);
-  balanceStep(cfg, s.balance, tm, balancePermitted, s.state == State::Charge, fresh, in.now_ms, out.balanceMask,
-              out.balanceArmCount);
+  // A member balances as the pack host permits.
+  const bool balancePermitted =
+      member ? complete && s.pack.share.seen && s.pack.share.balancePermitted
+             : complete && !anyFatal && (s.state == State::Standby || s.state == State::Normal || s.state == State::Charge);
+  const bool charging = member ? s.pack.share.charging : s.state == State::Charge;
+  s.balancePermitted = balancePermitted;
+  uint16_t packRange[2];
+  const bool others = cfg.pack.boards > 1 && packBalanceRange(cfg, s.pack, packRange);
+  balanceStep(cfg, s.balance, tm, balancePermitted, charging, fresh, in.now_ms, out.balanceMask, out.balanceArmCount,
+              others ? packRange : nullptr);
   out.balanceStatus = static_cast<uint8_t>(s.balance.status);
   out.balanceTime_s = cfg.balanceTime_s;
   // Charger: enabled only while charging with the charge path closed and nothing acting

@@ -1,8 +1,11 @@
 // The BMS control core: one pure step per tick over fixed-size structs.
 //
 //   step(cfg, state, in, out):
-//     1. acquire: parse every monitor-IC reply (length, header, CRC), count bad
-//        replies per device; codes -> mV / mA / deci-degC; min/max quantities
+//     1. measure: the held monitor readings (the read-out task's, bms_measure) and
+//        the MCU's own codes -> mV / mA / deci-degC; min/max quantities. In a pack
+//        of several boards (bms_pack.hpp) the pack host merges the members'
+//        statuses in; a member takes the pack current and balancing permission from
+//        the pack host and acts on nothing else (it has no relay)
 //     2. estimate: SOC by coulomb counting, re-anchored to OCV after rest (and the
 //        capacity between rested anchors), and by an EKF per series group; the
 //        configured one is reported
@@ -26,6 +29,7 @@
 #include "bms_hal.hpp"
 #include "bms_measure.hpp"
 #include "bms_names.hpp"
+#include "bms_pack.hpp"
 #include "bms_protect.hpp"
 #include "bms_soc.hpp"
 
@@ -48,6 +52,8 @@ struct CoreState {
   EkfState ekf;
   PrechargeState precharge;
   BalanceState balance;
+  PackState pack;          // the other boards' hosts, in a pack of several (bms_pack.hpp)
+  bool balancePermitted;   // this tick's balancing permission (shared with the members)
   bool chargeComplete;  // a cell reached chargeFullCell_mV on this charger connection
   // Commands of the previous tick (what the hardware is doing now).
   bool relayCmd;

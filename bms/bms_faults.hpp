@@ -42,6 +42,16 @@ static_assert(kFaultCount <= 32, "fault bits are one uint32_t");
 // maximum safety limit (fatal: isolates the pack and latches).
 enum class Severity : uint8_t { Info = 0, Warning = 1, Fatal = 2 };
 
+// What a fatal fault does, chosen per protection in the firmware configuration:
+//   Isolate              open what the row opens and latch (the default)
+//   Monitor              log and warn only: the fault is reported active, opens nothing,
+//                        never latches
+//   MonitorWhileDriving  Monitor while the pack drives (state Normal: no real-time
+//                        isolation on track), Isolate in every other state (off track:
+//                        standing, precharging, charging). A fault still present when
+//                        driving ends isolates then.
+enum class FaultAction : uint8_t { Isolate = 0, Monitor = 1, MonitorWhileDriving = 2 };
+
 // Bit masks of the actuators a fault opens.
 enum ActuatorBits : uint8_t {
   kActRelay = 1u << 0,

@@ -17,8 +17,19 @@ bool beyond(const ProtectionRule& r, int32_t value, int32_t margin) {
 
 }  // namespace
 
-void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount], uint32_t now_ms,
+uint32_t isolatingRules(const Config& cfg, bool driving) {
+  uint32_t mask = 0;
+  for (uint8_t i = 0; i < kFaultCount; ++i) {
+    const ProtectionRule& r = cfg.rules[i];
+    const bool isolates = r.action == FaultAction::Isolate || (r.action == FaultAction::MonitorWhileDriving && !driving);
+    if (r.severity == Severity::Fatal && isolates) mask |= 1u << i;
+  }
+  return mask;
+}
+
+void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount], uint32_t now_ms, bool driving,
                       ProtectionState& ps) {
+  const uint32_t isolating = isolatingRules(cfg, driving);
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     const ProtectionRule& r = cfg.rules[i];
     const uint32_t bit = 1u << i;
@@ -43,22 +54,23 @@ void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount],
     // Unsigned difference stays correct across the 32-bit millisecond wrap.
     if (now_ms - ps.violatingSince_ms[i] >= r.delay_ms) {
       ps.active |= bit;
-      if (r.latch) ps.latched |= bit;
+      // A fatal fault only monitored now reports active and latches once it isolates.
+      if (r.latch && (r.severity != Severity::Fatal || (isolating & bit))) ps.latched |= bit;
     }
   }
 }
 
-uint32_t fatalFaults(const Config& cfg, const ProtectionState& ps) {
-  uint32_t mask = 0;
-  for (uint8_t i = 0; i < kFaultCount; ++i) {
-    if (cfg.rules[i].severity == Severity::Fatal) mask |= 1u << i;
-  }
-  return (ps.active | ps.latched) & mask;
+uint32_t fatalFaults(const Config& cfg, const ProtectionState& ps, bool driving) {
+  return (ps.active | ps.latched) & isolatingRules(cfg, driving);
 }
 
-uint8_t openedActuators(const Config& cfg, const ProtectionState& ps) {
+uint8_t openedActuators(const Config& cfg, const ProtectionState& ps, bool driving) {
   uint8_t opens = 0;
-  const uint32_t present = ps.active | ps.latched;
+  // A fatal rule that only monitors now opens nothing; the lower tiers open what they say.
+  uint32_t lowerTiers = 0;
+  for (uint8_t i = 0; i < kFaultCount; ++i)
+    if (cfg.rules[i].severity != Severity::Fatal) lowerTiers |= 1u << i;
+  const uint32_t present = (ps.active | ps.latched) & (isolatingRules(cfg, driving) | lowerTiers);
   for (uint8_t i = 0; i < kFaultCount; ++i) {
     if (present & (1u << i)) opens |= cfg.rules[i].opens;
   }

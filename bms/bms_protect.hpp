@@ -1,5 +1,7 @@
 // The protection table evaluated once per tick: per rule, a time-based debounce
-// (the condition must hold for delay_ms), hysteresis on recovery, and latching.
+// (the condition must hold for delay_ms), hysteresis on recovery, and latching. What a
+// fatal fault does depends on its action (bms_faults.hpp FaultAction) and on whether
+// the pack is driving: `driving` is true while the core is in state Normal.
 #pragma once
 #include <cstdint>
 
@@ -15,12 +17,15 @@ struct ProtectionState {
 };
 
 void protectionReset(ProtectionState& ps);
-void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount], uint32_t now_ms,
+void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount], uint32_t now_ms, bool driving,
                       ProtectionState& ps);
-// Faults (active or latched) of Fatal severity.
-uint32_t fatalFaults(const Config& cfg, const ProtectionState& ps);
-// Actuators that active or latched faults keep open (ActuatorBits).
-uint8_t openedActuators(const Config& cfg, const ProtectionState& ps);
+// Rules that isolate now: Fatal severity with action Isolate, or MonitorWhileDriving
+// while not driving.
+uint32_t isolatingRules(const Config& cfg, bool driving);
+// Faults (active or latched) that isolate now.
+uint32_t fatalFaults(const Config& cfg, const ProtectionState& ps, bool driving);
+// Actuators that the isolating faults keep open (ActuatorBits).
+uint8_t openedActuators(const Config& cfg, const ProtectionState& ps, bool driving);
 // Operator reset: drops latches whose condition has cleared.
 void clearLatched(ProtectionState& ps);
 

@@ -13,6 +13,7 @@
  *   buses:     byte transactions with the monitor ICs, in their own frame formats
  *              and CRCs (SPI for the BQ76PL536A class, UART for the BQ76PL455A
  *              class, I2C for the BQ76952 class)
+ *   CAN:       classic frames to the other boards' MCUs of the pack (version 2)
  *   ADC:       current sense, load-bus voltage, thermistors on the MCU's own ADC
  *   GPIO:      E-switches, relay auxiliary contact, monitor FAULT line, charger
  *              present, run and reset requests in; relay, precharge, FETs, charger
@@ -111,6 +112,16 @@ typedef struct psfw_board_api {
    * firmware's configuration. Returns 0, or PSFW_NO_CHANNEL for a task the descriptor
    * does not have or a call outside init. */
   int32_t (*set_task_period)(psfw_board* b, uint32_t task, uint32_t period_ms, uint32_t budget_us);
+  /* Version 2. CAN: one classic data frame (11-bit id, 0..8 bytes) queued on CAN bus
+   * `can`: returns 0, PSFW_BUS_TIMEOUT when the transmit queue is full, PSFW_NO_CHANNEL
+   * when the board has no such bus (a board alone has none). The frame reaches every
+   * other node after arbitration (lowest id first) and its transmission time at the
+   * bus's bit rate. */
+  int32_t (*can_send)(psfw_board* b, uint8_t can, uint32_t id, const uint8_t* data, uint8_t len);
+  /* The oldest frame that has arrived by now: returns its length (0..8) and fills id and
+   * data (8 bytes of room), or PSFW_BUS_TIMEOUT when none is waiting, PSFW_NO_CHANNEL
+   * when the board has no such bus. */
+  int32_t (*can_receive)(psfw_board* b, uint8_t can, uint32_t* id, uint8_t* data);
 } psfw_board_api;
 
 typedef struct psfw_task {

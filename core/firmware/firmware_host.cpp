@@ -56,6 +56,12 @@ psfw_board_api makeApi() {
   a.set_task_period = [](psfw_board* b, uint32_t task, uint32_t period_ms, uint32_t budget_us) {
     return host(b).setTaskPeriod(task, period_ms, budget_us);
   };
+  a.can_send = [](psfw_board* b, uint8_t can, uint32_t id, const uint8_t* data, uint8_t len) {
+    return service<int32_t>([&] { return host(b).canSend(can, id, data, len); });
+  };
+  a.can_receive = [](psfw_board* b, uint8_t can, uint32_t* id, uint8_t* data) {
+    return service<int32_t>([&] { return host(b).canReceive(can, id, data); });
+  };
   return a;
 }
 
@@ -84,26 +90,23 @@ struct FirmwareHost::Call {
   }
 };
 
-FirmwareHost::FirmwareHost(const FirmwareSettings& s, std::vector<MonitorBus*> buses, double tick_s,
-                           int mcuThermistors, FirmwareSink& sink)
+FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, double tick_s, FirmwareSink& sink)
     : config_(s.config),
       watchdog_s_(s.watchdog_s),
-      buses_(std::move(buses)),
+      board_(std::move(board)),
       tick_ns_(toNs(tick_s)),
-      mcuThermistors_(mcuThermistors),
       sink_(sink),
       lib_(std::make_unique<FirmwareLibrary>(s.library_path)),
       guard_(std::make_unique<FaultGuard>(s.watchdog_s)),
       api_(makeApi()),
       name_(s.library_path) {}
 
-FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, std::vector<MonitorBus*> buses,
-                           double tick_s, int mcuThermistors, FirmwareSink& sink)
+FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, FirmwareBoard board,
+                           double tick_s, FirmwareSink& sink)
     : config_(std::move(config)),
       watchdog_s_(0.0),
-      buses_(std::move(buses)),
+      board_(std::move(board)),
       tick_ns_(toNs(tick_s)),
-      mcuThermistors_(mcuThermistors),
       sink_(sink),
       linked_(linked),
       api_(makeApi()),
@@ -271,8 +274,8 @@ void FirmwareHost::delayUs(uint32_t us) {
 
 int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
   if (breakCause_[0] != '\0') return PSFW_BUS_ERROR;  // a linked-in firmware that broke the contract this call
-  if (bus >= buses_.size()) {
-    breakContract("bus_transfer on bus %u, this board has %zu", bus, buses_.size());
+  if (bus >= board_.buses.size()) {
+    breakContract("bus_transfer on bus %u, this board has %zu", bus, board_.buses.size());
     return PSFW_BUS_ERROR;
   }
   if (txLen > PSFW_BUS_MAX_FRAME || rxLen > PSFW_BUS_MAX_FRAME) {
@@ -290,7 +293,7 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
   if (txLen > 0) std::memcpy(txCopy, tx, txLen);
   if (rxLen > 0) std::memset(rx, 0, rxLen);
   std::memset(rxCopy, 0, rxLen);
-  MonitorBus& b = *buses_[bus];
+  MonitorBus& b = *board_.buses[bus];
   const double t_s = clock_s();
   BusTransfer r;
   bool threw = false;
@@ -315,14 +318,15 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
 }
 
 int32_t FirmwareHost::adcRead(uint8_t channel) const {
-  if (channel == PSFW_ADC_CURRENT) return in_->currentCode;
-  if (channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
+  if (board_.pins && channel == PSFW_ADC_CURRENT) return in_->currentCode;
+  if (board_.pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
   const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
-  if (n >= 0 && n < mcuThermistors_) return in_->mcuThermistorCode[n];
+  if (n >= 0 && n < board_.mcuThermistors) return in_->mcuThermistorCode[n];
   return PSFW_NO_CHANNEL;
 }
 
 int32_t FirmwareHost::gpioRead(uint8_t pin) const {
+  if (!board_.pins) return PSFW_NO_CHANNEL;
   switch (pin) {
     case PSFW_IN_ESWITCH_INTERNAL: return in_->eSwitchInternal;
     case PSFW_IN_ESWITCH_EXTERNAL: return in_->eSwitchExternal;
@@ -336,6 +340,7 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
 }
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
+  if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
   const bool on = level != 0;
   switch (pin) {
     case PSFW_OUT_RELAY: out_->relayClose = on; break;
@@ -356,6 +361,36 @@ int32_t FirmwareHost::setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t 
   fw_.tasks[task].period_ms = period_ms;
   fw_.tasks[task].budget_us = budget_us;
   return 0;
+}
+
+int32_t FirmwareHost::canSend(uint8_t can, uint32_t id, const uint8_t* data, uint8_t len) {
+  if (can != 0 || board_.can == nullptr) return PSFW_NO_CHANNEL;
+  if (id > 0x7FFu || len > 8) {
+    breakContract("can_send of id 0x%X with %u bytes: a classic frame has an 11-bit id and at most 8 bytes", id, len);
+    return PSFW_BUS_ERROR;
+  }
+  if (len > 0 && data == nullptr) {
+    breakContract("can_send with a null buffer and a non-zero length");
+    return PSFW_BUS_ERROR;
+  }
+  uint8_t copy[8];  // copied first: a bad pointer faults before the bus changes
+  if (len > 0) std::memcpy(copy, data, len);
+  return board_.can->send(board_.canNode, clock_s(), id, copy, len) ? 0 : PSFW_BUS_TIMEOUT;
+}
+
+int32_t FirmwareHost::canReceive(uint8_t can, uint32_t* id, uint8_t* data) {
+  if (can != 0 || board_.can == nullptr) return PSFW_NO_CHANNEL;
+  if (id == nullptr || data == nullptr) {
+    breakContract("can_receive with a null id or data buffer");
+    return PSFW_BUS_ERROR;
+  }
+  uint32_t got = 0;
+  uint8_t bytes[8];
+  const int len = board_.can->receive(board_.canNode, clock_s(), got, bytes);
+  if (len < 0) return PSFW_BUS_TIMEOUT;
+  *id = got;
+  if (len > 0) std::memcpy(data, bytes, static_cast<size_t>(len));
+  return len;
 }
 
 void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {

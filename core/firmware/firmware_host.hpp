@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "core/firmware/can_bus.hpp"
 #include "core/firmware/fault_guard.hpp"
 #include "core/firmware/firmware_library.hpp"
 #include "core/firmware/monitor_bus.hpp"
@@ -45,16 +46,23 @@ class FirmwareSink {
   virtual void trip(double t_s, const std::string& reason) = 0;
 };
 
+// What the MCU a firmware runs on is wired to.
+struct FirmwareBoard {
+  std::vector<MonitorBus*> buses;  // bus id n reaches buses[n] (not owned)
+  int mcuThermistors = 0;          // thermistor channels on the MCU's own ADC (PSFW_ADC_THERMISTOR0 + n)
+  bool pins = true;                // current-sense and bus ADC, GPIO in and out wired (the pack host);
+                                   // false: a member board's MCU, reading PSFW_NO_CHANNEL there
+  CanBus* can = nullptr;           // CAN bus 0, shared with the pack's other boards (not owned); none alone
+  int canNode = 0;                 // this MCU's node on it
+};
+
 class FirmwareHost {
  public:
-  // A user library (s.library_path, s.config, s.watchdog_s). buses: bus id n reaches
-  // buses[n] (not owned). mcuThermistors: thermistor channels on the MCU's own ADC
-  // (PSFW_ADC_THERMISTOR0 + n).
-  FirmwareHost(const FirmwareSettings& s, std::vector<MonitorBus*> buses, double tick_s, int mcuThermistors,
-               FirmwareSink& sink);
+  // A user library (s.library_path, s.config, s.watchdog_s) on `board`.
+  FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, double tick_s, FirmwareSink& sink);
   // A firmware linked into packsim, with its configuration blob.
-  FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, std::vector<MonitorBus*> buses,
-               double tick_s, int mcuThermistors, FirmwareSink& sink);
+  FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, FirmwareBoard board, double tick_s,
+               FirmwareSink& sink);
   ~FirmwareHost();
   FirmwareHost(const FirmwareHost&) = delete;
   FirmwareHost& operator=(const FirmwareHost&) = delete;
@@ -89,6 +97,8 @@ class FirmwareHost {
   void telemetrySend(const uint8_t* bytes, uint16_t len);
   void firmwareEvent(const char* text);
   int32_t setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us);
+  int32_t canSend(uint8_t can, uint32_t id, const uint8_t* data, uint8_t len);
+  int32_t canReceive(uint8_t can, uint32_t* id, uint8_t* data);
 
  private:
   struct Call;  // one call into the firmware (guarded for a library)
@@ -103,9 +113,8 @@ class FirmwareHost {
 
   std::vector<uint8_t> config_;
   double watchdog_s_;
-  std::vector<MonitorBus*> buses_;
+  FirmwareBoard board_;
   uint64_t tick_ns_;
-  int mcuThermistors_;
   FirmwareSink& sink_;
   std::unique_ptr<FirmwareLibrary> lib_;  // a user library; null for a linked-in firmware
   const psfw_firmware* linked_ = nullptr;

@@ -26,6 +26,7 @@ enum class FaultKind {
   ChargerOvervoltage, // charger output above its setpoint (V)
   HostDead,           // the MCU hangs: no more BMS ticks, its outputs hold their last level
   ResetRequest,       // operator reset GPIO asserted (one BMS tick unless duration_s)
+  KeyOff,             // the run request (key / drive enable) released: the race is over
 };
 
 const char* faultKindName(FaultKind k);

@@ -32,6 +32,13 @@ int readOpens(YamlMap& m, int fallback) {
   return bits;
 }
 
+// `action: isolate | monitor | monitor_while_driving` (bms::FaultAction).
+bms::FaultAction readAction(YamlMap& m, bms::FaultAction fallback) {
+  const std::vector<std::string>& names = faultActionNames();
+  const std::string v = m.choice("action", names[static_cast<size_t>(fallback)], names);
+  return static_cast<bms::FaultAction>(std::find(names.begin(), names.end(), v) - names.begin());
+}
+
 ProtectionConfig readProtection(YamlMap& parent, const std::string& key, const char* unit, ProtectionConfig d,
                                 Range range) {
   auto m = parent.optionalMap(key);
@@ -42,6 +49,7 @@ ProtectionConfig readProtection(YamlMap& parent, const std::string& key, const c
   d.hysteresis = m->number("hysteresis_" + u, d.hysteresis, Range::nonNegative());
   d.delay_s = m->number("delay_ms", d.delay_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
   d.opens = readOpens(*m, d.opens);
+  d.action = readAction(*m, d.action);
   m->finish();
   return d;
 }
@@ -53,6 +61,7 @@ ProtectionConfig readFlagRule(YamlMap& parent, const std::string& key, Protectio
   d.enabled = m->boolean("enabled", d.enabled);
   d.delay_s = m->number("delay_ms", d.delay_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
   d.opens = readOpens(*m, d.opens);
+  d.action = readAction(*m, d.action);
   m->finish();
   return d;
 }

@@ -32,6 +32,7 @@ constexpr KindInfo kKinds[] = {
     {"charger_overvoltage", FaultKind::ChargerOvervoltage},
     {"host_dead", FaultKind::HostDead},
     {"reset_request", FaultKind::ResetRequest},
+    {"key_off", FaultKind::KeyOff},
 };
 
 struct QuantityInfo {
@@ -127,7 +128,18 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
       inj.value = static_cast<double>(b);
       break;
     }
-    case FaultKind::BrokenLink: inj.index = device("above_device"); break;
+    case FaultKind::BrokenLink: {
+      inj.index = device("above_device");
+      // A broken link silences the devices above it; a bad joint whose line floats
+      // reads 0xFF (or 0x00) from them instead.
+      inj.value = -1.0;
+      if (f.has("byte")) {
+        const long b = f.integer("byte", 0, 255);
+        if (b != 0 && b != 255) throw f.errorAt("byte", "the devices above a bad joint read 0 (0x00) or 255 (0xFF)");
+        inj.value = static_cast<double>(b);
+      }
+      break;
+    }
     case FaultKind::ChannelGain:
       inj.index = cell();
       inj.value = f.number("gain_error", Range::closed(-0.5, 0.5));
@@ -150,6 +162,7 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
     case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
     case FaultKind::HostDead: break;
     case FaultKind::ResetRequest: break;
+    case FaultKind::KeyOff: break;
   }
   f.finish();
   return inj;
@@ -197,7 +210,12 @@ std::string FaultInjection::describe() const {
     case FaultKind::DeviceSilent: std::snprintf(buf, sizeof buf, "device_silent device %d", index + 1); break;
     case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.3g", index + 1, value); break;
     case FaultKind::DeviceStuck: std::snprintf(buf, sizeof buf, "device_stuck device %d, 0x%02X", index + 1, static_cast<int>(value)); break;
-    case FaultKind::BrokenLink: std::snprintf(buf, sizeof buf, "broken_link above device %d", index + 1); break;
+    case FaultKind::BrokenLink:
+      if (value >= 0.0)
+        std::snprintf(buf, sizeof buf, "broken_link above device %d, 0x%02X", index + 1, static_cast<int>(value));
+      else
+        std::snprintf(buf, sizeof buf, "broken_link above device %d", index + 1);
+      break;
     case FaultKind::ChannelGain: std::snprintf(buf, sizeof buf, "channel_gain cell %d, %+.2f %%", index + 1, value * 100.0); break;
     case FaultKind::ChannelOffset: std::snprintf(buf, sizeof buf, "channel_offset cell %d, %+.1f mV", index + 1, value * 1e3); break;
     case FaultKind::ThermistorOpen: std::snprintf(buf, sizeof buf, "thermistor_open thermistor %d", index + 1); break;
@@ -212,6 +230,7 @@ std::string FaultInjection::describe() const {
     case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
     case FaultKind::HostDead: std::snprintf(buf, sizeof buf, "host_dead"); break;
     case FaultKind::ResetRequest: std::snprintf(buf, sizeof buf, "reset_request"); break;
+    case FaultKind::KeyOff: std::snprintf(buf, sizeof buf, "key_off"); break;
   }
   return buf;
 }

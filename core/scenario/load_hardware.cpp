@@ -206,6 +206,10 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       f->finish();
     }
     if (auto b = hw->optionalMap("balancing")) h.balancing = readPassiveBalancer(*b);
+    if (auto c = hw->optionalMap("can")) {  // between the monitor boards' MCUs
+      h.can_bitrate_bps = c->number("bitrate_kbps", h.can_bitrate_bps * 1e-3, Range::closed(10.0, 1000.0)) * 1e3;
+      c->finish();
+    }
     if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
     if (auto b = hw->optionalMap("bus_adc")) {
       const double fs = b->number("full_scale_V", h.bus_adc.lsb * 4095.0, Range::positive());
@@ -234,10 +238,23 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     }
     a.thermistors_per_device =
         static_cast<int>(afe->integer("thermistors_per_device", a.thermistors_per_device, 1, model->max_thermistors));
+    if (afe->has("devices_per_board")) {  // several monitor boards, each with its own host MCU
+      if (a.model == bms::AfeModel::Bq76952)
+        throw afe->errorAt("devices_per_board", "a bq76952 sits alone on its bus: boards are for stacked parts "
+                                                "(bq76pl536a, bq76pl455a)");
+      a.devices_per_board = static_cast<int>(afe->integer("devices_per_board", 1, a.devices));
+      const int boards = (a.devices + a.devices_per_board - 1) / a.devices_per_board;
+      if (boards > bms::kMaxBoards)
+        throw afe->errorAt("devices_per_board", std::to_string(a.devices) + " devices at " +
+                                                    std::to_string(a.devices_per_board) + " per board make " +
+                                                    std::to_string(boards) + " boards; at most " +
+                                                    std::to_string(bms::kMaxBoards));
+    }
     a.channel_gain_sd = afe->number("channel_gain_sd", 0.0, Range::closed(0.0, 0.2));
     a.channel_offset_sd_V = afe->number("channel_offset_sd_mV", 0.0, Range::closed(0.0, 100.0)) * 1e-3;
     a.module_noise_V = afe->number("module_noise_mV_rms", 0.0, Range::closed(0.0, 1000.0)) * 1e-3;
     a.die_rise_C = afe->number("die_rise_C", a.die_rise_C, Range::closed(0.0, 100.0));
+    a.thermistor_bias_A = afe->number("thermistor_bias_mA", 0.0, Range::closed(0.0, 100.0)) * 1e-3;
     a.measurement_period_s =
         afe->number("measurement_period_ms", a.measurement_period_s * 1e3, Range::closed(0.0, 10000.0)) * 1e-3;
     a.baud = afe->number("baud", a.baud, Range::closed(9600.0, 1e7));

@@ -246,6 +246,7 @@ ThermalConfig readThermal(std::optional<YamlMap> m, int cells) {
       c.heat_capacity_J_per_K = n.number("heat_capacity_J_per_K", Range::positive());
       c.g_ambient_W_per_K = n.number("g_ambient_W_per_K", 0.0, Range::nonNegative());
       c.g_each_cell_W_per_K = n.number("to_each_cell_W_per_K", 0.0, Range::nonNegative());
+      c.heat_W = n.number("heat_W", 0.0, Range::closed(0.0, 1e6));
       if (n.has("to_cells")) {
         for (YamlMap l : n.mapList("to_cells")) {
           const int cell = static_cast<int>(l.integer("cell", 1, cells)) - 1;

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/scenario_sections.hpp"
 
 namespace packsim {
@@ -46,6 +47,29 @@ void deepMerge(YAML::Node base, const YAML::Node& child) {
 // that extends one already in it is a cycle, reported with the whole chain.
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
                            std::vector<std::string>& chain);
+// Several monitor boards (hardware.afe.devices_per_board): a balancing board per monitor
+// board, and every board's thermistors on its own inputs (core/scenario/monitor_boards.hpp).
+void checkMonitorBoards(YamlMap& m, Scenario& s) {
+  MonitorConfig& a = s.hardware.afe;
+  if (a.devices_per_board <= 0 || a.devices_per_board >= a.devices) return;
+  YamlMap afe = m.map("hardware").map("afe");
+  PassiveBalancerConfig& b = s.hardware.balancing;
+  const int boardCells = a.devices_per_board * a.cells_per_device;
+  if (b.present) {
+    if (b.cells_per_board != 0 && b.cells_per_board != boardCells)
+      throw m.map("hardware").map("balancing").errorAt(
+          "cells_per_board", "with monitor boards of " + std::to_string(a.devices_per_board) + " devices the balancing "
+                             "boards are the monitor boards: " + std::to_string(boardCells) + " cells (or leave it out)");
+    b.cells_per_board = boardCells;
+    b.boards = (s.pack.series + boardCells - 1) / boardCells;
+  }
+  try {
+    monitorBoards(s.hardware, s.pack.series);
+  } catch (const std::invalid_argument& e) {
+    throw afe.errorAt("devices_per_board", e.what());
+  }
+}
+
 Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text, const std::string& file,
                                const std::string& base_dir, std::vector<std::string>& chain);
 
@@ -185,8 +209,14 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
                                  " per board make " + std::to_string(b.boards) + " boards; at most " +
                                  std::to_string(bms::kMaxBoards));
   }
+  checkMonitorBoards(m, s);
   s.bms = readBms(m.optionalMap("bms"));
   if (auto b = m.optionalMap("bms")) s.bms.firmware = readFirmware(b->optionalMap("firmware"), base_dir);
+  if (s.bms.firmware.library && s.hardware.afe.devices_per_board > 0 &&
+      s.hardware.afe.devices_per_board < s.hardware.afe.devices)
+    throw m.map("hardware").map("afe").errorAt(
+        "devices_per_board", "a pack of several monitor boards runs packsim's core on each board's MCU; a firmware "
+                             "library (bms.firmware) runs on a single board");
   {
     YamlMap load = m.map("load");
     if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)

@@ -121,4 +121,9 @@ std::string protectionDetail(bms::FaultId id, int32_t threshold_fw, uint32_t del
   return os.str();
 }
 
+const std::vector<std::string>& faultActionNames() {
+  static const std::vector<std::string> names = {"isolate", "monitor", "monitor_while_driving"};
+  return names;
+}
+
 }  // namespace packsim

@@ -12,6 +12,7 @@
 #include <bms/bms_hal.hpp>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace packsim {
 
@@ -22,7 +23,11 @@ struct ProtectionConfig {
   double hysteresis = 0.0;  // same unit
   double delay_s = 0.0;
   int opens = -1;           // bms::ActuatorBits it opens; -1 = the firmware table's default
+  bms::FaultAction action = bms::FaultAction::Isolate;  // `action`: isolate | monitor | monitor_while_driving
 };
+
+// The scenario names of bms::FaultAction, in enum order.
+const std::vector<std::string>& faultActionNames();
 
 // Where a protection's YAML threshold goes.
 enum class ThresholdUse : uint8_t {

@@ -46,6 +46,7 @@ struct ThermalNodeConfig {
   double heat_capacity_J_per_K = 100.0;
   double g_ambient_W_per_K = 0.0;
   double g_each_cell_W_per_K = 0.0;         // link to every cell
+  double heat_W = 0.0;                      // a constant heat input from outside the pack (sun, a motor)
   std::vector<std::pair<int, double>> cell_links;  // (0-based cell, W/K)
   std::vector<std::pair<std::string, double>> node_links;  // (other node's name, W/K), e.g. an enclosure
 };
@@ -76,6 +77,7 @@ struct HardwareConfig {
   PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
   ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
   // Thermistor channels: the cell ones, then the balancing board's.
+  double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
   int thermistorCount() const { return static_cast<int>(thermistor_cells.size()) + balancing.board_thermistors * balancing.boards; }
 };
 

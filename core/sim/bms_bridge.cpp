@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "models/hw/charger.hpp"
+#include "models/random/random.hpp"
 #include "models/hw/mosfet.hpp"
 #include "models/hw/precharge.hpp"
 
@@ -22,6 +23,7 @@ void setRule(bms::ProtectionRule& r, const ProtectionConfig& p, double scale) {
   r.hysteresis = toInt(p.hysteresis * scale);
   r.delay_ms = static_cast<uint32_t>(std::lround(p.delay_s * 1e3));
   if (p.opens >= 0) r.opens = static_cast<uint8_t>(p.opens);
+  r.action = p.action;
 }
 
 // Rules without a threshold of their own (boolean quantities, counts).
@@ -29,6 +31,7 @@ void setFlagRule(bms::ProtectionRule& r, const ProtectionConfig& p) {
   r.enabled = p.enabled;
   r.delay_ms = static_cast<uint32_t>(std::lround(p.delay_s * 1e3));
   if (p.opens >= 0) r.opens = static_cast<uint8_t>(p.opens);
+  r.action = p.action;
 }
 
 bms::ProtectionRule& rule(bms::Config& c, bms::FaultId id) { return c.rules[static_cast<int>(id)]; }
@@ -158,29 +161,39 @@ bms::Config makeBmsConfig(const Scenario& s) {
 }
 
 HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
-    : s_(s),
-      plant_(plant),
-      chain_(s.hardware.afe, s.pack.series, s.run.seed),
-      truth_(chain_.makeTruth()) {
-  afeTherm_ = std::min(s.hardware.thermistorCount(), chain_.thermistorChannels());
+    : s_(s), plant_(plant), boards_(monitorBoards(s.hardware, s.pack.series)) {
+  // One register-level stack per monitor board; board 0 draws from the run's seed (a
+  // single-board pack as ever), the others from their own streams.
+  for (const MonitorBoard& b : boards_) {
+    MonitorConfig a = s.hardware.afe;
+    a.devices = b.devices;
+    const uint64_t seed = b.index == 0 ? s.run.seed : deriveSeed(s.run.seed, static_cast<uint64_t>(RngStream::MonitorBoard) + static_cast<uint64_t>(b.index));
+    chains_.push_back(std::make_unique<MonitorChainPath>(a, b.cells, seed));
+    truths_.push_back(chains_.back()->makeTruth());
+  }
   if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
+}
+
+int HardwareSim::boardOfGroup(int g) const {
+  for (const MonitorBoard& b : boards_)
+    if (g < b.firstCell + b.cells) return b.index;
+  return static_cast<int>(boards_.size()) - 1;
+}
+
+bool HardwareSim::balancing(int g) const {
+  const MonitorBoard& b = boards_[static_cast<size_t>(boardOfGroup(g))];
+  return chains_[static_cast<size_t>(b.index)]->balancing(g - b.firstCell);
+}
+
+bool HardwareSim::faultLine() const {
+  for (const auto& c : chains_)
+    if (c->faultLine()) return true;
+  return false;
 }
 
 void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
   const HardwareConfig& hw = s_.hardware;
   const int parallel = plant_.pack().parallel;
-  for (int g = 0; g < s_.pack.series; ++g) {
-    const size_t gi = static_cast<size_t>(g);
-    truth_.cell_V[gi] = sig.group_voltage_V[gi];
-    truth_.cell_gain_error[gi] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
-    truth_.cell_offset_V[gi] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
-  }
-  // Each monitor IC's die sits on its board: the board node of its first cell, or the
-  // ambient air without one.
-  for (size_t d = 0; d < truth_.board_C.size(); ++d) {
-    const int node = plant_.boardNodeOfGroup(static_cast<int>(d) * hw.afe.cells_per_device);
-    truth_.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;
-  }
   auto thermFault = [&](size_t k) {
     return k < f.thermistor.size() ? f.thermistor[k] : ThermistorFault::None;
   };
@@ -191,27 +204,47 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
     }
     return sig.node_temp_C[static_cast<size_t>(hw.thermistor_cells[k] * parallel)];
   };
-  for (size_t k = 0; k < truth_.therm_C.size(); ++k) {
-    const bool used = static_cast<int>(k) < afeTherm_;
-    truth_.therm_C[k] = used ? thermTemp(k) : 25.0;
-    truth_.therm_fault[k] = used ? thermFault(k) : ThermistorFault::None;
+  // Each board's stack: its cells at the pins, each device's die on the balancing board
+  // of its first cell (or the ambient air without one), its thermistor inputs, its
+  // devices' comm faults; a broken link cuts off the devices above it on that board.
+  for (const MonitorBoard& b : boards_) {
+    MonitorTruth& tr = truths_[static_cast<size_t>(b.index)];
+    for (int i = 0; i < b.cells; ++i) {
+      const size_t gi = static_cast<size_t>(b.firstCell + i), li = static_cast<size_t>(i);
+      tr.cell_V[li] = sig.group_voltage_V[gi];
+      tr.cell_gain_error[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
+      tr.cell_offset_V[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
+    }
+    for (size_t d = 0; d < tr.board_C.size(); ++d) {
+      const int node = plant_.boardNodeOfGroup(b.firstCell + static_cast<int>(d) * hw.afe.cells_per_device);
+      tr.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;
+    }
+    for (size_t j = 0; j < tr.therm_C.size(); ++j) {
+      const bool used = j < b.afeChannels.size();
+      tr.therm_C[j] = used ? thermTemp(static_cast<size_t>(b.afeChannels[j])) : 25.0;
+      tr.therm_fault[j] = used ? thermFault(static_cast<size_t>(b.afeChannels[j])) : ThermistorFault::None;
+    }
+    const int cut = f.broken_link_above - b.firstDevice;  // local index of the last device still linked
+    const bool cutHere = f.broken_link_above >= 0 && cut >= 0 && cut < b.devices;
+    for (size_t d = 0; d < tr.comm.size(); ++d) {
+      const size_t gd = static_cast<size_t>(b.firstDevice) + d;
+      tr.comm[d] = gd < f.device.size() ? f.device[gd] : MonitorDeviceFault{};
+      if (cutHere && static_cast<int>(d) > cut && f.broken_link_byte >= 0) tr.comm[d].stuck_byte = f.broken_link_byte;
+    }
+    tr.broken_link_above = cutHere && f.broken_link_byte < 0 ? cut : -1;
+    tr.current_A = sig.pack_current_A;
+    chains_[static_cast<size_t>(b.index)]->update(t, tr);  // the board's host reads it over its bus
   }
-  for (size_t d = 0; d < truth_.comm.size(); ++d) {
-    const MonitorDeviceFault c = d < f.device.size() ? f.device[d] : MonitorDeviceFault{};
-    truth_.comm[d] = c;
-  }
-  truth_.broken_link_above = f.broken_link_above;
-  truth_.current_A = sig.pack_current_A;
 
-  chain_.update(t, truth_);  // the firmware reads it over the bus
-
-  // Thermistors beyond the monitor inputs sit on the MCU's own ADC.
-  for (size_t k = static_cast<size_t>(afeTherm_); k < static_cast<size_t>(hw.thermistorCount()); ++k) {
+  // Thermistors beyond the monitor inputs sit on the pack host's own ADC.
+  const std::vector<int>& mcu = boards_.front().mcuChannels;
+  for (size_t j = 0; j < mcu.size(); ++j) {
+    const size_t k = static_cast<size_t>(mcu[j]);
     const ThermistorFault sf = thermFault(k);
     const int64_t code = sf == ThermistorFault::Open    ? hw.thermistor.fullScaleCode()
                          : sf == ThermistorFault::Short ? 0
                                                     : hw.thermistor.code(thermTemp(k), rng);
-    in.mcuThermistorCode[k - static_cast<size_t>(afeTherm_)] = static_cast<uint16_t>(code);
+    in.mcuThermistorCode[j] = static_cast<uint16_t>(code);
   }
   const double senseOffset_A = f.current_sensor_offset_A + f.current_sensor_drift_A_per_s * t;
   in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A + senseOffset_A, rng));
@@ -219,9 +252,9 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   in.eSwitchInternal = f.estop_internal_pulled;
   in.eSwitchExternal = f.estop_external_pulled;
   in.relayAux = relay_.closed;
-  in.monitorFaultPin = chain_.faultLine();
+  in.monitorFaultPin = faultLine();
   in.chargerPresent = s_.bms.charger_present;
-  in.runRequest = s_.bms.run_request;
+  in.runRequest = s_.bms.run_request && !f.key_off;
   in.resetRequest = f.reset_requested;
   in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
 }
@@ -232,7 +265,7 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   const double dt = s_.bms.tick_s;
   // The monitor FAULT line sits in series with the relay drive: it opens the relay
   // whatever the MCU commands.
-  st_.fault_line = chain_.faultLine();
+  st_.fault_line = faultLine();
   const bool drive = !(hw.fault_line_opens_relay && st_.fault_line);
   relayStep(hw.relay, relay_, out.relayClose && drive, f.relay_welded, t);
   relayStep(hw.precharge_relay, precharge_, out.prechargeClose && drive, false, t);
@@ -240,8 +273,8 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   // The current of the tick that just ended heats the fuse.
   fuseStep(hw.fuse, fuse_, sig.pack_current_A, dt);
 
-  const bool dsg = out.dischargeFetOn && chain_.dischargeAllowed();
-  const bool chg = out.chargeFetOn && chain_.chargeAllowed();
+  const bool dsg = out.dischargeFetOn && chains_.front()->dischargeAllowed();  // BQ76952: one board
+  const bool chg = out.chargeFetOn && chains_.front()->chargeAllowed();
   const bool dischargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, 1.0) ||
                                 !mosfetConducts(hw.charge_fet, chg, 1.0);
   const bool chargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, -1.0) ||
@@ -269,13 +302,31 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
                        pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked ||
                        (plant_.fetNode() >= 0 && (pin.discharge_fet_on != dsg || pin.charge_fet_on != chg));
   const bool balancingChanged = actuateBalancing(out, sig, f, pin);
+  const bool biasChanged = thermistorBias(pin);
   pin.relay_closed = mainClosed;
   pin.precharge_A = prechargeA;
   pin.discharge_blocked = dischargeBlocked;
   pin.charge_blocked = chargeBlocked;
   pin.discharge_fet_on = dsg;
   pin.charge_fet_on = chg;
-  return changed || balancingChanged;
+  return changed || balancingChanged || biasChanged;
+}
+
+// The monitor ICs' thermistor bias, from each device's top cell while it is switched on.
+bool HardwareSim::thermistorBias(PlantInputs& pin) const {
+  if (!(s_.hardware.afe.thermistor_bias_A > 0.0)) return false;
+  bool changed = pin.bias_A.size() != static_cast<size_t>(s_.pack.series);
+  if (changed) pin.bias_A.assign(static_cast<size_t>(s_.pack.series), 0.0);
+  for (const MonitorBoard& b : boards_) {
+    const MonitorChainPath& c = *chains_[static_cast<size_t>(b.index)];
+    for (int d = 0; d < c.devices(); ++d) {
+      const size_t g = static_cast<size_t>(b.firstCell + c.topCell(d));
+      const double i = c.thermistorBias_A(d);
+      changed = changed || pin.bias_A[g] != i;
+      pin.bias_A[g] = i;
+    }
+  }
+  return changed;
 }
 
 const PlantSignals& HardwareSim::measurementView(double t, const double* x, const PlantInputs& pin,
@@ -298,7 +349,7 @@ bool HardwareSim::actuateBalancing(const bms::Outputs& out, const PlantSignals& 
   if (s_.hardware.balancing.present) {
     if (pin.balancing.size() != static_cast<size_t>(series)) pin.balancing.assign(static_cast<size_t>(series), 0);
     for (int g = 0; g < series; ++g) {
-      const uint8_t on = chain_.balancing(g) ? 1 : 0;
+      const uint8_t on = balancing(g) ? 1 : 0;
       changed = changed || pin.balancing[static_cast<size_t>(g)] != on;
       pin.balancing[static_cast<size_t>(g)] = on;
     }

@@ -23,6 +23,7 @@
 #include <bms/bms_config.hpp>
 #include <bms/bms_hal.hpp>
 
+#include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/scenario.hpp"
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/monitor_chain_path.hpp"
@@ -65,13 +66,16 @@ class HardwareSim {
   bool actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f, PlantInputs& pin);
 
   const HardwareStatus& status() const { return st_; }
-  // The firmware's buses (the register-level monitor chain) and the thermistors on the
-  // MCU's own ADC.
-  std::vector<MonitorBus*> monitorBuses() { return chain_.buses(); }
-  int mcuThermistorCount() const { return s_.hardware.thermistorCount() - afeTherm_; }
+  // The monitor boards (one unless hardware.afe.devices_per_board), board b's host's
+  // buses (its register-level monitor chain) and the thermistors on the pack host's ADC.
+  const std::vector<MonitorBoard>& boards() const { return boards_; }
+  std::vector<MonitorBus*> monitorBuses(int board = 0) { return chains_[static_cast<size_t>(board)]->buses(); }
+  int mcuThermistorCount() const { return static_cast<int>(boards_.front().mcuChannels.size()); }
   int monitorDevices() const { return s_.hardware.afe.devices; }
-  // Series group g's balancing switch as the monitor ICs hold it.
-  bool balancing(int g) const { return chain_.balancing(g); }
+  // Series group g's balancing switch as its board's monitor ICs hold it.
+  bool balancing(int g) const;
+  // Any board's FAULT line (the lines are wired together).
+  bool faultLine() const;
   // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the
   // balancing switches for the conversion, so the cells read without their I_bal·R0
   // drop (the state does not change in those milliseconds); otherwise `sig` itself.
@@ -89,9 +93,12 @@ class HardwareSim {
   PlantInputs pausedInputs_;      // the held inputs with every balancing switch open
   PlantSignals pausedSig_;
   std::vector<double> moduleV_;  // active balancer: module voltages received from the BMS
-  MonitorChainPath chain_;
-  MonitorTruth truth_;
-  int afeTherm_ = 0;  // thermistor channels on the monitor ICs
+  int boardOfGroup(int g) const;
+  bool thermistorBias(PlantInputs& pin) const;
+
+  std::vector<MonitorBoard> boards_;
+  std::vector<std::unique_ptr<MonitorChainPath>> chains_;  // per board
+  std::vector<MonitorTruth> truths_;                       // per board, filled each tick
   RelayState relay_, precharge_;
   FuseState fuse_;
   HardwareStatus st_;

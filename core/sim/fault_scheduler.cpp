@@ -94,7 +94,10 @@ void FaultScheduler::apply(HardwareFaults& f) const {
       case FaultKind::DeviceSilent: f.device[k].silent = true; break;
       case FaultKind::CrcErrors: f.device[k].crc_error_rate = inj.value; break;
       case FaultKind::DeviceStuck: f.device[k].stuck_byte = static_cast<int>(inj.value); break;
-      case FaultKind::BrokenLink: f.broken_link_above = inj.index; break;
+      case FaultKind::BrokenLink:
+        f.broken_link_above = inj.index;
+        f.broken_link_byte = static_cast<int>(inj.value);
+        break;
       case FaultKind::ChannelGain: f.cell_channel[k].gain_error += inj.value; break;
       case FaultKind::ChannelOffset: f.cell_channel[k].offset_V += inj.value; break;
       case FaultKind::ThermistorOpen: f.thermistor[k] = ThermistorFault::Open; break;
@@ -107,6 +110,7 @@ void FaultScheduler::apply(HardwareFaults& f) const {
       case FaultKind::ChargerOvervoltage: f.charger_overvoltage_V += inj.value; break;
       case FaultKind::HostDead: f.host_dead = true; break;
       case FaultKind::ResetRequest: f.reset_requested = true; break;
+      case FaultKind::KeyOff: f.key_off = true; break;
     }
   }
 }

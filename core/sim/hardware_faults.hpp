@@ -17,7 +17,8 @@ struct HardwareFaults {
   std::vector<ChannelError> cell_channel;    // per series position (monitor input)
   std::vector<ThermistorFault> thermistor;   // per thermistor channel
   std::vector<MonitorDeviceFault> device;    // per monitor IC, 0 = bottom of the stack
-  int broken_link_above = -1;                // >= 0: every device above this index is silent
+  int broken_link_above = -1;                // >= 0: every device above this index (on its board) is cut off
+  int broken_link_byte = -1;                 // ... silent (-1), or reading this byte (a floating line)
   bool relay_welded = false;
   bool estop_internal_pulled = false;
   bool estop_external_pulled = false;
@@ -27,6 +28,7 @@ struct HardwareFaults {
   double charger_overvoltage_V = 0.0;        // charger output above its setpoint
   bool host_dead = false;                    // MCU hung: no BMS step, outputs frozen
   bool reset_requested = false;              // operator reset GPIO asserted
+  bool key_off = false;                      // the run request released (bms.run_request overridden)
   std::vector<double> cell_heat_W;           // extra heat per cell (hot cell)
   std::vector<double> cell_leak_ohm;         // internal short per cell; 0 = none
 };

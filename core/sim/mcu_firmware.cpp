@@ -4,23 +4,78 @@
 
 namespace packsim {
 
-namespace {
-
-FirmwareHost makeHost(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, FirmwareSink& sink) {
-  if (s.bms.firmware.library)
-    return FirmwareHost(s.bms.firmware, hw.monitorBuses(), s.bms.tick_s, hw.mcuThermistorCount(), sink);
-  return FirmwareHost(bms::coreFirmware(), coreImage(cfg), hw.monitorBuses(), s.bms.tick_s, hw.mcuThermistorCount(),
-                      sink);
+McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker)
+    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library) {
+  const std::vector<MonitorBoard>& boards = hw.boards();
+  if (boards.size() == 1) {
+    FirmwareBoard board{hw.monitorBuses(), hw.mcuThermistorCount()};
+    if (library_)
+      hosts_.push_back(std::make_unique<FirmwareHost>(s.bms.firmware, board, s.bms.tick_s, *this));
+    else
+      hosts_.push_back(std::make_unique<FirmwareHost>(bms::coreFirmware(), coreImage(cfg), board, s.bms.tick_s, *this));
+    return;
+  }
+  // One MCU per board on the shared CAN bus, each flashed for its board.
+  const int n = static_cast<int>(boards.size());
+  can_ = std::make_unique<CanBus>(n, s.hardware.can_bitrate_bps);
+  memberPins_.resize(boards.size());
+  for (const MonitorBoard& b : boards) {
+    bms::Config c = makeBmsConfig(boardScenario(s, b));
+    c.pack = bms::PackConfig{static_cast<uint8_t>(b.index), static_cast<uint8_t>(n)};
+    FirmwareBoard board{hw.monitorBuses(b.index), static_cast<int>(b.mcuChannels.size()), b.index == 0, can_.get(),
+                        b.index};
+    hosts_.push_back(std::make_unique<FirmwareHost>(bms::coreFirmware(), coreImage(c), board, s.bms.tick_s, *this));
+  }
 }
 
-}  // namespace
-
-McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker)
-    : tracker_(tracker), library_(s.bms.firmware.library), host_(makeHost(s, cfg, hw, *this)) {}
-
 void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out) {
-  host_.step(t_s, in, out);
-  if (!library_ && host_.ram()) out = bms::coreFirmwareOutputs(host_.ram());
+  hosts_.front()->step(t_s, in, out);
+  for (size_t b = 1; b < hosts_.size(); ++b) hosts_[b]->step(t_s, in, memberPins_[b]);
+  if (!library_) mergeProbes(out);
+}
+
+// The pack host's outputs with each board's own arrays at their pack positions.
+void McuFirmware::mergeProbes(bms::Outputs& out) const {
+  if (!hosts_.front()->ram()) return;
+  out = bms::coreFirmwareOutputs(hosts_.front()->ram());
+  if (hosts_.size() == 1) return;
+  bms::Telemetry& tm = out.telemetry;
+  const bms::Telemetry host = tm;
+  for (uint32_t& w : out.balanceMask) w = 0;
+  for (const MonitorBoard& b : hw_.boards()) {
+    const FirmwareHost& h = *hosts_[static_cast<size_t>(b.index)];
+    if (!h.ram()) continue;
+    const bms::Outputs& o = b.index == 0 ? out : bms::coreFirmwareOutputs(h.ram());
+    const bms::Telemetry& bt = b.index == 0 ? host : o.telemetry;
+    const uint32_t* mask = b.index == 0 ? bms::coreFirmwareOutputs(h.ram()).balanceMask : o.balanceMask;
+    for (int i = 0; i < b.cells; ++i) {
+      const int g = b.firstCell + i;
+      tm.cellVoltage_mV[g] = bt.cellVoltage_mV[i];
+      tm.socGroup_permille[g] = bt.socGroup_permille[i];
+      if (bms::balanceBit(mask, static_cast<uint16_t>(i))) out.balanceMask[g / 32] |= 1u << (g % 32);
+    }
+    size_t j = 0;  // the board's channels in its own order: inputs, then (pack host) its ADC
+    for (const std::vector<int>* list : {&b.afeChannels, &b.mcuChannels})
+      for (int k : *list) tm.temperature_dC[k] = bt.temperature_dC[j++];
+    for (int d = 0; d < b.devices; ++d) {
+      tm.commBad[b.firstDevice + d] = bt.commBad[d];
+      tm.lastResult[b.firstDevice + d] = bt.lastResult[d];
+    }
+  }
+}
+
+bool McuFirmware::anyDead() const {
+  for (const auto& h : hosts_)
+    if (h->dead()) return true;
+  return false;
+}
+
+std::string McuFirmware::status() const {
+  if (library_) return hosts_.front()->status();
+  for (size_t b = 0; b < hosts_.size(); ++b)
+    if (hosts_[b]->dead())
+      return (hosts_.size() > 1 ? "board " + std::to_string(b + 1) + " " : std::string()) + hosts_[b]->status();
+  return "";
 }
 
 }  // namespace packsim

@@ -1,16 +1,27 @@
-// Step 2 of a tick: the firmware on the simulated BMS microcontroller, run by the
+// Step 2 of a tick: the firmware on the simulated BMS microcontrollers, run by the
 // firmware host (core/firmware) on the run's hardware. Either packsim's own core
 // (bms/bms_firmware.hpp, flashed with makeBmsConfig's image) or, when the scenario names
-// one (bms.firmware), a user's library. Both see the board only through the contract;
-// for the core, a debug probe reads its outputs of the tick (state, faults, telemetry,
-// balancing decision) from its RAM for the record. The host's events go into the run's
-// event log, a library's "trip: <reason>" events into the summary's trip.
+// one (bms.firmware), a user's library. Both see the board only through the contract.
+//
+// A pack of several monitor boards (hardware.afe.devices_per_board) has one MCU per
+// board, each running packsim's core for its board (core/scenario/monitor_boards.hpp),
+// all on one CAN bus (core/firmware/can_bus.hpp); board 0's is the pack host, wired to
+// the pack's pins. They run one after another in each tick.
+//
+// For packsim's core a debug probe reads each MCU's outputs of the tick from its RAM
+// for the record (state, faults, telemetry, balancing decision): the pack host's, with
+// every board's cells, temperatures, devices and balancing bits at their pack positions.
+// The hosts' events go into the run's event log, a library's "trip: <reason>" events
+// into the summary's trip.
 #pragma once
 #include <bms/bms_config.hpp>
 #include <bms/bms_hal.hpp>
 
+#include <memory>
 #include <string>
+#include <vector>
 
+#include "core/firmware/can_bus.hpp"
 #include "core/firmware/firmware_host.hpp"
 #include "core/scenario/scenario.hpp"
 #include "core/sim/bms_bridge.hpp"
@@ -24,9 +35,12 @@ class McuFirmware : public FirmwareSink {
   // The tasks due in [t, t + tick) with the pins sampled at t; out receives the pins
   // (and, for packsim's core, the rest of its outputs through the probe).
   void decide(double t_s, const bms::Inputs& in, bms::Outputs& out);
-  std::string status() const { return host_.status(); }
-  const FirmwareHost& host() const { return host_; }
+  // "" while every MCU runs, else the first stopped one's line; a library's always.
+  std::string status() const;
+  const FirmwareHost& host(int board = 0) const { return *hosts_[static_cast<size_t>(board)]; }
   bool isLibrary() const { return library_; }
+  bool anyDead() const;
+  const CanBus* can() const { return can_.get(); }
 
   void event(double t_s, const std::string& kind, const std::string& detail) override {
     tracker_.event(t_s, kind, detail);
@@ -34,9 +48,14 @@ class McuFirmware : public FirmwareSink {
   void trip(double t_s, const std::string& reason) override { tracker_.firmwareTrip(t_s, reason); }
 
  private:
+  void mergeProbes(bms::Outputs& out) const;
+
   RunTracker& tracker_;
+  const HardwareSim& hw_;
   bool library_;
-  FirmwareHost host_;
+  std::unique_ptr<CanBus> can_;                     // several boards only
+  std::vector<std::unique_ptr<FirmwareHost>> hosts_;  // per board, the pack host first
+  std::vector<bms::Outputs> memberPins_;            // what the members' unconnected pins got
 };
 
 }  // namespace packsim

@@ -61,6 +61,10 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   bus_.advanceTo(t);
 }
 
+double MonitorChainPath::thermistorBias_A(int d) const {
+  return cfg_.thermistors_per_device > 0 && bus_.chain->thermistorBias(d) ? cfg_.thermistor_bias_A : 0.0;
+}
+
 bool MonitorChainPath::balancing(int cell) const {
   const auto it = std::upper_bound(firstCell_.begin(), firstCell_.end(), cell);
   const int d = static_cast<int>(it - firstCell_.begin()) - 1;

@@ -23,6 +23,10 @@ class MonitorChainPath {
   void update(double t, const MonitorTruth& truth);
   bool faultLine() const { return bus_.chain->faultLine(); }
   bool balancing(int cell) const;  // series position
+  // Device d's thermistor bias current (A) and the cell it draws from (its top one).
+  double thermistorBias_A(int d) const;
+  int topCell(int d) const { return firstCell_[static_cast<size_t>(d)] + bus_.chain->cellsOf(d) - 1; }
+  int devices() const { return bus_.chain->deviceCount(); }
   bool dischargeAllowed() const { return bus_.chain->dischargeFetOn(); }
   bool chargeAllowed() const { return bus_.chain->chargeFetOn(); }
   std::vector<MonitorBus*> buses() { return {&bus_}; }

@@ -32,6 +32,7 @@ Plant::Plant(const Scenario& s)
     for (int c = 0; c + 1 < pack_.cellCount(); ++c) thermal_.link(c, c + 1, th.cell_to_cell_W_per_K);
   for (const ThermalNodeConfig& n : th.nodes) {
     const int id = thermal_.addNode(n.name, n.heat_capacity_J_per_K, n.g_ambient_W_per_K);
+    if (n.heat_W > 0.0) externalHeat_W_.emplace_back(id, n.heat_W);
     if (n.g_each_cell_W_per_K > 0.0)
       for (int c = 0; c < pack_.cellCount(); ++c) thermal_.link(id, c, n.g_each_cell_W_per_K);
     for (const auto& [cell, g] : n.cell_links) thermal_.link(id, cell, g);
@@ -39,15 +40,21 @@ Plant::Plant(const Scenario& s)
   for (const ThermalNodeConfig& n : th.nodes)
     for (const auto& [other, g] : n.node_links) thermal_.link(thermal_.find(n.name), thermal_.find(other), g);
   // One node per monitor board: the named node is the first board's; the others are
-  // copies of it (same heat capacity and conductance to ambient, no links).
+  // copies of it (same heat capacity, conductance to ambient and links to other nodes,
+  // e.g. the enclosure each board sits on; no links to cells).
   const PassiveBalancerConfig& bal = s.hardware.balancing;
   if (bal.present && !bal.board_node.empty())
     for (const ThermalNodeConfig& n : th.nodes)
       if (n.name == bal.board_node)
-        for (int b = 0; b < bal.boardOf(pack_.series - 1) + 1; ++b)
-          boardNodes_.push_back(b == 0 ? thermal_.find(n.name)
-                                       : thermal_.addNode(bal.boardNodeName(b), n.heat_capacity_J_per_K,
-                                                          n.g_ambient_W_per_K));
+        for (int b = 0; b < bal.boardOf(pack_.series - 1) + 1; ++b) {
+          if (b == 0) {
+            boardNodes_.push_back(thermal_.find(n.name));
+            continue;
+          }
+          const int copy = thermal_.addNode(bal.boardNodeName(b), n.heat_capacity_J_per_K, n.g_ambient_W_per_K);
+          for (const auto& [other, g] : n.node_links) thermal_.link(copy, thermal_.find(other), g);
+          boardNodes_.push_back(copy);
+        }
   stride_ = pack_.layout.size() + 1;
   stateSize_ = pack_.cellCount() * stride_ + (thermal_.nodeCount() - pack_.cellCount());
   balancer_ = s.hardware.balancing;
@@ -176,9 +183,25 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
     }
     sig.heat_W[ci] = q;
   }
+  // The monitor ICs' thermistor bias: a few mA from some groups' cells, spread over the
+  // group's parallel cells like a leak; its power heats them (mW: negligible).
+  for (size_t g = 0; g < in.bias_A.size(); ++g) {
+    if (in.bias_A[g] == 0.0) continue;
+    for (int k = 0; k < pack_.parallel; ++k) {
+      const size_t ci = g * static_cast<size_t>(pack_.parallel) + static_cast<size_t>(k);
+      const double i = in.bias_A[g] / pack_.parallel;
+      sig.internal_A[ci] += i;
+      sig.heat_W[ci] += sig.cell_ocv_V[ci] * i;
+    }
+  }
   for (int j = 0; j < thermal_.nodeCount(); ++j) {
     if (j >= pack_.cellCount()) sig.heat_W[static_cast<size_t>(j)] = 0.0;
     sig.node_temp_C[static_cast<size_t>(j)] = x[tempIndex(j)];
+  }
+  // Heat from outside the pack (sun on its skin, a motor nearby): not the cells' energy.
+  for (const auto& [node, q] : externalHeat_W_) {
+    sig.heat_W[static_cast<size_t>(node)] += q;
+    sig.injected_heat_W += q;
   }
   // Each resistor heats the board it sits on.
   if (boardNode_ >= 0 && busIndex_ < 0)

@@ -48,6 +48,7 @@ struct PlantInputs {
   bool charge_fet_on = false;
   // Balancing and charging (issue 5), per series group where a vector.
   std::vector<uint8_t> balancing;   // passive balancing switch actually on
+  std::vector<double> bias_A;       // monitor ICs' thermistor bias drawn from a group (A; empty: none)
   std::vector<double> converter_A;  // active balancer module-side current (+ into the bus)
   bool bus_precharge = false;       // active balancer bus charging from the stack
   double charger_limit_A = 0.0;     // CC-CV charger on with this current limit; 0 = off
@@ -161,6 +162,7 @@ class Plant {
   int fetNode_[2] = {-1, -1};     // discharge FET, charge FET
   MosfetConfig fet_[2];
   std::vector<int> boardNodes_;  // per monitor board; empty without a board node
+  std::vector<std::pair<int, double>> externalHeat_W_;  // (node, W): heat from outside the pack
   int busIndex_ = -1;
 };
 

@@ -72,7 +72,11 @@ void RunTracker::event(double t, const std::string& kind, const std::string& det
 
 std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) const {
   const bms::ProtectionRule& rule = cfg_.rules[static_cast<int>(id)];
-  return protectionDetail(id, rule.threshold, rule.delay_ms, out.telemetry);
+  std::string d = protectionDetail(id, rule.threshold, rule.delay_ms, out.telemetry);
+  if (rule.severity == bms::Severity::Fatal && rule.action == bms::FaultAction::Monitor) d += " (monitor only)";
+  if (rule.severity == bms::Severity::Fatal && rule.action == bms::FaultAction::MonitorWhileDriving)
+    d += out.state == bms::State::Normal ? " (monitored while driving)" : " (isolates off track)";
+  return d;
 }
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {

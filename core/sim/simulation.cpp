@@ -180,7 +180,7 @@ RunResult SimulationRun::finish() {
   Impl& m = *impl_;
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.solver = m.solver->stats();
-  if (m.firmware.isLibrary() || m.firmware.host().dead()) r.summary.firmware_status = m.firmware.status();
+  r.summary.firmware_status = m.firmware.status();
   compareWithReference(m.s, r);  // the `compare:` reference run, if the scenario names one
   return r;
 }

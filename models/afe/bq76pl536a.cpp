@@ -347,6 +347,10 @@ bool Bq76pl536aChain::faultLine() const {
   return false;
 }
 
+bool Bq76pl536aChain::thermistorBias(int d) const {
+  return (dev_[static_cast<size_t>(d)].reg[BQ536_IO_CONTROL] & (BQ536_IO_TS1 | BQ536_IO_TS2)) != 0;
+}
+
 bool Bq76pl536aChain::balancing(int d, int cell) const {
   return (dev_[static_cast<size_t>(d)].reg[BQ536_CB_CTRL] & (1u << cell)) != 0;
 }

@@ -50,6 +50,7 @@ class Bq76pl536aChain final : public MonitorChain {
 
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  bool thermistorBias(int d) const override;  // IO_CONTROL TS1 / TS2
 
   // The part's own drawn channel errors (series cell index), for tests.
   double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }

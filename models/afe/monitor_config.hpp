@@ -49,6 +49,7 @@ struct Bq952Protection {
 struct MonitorConfig {
   bms::AfeModel model = bms::AfeModel::Bq76pl536a;
   int devices = 1;
+  int devices_per_board = 0;        // > 0: boards of this many devices, each its own stack and host MCU (core/scenario/monitor_boards.hpp)
   int cells_per_device = 6;
   int thermistors_per_device = 2;   // AFE inputs in use (BQ76952: up to 3, the 3rd on the FETs)
   AdcChannel cell_adc;              // volts: lsb, gain/offset error (whole part), noise
@@ -58,6 +59,7 @@ struct MonitorConfig {
   Thermistor thermistor;            // NTC + divider on the thermistor inputs
   bool crc = true;                  // BQ76952 only (the others always carry a CRC)
   double die_rise_C = 5.0;          // die above its board (own dissipation)
+  double thermistor_bias_A = 0.0;   // drawn from each device's top cell while its thermistor inputs are biased
   double measurement_period_s = 0.0;  // BQ76952 loop (≈ 0.06 s): readings refresh at this rate; 0 = every read
   int oversampling = 1;             // BQ76PL455A only: conversions averaged in hardware per reading (cell_adc noise / √n)
   double shunt_ohm = 0.005;         // BQ76952 current input

@@ -61,6 +61,10 @@ class MonitorChain {
   virtual bool balancing(int d, int cell) const = 0;  // cell index within device d
   virtual bool dischargeFetOn() const { return true; }  // BQ76952 FETs; others: not in the path
   virtual bool chargeFetOn() const { return true; }
+  // Whether device d's thermistor inputs are biased (their divider draws current from
+  // the device's top cell: MonitorConfig::thermistor_bias_A); parts without a switch
+  // for it bias them whenever they have thermistors.
+  virtual bool thermistorBias(int d) const { return cellsOf(d) > 0; }
 };
 
 // Factories, one per part (each in its own file).

@@ -19,6 +19,7 @@ namespace packsim {
 enum class RngStream : uint64_t {
   CellSpread = 1,                 // cell-to-cell capacity / resistance / SOC spread (models/pack)
   MonitorChannelErrors = 0xAFE,   // per-channel gain and offset of the monitor ICs (models/afe)
+  MonitorBoard = 0xB0A4D00,       // + b: the seed of monitor board b >= 1's stack (board 0 uses the run's)
 };
 
 // The simulator's random source: a 64-bit Mersenne Twister plus the second normal of

@@ -34,10 +34,10 @@ TEST(Protection, TripsExactlyAfterDelayNotBefore) {
   const uint32_t bit = bms::faultBit(bms::FaultId::CellUnderVoltage);
   q(bms::Quantity::MinCell_mV, 2999, quantity);
   for (uint32_t t = 1000; t < 1500; t += 10) {
-    bms::protectionUpdate(cfg, quantity, t, ps);
+    bms::protectionUpdate(cfg, quantity, t, false, ps);
     ASSERT_EQ(ps.active & bit, 0u) << "tripped early at " << t;
   }
-  bms::protectionUpdate(cfg, quantity, 1500, ps);
+  bms::protectionUpdate(cfg, quantity, 1500, false, ps);
   EXPECT_NE(ps.active & bit, 0u);
 }
 
@@ -47,7 +47,7 @@ TEST(Protection, AtThresholdDoesNotTrip) {
   bms::protectionReset(ps);
   int32_t quantity[bms::kQuantityCount];
   q(bms::Quantity::MinCell_mV, 3000, quantity);
-  for (uint32_t t = 0; t < 10000; t += 10) bms::protectionUpdate(cfg, quantity, t, ps);
+  for (uint32_t t = 0; t < 10000; t += 10) bms::protectionUpdate(cfg, quantity, t, false, ps);
   EXPECT_EQ(ps.active, 0u);
 }
 
@@ -57,13 +57,13 @@ TEST(Protection, InterruptedViolationRestartsDebounce) {
   bms::protectionReset(ps);
   int32_t quantity[bms::kQuantityCount];
   q(bms::Quantity::MinCell_mV, 2900, quantity);
-  for (uint32_t t = 0; t <= 400; t += 10) bms::protectionUpdate(cfg, quantity, t, ps);
+  for (uint32_t t = 0; t <= 400; t += 10) bms::protectionUpdate(cfg, quantity, t, false, ps);
   q(bms::Quantity::MinCell_mV, 3100, quantity);
-  bms::protectionUpdate(cfg, quantity, 410, ps);
+  bms::protectionUpdate(cfg, quantity, 410, false, ps);
   q(bms::Quantity::MinCell_mV, 2900, quantity);
-  for (uint32_t t = 420; t < 920; t += 10) bms::protectionUpdate(cfg, quantity, t, ps);
+  for (uint32_t t = 420; t < 920; t += 10) bms::protectionUpdate(cfg, quantity, t, false, ps);
   EXPECT_EQ(ps.active, 0u);
-  bms::protectionUpdate(cfg, quantity, 920, ps);
+  bms::protectionUpdate(cfg, quantity, 920, false, ps);
   EXPECT_NE(ps.active, 0u);
 }
 
@@ -73,13 +73,13 @@ TEST(Protection, HysteresisHoldsUntilRecovered) {
   bms::protectionReset(ps);
   int32_t quantity[bms::kQuantityCount];
   q(bms::Quantity::MinCell_mV, 2900, quantity);
-  for (uint32_t t = 0; t <= 500; t += 10) bms::protectionUpdate(cfg, quantity, t, ps);
+  for (uint32_t t = 0; t <= 500; t += 10) bms::protectionUpdate(cfg, quantity, t, false, ps);
   ASSERT_NE(ps.active, 0u);
   q(bms::Quantity::MinCell_mV, 3050, quantity);  // above threshold, inside hysteresis band
-  bms::protectionUpdate(cfg, quantity, 510, ps);
+  bms::protectionUpdate(cfg, quantity, 510, false, ps);
   EXPECT_NE(ps.active, 0u);
   q(bms::Quantity::MinCell_mV, 3101, quantity);
-  bms::protectionUpdate(cfg, quantity, 520, ps);
+  bms::protectionUpdate(cfg, quantity, 520, false, ps);
   EXPECT_EQ(ps.active, 0u);
 }
 
@@ -90,10 +90,10 @@ TEST(Protection, DebounceSurvivesMillisecondWrap) {
   int32_t quantity[bms::kQuantityCount];
   q(bms::Quantity::MinCell_mV, 2900, quantity);
   const uint32_t start = 0xFFFFFF00u;
-  bms::protectionUpdate(cfg, quantity, start, ps);
-  bms::protectionUpdate(cfg, quantity, start + 400u, ps);  // wrapped
+  bms::protectionUpdate(cfg, quantity, start, false, ps);
+  bms::protectionUpdate(cfg, quantity, start + 400u, false, ps);  // wrapped
   EXPECT_EQ(ps.active, 0u);
-  bms::protectionUpdate(cfg, quantity, start + 500u, ps);
+  bms::protectionUpdate(cfg, quantity, start + 500u, false, ps);
   EXPECT_NE(ps.active, 0u);
 }
 

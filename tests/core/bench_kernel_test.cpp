@@ -21,6 +21,7 @@ TEST(BenchFloorKernel, SameCellTrajectoryAsFastIntegrator) {
   // heat are taken out of the comparison (their cost is the plant's, not the floor's).
   s.pack.cell.r0_ohm.arrhenius_K = 0.0;
   s.pack.cell.has_entropic = false;
+  s.thermal.nodes.clear();  // the floor is the cells alone (no pack skin, no board)
   ASSERT_FALSE(s.pack.cell.usesTemperature());
   ASSERT_EQ(s.pack.parallel, 1);
   const Plant plant(s);

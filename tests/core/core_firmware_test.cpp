@@ -78,7 +78,7 @@ TEST(CoreFirmware, RefusesAConfigurationImageOfAnotherLayout) {
   wrongTag[0] ^= 0xFF;
   for (const auto& blob : {truncated, wrongTag}) {
     Sink sink;
-    FirmwareHost host(bms::coreFirmware(), blob, {}, 0.01, 0, sink);
+    FirmwareHost host(bms::coreFirmware(), blob, FirmwareBoard{}, 0.01, sink);
     bms::Inputs in{};
     bms::Outputs out{};
     host.step(0.0, in, out);

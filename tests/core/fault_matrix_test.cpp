@@ -12,6 +12,8 @@
 //     the exception: with the relay open no current flows, the BMS sees nothing left, so
 //     the reset closes the relay into the still-present load; the same fault must then
 //     trip again within its bound from the re-close and open the relay again;
+// A protection the preset sets to monitor while driving (system D: no isolation on
+// track) is judged off track, the key turned off as the fault is injected;
 // and, apart from the table: a reset after a removable fault has gone (an over-current
 // that ends, the E-switch released) closes the relay again; the nuisance cases of the
 // same presets: a discharge 5 % below the over-current threshold for a minute never
@@ -130,12 +132,20 @@ struct Cell {
   std::string why;  // when it does not
   double latency_s = -1.0;
   bool byMonitor = false;  // the monitor IC's own protection acted first
+  bool offTrack = false;   // judged with the key off (the preset monitors it while driving)
 };
 
 const Event* firstAfter(const RunResult& r, double t, const std::string& kind, const std::string& prefix = "") {
   for (const Event& e : r.events)
     if (e.time_s >= t - 1e-9 && e.kind == kind && e.detail.compare(0, prefix.size(), prefix) == 0) return &e;
   return nullptr;
+}
+
+bms::FaultId faultId(const std::string& name) {
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+    if (name == bms::faultName(static_cast<bms::FaultId>(i))) return static_cast<bms::FaultId>(i);
+  ADD_FAILURE() << "no BMS fault named " << name;
+  return bms::FaultId::Count;
 }
 
 uint32_t faultBit(const std::string& name) {
@@ -155,8 +165,13 @@ Cell runCell(const Preset& p, const FaultKindRow& row) {
     // it after the trip, leaving time to see an over-current trip again); the fault
     // itself is never removed.
     reset_s = kInject_s + row.bound_s(base).second + kResetAfter_s;
+    // A protection the preset only monitors while driving (system D's team policy) is
+    // judged off track: the rider keys off as the fault is injected.
+    c.offTrack = base.bms.protection(faultId(row.expected)).action == bms::FaultAction::MonitorWhileDriving;
+    const std::string keyOff = c.offTrack ? ", {kind: key_off, at_s: " + num(kInject_s) + "}" : "";
     s = loadScenarioText(shortRun(p, base,
-                                  "faults: [" + row.entry(base) + ", {kind: reset_request, at_s: " + num(reset_s) + "}]\n",
+                                  "faults: [" + row.entry(base) + keyOff + ", {kind: reset_request, at_s: " +
+                                      num(reset_s) + "}]\n",
                                   reset_s + 2.3, row.bound_s(base).second + kResetAfter_s + 1.5),
                          p.file, test::scenarioDir());
   } catch (const ScenarioError& e) {  // the fault needs hardware this preset lacks
@@ -240,7 +255,7 @@ std::string latencyText(const Cell& c) {
   if (!c.applies) return "n/a";
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.3f s", c.latency_s);
-  return std::string(buf) + (c.byMonitor ? " (monitor IC's own)" : "");
+  return std::string(buf) + (c.byMonitor ? " (monitor IC's own)" : "") + (c.offTrack ? " (off track)" : "");
 }
 
 std::string docPath() { return test::scenarioDir() + "/../docs/hardening.md"; }

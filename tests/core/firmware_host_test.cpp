@@ -68,7 +68,7 @@ FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_
 
 struct Bench {
   explicit Bench(const FirmwareSettings& s, double tick_s = 0.01)
-      : settings(s), host(settings, {&bus}, tick_s, 2, log) {
+      : settings(s), host(settings, FirmwareBoard{{&bus}, 2}, tick_s, log) {
     bus.chain = std::make_unique<FakeChain>();
   }
   FakeChain& chain() { return static_cast<FakeChain&>(*bus.chain); }

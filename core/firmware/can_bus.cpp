@@ -1,0 +1,104 @@
+#include "core/firmware/can_bus.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+
+namespace packsim {
+
+CanBus::CanBus(int nodes, double bitrate_bps, size_t txQueue, size_t rxFifo)
+    : bitrate_(bitrate_bps), txQueue_(txQueue), rxFifo_(rxFifo), queued_(static_cast<size_t>(nodes), 0),
+      rx_(static_cast<size_t>(nodes)) {
+  if (nodes < 1 || !(bitrate_bps > 0.0)) throw std::invalid_argument("CanBus: needs nodes and a positive bit rate");
+}
+
+int CanBus::frameBits(uint32_t id, const uint8_t* data, uint8_t len) {
+  // The stuffed part: SOF (0), 11-bit identifier, RTR 0, IDE 0, r0 0, DLC, data, CRC-15.
+  int bits[1 + 11 + 3 + 4 + 64 + 15];
+  int count = 0;
+  auto push = [&](uint32_t v, int n) {
+    for (int i = n - 1; i >= 0; --i) bits[count++] = static_cast<int>((v >> i) & 1u);
+  };
+  push(0, 1);
+  push(id & 0x7FFu, 11);
+  push(0, 3);
+  push(len, 4);
+  for (uint8_t k = 0; k < len; ++k) push(data[k], 8);
+  uint32_t crc = 0;  // CRC-15, polynomial 0x4599, over SOF .. data
+  for (int k = 0; k < count; ++k) {
+    const int b = bits[k];
+    const uint32_t next = static_cast<uint32_t>(b) ^ ((crc >> 14) & 1u);
+    crc = (crc << 1) & 0x7FFFu;
+    if (next) crc ^= 0x4599u;
+  }
+  push(crc, 15);
+  int stuffed = 0, run = 0, last = -1;
+  for (int k = 0; k < count; ++k) {
+    const int b = bits[k];
+    ++stuffed;
+    run = b == last ? run + 1 : 1;
+    last = b;
+    if (run == 5) {  // a complement bit, which starts a new run
+      ++stuffed;
+      last = 1 - b;
+      run = 1;
+    }
+  }
+  return stuffed + 1 + 2 + 7 + 3;  // CRC delimiter, ACK slot + delimiter, EOF, intermission
+}
+
+bool CanBus::send(int node, double t_s, uint32_t id, const uint8_t* data, uint8_t len) {
+  if (static_cast<size_t>(queued_[static_cast<size_t>(node)]) >= txQueue_) return false;
+  Frame f{t_s, seq_++, id & 0x7FFu, len, {}, node};
+  if (len > 0) std::memcpy(f.data, data, len);
+  pending_.push_back(f);
+  ++queued_[static_cast<size_t>(node)];
+  return true;
+}
+
+void CanBus::runUntil(double t_s) {
+  while (!pending_.empty()) {
+    double earliest = pending_.front().ready_s;
+    for (const Frame& f : pending_) earliest = std::min(earliest, f.ready_s);
+    const double start = std::max(busFree_s_, earliest);
+    if (start > t_s) return;
+    // Arbitration among the frames ready when the bus is free: lowest id, then oldest.
+    size_t win = pending_.size();
+    for (size_t i = 0; i < pending_.size(); ++i) {
+      const Frame& f = pending_[i];
+      if (f.ready_s > start) continue;
+      if (win == pending_.size() || f.id < pending_[win].id || (f.id == pending_[win].id && f.seq < pending_[win].seq))
+        win = i;
+    }
+    const Frame f = pending_[win];
+    pending_.erase(pending_.begin() + static_cast<long>(win));
+    --queued_[static_cast<size_t>(f.from)];
+    const double dur = frameTime_s(f.id, f.data, f.len);
+    busFree_s_ = start + dur;
+    busy_s_ += dur;
+    ++sent_;
+    for (size_t n = 0; n < rx_.size(); ++n) {
+      if (static_cast<int>(n) == f.from) continue;
+      if (rx_[n].size() >= rxFifo_) {
+        ++lost_;
+        continue;
+      }
+      Arrived a{busFree_s_, f.id, f.len, {}};
+      std::memcpy(a.data, f.data, f.len);
+      rx_[n].push_back(a);
+    }
+  }
+}
+
+int CanBus::receive(int node, double t_s, uint32_t& id, uint8_t* data) {
+  runUntil(t_s);
+  std::deque<Arrived>& q = rx_[static_cast<size_t>(node)];
+  if (q.empty() || q.front().at_s > t_s) return -1;
+  const Arrived a = q.front();
+  q.pop_front();
+  id = a.id;
+  std::memcpy(data, a.data, a.len);
+  return a.len;
+}
+
+}  // namespace packsim
