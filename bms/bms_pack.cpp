@@ -104,10 +104,10 @@ void packMerge(const Config& c, const PackState& p, uint32_t now_ms, Telemetry& 
   uint32_t pack_mV = tm.packVoltage_mV;
   for (uint8_t b = 1; b < c.pack.boards && b < kMaxBoards; ++b) {
     const BoardStatus& s = p.board[b];
-    // A member heard from one read-out period ago is on time; each period more without
-    // its status counts as one bad read of that board.
+    // A member's status comes after each of its read-outs: each read-out period without
+    // one counts as one bad read of that board.
     const uint32_t since = now_ms - (s.seen ? s.rx_ms : 0u);
-    const int32_t missed = static_cast<int32_t>(since / period) - (s.seen ? 1 : 0);
+    const int32_t missed = static_cast<int32_t>(since / period);
     if (missed > worst) worst = missed;
     if (!s.seen) continue;  // no cell values yet: comm loss covers the board
     if (s.max_mV > maxCell) maxCell = s.max_mV;

@@ -116,6 +116,11 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   if (e.min_cell_V_above && !(sm.min_cell_V > *e.min_cell_V_above))
     fail(fmt("lowest cell %.4f V (cell ", sm.min_cell_V) + std::to_string(sm.min_cell) +
          fmt(") is not above %.4f V", *e.min_cell_V_above));
+  const double spread = sm.final_soc_max - sm.final_soc_min;
+  if (e.final_soc_spread_above && !(spread > *e.final_soc_spread_above))
+    fail(fmt("final SOC spread %.4f is not above ", spread) + fmt("%.4f", *e.final_soc_spread_above));
+  if (e.final_soc_spread_below && !(spread < *e.final_soc_spread_below))
+    fail(fmt("final SOC spread %.4f is not below ", spread) + fmt("%.4f", *e.final_soc_spread_below));
   if (e.max_temp_C_below && !(sm.max_temp_C < *e.max_temp_C_below))
     fail(fmt("hottest cell %.2f C (cell ", sm.max_temp_C) + std::to_string(sm.hottest_cell) +
          fmt(") is not below %.2f C", *e.max_temp_C_below));

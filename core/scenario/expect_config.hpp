@@ -28,6 +28,7 @@ struct Expectations {
   std::vector<DetectionExpectation> detected;   // fault active within [from, to]
   std::optional<double> min_cell_V_above;
   std::optional<double> max_temp_C_below;
+  std::optional<double> final_soc_spread_above, final_soc_spread_below;  // max - min cell SOC at the end
   std::optional<double> energy_delivered_Wh_above;
   std::vector<SocErrorBound> soc_error_max_below, soc_error_rms_below, soc_error_end_below;  // |end|
   std::optional<double> capacity_error_below;   // |SOH estimate / true - 1|; needs an estimate

@@ -84,7 +84,7 @@ Condition parseCondition(YamlMap& m, const std::string& key) {
   return c;
 }
 
-FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
+FaultInjection readInjection(YamlMap f, int cells, int thermistors, int boards) {
   FaultInjection inj;
   inj.line = f.raw().Mark().line + 1;
   std::vector<std::string> names;
@@ -160,7 +160,9 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors) {
       inj.rate_per_s = f.number("drift_A_per_h", 0.0, Range::closed(-1000.0, 1000.0)) / 3600.0;
       break;
     case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
-    case FaultKind::HostDead: break;
+    case FaultKind::HostDead:  // board 1's MCU is the pack host; others, a monitor board's
+      inj.index = static_cast<int>(f.integer("board", 1, 1, boards)) - 1;
+      break;
     case FaultKind::ResetRequest: break;
     case FaultKind::KeyOff: break;
   }
@@ -228,17 +230,22 @@ std::string FaultInjection::describe() const {
         std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value);
       break;
     case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
-    case FaultKind::HostDead: std::snprintf(buf, sizeof buf, "host_dead"); break;
+    case FaultKind::HostDead:
+      if (index > 0)
+        std::snprintf(buf, sizeof buf, "host_dead board %d", index + 1);
+      else
+        std::snprintf(buf, sizeof buf, "host_dead");
+      break;
     case FaultKind::ResetRequest: std::snprintf(buf, sizeof buf, "reset_request"); break;
     case FaultKind::KeyOff: std::snprintf(buf, sizeof buf, "key_off"); break;
   }
   return buf;
 }
 
-std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors) {
+std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors, int boards) {
   std::vector<FaultInjection> out;
   if (!root.has("faults")) return out;
-  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, cells, thermistors));
+  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, cells, thermistors, boards));
   return out;
 }
 
@@ -263,6 +270,10 @@ Expectations readExpect(std::optional<YamlMap> m) {
   }
   if (m->has("min_cell_V_above")) e.min_cell_V_above = m->number("min_cell_V_above", Range::closed(0.0, 10.0));
   if (m->has("max_temp_C_below")) e.max_temp_C_below = m->number("max_temp_C_below", Range::closed(-60.0, 300.0));
+  if (m->has("final_soc_spread_above"))
+    e.final_soc_spread_above = m->number("final_soc_spread_above", Range::closed(0.0, 1.0));
+  if (m->has("final_soc_spread_below"))
+    e.final_soc_spread_below = m->number("final_soc_spread_below", Range::closed(0.0, 1.0));
   if (m->has("energy_delivered_Wh_above"))
     e.energy_delivered_Wh_above = m->number("energy_delivered_Wh_above", Range{});
   readSocExpectations(*m, e);  // load_estimation.cpp

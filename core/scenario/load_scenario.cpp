@@ -238,7 +238,9 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     s.output.interval_s = o->number("interval_s", 1.0, Range::positive());
     o->finish();
   }
-  s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount());
+  const MonitorConfig& afe = s.hardware.afe;
+  const int boards = afe.devices_per_board > 0 ? (afe.devices + afe.devices_per_board - 1) / afe.devices_per_board : 1;
+  s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount(), boards);
   s.expect = readExpect(m.optionalMap("expect"));
   if (auto c = m.optionalMap("compare")) {
     const std::string rel = c->string("scenario");

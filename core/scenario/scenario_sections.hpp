@@ -26,7 +26,8 @@ BmsSettings readBms(std::optional<YamlMap> m);
 FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseDir);
 LoadProfile readLoad(YamlMap m, const std::string& baseDir);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
-std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors);
+// boards: the monitor boards (each with its MCU) a host_dead may name.
+std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors, int boards);
 Expectations readExpect(std::optional<YamlMap> m);
 // load_balancing.cpp
 PassiveBalancerConfig readPassiveBalancer(YamlMap m);

@@ -108,7 +108,12 @@ void FaultScheduler::apply(HardwareFaults& f) const {
         f.current_sensor_drift_A_per_s += inj.rate_per_s;
         break;
       case FaultKind::ChargerOvervoltage: f.charger_overvoltage_V += inj.value; break;
-      case FaultKind::HostDead: f.host_dead = true; break;
+      case FaultKind::HostDead:
+        if (inj.index == 0)
+          f.host_dead = true;
+        else
+          f.dead_boards |= 1u << inj.index;
+        break;
       case FaultKind::ResetRequest: f.reset_requested = true; break;
       case FaultKind::KeyOff: f.key_off = true; break;
     }

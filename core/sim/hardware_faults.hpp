@@ -26,7 +26,8 @@ struct HardwareFaults {
   double current_sensor_drift_A_per_s = 0.0;  // offset at t: offset_A + drift · t (start folded into offset_A)
   double extra_load_A = 0.0;                 // over-current load step, added to the profile
   double charger_overvoltage_V = 0.0;        // charger output above its setpoint
-  bool host_dead = false;                    // MCU hung: no BMS step, outputs frozen
+  bool host_dead = false;                    // the (pack host) MCU hung: no BMS step, outputs frozen
+  uint32_t dead_boards = 0;                  // bit b: monitor board b's MCU hung (b >= 1)
   bool reset_requested = false;              // operator reset GPIO asserted
   bool key_off = false;                      // the run request released (bms.run_request overridden)
   std::vector<double> cell_heat_W;           // extra heat per cell (hot cell)

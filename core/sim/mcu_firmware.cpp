@@ -28,10 +28,11 @@ McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim&
   }
 }
 
-void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out) {
-  hosts_.front()->step(t_s, in, out);
-  for (size_t b = 1; b < hosts_.size(); ++b) hosts_[b]->step(t_s, in, memberPins_[b]);
-  if (!library_) mergeProbes(out);
+void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f) {
+  if (!f.host_dead) hosts_.front()->step(t_s, in, out);
+  for (size_t b = 1; b < hosts_.size(); ++b)
+    if (!(f.dead_boards & (1u << b))) hosts_[b]->step(t_s, in, memberPins_[b]);
+  if (!library_ && !f.host_dead) mergeProbes(out);
 }
 
 // The pack host's outputs with each board's own arrays at their pack positions.

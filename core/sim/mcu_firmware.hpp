@@ -33,8 +33,9 @@ class McuFirmware : public FirmwareSink {
  public:
   McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker);
   // The tasks due in [t, t + tick) with the pins sampled at t; out receives the pins
-  // (and, for packsim's core, the rest of its outputs through the probe).
-  void decide(double t_s, const bms::Inputs& in, bms::Outputs& out);
+  // (and, for packsim's core, the rest of its outputs through the probe). A hung MCU
+  // (host_dead) runs nothing: its pins hold their last level.
+  void decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f);
   // "" while every MCU runs, else the first stopped one's line; a library's always.
   std::string status() const;
   const FirmwareHost& host(int board = 0) const { return *hosts_[static_cast<size_t>(board)]; }

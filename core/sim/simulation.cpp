@@ -109,7 +109,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   //    talking to the monitor chain over the bus (a hung MCU does not: its pins hold
   //    their last level, and only the monitor ICs' own FAULT line can still open the
   //    relay)
-  if (!faults.host_dead) firmware.decide(t, in, out);
+  firmware.decide(t, in, out, faults);
 
   // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
   //    FETs, precharge) whose state the plant sees from t_k
