@@ -66,9 +66,21 @@ struct FaultKindRow {
   bool seenWhileOpen = true;
 };
 
-// A fault on the MCU's own inputs (current, E-switch) is judged at every control tick.
+// How long a BQ76PL536A board's read-out holds its host's (non-preemptive) main loop:
+// the convert frame, the conversion, each device's results and flags frames (the
+// relation tests/core/monitor_readout_test.cpp checks). Other parts: within a tick here.
+double readoutBlock_s(const Scenario& s) {
+  const MonitorConfig& a = s.hardware.afe;
+  if (a.model != bms::AfeModel::Bq76pl536a) return 0.0;
+  const int devices = a.devices_per_board > 0 ? std::min(a.devices_per_board, a.devices) : a.devices;
+  const double bytes = 4 + devices * ((3 + 19 + 1) + (3 + 4 + 1));
+  return bytes * 8.0 / a.baud + (a.cells_per_device + 1 + a.thermistors_per_device) * a.conversion_s_per_channel;
+}
+
+// A fault on the MCU's own inputs (current, E-switch) is judged at every control tick,
+// which a read-out running at the same instant may hold back.
 std::pair<double, double> debounced(const ProtectionConfig& p, const Scenario& s) {
-  return {p.delay_s, p.delay_s + s.bms.tick_s};
+  return {p.delay_s, p.delay_s + s.bms.tick_s + readoutBlock_s(s)};
 }
 
 // The firmware reads its monitor ICs every read-out period (bms.readout): a condition at
