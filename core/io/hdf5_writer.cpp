@@ -12,6 +12,8 @@
 #include <hdf5.h>
 
 #include <algorithm>
+#include <cmath>
+#include <type_traits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -94,17 +96,26 @@ class Writer {
     Handle g(H5Gcreate2(file_, name, H5P_DEFAULT, gcpl_, H5P_DEFAULT), H5Gclose, name);
   }
 
+  // decimals >= 0: a float channel stored to that many decimal places (HDF5's
+  // scale-offset filter, then shuffle and deflate); -1: every bit as written.
   template <typename T>
-  void dataset(const std::string& name, const std::vector<T>& data, size_t rows, size_t cols, const char* units) {
+  void dataset(const std::string& name, const std::vector<T>& data, size_t rows, size_t cols, const char* units,
+               int decimals = -1) {
     hsize_t dims[2] = {rows, cols};
     const int rank = cols == 0 ? 1 : 2;
     Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose, name.c_str());
-    // Chunked, shuffled and deflated (HDF5's own filters, lossless: the values read back
-    // are the values written). An empty dataset stays contiguous.
+    // Chunked, shuffled and deflated (HDF5's own filters: lossless but for a float
+    // channel's stated resolution). An empty dataset stays contiguous; a channel with a
+    // value that is not finite is kept exact (scale-offset cannot hold it).
     Handle dcpl(H5Pcopy(dcpl_), H5Pclose, "dataset creation list");
+    bool scaled = false;
     if (compress_ && rows > 0 && (rank == 1 || cols > 0)) {
       const hsize_t chunk[2] = {chunkRows(rows, cols), cols};
       checked(H5Pset_chunk(dcpl, rank, chunk), name + " chunking");
+      if constexpr (std::is_floating_point_v<T>) {
+        scaled = decimals >= 0 && std::all_of(data.begin(), data.end(), [](T v) { return std::isfinite(v); });
+        if (scaled) checked(H5Pset_scaleoffset(dcpl, H5Z_SO_FLOAT_DSCALE, decimals), name + " scale-offset filter");
+      }
       checked(H5Pset_shuffle(dcpl), name + " shuffle filter");
       checked(H5Pset_deflate(dcpl, 4), name + " deflate filter");
     }
@@ -112,6 +123,8 @@ class Writer {
               name.c_str());
     if (!data.empty()) checked(H5Dwrite(ds, nativeType<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()), name);
     if (units) attr(ds, "units", units);
+    // The step result files keep the channel to (an in-memory image holds it exactly).
+    if (decimals >= 0) attr(ds, "resolution", std::pow(10.0, -decimals));
   }
 
   void attr(hid_t obj, const char* name, const std::string& value) {
@@ -197,7 +210,8 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
       w.group(group.c_str());
       groups.push_back(group);
     }
-    std::visit([&](const auto& col) { w.dataset(path, rec.*(col.data), n, axisLength(c.axis, rec), c.units); }, c.column);
+    std::visit([&](const auto& col) { w.dataset(path, rec.*(col.data), n, axisLength(c.axis, rec), c.units, storedDecimals(c)); },
+               c.column);
     if (c.attr.name) w.attrOn(c.path, c.attr.name, c.attr.value(rec));
   }
   // Attributes that come from the scenario rather than the recording.
@@ -267,7 +281,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
 
 // A new file with the creation and access properties every result file has.
 hid_t createFile(const std::string& name, hid_t fapl) {
-  H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
+  H5Pset_libver_bounds(fapl, H5F_LIBVER_V110, H5F_LIBVER_V110);
   Handle fcpl(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
   H5Pset_obj_track_times(fcpl, 0);  // the root group too: same run, same bytes
   return H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl);

@@ -83,6 +83,11 @@ size_t axisLength(Axis axis, const Recording& rec);
 const char* axisName(Axis axis);
 // NumPy's name of the channel's element type ("float64", "uint8", ...).
 const char* dtypeName(const ResultChannel& c);
+// The decimal places a floating-point channel is stored to, by its unit: V 7 (0.1 µV),
+// A, W and degC 6, SOC (1) and Ah 9; -1: stored exactly (time, integer channels). The
+// file keeps float64 and says the step in a `resolution` attribute; far below any
+// measurement and the solvers' tolerance, it halves the bytes of a run's truth.
+int storedDecimals(const ResultChannel& c);
 
 // The bars the SOC display would show if it read the true open-circuit voltage (mean
 // cell): the truth the firmware's display is judged against.

@@ -4,6 +4,8 @@
 #include "core/sim/result_channels.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 #include <hdf5.h>
 
 #include <cstring>
@@ -80,7 +82,19 @@ void checkRun(const std::string& scenario, const std::set<std::string>& mustHave
           EXPECT_EQ(v.size(), rec.samples() * (c.axis == Axis::None ? 1 : k));
           const std::vector<uint8_t> bytes = test::readDatasetBytes(file, c.path);
           ASSERT_EQ(bytes.size(), v.size() * sizeof(T));
-          EXPECT_TRUE(v.empty() || std::memcmp(bytes.data(), v.data(), bytes.size()) == 0);
+          const int decimals = storedDecimals(c);
+          if (decimals < 0) {  // every bit as recorded
+            EXPECT_TRUE(v.empty() || std::memcmp(bytes.data(), v.data(), bytes.size()) == 0);
+          } else if constexpr (std::is_floating_point_v<T>) {  // to its stated resolution
+            const double half = 0.5 * std::pow(10.0, -decimals) * (1.0 + 1e-6);
+            double worst = 0.0;
+            for (size_t i = 0; i < v.size(); ++i) {
+              T got;
+              std::memcpy(&got, bytes.data() + i * sizeof(T), sizeof(T));
+              worst = std::max(worst, std::fabs(static_cast<double>(got) - static_cast<double>(v[i])));
+            }
+            EXPECT_LE(worst, half);
+          }
           EXPECT_EQ(unitsOf(file, c.path), c.units ? c.units : "");
         },
         c.column);
