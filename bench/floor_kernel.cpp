@@ -9,13 +9,13 @@ namespace packsim::bench {
 FlatCurve FlatCurve::from(const Curve& c) {
   FlatCurve f;
   f.discharged_axis = c.axis == CurveAxis::Discharged_Ah;
-  const std::vector<double>& ys = c.kind == Curve::Kind::Table ? c.ys : c.coeffs;
+  const std::vector<double>& ys = c.kind == Curve::Kind::Table ? c.ys() : c.coeffs();
   if (ys.size() > static_cast<size_t>(kMax)) throw std::invalid_argument("floor kernel: curve longer than 32 points");
   f.kind = c.kind == Curve::Kind::Constant ? 0 : c.kind == Curve::Kind::Polynomial ? 1 : 2;
   f.n = static_cast<int>(ys.size());
   for (int i = 0; i < f.n; ++i) {
     f.y[i] = ys[static_cast<size_t>(i)];
-    if (f.kind == 2) f.x[i] = c.xs[static_cast<size_t>(i)];
+    if (f.kind == 2) f.x[i] = c.xs()[static_cast<size_t>(i)];
   }
   return f;
 }

@@ -13,7 +13,7 @@ constexpr double kCheckTemps_C[] = {-40.0, 85.0};  // Arrhenius factor: the ends
 constexpr int kSocSamples = 2000;
 
 std::vector<double> checkTemps(const Curve& c) {
-  if (c.kind == Curve::Kind::Table2D) return c.temps_C;
+  if (c.kind == Curve::Kind::Table2D) return c.temps_C();
   if (c.arrhenius_K != 0.0) return {kCheckTemps_C[0], c.ref_temp_C, kCheckTemps_C[1]};
   return {kReferenceTemp_C};
 }
@@ -22,7 +22,7 @@ std::vector<double> checkTemps(const Curve& c) {
 std::vector<double> socSamples(const Curve& c, double q_Ah) {
   std::vector<double> s;
   for (int i = 0; i <= kSocSamples; ++i) s.push_back(static_cast<double>(i) / kSocSamples);
-  for (double x : c.xs) {
+  for (double x : c.xs()) {
     const double soc = c.axis == CurveAxis::Soc ? x : 1.0 - x / q_Ah;
     if (soc > 0.0 && soc < 1.0) s.push_back(soc);
   }
@@ -33,8 +33,8 @@ std::vector<double> socSamples(const Curve& c, double q_Ah) {
 
 // Whether x lies where a table is held flat (beyond its first or last point).
 bool heldFlat(const Curve& c, double x) {
-  if (c.xs.empty()) return false;
-  return x <= c.xs.front() || x >= c.xs.back();
+  if (c.xs().empty()) return false;
+  return x <= c.xs().front() || x >= c.xs().back();
 }
 
 std::string where(const Curve& c, double soc, double q_Ah, double t_C, bool showTemp) {
@@ -63,7 +63,7 @@ std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, doub
   // A plain number for the OCV is an ideal constant source (test rigs, what-ifs): it
   // has no slope to check. Every polynomial and table must rise.
   if (rule == CurveRule::Ocv && c.isConstant()) {
-    if (!(c.coeffs[0] > 0.0) || !std::isfinite(c.coeffs[0])) return "must be > 0 V and finite, is " + num(c.coeffs[0]);
+    if (!(c.coeffs()[0] > 0.0) || !std::isfinite(c.coeffs()[0])) return "must be > 0 V and finite, is " + num(c.coeffs()[0]);
     return std::nullopt;
   }
   const std::vector<double> temps = checkTemps(c);

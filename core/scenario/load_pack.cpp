@@ -124,8 +124,8 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
       if (p.variable) {
         (p.by_tau ? p.tau_curve : p.c_curve) = cc;
       } else {
-        p.r_ohm = p.r_curve.coeffs[0];
-        p.c_F = p.by_tau ? cc.coeffs[0] / p.r_ohm : cc.coeffs[0];
+        p.r_ohm = p.r_curve.coeffs()[0];
+        p.c_F = p.by_tau ? cc.coeffs()[0] / p.r_ohm : cc.coeffs()[0];
       }
       rc.finish();
       c.rc.push_back(p);

@@ -23,7 +23,7 @@ double r0ArrheniusOfCell_K(const CellParams& cell, int points, double ref_C) {
   if (!r0.dependsOnTemperature()) return 0.0;
   if (r0.kind != Curve::Kind::Table2D) return r0.arrhenius_K;
   double sxy = 0.0, sxx = 0.0;
-  for (const double t_C : r0.temps_C) {
+  for (const double t_C : r0.temps_C()) {
     const double x = 1.0 / (t_C + kZeroCelsius_K) - 1.0 / (ref_C + kZeroCelsius_K);
     for (int i = 0; i < points; ++i) {
       const double soc = i / double(points - 1);

@@ -9,7 +9,7 @@ namespace packsim {
 Curve Curve::constant(double value) {
   Curve c;
   c.kind = Kind::Constant;
-  c.coeffs = {value};
+  c.pts_ = std::make_shared<const Points>(Points{{value}, {}, {}, {}});
   return c;
 }
 
@@ -18,7 +18,7 @@ Curve Curve::polynomial(std::vector<double> coeffs_high_first, CurveAxis axis) {
   Curve c;
   c.kind = Kind::Polynomial;
   c.axis = axis;
-  c.coeffs = std::move(coeffs_high_first);
+  c.pts_ = std::make_shared<const Points>(Points{std::move(coeffs_high_first), {}, {}, {}});
   return c;
 }
 
@@ -38,8 +38,7 @@ Curve Curve::table(std::vector<double> xs, std::vector<double> ys, CurveAxis axi
   Curve c;
   c.kind = Kind::Table;
   c.axis = axis;
-  c.xs = std::move(xs);
-  c.ys = std::move(ys);
+  c.pts_ = std::make_shared<const Points>(Points{{}, std::move(xs), std::move(ys), {}});
   return c;
 }
 
@@ -52,12 +51,12 @@ Curve Curve::table2d(std::vector<double> xs, std::vector<double> temps_C, const 
   Curve c;
   c.kind = Kind::Table2D;
   c.axis = axis;
+  std::vector<double> ys;
   for (const auto& row : rows) {
     if (row.size() != xs.size()) throw std::invalid_argument("2-D table: every row needs as many values as x");
-    c.ys.insert(c.ys.end(), row.begin(), row.end());
+    ys.insert(ys.end(), row.begin(), row.end());
   }
-  c.xs = std::move(xs);
-  c.temps_C = std::move(temps_C);
+  c.pts_ = std::make_shared<const Points>(Points{{}, std::move(xs), std::move(ys), std::move(temps_C)});
   return c;
 }
 
@@ -87,6 +86,7 @@ double interpolate(const std::vector<double>& xs, const std::vector<double>& ys,
 }
 
 double Curve::at(double x) const {
+  const std::vector<double>& coeffs = pts_->coeffs;
   switch (kind) {
     case Kind::Constant:
       return coeffs[0];
@@ -96,7 +96,7 @@ double Curve::at(double x) const {
       return y;
     }
     case Kind::Table:
-      return interpolate(xs, ys, x);
+      return interpolate(pts_->xs, pts_->ys, x);
     case Kind::Table2D:
       return at(x, kReferenceTemp_C);
   }
@@ -106,6 +106,7 @@ double Curve::at(double x) const {
 double Curve::at(double x, double temp_C) const {
   if (kind == Kind::Table2D) {
     // Row interpolation in x, then linear between the two rows around temp_C.
+    const std::vector<double>&xs = pts_->xs, &ys = pts_->ys, &temps_C = pts_->temps_C;
     const size_t n = xs.size();
     auto row = [&](size_t j) { return interpolateN(xs.data(), ys.data() + j * n, n, x); };
     if (temps_C.size() == 1 || temp_C <= temps_C.front()) return row(0);
@@ -123,7 +124,7 @@ double Curve::at(double x, double temp_C) const {
 double Curve::eval(double soc, double axis_capacity_Ah) const { return eval(soc, axis_capacity_Ah, kReferenceTemp_C); }
 
 double Curve::eval(double soc, double axis_capacity_Ah, double temp_C) const {
-  if (kind == Kind::Constant && arrhenius_K == 0.0) return coeffs[0];
+  if (kind == Kind::Constant && arrhenius_K == 0.0) return pts_->coeffs[0];
   if (!dependsOnTemperature()) return at(axisValue(soc, axis_capacity_Ah));  // the 1-D path, as without T
   return at(axisValue(soc, axis_capacity_Ah), temp_C);
 }

@@ -14,6 +14,7 @@
 // was measured on (the preset's capacity_Ah), not a weaker cell's own: every cell
 // then reaches the curve's knee at its own SOC 0.
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -24,15 +25,20 @@ enum class CurveAxis { Soc, Discharged_Ah };
 constexpr double kZeroCelsius_K = 273.15;
 constexpr double kReferenceTemp_C = 25.0;  // where a temperature-free caller evaluates
 
+// The points are immutable and shared: every cell of a pack built from one preset reads
+// the same arrays (a copy of a Curve shares them), so a pack of thousands of cells holds
+// its curves once, not once per cell.
 struct Curve {
   enum class Kind { Constant, Polynomial, Table, Table2D };
   Kind kind = Kind::Constant;
   CurveAxis axis = CurveAxis::Soc;
-  std::vector<double> coeffs;  // polynomial, highest power first; constant: one value
-  std::vector<double> xs, ys;  // table, xs strictly increasing; 2-D: ys row-major [temp][x]
-  std::vector<double> temps_C; // 2-D table: grid temperatures, strictly increasing
   double arrhenius_K = 0.0;    // 0: no Arrhenius factor
   double ref_temp_C = kReferenceTemp_C;
+
+  const std::vector<double>& coeffs() const { return pts_->coeffs; }  // polynomial, highest power first; constant: one value
+  const std::vector<double>& xs() const { return pts_->xs; }          // table, strictly increasing
+  const std::vector<double>& ys() const { return pts_->ys; }          // table; 2-D: row-major [temp][x]
+  const std::vector<double>& temps_C() const { return pts_->temps_C; }  // 2-D table: grid temperatures, increasing
 
   static Curve constant(double value);
   static Curve polynomial(std::vector<double> coeffs_high_first, CurveAxis axis = CurveAxis::Soc);
@@ -53,6 +59,12 @@ struct Curve {
   }
   bool isConstant() const { return kind == Kind::Constant && arrhenius_K == 0.0; }
   bool dependsOnTemperature() const { return kind == Kind::Table2D || arrhenius_K != 0.0; }
+
+ private:
+  struct Points {
+    std::vector<double> coeffs, xs, ys, temps_C;
+  };
+  std::shared_ptr<const Points> pts_ = std::make_shared<const Points>(Points{{0.0}, {}, {}, {}});
 };
 
 // Linear interpolation in a table (xs strictly increasing, ys of the same length),

@@ -6,37 +6,18 @@ import numpy as np
 import pytest
 
 import packsim
-
-
-def _same(a: np.ndarray, b: np.ndarray) -> bool:
-    """Bitwise equality (NaN == NaN, -0.0 != 0.0), dtype and shape included."""
-    if a.dtype != b.dtype or a.shape != b.shape:
-        return False
-    if a.dtype.names:
-        return all(_same(np.asarray(a[n]), np.asarray(b[n])) for n in a.dtype.names)
-    if a.dtype.kind == "O":
-        return a.tolist() == b.tolist()
-    return a.tobytes() == b.tobytes()
+from stored import assert_as_stored, same_bits as _same
 
 
 def test_run_save_load_identical(race, tmp_path):
     """Every dataset the same, but for float channels stored to a stated `resolution`
     (docs/results.md): those within half of it; a file loaded and saved again is then
     the same bit for bit."""
-    import h5py
     path = tmp_path / "race.h5"
     race.save(path)
     back = packsim.load(path)
-    assert back.keys() == race.keys()
-    with h5py.File(path) as f:
-        resolution = {k: f[k].attrs["resolution"] for k in race.keys() if "resolution" in f[k].attrs}
-    assert "truth/cell_voltage_V" in resolution
-    for k in race.keys():
-        if k in resolution:
-            assert race[k].dtype == back[k].dtype and race[k].shape == back[k].shape, k
-            assert np.abs(race[k] - back[k]).max() <= 0.5 * resolution[k] * (1 + 1e-6), k
-        else:
-            assert _same(race[k], back[k]), k
+    assert "resolution" in back.attrs["truth/cell_voltage_V"]
+    assert_as_stored(back, race)
     again = tmp_path / "again.h5"
     back.save(again)
     twice = packsim.load(again)

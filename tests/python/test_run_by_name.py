@@ -13,6 +13,7 @@ import pytest
 import yaml
 
 import packsim
+from stored import assert_as_stored
 
 SHORT = "bench_6s_ncr18650_2C"  # a bundled scenario that runs in about a second
 
@@ -70,8 +71,7 @@ def test_run_by_name_from_another_folder_equals_running_the_file(cli, tmp_path):
         r = packsim.run(SHORT)
     finally:
         os.chdir(here)
-    f = packsim.load(tmp_path / "by_name.h5")
-    np.testing.assert_array_equal(r["truth/cell_voltage_V"], f["truth/cell_voltage_V"])
+    assert_as_stored(packsim.load(tmp_path / "by_name.h5"), r)
 
 
 def test_unknown_name_suggests_the_closest(cli, tmp_path):
@@ -95,7 +95,7 @@ def test_set_overrides_are_the_python_overrides(cli, tmp_path):
     assert f.scenario_yaml == r.scenario_yaml
     stored = yaml.safe_load(f.scenario_yaml)
     assert stored["pack"]["cell"]["capacity_Ah"] == 2.5 and stored["load"]["laps"] == 2
-    np.testing.assert_array_equal(f["truth/cell_soc"], r["truth/cell_soc"])
+    assert_as_stored(f, r)
     # and the override changed the run
     assert f.n_samples < packsim.run(path).n_samples  # 2 laps of 10
 
