@@ -9,7 +9,12 @@ namespace packsim::bench {
 FloorResult runFloor(const Scenario& s, long ticks, int repeats) {
   const Plant plant(s);
   const double tick_s = s.bms.tick_s;
-  const double perCell = 1.0 / plant.pack().parallel;
+  double perCell = 1.0 / plant.pack().parallel;
+  // A load in watts: its current at the pack's starting open-circuit voltage.
+  if (s.load.quantity == LoadProfile::Quantity::Power_W) {
+    const CellParams& c = plant.pack().cells.front();
+    perCell /= plant.pack().series * ecm::ocv(c, s.pack.initial_soc, kReferenceTemp_C);
+  }
   // The load's cell current at every tick, taken before the clock starts.
   std::vector<double> current(static_cast<size_t>(ticks));
   for (long k = 0; k < ticks; ++k) {

@@ -9,39 +9,64 @@ namespace packsim::bench {
 FlatCurve FlatCurve::from(const Curve& c) {
   FlatCurve f;
   f.discharged_axis = c.axis == CurveAxis::Discharged_Ah;
-  const std::vector<double>& ys = c.kind == Curve::Kind::Table ? c.ys() : c.coeffs();
-  if (ys.size() > static_cast<size_t>(kMax)) throw std::invalid_argument("floor kernel: curve longer than 32 points");
-  f.kind = c.kind == Curve::Kind::Constant ? 0 : c.kind == Curve::Kind::Polynomial ? 1 : 2;
-  f.n = static_cast<int>(ys.size());
-  for (int i = 0; i < f.n; ++i) {
-    f.y[i] = ys[static_cast<size_t>(i)];
-    if (f.kind == 2) f.x[i] = c.xs()[static_cast<size_t>(i)];
-  }
+  f.arrhenius_K = c.arrhenius_K;
+  f.ref_temp_K = c.ref_temp_C + kZeroCelsius_K;
+  const bool table = c.kind == Curve::Kind::Table || c.kind == Curve::Kind::Table2D;
+  const std::vector<double>& ys = table ? c.ys() : c.coeffs();
+  f.kind = c.kind == Curve::Kind::Constant ? 0 : c.kind == Curve::Kind::Polynomial ? 1 : table && c.kind == Curve::Kind::Table ? 2 : 3;
+  f.n = table ? static_cast<int>(c.xs().size()) : static_cast<int>(ys.size());
+  f.rows = f.kind == 3 ? static_cast<int>(c.temps_C().size()) : 1;
+  if (f.n > kMax || f.rows > kMaxRows) throw std::invalid_argument("floor kernel: curve larger than 32 points x 8 rows");
+  for (size_t i = 0; i < ys.size(); ++i) f.y[i] = ys[i];
+  for (int i = 0; table && i < f.n; ++i) f.x[i] = c.xs()[static_cast<size_t>(i)];
+  for (int j = 0; f.kind == 3 && j < f.rows; ++j) f.t[j] = c.temps_C()[static_cast<size_t>(j)];
   return f;
 }
 
-// Same arithmetic as Curve::eval / Curve::at (models/cell/curve.cpp).
-double FlatCurve::eval(double soc, double capacity_Ah) const {
-  if (kind == 0) return y[0];
-  const double xv = discharged_axis ? (1.0 - soc) * capacity_Ah : soc;
-  if (kind == 1) {
-    double r = 0.0;
-    for (int i = 0; i < n; ++i) r = r * xv + y[i];
-    return r;
-  }
-  if (xv <= x[0]) return y[0];
-  if (xv >= x[n - 1]) return y[n - 1];
+double FlatCurve::row(int j, double xv) const {
+  const double* yr = y + j * n;
+  if (xv <= x[0]) return yr[0];
+  if (xv >= x[n - 1]) return yr[n - 1];
   const int i = static_cast<int>(std::upper_bound(x, x + n, xv) - x);
   const double w = (xv - x[i - 1]) / (x[i] - x[i - 1]);
-  return y[i - 1] + w * (y[i] - y[i - 1]);
+  return yr[i - 1] + w * (yr[i] - yr[i - 1]);
+}
+
+// Same arithmetic as Curve::eval / Curve::at (models/cell/curve.cpp).
+double FlatCurve::eval(double soc, double capacity_Ah, double temp_C) const {
+  if (kind == 0 && arrhenius_K == 0.0) return y[0];
+  const double xv = discharged_axis ? (1.0 - soc) * capacity_Ah : soc;
+  double r = y[0];
+  if (kind == 1) {
+    r = 0.0;
+    for (int i = 0; i < n; ++i) r = r * xv + y[i];
+  } else if (kind == 2) {
+    r = row(0, xv);
+  } else if (kind == 3) {
+    if (rows == 1 || temp_C <= t[0]) return row(0, xv);
+    if (temp_C >= t[rows - 1]) return row(rows - 1, xv);
+    const int j = static_cast<int>(std::upper_bound(t, t + rows, temp_C) - t);
+    const double w = (temp_C - t[j - 1]) / (t[j] - t[j - 1]);
+    const double lo = row(j - 1, xv);
+    return lo + w * (row(j, xv) - lo);
+  }
+  if (arrhenius_K == 0.0) return r;
+  return r * std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - 1.0 / ref_temp_K));
 }
 
 FloorPack::FloorPack(const Plant& plant, double cell_to_cell_W_per_K, double ambient_C)
     : n_(plant.pack().cellCount()), nrc_(plant.pack().layout.n_rc), ambient_C_(ambient_C),
       gLink_(cell_to_cell_W_per_K) {
   const Pack& pk = plant.pack();
-  ocv_ = FlatCurve::from(pk.cells.front().ocv_V);
-  r0_ = FlatCurve::from(pk.cells.front().r0_ohm);
+  const CellParams& cell = pk.cells.front();
+  for (const RcPair& k : cell.rc)
+    if (k.variable) throw std::invalid_argument("floor kernel: RC pairs over SOC or temperature are not flattened");
+  if (cell.has_hysteresis || cell.has_r0_charge)
+    throw std::invalid_argument("floor kernel: hysteresis and a charge R0 are not flattened");
+  ocv_ = FlatCurve::from(cell.ocv_V);
+  r0_ = FlatCurve::from(cell.r0_ohm);
+  entropic_ = cell.has_entropic;
+  if (entropic_) docvDt_ = FlatCurve::from(cell.docv_dT_V_per_K);
   const size_t n = static_cast<size_t>(n_), nr = static_cast<size_t>(nrc_);
   std::vector<double> x(static_cast<size_t>(plant.stateSize()));
   plant.initialState(x.data());
@@ -85,11 +110,12 @@ double FloorPack::step(double i, double* v_V) {
   double sum = 0.0;
   double tLeftOld = 0.0;  // old temperature of cell c-1 (already overwritten in temp_)
   for (int c = 0; c < n; ++c) {
-    const double soc = soc_[c];
-    const double ocv = ocv_.eval(soc, axisCap_Ah_[c]);
-    const double r0 = r0Scale_[c] * r0_.eval(soc, axisCap_Ah_[c]);
+    const double soc = soc_[c], T = temp_[c];
+    const double ocv = ocv_.eval(soc, axisCap_Ah_[c], T);
+    const double r0 = r0Scale_[c] * r0_.eval(soc, axisCap_Ah_[c], T);
     double v = ocv - i * r0;
     double q = i * i * r0;
+    if (entropic_) q -= i * (T + kZeroCelsius_K) * docvDt_.eval(soc, axisCap_Ah_[c], T);
     for (int k = 0; k < nrc_; ++k) {
       const size_t j = static_cast<size_t>(k * n + c);
       const double vk = vrc_[j];
@@ -101,7 +127,6 @@ double FloorPack::step(double i, double* v_V) {
     sum += v;
     const double eta = i < 0.0 ? eff_[c] : 1.0;
     soc_[c] = soc - socGain_[c] * (eta * i + selfDis_A_[c]);
-    const double T = temp_[c];
     double flow = gAmb_[c] * (T - ambient_C_);
     if (c > 0) flow += gLink_ * (T - tLeftOld);
     if (c + 1 < n) flow += gLink_ * (T - temp_[c + 1]);

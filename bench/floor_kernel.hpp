@@ -5,15 +5,18 @@
 // One step of length h for cell i at current I_i (positive discharges), the same
 // update the fast integrator (core/sim/fast_integrator.hpp) makes:
 //
-//   OCV   = ocv(soc)                 R0 = r0_scale_i · r0(soc)   (the cell's curves)
+//   OCV   = ocv(soc, T)              R0 = r0_scale_i · r0(soc, T)   (the cell's curves)
 //   v     = OCV - I·R0 - Σ v_k       terminal voltage (the output)
 //   q     = I²·R0 + Σ v_k² / R_k     Joule heat
+//           - I·T_K·dOCV/dT(soc)     reversible heat (when the cell has an entropic curve)
 //   soc  -= h·(η(I)·I + I_sd) / (3600·Q_i)                        explicit
 //   v_k   = v_k·a_k + I·R_k·(1 - a_k),   a_k = e^{-h/τ_k}        exact exponential
 //   T    += h/C_i · (q - G_amb,i·(T - T_amb) - G_link·(2T - T_left - T_right))
 //
-// The curves are the cell preset's own (table or polynomial, on SOC or discharged-Ah
-// axis, evaluated exactly as models/cell/curve.cpp does) copied into fixed arrays.
+// The curves are the cell preset's own (table, table over temperature, or polynomial,
+// on SOC or discharged-Ah axis, with their Arrhenius factor; evaluated exactly as
+// models/cell/curve.cpp does) copied into fixed arrays: the temperature dependence
+// belongs to the model, so the floor pays for it too.
 // Parameters and states are structures of arrays; a_k are precomputed for h.
 #pragma once
 #include <vector>
@@ -22,16 +25,21 @@
 
 namespace packsim::bench {
 
-// A Curve flattened into fixed storage (tables and polynomials up to kMax points).
+// A Curve flattened into fixed storage (tables and polynomials up to kMax points, up to
+// kMaxRows temperature rows).
 struct FlatCurve {
-  static constexpr int kMax = 32;
-  int kind = 0;            // 0 constant, 1 polynomial, 2 table
+  static constexpr int kMax = 32, kMaxRows = 8;
+  int kind = 0;            // 0 constant, 1 polynomial, 2 table, 3 table over temperature
   bool discharged_axis = false;
-  int n = 0;
-  double x[kMax] = {}, y[kMax] = {};  // table points; polynomial coefficients in y
+  int n = 0, rows = 0;
+  double arrhenius_K = 0.0, ref_temp_K = 0.0;
+  double x[kMax] = {}, t[kMaxRows] = {}, y[kMax * kMaxRows] = {};  // polynomial coefficients in y
 
   static FlatCurve from(const Curve& c);
-  double eval(double soc, double capacity_Ah) const;
+  double eval(double soc, double capacity_Ah, double temp_C) const;
+
+ private:
+  double row(int j, double xv) const;
 };
 
 class FloorPack {
@@ -54,7 +62,8 @@ class FloorPack {
 
  private:
   int n_ = 0, nrc_ = 0;
-  FlatCurve ocv_, r0_;
+  FlatCurve ocv_, r0_, docvDt_;
+  bool entropic_ = false;
   double ambient_C_ = 25.0, gLink_ = 0.0, h_ = 0.0;
   // parameters (per cell; RC per pair k at k·n + c)
   std::vector<double> cap_Ah_, axisCap_Ah_, r0Scale_, eff_, selfDis_A_, heatCap_, gAmb_, rcR_, rcTau_;

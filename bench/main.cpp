@@ -1,6 +1,7 @@
 // packsim_bench: runs the benchmarks and prints their figures as one table.
 //
-//   packsim_bench [--quick] [floor|macro|scaling|batch ...]   (default: all)
+//   packsim_bench [--quick] [floor|plant|macro|presets|scaling|batch ...]   (default: all)
+//   (plant: system D's fast integrator alone, for profiling the plant with perf)
 //
 // Figures per row: simulated time, ticks, CPU and wall time (minimum of repeats),
 // real-time factor (simulated / CPU time), ns per cell-step (CPU) and the ratio to
@@ -44,9 +45,9 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick") quick = true;
-    else if (a == "floor" || a == "macro" || a == "scaling" || a == "batch") want.insert(a);
+    else if (a == "floor" || a == "plant" || a == "macro" || a == "presets" || a == "scaling" || a == "batch") want.insert(a);
     else {
-      std::fprintf(stderr, "usage: %s [--quick] [floor|macro|scaling|batch ...]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--quick] [floor|plant|macro|presets|scaling|batch ...]\n", argv[0]);
       return 2;
     }
   }
@@ -70,6 +71,46 @@ int main(int argc, char** argv) {
     }
     std::printf("System D (110s1p, 10 ms BMS tick, 1 Hz recording), %s:\n%s\n",
                 quick ? "one 20-minute race" : "one hour of racing = three 20-minute races", t.str().c_str());
+  }
+
+  if (want.count("plant") > 0) {
+    const Scenario fa = bundledScenario("motorcycle_110s.yaml", {{"run.solver", "fast"}});
+    Table t = runTable();
+    addRun(t, timeFastIntegratorOnly(fa, quick ? 3 : 10), 1.0);
+    std::printf("System D's plant alone (x floor column: ns, no floor measured):\n%s\n", t.str().c_str());
+  }
+
+  if (on("presets")) {
+    // Every reference preset as bundled (its read-out rates, tick and recording), with
+    // the fast integrator and with CVODE; system D also read out every 10 ms (its boards
+    // at 1 MHz SPI: at the team's ~62 kHz a 36-cell board takes longer than 10 ms to read).
+    struct Preset { const char* label; const char* file; Overrides extra; };
+    const Preset presets[] = {
+        {"A eco-marathon 12s1p", "eco_marathon_12s.yaml", {}},
+        {"B solar car 28s15p", "solar_car_28s15p.yaml", {}},
+        {"C bench 6s1p 2C", "bench_6s_ncr18650_2C.yaml", {}},
+        {"D motorcycle 110s1p", "motorcycle_110s.yaml", {}},
+        {"D read every 10 ms, 1 MHz SPI", "motorcycle_110s.yaml", {{"bms.readout.period_ms", "10"}, {"hardware.afe.baud", "1000000"}}},
+        {"E scooter 16s1p", "scooter_16s_lto.yaml", {}},
+    };
+    Table t = runTable();
+    for (const Preset& p : presets) {
+      Overrides fo = p.extra, co = p.extra;
+      fo.push_back({"run.solver", "fast"});
+      co.push_back({"run.solver", "cvode"});
+      const Scenario fa = bundledScenario(p.file, fo), cv = bundledScenario(p.file, co);
+      const long ticks = std::lround(std::floor(fa.endTime_s() / fa.bms.tick_s + 1e-9));
+      const FloorResult fl = runFloor(fa, ticks, quick ? 2 : 3);
+      addFloor(t, std::string("floor ") + p.label, fa.pack.series * fa.pack.parallel, ticks, fa.bms.tick_s, fl);
+      RunFigures plant = timeFastIntegratorOnly(fa, quick ? 1 : 3);
+      plant.label = std::string("plant ") + p.label;
+      addRun(t, plant, fl.cpu_ns_per_cell_step);
+      addRun(t, timeScenario(std::string("fast  ") + p.label, fa, 1, quick ? 1 : 3), fl.cpu_ns_per_cell_step);
+      if (!quick) addRun(t, timeScenario(std::string("cvode ") + p.label, cv, 1, 1), fl.cpu_ns_per_cell_step);
+      std::fflush(stdout);
+    }
+    std::printf("Reference presets as bundled (their read-out rates; the whole run, setup to recording):\n%s\n",
+                t.str().c_str());
   }
 
   if (on("scaling")) {

@@ -122,10 +122,11 @@ def _from_handle(handle) -> "Result":
     result (no copy). Attributes, the events table, the summary and any dataset the
     binding does not list come from the C++ HDF5 writer itself, which builds the file
     in memory (nothing is written to disk), so names, shapes, dtypes and metadata are
-    exactly those of ``packsim run``'s file."""
+    exactly those of ``packsim run``'s file. That file is built and read the first time
+    any of them is asked for: a loop that only reads recorded arrays never pays for it."""
     views = handle.arrays()
-    datasets, attrs = _read_h5(io.BytesIO(handle.image()), prefer=views)
-    return Result(datasets, attrs, handle=handle)
+    return Result(views, None, handle=handle,
+                  complete=lambda: _read_h5(io.BytesIO(handle.image()), prefer=views))
 
 
 class Result:
@@ -136,12 +137,36 @@ class Result:
     ``r.seed`` say what ran. Units are in the dataset names and in ``r.units(path)``.
     """
 
-    def __init__(self, datasets: Mapping[str, np.ndarray], attrs: Mapping[str, Mapping[str, Any]],
-                 *, handle=None, source: str | None = None) -> None:
-        self._datasets = dict(datasets)
-        self._attrs = {k: dict(v) for k, v in attrs.items()}
+    def __init__(self, datasets: Mapping[str, np.ndarray], attrs: Mapping[str, Mapping[str, Any]] | None,
+                 *, handle=None, source: str | None = None, complete=None) -> None:
+        # complete: returns (datasets, attrs) of the whole result, called on first need;
+        # until then `datasets` are the ones at hand (the same arrays it will list).
+        self._at_hand = dict(datasets)
+        self._complete = complete
+        self._ds = None if complete else self._at_hand
+        self._at = None if complete else {k: dict(v) for k, v in (attrs or {}).items()}
         self._handle = handle
         self.source = source
+
+    def _load(self) -> None:
+        datasets, attrs = self._complete()
+        self._ds, self._at, self._complete = datasets, attrs, None
+
+    @property
+    def _datasets(self) -> dict[str, np.ndarray]:
+        if self._ds is None:
+            self._load()
+        return self._ds
+
+    @property
+    def _attrs(self) -> dict[str, dict[str, Any]]:
+        if self._at is None:
+            self._load()
+        return self._at
+
+    def _dataset(self, key: str) -> np.ndarray:
+        a = self._at_hand.get(key) if self._ds is None else None
+        return a if a is not None else self._datasets[key]
 
     # --- datasets -----------------------------------------------------------------
     @property
@@ -159,7 +184,7 @@ class Result:
 
     def __getitem__(self, path: str) -> np.ndarray:
         try:
-            return self._datasets[path.strip("/")]
+            return self._dataset(path.strip("/"))
         except KeyError:
             raise KeyError(f"no dataset {path!r} in this result; it has: {', '.join(self._datasets)}") from None
 
@@ -170,7 +195,10 @@ class Result:
         return iter(self._datasets)
 
     def get(self, path: str, default: Any = None) -> Any:
-        return self._datasets.get(path.strip("/"), default)
+        try:
+            return self._dataset(path.strip("/"))
+        except KeyError:
+            return default
 
     def group(self, name: str) -> dict[str, np.ndarray]:
         """The datasets directly inside group `name`, by their short names."""
@@ -195,7 +223,7 @@ class Result:
 
     @property
     def time_s(self) -> np.ndarray:
-        return self._datasets["time_s"]
+        return self._dataset("time_s")
 
     time = time_s
 
@@ -205,16 +233,16 @@ class Result:
 
     @property
     def n_cells(self) -> int:
-        return int(self._datasets["truth/cell_voltage_V"].shape[1])
+        return int(self._dataset("truth/cell_voltage_V").shape[1])
 
     @property
     def n_series(self) -> int:
         """Series positions the monitor ICs read (one voltage per parallel group)."""
-        return int(self._datasets["measured/cell_voltage_mV"].shape[1])
+        return int(self._dataset("measured/cell_voltage_mV").shape[1])
 
     @property
     def n_thermistors(self) -> int:
-        return int(self._datasets["measured/temperature_dC"].shape[1])
+        return int(self._dataset("measured/temperature_dC").shape[1])
 
     # --- metadata ------------------------------------------------------------------
     @property

@@ -1,10 +1,12 @@
 // The floor kernel of the benchmarks (bench/floor_kernel) makes the same update as the
-// fast integrator, so "ratio to the floor" compares like with like: on system D's
-// pack (a series string: no current split) at a held current, both advance every
-// cell's SOC, RC voltages and temperature identically to rounding.
+// fast integrator, so "ratio to the floor" compares like with like: on a series string
+// (no current split) at a held current, both advance every cell's SOC, RC voltages and
+// temperature identically to rounding -- with the cell's temperature dependence (system
+// D's Arrhenius R0 and reversible heat, system E's R0 table over temperature).
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "bench/floor_kernel.hpp"
@@ -15,17 +17,15 @@
 namespace packsim {
 namespace {
 
-TEST(BenchFloorKernel, SameCellTrajectoryAsFastIntegrator) {
-  Scenario s = loadScenarioFile(test::scenarioDir() + "/motorcycle_110s.yaml");
-  // The floor is the temperature-free ECM: the preset's Arrhenius factor and reversible
-  // heat are taken out of the comparison (their cost is the plant's, not the floor's).
-  s.pack.cell.r0_ohm.arrhenius_K = 0.0;
-  s.pack.cell.has_entropic = false;
+void expectSameTrajectory(const std::string& file, double current_A) {
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/" + file);
   s.thermal.nodes.clear();  // the floor is the cells alone (no pack skin, no board)
-  ASSERT_FALSE(s.pack.cell.usesTemperature());
+  ASSERT_TRUE(s.pack.cell.usesTemperature());
   ASSERT_EQ(s.pack.parallel, 1);
+  s.load.quantity = LoadProfile::Quantity::Current_A;  // the scooter's ride is in watts; both run a held current
   const Plant plant(s);
-  constexpr double kCurrent_A = 180.0, kTick_s = 0.01;
+  const double kCurrent_A = current_A;
+  constexpr double kTick_s = 0.01;
   constexpr int kTicks = 200;
 
   HardwareFaults faults;
@@ -54,6 +54,11 @@ TEST(BenchFloorKernel, SameCellTrajectoryAsFastIntegrator) {
       EXPECT_NEAR(floor.vrc(c, k), xc[plant.pack().layout.rc(k)], 1e-13) << "cell " << c << " rc " << k;
     EXPECT_NEAR(floor.temp_C(c), xs[plant.tempIndex(c)], 1e-11) << "cell " << c;
   }
+}
+
+TEST(BenchFloorKernel, SameCellTrajectoryAsFastIntegrator) {
+  expectSameTrajectory("motorcycle_110s.yaml", 180.0);  // Arrhenius R0, reversible heat
+  expectSameTrajectory("scooter_16s_lto.yaml", 36.0);   // R0 table over temperature
 }
 
 }  // namespace

@@ -107,3 +107,20 @@ def test_missing_optional_dependency_is_a_clear_error(race, monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)
     with pytest.raises(ImportError, match="pip install pandas"):
         race.to_dataframe()
+
+
+def test_recorded_arrays_are_at_hand_before_the_file_is_read(simple_yaml):
+    """packsim.run hands back the recorded arrays at once; the in-memory file (attributes,
+    summary, events) is built on first need, and then lists those very arrays."""
+    r = packsim.run(simple_yaml, seed=3)
+    early = {k: r[k] for k in ("time_s", "truth/cell_voltage_V", "measured/cell_voltage_mV", "bms/state")}
+    assert r.n_cells == 3 and r.n_samples == early["time_s"].shape[0]
+    assert r._ds is None  # nothing built or parsed yet
+    assert r.summary["duration_s"] > 0 and r.events  # builds and reads the file
+    assert r._ds is not None
+    for k, a in early.items():
+        assert r[k] is a and r.datasets[k] is a, k
+    fresh = packsim.run(simple_yaml, seed=3)
+    fresh.attrs  # read the file first this time
+    for k, a in early.items():
+        assert _same(fresh[k], a), k
