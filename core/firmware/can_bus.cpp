@@ -12,17 +12,6 @@ CanBus::CanBus(int nodes, double bitrate_bps, size_t txQueue, size_t rxFifo)
   if (nodes < 1 || !(bitrate_bps > 0.0)) throw std::invalid_argument("CanBus: needs nodes and a positive bit rate");
 }
 
-double CanBus::frameTime_s(uint32_t id, const uint8_t* data, uint8_t len) {
-  Sized& z = sized_[id % kSizedSlots];
-  if (z.id != id || z.len != len || std::memcmp(z.data, data, len) != 0) {
-    z.id = id;
-    z.len = len;
-    std::memcpy(z.data, data, len);
-    z.bits = frameBits(id, data, len);
-  }
-  return z.bits / bitrate_;
-}
-
 int CanBus::frameBits(uint32_t id, const uint8_t* data, uint8_t len) {
   // The stuffed part: SOF (0), 11-bit identifier, RTR 0, IDE 0, r0 0, DLC, data, CRC-15.
   int bits[1 + 11 + 3 + 4 + 64 + 15];

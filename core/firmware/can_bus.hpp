@@ -36,9 +36,7 @@ class CanBus {
 
   // Bits one data frame occupies on the wire (stuff bits included, intermission too).
   static int frameBits(uint32_t id, const uint8_t* data, uint8_t len);
-  // The same, in seconds. Remembers the last frame of each identifier slot: the boards
-  // repeat their status frames unchanged between read-outs.
-  double frameTime_s(uint32_t id, const uint8_t* data, uint8_t len);
+  double frameTime_s(uint32_t id, const uint8_t* data, uint8_t len) const { return frameBits(id, data, len) / bitrate_; }
 
   uint64_t framesSent() const { return sent_; }
   uint64_t framesLost() const { return lost_; }
@@ -59,14 +57,6 @@ class CanBus {
     uint8_t len;
     uint8_t data[8];
   };
-  struct Sized {  // a frame and its bits on the wire
-    uint32_t id = 0xFFFFFFFFu;
-    uint8_t len = 0;
-    uint8_t data[8] = {};
-    int bits = 0;
-  };
-  static constexpr size_t kSizedSlots = 64;
-  Sized sized_[kSizedSlots];
   double bitrate_;
   size_t txQueue_, rxFifo_;
   std::vector<Frame> pending_;
