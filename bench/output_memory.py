@@ -13,9 +13,11 @@ Runs (each `packsim run` in its own process under /usr/bin/time: peak RSS, CPU t
   it; ambient and start at 10 C, so it does not reach the 60 C over-temperature limit),
   fast integrator; 250s20p also for 10 minutes, to separate what grows
   with the run's length (the recording) from what does not.
-For every file: its bytes, the datasets' bytes uncompressed, and the datasets' stored
-bytes rewritten (h5py, in memory) with other settings: no filter; today's chunks with
-deflate 1 / 9; chunks of 256 Ki values (deflate 4 + shuffle); deflate 4 without
+For every file: its bytes (as packsim writes it: float channels to their stated
+resolution with HDF5's scale-offset filter, docs/results.md), the datasets' bytes
+uncompressed, and the datasets' stored bytes rewritten (h5py, in memory, from the values
+as stored) with other settings: no filter; the lossless 16 Ki-value chunks with shuffle
+and deflate 4 packsim wrote until 2026-11-24, and with deflate 1 / 9; chunks of 256 Ki values (deflate 4 + shuffle); deflate 4 without
 shuffle; and, marked LOSSY, float32 or HDF5's scale-offset filter for the float data.
 """
 from __future__ import annotations
@@ -81,7 +83,7 @@ def run(packsim: str, args: list[str], h5: str) -> dict:
 
 def variants(h5: str) -> dict:
     """Stored bytes of the datasets under other chunk/filter settings (same values)."""
-    def chunks_today(shape):
+    def chunks_16k(shape):
         if len(shape) == 0 or shape[0] == 0:
             return None
         cols = shape[1] if len(shape) == 2 else 1
@@ -97,15 +99,15 @@ def variants(h5: str) -> dict:
 
     settings = {
         "none (contiguous)": dict(chunks=lambda s: None, compression=None, shuffle=False),
-        "today: 16 Ki-value chunks, shuffle + deflate 4": dict(chunks=chunks_today, compression=4, shuffle=True),
-        "16 Ki-value chunks, shuffle + deflate 1": dict(chunks=chunks_today, compression=1, shuffle=True),
-        "16 Ki-value chunks, shuffle + deflate 9": dict(chunks=chunks_today, compression=9, shuffle=True),
-        "16 Ki-value chunks, deflate 4 (no shuffle)": dict(chunks=chunks_today, compression=4, shuffle=False),
+        "lossless as until 2026-11-24: 16 Ki-value chunks, shuffle + deflate 4": dict(chunks=chunks_16k, compression=4, shuffle=True),
+        "16 Ki-value chunks, shuffle + deflate 1": dict(chunks=chunks_16k, compression=1, shuffle=True),
+        "16 Ki-value chunks, shuffle + deflate 9": dict(chunks=chunks_16k, compression=9, shuffle=True),
+        "16 Ki-value chunks, deflate 4 (no shuffle)": dict(chunks=chunks_16k, compression=4, shuffle=False),
         "256 Ki-value chunks, shuffle + deflate 4": dict(chunks=chunks_big, compression=4, shuffle=True),
         # Lossy, for scale: what changing the stored values (not the filters) would give.
-        "LOSSY float64 -> float32, today's chunks and filters": dict(chunks=chunks_today, compression=4, shuffle=True,
+        "LOSSY float64 -> float32, 16 Ki-value chunks, shuffle + deflate 4": dict(chunks=chunks_16k, compression=4, shuffle=True,
                                                                      float32=True),
-        "LOSSY scale-offset 1e-6 (floats), shuffle + deflate 4": dict(chunks=chunks_today, compression=4, shuffle=True,
+        "LOSSY scale-offset 1e-6 (floats), shuffle + deflate 4": dict(chunks=chunks_16k, compression=4, shuffle=True,
                                                                       scaleoffset=6),
     }
     out = {}

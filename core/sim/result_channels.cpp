@@ -261,8 +261,9 @@ void recordSample(const ChannelSample& s, Recording& rec) {
 int storedDecimals(const ResultChannel& c) {
   if (!std::holds_alternative<Column<double>>(c.column) || c.units == nullptr) return -1;
   const std::string u = c.units;
-  if (u == "V" || u == "A" || u == "W") return 6;
-  if (u == "degC") return 5;
+  if (u == "V" || u == "W") return 6;
+  if (u == "A") return 5;
+  if (u == "degC") return 4;
   if (u == "1" || u == "Ah") return 8;
   return -1;
 }
