@@ -12,39 +12,52 @@ CanBus::CanBus(int nodes, double bitrate_bps, size_t txQueue, size_t rxFifo)
   if (nodes < 1 || !(bitrate_bps > 0.0)) throw std::invalid_argument("CanBus: needs nodes and a positive bit rate");
 }
 
-int CanBus::frameBits(uint32_t id, const uint8_t* data, uint8_t len) {
-  // The stuffed part: SOF (0), 11-bit identifier, RTR 0, IDE 0, r0 0, DLC, data, CRC-15.
-  int bits[1 + 11 + 3 + 4 + 64 + 15];
-  int count = 0;
-  auto push = [&](uint32_t v, int n) {
-    for (int i = n - 1; i >= 0; --i) bits[count++] = static_cast<int>((v >> i) & 1u);
-  };
-  push(0, 1);
-  push(id & 0x7FFu, 11);
-  push(0, 3);
-  push(len, 4);
-  for (uint8_t k = 0; k < len; ++k) push(data[k], 8);
-  uint32_t crc = 0;  // CRC-15, polynomial 0x4599, over SOF .. data
-  for (int k = 0; k < count; ++k) {
-    const int b = bits[k];
-    const uint32_t next = static_cast<uint32_t>(b) ^ ((crc >> 14) & 1u);
+namespace {
+
+// Bit stuffing over the frame's bits as they go on the wire: after five equal bits a
+// complement bit, which starts a new run.
+struct Stuffer {
+  int bits = 0, run = 0, last = -1;
+  void put(uint32_t v, int n) {
+    for (int i = n - 1; i >= 0; --i) {
+      const int b = static_cast<int>((v >> i) & 1u);
+      ++bits;
+      run = b == last ? run + 1 : 1;
+      last = b;
+      if (run == 5) {
+        ++bits;
+        last = 1 - b;
+        run = 1;
+      }
+    }
+  }
+};
+
+// CRC-15 (polynomial 0x4599) over the bits SOF .. data, fed as they go on the wire.
+uint32_t crc15(uint32_t crc, uint32_t v, int n) {
+  for (int i = n - 1; i >= 0; --i) {
+    const uint32_t next = ((v >> i) & 1u) ^ ((crc >> 14) & 1u);
     crc = (crc << 1) & 0x7FFFu;
     if (next) crc ^= 0x4599u;
   }
-  push(crc, 15);
-  int stuffed = 0, run = 0, last = -1;
-  for (int k = 0; k < count; ++k) {
-    const int b = bits[k];
-    ++stuffed;
-    run = b == last ? run + 1 : 1;
-    last = b;
-    if (run == 5) {  // a complement bit, which starts a new run
-      ++stuffed;
-      last = 1 - b;
-      run = 1;
-    }
+  return crc;
+}
+
+}  // namespace
+
+int CanBus::frameBits(uint32_t id, const uint8_t* data, uint8_t len) {
+  // The stuffed part: SOF (0), 11-bit identifier, RTR 0, IDE 0, r0 0, DLC, data, CRC-15.
+  // SOF, identifier, RTR/IDE/r0 and DLC are 19 bits: one field.
+  const uint32_t head = ((id & 0x7FFu) << 7) | (len & 0x0Fu);
+  Stuffer st;
+  st.put(head, 19);
+  uint32_t crc = crc15(0, head, 19);
+  for (uint8_t k = 0; k < len; ++k) {
+    st.put(data[k], 8);
+    crc = crc15(crc, data[k], 8);
   }
-  return stuffed + 1 + 2 + 7 + 3;  // CRC delimiter, ACK slot + delimiter, EOF, intermission
+  st.put(crc, 15);
+  return st.bits + 1 + 2 + 7 + 3;  // CRC delimiter, ACK slot + delimiter, EOF, intermission
 }
 
 bool CanBus::send(int node, double t_s, uint32_t id, const uint8_t* data, uint8_t len) {

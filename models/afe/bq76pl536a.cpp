@@ -86,6 +86,7 @@ void Bq76pl536aChain::reset(Device& dv) {
   dv.reg[BQ536_FAULT_STATUS] = BQ536_FS_POR;
   dv.reg[BQ536_ALERT_STATUS] = BQ536_AS_AR;
   dv.shadowOpen = false;
+  dv.compared = false;
   dv.lastLatchWrite[0] = dv.lastLatchWrite[1] = 0;
   dv.cov = DebounceTimer{};
   dv.cuv = DebounceTimer{};
@@ -119,34 +120,43 @@ void Bq76pl536aChain::settle(Device& dv, double t) {
   refreshStatus(dv);
 }
 
-void Bq76pl536aChain::runComparators(Device& dv, double t) {
+void Bq76pl536aChain::compare(Device& dv) {
   const DeviceAnalog& a = dv.analog;
   const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
-  uint8_t over = 0, under = 0;
+  uint8_t over = 0, under = 0, hot = 0;
   for (int c = 0; c < dv.cells; ++c) {
     const double v = a.cell_V[static_cast<size_t>(c)];  // the pin voltage: comparators are not the ADC
     if (!(covReg & BQ536_CONFIG_DISABLE) && v > bq536_cov_mV(covReg) * 1e-3) over |= static_cast<uint8_t>(1u << c);
     if (!(cuvReg & BQ536_CONFIG_DISABLE) && v < bq536_cuv_mV(cuvReg) * 1e-3) under |= static_cast<uint8_t>(1u << c);
   }
-  if (dv.cov.held(t, over != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_COVT]) * 1e-6)) {
-    dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_COV;
-    dv.reg[BQ536_COV_FAULT] |= over;
-  }
-  if (dv.cuv.held(t, under != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_CUVT]) * 1e-6)) {
-    dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_CUV;
-    dv.reg[BQ536_CUV_FAULT] |= under;
-  }
-  const double otDelay_s = dv.reg[BQ536_CONFIG_OTT] * BQ536_OTT_STEP_MS * 1e-3;
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
     const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);
-    bool hot = false;
     if (nibble != 0 && k < a.therm_C.size()) {
       // A shorted NTC looks infinitely hot to the comparator; an open one cold.
       const ThermistorFault f = a.therm_fault[k];
-      hot = f == ThermistorFault::Short || (f == ThermistorFault::None && a.therm_C[k] > bq536_ot_C(nibble));
+      if (f == ThermistorFault::Short || (f == ThermistorFault::None && a.therm_C[k] > bq536_ot_C(nibble)))
+        hot |= static_cast<uint8_t>(1u << k);
     }
-    if (dv.ot[k].held(t, hot, otDelay_s)) dv.reg[BQ536_ALERT_STATUS] |= static_cast<uint8_t>(BQ536_AS_OT1 << k);
   }
+  dv.over = over;
+  dv.under = under;
+  dv.hot = hot;
+  dv.compared = true;
+}
+
+void Bq76pl536aChain::runComparators(Device& dv, double t) {
+  if (!dv.compared) compare(dv);
+  if (dv.cov.held(t, dv.over != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_COVT]) * 1e-6)) {
+    dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_COV;
+    dv.reg[BQ536_COV_FAULT] |= dv.over;
+  }
+  if (dv.cuv.held(t, dv.under != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_CUVT]) * 1e-6)) {
+    dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_CUV;
+    dv.reg[BQ536_CUV_FAULT] |= dv.under;
+  }
+  const double otDelay_s = dv.reg[BQ536_CONFIG_OTT] * BQ536_OTT_STEP_MS * 1e-3;
+  for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k)
+    if (dv.ot[k].held(t, (dv.hot >> k) & 1u, otDelay_s)) dv.reg[BQ536_ALERT_STATUS] |= static_cast<uint8_t>(BQ536_AS_OT1 << k);
 }
 
 void Bq76pl536aChain::advance(double t) {
@@ -227,6 +237,7 @@ void Bq76pl536aChain::clearLatches(Device& dv, uint8_t reg, uint8_t falling) {
 void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
   const bool unlocked = dv.shadowOpen;
   dv.shadowOpen = false;  // the key opens exactly one write
+  dv.compared = false;    // a threshold may change
   switch (reg) {
     case BQ536_ALERT_STATUS:
     case BQ536_FAULT_STATUS: {

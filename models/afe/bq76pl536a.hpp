@@ -41,7 +41,11 @@ class Bq76pl536aChain final : public MonitorChain {
 
   int deviceCount() const override { return static_cast<int>(dev_.size()); }
   int cellsOf(int d) const override { return dev_[static_cast<size_t>(d)].cells; }
-  DeviceAnalog& analog(int d) override { return dev_[static_cast<size_t>(d)].analog; }
+  DeviceAnalog& analog(int d) override {  // the caller fills it: the comparators look again
+    Device& dv = dev_[static_cast<size_t>(d)];
+    dv.compared = false;
+    return dv.analog;
+  }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
   void setBrokenLinkAbove(int d) override { brokenAbove_ = d; }
 
@@ -73,6 +77,11 @@ class Bq76pl536aChain final : public MonitorChain {
     double balanceUntil_s = 0.0;
     DeviceAnalog analog;
     MonitorDeviceFault comm;
+    // What the comparators see (cells over / under, thermistors hot) for the present
+    // inputs and thresholds; the chain advances many times per tick (at every frame),
+    // the inputs change only when filled or a threshold is written.
+    bool compared = false;
+    uint8_t over = 0, under = 0, hot = 0;
   };
 
   uint8_t addressOf(const Device& dv) const { return dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_MASK; }
@@ -82,6 +91,7 @@ class Bq76pl536aChain final : public MonitorChain {
   int reach(int* out) const;
   void reset(Device& dv);
   void settle(Device& dv, double t);
+  void compare(Device& dv);  // the comparators' view of the present inputs
   void runComparators(Device& dv, double t);
   void refreshStatus(Device& dv);
   void write(Device& dv, double t, uint8_t reg, uint8_t value);
