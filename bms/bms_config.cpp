@@ -29,6 +29,7 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   Pl455Config& p455 = c.drivers.pl455;
   p455.oversamplingLog2 = 0;
   p455.comparators = true;
+  p455.commTimeoutCode = 0;
   p455.crcRetries = 2;
   Bq952DriverConfig& b952 = c.drivers.bq952;
   b952.crc = true;

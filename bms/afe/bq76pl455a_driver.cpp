@@ -154,7 +154,9 @@ uint8_t pl455Init(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
   // AUX over temperature (UV: the NTC reads low when hot) on the inputs in use.
   const uint8_t hot[2] = {static_cast<uint8_t>(c.auxHotCode >> 8), static_cast<uint8_t>(c.auxHotCode)};
   for (uint8_t k = 0; k < thermsOf(c) && c.auxHotCode != 0; ++k) writeRegs(c, b, api, kBroadcast, PL455_REG_AUX_UV(k), hot, 2);
-  const uint16_t fo = c.comparators ? kFaultOut : 0;
+  if (c.commTimeoutCode != 0)  // off at power-up
+    write8(c, b, api, kBroadcast, PL455_REG_CTO, static_cast<uint8_t>(c.commTimeoutCode & PL455_CTO_FAULT_MASK));
+  const uint16_t fo = static_cast<uint16_t>((c.comparators ? kFaultOut : 0) | (c.commTimeoutCode != 0 ? PL455_FAULT_SUM_SYS : 0));
   const uint8_t foBytes[2] = {static_cast<uint8_t>(fo >> 8), static_cast<uint8_t>(fo)};
   writeRegs(c, b, api, kBroadcast, PL455_REG_FO_CTRL, foBytes, 2);
   // Channel select and connected cells differ on a partly populated top device.

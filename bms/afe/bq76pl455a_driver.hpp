@@ -31,6 +31,8 @@ struct Pl455Config {
   float cellLsb_uV;              // VCELL scaling as flashed (5 V / 65535 nominal)
   uint8_t oversamplingLog2;      // OVERSMPL: 2^n samples averaged per channel
   bool comparators;              // secondary comparators on, driving the FAULT line
+  uint8_t commTimeoutCode;       // CTO fault timer code (0 off): a device that hears no frame
+                                 // for that long drives the FAULT line too
   // Thresholds written at init; 0 keeps the device's EEPROM values.
   uint16_t compUv_mV, compOv_mV; // comparator thresholds (25 mV steps)
   uint16_t cellUv_mV, cellOv_mV; // ADC checks on every sample

@@ -63,6 +63,7 @@
 #define PL455_REG_TXHOLDOFF 0x12u
 #define PL455_REG_CBCONFIG 0x13u    /* balancing configuration: balance time */
 #define PL455_REG_CBENBL 0x14u      /* 2 bytes: balancing switch per cell (bit k-1 = cell k) */
+#define PL455_REG_CTO 0x28u         /* communication timeout: the device supervises its link */
 #define PL455_REG_STATUS 0x51u      /* device status */
 #define PL455_REG_FAULT_SUM 0x52u   /* 2 bytes: fault summary; write 1s to clear groups */
 #define PL455_REG_FAULT_UV 0x54u    /* 2 bytes: ADC under-voltage per cell */
@@ -127,6 +128,14 @@
 /* [model] seconds per code: 0 = balancing stopped */
 #define PL455_BALANCE_TIME_S_INIT {0u, 1u, 60u, 120u, 300u, 600u, 1200u, 1800u}
 
+/* ---- CTO: bits 2:0 fault timer code. A device that hears no valid frame for that long
+ * sets FAULT_SYS.CTO (and with FAULT_SUM.SYS in FO_CTRL, its FAULT output): the IC
+ * notices a dead MCU or a cut link by itself. Code 0 (the power-up value) is off. ---- */
+#define PL455_CTO_FAULT_MASK 0x07u
+#define PL455_CTO_FAULT_CODES 8u
+/* [model] milliseconds per code */
+#define PL455_CTO_FAULT_MS_INIT {0ul, 100ul, 2000ul, 10000ul, 60000ul, 600000ul, 1800000ul, 7200000ul}
+
 /* ---- STATUS ---- */
 #define PL455_STATUS_DRDY 0x01u           /* [model] the last sample's results are ready */
 #define PL455_STATUS_AUTO_ADDR 0x80u      /* [model] in auto-address mode, no address yet */
@@ -147,6 +156,8 @@
 /* FAULT_AUX: bit n = AUXn under its UV threshold, bit 8 + n = AUXn over its OV threshold [model] */
 #define PL455_FAULT_AUX_UV(n) ((uint16_t)(1u << (n)))
 #define PL455_FAULT_AUX_OV(n) ((uint16_t)(1u << (8u + (n))))
+/* FAULT_SYS */
+#define PL455_FAULT_SYS_CTO 0x01u         /* [model] communication timeout expired */
 /* FAULT_COM */
 #define PL455_FAULT_COM_UART_CRC 0x0001u  /* [model] a command frame failed its CRC and was dropped */
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/scenario/scenario_sections.hpp"
+#include "models/afe/bq76pl455a.hpp"
 
 namespace packsim {
 
@@ -70,7 +71,7 @@ void readFet(YamlMap& m, MosfetConfig& f) {
   m.finish();
 }
 
-void readSecondary(YamlMap& m, SecondaryProtection& p) {
+void readSecondary(YamlMap& m, SecondaryProtection& p, bool pl455) {
   p.enabled = m.boolean("enabled", p.enabled);
   p.cov_V = m.number("cov_V", p.cov_V, Range::closed(2.0, 5.0));
   p.cov_delay_s = m.number("cov_delay_ms", p.cov_delay_s * 1e3, Range::closed(0.0, 3100.0)) * 1e-3;
@@ -78,6 +79,13 @@ void readSecondary(YamlMap& m, SecondaryProtection& p) {
   p.cuv_delay_s = m.number("cuv_delay_ms", p.cuv_delay_s * 1e3, Range::closed(0.0, 3100.0)) * 1e-3;
   p.ot_C = m.number("ot_C", p.ot_C, Range::closed(40.0, 90.0));
   p.ot_delay_s = m.number("ot_delay_ms", p.ot_delay_s * 1e3, Range::closed(0.0, 2550.0)) * 1e-3;
+  if (m.has("comm_timeout_ms")) {
+    if (!pl455) throw m.errorAt("comm_timeout_ms", "only a bq76pl455a supervises its link (a communication timeout)");
+    p.comm_timeout_s = m.number("comm_timeout_ms", 0.0, Range::nonNegative()) * 1e-3;
+    if (pl455CommTimeoutCode(p.comm_timeout_s) < 0)
+      throw m.errorAt("comm_timeout_ms", "the part's timer steps are 0 (off), 100, 2000, 10000, 60000, 600000, "
+                                         "1800000 or 7200000 ms");
+  }
   m.finish();
 }
 
@@ -273,7 +281,7 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     }
     if (auto s = afe->optionalMap("secondary")) {
       if (a.model == bms::AfeModel::Bq76952) throw afe->errorAt("secondary", "a bq76952 uses `protection`, not `secondary`");
-      readSecondary(*s, a.secondary);
+      readSecondary(*s, a.secondary, a.model == bms::AfeModel::Bq76pl455a);
     }
     if (auto p = afe->optionalMap("protection")) {
       if (a.model != bms::AfeModel::Bq76952) throw afe->errorAt("protection", "only a bq76952 has `protection`; use `secondary`");

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "models/afe/bq76pl455a.hpp"
 #include "models/hw/charger.hpp"
 #include "models/random/random.hpp"
 #include "models/hw/mosfet.hpp"
@@ -90,6 +91,7 @@ void setMonitorDrivers(bms::Config& c, const Scenario& s) {
   while ((1 << log2) < a.oversampling) ++log2;
   c.drivers.pl455.oversamplingLog2 = static_cast<uint8_t>(log2);
   c.drivers.pl455.comparators = sp.enabled;
+  c.drivers.pl455.commTimeoutCode = pl455CommTimeoutCode(sp.comm_timeout_s);
   c.drivers.bq952.userAmps = bq952_user_amps_field(static_cast<uint32_t>(std::lround(a.bq.user_amps_A * 1e4)));
   c.drivers.bq952.crc = a.crc;
 }

@@ -47,6 +47,7 @@ Access access(unsigned a) {
 }
 bool inEeprom(unsigned a) {
   return (a >= PL455_REG_CHANNELS && a <= PL455_REG_CBCONFIG && a != PL455_REG_ADDR && a != PL455_REG_DEV_CTRL) ||
+         a == PL455_REG_CTO ||
          (a >= PL455_REG_FO_CTRL && a < PL455_REG_FO_CTRL + 2) ||
          (a >= PL455_REG_COMP_UV && a < PL455_REG_AUX_OV(7) + 2);
 }
@@ -126,6 +127,7 @@ void Bq76pl455aChain::powerUp(Device& dv) {
   dv.hotCode[1] = dv.eepromHotCode[1];
   dv.cov = dv.cuv = dv.hot[0] = dv.hot[1] = DebounceTimer{};
   dv.balanceUntil_s = 0.0;
+  dv.heard_s = 0.0;
   dv.held.fill(0);
   dv.pending.fill(0);
   dv.heldChannels = dv.pendingChannels = 0;
@@ -186,11 +188,19 @@ void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
   }
 }
 
+// The communication timeout: no valid frame heard for the CTO fault time.
+void Bq76pl455aChain::superviseLink(Device& dv, double t) {
+  static constexpr uint32_t kTimeout_ms[PL455_CTO_FAULT_CODES] = PL455_CTO_FAULT_MS_INIT;
+  const uint8_t code = dv.reg[PL455_REG_CTO] & PL455_CTO_FAULT_MASK;
+  if (code != 0 && t - dv.heard_s >= kTimeout_ms[code] * 1e-3 - 1e-12) dv.reg[PL455_REG_FAULT_SYS] |= PL455_FAULT_SYS_CTO;
+}
+
 void Bq76pl455aChain::advance(double t) {
   for (int d = 0; d < cfg_.devices; ++d) {
     Device& dv = dev_[static_cast<size_t>(d)];
     settle(dv, t);
     runComparators(dv, d, t);
+    superviseLink(dv, t);
     // The balance timer runs on the device: CBENBL clears when it expires.
     if (get16(dv.reg, PL455_REG_CBENBL) != 0 && t >= dv.balanceUntil_s - 1e-9) set16(dv.reg, PL455_REG_CBENBL, 0);
   }
@@ -410,6 +420,9 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
     const bool crcOk = tx[pos + len - 2] == (crc & 0xFF) && tx[pos + len - 1] == (crc >> 8);
     pos += len;
     const bool withReply = (f.req & 0x10u) == 0;
+    if (crcOk)  // a valid frame restarts every listening device's link supervision
+      for (int d = 0; d < cfg_.devices; ++d)
+        if (hears(d)) dev_[static_cast<size_t>(d)].heard_s = now;
     if (!crcOk) {  // dropped by every device that heard it, and flagged
       for (int d = 0; d < cfg_.devices; ++d) {
         Device& dv = dev_[static_cast<size_t>(d)];
@@ -447,6 +460,13 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   r.received = expectReply && received == 0 && rxLen > 0 ? -1 : static_cast<int>(received);
   r.duration_s = now - t;
   return r;
+}
+
+int pl455CommTimeoutCode(double timeout_s) {
+  static constexpr uint32_t kTimeout_ms[PL455_CTO_FAULT_CODES] = PL455_CTO_FAULT_MS_INIT;
+  for (unsigned k = 0; k < PL455_CTO_FAULT_CODES; ++k)
+    if (std::fabs(timeout_s * 1e3 - kTimeout_ms[k]) < 1e-6) return static_cast<int>(k);
+  return -1;
 }
 
 std::unique_ptr<MonitorChain> makeBq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {

@@ -68,6 +68,7 @@ class Bq76pl455aChain final : public MonitorChain {
     // value until the host writes AUXn_UV, then the written code.
     double hotCode[2] = {0.0, 0.0}, eepromHotCode[2] = {0.0, 0.0};
     double balanceUntil_s = 0.0;
+    double heard_s = 0.0;  // the last valid frame it heard (the link supervision's clock)
     // sample results: held (readable) and pending (converting until ready_s)
     std::array<uint16_t, kResultSlots> held{}, pending{};
     uint32_t heldChannels = 0, pendingChannels = 0;
@@ -84,6 +85,7 @@ class Bq76pl455aChain final : public MonitorChain {
   void powerUp(Device& dv);
   void settle(Device& dv, double t);
   void runComparators(Device& dv, int d, double t);
+  void superviseLink(Device& dv, double t);
   bool hears(int d) const;      // on an intact link and not silent
   bool acceptsWrites(int d) const { return hears(d) && dev_[static_cast<size_t>(d)].comm.stuck_byte < 0; }
   bool addressedBy(const Frame& f, int d) const;
@@ -102,5 +104,9 @@ class Bq76pl455aChain final : public MonitorChain {
   std::vector<double> gain_, offset_;
   Rng noise_, comm_;
 };
+
+// The CTO fault timer code of a link-supervision time (0 s: off), or -1 when the part has
+// no such setting.
+int pl455CommTimeoutCode(double timeout_s);
 
 }  // namespace packsim

@@ -27,6 +27,7 @@ struct SecondaryProtection {
   double cuv_delay_s = 1.0;
   double ot_C = 65.0;        // 40–90 °C in 5 °C steps
   double ot_delay_s = 1.0;   // 0–2.55 s in 10 ms steps
+  double comm_timeout_s = 0.0;  // BQ76PL455A link supervision (its CTO fault timer); 0 off
 };
 
 // BQ76952 protections (datasheet defaults): an alert bit sets at once, the safety

@@ -1,10 +1,16 @@
 // Reference system A as its team built it: the 30 A fuse blows on any sustained
-// current above 30 A (their report), and holds at or below it.
+// current above 30 A (their report), and holds at or below it; the monitor IC
+// supervises its link to the MCU, so a dead MCU opens the relay within the IC's
+// 100 ms communication timeout instead of minutes later on the IC's own
+// over-temperature comparator.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 
 #include "core/scenario/load_scenario.hpp"
+#include "core/scenario/overrides.hpp"
+#include "core/sim/simulation.hpp"
 #include "models/hw/fuse.hpp"
 #include "test_support.hpp"
 
@@ -32,6 +38,59 @@ TEST(ReferenceSystemA, TheFuseBlowsOnSustainedCurrentAboveThirtyAmpsOnly) {
   FuseState held;
   for (int k = 0; k < 360000; ++k) fuseStep(f, held, 30.0, 0.01);
   EXPECT_FALSE(held.blown);
+}
+
+double firstEvent(const RunResult& r, const std::string& kind, const std::string& detail) {
+  for (const Event& e : r.events)
+    if (e.kind == kind && e.detail == detail) return e.time_s;
+  return -1.0;
+}
+
+// The MCU hangs at 300 s. The IC last heard a frame within the 10 ms tick before, so its
+// 100 ms timer expires 0.09-0.10 s after 300 s; the hardware sees the FAULT line at the
+// next tick and the relay (released by the line in series with its coil) opens then.
+TEST(ReferenceSystemA, TheMonitorIcNoticesADeadMcuWithinItsCommunicationTimeout) {
+  const RunResult r = runScenario(loadScenarioFile(test::scenarioDir() + "/faults/a_host_dead.yaml"));
+  const Scenario s = loadScenarioFile(test::scenarioDir() + "/eco_marathon_12s.yaml");
+  ASSERT_DOUBLE_EQ(s.hardware.afe.secondary.comm_timeout_s, 0.1);
+  const double tick = s.bms.tick_s;
+  const double line = firstEvent(r, "monitor_fault_line", "asserted");
+  const double opened = firstEvent(r, "relay_contact", "opened");
+  EXPECT_GE(line, 300.0 + 0.1 - tick - 1e-9);
+  EXPECT_LE(line, 300.0 + 0.1 + tick + 1e-9);
+  EXPECT_GE(opened, line);
+  EXPECT_LE(opened, line + s.hardware.relay.open_delay_s + tick + 1e-9);
+}
+
+// The same fault with the supervision off: only the 65 C comparator opens it, minutes later.
+TEST(ReferenceSystemA, WithoutLinkSupervisionOnlyTheOverTemperatureComparatorActs) {
+  const RunResult r = runScenario(loadScenarioFile(test::scenarioDir() + "/faults/a_host_dead_unsupervised.yaml"));
+  EXPECT_GT(firstEvent(r, "relay_contact", "opened"), 320.0 + 200.0);
+}
+
+// A race with the MCU alive: it reads the IC every 10 ms, the timer never expires.
+TEST(ReferenceSystemA, AnMcuThatTalksNeverTripsTheTimeout) {
+  const RunResult r = runScenario(
+      loadScenarioFileWithOverrides(test::scenarioDir() + "/eco_marathon_12s.yaml", {{"load.laps", "2"}}));
+  EXPECT_LT(firstEvent(r, "monitor_fault_line", "asserted"), 0.0);
+  EXPECT_FALSE(r.summary.tripped);
+}
+
+TEST(ReferenceSystemA, TheTimeoutTakesThePartsStepsOnly) {
+  const std::string base = test::scenarioDir() + "/eco_marathon_12s.yaml";
+  auto errorOf = [&](const Overrides& o) {
+    try {
+      loadScenarioFileWithOverrides(base, o);
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string("<no error>");
+  };
+  const std::string odd = errorOf({{"hardware.afe.secondary.comm_timeout_ms", "150"}});
+  EXPECT_NE(odd.find("hardware.afe.secondary.comm_timeout_ms"), std::string::npos) << odd;
+  EXPECT_NE(odd.find("100, 2000, 10000"), std::string::npos) << odd;
+  const std::string pl536 = errorOf({{"hardware.afe.model", "bq76pl536a"}});
+  EXPECT_NE(pl536.find("only a bq76pl455a supervises its link"), std::string::npos) << pl536;
 }
 
 }  // namespace

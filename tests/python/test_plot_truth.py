@@ -16,7 +16,7 @@ from packsim._plot_marks import LABEL_GID
 
 @pytest.fixture(scope="module")
 def host_dead():
-    return packsim.run("a_host_dead")
+    return packsim.run("a_host_dead_unsupervised")  # the IC's link supervision off
 
 
 def _bars(fig, label):
