@@ -60,8 +60,11 @@ Scenario scaledPack(int series, int parallel, double duration_s, const std::stri
   std::vector<double> therm;
   for (int c : d.hardware.thermistor_cells)
     if (c < series) therm.push_back(c + 1);
+  // Boards of up to the bundled six devices (a small pack has fewer devices than that).
+  const int devices = (series + d.hardware.afe.cells_per_device - 1) / d.hardware.afe.cells_per_device;
   const Overrides o = {
       {"pack.series", std::to_string(series)},
+      {"hardware.afe.devices_per_board", std::to_string(std::min(d.hardware.afe.devices_per_board, devices))},
       {"pack.parallel", std::to_string(parallel)},
       {"pack.interconnect_ohm", fmt(1e-4 * series / p, 9)},
       {"hardware.thermistors.at_cells", list(therm)},

@@ -21,7 +21,8 @@ namespace {
 void addRun(Table& t, const RunFigures& f, double floor_ns) {
   t.add({f.label, std::to_string(f.cells), fmt(f.sim_s, 0), std::to_string(f.ticks), fmt(f.time.cpu_s, 2),
          fmt(f.time.wall_s, 2), fmt(f.sim_s / f.time.cpu_s, 0), fmt(f.cpuNsPerCellStep(), 1),
-         fmt(f.cpuNsPerCellStep() / floor_ns, 2), std::to_string(f.solver_steps)});
+         fmt(f.cpuNsPerCellStep() / floor_ns, 2), std::to_string(f.solver_steps),
+         f.jac_evals > 0 ? std::to_string(f.jac_evals) : "-"});
 }
 
 void addFloor(Table& t, const std::string& label, int cells, long ticks, double tick_s, const FloorResult& r) {
@@ -29,12 +30,12 @@ void addFloor(Table& t, const std::string& label, int cells, long ticks, double 
   const double wall_s = r.wall_ns_per_cell_step * 1e-9 * cells * static_cast<double>(ticks);
   const double sim_s = static_cast<double>(ticks) * tick_s;
   t.add({label, std::to_string(cells), fmt(sim_s, 0), std::to_string(ticks), fmt(cpu_s, 3), fmt(wall_s, 3),
-         fmt(sim_s / cpu_s, 0), fmt(r.cpu_ns_per_cell_step, 1), "1.00", "-"});
+         fmt(sim_s / cpu_s, 0), fmt(r.cpu_ns_per_cell_step, 1), "1.00", "-", "-"});
 }
 
 Table runTable() {
   return Table({"benchmark", "cells", "sim s", "ticks", "CPU s", "wall s", "RTF", "ns/cell-step", "x floor",
-                "steps"});
+                "steps", "jac evals"});
 }
 
 }  // namespace

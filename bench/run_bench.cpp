@@ -22,6 +22,7 @@ RunFigures timeScenario(const std::string& label, const Scenario& s, int runs, i
   f.cells = last.rec.cells;
   f.solver_steps = runs * last.solver.steps;  // the runs are identical
   f.rhs_evals = runs * last.solver.rhs_evals;
+  f.jac_evals = runs * last.solver.jac_evals;
   return f;
 }
 

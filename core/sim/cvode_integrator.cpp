@@ -3,13 +3,14 @@
 #include <cvode/cvode.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_band.h>
-#include <sunmatrix/sunmatrix_band.h>
+#include <sunlinsol/sunlinsol_klu.h>
+#include <sunmatrix/sunmatrix_sparse.h>
 
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 #include <stdexcept>
+
+#include "core/sim/cvode_jacobian.hpp"
 
 namespace packsim {
 
@@ -21,7 +22,7 @@ struct CvodeIntegrator::Impl {
   N_Vector atol = nullptr;
   SUNMatrix A = nullptr;
   SUNLinearSolver LS = nullptr;
-  bool initialised = false;
+  std::unique_ptr<ColouredJacobian> dq;
 
   explicit Impl(OdeSystem& s) : sys(s) {}
   ~Impl() {
@@ -39,51 +40,20 @@ struct CvodeIntegrator::Impl {
     return 0;
   }
 
-  // Banded difference-quotient Jacobian that respects OdeSystem::bandedSize().
-  // CVODE's own banded DQ perturbs every (2·bw+1)-th column at once and credits a
-  // row's change to the one perturbed column inside the row's band. A row that depends
-  // on states outside its band (the energy quadratures depend on every cell) then gets
-  // the sum of all those changes as a spurious in-band entry, which stalls its Newton
-  // correction: the quadratures came out as if their rate were frozen. Here the banded
-  // block is perturbed in column groups with only banded rows recorded, and each loose
-  // column alone; loose rows keep only what the loose columns give them.
+  // The sparse Jacobian by coloured difference quotients (core/sim/cvode_jacobian.hpp).
+  // CVODE zeroes the matrix, pattern included, before asking: the same pattern is written
+  // back every time, so KLU refactors numerically on its first symbolic analysis.
   static int jac(realtype t, N_Vector y, N_Vector fy, SUNMatrix J, void* user, N_Vector tmp1, N_Vector tmp2,
                  N_Vector tmp3) {
     auto* self = static_cast<Impl*>(user);
-    const sunindextype n = N_VGetLength(y);
-    const sunindextype nb = std::min<sunindextype>(self->sys.bandedSize(), n);
-    const sunindextype bw = SM_UBAND_B(J);
-    const double* y0 = N_VGetArrayPointer(y);
-    const double* f0 = N_VGetArrayPointer(fy);
-    double* f1 = N_VGetArrayPointer(tmp1);
-    double* y1 = N_VGetArrayPointer(tmp2);
-    double* ewt = N_VGetArrayPointer(tmp3);
+    const JacobianPattern& p = self->dq->pattern();
+    sunindextype* colptr = SM_INDEXPTRS_S(J);
+    sunindextype* rows = SM_INDEXVALS_S(J);
+    std::copy(p.colptr.begin(), p.colptr.end(), colptr);
+    std::copy(p.rows.begin(), p.rows.end(), rows);
     CVodeGetErrWeights(self->mem, tmp3);
-    N_VScale(1.0, y, tmp2);
-    SUNMatZero(J);
-    const double srur = std::sqrt(UNIT_ROUNDOFF);
-    auto inc = [&](sunindextype j) { return srur * std::max(std::fabs(y0[j]), 1.0 / ewt[j]); };
-    const sunindextype width = 2 * bw + 1;
-    for (sunindextype g = 0; g < std::min(width, nb); ++g) {
-      for (sunindextype j = g; j < nb; j += width) y1[j] += inc(j);
-      self->sys.rhs(t, y1, f1);
-      for (sunindextype j = g; j < nb; j += width) {
-        const double h = inc(j);
-        y1[j] = y0[j];
-        double* col = SM_COLUMN_B(J, j);
-        for (sunindextype i = std::max<sunindextype>(0, j - bw); i <= std::min(nb - 1, j + bw); ++i)
-          SM_COLUMN_ELEMENT_B(col, i, j) = (f1[i] - f0[i]) / h;
-      }
-    }
-    for (sunindextype j = nb; j < n; ++j) {
-      const double h = inc(j);
-      y1[j] += h;
-      self->sys.rhs(t, y1, f1);
-      y1[j] = y0[j];
-      double* col = SM_COLUMN_B(J, j);
-      for (sunindextype i = std::max<sunindextype>(0, j - bw); i <= std::min(n - 1, j + bw); ++i)
-        SM_COLUMN_ELEMENT_B(col, i, j) = (f1[i] - f0[i]) / h;
-    }
+    self->dq->fill(self->sys, t, N_VGetArrayPointer(y), N_VGetArrayPointer(fy), N_VGetArrayPointer(tmp3),
+                   N_VGetArrayPointer(tmp2), N_VGetArrayPointer(tmp1), SM_DATA_S(J));
     return 0;
   }
 };
@@ -99,7 +69,7 @@ void check(int flag, const char* what) {
 CvodeIntegrator::CvodeIntegrator(OdeSystem& sys, double rtol) : impl_(std::make_unique<Impl>(sys)) {
   Impl& m = *impl_;
   const sunindextype n = sys.size();
-  const sunindextype bw = std::min<sunindextype>(sys.halfBandwidth(), n - 1);
+  m.dq = std::make_unique<ColouredJacobian>(sys.jacobianPattern());
   check(SUNContext_Create(nullptr, &m.ctx), "SUNContext_Create");
   m.y = N_VNew_Serial(n, m.ctx);
   m.atol = N_VNew_Serial(n, m.ctx);
@@ -111,10 +81,11 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& sys, double rtol) : impl_(std::make_
   check(CVodeInit(m.mem, &Impl::rhs, 0.0, m.y), "CVodeInit");
   check(CVodeSetUserData(m.mem, &m), "CVodeSetUserData");
   check(CVodeSVtolerances(m.mem, rtol, m.atol), "CVodeSVtolerances");
-  m.A = SUNBandMatrix(n, bw, bw, m.ctx);
-  m.LS = SUNLinSol_Band(m.y, m.A, m.ctx);
+  m.A = SUNSparseMatrix(n, n, m.dq->pattern().nonzeros(), CSC_MAT, m.ctx);
+  m.LS = SUNLinSol_KLU(m.y, m.A, m.ctx);
+  if (!m.A || !m.LS) throw std::runtime_error("CVODE: sparse matrix or KLU solver not created");
   check(CVodeSetLinearSolver(m.mem, m.LS, m.A), "CVodeSetLinearSolver");
-  if (sys.bandedSize() < sys.size()) check(CVodeSetJacFn(m.mem, &Impl::jac), "CVodeSetJacFn");
+  check(CVodeSetJacFn(m.mem, &Impl::jac), "CVodeSetJacFn");
   check(CVodeSetMaxNumSteps(m.mem, 100000), "CVodeSetMaxNumSteps");
   check(CVodeSetMaxStep(m.mem, 60.0), "CVodeSetMaxStep");
 }

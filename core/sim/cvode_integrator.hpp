@@ -1,5 +1,8 @@
-// SUNDIALS CVODE as the reference integrator: BDF with a banded direct linear solver
-// (difference-quotient banded Jacobian), re-initialised only at discontinuities.
+// SUNDIALS CVODE as the reference integrator: BDF with the KLU sparse direct linear
+// solver on the plant's Jacobian pattern (OdeSystem::jacobianPattern), filled by
+// difference quotients with column colouring (core/sim/cvode_jacobian.hpp): per cell
+// the cost does not grow with the pack's size. KLU analyses the pattern once and
+// refactors numerically at every Jacobian update. Re-initialised only at discontinuities.
 //
 // The caller owns time: advance(t_out, t_stop) returns the solution at t_out and
 // never lets CVODE step past t_stop (the next discontinuity). Between calls CVODE

@@ -67,8 +67,6 @@ Plant::Plant(const Scenario& s)
   if (active_.present) busIndex_ = stateSize_++;
 }
 
-int Plant::bandwidth() const { return pack_.parallel * stride_ - 1 + stride_; }
-
 int Plant::tempIndex(int node) const {
   const int cells = pack_.cellCount();
   return node < cells ? node * stride_ + pack_.layout.size() : cells * stride_ + (node - cells);
@@ -142,6 +140,11 @@ double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_
 }
 
 void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  terminalCurrent(t, x, in, sig);
+  evaluateAtCurrent(t, x, in, sig);
+}
+
+void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
   auto cellX = [&](int c) { return cellStates(x, c); };
   const bool charger = in.relay_closed && in.charger_limit_A > 0.0;
   sig.charger_A = 0.0;
@@ -160,6 +163,10 @@ void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSign
     sig.pack_current_A = 0.0;
     sig.charger_A = 0.0;
   }
+}
+
+void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  auto cellX = [&](int c) { return cellStates(x, c); };
   groupCurrents(x, in, sig);
   const HardwareFaults* f = in.faults;
   sig.injected_heat_W = 0.0;
@@ -284,6 +291,16 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
 
 void Plant::derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const {
   evaluate(t, x, in, sig);
+  rates(x, dx, sig);
+}
+
+void Plant::derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx,
+                                 PlantSignals& sig) const {
+  evaluateAtCurrent(t, x, in, sig);
+  rates(x, dx, sig);
+}
+
+void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     const double* xc = cellStates(x, c);

@@ -18,10 +18,10 @@
 //   active bal.   one extra state, the supercap bus voltage (models/balance/active_balancer);
 //                 I_pre = (V_stack - V_bus)/R_pre while precharging, drawn from every group
 //
-// Cells are stored group by group, so every coupling (parallel current split,
-// neighbour conductance) sits within a band of about one group's width: the Jacobian
-// is block-banded, never dense. (Links from an extra node to many cells fall outside
-// the band; CVODE's Newton iteration treats them as a weak coupling.)
+// Jacobian (jacobianPattern, core/sim/plant_pattern.cpp): a cell's states couple to
+// every state of its parallel group (the current split), its temperature to its thermal
+// neighbours; that is all for a current load. The extra states (thermal nodes, bus) are
+// loose rows: a node's dependence on the cells' states is left out (see sparsity.hpp).
 #pragma once
 #include <algorithm>
 #include <optional>
@@ -29,6 +29,7 @@
 
 #include "core/scenario/scenario.hpp"
 #include "core/sim/hardware_faults.hpp"
+#include "core/sim/sparsity.hpp"
 #include "models/load/load_profile.hpp"
 #include "models/pack/pack.hpp"
 #include "models/thermal/thermal_network.hpp"
@@ -95,7 +96,8 @@ class Plant {
   const Pack& pack() const { return pack_; }
   const ThermalNetwork& thermal() const { return thermal_; }
   int stateSize() const { return stateSize_; }
-  int bandwidth() const;  // upper = lower half-bandwidth of the Jacobian
+  // Sparsity of d(derivatives)/dx, followed by `quadratures` loose states nothing reads.
+  JacobianPattern jacobianPattern(int quadratures) const;
   int stride() const { return stride_; }
   // State index of thermal node j (cells first, then extra nodes).
   int tempIndex(int node) const;
@@ -115,6 +117,12 @@ class Plant {
   // Algebraic part: currents, voltages, heat, temperatures at (t, x).
   void evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
+  // The two halves of evaluate(): the current at the pack's terminals (sig.pack_current_A,
+  // sig.charger_A: under a power load or a charger it depends on every cell), then
+  // everything else for that current. derivativesAtCurrent takes the current already in
+  // sig (from terminalCurrent at another state: the Jacobian holds it, plant_ode.hpp).
+  void terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  void derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
   // Rates of the quadratures from signals already evaluated at (t, x) (by evaluate/derivatives).
   void quadratures(const double* x, const PlantSignals& sig, double* dq) const;
   PlantSignals makeSignals() const;
@@ -146,6 +154,8 @@ class Plant {
   bool balancingOn(const PlantInputs& in, size_t gi) const;  // group gi's passive switch is on
   double balancingFactor(const PlantInputs& in, int g, double r_g) const;
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  void evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  void rates(const double* x, double* dx, PlantSignals& sig) const;  // from evaluated signals
 
   Pack pack_;
   ThermalNetwork thermal_;

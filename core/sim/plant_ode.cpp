@@ -6,8 +6,7 @@ PlantOde::PlantOde(const Plant& p, const RunConfig& run, const PlantInputs& in)
     : plant_(p), run_(run), in_(in), sig_(p.makeSignals()) {}
 
 int PlantOde::size() const { return plant_.stateSize() + kQuadCount; }
-int PlantOde::halfBandwidth() const { return plant_.bandwidth(); }
-int PlantOde::bandedSize() const { return plant_.pack().cellCount() * plant_.stride(); }
+JacobianPattern PlantOde::jacobianPattern() const { return plant_.jacobianPattern(kQuadCount); }
 
 std::vector<double> PlantOde::absTolerances() const {
   std::vector<double> a(static_cast<size_t>(size()), run_.atol_V);
@@ -19,6 +18,19 @@ std::vector<double> PlantOde::absTolerances() const {
 
 void PlantOde::rhs(double t, const double* x, double* dx) {
   plant_.derivatives(t, x, in_, dx, sig_);
+  plant_.quadratures(x, sig_, dx + plant_.stateSize());
+}
+
+void PlantOde::holdCouplings(double t, const double* x0) {
+  plant_.terminalCurrent(t, x0, in_, sig_);
+  heldCurrent_A_ = sig_.pack_current_A;
+  heldCharger_A_ = sig_.charger_A;
+}
+
+void PlantOde::rhsHeld(double t, const double* x, double* dx) {
+  sig_.pack_current_A = heldCurrent_A_;
+  sig_.charger_A = heldCharger_A_;
+  plant_.derivativesAtCurrent(t, x, in_, dx, sig_);
   plant_.quadratures(x, sig_, dx + plant_.stateSize());
 }
 

@@ -22,17 +22,20 @@ class PlantOde : public OdeSystem {
   PlantOde(const Plant& p, const RunConfig& run, const PlantInputs& in);
 
   int size() const override;
-  int halfBandwidth() const override;
-  // Cells couple within the band; extra thermal nodes and the quadratures do not.
-  int bandedSize() const override;
+  // The plant's (Plant::jacobianPattern); the quadratures are loose rows nothing reads.
+  JacobianPattern jacobianPattern() const override;
   std::vector<double> absTolerances() const override;
   void rhs(double t, const double* x, double* dx) override;
+  // Holds the pack current (Plant::terminalCurrent) at x0.
+  void holdCouplings(double t, const double* x0) override;
+  void rhsHeld(double t, const double* x, double* dx) override;
 
  private:
   const Plant& plant_;
   const RunConfig& run_;
   const PlantInputs& in_;
   PlantSignals sig_;
+  double heldCurrent_A_ = 0.0, heldCharger_A_ = 0.0;
 };
 
 }  // namespace packsim

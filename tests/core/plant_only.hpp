@@ -17,7 +17,7 @@ struct PlantOnly : OdeSystem {
     in.load.i0_A = current_A;
   }
   int size() const override { return plant.stateSize(); }
-  int halfBandwidth() const override { return plant.bandwidth(); }
+  JacobianPattern jacobianPattern() const override { return plant.jacobianPattern(0); }
   std::vector<double> absTolerances() const override { return std::vector<double>(size(), 1e-12); }
   void rhs(double t, const double* x, double* dx) override { plant.derivatives(t, x, in, dx, sig); }
 };
