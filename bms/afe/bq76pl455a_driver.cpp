@@ -64,7 +64,9 @@ FrameResult requestRetried(const Pl455Config& c, Pl455State& s, psfw_board* b, c
   return r;
 }
 
-uint8_t thermsOf(const Pl455Config& c) { return c.thermistorsPerDevice > 2 ? 2 : c.thermistorsPerDevice; }
+uint8_t thermsOf(const Pl455Config& c) {
+  return c.thermistorsPerDevice > PL455_AUX_INPUTS ? PL455_AUX_INPUTS : c.thermistorsPerDevice;
+}
 
 uint32_t channelsOf(const Pl455Config& c, uint8_t d) {
   uint32_t ch = PL455_CH_CELLS(pl455CellsOf(c, d)) | PL455_CH_DIE_TEMP | PL455_CH_MODULE;

@@ -27,7 +27,7 @@ struct Pl455Config {
   uint8_t deviceCount;           // 1..16
   uint8_t cellsPerDevice;        // the last device may hold fewer
   uint16_t cellCount;
-  uint8_t thermistorsPerDevice;  // AUX inputs read, 0..2
+  uint8_t thermistorsPerDevice;  // AUX inputs read, 0..8 (AUX0 up)
   float cellLsb_uV;              // VCELL scaling as flashed (5 V / 65535 nominal)
   uint8_t oversamplingLog2;      // OVERSMPL: 2^n samples averaged per channel
   bool comparators;              // secondary comparators on, driving the FAULT line

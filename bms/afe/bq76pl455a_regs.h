@@ -96,6 +96,7 @@
  * highest bit down, 2 bytes each, big-endian ---- */
 #define PL455_CH_CELL(k) ((uint32_t)1u << (15u + (k))) /* cell k = 1..16 */
 #define PL455_CH_CELLS(n) ((uint32_t)(((1ul << (n)) - 1ul) << 16)) /* cells 1..n */
+#define PL455_AUX_INPUTS 8u                           /* AUX0..AUX7 */
 #define PL455_CH_AUX(n) ((uint32_t)1u << (8u + (n)))   /* AUX input n = 0..7 */
 #define PL455_CH_DIE_TEMP ((uint32_t)1u << 7)          /* [model] die temperature */
 #define PL455_CH_MODULE ((uint32_t)1u << 6)            /* [model] module voltage */

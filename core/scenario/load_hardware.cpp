@@ -20,7 +20,7 @@ struct AfeModelInfo {
 
 constexpr AfeModelInfo kAfeModels[] = {
     {"bq76pl536a", bms::AfeModel::Bq76pl536a, 6, 2},
-    {"bq76pl455a", bms::AfeModel::Bq76pl455a, 16, 2},
+    {"bq76pl455a", bms::AfeModel::Bq76pl455a, 16, 8},
     {"bq76952", bms::AfeModel::Bq76952, 16, 3},
 };
 

@@ -105,12 +105,12 @@ Bq76pl455aChain::Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64
     set16(e, PL455_REG_CELL_UV, clampU16(std::ceil(p.cuv_V / lsb - 1e-9)));
     set16(e, PL455_REG_CELL_OV, clampU16(std::floor(p.cov_V / lsb + 1e-9)));
     const double hotCode = thermCodeIdeal(cfg.thermistor, p.ot_C, ThermistorFault::None);
-    for (unsigned k = 0; k < 8; ++k) {
+    for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k) {
       set16(e, PL455_REG_AUX_UV(k), k < nt ? clampU16(hotCode) : 0);
       set16(e, PL455_REG_AUX_OV(k), 0xFFFF);
     }
     // The part trips at the scenario's ot_C exactly; the register shows it rounded.
-    for (size_t k = 0; k < 2; ++k) dv.eepromHotCode[k] = k < nt ? hotCode : 0.0;
+    for (size_t k = 0; k < PL455_AUX_INPUTS; ++k) dv.eepromHotCode[k] = k < nt ? hotCode : 0.0;
     powerUp(dv);
   }
 }
@@ -123,9 +123,9 @@ int Bq76pl455aChain::cellsOf(int d) const {
 void Bq76pl455aChain::powerUp(Device& dv) {
   dv.reg = dv.eeprom;  // faults, STATUS, CBENBL, ADDR and the command registers come up 0
   dv.addressed = dv.autoAddress = false;
-  dv.hotCode[0] = dv.eepromHotCode[0];
-  dv.hotCode[1] = dv.eepromHotCode[1];
-  dv.cov = dv.cuv = dv.hot[0] = dv.hot[1] = DebounceTimer{};
+  std::copy(std::begin(dv.eepromHotCode), std::end(dv.eepromHotCode), std::begin(dv.hotCode));
+  dv.cov = dv.cuv = DebounceTimer{};
+  for (DebounceTimer& h : dv.hot) h = DebounceTimer{};
   dv.balanceUntil_s = 0.0;
   dv.heard_s = 0.0;
   dv.held.fill(0);
@@ -178,7 +178,7 @@ void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
     set16(dv.reg, PL455_REG_FAULT_2OV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2OV) | over));
   if (dv.cuv.held(t, under != 0, p.cuv_delay_s))
     set16(dv.reg, PL455_REG_FAULT_2UV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2UV) | under));
-  const int nt = std::min(cfg_.thermistors_per_device, 2);
+  const int nt = std::min(cfg_.thermistors_per_device, static_cast<int>(PL455_AUX_INPUTS));
   for (int k = 0; k < nt; ++k) {
     const size_t ks = static_cast<size_t>(k);
     const double code = thermCodeIdeal(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks]);
@@ -242,7 +242,7 @@ void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
     if (g & PL455_FAULT_SUM_UV) set16(r, PL455_REG_FAULT_UV, 0);
     if (g & PL455_FAULT_SUM_OV) set16(r, PL455_REG_FAULT_OV, 0);
     if (g & PL455_FAULT_SUM_AUXUV)
-      for (int k = 0; k < 2; ++k)
+      for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k)
         if (!dv.hot[k].active()) clear16(PL455_REG_FAULT_AUX, PL455_FAULT_AUX_UV(k));
     if (g & PL455_FAULT_SUM_AUXOV) clear16(PL455_REG_FAULT_AUX, 0xFF00);
     if ((g & PL455_FAULT_SUM_CMPUV) && !dv.cuv.active()) set16(r, PL455_REG_FAULT_2UV, 0);
@@ -258,7 +258,7 @@ void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
                        : (addr == PL455_REG_FAULT_2OV || addr == PL455_REG_FAULT_2OV + 1) ? dv.cov.active()
                                                                                            : false;
   if (addr == PL455_REG_FAULT_AUX + 1)
-    for (int k = 0; k < 2; ++k)
+    for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k)
       if (dv.hot[k].active()) bits = static_cast<uint8_t>(bits & ~PL455_FAULT_AUX_UV(k));
   if (!cmpHeld) r[addr] = static_cast<uint8_t>(r[addr] & ~bits);
 }
@@ -290,8 +290,8 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
     if (cfg_.module_noise_V > 0.0) module_V += cfg_.module_noise_V * standardNormal(noise_);
     dv.pending[6] = clampU16(module_V / (PL455_MODULE_FULL_SCALE_MV * 1e-3 / PL455_CODE_FULL_SCALE));
   }
-  for (int k = 0; k < 8; ++k) {
-    if ((ch & PL455_CH_AUX(static_cast<unsigned>(k))) == 0 || k >= cfg_.thermistors_per_device) continue;
+  for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k) {
+    if ((ch & PL455_CH_AUX(k)) == 0 || static_cast<int>(k) >= cfg_.thermistors_per_device) continue;
     const size_t ks = static_cast<size_t>(k);
     const ThermistorFault f = dv.analog.therm_fault[ks];
     const int64_t code = f == ThermistorFault::Open    ? cfg_.thermistor.fullScaleCode()
@@ -322,7 +322,7 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
     }
   }
   auto touched = [&](unsigned a, unsigned size) { return f.reg < a + size && a < f.reg + f.size; };
-  for (unsigned k = 0; k < 2; ++k)
+  for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k)
     if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k));
   if (touched(PL455_REG_DEV_CTRL, 1)) {
     const uint8_t c = dv.reg[PL455_REG_DEV_CTRL];
@@ -341,7 +341,7 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
     if (unlocked)
       for (unsigned a = 0; a < PL455_REG_COUNT; ++a)
         if (inEeprom(a)) dv.eeprom[a] = dv.reg[a];
-    if (unlocked) dv.eepromHotCode[0] = dv.hotCode[0], dv.eepromHotCode[1] = dv.hotCode[1];
+    if (unlocked) std::copy(std::begin(dv.hotCode), std::end(dv.hotCode), std::begin(dv.eepromHotCode));
   }
   if (touched(PL455_REG_CMD, 1) && dv.reg[PL455_REG_CMD] == PL455_CMD_SAMPLE) startSample(dv, d, t);
 }

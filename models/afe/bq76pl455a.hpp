@@ -30,6 +30,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <bms/afe/bq76pl455a_regs.h>
+
 #include "models/afe/debounce_timer.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
@@ -63,10 +65,10 @@ class Bq76pl455aChain final : public MonitorChain {
     std::array<uint8_t, 256> reg{};
     std::array<uint8_t, 256> eeprom{};
     bool addressed = false, autoAddress = false;
-    DebounceTimer cov, cuv, hot[2];
+    DebounceTimer cov, cuv, hot[PL455_AUX_INPUTS];
     // AUX over-temperature threshold in (unrounded) code units: the EEPROM's exact
     // value until the host writes AUXn_UV, then the written code.
-    double hotCode[2] = {0.0, 0.0}, eepromHotCode[2] = {0.0, 0.0};
+    double hotCode[PL455_AUX_INPUTS] = {}, eepromHotCode[PL455_AUX_INPUTS] = {};
     double balanceUntil_s = 0.0;
     double heard_s = 0.0;  // the last valid frame it heard (the link supervision's clock)
     // sample results: held (readable) and pending (converting until ready_s)

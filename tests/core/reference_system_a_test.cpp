@@ -68,6 +68,24 @@ TEST(ReferenceSystemA, WithoutLinkSupervisionOnlyTheOverTemperatureComparatorAct
   EXPECT_GT(firstEvent(r, "relay_contact", "opened"), 320.0 + 200.0);
 }
 
+// All four pack thermistors sit on the monitor IC's AUX inputs (the 16-cell part has eight),
+// so its over-temperature comparator watches the fourth one (by cell 11) too: a cell
+// overheating there after the MCU died still opens the relay. With the 3rd and 4th
+// thermistor on the MCU's ADC, as the preset had them before, nothing would: the dead MCU
+// reads them no more, and the relay stays closed (until the cells run flat).
+TEST(ReferenceSystemA, AllFourThermistorsReachTheMonitorIcsOwnComparator) {
+  const std::string file = test::scenarioDir() + "/faults/a_host_dead_unsupervised.yaml";
+  const Scenario s = loadScenarioFile(file);
+  EXPECT_EQ(s.hardware.afe.thermistors_per_device, 4);
+  const Overrides byCell11 = {{"faults.1.cell", "11"}};
+  const double onIc = firstEvent(runScenario(loadScenarioFileWithOverrides(file, byCell11)), "relay_contact", "opened");
+  EXPECT_GT(onIc, 320.0);
+  EXPECT_LT(onIc, 700.0);
+  Overrides onMcu = byCell11;
+  onMcu.push_back({"hardware.afe.thermistors_per_device", "2"});
+  EXPECT_LT(firstEvent(runScenario(loadScenarioFileWithOverrides(file, onMcu)), "relay_contact", "opened"), 0.0);
+}
+
 // A race with the MCU alive: it reads the IC every 10 ms, the timer never expires.
 TEST(ReferenceSystemA, AnMcuThatTalksNeverTripsTheTimeout) {
   const RunResult r = runScenario(
@@ -89,7 +107,8 @@ TEST(ReferenceSystemA, TheTimeoutTakesThePartsStepsOnly) {
   const std::string odd = errorOf({{"hardware.afe.secondary.comm_timeout_ms", "150"}});
   EXPECT_NE(odd.find("hardware.afe.secondary.comm_timeout_ms"), std::string::npos) << odd;
   EXPECT_NE(odd.find("100, 2000, 10000"), std::string::npos) << odd;
-  const std::string pl536 = errorOf({{"hardware.afe.model", "bq76pl536a"}});
+  const std::string pl536 =
+      errorOf({{"hardware.afe.model", "bq76pl536a"}, {"hardware.afe.thermistors_per_device", "2"}});
   EXPECT_NE(pl536.find("only a bq76pl455a supervises its link"), std::string::npos) << pl536;
 }
 
