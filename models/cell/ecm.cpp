@@ -17,7 +17,17 @@ bool CellParams::usesTemperature() const {
 
 namespace ecm {
 
-double ocv(const CellParams& p, double soc, double temp_C) { return p.ocv_V.eval(soc, p.axisCapacity_Ah(), temp_C); }
+// Beyond empty and full the OCV continues along the slope of its last 1 % of SOC, so an
+// overcharged cell's voltage keeps rising and an over-discharged one's keeps falling (a
+// table held flat there would hide an overcharge from every over-voltage check).
+double ocv(const CellParams& p, double soc, double temp_C) {
+  const double q = p.axisCapacity_Ah();
+  if (soc >= 0.0 && soc <= 1.0) return p.ocv_V.eval(soc, q, temp_C);
+  constexpr double h = 0.01;
+  const double end = soc > 1.0 ? 1.0 : 0.0, inside = soc > 1.0 ? 1.0 - h : h;
+  const double atEnd = p.ocv_V.eval(end, q, temp_C);
+  return atEnd + (soc - end) * (atEnd - p.ocv_V.eval(inside, q, temp_C)) / (end - inside);
+}
 
 double r0(const CellParams& p, double soc, double temp_C, double i_A) {
   const Curve& c = (i_A < 0.0 && p.has_r0_charge) ? p.r0_charge_ohm : p.r0_ohm;

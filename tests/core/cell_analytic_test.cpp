@@ -79,3 +79,25 @@ TEST(CellAnalytic, FullLoopFollowsClosedFormAfterRelayCloses) {
 
 }  // namespace
 }  // namespace packsim
+
+namespace packsim {
+namespace {
+
+// Beyond full and empty the OCV continues along the slope of its last 1 % of SOC (an
+// overcharged cell's voltage keeps rising, so an over-voltage check can see it): on the
+// LiPo preset's table, whose last segment runs 4.08 -> 4.19 V over 0.9 -> 1.0, that is
+// 1.1 V per unit of SOC above full and 6.8 V per unit (3.27 -> 3.61 V over 0 -> 0.05)
+// below empty; inside [0, 1] the table itself.
+TEST(CellAnalytic, OcvContinuesAlongItsEndSlopesBeyondFullAndEmpty) {
+  const Scenario s = test::scenarioFromYaml(
+      "name: ocv_ends\npack: {series: 1, cell: {preset: lipo_5Ah}}\nload: {current_A: 0}\nrun: {duration_s: 1}\n");
+  const CellParams& p = s.pack.cell;
+  EXPECT_NEAR(ecm::ocv(p, 1.0, 25.0), 4.19, 1e-12);
+  EXPECT_NEAR(ecm::ocv(p, 1.05, 25.0), 4.19 + 0.05 * 1.1, 1e-9);
+  EXPECT_NEAR(ecm::ocv(p, 1.20, 25.0), 4.19 + 0.20 * 1.1, 1e-9);
+  EXPECT_NEAR(ecm::ocv(p, -0.02, 25.0), 3.27 - 0.02 * 6.8, 1e-9);
+  EXPECT_NEAR(ecm::ocv(p, 0.95, 25.0), 4.135, 1e-12);
+}
+
+}  // namespace
+}  // namespace packsim
