@@ -19,7 +19,8 @@ def _with(r: Result, extra: dict) -> Result:
 def test_plot_all_writes_pngs(race, tmp_path):
     paths = plot.plot_all(race, tmp_path)
     names = sorted(p.rsplit("_", 1)[-1] for p in paths)
-    assert len(paths) == 5  # no balance mask in the default race
+    # the default race carries its balancing hardware (idle while racing): six figures
+    assert len(paths) == 6 and any(p.endswith("_balancing.png") for p in paths), names
     for p in paths:
         with open(p, "rb") as f:
             assert f.read(8) == b"\x89PNG\r\n\x1a\n"
@@ -52,7 +53,9 @@ def test_timeline_shows_actuators_and_faults(race):
 
 
 def test_balancing_map_only_with_a_mask(race):
-    assert plot.balancing(race) is None
+    without = race.datasets
+    del without["bms/balance_mask"]
+    assert plot.balancing(Result(without, race.attrs)) is None
     n = race.n_samples
     mask = np.zeros(n, dtype=np.uint32)
     mask[n // 2:] = 0b101  # cells 1 and 3 balance during the second half
@@ -76,5 +79,5 @@ def test_module_main(race, tmp_path, capsys):
     p = tmp_path / "r.h5"
     race.save(p)
     assert plot.main([str(p), "-o", str(tmp_path / "out"), "--dpi", "50"]) == 0
-    assert len(capsys.readouterr().out.split()) == 5
+    assert len(capsys.readouterr().out.split()) == 6  # with the balancing map (system A has the hardware)
     assert plot.main([str(tmp_path / "missing.h5")]) == 2

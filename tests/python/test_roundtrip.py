@@ -36,7 +36,7 @@ def test_layout_is_the_documented_one(race):
     for k in ("truth/cell_voltage_V", "truth/cell_current_A", "truth/cell_soc", "truth/cell_temp_C"):
         assert race[k].shape == (n, cells) and race[k].dtype == np.float64
     assert race["measured/cell_voltage_mV"].dtype == np.uint16
-    assert race["measured/temperature_dC"].shape == (n, 4)
+    assert race["measured/temperature_dC"].shape == (n, 5)  # four pack thermistors, one on the balancing board
     assert race["bms/fault_latched"].dtype == np.uint32
     assert race.units("truth/cell_voltage_V") == "V"
     assert "overcurrent_discharge" in race.fault_names or len(race.fault_names) >= 5
