@@ -26,7 +26,14 @@ ActiveBalancerConfig readActiveBalancer(YamlMap m) {
   ActiveBalancerConfig a;
   a.present = m.boolean("present", true);
   a.converter_current_A = m.number("converter_current_A", a.converter_current_A, Range::closed(0.01, 100.0));
-  if (m.has("efficiency") && m.node("efficiency").IsMap()) {
+  if (m.has("losses")) {
+    if (m.has("efficiency")) throw m.errorAt("losses", "give either efficiency or losses, not both");
+    YamlMap l = m.map("losses");
+    a.loss_model = true;
+    a.loss_fixed_W = l.number("fixed_W", 0.0, Range::closed(0.0, 100.0));
+    a.loss_series_ohm = l.number("series_ohm", 0.0, Range::closed(0.0, 100.0));
+    l.finish();
+  } else if (m.has("efficiency") && m.node("efficiency").IsMap()) {
     YamlMap e = m.map("efficiency");
     a.efficiency_at_A = e.numbers("current_A", Range::nonNegative(), 2);
     a.efficiency = e.numbers("efficiency", Range{0.0, 1.0, true, false}, 2);

@@ -55,6 +55,7 @@ struct HardwareStatus {
   bool charger_cv = false;        // charger in its constant-voltage phase
   bool charger_done = false;      // charger ended on its taper current
   bool active_safe_state = false; // active balancer: a module out of range, converters off
+  bool active_isolated = false;   // ... because the BMS isolated the pack
 };
 
 class HardwareSim {

@@ -432,7 +432,8 @@ double Plant::explicitTimeConstant_s() const {
     // bus voltage they run at.
     const ActiveBalancerConfig& a = active_;
     tau = std::min(tau, a.precharge_ohm * a.bus_capacitance_F);
-    const double p_max_W = 2.0 * a.converter_current_A * a.module_max_V / a.efficiencyAt(a.converter_current_A);
+    const double p_max_W =
+        2.0 * a.converter_current_A * a.module_max_V / a.efficiencyAt(a.converter_current_A, a.module_min_V);
     const double v = std::max(a.precharge_below_V, 0.1);
     tau = std::min(tau, a.bus_capacitance_F * v * v / p_max_W);
   }

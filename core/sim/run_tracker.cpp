@@ -140,8 +140,10 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     if (h.fault_line != lastHw_.fault_line) event(t, "monitor_fault_line", h.fault_line ? "asserted" : "released");
     if (h.charger_cv && !lastHw_.charger_cv) event(t, "charger", "constant voltage");
     if (h.charger_done && !lastHw_.charger_done) event(t, "charger", "done (taper end current)");
-    if (h.active_safe_state != lastHw_.active_safe_state)
-      event(t, "active_balancer", h.active_safe_state ? "safe state: converters off" : "converters enabled");
+    if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
+      event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
+                                  : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
+                                                      : "safe state: converters off");
     lastHw_ = h;
     const uint8_t phase = out.telemetry.prechargePhase;
     if (phase != lastPrechargePhase_ && phase < bms::kPrechargePhaseCount)

@@ -1,13 +1,17 @@
 #include "models/balance/active_balancer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "models/cell/curve.hpp"
 
 namespace packsim {
 
-double ActiveBalancerConfig::efficiencyAt(double current_A) const {
-  return interpolate(efficiency_at_A, efficiency, current_A);
+double ActiveBalancerConfig::efficiencyAt(double current_A, double module_V) const {
+  if (!loss_model) return interpolate(efficiency_at_A, efficiency, current_A);
+  const double p_W = module_V * current_A;
+  if (!(p_W > 0.0)) return 0.01;
+  return std::max(0.01, 1.0 - (loss_fixed_W + loss_series_ohm * current_A * current_A) / p_W);
 }
 
 ActiveBalancerCommand activeBalancerDecide(const ActiveBalancerConfig& c, const std::vector<double>& module_V,
@@ -36,7 +40,7 @@ double converterBusCurrent_A(const ActiveBalancerConfig& c, double module_V, dou
                              double& loss_W) {
   loss_W = 0.0;
   if (module_A == 0.0 || !(bus_V > 0.0)) return 0.0;
-  const double eta = c.efficiencyAt(std::fabs(module_A));
+  const double eta = c.efficiencyAt(std::fabs(module_A), module_V);
   const double p_module_W = module_V * module_A;  // + leaves the module
   const double p_bus_W = module_A > 0.0 ? eta * p_module_W : p_module_W / eta;
   loss_W = std::fabs(p_module_W - p_bus_W);

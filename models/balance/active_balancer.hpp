@@ -3,9 +3,12 @@
 //
 //   converter k   module-side current I_k (+ draws from the module, - feeds it),
 //                 |I_k| = converter_current_A while on; bus-side current
-//                   module -> bus:  I_bus = η(|I|)·V_k·I_k / V_bus
-//                   bus -> module:  I_bus = V_k·I_k / (η(|I|)·V_bus)       (I_k < 0)
+//                   module -> bus:  I_bus = η·V_k·I_k / V_bus
+//                   bus -> module:  I_bus = V_k·I_k / (η·V_bus)            (I_k < 0)
 //                 loss = |V_k·I_k - V_bus·I_bus|
+//                 η from a table over |I_k| (`efficiency`), or from a loss model of
+//                 the converter (`losses`): P_loss = P_fixed + R_eq·I_k² on the module
+//                 side's power V_k·|I_k| (η = 1 - P_loss / (V_k·|I_k|), at least 0.01)
 //   bus           C·dV_bus/dt = Σ_k I_bus,k + I_pre
 //   precharge     while V_bus < precharge_below_V the bus charges from the whole stack
 //                 through precharge_ohm (inrush V_stack/R) and every converter is off
@@ -35,8 +38,12 @@ struct ActiveBalancerConfig {
   double module_min_V = 2.5;
   double module_max_V = 4.2;
   double deadband_V = 0.01;
+  bool loss_model = false;      // losses: instead of the efficiency table
+  double loss_fixed_W = 0.0;    // controller, gate drive, core: while a converter runs
+  double loss_series_ohm = 0.0; // conduction (FETs, windings) referred to the module-side current
 
-  double efficiencyAt(double current_A) const;
+  // η of one converter at module-side current |I| and module voltage V.
+  double efficiencyAt(double current_A, double module_V) const;
 };
 
 struct ActiveBalancerCommand {

@@ -23,8 +23,15 @@
 //                  highest and lowest module from noisy readings, and a sub-mV difference
 //                  between the two runs can flip a choice for a tick or two. One tick of a
 //                  3 A converter moves a 3p module's terminal voltage by I·R ≈ 45 mV and
-//                  its SOC by ~1e-4, so such scenarios get 60 mV and 5e-4 (a few ticks'
-//                  worth) instead; everything else is held to the bounds above.
+//                  its SOC by ~1e-4. On the team's 2.5 F bus the bus voltage, which the
+//                  controller also switches on, swings by volts within a few ticks, so
+//                  the two runs soon decide differently. There a cell's voltage is
+//                  compared only at samples where both runs had its module's converter
+//                  in the same state (same decision, same physics: 2 mV), the SOC to
+//                  1e-3 (where the charge went, ten ticks of one converter), over the
+//                  first 5 minutes (CVODE restarts at every switch: the full 28s15p
+//                  race would take it 10 minutes). Everything else is held to the
+//                  bounds above.
 // Samples are compared at equal times up to the first trip of either run (after a
 // trip, a one-tick difference in opening time shifts the whole tail by one tick).
 #include <gtest/gtest.h>
@@ -48,8 +55,8 @@ constexpr double kSocTol = 1e-4;
 constexpr double kTempTol_K = 0.05;
 constexpr double kTripTolTicks = 2.0;
 constexpr double kTripTolExtra_s = 0.5;
-constexpr double kActiveVoltageTol_V = 0.06;
-constexpr double kActiveSocTol = 5e-4;
+constexpr double kActiveSocTol = 1e-3;
+constexpr double kActiveCompare_s = 300.0;
 
 struct Differences {
   double voltage_V = 0.0, soc = 0.0, temp_K = 0.0, trip_s = 0.0;
@@ -66,6 +73,8 @@ Differences compare(const RunResult& a, const RunResult& b) {
   const Recording& ra = a.rec;
   const Recording& rb = b.rec;
   const size_t cells = static_cast<size_t>(ra.cells);
+  const bool converters = !ra.balancer_bus_V.empty() && !rb.balancer_bus_V.empty();
+  const size_t series = converters ? ra.balance_current_A.size() / ra.samples() : 0, perGroup = series ? cells / series : 1;
   size_t j = 0;
   for (size_t i = 0; i < ra.samples(); ++i) {
     const double t = ra.time_s[i];
@@ -74,7 +83,10 @@ Differences compare(const RunResult& a, const RunResult& b) {
     if (j >= rb.samples() || std::fabs(rb.time_s[j] - t) > 1e-9) continue;
     for (size_t c = 0; c < cells; ++c) {
       const size_t ia = i * cells + c, ib = j * cells + c;
-      d.voltage_V = std::max(d.voltage_V, std::fabs(ra.cell_voltage_V[ia] - rb.cell_voltage_V[ib]));
+      const size_t g = c / perGroup;
+      const bool sameDecision =
+          !converters || ra.balance_current_A[i * series + g] == rb.balance_current_A[j * series + g];
+      if (sameDecision) d.voltage_V = std::max(d.voltage_V, std::fabs(ra.cell_voltage_V[ia] - rb.cell_voltage_V[ib]));
       d.soc = std::max(d.soc, std::fabs(ra.cell_soc[ia] - rb.cell_soc[ib]));
       d.temp_K = std::max(d.temp_K, std::fabs(ra.cell_temp_C[ia] - rb.cell_temp_C[ib]));
     }
@@ -95,6 +107,8 @@ TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
   for (const auto& [name, path] : files) {
     SCOPED_TRACE(name);
     Scenario s = loadScenarioFile(path.string());
+    const bool bangBang = s.hardware.active_balancer.present;
+    if (bangBang) s.run.duration_s = std::min(s.endTime_s(), kActiveCompare_s);
     s.run.solver = RunConfig::Solver::Cvode;
     const double scenarioRtol = s.run.rtol;
     s.run.rtol = std::min(scenarioRtol, 1e-7);
@@ -105,8 +119,7 @@ TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
     const Differences d = compare(ref, fast);
     std::printf("%-34s %9.4f %9.2e %9.2e %9.3f %7zu\n", name.c_str(), d.voltage_V * 1e3, d.soc, d.temp_K, d.trip_s,
                 d.samples);
-    const bool bangBang = s.hardware.active_balancer.present;
-    const double vTol = bangBang ? kActiveVoltageTol_V : kVoltageTol_V;
+    const double vTol = kVoltageTol_V;
     const double socTol = bangBang ? kActiveSocTol : kSocTol;
     EXPECT_GT(d.samples, 1u);
     EXPECT_LE(d.voltage_V, vTol);
