@@ -10,7 +10,7 @@ FlatCurve FlatCurve::from(const Curve& c) {
   FlatCurve f;
   f.discharged_axis = c.axis == CurveAxis::Discharged_Ah;
   f.arrhenius_K = c.arrhenius_K;
-  f.ref_temp_K = c.ref_temp_C + kZeroCelsius_K;
+  f.ref_temp_C = c.ref_temp_C;
   const bool table = c.kind == Curve::Kind::Table || c.kind == Curve::Kind::Table2D;
   const std::vector<double>& ys = table ? c.ys() : c.coeffs();
   f.kind = c.kind == Curve::Kind::Constant ? 0 : c.kind == Curve::Kind::Polynomial ? 1 : table && c.kind == Curve::Kind::Table ? 2 : 3;
@@ -23,15 +23,6 @@ FlatCurve FlatCurve::from(const Curve& c) {
   return f;
 }
 
-double FlatCurve::row(int j, double xv) const {
-  const double* yr = y + j * n;
-  if (xv <= x[0]) return yr[0];
-  if (xv >= x[n - 1]) return yr[n - 1];
-  const int i = static_cast<int>(std::upper_bound(x, x + n, xv) - x);
-  const double w = (xv - x[i - 1]) / (x[i] - x[i - 1]);
-  return yr[i - 1] + w * (yr[i] - yr[i - 1]);
-}
-
 // Same arithmetic as Curve::eval / Curve::at (models/cell/curve.cpp).
 double FlatCurve::eval(double soc, double capacity_Ah, double temp_C) const {
   if (kind == 0 && arrhenius_K == 0.0) return y[0];
@@ -41,17 +32,12 @@ double FlatCurve::eval(double soc, double capacity_Ah, double temp_C) const {
     r = 0.0;
     for (int i = 0; i < n; ++i) r = r * xv + y[i];
   } else if (kind == 2) {
-    r = row(0, xv);
+    r = interpolateN(x, y, static_cast<size_t>(n), xv);
   } else if (kind == 3) {
-    if (rows == 1 || temp_C <= t[0]) return row(0, xv);
-    if (temp_C >= t[rows - 1]) return row(rows - 1, xv);
-    const int j = static_cast<int>(std::upper_bound(t, t + rows, temp_C) - t);
-    const double w = (temp_C - t[j - 1]) / (t[j] - t[j - 1]);
-    const double lo = row(j - 1, xv);
-    return lo + w * (row(j, xv) - lo);
+    return interpolateGrid(x, y, static_cast<size_t>(n), t, static_cast<size_t>(rows), xv, temp_C);
   }
   if (arrhenius_K == 0.0) return r;
-  return r * std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - 1.0 / ref_temp_K));
+  return r * arrheniusFactor(arrhenius_K, temp_C, ref_temp_C);
 }
 
 FloorPack::FloorPack(const Plant& plant, double cell_to_cell_W_per_K, double ambient_C)

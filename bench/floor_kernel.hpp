@@ -32,14 +32,11 @@ struct FlatCurve {
   int kind = 0;            // 0 constant, 1 polynomial, 2 table, 3 table over temperature
   bool discharged_axis = false;
   int n = 0, rows = 0;
-  double arrhenius_K = 0.0, ref_temp_K = 0.0;
+  double arrhenius_K = 0.0, ref_temp_C = 0.0;
   double x[kMax] = {}, t[kMaxRows] = {}, y[kMax * kMaxRows] = {};  // polynomial coefficients in y
 
   static FlatCurve from(const Curve& c);
   double eval(double soc, double capacity_Ah, double temp_C) const;
-
- private:
-  double row(int j, double xv) const;
 };
 
 class FloorPack {

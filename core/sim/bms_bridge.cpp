@@ -370,11 +370,7 @@ bool HardwareSim::actuateBalancing(const bms::Outputs& out, const PlantSignals& 
   if (a.present) {
     // Module voltages as the BMS reports them over CAN; the bus voltage is its own reading.
     for (int g = 0; g < series; ++g) moduleV_[static_cast<size_t>(g)] = out.telemetry.cellVoltage_mV[g] * 1e-3;
-    ActiveBalancerCommand cmd = activeBalancerDecide(a, moduleV_, sig.bus_V);
-    // The BMS isolated the pack on an unsafe condition: every converter and the
-    // precharge off, whatever the module voltages say (the team's design).
-    const bool isolated = out.state == bms::State::Error;
-    if (isolated) cmd = ActiveBalancerCommand{}, cmd.safe_state = true;
+    const ActiveBalancerCommand cmd = activeBalancerDecide(a, moduleV_, sig.bus_V, out.state == bms::State::Error);
     if (pin.converter_A.size() != static_cast<size_t>(series)) pin.converter_A.assign(static_cast<size_t>(series), 0.0);
     for (int g = 0; g < series; ++g) {
       const double i = g == cmd.source ? a.converter_current_A : g == cmd.sink ? -a.converter_current_A : 0.0;
@@ -384,7 +380,7 @@ bool HardwareSim::actuateBalancing(const bms::Outputs& out, const PlantSignals& 
     changed = changed || pin.bus_precharge != cmd.precharge;
     pin.bus_precharge = cmd.precharge;
     st_.active_safe_state = cmd.safe_state;
-    st_.active_isolated = isolated;
+    st_.active_isolated = cmd.isolated;
   }
   return changed;
 }

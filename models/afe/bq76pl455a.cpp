@@ -14,6 +14,7 @@ namespace packsim {
 namespace {
 
 constexpr uint32_t kBalanceTime_s[PL455_BALANCE_TIME_CODES] = PL455_BALANCE_TIME_S_INIT;
+constexpr uint32_t kCommTimeout_ms[PL455_CTO_FAULT_CODES] = PL455_CTO_FAULT_MS_INIT;
 
 uint16_t get16(const std::array<uint8_t, 256>& r, unsigned a) {
   return static_cast<uint16_t>((r[a] << 8) | r[a + 1]);
@@ -190,9 +191,8 @@ void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
 
 // The communication timeout: no valid frame heard for the CTO fault time.
 void Bq76pl455aChain::superviseLink(Device& dv, double t) {
-  static constexpr uint32_t kTimeout_ms[PL455_CTO_FAULT_CODES] = PL455_CTO_FAULT_MS_INIT;
   const uint8_t code = dv.reg[PL455_REG_CTO] & PL455_CTO_FAULT_MASK;
-  if (code != 0 && t - dv.heard_s >= kTimeout_ms[code] * 1e-3 - 1e-12) dv.reg[PL455_REG_FAULT_SYS] |= PL455_FAULT_SYS_CTO;
+  if (code != 0 && t - dv.heard_s >= kCommTimeout_ms[code] * 1e-3 - 1e-12) dv.reg[PL455_REG_FAULT_SYS] |= PL455_FAULT_SYS_CTO;
 }
 
 void Bq76pl455aChain::advance(double t) {
@@ -463,9 +463,8 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
 }
 
 int pl455CommTimeoutCode(double timeout_s) {
-  static constexpr uint32_t kTimeout_ms[PL455_CTO_FAULT_CODES] = PL455_CTO_FAULT_MS_INIT;
   for (unsigned k = 0; k < PL455_CTO_FAULT_CODES; ++k)
-    if (std::fabs(timeout_s * 1e3 - kTimeout_ms[k]) < 1e-6) return static_cast<int>(k);
+    if (std::fabs(timeout_s * 1e3 - kCommTimeout_ms[k]) < 1e-6) return static_cast<int>(k);
   return -1;
 }
 

@@ -15,9 +15,13 @@ double ActiveBalancerConfig::efficiencyAt(double current_A, double module_V) con
 }
 
 ActiveBalancerCommand activeBalancerDecide(const ActiveBalancerConfig& c, const std::vector<double>& module_V,
-                                           double bus_V) {
+                                           double bus_V, bool packIsolated) {
   ActiveBalancerCommand cmd;
   if (!c.present || module_V.empty()) return cmd;
+  if (packIsolated) {
+    cmd.safe_state = cmd.isolated = true;
+    return cmd;
+  }
   int hi = 0, lo = 0;
   for (int k = 0; k < static_cast<int>(module_V.size()); ++k) {
     const double v = module_V[static_cast<size_t>(k)];

@@ -13,7 +13,8 @@
 //   precharge     while V_bus < precharge_below_V the bus charges from the whole stack
 //                 through precharge_ohm (inrush V_stack/R) and every converter is off
 //   controller    every tick, from the module voltages the BMS reports (CAN):
-//                 safe state (any module > module_max_V or < module_min_V): all off;
+//                 safe state (the BMS isolated the pack, or any module > module_max_V
+//                 or < module_min_V): all off, the precharge too;
 //                 else the highest module -> bus unless the bus is above bus_high_V,
 //                 and bus -> the lowest module unless the bus is below bus_low_V;
 //                 nothing while max - min <= deadband_V
@@ -50,11 +51,13 @@ struct ActiveBalancerCommand {
   int source = -1;   // module discharged into the bus
   int sink = -1;     // module charged from the bus
   bool precharge = false;
-  bool safe_state = false;
+  bool safe_state = false;  // every converter and the precharge off
+  bool isolated = false;    // ... because the BMS isolated the pack
 };
 
+// packIsolated: the BMS has isolated the pack on an unsafe condition (its error state).
 ActiveBalancerCommand activeBalancerDecide(const ActiveBalancerConfig& c, const std::vector<double>& module_V,
-                                           double bus_V);
+                                           double bus_V, bool packIsolated = false);
 
 // Bus-side current (A, + into the bus) and loss (W) of one converter.
 double converterBusCurrent_A(const ActiveBalancerConfig& c, double module_V, double module_A, double bus_V,

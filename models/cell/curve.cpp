@@ -68,19 +68,6 @@ Curve Curve::withArrhenius(double k, double ref_C) const {
   return c;
 }
 
-namespace {
-
-// interpolate() over n points of xs and ys (ys may be one row of a 2-D table).
-double interpolateN(const double* xs, const double* ys, size_t n, double x) {
-  if (n == 1 || x <= xs[0]) return ys[0];
-  if (x >= xs[n - 1]) return ys[n - 1];
-  const size_t i = static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
-  const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-  return ys[i - 1] + w * (ys[i] - ys[i - 1]);
-}
-
-}  // namespace
-
 double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
   return interpolateN(xs.data(), ys.data(), xs.size(), x);
 }
@@ -105,20 +92,12 @@ double Curve::at(double x) const {
 
 double Curve::at(double x, double temp_C) const {
   if (kind == Kind::Table2D) {
-    // Row interpolation in x, then linear between the two rows around temp_C.
-    const std::vector<double>&xs = pts_->xs, &ys = pts_->ys, &temps_C = pts_->temps_C;
-    const size_t n = xs.size();
-    auto row = [&](size_t j) { return interpolateN(xs.data(), ys.data() + j * n, n, x); };
-    if (temps_C.size() == 1 || temp_C <= temps_C.front()) return row(0);
-    if (temp_C >= temps_C.back()) return row(temps_C.size() - 1);
-    const size_t j = static_cast<size_t>(std::upper_bound(temps_C.begin(), temps_C.end(), temp_C) - temps_C.begin());
-    const double w = (temp_C - temps_C[j - 1]) / (temps_C[j] - temps_C[j - 1]);
-    const double lo = row(j - 1);
-    return lo + w * (row(j) - lo);
+    const Points& p = *pts_;
+    return interpolateGrid(p.xs.data(), p.ys.data(), p.xs.size(), p.temps_C.data(), p.temps_C.size(), x, temp_C);
   }
   const double y = at(x);
   if (arrhenius_K == 0.0) return y;
-  return y * std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - 1.0 / (ref_temp_C + kZeroCelsius_K)));
+  return y * arrheniusFactor(arrhenius_K, temp_C, ref_temp_C);
 }
 
 double Curve::eval(double soc, double axis_capacity_Ah) const { return eval(soc, axis_capacity_Ah, kReferenceTemp_C); }

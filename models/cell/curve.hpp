@@ -14,6 +14,9 @@
 // was measured on (the preset's capacity_Ah), not a weaker cell's own: every cell
 // then reaches the curve's knee at its own SOC 0.
 #pragma once
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -70,5 +73,33 @@ struct Curve {
 // Linear interpolation in a table (xs strictly increasing, ys of the same length),
 // held flat beyond the ends; a one-point table is a constant.
 double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x);
+
+// The same over n points of arrays (ys may be one row of a 2-D table).
+inline double interpolateN(const double* xs, const double* ys, size_t n, double x) {
+  if (n == 1 || x <= xs[0]) return ys[0];
+  if (x >= xs[n - 1]) return ys[n - 1];
+  const size_t i = static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
+  const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+  return ys[i - 1] + w * (ys[i] - ys[i - 1]);
+}
+
+// A table over (x, temperature): `rows` rows of n values (row-major), one per grid
+// temperature (temps_C increasing). Each row is interpolated at x, then linearly between
+// the two rows around temp_C; held at the grid's first and last row beyond it.
+inline double interpolateGrid(const double* xs, const double* ys, size_t n, const double* temps_C, size_t rows,
+                              double x, double temp_C) {
+  auto row = [&](size_t j) { return interpolateN(xs, ys + j * n, n, x); };
+  if (rows == 1 || temp_C <= temps_C[0]) return row(0);
+  if (temp_C >= temps_C[rows - 1]) return row(rows - 1);
+  const size_t j = static_cast<size_t>(std::upper_bound(temps_C, temps_C + rows, temp_C) - temps_C);
+  const double w = (temp_C - temps_C[j - 1]) / (temps_C[j] - temps_C[j - 1]);
+  const double lo = row(j - 1);
+  return lo + w * (row(j) - lo);
+}
+
+// An Arrhenius factor K: R(T) / R(T_ref) = exp(K·(1/T_K - 1/T_ref,K)).
+inline double arrheniusFactor(double arrhenius_K, double temp_C, double ref_temp_C) {
+  return std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - 1.0 / (ref_temp_C + kZeroCelsius_K)));
+}
 
 }  // namespace packsim
