@@ -58,8 +58,8 @@ Scenario scaledPack(int series, int parallel, double duration_s, const std::stri
   std::vector<double> current(d.load.i_A);
   for (double& i : current) i *= p;
   std::vector<double> therm;
-  for (int c : d.hardware.thermistor_cells)
-    if (c < series) therm.push_back(c + 1);
+  for (const ThermistorSite& site : d.hardware.thermistor_sites)
+    if (site.onCell() && site.cell < series) therm.push_back(site.cell + 1);
   // Boards of up to the bundled six devices (a small pack has fewer devices than that).
   const int devices = (series + d.hardware.afe.cells_per_device - 1) / d.hardware.afe.cells_per_device;
   const Overrides o = {

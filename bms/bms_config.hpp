@@ -78,8 +78,7 @@ struct EkfConfig {
   // Temperature correction of R0: r0_mOhm × exp(r0ArrheniusK · (1/T_K − 1/T_ref_K)).
   float r0ArrheniusK;       // 0: R0 does not depend on temperature (no expf per tick)
   float r0RefTemp_C;        // the temperature the r0_mOhm table is valid at
-  uint8_t cellThermFirst;   // cell thermistors: channels [first, first + count)
-  uint8_t cellThermCount;
+  uint64_t cellThermistors;  // bit k: thermistor channel k sits on a cell
   uint8_t groupThermistor[kMaxCells];  // the channel nearest each series group (a cell thermistor)
 };
 
@@ -164,6 +163,8 @@ struct Config {
   BalanceConfig balance;
   int32_t chargeRequest_mA;     // charger current requested while charging (0: the charger stays off)
   uint16_t chargeFullCell_mV;   // charge ends once any cell reads this (0: leave the end to the charger)
+  uint64_t fetThermistors;      // bit k: thermistor channel k sits on the power FETs (fet_overtemperature
+                                // judges it; it is not a cell temperature)
   ProtectionRule rules[kFaultCount];
 };
 

@@ -41,15 +41,12 @@ void setR0Scales(const EkfConfig& k, EkfState& s, uint16_t groups, const int16_t
     for (uint16_t g = 0; g < groups; ++g) s.group[g].r0Scale = 1.0f;
     return;
   }
-  const uint16_t first = k.cellThermFirst;
-  const uint16_t end = static_cast<uint16_t>(first + k.cellThermCount);
-  const uint16_t last = end > kMaxThermistors ? kMaxThermistors : end;
-  float factor[kMaxThermistors];  // per cell channel; 0 where the reading is invalid
+  float factor[kMaxThermistors];  // per cell channel; 0 where the reading is invalid or no cell's
   int32_t sum_dC = 0;
   uint16_t valid = 0;
-  for (uint16_t ch = first; ch < last; ++ch) {
+  for (uint16_t ch = 0; ch < kMaxThermistors; ++ch) {
     factor[ch] = 0.0f;
-    if (temp_dC[ch] == kTempInvalid_dC) continue;
+    if (((k.cellThermistors >> ch) & 1u) == 0 || temp_dC[ch] == kTempInvalid_dC) continue;
     factor[ch] = ekfR0Factor(k, static_cast<float>(temp_dC[ch]) * 0.1f);
     sum_dC += temp_dC[ch];
     ++valid;
@@ -57,7 +54,7 @@ void setR0Scales(const EkfConfig& k, EkfState& s, uint16_t groups, const int16_t
   const float mean = valid > 0 ? ekfR0Factor(k, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
   for (uint16_t g = 0; g < groups; ++g) {
     const uint16_t ch = k.groupThermistor[g];
-    s.group[g].r0Scale = ch >= first && ch < last && factor[ch] > 0.0f ? factor[ch] : mean;
+    s.group[g].r0Scale = ch < kMaxThermistors && factor[ch] > 0.0f ? factor[ch] : mean;
   }
 }
 

@@ -35,6 +35,7 @@ constexpr FaultRow kRows[] = {
   {F::PrechargeFailed,           "precharge_failed",        Q::PrechargeFailed,     true,  0,     0,    0,    U::Flag,    kFatal,            true,  R},
   {F::TemperatureWarning,        "temperature_warning",     Q::MaxTemp_dC,          true,  517,   20,   1000, U::dC,      Severity::Warning, false, 0},
   {F::CellImbalance,             "cell_imbalance",          Q::CellSpread_mV,       true,  50,    10,   1000, U::mV,      Severity::Info,    false, 0},
+  {F::FetOverTemperature,        "fet_overtemperature",     Q::MaxFet_dC,           true,  850,   100,  2000, U::dC,      kFatal,            true,  R | D | C},
 };
 // clang-format on
 

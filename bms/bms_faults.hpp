@@ -33,6 +33,7 @@ enum class FaultId : uint8_t {
   PrechargeFailed,            // precharge timed out on every attempt
   TemperatureWarning,         // recommended safety limit (cell health), no action
   CellImbalance,              // operating limit: max - min cell spread, no action
+  FetOverTemperature,         // a thermistor on the power FETs
   Count
 };
 constexpr uint8_t kFaultCount = static_cast<uint8_t>(FaultId::Count);
@@ -81,6 +82,7 @@ enum class Quantity : uint8_t {
                         // carries current or its auxiliary contact still reads closed
   PrechargeFailed,      // 1 once every precharge attempt timed out
   CellSpread_mV,        // max - min cell
+  MaxFet_dC,            // hottest FET thermistor (Config::fetThermistors)
   Count
 };
 constexpr uint8_t kQuantityCount = static_cast<uint8_t>(Quantity::Count);

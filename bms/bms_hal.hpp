@@ -42,6 +42,7 @@ struct Telemetry {
   int16_t maxTemp_dC;
   int16_t minTemp_dC;
   int16_t maxDie_dC;
+  int16_t maxFet_dC;         // hottest FET thermistor (INT16_MIN: none)
   uint16_t soc_permille;     // state-of-charge estimate, 0..1000
   uint8_t commBad[kMaxDevices];  // consecutive bad reads per device (saturating)
   uint8_t lastResult[kMaxDevices];  // FrameResult of the last read of each device

@@ -108,6 +108,7 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
   const uint8_t afeTherm = afeThermistorChannels(cfg);
   int16_t maxT = INT16_MIN;
   int16_t minT = INT16_MAX;
+  int16_t maxFet = INT16_MIN;
   uint8_t invalid = 0;
   for (uint8_t k = 0; k < cfg.thermistorCount; ++k) {
     int16_t dC = kTempInvalid_dC;
@@ -128,9 +129,14 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
       ++invalid;
       continue;
     }
-    // Balancing-board thermistors are not cell temperatures (bms_balance reads them).
+    // Balancing-board thermistors are not cell temperatures (bms_balance reads them),
+    // nor are the FETs' (their own limit).
     const uint8_t boardFirst = cfg.balance.boardThermFirst;
     if (k >= boardFirst && k < boardFirst + cfg.balance.boardThermCount) continue;
+    if ((cfg.fetThermistors >> k) & 1u) {
+      if (dC > maxFet) maxFet = dC;
+      continue;
+    }
     if (dC > maxT) maxT = dC;
     if (dC < minT) minT = dC;
   }
@@ -146,6 +152,7 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
   tm.maxTemp_dC = maxT;
   tm.minTemp_dC = minT;
   tm.maxDie_dC = maxDie;
+  tm.maxFet_dC = maxFet;
   tm.monitorFault = deviceFault || in.monitorFaultPin;
 
   // Charge temperature limits apply while the charger is connected (regen braking in
@@ -162,6 +169,7 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
   set(Quantity::MinTemp_dC, minT);
   set(Quantity::MinTempCharging_dC, charging ? minT : INT32_MAX);
   set(Quantity::MaxDie_dC, maxDie);
+  set(Quantity::MaxFet_dC, maxFet);
   set(Quantity::CommBadFrames, worstBad);
   set(Quantity::CellSumError_mV, static_cast<int32_t>(worstSumError_mV));
   set(Quantity::InvalidThermistors, invalid);

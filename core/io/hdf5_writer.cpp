@@ -216,7 +216,8 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   }
   // Attributes that come from the scenario rather than the recording.
   std::string therm;
-  for (int c : s.hardware.thermistor_cells) therm += (therm.empty() ? "" : ",") + std::to_string(c + 1);
+  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a cell number, or the node's name
+    therm += (therm.empty() ? "" : ",") + (site.onCell() ? std::to_string(site.cell + 1) : site.node);
   w.attrOn("/measured", "thermistor_cells", therm);
   w.attrOn("/bms", "fault_bits", faultNames());
   {  // the protection limits the plots draw (an attribute only when the protection is on)

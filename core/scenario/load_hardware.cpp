@@ -145,7 +145,7 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
   afeDefaults(*model, h.afe, h.cell_adc);
   h.current_sense.amp_gain = 10.0;
   h.current_sense.noise_A_rms = 0.02;
-  for (int k = 0; k < std::min(4, cells); ++k) h.thermistor_cells.push_back(k * cells / std::min(4, cells));
+  for (int k = 0; k < std::min(4, cells); ++k) h.thermistor_sites.push_back({k * cells / std::min(4, cells), ""});
   h.charge_fet.present = false;
   h.charge_fet.diode_passes_charge = false;  // a charge FET's diode passes discharge current
   h.fuse.present = false;
@@ -168,11 +168,26 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       a->finish();
     }
     if (auto t = hw->optionalMap("thermistors")) {
+      if (t->has("at_cells") && t->has("channels"))
+        throw t->errorAt("channels", "give either at_cells (every thermistor on a cell) or channels, not both");
       if (t->has("at_cells")) {
-        h.thermistor_cells.clear();
-        for (long c : t->integers("at_cells", 1, cells)) h.thermistor_cells.push_back(static_cast<int>(c - 1));
-        if (h.thermistor_cells.size() > bms::kMaxThermistors)
+        h.thermistor_sites.clear();
+        for (long c : t->integers("at_cells", 1, cells)) h.thermistor_sites.push_back({static_cast<int>(c - 1), ""});
+        if (h.thermistor_sites.size() > bms::kMaxThermistors)
           throw t->errorAt("at_cells", "at most " + std::to_string(bms::kMaxThermistors) + " thermistors");
+      }
+      if (t->has("channels")) {  // in wiring order, each {cell: N} or {node: NAME}
+        h.thermistor_sites.clear();
+        for (YamlMap c : t->mapList("channels")) {
+          if (c.has("cell") == c.has("node")) throw c.error("a thermistor channel is either {cell: N} or {node: NAME}");
+          if (c.has("cell"))
+            h.thermistor_sites.push_back({static_cast<int>(c.integer("cell", 1, cells) - 1), ""});
+          else
+            h.thermistor_sites.push_back({-1, c.string("node")});
+          c.finish();
+        }
+        if (h.thermistor_sites.empty() || h.thermistor_sites.size() > bms::kMaxThermistors)
+          throw t->errorAt("channels", "1.." + std::to_string(bms::kMaxThermistors) + " thermistors");
       }
       h.thermistor.r25_ohm = t->number("r25_ohm", h.thermistor.r25_ohm, Range::positive());
       h.thermistor.beta_K = t->number("beta_K", h.thermistor.beta_K, Range::closed(1000.0, 10000.0));
@@ -206,6 +221,10 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     }
     if (auto f = hw->optionalMap("discharge_fet")) readFet(*f, h.discharge_fet);
     if (auto f = hw->optionalMap("charge_fet")) readFet(*f, h.charge_fet);
+    if (hw->choice("fet_paths", "series", {"series", "separate"}) == "separate") {
+      if (!h.charge_fet.present) throw hw->errorAt("fet_paths", "separate paths need a charge_fet as well");
+      h.fet_paths = FetPaths::Separate;
+    }
     if (auto f = hw->optionalMap("fuse")) {
       h.fuse.present = f->boolean("present", true);
       h.fuse.rated_A = f->number("rated_A", h.fuse.rated_A, Range::positive());
@@ -295,6 +314,11 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     a.devices = (cells + a.cells_per_device - 1) / a.cells_per_device;
     a.secondary.enabled = false;
   }
+  // Which of each device's inputs sit on the FETs (a bq76952 judges those by OTF).
+  a.fet_inputs = 0;
+  const size_t onInputs = std::min(h.thermistor_sites.size(), static_cast<size_t>(a.devices * a.thermistors_per_device));
+  for (size_t k = 0; k < onInputs; ++k)
+    if (!h.thermistor_sites[k].onCell()) a.fet_inputs |= 1u << (k % static_cast<size_t>(a.thermistors_per_device));
   if (hw) hw->finish();
   return h;
 }

@@ -134,6 +134,21 @@ void checkThermalNode(YamlMap section, const char* key, const std::string& node,
                                  (near.empty() ? "" : " (did you mean '" + near + "'?)"));
 }
 
+// A thermistor on a thermal node sits on the power FETs' node: the firmware judges it
+// by its own limit (fet_overtemperature), not as a cell temperature.
+void checkThermistorNodes(YamlMap& root, const Scenario& s) {
+  const HardwareConfig& hw = s.hardware;
+  const std::string fetNodes[] = {hw.discharge_fet.thermal_node, hw.charge_fet.thermal_node};
+  for (size_t k = 0; k < hw.thermistor_sites.size(); ++k) {
+    const std::string& node = hw.thermistor_sites[k].node;
+    if (node.empty() || node == fetNodes[0] || node == fetNodes[1]) continue;
+    YamlMap channel = root.map("hardware").map("thermistors").mapList("channels")[k];
+    checkThermalNode(channel, "node", node, s);
+    throw channel.errorAt("node", "a thermistor on a thermal node sits on the FETs' node (the thermal_node of "
+                                  "hardware.discharge_fet or charge_fet); '" + node + "' is not one");
+  }
+}
+
 // Balancing hardware against the thermal network and the BMS policy.
 void checkBalancing(YamlMap& root, const Scenario& s) {
   const PassiveBalancerConfig& b = s.hardware.balancing;
@@ -143,6 +158,7 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
     checkThermalNode(hwMap("discharge_fet"), "thermal_node", s.hardware.discharge_fet.thermal_node, s);
   if (!s.hardware.charge_fet.thermal_node.empty())
     checkThermalNode(hwMap("charge_fet"), "thermal_node", s.hardware.charge_fet.thermal_node, s);
+  checkThermistorNodes(root, s);
   if (s.hardware.thermistorCount() > bms::kMaxThermistors)
     throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
                                                               std::to_string(bms::kMaxThermistors));
@@ -259,6 +275,10 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   if (s.output.interval_s < s.bms.tick_s)
     throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
   checkBalancing(m, s);
+  if (s.hardware.fet_paths == FetPaths::Separate && !s.load.i_A.empty() &&
+      *std::min_element(s.load.i_A.begin(), s.load.i_A.end()) < 0.0)
+    throw m.errorAt("load", "the load sits on the one-way discharge path (hardware.fet_paths: separate): it cannot "
+                            "push current into the pack; a charge comes from `load: {charger: ...}`");
   const double senseRange_A = s.hardware.current_sense.zeroCode() * s.hardware.current_sense.lsb_A();
   for (const auto* p : {&s.bms.protection(bms::FaultId::OverCurrentDischarge), &s.bms.protection(bms::FaultId::OverCurrentCharge)}) {
     if (p->enabled && p->threshold >= senseRange_A) {

@@ -7,14 +7,15 @@ namespace packsim {
 
 namespace {
 
-// The board a thermistor channel sits on, by the cell (or balancing board) it measures.
+// The board a thermistor channel sits on, by the cell (or balancing board) it measures;
+// one on a thermal node (the FETs') belongs to the pack host's board.
 int boardOfChannel(const HardwareConfig& hw, int k, const std::vector<MonitorBoard>& boards) {
-  const int cellTherms = static_cast<int>(hw.thermistor_cells.size());
+  const int sites = static_cast<int>(hw.thermistor_sites.size());
   int cell = 0;
-  if (k < cellTherms) {
-    cell = hw.thermistor_cells[static_cast<size_t>(k)];
+  if (k < sites) {
+    cell = std::max(0, hw.thermistor_sites[static_cast<size_t>(k)].cell);
   } else {  // a balancing board's: its first cell
-    const int board = (k - cellTherms) / std::max(1, hw.balancing.board_thermistors);
+    const int board = (k - sites) / std::max(1, hw.balancing.board_thermistors);
     cell = board * hw.balancing.cells_per_board;
   }
   for (const MonitorBoard& b : boards)
@@ -70,15 +71,18 @@ Scenario boardScenario(const Scenario& s, const MonitorBoard& b) {
   hw.afe.devices_per_board = 0;
   // Its thermistors in wiring order: inputs first, then (the pack host) its ADC; a
   // balancing board's channels stay after the cell ones, as in the global numbering.
-  const int cellTherms = static_cast<int>(s.hardware.thermistor_cells.size());
-  hw.thermistor_cells.clear();
+  const std::vector<ThermistorSite>& sites = s.hardware.thermistor_sites;
+  hw.thermistor_sites.clear();
   int boardTherms = 0;
   for (const std::vector<int>* list : {&b.afeChannels, &b.mcuChannels})
     for (int k : *list) {
-      if (k < cellTherms)
-        hw.thermistor_cells.push_back(s.hardware.thermistor_cells[static_cast<size_t>(k)] - b.firstCell);
-      else
+      if (k >= static_cast<int>(sites.size())) {
         ++boardTherms;
+        continue;
+      }
+      ThermistorSite site = sites[static_cast<size_t>(k)];
+      if (site.onCell()) site.cell -= b.firstCell;
+      hw.thermistor_sites.push_back(site);
     }
   if (hw.balancing.present) {
     hw.balancing.boards = 1;

@@ -5,7 +5,7 @@
 //   boards      devices [b·dpb, (b+1)·dpb) and their cells; one board holds every
 //               device when devices_per_board is 0
 //   channels    the scenario's thermistor channels keep their numbers (the cell
-//               thermistors in `at_cells` order, then the balancing boards'). One board:
+//               thermistors in `hardware.thermistors` order, then the balancing boards'). One board:
 //               the first devices·inputs channels sit on the devices' inputs, the rest on
 //               the host MCU's ADC. Several boards: a channel belongs to the board of the
 //               cell it sits on (a balancing board's thermistors to that board) and takes

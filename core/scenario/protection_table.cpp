@@ -61,6 +61,8 @@ constexpr std::array<ProtectionSpec, bms::kFaultCount> kSpecs = {{
   rule(F::CellImbalance,             "V", kMilli, 0.001, 2.0,   false,
        [](const T& t) -> int32_t { return t.maxCell_mV - t.minCell_mV; },
        "cell spread {value_fw} mV > {threshold_fw} mV"),
+  rule(F::FetOverTemperature,        "C", kDeci,  -60.0, 150.0, false, [](const T& t) -> int32_t { return t.maxFet_dC; },
+       "FET temperature {value} C > {threshold} C"),
 }};
 // clang-format on
 

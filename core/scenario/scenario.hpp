@@ -58,10 +58,18 @@ struct ThermalConfig {
   std::vector<ThermalNodeConfig> nodes;
 };
 
+// Where one thermistor sits: on a cell, or on a thermal node of its own (the power FETs'
+// board: hardware.discharge_fet / charge_fet `thermal_node`).
+struct ThermistorSite {
+  int cell = -1;     // 0-based series position; -1 on a node
+  std::string node;  // a thermal.nodes name; empty on a cell
+  bool onCell() const { return node.empty(); }
+};
+
 struct HardwareConfig {
   AdcChannel cell_adc;             // in volts: lsb, gain, offset, noise
   Thermistor thermistor;           // one part type for all channels
-  std::vector<int> thermistor_cells;  // 0-based cell index each thermistor sits on
+  std::vector<ThermistorSite> thermistor_sites;  // hardware.thermistors, in channel (wiring) order
   CurrentSense current_sense;
   // Monitor ICs and switching hardware (issue 3; docs/scenario.md `hardware.afe` …).
   MonitorConfig afe;                  // cell_adc above is its cell channel
@@ -70,15 +78,16 @@ struct HardwareConfig {
   PrechargePathConfig precharge;      // resistor into the load-bus capacitance
   MosfetConfig discharge_fet;         // with the diode that carries charge current
   MosfetConfig charge_fet;            // absent unless configured
+  FetPaths fet_paths = FetPaths::Series;  // hardware.fet_paths
   FuseConfig fuse;                    // absent unless configured
   AdcChannel bus_adc;                 // load-bus voltage divider into an ADC (volts)
   bool fault_line_opens_relay = true; // monitor FAULT line in series with the relay coil drive
   // Balancing (issue 5; docs/scenario.md `hardware.balancing`, `hardware.active_balancer`).
   PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
   ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
-  // Thermistor channels: the cell ones, then the balancing board's.
+  // Thermistor channels: hardware.thermistors' sites, then the balancing boards'.
   double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
-  int thermistorCount() const { return static_cast<int>(thermistor_cells.size()) + balancing.board_thermistors * balancing.boards; }
+  int thermistorCount() const { return static_cast<int>(thermistor_sites.size()) + balancing.board_thermistors * balancing.boards; }
 };
 
 // Contactor precharge sequencing of the BMS (bms::PrechargeConfig in SI units).

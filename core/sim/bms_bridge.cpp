@@ -56,7 +56,7 @@ void setBalancing(bms::Config& c, const Scenario& s) {
   k.restCurrent_mA = toInt(b.rest_current_A * 1e3);
   k.rest_ms = static_cast<uint32_t>(std::lround(b.rest_s * 1e3));
   k.period_ms = static_cast<uint32_t>(std::lround(b.period_s * 1e3));
-  k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_cells.size());
+  k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_sites.size());
   k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors * s.hardware.balancing.boards);
   k.averageReadings = static_cast<uint8_t>(b.average_readings);
   k.boardCount = static_cast<uint8_t>(s.hardware.balancing.boards);
@@ -66,6 +66,16 @@ void setBalancing(bms::Config& c, const Scenario& s) {
                                                         : 0.0;
   c.chargeRequest_mA = toInt(request_A * 1e3);
   c.chargeFullCell_mV = static_cast<uint16_t>(std::lround(s.bms.charge_full_cell_V * 1e3));
+}
+
+// The thermistor channels on the power FETs (every node site: the loader admits only the
+// FETs' thermal node).
+uint64_t fetThermistors(const Scenario& s) {
+  uint64_t mask = 0;
+  const std::vector<ThermistorSite>& sites = s.hardware.thermistor_sites;
+  for (size_t k = 0; k < sites.size(); ++k)
+    if (!sites[k].onCell()) mask |= uint64_t{1} << k;
+  return mask;
 }
 
 // Read-out rates and the monitor drivers' settings: the parts' own protections as the
@@ -143,6 +153,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.weldSettle_ms = static_cast<uint32_t>(std::lround(b.weld_settle_s * 1e3));
   c.balanceTime_s = b.balance_time_s;
   setBalancing(c, s);
+  c.fetThermistors = fetThermistors(s);
 
   // The protection table: SI settings scaled to firmware units row by row.
   using F = bms::FaultId;
@@ -174,6 +185,14 @@ HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
     truths_.push_back(chains_.back()->makeTruth());
   }
   if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
+  // The node each thermistor reads: its site (a cell's first member, the FETs' node),
+  // then the balancing boards' channels, board by board.
+  const HardwareConfig& hw = s.hardware;
+  for (const ThermistorSite& site : hw.thermistor_sites)
+    thermNode_.push_back(static_cast<size_t>(site.onCell() ? site.cell * plant.pack().parallel : plant.thermal().find(site.node)));
+  for (int b = 0; b < hw.balancing.boards; ++b)
+    for (int i = 0; i < hw.balancing.board_thermistors; ++i)
+      thermNode_.push_back(static_cast<size_t>(plant.boardNodeOf(b)));
 }
 
 int HardwareSim::boardOfGroup(int g) const {
@@ -195,17 +214,10 @@ bool HardwareSim::faultLine() const {
 
 void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
   const HardwareConfig& hw = s_.hardware;
-  const int parallel = plant_.pack().parallel;
   auto thermFault = [&](size_t k) {
     return k < f.thermistor.size() ? f.thermistor[k] : ThermistorFault::None;
   };
-  auto thermTemp = [&](size_t k) {  // cell thermistors, then the balancing board's
-    if (k >= hw.thermistor_cells.size()) {  // board thermistors, board by board
-      const size_t b = (k - hw.thermistor_cells.size()) / static_cast<size_t>(hw.balancing.board_thermistors);
-      return sig.node_temp_C[static_cast<size_t>(plant_.boardNodeOf(static_cast<int>(b)))];
-    }
-    return sig.node_temp_C[static_cast<size_t>(hw.thermistor_cells[k] * parallel)];
-  };
+  auto thermTemp = [&](size_t k) { return sig.node_temp_C[thermNode_[k]]; };
   // Each board's stack: its cells at the pins, each device's die on the balancing board
   // of its first cell (or the ambient air without one), its thermistor inputs, its
   // devices' comm faults; a broken link cuts off the devices above it on that board.
@@ -277,10 +289,8 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
 
   const bool dsg = out.dischargeFetOn && chains_.front()->dischargeAllowed();  // BQ76952: one board
   const bool chg = out.chargeFetOn && chains_.front()->chargeAllowed();
-  const bool dischargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, 1.0) ||
-                                !mosfetConducts(hw.charge_fet, chg, 1.0);
-  const bool chargeBlocked = fuse_.blown || !mosfetConducts(hw.discharge_fet, dsg, -1.0) ||
-                             !mosfetConducts(hw.charge_fet, chg, -1.0);
+  const bool dischargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg, hw.charge_fet, chg, 1.0);
+  const bool chargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg, hw.charge_fet, chg, -1.0);
   const bool mainClosed = relay_.closed && !fuse_.blown;
 
   double prechargeA = 0.0;
@@ -298,7 +308,8 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   st_.discharge_fet_on = dsg;
   st_.charge_fet_on = chg;
   st_.precharge_A = prechargeA;
-  st_.fet_loss_W = mosfetLoss_W(hw.discharge_fet, dsg, sig.pack_current_A) + mosfetLoss_W(hw.charge_fet, chg, sig.pack_current_A);
+  st_.fet_loss_W = mosfetLoss_W(hw.discharge_fet, dsg, fetCurrent_A(hw.fet_paths, true, sig.pack_current_A)) +
+                   mosfetLoss_W(hw.charge_fet, chg, fetCurrent_A(hw.fet_paths, false, sig.pack_current_A));
 
   const bool changed = pin.relay_closed != mainClosed || pin.precharge_A != prechargeA ||
                        pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked ||

@@ -100,6 +100,7 @@ class HardwareSim {
   std::vector<MonitorBoard> boards_;
   std::vector<std::unique_ptr<MonitorChainPath>> chains_;  // per board
   std::vector<MonitorTruth> truths_;                       // per board, filled each tick
+  std::vector<size_t> thermNode_;  // per thermistor channel: the thermal node it reads
   RelayState relay_, precharge_;
   FuseState fuse_;
   HardwareStatus st_;

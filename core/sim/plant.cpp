@@ -61,6 +61,7 @@ Plant::Plant(const Scenario& s)
   if (balancer_.present && !balancer_.board_node.empty()) boardNode_ = thermal_.find(balancer_.board_node);
   fet_[0] = s.hardware.discharge_fet;
   fet_[1] = s.hardware.charge_fet;
+  fetPaths_ = s.hardware.fet_paths;
   for (int k = 0; k < 2; ++k)
     if (fet_[k].present && !fet_[k].thermal_node.empty()) fetNode_[k] = thermal_.find(fet_[k].thermal_node);
   active_ = s.hardware.active_balancer;
@@ -221,7 +222,7 @@ void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, 
   const bool gate[2] = {in.discharge_fet_on, in.charge_fet_on};
   for (int k = 0; k < 2; ++k)
     if (fetNode_[k] >= 0) {
-      const double q = mosfetLoss_W(fet_[k], gate[k], sig.pack_current_A);
+      const double q = mosfetLoss_W(fet_[k], gate[k], fetCurrent_A(fetPaths_, k == 0, sig.pack_current_A));
       sig.heat_W[static_cast<size_t>(fetNode_[k])] += q;
       sig.fet_heat_W += q;
     }

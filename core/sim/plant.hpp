@@ -171,6 +171,7 @@ class Plant {
   int boardNode_ = -1;
   int fetNode_[2] = {-1, -1};     // discharge FET, charge FET
   MosfetConfig fet_[2];
+  FetPaths fetPaths_ = FetPaths::Series;
   std::vector<int> boardNodes_;  // per monitor board; empty without a board node
   std::vector<std::pair<int, double>> externalHeat_W_;  // (node, W): heat from outside the pack
   int busIndex_ = -1;

@@ -37,16 +37,19 @@ double r0ArrheniusOfCell_K(const CellParams& cell, int points, double ref_C) {
 }
 
 // Which cell thermistor each series group reads: the one on the nearest cell (the
-// lower channel on a tie). Cell thermistors are the first channels, in scenario order.
+// lower channel on a tie); channels on a thermal node (the FETs') are no cell's.
 void setGroupThermistors(bms::EkfConfig& k, const Scenario& s) {
-  const std::vector<int>& at = s.hardware.thermistor_cells;
-  k.cellThermFirst = 0;
-  k.cellThermCount = static_cast<uint8_t>(std::min<size_t>(at.size(), bms::kMaxThermistors));
+  const std::vector<ThermistorSite>& at = s.hardware.thermistor_sites;
+  const size_t n = std::min<size_t>(at.size(), bms::kMaxThermistors);
+  k.cellThermistors = 0;
+  for (size_t ch = 0; ch < n; ++ch)
+    if (at[ch].onCell()) k.cellThermistors |= uint64_t{1} << ch;
   for (int g = 0; g < s.pack.series && g < bms::kMaxCells; ++g) {
-    uint8_t best = 0;
-    for (uint8_t ch = 1; ch < k.cellThermCount; ++ch)
-      if (std::abs(at[ch] - g) < std::abs(at[best] - g)) best = ch;
-    k.groupThermistor[g] = best;
+    int best = -1;
+    for (size_t ch = 0; ch < n; ++ch)
+      if (at[ch].onCell() && (best < 0 || std::abs(at[ch].cell - g) < std::abs(at[static_cast<size_t>(best)].cell - g)))
+        best = static_cast<int>(ch);
+    k.groupThermistor[g] = static_cast<uint8_t>(best < 0 ? bms::kMaxThermistors : best);
   }
 }
 

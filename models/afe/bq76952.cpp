@@ -325,8 +325,8 @@ void Bq76952Chain::protect(double t) {
   double tmax = -1e9, tmin = 1e9, tfet = -1e9;
   for (int k = 0; k < cfg_.thermistors_per_device; ++k) {
     const double T = heldTs_C[static_cast<size_t>(k)];
-    if (k == 2) {
-      tfet = T;  // TS3 sits on the FETs
+    if ((cfg_.fet_inputs >> k) & 1u) {
+      tfet = std::max(tfet, T);  // an input on the FETs
       continue;
     }
     tmax = std::max(tmax, T);
@@ -412,8 +412,9 @@ void Bq76952Chain::balanceAutonomously(double t) {
   const bool relaxed = !charging && heldCurrent_A <= p.dsgThreshold_A;
   const int m = charging && (p.cbConfig & BQ952_CB_CHG) ? 0 : relaxed && (p.cbConfig & BQ952_CB_RLX) ? 1 : -1;
   bool tempsOk = (analog_.die_C <= p.cbMaxInt_C);
-  for (int k = 0; k < std::min(cfg_.thermistors_per_device, 2); ++k)  // cell thermistors (TS3: FETs)
-    tempsOk = tempsOk && heldTs_C[static_cast<size_t>(k)] >= p.cbMinCell_C && heldTs_C[static_cast<size_t>(k)] <= p.cbMaxCell_C;
+  for (int k = 0; k < cfg_.thermistors_per_device; ++k)  // the cell thermistors
+    if (((cfg_.fet_inputs >> k) & 1u) == 0)
+      tempsOk = tempsOk && heldTs_C[static_cast<size_t>(k)] >= p.cbMinCell_C && heldTs_C[static_cast<size_t>(k)] <= p.cbMaxCell_C;
   if (m < 0 || !tempsOk) {
     autoMask_ = 0;
     return;

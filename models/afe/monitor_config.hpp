@@ -52,7 +52,9 @@ struct MonitorConfig {
   int devices = 1;
   int devices_per_board = 0;        // > 0: boards of this many devices, each its own stack and host MCU (core/scenario/monitor_boards.hpp)
   int cells_per_device = 6;
-  int thermistors_per_device = 2;   // AFE inputs in use (BQ76952: up to 3, the 3rd on the FETs)
+  int thermistors_per_device = 2;   // AFE inputs in use (BQ76952: up to 3)
+  uint32_t fet_inputs = 1u << 2;    // bit i: input i sits on the power FETs (BQ76952: its FET
+                                    // over-temperature, OTF; the others its cell temperatures)
   AdcChannel cell_adc;              // volts: lsb, gain/offset error (whole part), noise
   double channel_gain_sd = 0.0;     // per-channel gain error, drawn once from the seed
   double channel_offset_sd_V = 0.0; // per-channel offset, drawn once from the seed

@@ -23,4 +23,16 @@ bool mosfetConducts(const MosfetConfig& c, bool gateOn, double current_A);
 // Dissipation at a current that does flow.
 double mosfetLoss_W(const MosfetConfig& c, bool gateOn, double current_A);
 
+// How the discharge and charge FETs sit between the pack and the outside world:
+//   Series    back to back in one path: both carry the pack current both ways
+//   Separate  two one-way paths (reference system E): the load draws through the
+//             discharge FET alone, the charger feeds through the charge FET alone
+enum class FetPaths { Series, Separate };
+
+// The current through one FET of the pair for a pack current (positive = discharge).
+double fetCurrent_A(FetPaths paths, bool dischargeFet, double pack_A);
+// Can pack current of this sign flow through the pair?
+bool fetPairConducts(FetPaths paths, const MosfetConfig& dsg, bool dsgOn, const MosfetConfig& chg, bool chgOn,
+                     double sign);
+
 }  // namespace packsim

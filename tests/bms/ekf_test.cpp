@@ -92,8 +92,7 @@ bms::SocConfig thermalConfig() {
   bms::SocConfig c = config();
   c.ekf.r0ArrheniusK = 2000.0f;
   c.ekf.r0RefTemp_C = 25.0f;
-  c.ekf.cellThermFirst = 0;
-  c.ekf.cellThermCount = 2;
+  c.ekf.cellThermistors = 0b11;
   c.ekf.groupThermistor[0] = 0;
   c.ekf.groupThermistor[1] = 1;
   return c;

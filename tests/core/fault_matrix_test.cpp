@@ -385,7 +385,7 @@ TEST(FaultMatrix, ResetAfterARemovableFaultHasGoneClosesTheRelay) {
 TEST(FaultMatrix, HotCellThatCoolsBeforeTheDebounceEndsNeverTrips) {
   const Preset& p = kPresets[2];  // C bench 6s NCR18650
   const Scenario base = loadScenarioFile(test::scenarioDir() + "/" + p.file);
-  ASSERT_EQ(base.hardware.thermistor_cells.at(0), 1);  // thermistor 1 on cell 2
+  ASSERT_EQ(base.hardware.thermistor_sites.at(0).cell, 1);  // thermistor 1 on cell 2
   const int limit_dC = static_cast<int>(std::lround(base.bms.protection(bms::FaultId::OverTemperature).threshold * 10.0));
   const double delay_s = base.bms.protection(bms::FaultId::OverTemperature).delay_s, tick_s = base.bms.tick_s;
   constexpr double kHeatOn_s = 1.0;

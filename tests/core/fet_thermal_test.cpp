@@ -3,6 +3,7 @@
 // Reference system E: 36 A for 5 minutes took the discharge FETs from ~27 C to ~78 C.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/scenario/load_scenario.hpp"
@@ -58,6 +59,54 @@ TEST(FetThermal, TheFetLossIsLoadSideSoTheCellHeatAndEnergyOutAreUnchanged) {
   EXPECT_NEAR(a.quad[kQuadHeat_J], b.quad[kQuadHeat_J], 1e-6 * b.quad[kQuadHeat_J]);
   EXPECT_NEAR(a.quad[kQuadLoadEnergy_J], b.quad[kQuadLoadEnergy_J], 1e-6 * b.quad[kQuadLoadEnergy_J]);
   EXPECT_NEAR(a.quad[kQuadChemEnergy_J], b.quad[kQuadChemEnergy_J], 1e-6 * b.quad[kQuadChemEnergy_J]);
+}
+
+// Separate one-way paths (hardware.fet_paths: separate): a charge flows through the
+// charge FET alone, so the discharge FETs' node stays at ambient and the loss is the
+// charge FET's I² Rds_on; in series the discharge FET, held off while charging, would
+// pass the charge through its body diode (Vf + I R) and heat its node.
+TEST(FetThermal, OnSeparatePathsAChargeHeatsOnlyTheChargeFet) {
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/scooter_16s_lto_charge.yaml");
+  s.run.duration_s = 600.0;
+  s.expect = Expectations{};
+  ASSERT_EQ(s.hardware.fet_paths, FetPaths::Separate);
+  const Plant plant(s);
+  const size_t node = static_cast<size_t>(plant.fetNode());
+  double maxNode_C = -100.0;
+  const RunResult r = runScenario(s, [&](double, const double*, const PlantSignals& sig, const bms::Outputs&) {
+    maxNode_C = std::max(maxNode_C, sig.node_temp_C[node]);
+    return false;
+  });
+  const Recording& rec = r.rec;
+  bool charged = false;
+  for (size_t i = 0; i < rec.samples(); ++i) {
+    const double i_A = -rec.pack_current_A[i];
+    if (i_A < 9.0) continue;
+    charged = true;
+    EXPECT_NEAR(rec.hw_fet_loss_W[i], i_A * i_A * s.hardware.charge_fet.rds_on_ohm, 1e-9);
+  }
+  EXPECT_TRUE(charged);
+  EXPECT_NEAR(maxNode_C, 20.0, 1e-6);  // the ambient: no discharge current, no heat
+
+  s.hardware.fet_paths = FetPaths::Series;  // the same charge through back-to-back FETs
+  double seriesNode_C = -100.0;
+  runScenario(s, [&](double, const double*, const PlantSignals& sig, const bms::Outputs&) {
+    seriesNode_C = std::max(seriesNode_C, sig.node_temp_C[node]);
+    return false;
+  });
+  EXPECT_GT(seriesNode_C, 40.0);  // ~4 W of body-diode loss into 11 J/K for minutes
+}
+
+TEST(FetThermal, OnSeparatePathsTheLoadCannotPushCurrentIntoThePack) {
+  std::string y = test::simpleCellYaml() + "load: {current_A: -1}\nrun: {duration_s: 10}\n";
+  const std::string hw = "hardware:\n";
+  y.insert(y.find(hw) + hw.size(), "  charge_fet: {rds_on_ohm: 0.002}\n  fet_paths: separate\n");
+  std::string e = test::yamlErrorOf(y);
+  EXPECT_NE(e.find("one-way discharge path"), std::string::npos) << e;
+  y.replace(y.find("fet_paths: separate"), 19, "fet_paths: parallel");
+  e = test::yamlErrorOf(y);
+  EXPECT_NE(e.find("fet_paths"), std::string::npos) << e;
+  EXPECT_NE(e.find("separate"), std::string::npos) << e;
 }
 
 TEST(FetThermal, AThermalNodeThatDoesNotExistIsAnErrorWithTheClosestName) {

@@ -83,6 +83,7 @@ TEST(ProtectionTable, SiDefaultsAreTheHistoricalOnes) {
       {F::EStop, {true, 0.0, 0.0, 0.0}},                    {F::CommLoss, {true, 0.0, 0.0, 0.0}},
       {F::PrechargeFailed, {true, 0.0, 0.0, 0.0}},          {F::TemperatureWarning, {false, 51.7, 2.0, 1.0}},
       {F::CellImbalance, {false, 0.05, 0.01, 1.0}},
+      {F::FetOverTemperature, {true, 85.0, 10.0, 2.0}},  // added with the FET thermistor (system E)
   };
   ASSERT_EQ(std::size(before), bms::kFaultCount);
   const BmsSettings b;

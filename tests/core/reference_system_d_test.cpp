@@ -28,7 +28,7 @@ TEST(ReferenceSystemD, FourBoardsOfSixDevicesEachWithItsThermistors) {
     EXPECT_EQ(b[k].afeChannels.size(), static_cast<size_t>(therms[k]));
     EXPECT_TRUE(b[k].mcuChannels.empty());
     for (int ch : b[k].afeChannels) {  // each on a cell of its own board
-      const int cell = s.hardware.thermistor_cells[static_cast<size_t>(ch)];
+      const int cell = s.hardware.thermistor_sites[static_cast<size_t>(ch)].cell;
       EXPECT_GE(cell, b[k].firstCell);
       EXPECT_LT(cell, b[k].firstCell + b[k].cells);
     }

@@ -96,8 +96,7 @@ TEST(SocEstimation, FirmwareR0TemperatureCorrectionComesFromTheCellDatasheet) {
   setSocConfig(c, loadScenarioFileWithOverrides(eco(), {}));
   EXPECT_EQ(c.ekf.r0ArrheniusK, 2000.0f);
   EXPECT_EQ(c.ekf.r0RefTemp_C, 25.0f);
-  EXPECT_EQ(c.ekf.cellThermFirst, 0);
-  EXPECT_EQ(c.ekf.cellThermCount, 4);
+  EXPECT_EQ(c.ekf.cellThermistors, 0b1111u);
   const uint8_t nearest[12] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3};
   for (int g = 0; g < 12; ++g) EXPECT_EQ(c.ekf.groupThermistor[g], nearest[g]) << "group " << g;
   // The table is R0 at the reference temperature: at 35 °C it is the 25 °C table × the

@@ -12,7 +12,8 @@ FAULT_BITS = ["cell_overvoltage", "cell_undervoltage", "overcurrent_discharge", 
               "overtemperature", "overtemperature_charge", "undertemperature", "undertemperature_charge",
               "board_overtemperature", "comm_loss", "cell_sum_plausibility", "thermistor_fault",
               "current_sensor_fault", "estop", "monitor_fault", "relay_welded", "precharge_failed",
-              "temperature_warning", "cell_imbalance"]
+              "temperature_warning", "cell_imbalance",
+              "fet_overtemperature"]  # appended later (a thermistor on the FETs): the others keep their bits
 
 # The info and warning tiers switched on; a 20 mV channel offset makes the spread, the
 # 25 °C pack is above the 20 °C warning, the E-switch trips the pack.
