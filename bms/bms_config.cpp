@@ -51,7 +51,7 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   // EKF: no model until configured (r0 = r1 = 0); 10 mV reading/model error, a slow SOC
   // random walk (about 1 % per hour) and a 2 mV/sqrt(s) v1 walk.
   // R0 independent of temperature until configured (reference 25 °C, no thermistors).
-  c.soc.ekf = EkfConfig{{}, 0.0f, 30.0f, 10.0f, 1.7e-4f, 2.0f, -1.0f, 0.05f, 0.0f, 25.0f, 0, 0, {}};
+  c.soc.ekf = EkfConfig{{}, 0.0f, 30.0f, 10.0f, 1.7e-4f, 2.0f, -1.0f, 0.05f, 0.0f, 25.0f, 0, {}};
   c.soc.sohMinDeltaSoc = 0.3f;
   // reference system C: < 3.3 V one bar, one more per 0.1 V up to 3.9 V, above 4.0 V eight.
   const uint16_t bars[kDisplayBars - 1] = {3300, 3400, 3500, 3600, 3700, 3800, 4001};

@@ -71,6 +71,24 @@ void readFet(YamlMap& m, MosfetConfig& f) {
   m.finish();
 }
 
+// The BQ76952's autonomous balancing, in the ranges its data memory holds.
+void readBq952Balancing(YamlMap& m, Bq952AutoBalance& b) {
+  const std::string when = m.choice("when", "charging", {"charging", "rest", "charging_or_rest"});
+  b.charging = when != "rest";
+  b.relax = when != "charging";
+  b.min_cell_V = m.number("min_cell_V", b.min_cell_V, Range::closed(0.0, 5.0));
+  b.start_delta_mV = m.number("start_delta_mV", b.start_delta_mV, Range::closed(0.0, 255.0));
+  b.stop_delta_mV = m.number("stop_delta_mV", b.stop_delta_mV, Range::closed(0.0, 255.0));
+  if (!(b.stop_delta_mV <= b.start_delta_mV)) throw m.errorAt("stop_delta_mV", "must not exceed start_delta_mV");
+  b.max_cells = static_cast<int>(m.integer("max_cells", b.max_cells, 1, 16));
+  const Range temp = Range::closed(-40.0, 120.0);
+  b.min_cell_temp_C = m.number("min_cell_temp_C", b.min_cell_temp_C, temp);
+  b.max_cell_temp_C = m.number("max_cell_temp_C", b.max_cell_temp_C, temp);
+  if (!(b.min_cell_temp_C < b.max_cell_temp_C)) throw m.errorAt("max_cell_temp_C", "must be above min_cell_temp_C");
+  b.max_internal_C = m.number("max_internal_C", b.max_internal_C, temp);
+  m.finish();
+}
+
 void readSecondary(YamlMap& m, SecondaryProtection& p, bool pl455) {
   p.enabled = m.boolean("enabled", p.enabled);
   p.cov_V = m.number("cov_V", p.cov_V, Range::closed(2.0, 5.0));
@@ -305,6 +323,11 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     if (auto p = afe->optionalMap("protection")) {
       if (a.model != bms::AfeModel::Bq76952) throw afe->errorAt("protection", "only a bq76952 has `protection`; use `secondary`");
       readBq952(*p, a.bq);
+    }
+    if (auto b = afe->optionalMap("autonomous_balancing")) {
+      if (a.model != bms::AfeModel::Bq76952)
+        throw afe->errorAt("autonomous_balancing", "only a bq76952 balances on its own; use bms.balancing");
+      readBq952Balancing(*b, a.bq_balance);
     }
     h.fault_line_opens_relay = afe->boolean("fault_line_opens_relay", true);
     afe->finish();

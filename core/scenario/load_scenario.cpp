@@ -162,6 +162,9 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
   if (s.hardware.thermistorCount() > bms::kMaxThermistors)
     throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
                                                               std::to_string(bms::kMaxThermistors));
+  const Bq952AutoBalance& ab = s.hardware.afe.bq_balance;
+  if ((ab.charging || ab.relax) && !b.present)
+    throw hwMap("afe").errorAt("autonomous_balancing", "the AFE's balancing needs balancing resistors (hardware.balancing)");
   if (s.bms.balancing.enabled && !b.present)
     throw root.map("bms").errorAt("balancing", "the balancing policy needs balancing resistors (hardware.balancing)");
   if (s.hardware.active_balancer.present && b.present && s.bms.balancing.enabled)

@@ -177,18 +177,23 @@ void Bq76952Chain::initDataMemory() {
     putDm(static_cast<uint16_t>(r.at + 2), static_cast<uint8_t>(setting("temperature recovery (degC)", r.recovery_C, 1, 1, 0, -40, 120)));
   }
   putDm(BQ952_DM_CB_INTERVAL, 20);
-  // Autonomous balancing: off (the part's defaults for its thresholds).
-  putDm(BQ952_DM_CB_CONFIG, 0);
-  putDm(BQ952_DM_CB_MIN_CELL_TEMP, i8(-20));
-  putDm(BQ952_DM_CB_MAX_CELL_TEMP, 60);
-  putDm(BQ952_DM_CB_MAX_INT_TEMP, 70);
-  putDm(BQ952_DM_CB_MAX_CELLS, 1);
-  put16(BQ952_DM_CB_CHG_MIN_CELL_V, 3900);
-  putDm(BQ952_DM_CB_CHG_MIN_DELTA, 40);
-  putDm(BQ952_DM_CB_CHG_STOP_DELTA, 20);
-  put16(BQ952_DM_CB_RLX_MIN_CELL_V, 3900);
-  putDm(BQ952_DM_CB_RLX_MIN_DELTA, 40);
-  putDm(BQ952_DM_CB_RLX_STOP_DELTA, 20);
+  // Autonomous balancing as configured (the part's defaults: off), one set of
+  // thresholds for the charging and the relax case.
+  const Bq952AutoBalance& ab = cfg_.bq_balance;
+  putDm(BQ952_DM_CB_CONFIG, static_cast<uint8_t>((ab.charging ? BQ952_CB_CHG : 0) | (ab.relax ? BQ952_CB_RLX : 0)));
+  putDm(BQ952_DM_CB_MIN_CELL_TEMP, i8(ab.min_cell_temp_C));
+  putDm(BQ952_DM_CB_MAX_CELL_TEMP, i8(ab.max_cell_temp_C));
+  putDm(BQ952_DM_CB_MAX_INT_TEMP, i8(ab.max_internal_C));
+  putDm(BQ952_DM_CB_MAX_CELLS, static_cast<uint8_t>(ab.max_cells));
+  const uint16_t minCell_mV = static_cast<uint16_t>(std::lround(ab.min_cell_V * 1e3));
+  const uint8_t start_mV = static_cast<uint8_t>(std::lround(ab.start_delta_mV));
+  const uint8_t stop_mV = static_cast<uint8_t>(std::lround(ab.stop_delta_mV));
+  put16(BQ952_DM_CB_CHG_MIN_CELL_V, minCell_mV);
+  putDm(BQ952_DM_CB_CHG_MIN_DELTA, start_mV);
+  putDm(BQ952_DM_CB_CHG_STOP_DELTA, stop_mV);
+  put16(BQ952_DM_CB_RLX_MIN_CELL_V, minCell_mV);
+  putDm(BQ952_DM_CB_RLX_MIN_DELTA, start_mV);
+  putDm(BQ952_DM_CB_RLX_STOP_DELTA, stop_mV);
   put16(BQ952_DM_DSG_CURRENT_THRESHOLD, 100);  // userA (1 mA)
   put16(BQ952_DM_CHG_CURRENT_THRESHOLD, 50);
   put16(BQ952_DM_MFG_STATUS_INIT, 0);  // FET test mode until the host sends FET_ENABLE

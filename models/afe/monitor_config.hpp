@@ -47,6 +47,16 @@ struct Bq952Protection {
   double temp_recovery_C = 5.0;
 };
 
+// BQ76952 autonomous balancing as its data memory holds it (Balancing Configuration
+// CB_CHG / CB_RLX and the thresholds, one set for both cases); the part's defaults: off.
+struct Bq952AutoBalance {
+  bool charging = false, relax = false;  // balance while charging / at rest
+  double min_cell_V = 3.9;               // only cells at or above this
+  double start_delta_mV = 40.0, stop_delta_mV = 20.0;  // above the lowest cell
+  int max_cells = 1;                     // at once (never two neighbours)
+  double min_cell_temp_C = -20.0, max_cell_temp_C = 60.0, max_internal_C = 70.0;
+};
+
 struct MonitorConfig {
   bms::AfeModel model = bms::AfeModel::Bq76pl536a;
   int devices = 1;
@@ -68,6 +78,7 @@ struct MonitorConfig {
   double shunt_ohm = 0.005;         // BQ76952 current input
   SecondaryProtection secondary;
   Bq952Protection bq;
+  Bq952AutoBalance bq_balance;
   double baud = 250000.0;           // link speed for the read-out time
   double conversion_s_per_channel = 6e-6;
 };
