@@ -429,8 +429,11 @@ void Bq76952Chain::balanceAutonomously(double t) {
   for (int c = 0; c < cells_; ++c) vmin = std::min<int>(vmin, cell_mV[static_cast<size_t>(c)]);
   std::array<int, BQ952_MAX_CELLS> order{};
   for (int c = 0; c < cells_; ++c) order[static_cast<size_t>(c)] = c;
-  std::stable_sort(order.begin(), order.begin() + cells_,
-                   [&](int a, int b) { return cell_mV[static_cast<size_t>(a)] > cell_mV[static_cast<size_t>(b)]; });
+  // Highest first, the lower cell first on a tie (a total order: no temporary buffer).
+  std::sort(order.begin(), order.begin() + cells_, [&](int a, int b) {
+    const int va = cell_mV[static_cast<size_t>(a)], vb = cell_mV[static_cast<size_t>(b)];
+    return va != vb ? va > vb : a < b;
+  });
   uint16_t pick = 0;
   int picked = 0;
   for (int i = 0; i < cells_ && picked < p.cbMaxCells; ++i) {
