@@ -158,7 +158,6 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
     checkThermalNode(hwMap("discharge_fet"), "thermal_node", s.hardware.discharge_fet.thermal_node, s);
   if (!s.hardware.charge_fet.thermal_node.empty())
     checkThermalNode(hwMap("charge_fet"), "thermal_node", s.hardware.charge_fet.thermal_node, s);
-  checkThermistorNodes(root, s);
   if (s.hardware.thermistorCount() > bms::kMaxThermistors)
     throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
                                                               std::to_string(bms::kMaxThermistors));
@@ -277,7 +276,8 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     throw m.errorAt("load", "a constant load needs run.duration_s");
   if (s.output.interval_s < s.bms.tick_s)
     throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
-  checkBalancing(m, s);
+  checkBalancing(m, s);  // also checks the FETs' thermal nodes, which the next check relies on
+  checkThermistorNodes(m, s);
   if (s.hardware.fet_paths == FetPaths::Separate && !s.load.i_A.empty() &&
       *std::min_element(s.load.i_A.begin(), s.load.i_A.end()) < 0.0)
     throw m.errorAt("load", "the load sits on the one-way discharge path (hardware.fet_paths: separate): it cannot "

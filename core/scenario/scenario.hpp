@@ -88,6 +88,13 @@ struct HardwareConfig {
   // Thermistor channels: hardware.thermistors' sites, then the balancing boards'.
   double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
   int thermistorCount() const { return static_cast<int>(thermistor_sites.size()) + balancing.board_thermistors * balancing.boards; }
+  // Bit k: site channel k sits on a thermal node (the loader admits only the FETs').
+  uint64_t nodeThermistors() const {
+    uint64_t mask = 0;
+    for (size_t k = 0; k < thermistor_sites.size(); ++k)
+      if (!thermistor_sites[k].onCell()) mask |= uint64_t{1} << k;
+    return mask;
+  }
 };
 
 // Contactor precharge sequencing of the BMS (bms::PrechargeConfig in SI units).

@@ -68,16 +68,6 @@ void setBalancing(bms::Config& c, const Scenario& s) {
   c.chargeFullCell_mV = static_cast<uint16_t>(std::lround(s.bms.charge_full_cell_V * 1e3));
 }
 
-// The thermistor channels on the power FETs (every node site: the loader admits only the
-// FETs' thermal node).
-uint64_t fetThermistors(const Scenario& s) {
-  uint64_t mask = 0;
-  const std::vector<ThermistorSite>& sites = s.hardware.thermistor_sites;
-  for (size_t k = 0; k < sites.size(); ++k)
-    if (!sites[k].onCell()) mask |= uint64_t{1} << k;
-  return mask;
-}
-
 // Read-out rates and the monitor drivers' settings: the parts' own protections as the
 // scenario configures them (the BQ76PL536A's comparators are written at init; the
 // BQ76PL455A's and BQ76952's EEPROM / OTP already hold the scenario's values).
@@ -153,7 +143,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.weldSettle_ms = static_cast<uint32_t>(std::lround(b.weld_settle_s * 1e3));
   c.balanceTime_s = b.balance_time_s;
   setBalancing(c, s);
-  c.fetThermistors = fetThermistors(s);
+  c.fetThermistors = hw.nodeThermistors();  // every node site is on the FETs
 
   // The protection table: SI settings scaled to firmware units row by row.
   using F = bms::FaultId;

@@ -41,9 +41,7 @@ double r0ArrheniusOfCell_K(const CellParams& cell, int points, double ref_C) {
 void setGroupThermistors(bms::EkfConfig& k, const Scenario& s) {
   const std::vector<ThermistorSite>& at = s.hardware.thermistor_sites;
   const size_t n = std::min<size_t>(at.size(), bms::kMaxThermistors);
-  k.cellThermistors = 0;
-  for (size_t ch = 0; ch < n; ++ch)
-    if (at[ch].onCell()) k.cellThermistors |= uint64_t{1} << ch;
+  k.cellThermistors = ((uint64_t{1} << n) - 1) & ~s.hardware.nodeThermistors();
   for (int g = 0; g < s.pack.series && g < bms::kMaxCells; ++g) {
     int best = -1;
     for (size_t ch = 0; ch < n; ++ch)

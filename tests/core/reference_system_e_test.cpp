@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <numeric>
 
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
@@ -82,19 +83,8 @@ TEST(ReferenceSystemE, TheAfeBalancesOnItsOwnAtHalfAnAmpWhileCharging) {
     maxAtOnce = std::max(maxAtOnce, on);
   }
   EXPECT_EQ(maxAtOnce, 4);
-  size_t ref = 0;
-  for (size_t c = 1; c < n; ++c)
-    if (bleed_As[c] < bleed_As[ref]) ref = c;
-  EXPECT_LT(bleed_As[ref], 1.0);
-  double total_As = 0.0;
-  const double Q_As = 20.0 * 3600.0;
-  for (size_t c = 0; c < n; ++c) {
-    total_As += bleed_As[c];
-    const double lost_As = Q_As * ((rec.cell_soc[ref] - rec.cell_soc[last * n + ref]) - (rec.cell_soc[c] - rec.cell_soc[last * n + c]));
-    // To 0.5 %: 1 s rectangles, and the coulombic efficiency (0.995) on the net current.
-    EXPECT_NEAR(-lost_As, bleed_As[c], 0.005 * bleed_As[c] + 1.0) << "cell " << c + 1;
-  }
-  EXPECT_GT(total_As, 1000.0) << "the AFE balanced at all";
+  test::expectBleedIsTheSocLost(rec, bleed_As, 20.0 * 3600.0, 1.0);
+  EXPECT_GT(std::accumulate(bleed_As.begin(), bleed_As.end(), 0.0), 1000.0) << "the AFE balanced at all";
 }
 
 // Beside the same charge with the AFE's balancing out of reach (min cell 5 V): the

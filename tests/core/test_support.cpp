@@ -1,5 +1,7 @@
 #include "test_support.hpp"
 
+#include <gtest/gtest.h>
+
 #include <unistd.h>
 
 #include <hdf5.h>
@@ -95,6 +97,20 @@ std::vector<uint8_t> readDatasetBytes(const std::string& file, const std::string
   H5Dclose(d);
   H5Fclose(f);
   return buf;
+}
+
+void expectBleedIsTheSocLost(const Recording& rec, const std::vector<double>& bleed_As, double capacity_As,
+                             double slack_As) {
+  const size_t n = bleed_As.size(), last = rec.samples() - 1;
+  size_t ref = 0;
+  for (size_t c = 1; c < n; ++c)
+    if (bleed_As[c] < bleed_As[ref]) ref = c;
+  EXPECT_LT(bleed_As[ref], 1.0);
+  auto gained = [&](size_t c) { return rec.cell_soc[last * n + c] - rec.cell_soc[c]; };
+  for (size_t c = 0; c < n; ++c) {
+    const double lost_As = capacity_As * (gained(c) - gained(ref));
+    EXPECT_NEAR(-lost_As, bleed_As[c], 0.005 * bleed_As[c] + slack_As) << "cell " << c + 1;
+  }
 }
 
 }  // namespace packsim::test

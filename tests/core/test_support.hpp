@@ -33,6 +33,13 @@ double eventTime(const RunResult& r, const std::string& kind, const std::string&
 // Index of the recorded sample at time t (exact tick match).
 size_t sampleAt(const Recording& rec, double t);
 std::string scenarioDir();
+// Passive balancing on a charge with equal capacities: each cell's SOC is the charger's
+// charge less its own bleed, so the SOC a cell lost against the cell that bled least
+// (which must have bled < 1 As), times the capacity, is the charge its resistor carried:
+// to 0.5 % (1 s rectangles; the coulombic efficiency applies to the net current) plus
+// slack_As. bleed_As: per series cell, from the recording.
+void expectBleedIsTheSocLost(const Recording& rec, const std::vector<double>& bleed_As, double capacity_As,
+                             double slack_As);
 std::vector<uint8_t> readDatasetBytes(const std::string& file, const std::string& dataset);
 
 }  // namespace packsim::test
