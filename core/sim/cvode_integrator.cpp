@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "core/sim/cvode_jacobian.hpp"
+#include "core/sim/same_instant.hpp"
 
 namespace packsim {
 
@@ -104,7 +105,19 @@ void CvodeIntegrator::reset(double t, const double* x) {
 
 void CvodeIntegrator::advance(double t_out, double t_stop) {
   if (!(t_out > t_)) return;
+  // A sliver (core/sim/same_instant.hpp) is no interval: CVODE would refuse it ("tout too
+  // close to t0") and the state cannot change across it.
+  if (reached(t_, t_out)) {
+    t_ = t_out;
+    return;
+  }
   Impl& m = *impl_;
+  // CVODE may have stepped ahead of t_ (it interpolates back to each t_out). A stop
+  // time inside that step -- a fault the loop learnt of only now, mid-tick -- restarts
+  // it at t_, where m.y holds the interpolated state.
+  realtype t_internal = t_;
+  CVodeGetCurrentTime(m.mem, &t_internal);
+  if (std::max(t_stop, t_out) < t_internal) reset(t_, N_VGetArrayPointer(m.y));
   check(CVodeSetStopTime(m.mem, std::max(t_stop, t_out)), "CVodeSetStopTime");
   realtype t_reached = t_;
   const int flag = CVode(m.mem, t_out, m.y, &t_reached, CV_NORMAL);

@@ -1,8 +1,10 @@
 #include "core/sim/fault_scheduler.hpp"
 
 #include <algorithm>
+#include <limits>
 
 #include "core/sim/run_tracker.hpp"
+#include "core/sim/same_instant.hpp"
 
 namespace packsim {
 
@@ -45,6 +47,26 @@ double FaultScheduler::activeFor_s(const FaultInjection& inj) const {
   return inj.kind == FaultKind::ResetRequest ? s_.bms.tick_s : 0.0;
 }
 
+double FaultScheduler::nextChange_s(double t) const {
+  double next = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < s_.faults.size(); ++i) {
+    const FaultInjection& inj = s_.faults[i];
+    const Track& tr = state_[i];
+    if (tr.done) continue;
+    double at_s = 0.0;
+    if (!tr.active) {
+      if (inj.hasCondition) continue;
+      at_s = inj.at_s;
+    } else {
+      const double d_s = activeFor_s(inj);
+      if (!(d_s > 0.0)) continue;
+      at_s = tr.start_s + d_s;
+    }
+    if (!reached(t, at_s)) next = std::min(next, at_s);
+  }
+  return next;
+}
+
 bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults,
                             RunTracker& tracker) {
   bool changed = false;
@@ -53,13 +75,13 @@ bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, 
     Track& tr = state_[i];
     if (tr.done) continue;
     if (!tr.active) {
-      const bool due = inj.hasCondition ? inj.when.holds(quantity(inj.when.quantity, t, x, sig)) : t >= inj.at_s - 1e-9;
+      const bool due = inj.hasCondition ? inj.when.holds(quantity(inj.when.quantity, t, x, sig)) : reached(t, inj.at_s);
       if (!due) continue;
       tr.active = true;
       tr.start_s = t;
       changed = true;
       tracker.event(t, "fault_injected", inj.describe() + (inj.hasCondition ? " (when " + inj.when.text + ")" : ""));
-    } else if (const double d_s = activeFor_s(inj); d_s > 0.0 && t >= tr.start_s + d_s - 1e-9) {
+    } else if (const double d_s = activeFor_s(inj); d_s > 0.0 && reached(t, tr.start_s + d_s)) {
       tr.active = false;
       tr.done = true;
       changed = true;

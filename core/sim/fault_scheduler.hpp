@@ -20,9 +20,12 @@ class FaultScheduler {
   // Updates `faults` for tick t. Returns true when an input of the plant's ODE changed
   // (extra load, cell heat, internal short), so the integrator must restart.
   bool update(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults, RunTracker& tracker);
+  // The earliest instant after t at which a timed injection starts or ends (infinity if
+  // none): the loop stops the integrators there, wherever it falls within a tick.
+  // Injections on a condition are judged at the ticks.
+  double nextChange_s(double t) const;
   // Sizes and clears `faults` (everything healthy) before the first tick.
   void reset(HardwareFaults& faults) const { apply(faults); }
-  // Start time of injection i, or -1 if it never started.
 
  private:
   double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;

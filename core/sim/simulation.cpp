@@ -17,6 +17,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
 #include "core/sim/run_tracker.hpp"
+#include "core/sim/same_instant.hpp"
 
 namespace packsim {
 
@@ -130,7 +131,10 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
 }
 
 void SimulationRun::Impl::advance() {
-  // 5. advance the plant to t_k+1 across load breakpoints
+  // 5. advance the plant to t_k+1, stopping exactly at every input discontinuity in
+  //    between -- a load breakpoint, a scripted fault starting or ending -- wherever it
+  //    falls in the tick; one that rounding puts within a sliver of t_k+1
+  //    (core/sim/same_instant.hpp) is taken at t_k+1
   Integrator& integ = *solver;
   const double t = static_cast<double>(k) * tick_s;
   const double t_next = static_cast<double>(k + 1) * tick_s;
@@ -140,13 +144,24 @@ void SimulationRun::Impl::advance() {
   double tc = t;
   while (tc < t_next) {
     if (restart) integ.reset(tc, integ.state());
-    const double t_to = std::min(t_next, inputs.load.t1_s);
-    integ.advance(t_to, std::min(inputs.load.t1_s, end_s + tick_s));
-    tc = t_to;
     restart = false;
-    if (tc >= inputs.load.t1_s) {  // next piece of the load profile
-      inputs.load = s.load.segmentAt(tc);
+    const double loadBreak_s = inputs.load.t1_s;
+    const double faultBreak_s = scheduler.nextChange_s(tc);
+    const bool faultInside = !reached(faultBreak_s, t_next);
+    double t_to = reached(loadBreak_s, t_next) ? t_next : loadBreak_s;
+    // CVODE never steps past the next load breakpoint (nor past the run's end); a fault
+    // at the tick needs no stop of its own: the tick restarts the integrator there.
+    double t_stop = std::min(loadBreak_s, end_s + tick_s);
+    if (faultInside && faultBreak_s < t_to) t_to = t_stop = faultBreak_s;
+    integ.advance(t_to, std::max(t_stop, t_to));
+    tc = t_to;
+    if (reached(tc, inputs.load.t1_s)) {  // the load's next piece (past any sliver-short one)
+      while (reached(tc, inputs.load.t1_s)) inputs.load = s.load.segmentAt(inputs.load.t1_s);
       restart = true;
+    }
+    if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here
+      plant.evaluate(tc, integ.state(), inputs, sig);
+      if (scheduler.update(tc, integ.state(), sig, faults, tracker)) restart = true;
     }
   }
   if (restart) integ.reset(tc, integ.state());

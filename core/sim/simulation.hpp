@@ -8,8 +8,11 @@
 //   3. actuate  relay/FET commands take effect at t_k
 //   4. record   truth, measurements and decisions of t_k (every output interval)
 //   5. advance  the plant integrates t_k -> t_k+1 under the held commands and the load,
+//               stopping exactly at every load breakpoint and timed fault inside the
+//               tick (one within a rounding sliver of t_k+1 is taken at t_k+1),
 //               re-initialising CVODE only where an input jumps (command change, load
-//               breakpoint)
+//               breakpoint, a fault that changes the plant's inputs). Faults on a
+//               condition (`when:`) are judged at the ticks
 //
 // Latency: a reading taken at t_k acts on the plant from t_k, so its effect (e.g. zero
 // current after a trip) is first seen by the sample at t_k+1 -- one tick.

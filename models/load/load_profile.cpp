@@ -30,11 +30,20 @@ LoadSegment LoadProfile::segmentAt(double t) const {
     return s;  // zero current after the last lap
   }
   const double lapIndex = std::floor(t / lap);
-  const double offset = lapIndex * lap;
+  double offset = lapIndex * lap;
   const double tl = std::max(0.0, t - offset);
   // k: last point with t_s[k] <= tl
   size_t k = static_cast<size_t>(std::upper_bound(t_s.begin(), t_s.end(), tl) - t_s.begin()) - 1;
-  if (k >= t_s.size() - 1) k = t_s.size() - 2;
+  if (k >= t_s.size() - 1) {
+    // t sits at the lap's end, which rounding left in this lap (t / lap just below an
+    // integer): the piece that starts there is the next lap's first.
+    offset += lap;
+    k = 0;
+    if (offset >= end) {
+      s.t0_s = end;
+      return s;
+    }
+  }
   s.t0_s = offset + t_s[k];
   s.t1_s = offset + t_s[k + 1];
   s.i0_A = i_A[k];
