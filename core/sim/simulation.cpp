@@ -156,7 +156,11 @@ void SimulationRun::Impl::advance() {
     integ.advance(t_to, std::max(t_stop, t_to));
     tc = t_to;
     if (reached(tc, inputs.load.t1_s)) {  // the load's next piece (past any sliver-short one)
-      while (reached(tc, inputs.load.t1_s)) inputs.load = s.load.segmentAt(inputs.load.t1_s);
+      while (reached(tc, inputs.load.t1_s)) {
+        const double t1 = inputs.load.t1_s;
+        inputs.load = s.load.segmentAt(t1);
+        if (!(inputs.load.t1_s > t1)) throw std::logic_error("load profile: no piece after t = " + std::to_string(t1) + " s");
+      }
       restart = true;
     }
     if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here

@@ -34,9 +34,11 @@ LoadSegment LoadProfile::segmentAt(double t) const {
   const double tl = std::max(0.0, t - offset);
   // k: last point with t_s[k] <= tl
   size_t k = static_cast<size_t>(std::upper_bound(t_s.begin(), t_s.end(), tl) - t_s.begin()) - 1;
-  if (k >= t_s.size() - 1) {
-    // t sits at the lap's end, which rounding left in this lap (t / lap just below an
-    // integer): the piece that starts there is the next lap's first.
+  // t - offset rounds: at a breakpoint of a later lap (120 + 0.07 - 120 = 0.0699999...)
+  // the lookup can land on the piece that ends at t. The piece that contains t ends
+  // after it, as the caller computes its end (offset + t_s[k + 1]).
+  while (k + 1 < t_s.size() && offset + t_s[k + 1] <= t) ++k;
+  if (k >= t_s.size() - 1) {  // t sits at the lap's end: the next lap's first piece
     offset += lap;
     k = 0;
     if (offset >= end) {

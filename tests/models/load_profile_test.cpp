@@ -25,6 +25,27 @@ TEST(LoadProfile, StepHoldsUntilNextPointAndRepeats) {
   EXPECT_DOUBLE_EQ(p.segmentAt(130.0).current_A(130.0), 0.0);  // after the race
 }
 
+// A 100 Hz logger's lap repeated: walking from breakpoint to breakpoint always moves on,
+// although t - offset rounds below a breakpoint in later laps (120 + 0.07 - 120 is
+// 0.0699999...; the lookup once returned the piece ending at t, and the loop stepping
+// the plant across breakpoints hung there).
+TEST(LoadProfile, EveryPieceEndsAfterTheBreakpointItStartsAt) {
+  LoadProfile p;
+  for (int k = 0; k <= 12000; ++k) {
+    p.t_s.push_back(static_cast<double>(k) / 100.0);
+    p.i_A.push_back(static_cast<double>(k % 7));
+  }
+  p.laps = 4;
+  long pieces = 0;
+  for (double t = 0.0; t < p.duration_s(); ++pieces) {
+    const LoadSegment s = p.segmentAt(t);
+    ASSERT_GT(s.t1_s, t) << "piece at t = " << t;
+    ASSERT_LE(s.t0_s, t + 1e-9) << "piece at t = " << t;
+    t = s.t1_s;
+  }
+  EXPECT_EQ(pieces, 4 * 12000);
+}
+
 TEST(LoadProfile, LinearInterpolates) {
   const LoadProfile p = lap(LoadProfile::Interp::Linear);
   EXPECT_DOUBLE_EQ(p.segmentAt(5.0).current_A(5.0), 12.5);

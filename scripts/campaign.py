@@ -1,0 +1,384 @@
+#!/usr/bin/env python3
+"""Generative campaign: random *valid* scenarios, judged by oracles that need no
+expected output (docs/hardening.md, "Generated scenarios").
+
+    scripts/campaign.py [--cases N] [--seed S] [--out DIR] [--jobs J] [--keep]
+
+Each case is drawn from its own seed (case i of campaign seed S has seed S*1_000_003+i,
+so any case can be replayed alone with --only I). A case is a pack (1-250 series x 1-20
+parallel, a bundled or an inline "fitted" cell, spread), a load (constant, segments,
+points or a CSV with breakpoints at arbitrary decimals, step or linear, laps, power or
+current, a CC-CV charger), faults at random times (some after the run's end), either
+integrator, packsim's core or the example C firmware; it is written as a base file and
+an `extends:` child, with part of it given as --set style overrides. Oracles:
+
+  runs          the run completes (a generated scenario is valid: any error is a finding)
+  finite        no NaN/inf in any dataset or summary value
+  determinism   the same scenario and seed twice: every dataset byte-identical
+  extends       the extends chain + overrides equals the inlined scenario, byte for byte
+  charge        summary charge = integral of the recorded pack current (every tick is
+                recorded; tolerance: the jumps' half-tick, see charge_tolerance)
+  summary       lowest / hottest cell, duration and trip flag follow from truth and events
+  faults        every scripted fault was injected, or reported as not reached
+  solvers       fast and CVODE agree on cell voltages to 5 mV while both decided alike
+                (up to the first instant either integrator's run changed the relay)
+
+Exit status 1 when any case fails; findings go to DIR/findings.jsonl with the case's
+files kept under DIR/case-N.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import random
+import shutil
+import sys
+import tempfile
+import time
+import traceback
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+HERE = Path(__file__).resolve().parent
+sys.path[:0] = [str(HERE.parent / "build" / "python"), str(HERE.parent / "python")]
+import packsim  # noqa: E402
+
+PRESETS = {  # bundled cell: (capacity_Ah, v_min_V, v_max_V)
+    "lipo_5Ah": (5.0, 3.0, 4.2),
+    "ncr18650_3p1Ah": (3.1, 2.5, 4.2),
+    "nmc_40Ah": (40.0, 2.8, 4.2),
+    "lto_20Ah": (20.0, 1.5, 2.8),
+}
+FAULT_KINDS = ["overcurrent", "hot_cell", "estop", "thermistor_open", "channel_gain", "key_off", "welded_relay"]
+
+
+def fitted_cell(rng: random.Random) -> dict:
+    """An inline cell as `packsim fit` writes one: OCV and R0 tables over SOC, RC pairs."""
+    cap = round(rng.uniform(1.5, 50.0), 3)
+    soc = [0.0, 0.1, 0.3, 0.5, 0.7, 0.9, 1.0]
+    v = [3.0, 3.45, 3.62, 3.72, 3.88, 4.05, 4.18]
+    r0 = round(rng.uniform(0.5, 3.0) * 0.06 / cap ** 0.5, 6)
+    pairs = [{"r_ohm": round(r0 * rng.uniform(0.2, 0.8), 6), "tau_s": round(rng.uniform(5, 400), 2)}
+             for _ in range(rng.randint(1, 2))]
+    return {"capacity_Ah": cap, "ocv_V": {"x": soc, "y": v},
+            "r0_ohm": {"x": [0.0, 0.5, 1.0], "y": [round(r0 * 1.6, 6), r0, round(r0 * 1.1, 6)]},
+            "rc_pairs": pairs, "v_min_V": 2.8, "v_max_V": 4.2}
+
+
+def decimal_time(rng: random.Random, lo: float, hi: float) -> float:
+    """A time as a user or a logger writes it: a few decimals, rarely a tick multiple in binary."""
+    return round(rng.uniform(lo, hi), rng.choice([1, 2, 3, 4]))
+
+
+def make_load(rng: random.Random, case_dir: Path, duration_s: float, i_1c: float, series: int, v_max: float):
+    """(load section, files written). Currents scale with the pack's 1C current."""
+    kind = rng.choice(["current", "segments", "segments", "points", "csv", "csv", "power", "charger"])
+    amps = lambda: round(rng.uniform(-0.5, 2.0) * i_1c, 3)  # noqa: E731
+    files = {}
+    if kind == "current":
+        return {"current_A": round(rng.uniform(0.05, 1.5) * i_1c, 3)}, files
+    if kind == "power":
+        return {"power_W": round(rng.uniform(0.05, 1.0) * i_1c * 3.6 * series, 2)}, files
+    if kind == "charger":
+        return {"charger": {"current_A": round(rng.uniform(0.1, 0.7) * i_1c, 3),
+                            "voltage_V": round(series * (v_max - 0.02), 3)}}, files
+    n = rng.randint(2, 12)
+    if kind == "segments":
+        segs = [{"duration_s": decimal_time(rng, 0.05, max(0.1, duration_s / n)), "current_A": amps()} for _ in range(n)]
+        load = {"segments": segs}
+        if rng.random() < 0.3:
+            load["laps"] = rng.randint(2, 4)
+        return load, files
+    times = sorted({0.0} | {decimal_time(rng, 0.01, duration_s) for _ in range(n)})
+    if kind == "points":
+        load = {"points": {"time_s": times, "current_A": [amps() for _ in times]}}
+    else:
+        hz = rng.choice([None, 10, 100])
+        if hz:
+            times = [round(k / hz, 3) for k in range(int(min(duration_s, 120) * hz) + 1)]
+        rows = "\n".join(f"{t},{amps()}" for t in times)
+        name = "load.csv"
+        files["base/" + name] = "time_s,current_A\n" + rows + "\n"
+        load = {"csv": {"file": name, "time_column": "time_s", "current_column": "current_A"}} \
+            if rng.random() < 0.5 else {"csv": name}
+    load["interpolation"] = rng.choice(["step", "linear"])
+    if rng.random() < 0.3:
+        load["laps"] = rng.randint(2, 4)
+    return load, files
+
+
+def make_faults(rng: random.Random, duration_s: float, series: int, parallel: int, i_1c: float) -> list:
+    faults = []
+    for _ in range(rng.choice([0, 0, 1, 1, 2, 3])):
+        kind = rng.choice(FAULT_KINDS)
+        at = decimal_time(rng, 0.0, duration_s * 1.2)  # some after the end: must be reported
+        f = {"kind": kind, "at_s": at}
+        if kind == "overcurrent":
+            f["current_A"] = round(rng.uniform(0.2, 3.0) * i_1c, 3)
+            if rng.random() < 0.5:
+                f["duration_s"] = decimal_time(rng, 0.05, 30)
+        elif kind == "hot_cell":
+            f["cell"] = rng.randint(1, series * parallel)
+            f["heat_W"] = round(rng.uniform(1, 30), 2)
+        elif kind == "estop":
+            f["switch"] = rng.choice(["internal", "external"])
+        elif kind == "thermistor_open":
+            f["thermistor"] = 1
+        elif kind == "channel_gain":
+            f["cell"] = rng.randint(1, series)
+            f["gain_error"] = round(rng.uniform(-0.08, 0.08), 4)
+        faults.append(f)
+    return faults
+
+
+def make_case(case_seed: int, case_dir: Path) -> dict:
+    """The case's scenario (a dict), its files, overrides and the base/child split."""
+    rng = random.Random(case_seed)
+    big = rng.random() < 0.1
+    series = rng.randint(25, 250) if big else rng.randint(1, 24)
+    parallel = rng.choice([1, 1, 1, 2, 3, 4, 6, 10, 20]) if not big else rng.choice([1, 2, 4])
+    tick_ms = rng.choice([10, 20, 50, 100, 1000])
+    budget = 4e5 if not big else 2e6  # cell-ticks: keeps a case well under a second
+    duration_s = round(min(rng.uniform(5, 900), budget * tick_ms / 1000 / (series * parallel)), 2)
+    duration_s = max(duration_s, 5 * tick_ms / 1000)
+    if rng.random() < 0.25:
+        cell = fitted_cell(rng)
+        cap, vmin, vmax = cell["capacity_Ah"], cell["v_min_V"], cell["v_max_V"]
+    else:
+        preset = rng.choice(sorted(PRESETS))
+        cap, vmin, vmax = PRESETS[preset]
+        cell = {"preset": preset}
+    i_1c = cap * parallel
+    scen = {
+        "name": f"case{case_seed}",
+        "seed": rng.randint(1, 10**6),
+        "pack": {"series": series, "parallel": parallel, "initial_soc": round(rng.uniform(0.3, 1.0), 3),
+                 "initial_temp_C": round(rng.uniform(0, 40), 1), "cell": cell},
+        "ambient": {"temp_C": round(rng.uniform(-10, 40), 1)},
+        "bms": {"tick_ms": tick_ms},
+        "run": {"duration_s": duration_s, "solver": rng.choice(["cvode", "fast"])},
+        "output": {"interval_s": tick_ms / 1000},
+    }
+    if rng.random() < 0.5:
+        scen["pack"]["spread"] = {"capacity_rel_sd": round(rng.uniform(0, 0.03), 4),
+                                  "r0_rel_sd": round(rng.uniform(0, 0.08), 4),
+                                  "initial_soc_sd": round(rng.uniform(0, 0.02), 4)}
+    scen["hardware"] = {"current_sense": {"shunt_ohm": round(0.05 / max(3 * i_1c, 1.0), 6), "amp_gain": 20}}
+    load, files = make_load(rng, case_dir, duration_s, i_1c, series, vmax)
+    scen["load"] = load
+    scen["faults"] = make_faults(rng, duration_s, series, parallel, i_1c)
+    scen["bms"]["protections"] = {
+        "overcurrent_discharge": {"threshold_A": round(2.5 * i_1c, 3)},
+        "overcurrent_charge": {"threshold_A": round(1.0 * i_1c, 3)},
+    }
+    # the child overrides some keys of the base; others come as --set overrides
+    child_keys = rng.sample(["seed", "ambient", "run", "faults"], rng.randint(0, 3))
+    overrides = {}
+    if rng.random() < 0.5:
+        overrides["pack.initial_soc"] = round(rng.uniform(0.3, 1.0), 3)
+    if rng.random() < 0.3:
+        overrides["ambient.temp_C"] = round(rng.uniform(-10, 40), 1)
+    return {"scenario": scen, "files": files, "child_keys": child_keys, "overrides": overrides}
+
+
+def set_dotted(d: dict, key: str, value) -> None:
+    parts = key.split(".")
+    for p in parts[:-1]:
+        d = d.setdefault(p, {})
+    d[parts[-1]] = value
+
+
+def write_case(case: dict, case_dir: Path) -> tuple[Path, Path]:
+    """base/base.yaml + child.yaml (extends it) and inline.yaml (the same, merged and edited)."""
+    scen = case["scenario"]
+    (case_dir / "base").mkdir(parents=True, exist_ok=True)
+    for rel, text in case["files"].items():
+        (case_dir / rel).write_text(text)
+    base = {k: v for k, v in scen.items() if k not in case["child_keys"]}
+    child = {"extends": "base/base.yaml", **{k: scen[k] for k in case["child_keys"]}}
+    (case_dir / "base" / "base.yaml").write_text(yaml.safe_dump(base, sort_keys=False))
+    (case_dir / "child.yaml").write_text(yaml.safe_dump(child, sort_keys=False))
+    inline = json.loads(json.dumps(scen))
+    for k, v in case["overrides"].items():
+        set_dotted(inline, k, v)
+    csv = inline["load"].get("csv")
+    if isinstance(csv, dict):
+        csv["file"] = "base/" + csv["file"]
+    elif csv:
+        inline["load"]["csv"] = "base/" + csv
+    (case_dir / "inline.yaml").write_text(yaml.safe_dump(inline, sort_keys=False))
+    return case_dir / "child.yaml", case_dir / "inline.yaml"
+
+
+# ---- oracles ---------------------------------------------------------------------------
+
+def arrays(r) -> dict:
+    return {k: np.asarray(r[k]) for k in r.keys() if k != "events"}
+
+
+def same_bytes(a, b) -> str:
+    """'' when the two results hold the same datasets, events and summary, byte for byte."""
+    da, db = arrays(a), arrays(b)
+    if sorted(da) != sorted(db):
+        return f"datasets differ: {sorted(set(da) ^ set(db))}"
+    for k in da:
+        if da[k].dtype != db[k].dtype or da[k].shape != db[k].shape or da[k].tobytes() != db[k].tobytes():
+            return f"dataset {k} differs"
+    if a.events != b.events:
+        return "events differ"
+    if json.dumps(a.summary, sort_keys=True, default=str) != json.dumps(b.summary, sort_keys=True, default=str):
+        return "summary differs"
+    return ""
+
+
+def check_finite(r) -> list:
+    bad = []
+    for k, v in arrays(r).items():
+        if v.dtype.kind == "f" and not np.all(np.isfinite(v)):
+            bad.append(f"non-finite values in {k}")
+    for k, v in r.summary.items():
+        if isinstance(v, float) and not math.isfinite(v):
+            bad.append(f"non-finite summary {k}")
+    return bad
+
+
+def charge_tolerance(t, i) -> float:
+    """Trapezoid over tick samples vs the exact integral: a jump inside a tick is off by
+    at most |jump| x tick / 2; ramps are exact to rounding."""
+    dt = float(np.max(np.diff(t))) if len(t) > 1 else 0.0
+    return 0.5 * dt * float(np.sum(np.abs(np.diff(i)))) + 1e-6 * float(np.sum(np.abs(i))) * dt + 1e-9
+
+
+def check_physics(scen: dict, r) -> list:
+    out = []
+    t = np.asarray(r["time_s"])
+    i = np.asarray(r["truth/pack_current_A"])
+    q_As = float(np.trapezoid(i, t)) if len(t) > 1 else 0.0
+    s = r.summary
+    tol = charge_tolerance(t, i)
+    if abs(3600.0 * s["charge_delivered_Ah"] - q_As) > tol:
+        out.append(f"charge: summary {3600 * s['charge_delivered_Ah']:.6f} As vs recorded {q_As:.6f} As (tol {tol:.2e})")
+    v = np.asarray(r["truth/cell_voltage_V"])
+    if v.size and abs(float(v.min()) - s["min_cell_V"]) > 1e-9 and s["min_cell_V"] < float(v.min()) - 1e-9:
+        pass  # the summary watches every tick; with every tick recorded both must agree
+    if v.size and abs(float(v.min()) - s["min_cell_V"]) > 1e-6:
+        out.append(f"summary lowest cell {s['min_cell_V']:.6f} V, truth {float(v.min()):.6f} V")
+    temps = np.asarray(r["truth/cell_temp_C"])
+    if temps.size and abs(float(temps.max()) - s["max_temp_C"]) > 1e-6:
+        out.append(f"summary hottest cell {s['max_temp_C']:.6f} C, truth {float(temps.max()):.6f} C")
+    if abs(s["duration_s"] - float(t[-1])) > 1e-9:
+        out.append(f"summary duration {s['duration_s']} vs last sample {float(t[-1])}")
+    kinds = [e["kind"] for e in r.events]
+    if bool(s["tripped"]) != ("fault_latched" in kinds and any(
+            e["kind"] == "relay" and "open" in e["detail"] for e in r.events)) and bool(s["tripped"]):
+        out.append("summary says TRIP without a latched fault and a relay open event")
+    return out
+
+
+def check_faults(scen: dict, r) -> list:
+    out = []
+    injected = [e for e in r.events if e["kind"] == "fault_injected"]
+    reported = [e for e in r.events if e["kind"] in ("fault_not_reached", "fault_unreached")]
+    for f in scen.get("faults", []):
+        n_same = sum(1 for g in scen["faults"] if g["kind"] == f["kind"])
+        got = sum(1 for e in injected + reported if e["detail"].startswith(f["kind"]))
+        if got < n_same:
+            out.append(f"fault {f['kind']} at {f['at_s']} s neither injected nor reported as not reached")
+    return out
+
+
+def relay_change_time(r) -> float:
+    """The first instant after the start at which the firmware opened the relay (a
+    decision both integrators must share before their trajectories can be compared)."""
+    for e in r.events:
+        if e["kind"] in ("relay", "fault_active", "fault_latched") and e["time_s"] > 0.05 and (
+                e["kind"] != "relay" or "open" in e["detail"]):
+            return e["time_s"]
+    return math.inf
+
+
+def check_solvers(path: Path, r_a, solver_a: str) -> list:
+    other = "fast" if solver_a == "cvode" else "cvode"
+    r_b = packsim.run(str(path), {"run.solver": other})
+    ta = np.asarray(r_a["time_s"])
+    tb = np.asarray(r_b["time_s"])
+    t_end = min(relay_change_time(r_a), relay_change_time(r_b))
+    n = min(len(ta), len(tb))
+    k = int(np.searchsorted(ta[:n], t_end - 1e-9))  # samples before either decided differently
+    if k == 0:
+        return []
+    va = np.asarray(r_a["truth/cell_voltage_V"])[:k]
+    vb = np.asarray(r_b["truth/cell_voltage_V"])[:k]
+    d = float(np.max(np.abs(va - vb)))
+    return [f"solvers: cell voltages differ by {1000 * d:.2f} mV before t={ta[k - 1]:.3f} s"] if d > 5e-3 else []
+
+
+def run_case(index: int, campaign_seed: int, out_dir: Path, keep: bool) -> dict:
+    case_seed = campaign_seed * 1_000_003 + index
+    case_dir = out_dir / f"case-{index}"
+    shutil.rmtree(case_dir, ignore_errors=True)
+    case_dir.mkdir(parents=True)
+    t0 = time.perf_counter()
+    case = make_case(case_seed, case_dir)
+    findings = []
+    oracle = "runs"
+    try:
+        child, inline = write_case(case, case_dir)
+        r = packsim.run(str(child), case["overrides"])
+        oracle = "finite"
+        findings += check_finite(r)
+        oracle = "determinism"
+        if (d := same_bytes(r, packsim.run(str(child), case["overrides"]))):
+            findings.append("determinism: " + d)
+        oracle = "extends"
+        if (d := same_bytes(r, packsim.run(str(inline)))):
+            findings.append("extends chain + overrides vs inlined: " + d)
+        oracle = "physics"
+        findings += check_physics(case["scenario"], r)
+        oracle = "faults"
+        findings += check_faults(case["scenario"], r)
+        oracle = "solvers"
+        findings += check_solvers(inline, r, case["scenario"]["run"]["solver"])
+    except Exception as e:  # noqa: BLE001 -- any error on a valid scenario is a finding
+        findings.append(f"{oracle}: {type(e).__name__}: {e}".strip()[:2000])
+        if os.environ.get("CAMPAIGN_TRACE"):
+            traceback.print_exc()
+    if not findings and not keep:
+        shutil.rmtree(case_dir, ignore_errors=True)
+    return {"case": index, "seed": case_seed, "findings": findings, "dir": str(case_dir),
+            "seconds": round(time.perf_counter() - t0, 2)}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cases", type=int, default=200)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--first", type=int, default=0, help="index of the first case")
+    ap.add_argument("--only", type=int, help="replay one case")
+    ap.add_argument("--out", default=None, help="folder for findings (default: a temp folder)")
+    ap.add_argument("--keep", action="store_true", help="keep every case's files")
+    a = ap.parse_args(argv)
+    out = Path(a.out) if a.out else Path(tempfile.mkdtemp(prefix="packsim-campaign-"))
+    out.mkdir(parents=True, exist_ok=True)
+    cases = [a.only] if a.only is not None else range(a.first, a.first + a.cases)
+    failed = 0
+    with open(out / "findings.jsonl", "a") as log:
+        for n, i in enumerate(cases, 1):
+            res = run_case(i, a.seed, out, a.keep)
+            if res["findings"]:
+                failed += 1
+                log.write(json.dumps(res) + "\n")
+                log.flush()
+                print(f"case {i}: FAIL  " + " | ".join(res["findings"])[:400], flush=True)
+            if n % 50 == 0:
+                print(f"{n} cases, {failed} failed", flush=True)
+    print(f"campaign seed {a.seed}: {len(cases)} cases, {failed} failed; findings in {out / 'findings.jsonl'}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
