@@ -24,7 +24,8 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack);
 BmsSettings readBms(std::optional<YamlMap> m);
 // load_firmware.cpp: `bms.firmware` (library path resolved against baseDir)
 FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseDir);
-LoadProfile readLoad(YamlMap m, const std::string& baseDir);
+// The pack bounds a load: at most load_load.cpp's C-rate per parallel cell.
+LoadProfile readLoad(YamlMap m, const std::string& baseDir, const PackConfig& pack);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 // boards: the monitor boards (each with its MCU) a host_dead may name.
 std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors, int boards);

@@ -3,8 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace packsim {
+
+Range::Range(double lo_, double hi_, bool lo_open_, bool hi_open_)
+    : lo(lo_), hi(hi_), lo_open(lo_open_), hi_open(hi_open_) {
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi))
+    throw std::logic_error("a scenario key's range needs two finite ends, lo <= hi");
+}
 
 bool Range::contains(double v) const {
   if (lo_open ? !(v > lo) : !(v >= lo)) return false;
@@ -18,9 +25,6 @@ std::string Range::describe() const {
     os << v;
     return os.str();
   };
-  if (std::isinf(hi) && lo == 0.0) return lo_open ? "> 0" : ">= 0";
-  if (std::isinf(hi)) return (lo_open ? "> " : ">= ") + fmt(lo);
-  if (std::isinf(lo)) return (hi_open ? "< " : "<= ") + fmt(hi);
   return std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi_open ? ")" : "]");
 }
 
