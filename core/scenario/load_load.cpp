@@ -60,6 +60,22 @@ LoadBound loadBound(const PackConfig& pack) {
 
 }  // namespace
 
+std::string loadCRateError(const PackConfig& pack, double value, bool power) {
+  return loadBound(pack).check(value, power);
+}
+
+double shortCircuitCurrent_A(const PackConfig& pack) {
+  // Over SOC 0..1 at 25 C: the highest OCV over the lowest R0 (a dead short on a cell).
+  const CellParams& c = pack.cell;
+  double ocv = 0.0, r0 = HUGE_VAL;
+  for (int i = 0; i <= 100; ++i) {
+    const double soc = i / 100.0;
+    ocv = std::max(ocv, c.ocv_V.eval(soc, c.axis_capacity_Ah, kReferenceTemp_C));
+    r0 = std::min(r0, c.r0_ohm.eval(soc, c.axis_capacity_Ah, kReferenceTemp_C));
+  }
+  return pack.parallel * ocv / r0;
+}
+
 // The load is a current (A) or a power (W) demand; each form names its quantity in
 // its keys (current_A / power_W) so a profile cannot be misread.
 LoadProfile readLoad(YamlMap m, const std::string& baseDir, const PackConfig& pack) {

@@ -259,6 +259,8 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     YamlMap load = m.map("load");
     if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)
       s.charger = readCharger(load.map("charger"));
+      if (const std::string why = loadCRateError(s.pack, s.charger.current_A, false); !why.empty())
+        throw load.map("charger").errorAt("current_A", why);
       load.finish();
       s.load = LoadProfile::constant(0.0);
       // On the charger unless the bms section says otherwise: connected, no drive request.
@@ -279,6 +281,18 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   const MonitorConfig& afe = s.hardware.afe;
   const int boards = afe.devices_per_board > 0 ? (afe.devices + afe.devices_per_board - 1) / afe.devices_per_board : 1;
   s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount(), boards);
+  // An over-current fault draws at most what the pack drives into a dead short: more
+  // would put the cells' terminals far below 0 V (a 100 kA fault on a 12s pack: -840 V).
+  for (size_t k = 0; k < s.faults.size(); ++k) {
+    const FaultInjection& f = s.faults[k];
+    const double isc_A = shortCircuitCurrent_A(s.pack);
+    if (f.kind != FaultKind::Overcurrent || std::fabs(f.value) <= isc_A) continue;
+    std::ostringstream os;
+    os << f.value << " A is more than the pack can drive into a dead short: allowed [-" << isc_A << ", " << isc_A
+       << "] A (" << s.pack.parallel << " parallel cell" << (s.pack.parallel > 1 ? "s" : "")
+       << " at the highest OCV over the lowest R0 of the cell, 25 C)";
+    throw m.mapList("faults")[k].errorAt("current_A", os.str());
+  }
   s.expect = readExpect(m.optionalMap("expect"));
   if (auto c = m.optionalMap("compare")) {
     const std::string rel = c->string("scenario");

@@ -290,6 +290,22 @@ TEST(ScenarioErrors, LoadBeyondTheCellsCRateNamesKeyAndLine) {
   EXPECT_EQ(errorOf(y + "load: {current_A: 1000}\nrun: {duration_s: 10}\n"), "<no error>");
 }
 
+// An over-current fault draws at most what the pack drives into a dead short (one
+// 2 Ah cell, OCV up to 4.2 V, R0 20 mOhm: 210 A); a 100 kA fault on a 12s pack put its
+// cells at -840 V. A charger is held to the loads' 100C.
+TEST(ScenarioErrors, FaultCurrentBeyondTheShortCircuitCurrent) {
+  const std::string y = test::simpleCellYaml() + kLoad;
+  const int line = static_cast<int>(std::count(y.begin(), y.end(), '\n')) + 2;
+  const std::string e = errorOf(y + "faults:\n  - {kind: overcurrent, current_A: 1000, at_s: 1}\n");
+  EXPECT_NE(e.find("test.yaml:" + std::to_string(line) + ":"), std::string::npos) << e;
+  EXPECT_NE(e.find("faults[0].current_A: 1000 A is more than the pack can drive into a dead short: allowed [-210, 210] A"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(errorOf(y + "faults:\n  - {kind: overcurrent, current_A: 200, at_s: 1}\n"), "<no error>");
+  const std::string c = errorOf(test::simpleCellYaml() + "load: {charger: {current_A: 500, voltage_V: 4.2}}\n");
+  EXPECT_NE(c.find("load.charger.current_A: 500 A is 250C"), std::string::npos) << c;
+}
+
 // The CLI turns a bad scenario into exit status 2 and leaves no result file.
 TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
   const fs::path dir = test::processTempDir("packsim_cli_bad");
