@@ -184,6 +184,12 @@ Curve withPresetTemperatureLaw(const Curve& preset, const Curve& given) {
         "give a single value (the value at 25 C; the preset's temperature ratios are kept), a 2-D table "
         "(x, temp_C, y rows), or state the law (arrhenius_K and ref_temp_C; arrhenius_K: 0 for none)");
   const double v = given.coeffs()[0];
+  for (const double x : preset.xs())
+    if (preset.at(x, kReferenceTemp_C) == 0.0)
+      throw std::invalid_argument(
+          "the preset's curve is a table over temp_C that is 0 at 25 C, so a single value cannot keep its temperature "
+          "ratios: give a 2-D table (x, temp_C, y rows), or state the law (arrhenius_K and ref_temp_C; arrhenius_K: 0 "
+          "for none)");
   std::vector<std::vector<double>> rows;
   for (const double t : preset.temps_C()) {
     std::vector<double> row;

@@ -9,8 +9,9 @@ namespace packsim {
 
 Range::Range(double lo_, double hi_, bool lo_open_, bool hi_open_)
     : lo(lo_), hi(hi_), lo_open(lo_open_), hi_open(hi_open_) {
-  if (!std::isfinite(lo) || !std::isfinite(hi) || !(lo <= hi))
-    throw std::logic_error("a scenario key's range needs two finite ends, lo <= hi");
+  // (lo > hi is allowed: a key with no valid value here, e.g. a thermistor number in a
+  // pack without thermistors, is then an error naming the empty range.)
+  if (!std::isfinite(lo) || !std::isfinite(hi)) throw std::logic_error("a scenario key's range needs two finite ends");
 }
 
 bool Range::contains(double v) const {
