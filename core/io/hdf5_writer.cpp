@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 #include <variant>
 #include <vector>
@@ -79,9 +80,44 @@ hsize_t chunkRows(size_t rows, size_t cols) {
   return static_cast<hsize_t>(std::min(rows, r));
 }
 
+// A result file holds finite numbers only (docs/results.md): a channel value or an
+// attribute that is not is refused, naming the channel and the time (then nothing is
+// written). A first line of defence is the scenario's ranges (docs/scenario.md) and the
+// integrators' state check; this catches what got past them.
+struct NonFiniteValue : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+std::string sampleTime(const std::vector<double>* time_s, size_t row) {
+  std::ostringstream os;
+  os.precision(12);
+  if (time_s && row < time_s->size()) os << "at t = " << (*time_s)[row] << " s";
+  else os << "in row " << row;
+  return os.str();
+}
+
+template <typename T>
+void requireFinite(const std::string& name, const std::vector<T>& data, size_t cols,
+                   const std::vector<double>* time_s) {
+  if constexpr (std::is_floating_point_v<T>) {
+    const auto bad = std::find_if(data.begin(), data.end(), [](T v) { return !std::isfinite(v); });
+    if (bad == data.end()) return;
+    const size_t k = static_cast<size_t>(bad - data.begin());
+    const size_t row = cols == 0 ? k : k / cols;
+    std::ostringstream os;
+    os << "the channel " << name;
+    if (cols > 0) os << "[" << k % cols << "] (0-based column)";
+    os << " is " << *bad << " " << sampleTime(time_s, row)
+       << ": a result holds finite numbers only (a value out of any physical range; check the scenario's loads, "
+          "faults and cell curves)";
+    throw NonFiniteValue(os.str());
+  }
+}
+
 class Writer {
  public:
-  Writer(hid_t file, bool compress) : file_(file), compress_(compress) {
+  Writer(hid_t file, bool compress, const std::vector<double>* time_s = nullptr)
+      : file_(file), compress_(compress), time_s_(time_s) {
     dcpl_ = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_obj_track_times(dcpl_, 0);
     gcpl_ = H5Pcreate(H5P_GROUP_CREATE);
@@ -101,6 +137,7 @@ class Writer {
   template <typename T>
   void dataset(const std::string& name, const std::vector<T>& data, size_t rows, size_t cols, const char* units,
                int decimals = -1) {
+    requireFinite(name, data, cols, time_s_);
     hsize_t dims[2] = {rows, cols};
     const int rank = cols == 0 ? 1 : 2;
     Handle space(H5Screate_simple(rank, dims, nullptr), H5Sclose, name.c_str());
@@ -136,6 +173,11 @@ class Writer {
     checked(H5Awrite(a, type, value.empty() ? "" : value.c_str()), name);
   }
   void attr(hid_t obj, const char* name, double value) {
+    if (!std::isfinite(value)) {
+      std::ostringstream os;
+      os << "the attribute " << name << " is " << value << ": a result holds finite numbers only";
+      throw NonFiniteValue(os.str());
+    }
     Handle space(H5Screate(H5S_SCALAR), H5Sclose, name);
     Handle a(H5Acreate2(obj, name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose, name);
     checked(H5Awrite(a, H5T_NATIVE_DOUBLE, &value), name);
@@ -174,6 +216,7 @@ class Writer {
  private:
   hid_t file_;
   bool compress_;
+  const std::vector<double>* time_s_;
   hid_t dcpl_;
   hid_t gcpl_;
 };
@@ -186,8 +229,8 @@ std::string faultNames() {
 }
 
 void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) {
-  Writer w(file, compress);
   const Recording& rec = r.rec;
+  Writer w(file, compress, &rec.time_s);
   const size_t n = rec.samples();
   const size_t cells = static_cast<size_t>(rec.cells);
 
@@ -306,6 +349,9 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   } catch (const Interrupted&) {
     std::remove(tmp.c_str());
     throw;
+  } catch (const NonFiniteValue& e) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("the run's result is not written to '" + path + "': " + e.what());
   } catch (const std::exception& e) {
     const int err = errno;
     std::remove(tmp.c_str());

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <tuple>
 
 #include "core/scenario/scenario_error.hpp"
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
@@ -49,18 +51,43 @@ std::vector<Cell> splitRow(const std::string& line, char sep) {
   return cells;
 }
 
+// Text as read, with what a terminal would not show escaped: control characters and
+// bytes outside printable ASCII as \xHH (a byte-order mark is \xEF\xBB\xBF), so two
+// names that print alike but differ show the difference.
+std::string visible(const std::string& text) {
+  static const char* hex = "0123456789ABCDEF";
+  std::string out;
+  for (const char ch : text) {
+    const auto b = static_cast<unsigned char>(ch);
+    if (b >= 0x20 && b < 0x7F && b != '\\') {
+      out += ch;
+    } else {
+      out += "\\x";
+      out += hex[b >> 4];
+      out += hex[b & 0xF];
+    }
+  }
+  return out;
+}
+
 std::string joined(const std::vector<std::string>& names) {
   std::string s;
-  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + ("'" + visible(n) + "'");
   return s;
 }
+
+// A UTF-8 byte-order mark, as Excel's "CSV UTF-8" starts the file.
+constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
 
 }  // namespace
 
 CsvProfile readProfileCsv(const std::string& path) { return readProfileCsv(path, CsvColumns{}); }
 
 CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
-  std::ifstream in(path);
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw ScenarioError(path, 0, 0, "", "not a CSV file (it is a folder or a device)");
+  std::ifstream in(path, std::ios::binary);  // binary: a CR of CRLF line ends is trimmed below
   if (!in) throw ScenarioError(path, 0, 0, "", "cannot open CSV file");
   CsvProfile p;
   std::string line;
@@ -70,6 +97,8 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
   size_t timeCol = 0, valueCol = 0;
   while (std::getline(in, line)) {
     ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF line ends
+    if (lineNo == 1 && line.compare(0, 3, kUtf8Bom) == 0) line.erase(0, 3);
     const std::string t = trim(line);
     if (t.empty() || t[0] == '#') continue;
     if (sep == 0) {  // the header row
@@ -84,7 +113,7 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
           if (defaults)
             throw ScenarioError(path, lineNo, 1, "",
                                 "expected the header 'time_s,current_A' or 'time_s,power_W' (or name the columns: "
-                                "csv: {file, time_column, current_column or power_column}), got '" + t + "'");
+                                "csv: {file, time_column, current_column or power_column}); the header as read is '" + visible(t) + "'");
         }
         valueCol = cur != names.size() ? cur : pow;
         p.power = cur == names.size();
@@ -98,14 +127,14 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
         if (col < names.size()) continue;
         const std::string near = closestMatch(name, names);
         throw ScenarioError(path, lineNo, 1, key,
-                            "no column '" + name + "' in the header (columns: " + joined(names) + ")" +
+                            "no column '" + visible(name) + "' in the header (columns as read: " + joined(names) + ")" +
                                 (near.empty() ? "" : "; did you mean '" + near + "'?"));
       }
       continue;
     }
     const std::vector<Cell> cells = splitRow(line, sep);
     if (cells.size() != names.size())
-      throw ScenarioError(path, lineNo, 0, "", "expected " + std::to_string(names.size()) + " columns (as the header: " +
+      throw ScenarioError(path, lineNo, cells.size() > names.size() ? cells[names.size()].column : 1, "", "expected " + std::to_string(names.size()) + " columns (as the header: " +
                                                    joined(names) + "), got " + std::to_string(cells.size()));
     double v[2];
     const size_t cols[2] = {timeCol, valueCol};
@@ -118,6 +147,25 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
       if (text.empty() || *end != '\0' || !std::isfinite(v[k]))
         throw ScenarioError(path, lineNo, c.column, names[cols[k]], "'" + c.text + "' is not a finite number");
     }
+    // The same bounds as a load's keys (core/scenario/value_ranges.hpp): time up to 30
+    // days, a current up to 100 kA, a power up to 100 MW (after `scale`).
+    const double maxValue = p.power ? limits::kMaxPower_W : limits::kMaxCurrent_A;
+    if (v[0] > limits::kMaxTime_s) {
+      std::ostringstream os;
+      os << "'" << cells[timeCol].text << "' s is out of range; allowed [0, " << limits::kMaxTime_s << "] (30 days)";
+      throw ScenarioError(path, lineNo, cells[timeCol].column, names[timeCol], os.str());
+    }
+    if (!(std::fabs(v[1] * want.scale) <= maxValue)) {
+      std::ostringstream os;
+      os << "'" << cells[valueCol].text << "'";
+      if (want.scale != 1.0) os << " (scaled: " << v[1] * want.scale << ")";
+      os << " is out of range; allowed [-" << maxValue << ", " << maxValue << "] " << (p.power ? "W" : "A");
+      throw ScenarioError(path, lineNo, cells[valueCol].column, names[valueCol], os.str());
+    }
+    if (want.check) {
+      const std::string why = want.check(v[1] * want.scale, p.power);
+      if (!why.empty()) throw ScenarioError(path, lineNo, cells[valueCol].column, names[valueCol], why);
+    }
     if (p.time_s.empty() && v[0] != 0.0)
       throw ScenarioError(path, lineNo, cells[timeCol].column, names[timeCol], "the first point must be at time 0");
     if (!p.time_s.empty() && !(v[0] > p.time_s.back())) {
@@ -128,8 +176,13 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
     p.time_s.push_back(v[0]);
     p.value.push_back(v[1] * want.scale);
   }
-  if (sep == 0) throw ScenarioError(path, 0, 0, "", "empty CSV: expected the header 'time_s,current_A'");
-  if (p.time_s.size() < 2) throw ScenarioError(path, lineNo, 0, "", "a profile needs at least 2 points");
+  if (sep == 0)
+    throw ScenarioError(path, std::max(lineNo, 1), 1, "",
+                        "empty CSV (" + std::to_string(lineNo) + " lines, none but blanks and # comments): expected a "
+                        "header such as 'time_s,current_A'");
+  if (p.time_s.size() < 2)
+    throw ScenarioError(path, lineNo, 1, names[timeCol],
+                        "a profile needs at least 2 points, got " + std::to_string(p.time_s.size()));
   return p;
 }
 

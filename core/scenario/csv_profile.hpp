@@ -6,6 +6,7 @@
 // convention); time is in seconds.
 // Errors name the file, the line and the column that is wrong.
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ struct CsvColumns {
   std::string value;   // "": the column named current_A or power_W
   bool power = false;  // with `value`: it is a power (W), else a current (A)
   double scale = 1.0;
+  // A further check of each scaled value (A or W, and whether it is a power): "" when
+  // it passes, else why not (the error then names the file, line and column).
+  std::function<std::string(double value, bool power)> check;
 };
 
 CsvProfile readProfileCsv(const std::string& path);  // the default columns

@@ -59,7 +59,7 @@ std::string num(double v) {
 
 }  // namespace
 
-std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, double q_Ah) {
+std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, double q_Ah, double max_abs) {
   // A plain number for the OCV is an ideal constant source (test rigs, what-ifs): it
   // has no slope to check. Every polynomial and table must rise.
   if (rule == CurveRule::Ocv && c.isConstant()) {
@@ -76,6 +76,8 @@ std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, doub
       const double y = c.eval(soc, q_Ah, t_C);
       const std::string at = where(c, soc, q_Ah, t_C, showTemp);
       if (!std::isfinite(y)) return "is not finite (" + num(y) + ") at " + at;
+      if (std::fabs(y) > max_abs && (c.arrhenius_K == 0.0 || t_C == c.ref_temp_C))
+        return "reaches " + num(y) + " at " + at + "; allowed [-" + num(max_abs) + ", " + num(max_abs) + "]";
       switch (rule) {
         case CurveRule::Positive:
         case CurveRule::NonNegative: {

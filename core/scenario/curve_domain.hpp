@@ -5,6 +5,7 @@
 // message naming the SOC (and discharged Ah) and the temperature where it fails; the
 // loader puts the curve's file:line:column in front.
 #pragma once
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -20,7 +21,10 @@ enum class CurveRule {
                // a plain number is an ideal constant source and accepted)
 };
 
-// The first failure, or nothing if the curve holds over the whole domain.
-std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, double axis_capacity_Ah);
+// The first failure, or nothing if the curve holds over the whole domain. max_abs:
+// the largest magnitude the curve may take as written (at its reference temperature or
+// the rows of its table; an Arrhenius factor may carry it beyond at other temperatures).
+std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, double axis_capacity_Ah,
+                                            double max_abs = HUGE_VAL);
 
 }  // namespace packsim

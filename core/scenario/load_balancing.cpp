@@ -4,6 +4,7 @@
 #include <bms/bms_limits.hpp>
 
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
@@ -35,7 +36,7 @@ ActiveBalancerConfig readActiveBalancer(YamlMap m) {
     l.finish();
   } else if (m.has("efficiency") && m.node("efficiency").IsMap()) {
     YamlMap e = m.map("efficiency");
-    a.efficiency_at_A = e.numbers("current_A", Range::nonNegative(), 2);
+    a.efficiency_at_A = e.numbers("current_A", Range::nonNegative(100.0), 2);  // the converter_current_A range
     a.efficiency = e.numbers("efficiency", Range{0.0, 1.0, true, false}, 2);
     if (a.efficiency.size() != a.efficiency_at_A.size())
       throw e.errorAt("efficiency", "needs as many values as current_A");
@@ -75,7 +76,7 @@ BalanceSettings readBalanceSettings(YamlMap m) {
   b.board_resume_C = m.number("board_resume_C", b.board_resume_C, Range::closed(-40.0, 150.0));
   if (!(b.board_resume_C <= b.board_max_C)) throw m.errorAt("board_resume_C", "must not exceed board_max_C");
   b.no_adjacent = m.boolean("no_adjacent", b.no_adjacent);
-  b.rest_current_A = m.number("rest_current_A", b.rest_current_A, Range::positive());
+  b.rest_current_A = m.number("rest_current_A", b.rest_current_A, Range::positive(1000.0));  // below it the pack rests
   b.rest_s = m.number("rest_s", b.rest_s, Range::closed(0.0, 86400.0));
   b.period_s = m.number("period_ms", b.period_s * 1e3, Range::closed(1.0, 600000.0)) * 1e-3;
   b.measure_paused = m.boolean("measure_paused", b.measure_paused);
@@ -89,7 +90,7 @@ ChargerConfig readCharger(YamlMap m) {
   c.present = true;
   c.current_A = m.number("current_A", Range::closed(0.001, 1000.0));
   c.voltage_V = m.number("voltage_V", Range::closed(0.5, 2000.0));
-  c.end_current_A = m.number("end_current_A", 0.05 * c.current_A, Range::nonNegative());
+  c.end_current_A = m.number("end_current_A", 0.05 * c.current_A, Range::closed(0.0, c.current_A));
   if (!(c.end_current_A < c.current_A)) throw m.errorAt("end_current_A", "must be below current_A");
   c.stop_run_when_done = m.boolean("stop_run_when_done", true);
   m.finish();

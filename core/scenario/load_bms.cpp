@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
@@ -46,7 +47,8 @@ ProtectionConfig readProtection(YamlMap& parent, const std::string& key, const c
   const std::string u = unit;
   d.enabled = m->boolean("enabled", d.enabled);
   d.threshold = m->number("threshold_" + u, d.threshold, range);
-  d.hysteresis = m->number("hysteresis_" + u, d.hysteresis, Range::nonNegative());
+  // A hysteresis wider than the threshold's whole range would never release.
+  d.hysteresis = m->number("hysteresis_" + u, d.hysteresis, Range::nonNegative(range.hi - range.lo));
   d.delay_s = m->number("delay_ms", d.delay_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
   d.opens = readOpens(*m, d.opens);
   d.action = readAction(*m, d.action);
@@ -111,8 +113,8 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   if (auto p = m->optionalMap("precharge")) {
     PrechargeSettings& c = b.precharge;
     c.enabled = p->boolean("enabled", true);
-    c.done_delta_V = p->number("done_delta_V", c.done_delta_V, Range::positive());
-    c.done_current_A = p->number("done_current_A", c.done_current_A, Range::positive());
+    c.done_delta_V = p->number("done_delta_V", c.done_delta_V, Range::positive(100.0));
+    c.done_current_A = p->number("done_current_A", c.done_current_A, Range::positive(limits::kMaxCurrent_A));
     c.timeout_s = p->number("timeout_ms", c.timeout_s * 1e3, Range::closed(1.0, 600000.0)) * 1e-3;
     c.pause_s = p->number("pause_ms", c.pause_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
     c.overlap_s = p->number("overlap_ms", c.overlap_s * 1e3, Range::closed(0.0, 10000.0)) * 1e-3;
@@ -121,7 +123,7 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   }
   if (auto s = m->optionalMap("soc")) {
     b.soc_rest_s = s->number("rest_s", b.soc_rest_s, Range::closed(0.0, 86400.0));
-    b.soc_rest_current_A = s->number("rest_current_A", b.soc_rest_current_A, Range::positive());
+    b.soc_rest_current_A = s->number("rest_current_A", b.soc_rest_current_A, Range::positive(limits::kMaxCurrent_A));
     b.soc_estimation = readSocEstimation(*s);
     s->finish();
   }
@@ -130,7 +132,7 @@ BmsSettings readBms(std::optional<YamlMap> m) {
   // 1 s … 63 min: what the monitor's balancing timer can hold.
   b.balance_time_s = static_cast<uint16_t>(m->integer("balance_time_s", b.balance_time_s, 1, 3780));
   if (auto bal = m->optionalMap("balancing")) b.balancing = readBalanceSettings(*bal);
-  b.charge_current_A = m->number("charge_current_A", b.charge_current_A, Range::nonNegative());
+  b.charge_current_A = m->number("charge_current_A", b.charge_current_A, Range::nonNegative(1000.0));  // the charger's range
   b.charge_full_cell_V = m->number("charge_full_cell_V", b.charge_full_cell_V, Range::closed(0.0, 5.0));
   m->finish();
   return b;

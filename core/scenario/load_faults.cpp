@@ -1,9 +1,11 @@
 // Reads `faults:` (scripted injections) and `expect:` (assertions) strictly.
+#include <cmath>
 #include <bms/bms_faults.hpp>
 #include <cstdio>
 #include <sstream>
 
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
@@ -81,6 +83,9 @@ Condition parseCondition(YamlMap& m, const std::string& key) {
   c.value = std::strtod(number.c_str(), &end);
   if (number.empty() || *end != '\0' || !rest.empty())
     throw m.errorAt(key, "expected a number after '" + op + "', got '" + number + rest + "'");
+  // Every quantity compared (volts, amperes, degrees, SOC, seconds) lies within +-1e7.
+  if (!std::isfinite(c.value) || std::fabs(c.value) > 1e7)
+    throw m.errorAt(key, "the number '" + number + "' is out of range; allowed [-1e+07, 1e+07]");
   return c;
 }
 
@@ -97,23 +102,23 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors, int boards) 
   }();
   if (f.has("at_s") == f.has("when")) throw f.error("give exactly one of at_s or when");
   if (f.has("at_s")) {
-    inj.at_s = f.number("at_s", Range::nonNegative());
+    inj.at_s = f.number("at_s", Range::nonNegative(limits::kMaxTime_s));
   } else {
     inj.hasCondition = true;
     inj.when = parseCondition(f, "when");
   }
-  inj.duration_s = f.number("duration_s", 0.0, Range::positive());
+  inj.duration_s = f.number("duration_s", 0.0, Range::positive(limits::kMaxTime_s));
   auto cell = [&] { return static_cast<int>(f.integer("cell", 1, cells)) - 1; };
   auto device = [&](const char* key) { return static_cast<int>(f.integer(key, 1, 64)) - 1; };
   switch (inj.kind) {
-    case FaultKind::Overcurrent: inj.value = f.number("current_A", Range{}); break;
+    case FaultKind::Overcurrent: inj.value = f.number("current_A", Range::symmetric(limits::kMaxCurrent_A)); break;
     case FaultKind::HotCell:
       inj.index = cell();
       inj.value = f.number("heat_W", Range::closed(0.0, 10000.0));
       break;
     case FaultKind::InternalShort:
       inj.index = cell();
-      inj.value = f.number("resistance_ohm", Range::positive());
+      inj.value = f.number("resistance_ohm", Range::positive(1.0e6));  // 1 MOhm: a leak, no longer a short
       break;
     case FaultKind::EStop: inj.external = f.choice("switch", f.string("switch"), {"internal", "external"}) == "external"; break;
     case FaultKind::DeviceSilent: inj.index = device("device"); break;
@@ -156,7 +161,7 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors, int boards) 
     case FaultKind::WeldedRelay: break;
     case FaultKind::CurrentSensorDrift:
       if (!f.has("offset_A") && !f.has("drift_A_per_h")) throw f.error("give offset_A and/or drift_A_per_h");
-      inj.value = f.number("offset_A", 0.0, Range{});
+      inj.value = f.number("offset_A", 0.0, Range::symmetric(limits::kMaxCurrent_A));
       inj.rate_per_s = f.number("drift_A_per_h", 0.0, Range::closed(-1000.0, 1000.0)) / 3600.0;
       break;
     case FaultKind::ChargerOvervoltage: inj.value = f.number("overvoltage_V", Range::closed(0.0, 100.0)); break;
@@ -189,7 +194,7 @@ std::string checkFaultName(YamlMap& m, const std::string& key) {
 }
 
 std::pair<double, double> window(YamlMap& m, const std::string& key) {
-  const std::vector<double> w = m.numbers(key, Range::nonNegative(), 2);
+  const std::vector<double> w = m.numbers(key, Range::nonNegative(limits::kMaxTime_s), 2);
   if (w.size() != 2 || !(w[1] >= w[0])) throw m.errorAt(key, "expected [from_s, to_s] with from_s <= to_s");
   return {w[0], w[1]};
 }
@@ -256,7 +261,7 @@ Expectations readExpect(std::optional<YamlMap> m) {
   if (m->has("no_trip")) e.no_trip = m->boolean("no_trip", false);
   if (m->has("trip_reason")) e.trip_reason = checkFaultName(*m, "trip_reason");
   if (m->has("trip_within_s")) e.trip_within_s = window(*m, "trip_within_s");
-  if (m->has("relay_open_by_s")) e.relay_open_by_s = m->number("relay_open_by_s", Range::nonNegative());
+  if (m->has("relay_open_by_s")) e.relay_open_by_s = m->number("relay_open_by_s", Range::nonNegative(limits::kMaxTime_s));
   if (m->has("detected")) {
     for (YamlMap d : m->mapList("detected")) {
       DetectionExpectation x;
@@ -275,10 +280,10 @@ Expectations readExpect(std::optional<YamlMap> m) {
   if (m->has("final_soc_spread_below"))
     e.final_soc_spread_below = m->number("final_soc_spread_below", Range::closed(0.0, 1.0));
   if (m->has("energy_delivered_Wh_above"))
-    e.energy_delivered_Wh_above = m->number("energy_delivered_Wh_above", Range{});
+    e.energy_delivered_Wh_above = m->number("energy_delivered_Wh_above", Range::symmetric(limits::kMaxEnergy_Wh));
   readSocExpectations(*m, e);  // load_estimation.cpp
   if (m->has("energy_lost_vs_compare_Wh_above"))
-    e.energy_lost_vs_compare_Wh_above = m->number("energy_lost_vs_compare_Wh_above", Range{});
+    e.energy_lost_vs_compare_Wh_above = m->number("energy_lost_vs_compare_Wh_above", Range::symmetric(limits::kMaxEnergy_Wh));
   if (m->has("min_cell_V_below_compare")) e.min_cell_V_below_compare = m->boolean("min_cell_V_below_compare", true);
   if (e.no_trip && *e.no_trip && (e.trip_reason || e.trip_within_s))
     throw m->error("no_trip: true contradicts trip_reason / trip_within_s");

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 #include "models/afe/bq76pl455a.hpp"
 
 namespace packsim {
@@ -64,9 +65,9 @@ void readRelay(YamlMap& m, RelayConfig& r) {
 
 void readFet(YamlMap& m, MosfetConfig& f) {
   f.present = m.boolean("present", true);
-  f.rds_on_ohm = m.number("rds_on_ohm", f.rds_on_ohm, Range::nonNegative());
+  f.rds_on_ohm = m.number("rds_on_ohm", f.rds_on_ohm, Range::nonNegative(10.0));  // 10 ohm carries no pack current
   f.diode_vf_V = m.number("diode_vf_V", f.diode_vf_V, Range::closed(0.0, 2.0));
-  f.diode_r_ohm = m.number("diode_r_ohm", f.diode_r_ohm, Range::nonNegative());
+  f.diode_r_ohm = m.number("diode_r_ohm", f.diode_r_ohm, Range::nonNegative(10.0));
   f.thermal_node = m.string("thermal_node", f.thermal_node);
   m.finish();
 }
@@ -99,7 +100,7 @@ void readSecondary(YamlMap& m, SecondaryProtection& p, bool pl455) {
   p.ot_delay_s = m.number("ot_delay_ms", p.ot_delay_s * 1e3, Range::closed(0.0, 2550.0)) * 1e-3;
   if (m.has("comm_timeout_ms")) {
     if (!pl455) throw m.errorAt("comm_timeout_ms", "only a bq76pl455a supervises its link (a communication timeout)");
-    p.comm_timeout_s = m.number("comm_timeout_ms", 0.0, Range::nonNegative()) * 1e-3;
+    p.comm_timeout_s = m.number("comm_timeout_ms", 0.0, Range::nonNegative(600000.0)) * 1e-3;
     if (pl455CommTimeoutCode(p.comm_timeout_s) < 0)
       throw m.errorAt("comm_timeout_ms", "the part's timer steps are 0 (off), 100, 2000, 10000, 60000, 600000, "
                                          "1800000 or 7200000 ms");
@@ -173,7 +174,8 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
 
   if (hw) {
     if (auto a = hw->optionalMap("cell_adc")) {
-      h.cell_adc.lsb = a->number("lsb_uV", h.cell_adc.lsb * 1e6, Range::positive()) * 1e-6;
+      // 100 mV: a coarser converter reads no cell.
+      h.cell_adc.lsb = a->number("lsb_uV", h.cell_adc.lsb * 1e6, Range::positive(100000.0)) * 1e-6;
       const long defaultBits = std::lround(std::log2(static_cast<double>(h.cell_adc.code_max + 1)));
       const long bits = a->integer("bits", defaultBits, 8, 24);
       h.cell_adc.code_max = (int64_t{1} << bits) - 1;
@@ -207,20 +209,20 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
         if (h.thermistor_sites.empty() || h.thermistor_sites.size() > bms::kMaxThermistors)
           throw t->errorAt("channels", "1.." + std::to_string(bms::kMaxThermistors) + " thermistors");
       }
-      h.thermistor.r25_ohm = t->number("r25_ohm", h.thermistor.r25_ohm, Range::positive());
+      h.thermistor.r25_ohm = t->number("r25_ohm", h.thermistor.r25_ohm, Range::positive(1.0e7));
       h.thermistor.beta_K = t->number("beta_K", h.thermistor.beta_K, Range::closed(1000.0, 10000.0));
-      h.thermistor.pullup_ohm = t->number("pullup_ohm", h.thermistor.pullup_ohm, Range::positive());
+      h.thermistor.pullup_ohm = t->number("pullup_ohm", h.thermistor.pullup_ohm, Range::positive(1.0e7));
       h.thermistor.bits = static_cast<int>(t->integer("bits", 12, 8, 16));
       h.thermistor.noise_codes_rms = t->number("noise_codes_rms", 0.0, Range::closed(0.0, 100.0));
       t->finish();
     }
     if (auto c = hw->optionalMap("current_sense")) {
       CurrentSense& s = h.current_sense;
-      s.shunt_ohm = c->number("shunt_ohm", s.shunt_ohm, Range::positive());
-      s.amp_gain = c->number("amp_gain", s.amp_gain, Range::positive());
+      s.shunt_ohm = c->number("shunt_ohm", s.shunt_ohm, Range::positive(1.0));  // a shunt, not a load
+      s.amp_gain = c->number("amp_gain", s.amp_gain, Range::positive(10000.0));
       s.amp_offset_V = c->number("amp_offset_mV", 0.0, Range::closed(-1000.0, 1000.0)) * 1e-3;
       s.gain_error = c->number("gain_error", 0.0, Range::closed(-0.5, 0.5));
-      s.noise_A_rms = c->number("noise_A_rms", s.noise_A_rms, Range::nonNegative());
+      s.noise_A_rms = c->number("noise_A_rms", s.noise_A_rms, Range::nonNegative(1000.0));
       s.vref_V = c->number("vref_V", s.vref_V, Range::closed(0.5, 10.0));
       s.bits = static_cast<int>(c->integer("bits", 16, 8, 24));
       c->finish();
@@ -230,10 +232,10 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       r->finish();
     }
     if (auto p = hw->optionalMap("precharge")) {
-      h.precharge.r_ohm = p->number("r_ohm", h.precharge.r_ohm, Range::positive());
+      h.precharge.r_ohm = p->number("r_ohm", h.precharge.r_ohm, Range::positive(1.0e6));
       h.precharge.bus_capacitance_F =
-          p->number("bus_capacitance_uF", h.precharge.bus_capacitance_F * 1e6, Range::positive()) * 1e-6;
-      h.precharge.bus_leak_ohm = p->number("bus_leak_ohm", 0.0, Range::nonNegative());
+          p->number("bus_capacitance_uF", h.precharge.bus_capacitance_F * 1e6, Range::positive(1.0e6)) * 1e-6;
+      h.precharge.bus_leak_ohm = p->number("bus_leak_ohm", 0.0, Range::nonNegative(limits::kMaxResistor_ohm));
       readRelay(*p, h.precharge_relay);
       p->finish();
     }
@@ -245,8 +247,8 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     }
     if (auto f = hw->optionalMap("fuse")) {
       h.fuse.present = f->boolean("present", true);
-      h.fuse.rated_A = f->number("rated_A", h.fuse.rated_A, Range::positive());
-      h.fuse.i2t_A2s = f->number("i2t_A2s", h.fuse.i2t_A2s, Range::positive());
+      h.fuse.rated_A = f->number("rated_A", h.fuse.rated_A, Range::positive(limits::kMaxCurrent_A));
+      h.fuse.i2t_A2s = f->number("i2t_A2s", h.fuse.i2t_A2s, Range::positive(1.0e10));  // 100 kA for 1 s
       h.fuse.hold_ratio = f->number("hold_ratio", h.fuse.hold_ratio, Range::closed(1.0, 3.0));
       f->finish();
     }
@@ -257,7 +259,7 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     }
     if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
     if (auto b = hw->optionalMap("bus_adc")) {
-      const double fs = b->number("full_scale_V", h.bus_adc.lsb * 4095.0, Range::positive());
+      const double fs = b->number("full_scale_V", h.bus_adc.lsb * 4095.0, Range::positive(2000.0));  // the charger's voltage range
       const long bits = b->integer("bits", 12, 8, 16);
       h.bus_adc.code_max = (int64_t{1} << bits) - 1;
       h.bus_adc.lsb = fs / static_cast<double>(h.bus_adc.code_max);

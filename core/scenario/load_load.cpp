@@ -1,18 +1,92 @@
 #include <bms/bms_limits.hpp>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
 
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 #include "core/scenario/csv_profile.hpp"
 
 namespace packsim {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// A load's current or power: the absolute bounds (value_ranges.hpp); the pack's own
+// C-rate bound is checked once the pack is known (checkLoadCRate).
+Range loadRange(const std::string& key) {
+  return Range::symmetric(key == "power_W" ? limits::kMaxPower_W : limits::kMaxCurrent_A);
+}
+
+// The most a load may ask of each parallel cell: 100C, twice the highest continuous
+// rating any cell is sold with (hobby LiPo, ~50C; power-tool 18650s ~10C, LTO ~10-20C).
+// A current logged in mA and read as A is 1000 times its size: even a 0.1C load then
+// lands above this, so the mistake cannot pass as a hard but possible load.
+constexpr double kMaxLoadCRate = 100.0;
+
+// A load value (A, or W: at the pack's mid-charge open-circuit voltage) against the
+// pack: "" when within kMaxLoadCRate, else why not.
+struct LoadBound {
+  double cells_Ah;  // parallel cells × capacity
+  double pack_V;    // series × the cell's OCV at SOC 0.5
+  int parallel;
+  double cell_Ah;
+  std::string check(double value, bool power) const {
+    const double i_A = power ? value / pack_V : value;
+    const double cRate = std::fabs(i_A) / cells_Ah;
+    if (cRate <= kMaxLoadCRate) return "";
+    std::ostringstream os;
+    os << value << (power ? " W" : " A");
+    if (power) os << " (" << i_A << " A at the pack's mid-charge voltage of " << pack_V << " V)";
+    os << " is " << std::lround(cRate) << "C for the " << parallel << " parallel cell" << (parallel > 1 ? "s" : "")
+       << " of " << cell_Ah << " Ah; allowed at most " << kMaxLoadCRate << "C (" << kMaxLoadCRate * cells_Ah
+       << " A), twice the highest rating any cell is sold with. A value in m" << (power ? "W read as W" : "A read as A")
+       << "? Divide by 1000 (for a CSV column: csv: {file, " << (power ? "power_column" : "current_column")
+       << ", scale: 0.001})";
+    return os.str();
+  }
+};
+
+LoadBound loadBound(const PackConfig& pack) {
+  LoadBound b;
+  b.parallel = pack.parallel;
+  b.cell_Ah = pack.cell.capacity_Ah;
+  b.cells_Ah = pack.parallel * pack.cell.capacity_Ah;
+  b.pack_V = std::max(1e-3, pack.series * pack.cell.ocv_V.eval(0.5, pack.cell.axis_capacity_Ah));
+  return b;
+}
+
+}  // namespace
+
+std::string loadCRateError(const PackConfig& pack, double value, bool power) {
+  return loadBound(pack).check(value, power);
+}
+
+double shortCircuitCurrent_A(const PackConfig& pack) {
+  // Over SOC 0..1 at 25 C: the highest OCV over the lowest R0 (a dead short on a cell).
+  const CellParams& c = pack.cell;
+  double ocv = 0.0, r0 = HUGE_VAL;
+  for (int i = 0; i <= 100; ++i) {
+    const double soc = i / 100.0;
+    ocv = std::max(ocv, c.ocv_V.eval(soc, c.axis_capacity_Ah, kReferenceTemp_C));
+    r0 = std::min(r0, c.r0_ohm.eval(soc, c.axis_capacity_Ah, kReferenceTemp_C));
+  }
+  return pack.parallel * ocv / r0;
+}
+
 // The load is a current (A) or a power (W) demand; each form names its quantity in
 // its keys (current_A / power_W) so a profile cannot be misread.
-LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
+LoadProfile readLoad(YamlMap m, const std::string& baseDir, const PackConfig& pack) {
+  const LoadBound bound = loadBound(pack);
+  // A value the pack's cells cannot carry: an error at its key (or list element).
+  auto checkBound = [&](YamlMap& map, const std::string& key, double v, int index = -1) {
+    const std::string why = bound.check(v, key == "power_W");
+    if (why.empty()) return;
+    if (index < 0) throw map.errorAt(key, why);
+    throw map.errorAt(map.raw()[key][index], map.path() + "." + key + "[" + std::to_string(index) + "]", why);
+  };
   const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv"};
   int given = 0;
   for (const char* k : kinds) given += m.has(k) ? 1 : 0;
@@ -26,7 +100,8 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
   LoadProfile p;
   if (m.has("current_A") || m.has("power_W")) {
     const std::string key = pick(m);
-    p = LoadProfile::constant(m.number(key, Range{}));
+    p = LoadProfile::constant(m.number(key, loadRange(key)));
+    checkBound(m, key, p.i_A.front());
     p.quantity = key == "current_A" ? Q::Current_A : Q::Power_W;
     m.finish();
     return p;
@@ -39,8 +114,9 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
       if (!unit.empty() && key != unit) throw s.errorAt(key, "all segments must give the same quantity (" + unit + ")");
       unit = key;
       p.t_s.push_back(t);
-      p.i_A.push_back(s.number(key, Range{}));
-      t += s.number("duration_s", Range::positive());
+      p.i_A.push_back(s.number(key, loadRange(key)));
+      checkBound(s, key, p.i_A.back());
+      t += s.number("duration_s", Range::positive(limits::kMaxTime_s));
       s.finish();
     }
     p.quantity = unit == "current_A" ? Q::Current_A : Q::Power_W;
@@ -50,10 +126,11 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
   } else {
     if (m.has("points")) {
       YamlMap pts = m.map("points");
-      p.t_s = pts.numbers("time_s", Range::nonNegative(), 2);
+      p.t_s = pts.numbers("time_s", Range::nonNegative(limits::kMaxTime_s), 2);
       const std::string key = pick(pts);
       p.quantity = key == "current_A" ? Q::Current_A : Q::Power_W;
-      p.i_A = pts.numbers(key, Range{}, 2);
+      p.i_A = pts.numbers(key, loadRange(key), 2);
+      for (size_t i = 0; i < p.i_A.size(); ++i) checkBound(pts, key, p.i_A[i], static_cast<int>(i));
       if (p.t_s.size() != p.i_A.size())
         throw pts.errorAt(key, "has " + std::to_string(p.i_A.size()) + " values but time_s has " +
                                    std::to_string(p.t_s.size()));
@@ -74,7 +151,7 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
           throw c.errorAt("power_column", "give one of current_column or power_column");
         columns.power = c.has("power_column");
         columns.value = c.string(columns.power ? "power_column" : "current_column", "");
-        columns.scale = c.number("scale", 1.0, Range{});
+        columns.scale = c.number("scale", 1.0, Range::symmetric(1.0e6));  // mA, kW, MW and sign flips
         if (columns.scale == 0.0) throw c.errorAt("scale", "must not be 0");
         c.finish();
         if (csv.is_relative()) csv = fs::path(baseDir) / csv;
@@ -86,6 +163,7 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir) {
         std::error_code ec;
         if (!fs::exists(csv, ec)) throw m.errorAt("csv", "file not found: " + csv.string());
       }
+      columns.check = [&bound](double v, bool power) { return bound.check(v, power); };
       const CsvProfile t = readProfileCsv(csv.string(), columns);
       p.t_s = t.time_s;
       p.i_A = t.value;
@@ -103,8 +181,8 @@ RunConfig readRun(std::optional<YamlMap> m, uint64_t seed) {
   RunConfig r;
   r.seed = seed;
   if (!m) return r;
-  r.duration_s = m->number("duration_s", 0.0, Range::positive());
-  r.stop_after_trip_s = m->number("stop_after_trip_s", r.stop_after_trip_s, Range::nonNegative());
+  r.duration_s = m->number("duration_s", 0.0, Range::positive(limits::kMaxTime_s));
+  r.stop_after_trip_s = m->number("stop_after_trip_s", r.stop_after_trip_s, Range::nonNegative(limits::kMaxTime_s));
   r.solver = m->choice("solver", "cvode", {"cvode", "fast"}) == "fast" ? RunConfig::Solver::Fast
                                                                       : RunConfig::Solver::Cvode;
   // Settings of the other solver would silently do nothing: reject them.
@@ -114,7 +192,7 @@ RunConfig readRun(std::optional<YamlMap> m, uint64_t seed) {
   if (auto f = m->optionalMap("fast")) {
     if (r.solver != RunConfig::Solver::Fast)
       throw m->errorAt("fast", "settings for solver: fast, but this run uses solver: cvode (set run.solver: fast)");
-    r.fast_max_substep_s = f->number("max_substep_s", 0.0, Range::positive());
+    r.fast_max_substep_s = f->number("max_substep_s", 0.0, Range::positive(3600.0));
     r.fast_substep_fraction = f->number("substep_fraction", r.fast_substep_fraction, Range{0.0, 1.0, true, false});
     f->finish();
   }

@@ -3,14 +3,25 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
+#include <utility>
 
 #include "core/scenario/curve_domain.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
 namespace fs = std::filesystem;
+
+namespace {
+// A curve's x values are SOC or discharged Ah (at most a cell's capacity); a
+// polynomial's coefficients stay within +-1e9 (the curve checks then bound its values).
+const Range kAxis = Range::symmetric(limits::kMaxCapacity_Ah);
+const Range kCoefficients = Range::symmetric(1.0e9);
+const Range kResistance = Range::positive(limits::kMaxCellResistance_ohm);
+}  // namespace
 
 // A curve is a number (constant), {poly: [...], axis}, {x: [...], y: [...], axis}, or a
 // 2-D table {x: [...], temp_C: [...], y: [[row at temp_C[0]], …], axis}; a 1-D form
@@ -24,9 +35,9 @@ Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
   Curve c;
   if (m.has("poly")) {
     if (m.has("x") || m.has("y") || m.has("temp_C")) throw m.error("give either poly or an x/y table, not both");
-    c = Curve::polynomial(m.numbers("poly", Range{}), axis);
+    c = Curve::polynomial(m.numbers("poly", kCoefficients), axis);
   } else if (m.has("x") || m.has("y")) {
-    std::vector<double> xs = m.numbers("x", Range{}, 2);
+    std::vector<double> xs = m.numbers("x", kAxis, 2);
     for (size_t i = 1; i < xs.size(); ++i)
       if (!(xs[i] > xs[i - 1])) throw m.errorAt("x", "values must increase strictly");
     if (m.has("temp_C")) {
@@ -50,7 +61,7 @@ Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
           if (!v.IsScalar() || !YAML::convert<double>::decode(v, d) || !std::isfinite(d))
             throw m.errorAt(v, yField, std::string(rowName) + ": expected a finite number");
           if (!yRange.contains(d))
-            throw m.errorAt(v, yField, std::string(rowName) + ": value " + v.Scalar() + " outside " + yRange.describe());
+            throw m.errorAt(v, yField, std::string(rowName) + ": value " + v.Scalar() + " is out of range; allowed " + yRange.describe());
           r.push_back(d);
         }
         rows.push_back(std::move(r));
@@ -82,7 +93,8 @@ namespace {
 // Reads a curve and checks it over SOC 0..1 (and its temperatures): see curve_domain.hpp.
 Curve readCheckedCurve(YamlMap& m, const std::string& key, Range yRange, CurveRule rule, double axis_capacity_Ah) {
   Curve c = readCurve(m, key, yRange);
-  if (auto err = curveDomainError(c, rule, axis_capacity_Ah)) throw m.errorAt(key, *err);
+  const double maxAbs = std::max(std::fabs(yRange.lo), std::fabs(yRange.hi));
+  if (auto err = curveDomainError(c, rule, axis_capacity_Ah, maxAbs)) throw m.errorAt(key, *err);
   return c;
 }
 
@@ -92,14 +104,14 @@ Curve readCheckedCurve(YamlMap& m, const std::string& key, Range yRange, CurveRu
 // preset's); 0: this cell's own capacity_Ah.
 CellParams readCell(YamlMap m, double axis_capacity_Ah) {
   CellParams c;
-  c.capacity_Ah = m.number("capacity_Ah", Range::positive());
+  c.capacity_Ah = m.number("capacity_Ah", Range::positive(limits::kMaxCapacity_Ah));
   c.axis_capacity_Ah = axis_capacity_Ah > 0.0 ? axis_capacity_Ah : c.capacity_Ah;
   const double q = c.axis_capacity_Ah;
   c.ocv_V = readCheckedCurve(m, "ocv_V", Range::closed(0.0, 10.0), CurveRule::Ocv, q);
-  c.r0_ohm = readCheckedCurve(m, "r0_ohm", Range::positive(), CurveRule::Positive, q);
+  c.r0_ohm = readCheckedCurve(m, "r0_ohm", kResistance, CurveRule::Positive, q);
   if (m.has("r0_charge_ohm")) {
     c.has_r0_charge = true;
-    c.r0_charge_ohm = readCheckedCurve(m, "r0_charge_ohm", Range::positive(), CurveRule::Positive, q);
+    c.r0_charge_ohm = readCheckedCurve(m, "r0_charge_ohm", kResistance, CurveRule::Positive, q);
   }
   if (m.has("docv_dT_V_per_K")) {
     c.has_entropic = true;
@@ -118,8 +130,8 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
       if (rc.has("c_F") == rc.has("tau_s")) throw rc.error("give exactly one of c_F or tau_s");
       p.by_tau = rc.has("tau_s");
       const std::string cKey = p.by_tau ? "tau_s" : "c_F";
-      p.r_curve = readCheckedCurve(rc, "r_ohm", Range::positive(), CurveRule::Positive, q);
-      Curve cc = readCheckedCurve(rc, cKey, Range::positive(), CurveRule::Positive, q);
+      p.r_curve = readCheckedCurve(rc, "r_ohm", kResistance, CurveRule::Positive, q);
+      Curve cc = readCheckedCurve(rc, cKey, p.by_tau ? Range::positive(1.0e6) : Range::positive(1.0e8), CurveRule::Positive, q);
       p.variable = !p.r_curve.isConstant() || !cc.isConstant();
       if (p.variable) {
         (p.by_tau ? p.tau_curve : p.c_curve) = cc;
@@ -133,8 +145,8 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
   }
   c.coulombic_efficiency = m.number("coulombic_efficiency", 1.0, {0.0, 1.0, true, false});
   c.self_discharge_A = m.number("self_discharge_A", 0.0, Range::closed(0.0, 10.0));
-  c.heat_capacity_J_per_K = m.number("heat_capacity_J_per_K", c.heat_capacity_J_per_K, Range::positive());
-  c.g_ambient_W_per_K = m.number("g_ambient_W_per_K", c.g_ambient_W_per_K, Range::nonNegative());
+  c.heat_capacity_J_per_K = m.number("heat_capacity_J_per_K", c.heat_capacity_J_per_K, Range::positive(limits::kMaxHeatCapacity_J_per_K));
+  c.g_ambient_W_per_K = m.number("g_ambient_W_per_K", c.g_ambient_W_per_K, Range::nonNegative(limits::kMaxConductance_W_per_K));
   c.v_min_V = m.number("v_min_V", c.v_min_V, Range::closed(0.5, 5.0));
   c.v_max_V = m.number("v_max_V", c.v_max_V, Range::closed(0.5, 5.0));
   if (!(c.v_max_V > c.v_min_V)) throw m.errorAt("v_max_V", "must be above v_min_V");
@@ -150,6 +162,41 @@ std::vector<std::string> presetDirs(const std::string& baseDir, const std::strin
   std::error_code ec;
   if (fs::exists(baseDir + "/cells/" + name + ".yaml", ec)) return {baseDir + "/cells"};
   return cellPresetDirs(baseDir);
+}
+
+// An override of a preset's curve that states a temperature dependence of its own
+// (arrhenius_K / ref_temp_C, or a 2-D table over temp_C) replaces the preset's whole.
+bool givesItsOwnTemperatureLaw(const YAML::Node& given) {
+  return given.IsMap() && (given["arrhenius_K"] || given["ref_temp_C"] || given["temp_C"]);
+}
+
+// An override without one is the value at the reference temperature: the preset's
+// temperature law still applies to it. Arrhenius: the same factor (same arrhenius_K and
+// ref_temp_C) on the new curve. A 2-D table over temp_C: a single value v becomes the
+// preset's table scaled so that it reads v at 25 C at every x (each row keeps its ratio
+// to the 25 C value); a 1-D curve over x cannot carry the table's temperature rows and
+// is refused with what to write instead.
+Curve withPresetTemperatureLaw(const Curve& preset, const Curve& given) {
+  if (preset.kind != Curve::Kind::Table2D) return given.withArrhenius(preset.arrhenius_K, preset.ref_temp_C);
+  if (given.kind != Curve::Kind::Constant)
+    throw std::invalid_argument(
+        "the preset's curve is a table over temp_C; a curve over x alone would drop its temperature dependence: "
+        "give a single value (the value at 25 C; the preset's temperature ratios are kept), a 2-D table "
+        "(x, temp_C, y rows), or state the law (arrhenius_K and ref_temp_C; arrhenius_K: 0 for none)");
+  const double v = given.coeffs()[0];
+  for (const double x : preset.xs())
+    if (preset.at(x, kReferenceTemp_C) == 0.0)
+      throw std::invalid_argument(
+          "the preset's curve is a table over temp_C that is 0 at 25 C, so a single value cannot keep its temperature "
+          "ratios: give a 2-D table (x, temp_C, y rows), or state the law (arrhenius_K and ref_temp_C; arrhenius_K: 0 "
+          "for none)");
+  std::vector<std::vector<double>> rows;
+  for (const double t : preset.temps_C()) {
+    std::vector<double> row;
+    for (const double x : preset.xs()) row.push_back(v * (preset.at(x, t) / preset.at(x, kReferenceTemp_C)));
+    rows.push_back(std::move(row));
+  }
+  return Curve::table2d(preset.xs(), preset.temps_C(), rows, preset.axis);
 }
 
 // `cell: {preset: NAME, <field>: <override>…}`: the preset file (cells/NAME.yaml next
@@ -188,7 +235,21 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   }
   // Curves over discharged Ah keep meaning the preset's discharged charge, even where
   // the scenario gives this cell another capacity.
-  return readCell(YamlMap(merged, m.file(), m.path()), nominal.capacity_Ah);
+  CellParams cell = readCell(YamlMap(merged, m.file(), m.path()), nominal.capacity_Ah);
+  const std::pair<const char*, Curve CellParams::*> curves[] = {{"ocv_V", &CellParams::ocv_V},
+                                                                {"r0_ohm", &CellParams::r0_ohm},
+                                                                {"r0_charge_ohm", &CellParams::r0_charge_ohm},
+                                                                {"docv_dT_V_per_K", &CellParams::docv_dT_V_per_K}};
+  for (const auto& [key, member] : curves) {
+    const YAML::Node given = m.raw()[key];
+    if (!given || givesItsOwnTemperatureLaw(given) || !(nominal.*member).dependsOnTemperature()) continue;
+    try {
+      cell.*member = withPresetTemperatureLaw(nominal.*member, cell.*member);
+    } catch (const std::invalid_argument& e) {
+      throw m.errorAt(key, std::string(e.what()) + " (preset " + name + ")");
+    }
+  }
+  return cell;
 }
 
 CellSpread readSpread(YamlMap m) {
@@ -205,7 +266,7 @@ CellSpread readSpread(YamlMap m) {
 CellOverride readCellOverride(YamlMap m, int cells) {
   CellOverride o;
   o.cell = static_cast<int>(m.integer("cell", 1, cells)) - 1;
-  if (m.has("capacity_Ah")) o.capacity_Ah = m.number("capacity_Ah", Range::positive());
+  if (m.has("capacity_Ah")) o.capacity_Ah = m.number("capacity_Ah", Range::positive(limits::kMaxCapacity_Ah));
   if (m.has("r0_scale")) o.r0_scale = m.number("r0_scale", Range::closed(0.1, 10.0));
   if (m.has("initial_soc")) o.initial_soc = m.number("initial_soc", Range::closed(0.0, 1.0));
   if (m.has("self_discharge_A")) o.self_discharge_A = m.number("self_discharge_A", Range::closed(0.0, 10.0));
@@ -233,8 +294,8 @@ PackConfig readPack(YamlMap m, const std::string& baseDir) {
 ThermalConfig readThermal(std::optional<YamlMap> m, int cells) {
   ThermalConfig t;
   if (!m) return t;
-  t.cell_to_cell_W_per_K = m->number("cell_to_cell_W_per_K", 0.0, Range::nonNegative());
-  t.g_coolant_W_per_K = m->number("cell_to_coolant_W_per_K", 0.0, Range::nonNegative());
+  t.cell_to_cell_W_per_K = m->number("cell_to_cell_W_per_K", 0.0, Range::nonNegative(limits::kMaxConductance_W_per_K));
+  t.g_coolant_W_per_K = m->number("cell_to_coolant_W_per_K", 0.0, Range::nonNegative(limits::kMaxConductance_W_per_K));
   t.coolant_C = m->number("coolant_temp_C", 25.0, Range::closed(-60.0, 150.0));
   if (m->has("nodes")) {
     std::vector<YamlMap> linkSites;  // where each to_nodes entry was written (for errors)
@@ -243,20 +304,20 @@ ThermalConfig readThermal(std::optional<YamlMap> m, int cells) {
       c.name = n.string("name");
       for (const auto& other : t.nodes)
         if (other.name == c.name) throw n.errorAt("name", "duplicate thermal node '" + c.name + "'");
-      c.heat_capacity_J_per_K = n.number("heat_capacity_J_per_K", Range::positive());
-      c.g_ambient_W_per_K = n.number("g_ambient_W_per_K", 0.0, Range::nonNegative());
-      c.g_each_cell_W_per_K = n.number("to_each_cell_W_per_K", 0.0, Range::nonNegative());
+      c.heat_capacity_J_per_K = n.number("heat_capacity_J_per_K", Range::positive(limits::kMaxHeatCapacity_J_per_K));
+      c.g_ambient_W_per_K = n.number("g_ambient_W_per_K", 0.0, Range::nonNegative(limits::kMaxConductance_W_per_K));
+      c.g_each_cell_W_per_K = n.number("to_each_cell_W_per_K", 0.0, Range::nonNegative(limits::kMaxConductance_W_per_K));
       c.heat_W = n.number("heat_W", 0.0, Range::closed(0.0, 1e6));
       if (n.has("to_cells")) {
         for (YamlMap l : n.mapList("to_cells")) {
           const int cell = static_cast<int>(l.integer("cell", 1, cells)) - 1;
-          c.cell_links.emplace_back(cell, l.number("g_W_per_K", Range::positive()));
+          c.cell_links.emplace_back(cell, l.number("g_W_per_K", Range::positive(limits::kMaxConductance_W_per_K)));
           l.finish();
         }
       }
       if (n.has("to_nodes")) {
         for (YamlMap l : n.mapList("to_nodes")) {
-          c.node_links.emplace_back(l.string("node"), l.number("g_W_per_K", Range::positive()));
+          c.node_links.emplace_back(l.string("node"), l.number("g_W_per_K", Range::positive(limits::kMaxConductance_W_per_K)));
           linkSites.push_back(l);
           l.finish();
         }
@@ -293,7 +354,7 @@ TimeSeries readAmbient(std::optional<YamlMap> m) {
     ts = TimeSeries::constant(m->number("temp_C", range));
   } else {
     YamlMap p = m->map("profile");
-    ts.t_s = p.numbers("time_s", Range::nonNegative(), 1);
+    ts.t_s = p.numbers("time_s", Range::nonNegative(limits::kMaxTime_s), 1);
     ts.value = p.numbers("temp_C", range, 1);
     if (ts.t_s.size() != ts.value.size()) throw p.errorAt("temp_C", "needs as many values as time_s");
     for (size_t i = 1; i < ts.t_s.size(); ++i)

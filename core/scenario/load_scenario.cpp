@@ -12,6 +12,7 @@
 
 #include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
@@ -79,6 +80,30 @@ std::string chainKey(const std::string& file) {
   return ec ? file : p.string();
 }
 
+// A base's relative paths (its CSV load, in either form, and its compare scenario) name
+// files in the base's folder: re-expressed relative to the extending file's folder, so
+// the merged scenario reads the same files wherever the two files sit.
+void rebaseRelativePaths(YAML::Node base, const std::string& fromDir, const std::string& toDir) {
+  auto rebase = [&](YAML::Node holder, const char* key) {
+    const YAML::Node& view = holder;  // const: a lookup must not add the key
+    if (!view[key] || !view[key].IsScalar()) return;
+    const fs::path given(view[key].Scalar());
+    if (given.empty() || !given.is_relative()) return;
+    std::error_code ec;
+    const fs::path here = fs::weakly_canonical(toDir.empty() ? fs::path(".") : fs::path(toDir), ec);
+    const fs::path file = fs::weakly_canonical(fs::path(fromDir) / given, ec);
+    // The node is edited in place: its line and column (for errors) stay the base's.
+    YAML::Node n = holder[key];
+    n = file.lexically_relative(here).string();
+  };
+  const YAML::Node& cbase = base;
+  if (cbase["load"] && cbase["load"].IsMap() && cbase["load"]["csv"]) {
+    if (cbase["load"]["csv"].IsMap()) rebase(base["load"]["csv"], "file");
+    else rebase(base["load"], "csv");
+  }
+  if (cbase["compare"] && cbase["compare"].IsMap()) rebase(base["compare"], "scenario");
+}
+
 YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const std::string& base_dir,
                           std::vector<std::string>& chain) {
   if (!root.IsMap() || !root["extends"]) return root;
@@ -105,12 +130,7 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   // Reads through a const view: a non-const lookup of a missing key adds an undefined
   // entry that would shadow the child's key inserted by deepMerge.
   const YAML::Node& cbase = base;
-  if (cbase["load"] && cbase["load"]["csv"] && fs::path(cbase["load"]["csv"].Scalar()).is_relative()) {
-    // Re-express the base's CSV path relative to this file's folder.
-    const fs::path here = fs::weakly_canonical(base_dir.empty() ? fs::path(".") : fs::path(base_dir), ec);
-    const fs::path csv = fs::weakly_canonical(fs::path(baseDir) / cbase["load"]["csv"].Scalar(), ec);
-    base["load"]["csv"] = csv.lexically_relative(here).string();
-  }
+  rebaseRelativePaths(base, baseDir.empty() ? "." : baseDir, base_dir);
   // A child that names its own kind of load (current, power, segments, points, csv,
   // charger) replaces the base's load whole; otherwise its load keys (laps, ...) merge.
   if (cbase["load"] && cbase["load"].IsMap() && root["load"] && root["load"].IsMap()) {
@@ -239,6 +259,8 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     YamlMap load = m.map("load");
     if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)
       s.charger = readCharger(load.map("charger"));
+      if (const std::string why = loadCRateError(s.pack, s.charger.current_A, false); !why.empty())
+        throw load.map("charger").errorAt("current_A", why);
       load.finish();
       s.load = LoadProfile::constant(0.0);
       // On the charger unless the bms section says otherwise: connected, no drive request.
@@ -246,19 +268,31 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
       if (!(bmsNode && bmsNode.IsMap() && bmsNode["charger_present"])) s.bms.charger_present = true;
       if (!(bmsNode && bmsNode.IsMap() && bmsNode["run_request"])) s.bms.run_request = false;
     } else {
-      s.load = readLoad(load, base_dir);
+      s.load = readLoad(load, base_dir, s.pack);
     }
   }
   s.ambient_C = readAmbient(m.optionalMap("ambient"));
   s.thermal = readThermal(m.optionalMap("thermal"), s.pack.series * s.pack.parallel);
   s.run = readRun(m.optionalMap("run"), seed);
   if (auto o = m.optionalMap("output")) {
-    s.output.interval_s = o->number("interval_s", 1.0, Range::positive());
+    s.output.interval_s = o->number("interval_s", 1.0, Range::positive(limits::kMaxTime_s));
     o->finish();
   }
   const MonitorConfig& afe = s.hardware.afe;
   const int boards = afe.devices_per_board > 0 ? (afe.devices + afe.devices_per_board - 1) / afe.devices_per_board : 1;
   s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount(), boards);
+  // An over-current fault draws at most what the pack drives into a dead short: more
+  // would put the cells' terminals far below 0 V (a 100 kA fault on a 12s pack: -840 V).
+  for (size_t k = 0; k < s.faults.size(); ++k) {
+    const FaultInjection& f = s.faults[k];
+    const double isc_A = shortCircuitCurrent_A(s.pack);
+    if (f.kind != FaultKind::Overcurrent || std::fabs(f.value) <= isc_A) continue;
+    std::ostringstream os;
+    os << f.value << " A is more than the pack can drive into a dead short: allowed [-" << isc_A << ", " << isc_A
+       << "] A (" << s.pack.parallel << " parallel cell" << (s.pack.parallel > 1 ? "s" : "")
+       << " at the highest OCV over the lowest R0 of the cell, 25 C)";
+    throw m.mapList("faults")[k].errorAt("current_A", os.str());
+  }
   s.expect = readExpect(m.optionalMap("expect"));
   if (auto c = m.optionalMap("compare")) {
     const std::string rel = c->string("scenario");
@@ -274,6 +308,12 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   // Cross-field checks, reported at the field a user would change.
   if (s.load.isConstant() && s.run.duration_s <= 0.0)
     throw m.errorAt("load", "a constant load needs run.duration_s");
+  if (s.run.duration_s <= 0.0 && s.load.duration_s() > limits::kMaxTime_s) {
+    std::ostringstream os;
+    os << "the load lasts " << s.load.duration_s() << " s (" << s.load.laps << " laps of " << s.load.lap_s()
+       << " s); a run lasts at most " << limits::kMaxTime_s << " s (30 days): fewer laps or a run.duration_s";
+    throw m.errorAt("load", os.str());
+  }
   if (s.output.interval_s < s.bms.tick_s)
     throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
   checkBalancing(m, s);  // also checks the FETs' thermal nodes, which the next check relies on

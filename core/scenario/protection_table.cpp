@@ -1,5 +1,7 @@
 #include "core/scenario/protection_table.hpp"
 
+#include "core/scenario/value_ranges.hpp"
+
 #include <bms/bms_config.hpp>
 #include <cstdlib>
 #include <cstring>
@@ -12,7 +14,7 @@ namespace {
 
 using F = bms::FaultId;
 using T = bms::Telemetry;
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMaxA = limits::kMaxCurrent_A;  // every threshold has a finite range
 constexpr double kMilli = 1e3;  // V -> mV, A -> mA
 constexpr double kDeci = 10.0;  // °C -> 0.1 °C
 
@@ -30,9 +32,9 @@ constexpr std::array<ProtectionSpec, bms::kFaultCount> kSpecs = {{
        "max cell {value} V > {threshold} V"),
   rule(F::CellUnderVoltage,          "V", kMilli, 0.5,   4.5,   false, [](const T& t) -> int32_t { return t.minCell_mV; },
        "min cell {value} V < {threshold} V"),
-  rule(F::OverCurrentDischarge,      "A", kMilli, 0.0,   kInf,  true,  [](const T& t) -> int32_t { return t.packCurrent_mA; },
+  rule(F::OverCurrentDischarge,      "A", kMilli, 0.0,   kMaxA, true,  [](const T& t) -> int32_t { return t.packCurrent_mA; },
        "current {value} A > {threshold} A"),
-  rule(F::OverCurrentCharge,         "A", kMilli, 0.0,   kInf,  true,  [](const T& t) -> int32_t { return -t.packCurrent_mA; },
+  rule(F::OverCurrentCharge,         "A", kMilli, 0.0,   kMaxA, true,  [](const T& t) -> int32_t { return -t.packCurrent_mA; },
        "charge current {value} A > {threshold} A"),
   rule(F::OverTemperature,           "C", kDeci,  0.0,   150.0, false, [](const T& t) -> int32_t { return t.maxTemp_dC; },
        "max temperature {value} C > {threshold} C"),
@@ -52,7 +54,7 @@ constexpr std::array<ProtectionSpec, bms::kFaultCount> kSpecs = {{
   flag(F::CurrentSensorFault,        "current-sense code at a rail"),
   flag(F::EStop,                     "E-switch pulled"),
   flag(F::MonitorFault,              "monitor IC protection latched (FAULT line)"),
-  ProtectionSpec{F::RelayWelded, ThresholdUse::WeldCurrent, "A", kMilli, 0.0, kInf, true,
+  ProtectionSpec{F::RelayWelded, ThresholdUse::WeldCurrent, "A", kMilli, 0.0, kMaxA, true,
                  [](const T& t) -> int32_t { return std::abs(t.packCurrent_mA); },
                  "relay commanded open but current {value} A still flows or its aux contact reads closed"},
   flag(F::PrechargeFailed,           "precharge did not finish in any attempt"),

@@ -24,7 +24,13 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack);
 BmsSettings readBms(std::optional<YamlMap> m);
 // load_firmware.cpp: `bms.firmware` (library path resolved against baseDir)
 FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseDir);
-LoadProfile readLoad(YamlMap m, const std::string& baseDir);
+// The pack bounds a load: at most load_load.cpp's C-rate per parallel cell.
+LoadProfile readLoad(YamlMap m, const std::string& baseDir, const PackConfig& pack);
+// Why a load value (A, or W if power) is beyond that C-rate for this pack; "" if it is not.
+std::string loadCRateError(const PackConfig& pack, double value, bool power);
+// The most current the pack can drive into a dead short: parallel x the highest OCV over
+// the lowest R0 of its cell (SOC 0..1, 25 C). No fault current can exceed it.
+double shortCircuitCurrent_A(const PackConfig& pack);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 // boards: the monitor boards (each with its MCU) a host_dead may name.
 std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors, int boards);

@@ -3,8 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace packsim {
+
+Range::Range(double lo_, double hi_, bool lo_open_, bool hi_open_)
+    : lo(lo_), hi(hi_), lo_open(lo_open_), hi_open(hi_open_) {
+  // (lo > hi is allowed: a key with no valid value here, e.g. a thermistor number in a
+  // pack without thermistors, is then an error naming the empty range.)
+  if (!std::isfinite(lo) || !std::isfinite(hi)) throw std::logic_error("a scenario key's range needs two finite ends");
+}
 
 bool Range::contains(double v) const {
   if (lo_open ? !(v > lo) : !(v >= lo)) return false;
@@ -18,9 +26,6 @@ std::string Range::describe() const {
     os << v;
     return os.str();
   };
-  if (std::isinf(hi) && lo == 0.0) return lo_open ? "> 0" : ">= 0";
-  if (std::isinf(hi)) return (lo_open ? "> " : ">= ") + fmt(lo);
-  if (std::isinf(lo)) return (hi_open ? "< " : "<= ") + fmt(hi);
   return std::string(lo_open ? "(" : "[") + fmt(lo) + ", " + fmt(hi) + (hi_open ? ")" : "]");
 }
 

@@ -4,7 +4,6 @@
 #pragma once
 #include <yaml-cpp/yaml.h>
 
-#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -14,14 +13,19 @@
 
 namespace packsim {
 
+// The values a number may take. Both ends are finite: every key states how large a
+// value can be (core/scenario/value_ranges.hpp has the bounds many keys share); a range
+// without an end is a programming error (std::logic_error).
 struct Range {
-  double lo = -std::numeric_limits<double>::infinity();
-  double hi = std::numeric_limits<double>::infinity();
+  double lo;
+  double hi;
   bool lo_open = false;  // lo itself not allowed
   bool hi_open = false;
-  static Range positive() { return {0.0, std::numeric_limits<double>::infinity(), true, false}; }
-  static Range nonNegative() { return {0.0, std::numeric_limits<double>::infinity(), false, false}; }
+  Range(double lo_, double hi_, bool lo_open_ = false, bool hi_open_ = false);
+  static Range positive(double hi) { return {0.0, hi, true, false}; }  // (0, hi]
+  static Range nonNegative(double hi) { return {0.0, hi, false, false}; }  // [0, hi]
   static Range closed(double lo, double hi) { return {lo, hi, false, false}; }
+  static Range symmetric(double bound) { return {-bound, bound, false, false}; }  // [-bound, bound]
   bool contains(double v) const;
   std::string describe() const;
 };

@@ -84,6 +84,78 @@ TEST(CellTemperature, TwoDimensionalTableIsBilinear) {
   }
 }
 
+// issue 28: overriding one field of a preset keeps the rest of it, the temperature law
+// of that field included. `r0_ohm: 0.020` on the NCR18650 preset (Arrhenius, 2250 K at
+// 25 C) is R0 at 25 C; before, it was a constant and 15/25/35 C gave the same heat.
+std::string presetCellHeldAt(double temp_C, const std::string& r0Override) {
+  const std::string t = std::to_string(temp_C);
+  return "name: preset_override\nseed: 3\npack:\n  series: 1\n  initial_soc: 0.8\n  initial_temp_C: " + t +
+         "\n  cell:\n    preset: ncr18650_3p1Ah\n    r0_ohm: " + r0Override +
+         "\n    heat_capacity_J_per_K: 1.0e12\n    g_ambient_W_per_K: 0\n"
+         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_cells: [1]}\n"
+         "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
+         "ambient: {temp_C: " + t + "}\nload: {current_A: 3}\nrun: {duration_s: 300, solver: fast}\n";
+}
+
+TEST(CellTemperature, PresetFieldOverrideKeepsThePresetsTemperatureLaw) {
+  const Scenario s25 = test::scenarioFromYaml(presetCellHeldAt(25.0, "0.020"));
+  const Curve& r0 = s25.pack.cell.r0_ohm;
+  const double q = s25.pack.cell.axis_capacity_Ah;
+  for (double soc : {0.2, 0.8}) {
+    EXPECT_DOUBLE_EQ(r0.eval(soc, q, 25.0), 0.020);  // the new value, at the reference temperature
+    EXPECT_NEAR(r0.eval(soc, q, 0.0), 0.020 * arrheniusFactor(2250.0, 0.0, 25.0), 1e-12);  // x2 at 0 C
+  }
+  EXPECT_NEAR(r0.eval(0.5, q, 0.0) / 0.020, 2.0, 0.05);
+  // The rest of the preset stays: its RC pair, capacity and limits.
+  ASSERT_EQ(s25.pack.cell.rc.size(), 1u);
+  EXPECT_DOUBLE_EQ(s25.pack.cell.rc[0].r_ohm, 0.015);
+  EXPECT_DOUBLE_EQ(s25.pack.cell.capacity_Ah, 3.1);
+
+  // A cell held at 15 / 25 / 35 C under 3 A: colder, more heat; R0's share of the heat
+  // differs from 25 C's by I^2 * t_closed * 0.020 * (factor(T) - 1) (the RC pair and the
+  // OCV do not depend on temperature; the cell's temperature cannot move).
+  double heat25 = 0.0, closed_s = 0.0;
+  std::vector<double> heat;
+  for (double t : {15.0, 25.0, 35.0}) {
+    const RunResult r = runScenario(test::scenarioFromYaml(presetCellHeldAt(t, "0.020")));
+    heat.push_back(r.summary.heat_Wh);
+    if (t == 25.0) {
+      heat25 = r.summary.heat_Wh;
+      closed_s = r.summary.duration_s - test::eventTime(r, "relay", "close");
+    }
+  }
+  EXPECT_GT(heat[0], heat[1] * 1.05);
+  EXPECT_GT(heat[1], heat[2] * 1.05);
+  for (const auto& [t, h] : {std::pair{15.0, heat[0]}, std::pair{35.0, heat[2]}}) {
+    const double expected_Wh = 9.0 * closed_s * 0.020 * (arrheniusFactor(2250.0, t, 25.0) - 1.0) / 3600.0;
+    EXPECT_NEAR(h - heat25, expected_Wh, 0.01 * std::abs(expected_Wh)) << t;
+  }
+}
+
+TEST(CellTemperature, PresetOverrideWithItsOwnLawOrOnATableOverTemperature) {
+  // An override that states its own law replaces the preset's whole.
+  const Scenario own = test::scenarioFromYaml(presetCellHeldAt(25.0, "{poly: [0.02], arrhenius_K: 0, ref_temp_C: 25}"));
+  EXPECT_FALSE(own.pack.cell.r0_ohm.dependsOnTemperature());
+  // The LTO preset's R0 is a table over temp_C (x1.8 at 0 C, x4 at -15 C at SOC 1): a
+  // single value is R0 at 25 C and keeps the table's ratios.
+  std::string lto = test::simpleCellYaml();
+  lto.replace(lto.find("    capacity_Ah: 2.0\n"), 21, "    preset: lto_20Ah\n");
+  lto.replace(lto.find("    ocv_V: {poly: [0.8, 3.4]}\n"), 30, "");
+  lto.replace(lto.find("    r0_ohm: 0.02\n"), 17, "    r0_ohm: 0.003\n");
+  const Scenario s = test::scenarioFromYaml(lto + test::kSimpleLoadYaml);
+  const Curve& r0 = s.pack.cell.r0_ohm;
+  const double q = s.pack.cell.axis_capacity_Ah;
+  EXPECT_NEAR(r0.eval(1.0, q, 25.0), 0.003, 1e-15);
+  EXPECT_NEAR(r0.eval(0.5, q, 25.0), 0.003, 1e-15);
+  EXPECT_NEAR(r0.eval(1.0, q, 0.0), 0.003 * 0.0027 / 0.0015, 1e-12);
+  EXPECT_NEAR(r0.eval(1.0, q, -15.0), 0.003 * 0.0060 / 0.0015, 1e-12);
+  // A curve over SOC alone cannot carry the table's rows: one error saying what to write.
+  std::string curve = lto;
+  curve.replace(curve.find("    r0_ohm: 0.003\n"), 18, "    r0_ohm: {x: [0, 1], y: [0.004, 0.003]}\n");
+  const std::string e = test::yamlErrorOf(curve + test::kSimpleLoadYaml);
+  EXPECT_NE(e.find("pack.cell.r0_ohm: the preset's curve is a table over temp_C"), std::string::npos) << e;
+}
+
 TEST(CellTemperature, ChargeR0AppliesWhenCharging) {
   const std::string yaml = heldCell(25.0, "0.02", "    r0_charge_ohm: 0.05\n");
   expectClosedForm(yaml, -1.0, 0.05);  // charging: the charge R0

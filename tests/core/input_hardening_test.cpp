@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/batch/sweep.hpp"
+#include "core/sim/simulation.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -51,6 +52,51 @@ TEST(InputHardening, DeepButAcyclicExtendsStillLoads) {
   const Scenario s = loadScenarioFile((d / "top.yaml").string());
   EXPECT_EQ(s.run.seed, 5u);
   EXPECT_EQ(s.run.duration_s, 20.0);
+}
+
+// issue 28: a scenario whose load is a CSV in its own folder (not a bundled one), in
+// either form, extended from another folder and by a file holding nothing but the
+// `extends:` line, runs bit for bit as the base itself (the CSV path stays relative to
+// the base's folder). Before, the mapping form became the path "." ("./.: empty CSV").
+void expectSameRun(const RunResult& a, const RunResult& b) {
+  EXPECT_EQ(a.rec.time_s, b.rec.time_s);
+  EXPECT_EQ(a.rec.cell_voltage_V, b.rec.cell_voltage_V);
+  EXPECT_EQ(a.rec.cell_current_A, b.rec.cell_current_A);
+  EXPECT_EQ(a.rec.cell_temp_C, b.rec.cell_temp_C);
+  EXPECT_EQ(a.rec.cell_soc, b.rec.cell_soc);
+  EXPECT_EQ(a.rec.meas_cell_voltage_mV, b.rec.meas_cell_voltage_mV);
+  EXPECT_EQ(a.summary.heat_Wh, b.summary.heat_Wh);
+  EXPECT_EQ(a.summary.charge_delivered_Ah, b.summary.charge_delivered_Ah);
+  ASSERT_EQ(a.events.size(), b.events.size());
+}
+
+TEST(InputHardening, ExtendsOfAScenarioWithACsvLoadRunsAsTheBase) {
+  const fs::path d = freshDir("extends_csv");
+  fs::create_directories(d / "lib");
+  fs::create_directories(d / "work" / "deeper");
+  write(d / "lib" / "lap.csv", "t,I\n0,1.0\n3,2.5\n7.5,0.5\n12,3.0\n20,0\n");
+  write(d / "lib" / "plain.csv", "time_s,current_A\n0,2.0\n5,1.0\n20,0\n");
+  write(d / "lib" / "base.yaml", test::simpleCellYaml() +
+                                     "load: {csv: {file: lap.csv, time_column: t, current_column: I}}\n"
+                                     "run: {duration_s: 20}\n");
+  write(d / "lib" / "base_plain.yaml", test::simpleCellYaml() + "load: {csv: plain.csv}\nrun: {duration_s: 20}\n");
+  write(d / "lib" / "only_extends.yaml", "# the base, as it is\nextends: base.yaml\n");
+  write(d / "work" / "deeper" / "child.yaml", "extends: ../../lib/base.yaml\nseed: 3\n");
+  write(d / "work" / "child_plain.yaml", "extends: ../lib/base_plain.yaml\n");
+  const RunResult base = runScenario(loadScenarioFile((d / "lib" / "base.yaml").string()));
+  ASSERT_GT(base.rec.time_s.size(), 10u);
+  for (const fs::path& f : {d / "lib" / "only_extends.yaml", d / "work" / "deeper" / "child.yaml"}) {
+    SCOPED_TRACE(f.string());
+    Scenario s;
+    ASSERT_NO_THROW(s = loadScenarioFile(f.string())) << test::fileErrorOf(f);
+    EXPECT_EQ(s.load.t_s, (std::vector<double>{0, 3, 7.5, 12, 20}));
+    expectSameRun(runScenario(s), base);
+  }
+  const RunResult plain = runScenario(loadScenarioFile((d / "lib" / "base_plain.yaml").string()));
+  Scenario s;
+  const fs::path child = d / "work" / "child_plain.yaml";
+  ASSERT_NO_THROW(s = loadScenarioFile(child.string())) << test::fileErrorOf(child);
+  expectSameRun(runScenario(s), plain);
 }
 
 TEST(InputHardening, DuplicateKeyNamesBothPlaces) {

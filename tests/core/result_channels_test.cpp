@@ -9,6 +9,8 @@
 #include <hdf5.h>
 
 #include <cstring>
+#include <filesystem>
+#include <sstream>
 #include <set>
 #include <variant>
 
@@ -19,6 +21,8 @@
 
 namespace packsim {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct Run {
   Scenario s;
@@ -123,6 +127,50 @@ TEST(ResultChannels, RunWithoutBalancingLacksItsChannels) {
 
 TEST(ResultChannels, ActiveBalancerRunRecordsItsBus) {
   checkRun("balance/solar_4s3p_active.yaml", {"/truth/balancer_bus_V", "/truth/balance_current_A"}, {});
+}
+
+// issue 28: no inf or NaN reaches a result file. A channel value that is not finite
+// makes the write fail naming the channel, its column and the time; nothing is left
+// behind (neither the file nor its temporary).
+TEST(ResultChannels, WriterRefusesANonFiniteValueNamingChannelAndTime) {
+  auto run = runBundled("bench_6s_ncr18650_2C.yaml");
+  const fs::path dir = test::freshTempDir("result_channels_", "nonfinite");
+  const std::string file = (dir / "r.h5").string();
+  Recording& rec = run.r.rec;
+  const size_t cells = static_cast<size_t>(rec.cells);
+  const size_t row = 3;
+  ASSERT_GT(rec.samples(), row);
+  const double t = rec.time_s[row];
+  struct Poke {
+    std::vector<double>* channel;
+    size_t index;
+    double value;
+    std::string expect;
+  };
+  std::ostringstream at;
+  at << "at t = " << t << " s";
+  for (const Poke& p : {Poke{&rec.cell_voltage_V, row * cells + 2, -INFINITY, "the channel /truth/cell_voltage_V[2] (0-based column) is -inf " + at.str()},
+                        Poke{&rec.pack_current_A, row, NAN, "the channel /truth/pack_current_A is nan " + at.str()}}) {
+    SCOPED_TRACE(p.expect);
+    const double kept = (*p.channel)[p.index];
+    (*p.channel)[p.index] = p.value;
+    std::string e = "<no error>";
+    try {
+      writeResultHdf5(file, run.s, run.r);
+    } catch (const std::runtime_error& err) {
+      e = err.what();
+    }
+    (*p.channel)[p.index] = kept;
+    EXPECT_NE(e.find(p.expect), std::string::npos) << e;
+    EXPECT_NE(e.find("not written to '" + file + "'"), std::string::npos) << e;
+    EXPECT_TRUE(fs::is_empty(dir)) << "a file was left in " << dir;
+  }
+  run.r.summary.heat_Wh = INFINITY;
+  EXPECT_THROW(writeResultHdf5(file, run.s, run.r), std::runtime_error);
+  EXPECT_TRUE(fs::is_empty(dir));
+  run.r.summary.heat_Wh = 1.0;
+  writeResultHdf5(file, run.s, run.r);  // finite again: written
+  EXPECT_TRUE(fs::exists(file));
 }
 
 }  // namespace

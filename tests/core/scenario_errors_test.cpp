@@ -5,6 +5,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
+#include <algorithm>
 
 #include "test_support.hpp"
 
@@ -101,7 +104,206 @@ TEST_F(CsvErrors, WrongHeader) {
 
 TEST_F(CsvErrors, WrongColumnCount) {
   const std::string e = run("time_s,current_A\n0,1,2\n");
-  EXPECT_NE(e.find("p.csv:2: expected 2 columns"), std::string::npos) << e;
+  EXPECT_NE(e.find("p.csv:2:5: expected 2 columns"), std::string::npos) << e;
+}
+
+// issue 28, item 6: every number a scenario holds has a finite allowed range. Each
+// numeric token of these scenarios (which load as they are) in turn set to an absurd
+// value is one ScenarioError naming test.yaml, the token's line, its key and the range
+// (or "finite"). Before, `run.duration_s: 1e18` ran 0 s with exit 0, a 1e308 A fault
+// wrote inf into the result, `lsb_uV: 1e308` and a 1e9 hysteresis were taken.
+const char* const kEveryNumberScenarios[] = {
+    R"(name: numbers_a
+seed: 3
+pack:
+  series: 2
+  parallel: 1
+  initial_soc: 0.8
+  initial_temp_C: 25
+  interconnect_ohm: 0.001
+  cell:
+    capacity_Ah: 2.0
+    ocv_V: {poly: [0.8, 3.4]}
+    r0_ohm: {poly: [0.02], arrhenius_K: 2000, ref_temp_C: 25}
+    r0_charge_ohm: 0.03
+    docv_dT_V_per_K: 0.0001
+    hysteresis: {max_V: 0.01, rate_per_Ah: 10, instantaneous_V: 0.001}
+    rc_pairs: [{r_ohm: 0.01, c_F: 1000}, {r_ohm: 0.005, tau_s: 100}]
+    coulombic_efficiency: 0.99
+    self_discharge_A: 0.0001
+    heat_capacity_J_per_K: 40
+    g_ambient_W_per_K: 0.1
+    v_min_V: 2.5
+    v_max_V: 4.2
+  spread: {capacity_rel_sd: 0.01, r0_rel_sd: 0.01, initial_soc_sd: 0.01, self_discharge_A_sd: 0.00001}
+  cells: [{cell: 1, capacity_Ah: 1.9, r0_scale: 1.1, initial_soc: 0.7, self_discharge_A: 0.0001}]
+thermal:
+  cell_to_cell_W_per_K: 0.1
+  cell_to_coolant_W_per_K: 0.1
+  coolant_temp_C: 25
+  nodes:
+    - {name: board, heat_capacity_J_per_K: 100, g_ambient_W_per_K: 0.1, to_each_cell_W_per_K: 0.01, heat_W: 0.1, to_cells: [{cell: 1, g_W_per_K: 0.1}]}
+    - {name: case, heat_capacity_J_per_K: 100, to_nodes: [{node: board, g_W_per_K: 0.1}]}
+hardware:
+  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0, gain_error: 0.001, offset_mV: 0.1}
+  thermistors: {at_cells: [1], r25_ohm: 10000, beta_K: 3435, pullup_ohm: 10000, bits: 12, noise_codes_rms: 0.5}
+  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0, amp_offset_mV: 0.1, gain_error: 0.001, vref_V: 3.3, bits: 16}
+  precharge: {r_ohm: 50, bus_capacitance_uF: 1000, bus_leak_ohm: 100000, close_delay_ms: 10}
+  discharge_fet: {rds_on_ohm: 0.002, diode_vf_V: 0.7, diode_r_ohm: 0.01}
+  fuse: {rated_A: 50, i2t_A2s: 5000, hold_ratio: 1.5}
+  bus_adc: {full_scale_V: 20, bits: 12, noise_mV_rms: 1}
+  relay: {close_delay_ms: 10, open_delay_ms: 5}
+bms:
+  tick_ms: 10
+  protections:
+    cell_overvoltage: {threshold_V: 4.25, hysteresis_V: 0.05, delay_ms: 500}
+    cell_undervoltage: {threshold_V: 2.5, hysteresis_V: 0.05, delay_ms: 500}
+    overcurrent_discharge: {threshold_A: 40, hysteresis_A: 1, delay_ms: 100}
+    overtemperature: {threshold_C: 60, hysteresis_C: 5, delay_ms: 1000}
+    relay_welded: {threshold_A: 1}
+  comm_loss_count: 3
+  weld_settle_ms: 100
+  precharge: {done_delta_V: 0.5, done_current_A: 0.5, timeout_ms: 2000, pause_ms: 100, overlap_ms: 10, retries: 2}
+  soc: {rest_s: 600, rest_current_A: 0.05}
+  balance_time_s: 60
+  charge_current_A: 1
+  charge_full_cell_V: 4.1
+ambient: {temp_C: 25}
+load:
+  segments:
+    - {duration_s: 5, current_A: 2}
+    - {duration_s: 5, current_A: 1}
+  laps: 2
+run: {duration_s: 10, stop_after_trip_s: 5, rtol: 1e-6}
+output: {interval_s: 1}
+faults:
+  - {kind: overcurrent, current_A: 5, at_s: 2, duration_s: 1}
+  - {kind: internal_short, cell: 1, resistance_ohm: 100, at_s: 3}
+  - {kind: hot_cell, cell: 2, heat_W: 1, at_s: 3}
+  - {kind: current_sensor_drift, offset_A: 0.1, drift_A_per_h: 1, at_s: 3}
+  - {kind: channel_offset, cell: 1, offset_mV: 5, at_s: 3}
+expect:
+  relay_open_by_s: 100
+  energy_delivered_Wh_above: -1
+  min_cell_V_above: 2
+  max_temp_C_below: 80
+)",
+    R"(name: numbers_b
+pack:
+  series: 4
+  initial_soc: 0.5
+  cell: {capacity_Ah: 2.0, ocv_V: {x: [0, 0.5, 1], y: [3.0, 3.6, 4.2]}, r0_ohm: {x: [0, 1], temp_C: [0, 25], y: [[0.05, 0.04], [0.03, 0.02]]}}
+thermal:
+  nodes:
+    - {name: bal, heat_capacity_J_per_K: 30, g_ambient_W_per_K: 0.05}
+hardware:
+  balancing: {resistor_ohm: 47, rds_on_ohm: 0.1, board_node: bal, board_thermistors: 1, resistor_power_rating_W: 0.25}
+  current_sense: {shunt_ohm: 0.001, amp_gain: 20}
+bms:
+  tick_ms: 100
+  balancing: {when: charging, start_delta_mV: 50, stop_delta_mV: 10, min_cell_V: 3.3, board_max_C: 70, board_resume_C: 60, rest_current_A: 0.1, rest_s: 60, period_ms: 1000}
+load:
+  charger: {current_A: 1, voltage_V: 16.8, end_current_A: 0.1}
+run: {duration_s: 10}
+ambient:
+  profile: {time_s: [0, 100], temp_C: [20, 30]}
+)",
+    R"(name: numbers_c
+pack:
+  series: 1
+  cell: {capacity_Ah: 2.0, ocv_V: {poly: [0.8, 3.4]}, r0_ohm: 0.02}
+hardware:
+  current_sense: {shunt_ohm: 0.001, amp_gain: 20}
+load: {points: {time_s: [0, 5, 10], power_W: [5, 10, 0]}, interpolation: linear}
+run: {solver: fast, fast: {max_substep_s: 0.5, substep_fraction: 0.5}}
+)",
+};
+
+TEST(ScenarioErrors, EveryNumberHasAFiniteRange) {
+  const std::regex number(R"((^|[\s\[,:{])(-?[0-9]+(\.[0-9]+)?(e-?[0-9]+)?)(?=[\s,\]}]|$))");
+  const std::regex keyBefore(R"(([A-Za-z_][A-Za-z0-9_]*):[^:]*$)");
+  int tokens = 0;
+  for (const char* scenario : kEveryNumberScenarios) {
+    const std::string text = scenario;
+    ASSERT_EQ(errorOf(text), "<no error>") << text.substr(0, 20);
+    std::istringstream lines(text);
+    std::string line;
+    size_t lineStart = 0;
+    for (int lineNo = 1; std::getline(lines, line); ++lineNo, lineStart += line.size() + 1) {
+      for (auto it = std::sregex_iterator(line.begin(), line.end(), number); it != std::sregex_iterator(); ++it) {
+        const size_t at = static_cast<size_t>(it->position(2));
+        std::smatch key;
+        const std::string before = line.substr(0, at);
+        ASSERT_TRUE(std::regex_search(before, key, keyBefore)) << line;
+        ++tokens;
+        for (const char* absurd : {"1e308", "-1e308", ".nan", ".inf", "-.inf"}) {
+          std::string bad = text;
+          bad.replace(lineStart + at, static_cast<size_t>(it->length(2)), absurd);
+          const std::string e = errorOf(bad);
+          SCOPED_TRACE(line + "  <-  " + absurd);
+          EXPECT_NE(e.find("test.yaml:" + std::to_string(lineNo) + ":"), std::string::npos) << e;
+          EXPECT_NE(e.find(key[1].str()), std::string::npos) << e;
+          EXPECT_TRUE(e.find("allowed") != std::string::npos || e.find("finite") != std::string::npos) << e;
+        }
+      }
+    }
+  }
+  EXPECT_GT(tokens, 150);
+}
+
+// A value in a CSV load beyond any load's range, and one the pack's cells cannot carry
+// (mA under a current_A header): one error naming file, line, column and the column's
+// name; the C-rate error suggests the mA -> A scale.
+TEST_F(CsvErrors, ValueOutOfRangeAndImplausibleCRate) {
+  const std::string huge = run("time_s,current_A\n0,1\n10,1e308\n");
+  EXPECT_NE(huge.find("p.csv:3:4: current_A: '1e308' is out of range; allowed [-100000, 100000] A"), std::string::npos)
+      << huge;
+  const std::string late = run("time_s,current_A\n0,1\n1e18,1\n");
+  EXPECT_NE(late.find("p.csv:3:1: time_s: '1e18' s is out of range; allowed [0, 2.592e+06]"), std::string::npos) << late;
+  // simpleCellYaml: one 2 Ah cell. 1500 mA logged as A is 750C.
+  const std::string mA = run("time_s,current_A\n0,0\n5,1500\n10,-800\n");
+  EXPECT_NE(mA.find("p.csv:3:3: current_A: 1500 A is 750C for the 1 parallel cell of 2 Ah; allowed at most 100C (200 A)"),
+            std::string::npos)
+      << mA;
+  EXPECT_NE(mA.find("scale: 0.001"), std::string::npos) << mA;
+  EXPECT_EQ(run("time_s,current_A\n0,0\n5,1.5\n10,-0.8\n"), "<no error>");  // the same in A
+}
+
+TEST(ScenarioErrors, LoadBeyondTheCellsCRateNamesKeyAndLine) {
+  // 5 Ah cells, 1s2p: 10 Ah; 17 kA is 1700C.
+  std::string y = test::simpleCellYaml();
+  y.replace(y.find("  series: 1\n"), 12, "  series: 1\n  parallel: 2\n");
+  y.replace(y.find("capacity_Ah: 2.0"), 16, "capacity_Ah: 5.0");
+  const int line = static_cast<int>(std::count(y.begin(), y.end(), '\n')) + 1;
+  const std::string seg = errorOf(y + "load: {segments: [{duration_s: 10, current_A: 5}, {duration_s: 5, current_A: 17000}]}\nrun: {duration_s: 10}\n");
+  EXPECT_NE(seg.find("test.yaml:" + std::to_string(line) + ":"), std::string::npos) << seg;
+  EXPECT_NE(seg.find("load.segments[1].current_A: 17000 A is 1700C for the 2 parallel cells of 5 Ah; allowed at most "
+                     "100C (1000 A)"),
+            std::string::npos)
+      << seg;
+  const std::string pts = errorOf(y + "load: {points: {time_s: [0, 10], current_A: [5, -2000]}}\nrun: {duration_s: 10}\n");
+  EXPECT_NE(pts.find("load.points.current_A[1]: -2000 A is 200C"), std::string::npos) << pts;
+  // A power: 50 kW on one 3.8 V series cell pair is 13 kA.
+  const std::string power = errorOf(y + "load: {power_W: 50000}\nrun: {duration_s: 10}\n");
+  EXPECT_NE(power.find("load.power_W: 50000 W ("), std::string::npos) << power;
+  // 100C itself is allowed: 1000 A on 10 Ah.
+  EXPECT_EQ(errorOf(y + "load: {current_A: 1000}\nrun: {duration_s: 10}\n"), "<no error>");
+}
+
+// An over-current fault draws at most what the pack drives into a dead short (one
+// 2 Ah cell, OCV up to 4.2 V, R0 20 mOhm: 210 A); a 100 kA fault on a 12s pack put its
+// cells at -840 V. A charger is held to the loads' 100C.
+TEST(ScenarioErrors, FaultCurrentBeyondTheShortCircuitCurrent) {
+  const std::string y = test::simpleCellYaml() + kLoad;
+  const int line = static_cast<int>(std::count(y.begin(), y.end(), '\n')) + 2;
+  const std::string e = errorOf(y + "faults:\n  - {kind: overcurrent, current_A: 1000, at_s: 1}\n");
+  EXPECT_NE(e.find("test.yaml:" + std::to_string(line) + ":"), std::string::npos) << e;
+  EXPECT_NE(e.find("faults[0].current_A: 1000 A is more than the pack can drive into a dead short: allowed [-210, 210] A"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(errorOf(y + "faults:\n  - {kind: overcurrent, current_A: 200, at_s: 1}\n"), "<no error>");
+  const std::string c = errorOf(test::simpleCellYaml() + "load: {charger: {current_A: 500, voltage_V: 4.2}}\n");
+  EXPECT_NE(c.find("load.charger.current_A: 500 A is 250C"), std::string::npos) << c;
 }
 
 // The CLI turns a bad scenario into exit status 2 and leaves no result file.
@@ -119,7 +321,7 @@ TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
   EXPECT_FALSE(fs::exists(dir / "out.h5.tmp"));
   std::ifstream err(dir / "err.txt");
   const std::string msg((std::istreambuf_iterator<char>(err)), {});
-  EXPECT_NE(msg.find("bad.yaml:2:39: pack.cell.capacity_Ah: -1 is out of range; allowed > 0"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("bad.yaml:2:39: pack.cell.capacity_Ah: -1 is out of range; allowed (0, 10000]"), std::string::npos) << msg;
   fs::remove_all(dir);
 }
 

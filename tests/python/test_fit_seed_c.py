@@ -21,12 +21,14 @@ CUTOFF = {"cell_undervoltage": {"threshold_V": 2.5, "delay_ms": 500}, "cell_over
 def discharges(tmp_path_factory):
     folder = tmp_path_factory.mktemp("seed_c")
     paths = []
-    # The team's Rint(x) carries no temperature: the preset's Arrhenius factor on it is left
-    # out here, so the cells hold that very polynomial however warm a 1C discharge makes them.
+    # The team's Rint(x) carries no temperature: the override says so (arrhenius_K: 0; an
+    # override without a law would keep the preset's Arrhenius factor), so the cells hold
+    # that very polynomial however warm a 1C discharge makes them.
     # The preset splits their Rint into R0 and one relaxation pair (R0 + R1 = Rint); the
     # team's model has no RC pair, so these cells hold all of Rint in R0.
     rint = team_rint()
-    cell = {"preset": "ncr18650_3p1Ah", "r0_ohm": {"poly": rint["poly"], "axis": rint["axis"]}, "rc_pairs": []}
+    cell = {"preset": "ncr18650_3p1Ah", "r0_ohm": {"poly": rint["poly"], "axis": rint["axis"], "arrhenius_K": 0,
+                                                   "ref_temp_C": 25}, "rc_pairs": []}
     for k, current_A in enumerate([0.62, 1.55, 3.1]):  # 0.2C, 0.5C, 1C
         r = simulate(cell, cc_segments(current_A, 3.3 * 3600 / current_A),
                      protections=CUTOFF, interval_s=2.0)
