@@ -46,6 +46,8 @@ int cmdRun(const RunOptions& o) {
   if (o.seed) s.run.seed = *o.seed;
   const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
   checkResultPathWritable(out);  // before the run, not after it
+  // The scenario's warnings (also config_warning events), once the run will start.
+  for (const std::string& w : s.warnings) std::cerr << "packsim: warning: " << w << "\n";
   // A bar while it runs when stdout is a terminal (never into a file or a pipe).
   const bool bar = !o.quiet && isatty(fileno(stdout));
   const StopCondition progress = bar ? terminalProgressBar(s.endTime_s(), stdout) : StopCondition{};

@@ -7,6 +7,7 @@
 
 #include "core/cli/bundled_catalog.hpp"    // presetPath, bundledCatalog
 #include "core/scenario/load_scenario.hpp"
+#include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_paths.hpp"  // bundledScenarioDir
 
 namespace packsim {
@@ -17,6 +18,13 @@ struct RunOptions {
   std::string output;    // empty: packsim-results/<name>.h5
   std::optional<uint64_t> seed;
   bool quiet = false;
+};
+
+// `packsim show`: the scenario's values with their origins, and its warnings.
+struct ShowOptions {
+  std::string scenario;          // a file or a bundled scenario's name; empty: the bundled default
+  std::vector<std::string> set;  // --set KEY=VALUE overrides
+  std::string format = "text";   // text | yaml | json
 };
 
 struct CheckOptions {
@@ -84,6 +92,9 @@ int cmdList();
 int cmdReport(const ReportOptions& o);
 int cmdExport(const ExportOptions& o);
 int cmdRun(const RunOptions& o);
+int cmdShow(const ShowOptions& o);
+// --set KEY=VALUE arguments as overrides (std::invalid_argument on one without '=').
+Overrides parseSetOptions(const std::vector<std::string>& sets);
 // A scenario argument as a path: an existing file, else a bundled scenario by name.
 std::string scenarioArgPath(const std::string& arg);
 int cmdCheck(const CheckOptions& o);

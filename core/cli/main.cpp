@@ -30,6 +30,13 @@ int main(int argc, char** argv) {
   runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(packsim::nonNegativeNumber());
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
 
+  packsim::ShowOptions show;
+  CLI::App* showCmd = app.add_subcommand("show", "print a scenario's values, where each came from, and its warnings");
+  showCmd->add_option("scenario", show.scenario, "scenario YAML file or bundled scenario name (default: eco_marathon_12s)");
+  showCmd->add_option("--set", show.set, "override a scenario value, as for run (repeatable)");
+  showCmd->add_option("--format", show.format, "text (default), yaml (runnable: packsim run accepts it) or json")
+      ->check(CLI::IsMember({"text", "yaml", "json"}));
+
   packsim::CheckOptions check;
   CLI::App* checkCmd = app.add_subcommand("check", "run scenarios and judge their expect: blocks (exit 1 on any failure)");
   checkCmd->add_option("paths", check.paths, "scenario files or folders (default: the bundled scenarios)");
@@ -86,6 +93,7 @@ int main(int argc, char** argv) {
   try {
     if (runCmd->parsed()) return packsim::cmdRun(run);
     if (checkCmd->parsed()) return packsim::cmdCheck(check);
+    if (showCmd->parsed()) return packsim::cmdShow(show);
     if (plotCmd->parsed()) return packsim::cmdPlot(plot);
     if (batchCmd->parsed()) return packsim::cmdBatch(batch);
     if (balCmd->parsed()) return packsim::cmdBalanceTime(bal);

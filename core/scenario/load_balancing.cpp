@@ -11,7 +11,10 @@ namespace packsim {
 PassiveBalancerConfig readPassiveBalancer(YamlMap m) {
   PassiveBalancerConfig b;
   b.present = m.boolean("present", true);
-  b.resistor_ohm = m.number("resistor_ohm", b.resistor_ohm, Range::closed(1.0, 10000.0));
+  // No resistor value is "typical": it sets the bleed current and heat, so present
+  // balancing hardware states it (docs/scenario.md).
+  b.resistor_ohm = b.present ? m.number("resistor_ohm", Range::closed(1.0, 10000.0))
+                             : m.number("resistor_ohm", b.resistor_ohm, Range::closed(1.0, 10000.0));
   b.rds_on_ohm = m.number("rds_on_ohm", b.rds_on_ohm, Range::closed(0.0, 100.0));
   b.board_node = m.string("board_node", "");
   b.board_thermistors = static_cast<int>(m.integer("board_thermistors", 0, 0, 8));

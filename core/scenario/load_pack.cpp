@@ -8,6 +8,8 @@
 
 #include "core/scenario/curve_domain.hpp"
 #include "core/scenario/load_scenario.hpp"
+#include "core/scenario/provenance.hpp"
+#include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -150,6 +152,8 @@ CellParams readCell(YamlMap m, double axis_capacity_Ah) {
   c.v_min_V = m.number("v_min_V", c.v_min_V, Range::closed(0.5, 5.0));
   c.v_max_V = m.number("v_max_V", c.v_max_V, Range::closed(0.5, 5.0));
   if (!(c.v_max_V > c.v_min_V)) throw m.errorAt("v_max_V", "must be above v_min_V");
+  c.max_charge_C = m.number("max_charge_C", 0.0, Range::closed(0.0, 100.0));
+  c.max_discharge_C = m.number("max_discharge_C", 0.0, Range::closed(0.0, 1000.0));
   m.finish();
   return c;
 }
@@ -222,9 +226,20 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
     throw m.errorAt("preset", "unknown cell preset '" + name + "'" +
                                   (near.empty() ? "" : "; did you mean '" + near + "'?") + " (available: " + list + ")");
   }
-  const YAML::Node preset = parseYaml(readScenarioText(path, "cell preset"), path);
-  const CellParams nominal = readCell(YamlMap(preset, path, ""));  // the preset alone must be valid
-  YAML::Node merged = YAML::Clone(preset);
+  const std::string presetText = readScenarioText(path, "cell preset");
+  const YAML::Node preset = parseYaml(presetText, path);
+  CellParams nominal;
+  {
+    Provenance::Scope pause(nullptr);  // the preset alone must be valid (its keys are recorded below)
+    nominal = readCell(YamlMap(preset, path, ""));
+  }
+  // A second parse, not YAML::Clone (which loses the lines) nor the tree just read (whose
+  // lookups of absent keys left entries that would shadow an inserted key).
+  YAML::Node merged = parseYaml(presetText, path);
+  Provenance* prov = Provenance::active();
+  std::vector<std::string> given;
+  for (auto it = m.raw().begin(); it != m.raw().end(); ++it) given.push_back(it->first.Scalar());
+  if (prov) prov->addPresetScope(m.path(), name, path, given);
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
     const std::string key = it->first.Scalar();
     if (key == "preset") continue;
@@ -241,14 +256,15 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
                                                                 {"r0_charge_ohm", &CellParams::r0_charge_ohm},
                                                                 {"docv_dT_V_per_K", &CellParams::docv_dT_V_per_K}};
   for (const auto& [key, member] : curves) {
-    const YAML::Node given = m.raw()[key];
-    if (!given || givesItsOwnTemperatureLaw(given) || !(nominal.*member).dependsOnTemperature()) continue;
+    const YAML::Node stated = m.raw()[key];
+    if (!stated || givesItsOwnTemperatureLaw(stated) || !(nominal.*member).dependsOnTemperature()) continue;
     try {
       cell.*member = withPresetTemperatureLaw(nominal.*member, cell.*member);
     } catch (const std::invalid_argument& e) {
       throw m.errorAt(key, std::string(e.what()) + " (preset " + name + ")");
     }
   }
+  if (prov) presetDependenceWarnings(m.path(), nominal, cell, m.raw(), "preset " + name, *prov);
   return cell;
 }
 

@@ -10,7 +10,10 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/scenario/derived_defaults.hpp"
 #include "core/scenario/monitor_boards.hpp"
+#include "core/scenario/provenance.hpp"
+#include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -23,17 +26,29 @@ namespace {
 constexpr size_t kMaxExtendsDepth = 8;
 
 // Child keys replace the base's; mappings merge key by key, lists replace whole.
-void deepMerge(YAML::Node base, const YAML::Node& child) {
+// `prefix` is the dotted key of `base`; the active Provenance learns which keys
+// `childFile` set.
+void deepMerge(YAML::Node base, const YAML::Node& child, const std::string& prefix, const std::string& childFile) {
+  Provenance* prov = Provenance::active();
   for (auto it = child.begin(); it != child.end(); ++it) {
     const std::string key = it->first.Scalar();
     if (key == "extends") continue;
+    const std::string path = prefix.empty() ? key : prefix + "." + key;
     // A child's expectations are its own: `expect` replaces the base's block whole.
     // Const lookups: a non-const one would add an undefined entry for a missing key,
     // which then shadows the one inserted below.
     const YAML::Node existing = static_cast<const YAML::Node&>(base)[key];
     if (key != "expect" && it->second.IsMap() && existing && existing.IsMap()) {
-      deepMerge(base[key], it->second);
-    } else if (existing) {
+      deepMerge(base[key], it->second, path, childFile);
+      continue;
+    }
+    if (prov) {
+      if (existing && (existing.IsMap() || existing.IsSequence()) && it->second.IsScalar())
+        prov->warn(dependenceRemovedWarning(path, existing, nodePlace(prov->fileOf(path), existing), it->second,
+                                            nodePlace(Provenance::displayName(childFile), it->second)));
+      prov->setFile(path, childFile);
+    }
+    if (existing) {
       base[key] = it->second;  // in place (the key order of the merged text stays)
     } else {
       // A new key: the child's own key node, so an error there keeps its line and column.
@@ -106,9 +121,19 @@ void rebaseRelativePaths(YAML::Node base, const std::string& fromDir, const std:
 
 YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const std::string& base_dir,
                           std::vector<std::string>& chain) {
-  if (!root.IsMap() || !root["extends"]) return root;
+  if (!root.IsMap() || !root["extends"]) {
+    if (Provenance* p = Provenance::active()) p->resetFiles(file);
+    return root;
+  }
   YamlMap m(root, file, "");
-  const std::string rel = m.string("extends");
+  std::string rel;
+  {
+    Provenance::Scope pause(nullptr);  // merged away: not a key of the scenario that runs
+    rel = m.string("extends");
+  }
+  if (Provenance* p = Provenance::active(); p && chain.size() == 1)
+    p->recordDefault("extends", yamlFlowText(root["extends"]),
+                     nodePlace(Provenance::displayName(file), root["extends"]) + " (merged in)");
   const fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
   std::error_code ec;  // a name too long for the file system is "not found", not an exception
   if (!fs::exists(path, ec)) throw m.errorAt("extends", "file not found: " + path.string());
@@ -123,9 +148,13 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   chain.push_back(key);
   const std::string baseText = readScenarioText(path.string());
   const std::string baseDir = path.parent_path().string();
-  // The base must be valid alone: its errors name its own file.
-  loadScenarioChain(baseText, path.string(), baseDir.empty() ? "." : baseDir, chain);
-  YAML::Node base = YAML::Clone(resolveExtends(parseYaml(baseText, path.string()), path.string(), baseDir, chain));
+  // The base must be valid alone: its errors name its own file (nothing recorded).
+  {
+    Provenance::Scope pause(nullptr);
+    loadScenarioChain(baseText, path.string(), baseDir.empty() ? "." : baseDir, chain);
+  }
+  // Freshly parsed, so merged in place (YAML::Clone would lose the nodes' lines).
+  YAML::Node base = resolveExtends(parseYaml(baseText, path.string()), path.string(), baseDir, chain);
   chain.pop_back();
   // Reads through a const view: a non-const lookup of a missing key adds an undefined
   // entry that would shadow the child's key inserted by deepMerge.
@@ -137,9 +166,12 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
     static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv", "charger"};
     bool childKind = false;
     for (const char* k : kinds) childKind = childKind || root["load"][k];
-    if (childKind) base.remove("load");
+    if (childKind) {
+      base.remove("load");
+      if (Provenance* p = Provenance::active()) p->eraseUnder("load");
+    }
   }
-  deepMerge(base, root);
+  deepMerge(base, root, "", file);
   return base;
 }
 
@@ -193,14 +225,27 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
 }  // namespace
 
 Scenario loadScenarioText(const std::string& text, const std::string& file, const std::string& base_dir) {
+  const std::shared_ptr<Provenance> prov = Provenance::active() ? nullptr : std::make_shared<Provenance>(file);
+  Provenance::Scope scope(prov ? prov.get() : Provenance::active());
   std::vector<std::string> chain{chainKey(file)};
-  return loadScenarioChain(text, file, base_dir, chain);
+  Scenario s = loadScenarioChain(text, file, base_dir, chain);
+  if (prov) attachProvenance(s, prov);
+  return s;
 }
 
 Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const std::string& file,
                           const std::string& base_dir) {
+  const std::shared_ptr<Provenance> prov = Provenance::active() ? nullptr : std::make_shared<Provenance>(file);
+  Provenance::Scope scope(prov ? prov.get() : Provenance::active());
   std::vector<std::string> chain{chainKey(file)};
-  return loadScenarioTreeChain(tree, text, file, base_dir, chain);
+  Scenario s = loadScenarioTreeChain(tree, text, file, base_dir, chain);
+  if (prov) attachProvenance(s, prov);
+  return s;
+}
+
+void attachProvenance(Scenario& s, const std::shared_ptr<Provenance>& prov) {
+  s.provenance = prov;
+  s.warnings = scenarioWarnings(s);
 }
 
 std::string resolvedScenarioText(const std::string& path) {
@@ -265,8 +310,15 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
       s.load = LoadProfile::constant(0.0);
       // On the charger unless the bms section says otherwise: connected, no drive request.
       const YAML::Node bmsNode = root["bms"];
-      if (!(bmsNode && bmsNode.IsMap() && bmsNode["charger_present"])) s.bms.charger_present = true;
-      if (!(bmsNode && bmsNode.IsMap() && bmsNode["run_request"])) s.bms.run_request = false;
+      Provenance* prov = Provenance::active();
+      if (!(bmsNode && bmsNode.IsMap() && bmsNode["charger_present"])) {
+        s.bms.charger_present = true;
+        if (prov) prov->recordDefault("bms.charger_present", "true", "default (the load is a charger)");
+      }
+      if (!(bmsNode && bmsNode.IsMap() && bmsNode["run_request"])) {
+        s.bms.run_request = false;
+        if (prov) prov->recordDefault("bms.run_request", "false", "default (the load is a charger)");
+      }
     } else {
       s.load = readLoad(load, base_dir, s.pack);
     }
@@ -318,6 +370,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
   checkBalancing(m, s);  // also checks the FETs' thermal nodes, which the next check relies on
   checkThermistorNodes(m, s);
+  applyDerivedDefaults(root, s);  // hardware derived from what the scenario states (before the range check)
   if (s.hardware.fet_paths == FetPaths::Separate && !s.load.i_A.empty() &&
       *std::min_element(s.load.i_A.begin(), s.load.i_A.end()) < 0.0)
     throw m.errorAt("load", "the load sits on the one-way discharge path (hardware.fet_paths: separate): it cannot "

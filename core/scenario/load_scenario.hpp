@@ -3,6 +3,7 @@
 // raised before the run starts. Relative paths (CSV profiles) resolve against the
 // scenario file's folder.
 #pragma once
+#include <memory>
 #include <string>
 
 #include "core/scenario/scenario.hpp"
@@ -29,5 +30,9 @@ Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const
 // CSV paths of a base re-expressed against this file's folder): one self-contained
 // text for `packsim fmu`. Call after loading the file (errors are the loader's).
 std::string resolvedScenarioText(const std::string& path);
+// Keeps `prov` (what the load recorded) with the scenario and computes its warnings
+// (core/scenario/scenario_warnings.hpp). The load functions above do this themselves
+// unless a caller made its own Provenance active (core/scenario/overrides.cpp).
+void attachProvenance(Scenario& s, const std::shared_ptr<Provenance>& prov);
 
 }  // namespace packsim

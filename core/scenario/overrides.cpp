@@ -6,6 +6,8 @@
 #include <filesystem>
 
 #include "core/scenario/load_scenario.hpp"
+#include "core/scenario/provenance.hpp"
+#include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/yaml_map.hpp"
 
@@ -129,6 +131,10 @@ void applyOne(YAML::Node& root, const std::string& key, const std::string& value
         throw errorAtNode(file, cur, key, (here.empty() ? "the scenario" : here) + " is " + kindOf(cur) +
                                               ", not a mapping: cannot set '" + s.key + "' inside it");
       if (last) {
+        const YAML::Node before = static_cast<const YAML::Node&>(cur)[s.key];  // const: must not add the key
+        if (Provenance* p = Provenance::active(); p && before && (before.IsMap() || before.IsSequence()) && v.IsScalar())
+          p->warn(dependenceRemovedWarning(loaderFieldName(steps), before, nodePlace(Provenance::displayName(file), before), v,
+                                          "--set " + key + "=" + value));
         cur[s.key] = v;
         return;
       }
@@ -178,9 +184,14 @@ std::string applyOverrides(const std::string& yamlText, const Overrides& dottedK
 Scenario loadScenarioWithOverrides(const std::string& yamlText, const Overrides& overrides, const std::string& file,
                                    const std::string& base_dir) {
   if (overrides.empty()) return loadScenarioText(yamlText, file, base_dir);
+  const auto prov = std::make_shared<Provenance>(file);
+  Provenance::Scope scope(prov.get());
+  for (const auto& [key, value] : overrides) prov->addOverride(loaderFieldName(parsePath(key, file)), key + "=" + value);
   const YAML::Node root = overriddenTree(yamlText, overrides, file);
   try {
-    return loadScenarioTree(root, emitted(root, file), file, base_dir);
+    Scenario s = loadScenarioTree(root, emitted(root, file), file, base_dir);
+    attachProvenance(s, prov);
+    return s;
   } catch (const ScenarioError& e) {
     // A value an override put in has no position in the file: an error on a field an
     // override touched is that override's; report it so.

@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,8 @@
 #include "models/sensors/thermistor.hpp"
 
 namespace packsim {
+
+class Provenance;  // core/scenario/provenance.hpp
 
 struct PackConfig {
   int series = 1;
@@ -215,6 +218,10 @@ struct Scenario {
   // `compare: {scenario: other.yaml}`: a reference scenario (path resolved) run as well,
   // so the summary states what this run lost or gained against it (core/sim/comparison).
   std::string compare_scenario;
+  // Where each value came from and what looks wrong (`packsim show`, docs/scenario.md):
+  // set by the loader; warnings are `config_warning` events at the start of a run.
+  std::shared_ptr<const Provenance> provenance;
+  std::vector<std::string> warnings;
 
   double endTime_s() const;
 };

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/scenario/provenance.hpp"
+
 namespace packsim {
 
 Range::Range(double lo_, double hi_, bool lo_open_, bool hi_open_)
@@ -117,8 +119,16 @@ YAML::Node YamlMap::required(const std::string& key) {
 }
 
 YAML::Node YamlMap::node(const std::string& key) {
-  has(key);
+  if (has(key)) noteValue(key, node_[key]);
   return node_[key];
+}
+
+void YamlMap::noteValue(const std::string& key, const YAML::Node& n) const {
+  if (Provenance* p = Provenance::active()) p->recordNode(fieldName(key), n);
+}
+
+void YamlMap::noteDefault(const std::string& key, const std::string& valueYaml) const {
+  if (Provenance* p = Provenance::active()) p->recordDefault(fieldName(key), valueYaml);
 }
 
 double YamlMap::toNumber(const YAML::Node& n, const std::string& field, Range r) const {
@@ -134,28 +144,45 @@ double YamlMap::toNumber(const YAML::Node& n, const std::string& field, Range r)
   return v;
 }
 
-double YamlMap::number(const std::string& key, Range r) { return toNumber(required(key), fieldName(key), r); }
+double YamlMap::number(const std::string& key, Range r) {
+  const YAML::Node n = required(key);
+  const double v = toNumber(n, fieldName(key), r);
+  noteValue(key, n);
+  return v;
+}
 
 double YamlMap::number(const std::string& key, double fallback, Range r) {
-  return has(key) ? toNumber(node_[key], fieldName(key), r) : fallback;
+  if (has(key)) return number(key, r);
+  noteDefault(key, numberText(fallback));
+  return fallback;
 }
 
 long YamlMap::integer(const std::string& key, long lo, long hi) {
   const YAML::Node n = required(key);
   const double v = toNumber(n, fieldName(key), Range::closed(static_cast<double>(lo), static_cast<double>(hi)));
   if (v != std::floor(v)) throw errorAt(n, fieldName(key), "expected a whole number, got '" + n.Scalar() + "'");
+  noteValue(key, n);
   return static_cast<long>(v);
 }
 
 long YamlMap::integer(const std::string& key, long fallback, long lo, long hi) {
-  return has(key) ? integer(key, lo, hi) : fallback;
+  if (has(key)) return integer(key, lo, hi);
+  noteDefault(key, std::to_string(fallback));
+  return fallback;
 }
 
 bool YamlMap::boolean(const std::string& key, bool fallback) {
-  if (!has(key)) return fallback;
+  if (!has(key)) {
+    noteDefault(key, fallback ? "true" : "false");
+    return fallback;
+  }
   const YAML::Node n = node_[key];
   try {
-    if (n.IsScalar()) return n.as<bool>();
+    if (n.IsScalar()) {
+      const bool v = n.as<bool>();
+      noteValue(key, n);
+      return v;
+    }
   } catch (const YAML::Exception&) {
   }
   throw errorAt(n, fieldName(key), "expected true or false, got '" + (n.IsScalar() ? n.Scalar() : "?") + "'");
@@ -164,11 +191,14 @@ bool YamlMap::boolean(const std::string& key, bool fallback) {
 std::string YamlMap::string(const std::string& key) {
   const YAML::Node n = required(key);
   if (!n.IsScalar()) throw errorAt(n, fieldName(key), "expected a text value");
+  noteValue(key, n);
   return n.Scalar();
 }
 
 std::string YamlMap::string(const std::string& key, const std::string& fallback) {
-  return has(key) ? string(key) : fallback;
+  if (has(key)) return string(key);
+  noteDefault(key, yamlFlowText(YAML::Node(fallback)));
+  return fallback;
 }
 
 std::string YamlMap::choice(const std::string& key, const std::string& fallback,
@@ -188,6 +218,7 @@ std::vector<double> YamlMap::numbers(const std::string& key, Range r, size_t min
     throw errorAt(n, fieldName(key), "expected at least " + std::to_string(min_len) + " values");
   std::vector<double> out;
   for (size_t i = 0; i < n.size(); ++i) out.push_back(toNumber(n[i], fieldName(key) + "[" + std::to_string(i) + "]", r));
+  noteValue(key, n);
   return out;
 }
 
@@ -204,6 +235,7 @@ std::vector<long> YamlMap::integers(const std::string& key, long lo, long hi, si
 YamlMap YamlMap::map(const std::string& key) {
   const YAML::Node n = required(key);
   if (!n.IsMap()) throw errorAt(n, fieldName(key), "expected a mapping of key: value pairs");
+  if (Provenance* p = Provenance::active()) p->markSection(fieldName(key));
   return YamlMap(n, file_, fieldName(key));
 }
 
@@ -219,6 +251,7 @@ std::vector<YamlMap> YamlMap::mapList(const std::string& key) {
   for (size_t i = 0; i < n.size(); ++i) {
     const std::string f = fieldName(key) + "[" + std::to_string(i) + "]";
     if (!n[i].IsMap()) throw errorAt(n[i], f, "expected a mapping of key: value pairs");
+    if (Provenance* p = Provenance::active()) p->markSection(f);
     out.emplace_back(n[i], file_, f);
   }
   return out;

@@ -67,6 +67,9 @@ class YamlMap {
   std::string fieldName(const std::string& key) const;
   YAML::Node required(const std::string& key);
   double toNumber(const YAML::Node& n, const std::string& field, Range r) const;
+  // The value read, for `packsim show` (core/scenario/provenance.hpp).
+  void noteValue(const std::string& key, const YAML::Node& n) const;
+  void noteDefault(const std::string& key, const std::string& valueYaml) const;
 
   YAML::Node node_;
   std::string file_;

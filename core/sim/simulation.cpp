@@ -51,6 +51,8 @@ struct SimulationRun::Impl {
     solver->reset(0.0, x.data());
 
     tracker.setHardware(&hw);
+    // What the loader found questionable in the scenario (core/scenario/scenario_warnings.hpp).
+    for (const std::string& w : s.warnings) tracker.event(0.0, "config_warning", w);
     // A balancing stop threshold below what the measurement noise of N channels allows.
     if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
     scheduler.reset(faults);

@@ -62,6 +62,10 @@ struct CellParams {
   double g_ambient_W_per_K = 0.05;    // cell surface to ambient
   double v_min_V = 2.5;               // chemistry limits (for reports, not enforced)
   double v_max_V = 4.2;
+  // Datasheet ratings (0: not stated). Not used by the model: the loader derives the
+  // over-current limits of a pack that states none from them (docs/scenario.md).
+  double max_charge_C = 0.0;
+  double max_discharge_C = 0.0;
 
   double axisCapacity_Ah() const { return axis_capacity_Ah > 0.0 ? axis_capacity_Ah : capacity_Ah; }
   // Whether any element reads the cell temperature (else it is never looked up).

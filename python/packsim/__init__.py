@@ -56,7 +56,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
     __version__ = "unknown"
     _IMPORT_ERROR = _e
 
-__all__ = ["run", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
+__all__ = ["run", "show", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
            "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "report", "list_bundled", "__version__"]
 __all__ += ["fit", "FitResult", "FitError"]
@@ -218,6 +218,27 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
     if not callable(progress):
         raise TypeError(f"progress must be a bool or a callable(t_s, end_s), got {type(progress).__name__}")
     return _from_handle(_run_handle(scenario, pairs, seed, base_dir, progress))
+
+
+def show(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
+         overrides: Mapping[str, Any] | None = None, *, base_dir: str | os.PathLike | None = None,
+         **more: Any) -> dict[str, Any]:
+    """The scenario as it would run (``packsim show``): after presets, ``extends:``,
+    overrides and defaults, every value with where it came from.
+
+    Takes the scenario and overrides as ``run()`` does. Returns a dict:
+    ``values``: ``{dotted key: {"value": YAML text, "origin": "file:line" | "preset NAME (file:line)"
+    | "--set KEY=VALUE" | "default" | "default (what it was derived from)", "stated": bool}}``;
+    ``warnings``: the list of warnings ``run`` also reports (config_warning events);
+    ``text``: the text ``packsim show`` prints; ``yaml``: the runnable ``--format yaml`` form.
+    """
+    core = _core()
+    pairs = flatten_overrides(overrides, more)
+    base = _path_arg("base_dir", base_dir)
+    if scenario is None:
+        scenario = core.default_scenario_path()
+    source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
+    return core.show(source, is_file, pairs, name, base)
 
 
 def _run_handle(scenario: Any, pairs: list[tuple[str, str]], seed: int | None, base_dir: Any, progress: Any = None):

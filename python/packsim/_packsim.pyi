@@ -28,6 +28,8 @@ def run(source: str, is_file: bool, overrides: list[tuple[str, str]], seed: Opti
     1 % of simulated time. Raises packsim.ScenarioError for bad input, RuntimeError for a
     failed run."""
 
+def show(source: str, is_file: bool, overrides: list[tuple[str, str]], file_name: str = "<scenario>",
+         base_dir: str = ".") -> dict[str, Any]: ...
 def apply_overrides(yaml_text: str, overrides: list[tuple[str, str]], file_name: str = "<scenario>") -> str:
     """The scenario text with (dotted key, YAML value) overrides applied."""
 

@@ -6,6 +6,7 @@
 //                     save(path) -> the CLI's HDF5 writer; image() -> the same file
 //                     built in memory, as bytes
 //   apply_overrides   core/scenario/overrides.hpp, for Python users and tests
+//   show(...)         `packsim show`: {values: {key: {value, origin, stated}}, warnings, text, yaml}
 //   check_*           `packsim check` (check_bindings.cpp)
 //   Sweep, run_batch, run_sweep_case ...   `packsim batch` (batch_bindings.cpp)
 //   balance_time, preset_path                `packsim balance-time` (balance_bindings.cpp)
@@ -29,6 +30,8 @@
 #include "core/cli/commands.hpp"
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
+#include "core/scenario/provenance.hpp"
+#include "core/scenario/scenario_show.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/scenario_paths.hpp"
 #include "core/sim/run_progress.hpp"
@@ -66,6 +69,31 @@ std::shared_ptr<RunHandle> run(const std::string& source, bool is_file, const Ov
     h->result = runScenario(h->scenario, report);
   }
   return h;
+}
+
+// `packsim show` as Python data.
+py::dict show(const std::string& source, bool is_file, const Overrides& overrides, const std::string& file_name,
+              const std::string& base_dir) {
+  Scenario s;
+  {
+    py::gil_scoped_release release;
+    s = loadScenarioSource(source, is_file, overrides, file_name, base_dir);
+  }
+  py::dict values;
+  if (s.provenance)
+    for (const ProvenanceEntry& e : s.provenance->entries()) {
+      py::dict v;
+      v["value"] = e.value;
+      v["origin"] = e.origin;
+      v["stated"] = e.stated;
+      values[py::str(e.key)] = v;
+    }
+  py::dict out;
+  out["values"] = values;
+  out["warnings"] = py::list(py::cast(s.warnings));
+  out["text"] = showText(s);
+  out["yaml"] = showYaml(s);
+  return out;
 }
 
 py::bytes image(const RunHandle& h) {
@@ -145,6 +173,10 @@ PYBIND11_MODULE(_packsim, m) {
         "Load a scenario (a file path if is_file, else YAML text named file_name whose relative paths resolve "
         "against base_dir), apply the (dotted key, YAML value) overrides, run it with the GIL released; "
         "progress(t_s, end_s), if given, is called every 1 % of simulated time.");
+  m.def("show", &show, py::arg("source"), py::arg("is_file"), py::arg("overrides"), py::arg("file_name") = "<scenario>",
+        py::arg("base_dir") = ".",
+        "Load a scenario as run() does and return {values: {key: {value, origin, stated}}, warnings: [...], "
+        "text: the `packsim show` text, yaml: the runnable `packsim show --format yaml` text}.");
   m.def("apply_overrides", &applyOverrides, py::arg("yaml_text"), py::arg("overrides"),
         py::arg("file_name") = "<scenario>", "The scenario text with (dotted key, YAML value) overrides applied.");
   m.def("bundled_scenario_dir", &bundledScenarioDir, "Folder of the bundled scenarios ($PACKSIM_SCENARIOS overrides).");

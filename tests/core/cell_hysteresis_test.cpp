@@ -51,7 +51,10 @@ TEST(CellHysteresis, ConstantDischargeFollowsClosedForm) {
 TEST(CellHysteresis, EnergyBalanceIncludesTheHysteresisVoltage) {
   const std::string load = "load:\n  segments:\n    - {duration_s: 40, current_A: 6}\n"
                            "    - {duration_s: 40, current_A: -4}\n    - {duration_s: 20, current_A: 0}\n"
-                           "  laps: 8\nrun: {rtol: 1e-8}\n";
+                           "  laps: 8\nrun: {rtol: 1e-8}\n"
+                           // 4 A into a 2 Ah cell is 2C: above the 1C charge limit a cell without
+                           // a max_charge_C gets (docs/scenario.md); this test is about energy.
+                           "bms: {protections: {overcurrent_charge: {threshold_A: 5}}}\n";
   // (8 laps of +240 As / -160 As from SOC 0.8 of 2 Ah: SOC stays within 0.71..0.8.)
   const RunResult with = runScenario(test::scenarioFromYaml(withHysteresis(2) + load));
   const RunResult without = runScenario(test::scenarioFromYaml(test::simpleCellYaml(2) + load));

@@ -99,7 +99,9 @@ TEST(ProtectionTable, SiDefaultsAreTheHistoricalOnes) {
 }
 
 // A scenario without a protections section flashes the firmware's own table (only the
-// info and warning tiers are switched off), so the SI defaults scale back exactly.
+// info and warning tiers are switched off), so the SI defaults scale back exactly --
+// except the charge limit, which comes from the cell (1C of its 2 Ah, hysteresis at most
+// 10 % of it: docs/scenario.md "Defaults derived from the pack").
 TEST(ProtectionTable, DefaultScenarioFlashesTheFirmwareDefaults) {
   const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(4) + test::kSimpleLoadYaml);
   const bms::Config c = makeBmsConfig(s);
@@ -110,8 +112,9 @@ TEST(ProtectionTable, DefaultScenarioFlashesTheFirmwareDefaults) {
     SCOPED_TRACE(bms::faultName(static_cast<F>(i)));
     EXPECT_EQ(r.quantity, d.quantity);
     EXPECT_EQ(r.tripAbove, d.tripAbove);
-    EXPECT_EQ(r.threshold, d.threshold);
-    EXPECT_EQ(r.hysteresis, d.hysteresis);
+    const bool charge = static_cast<F>(i) == F::OverCurrentCharge;
+    EXPECT_EQ(r.threshold, charge ? 2000 : d.threshold);
+    EXPECT_EQ(r.hysteresis, charge ? 200 : d.hysteresis);
     EXPECT_EQ(r.delay_ms, d.delay_ms);
     EXPECT_EQ(r.severity, d.severity);
     EXPECT_EQ(r.latch, d.latch);

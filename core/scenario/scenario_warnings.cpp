@@ -1,0 +1,208 @@
+#include "core/scenario/scenario_warnings.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "core/scenario/derived_defaults.hpp"
+#include "core/scenario/provenance.hpp"
+
+namespace packsim {
+
+namespace {
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os.precision(4);
+  os << v;
+  return os.str();
+}
+
+// Where a whole section (e.g. `load`) came from: its first recorded key's origin.
+std::string sectionOrigin(const Provenance& p, const std::string& section) {
+  for (const ProvenanceEntry& e : p.entries())
+    if (keyUnder(e.key, section)) {
+      const std::string o = e.origin;
+      return o.rfind("default", 0) == 0 ? "default" : o;
+    }
+  return "default";
+}
+
+double sensorRange_A(const Scenario& s) {
+  const CurrentSense& c = s.hardware.current_sense;
+  return c.zeroCode() * c.lsb_A();
+}
+
+std::string sensorText(const Scenario& s, const Provenance& p) {
+  return "the current sensor's +/-" + fmt(sensorRange_A(s)) + " A (hardware.current_sense: shunt_ohm " +
+         p.originOf("hardware.current_sense.shunt_ohm") + ", amp_gain " + p.originOf("hardware.current_sense.amp_gain") + ")";
+}
+
+// An over-current limit close to (or the load beyond) what the current sensor can read.
+void checkSensorRange(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  const double range_A = sensorRange_A(s);
+  const struct {
+    bms::FaultId id;
+    const char* key;
+  } limits[] = {{bms::FaultId::OverCurrentDischarge, "bms.protections.overcurrent_discharge.threshold_A"},
+                {bms::FaultId::OverCurrentCharge, "bms.protections.overcurrent_charge.threshold_A"}};
+  for (const auto& l : limits) {
+    const ProtectionConfig& pc = s.bms.protection(l.id);
+    if (pc.enabled && pc.threshold > kLimitNearSensorRange * range_A && pc.threshold < range_A)
+      out.push_back(p.describe(l.key, numberText(pc.threshold)) + " is within " +
+                    fmt(100.0 * (1.0 - kLimitNearSensorRange)) + " % of " + sensorText(s, p) +
+                    ": a current just past the limit reads at the sensor's rail");
+  }
+  const double discharge_A = loadPeakDischarge_A(s), charge_A = loadPeakCharge_A(s);
+  if (std::max(discharge_A, charge_A) > range_A)
+    out.push_back("load (" + sectionOrigin(p, s.charger.present ? "load.charger" : "load") + ") peaks at " +
+                  fmt(std::max(discharge_A, charge_A)) + " A, beyond " + sensorText(s, p) +
+                  ": the BMS reads the rail, not the current");
+}
+
+// A series group further than kThermistorReachGroups from every thermistor on a cell.
+void checkThermistorReach(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  std::vector<int> sites;
+  for (const ThermistorSite& t : s.hardware.thermistor_sites)
+    if (t.onCell()) sites.push_back(t.cell);
+  std::string where = p.describe("hardware.thermistors.at_cells");
+  if (sectionOrigin(p, "hardware.thermistors.channels") != "default")
+    where = "hardware.thermistors.channels (" + sectionOrigin(p, "hardware.thermistors.channels") + ")";
+  if (sites.empty()) {
+    out.push_back(where + ": no thermistor sits on a cell; no cell temperature is measured");
+    return;
+  }
+  std::vector<int> far;
+  for (int g = 0; g < s.pack.series; ++g) {
+    int d = s.pack.series;
+    for (int c : sites) d = std::min(d, std::abs(c - g));
+    if (d > kThermistorReachGroups) far.push_back(g + 1);
+  }
+  if (far.empty()) return;
+  std::ostringstream os;
+  os << where << ": series group" << (far.size() > 1 ? "s " : " ");
+  for (size_t i = 0; i < far.size(); ++i) {
+    size_t j = i;
+    while (j + 1 < far.size() && far[j + 1] == far[j] + 1) ++j;
+    os << (i ? ", " : "") << far[i];
+    if (j > i) os << "-" << far[j];
+    i = j;
+  }
+  os << " (1-based) " << (far.size() > 1 ? "are" : "is") << " more than " << kThermistorReachGroups
+     << " groups from every thermistor: a hot cell there goes unseen";
+  out.push_back(os.str());
+}
+
+// Load magnitudes per cell beyond what the cell states (or beyond any plausible cell).
+void checkLoadMagnitude(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  const CellParams& c = s.pack.cell;
+  const double packAh = c.capacity_Ah * s.pack.parallel;
+  const std::string cellWhere = "pack.cell.capacity_Ah = " + fmt(c.capacity_Ah) + " (" + p.originOf("pack.cell.capacity_Ah") +
+                                "), pack.parallel = " + std::to_string(s.pack.parallel);
+  const std::string loadWhere = "load (" + sectionOrigin(p, s.charger.present ? "load.charger" : "load") + ")";
+  const bool power = s.load.quantity == LoadProfile::Quantity::Power_W;
+  const struct {
+    double peak_A, limitC;
+    bool rated;
+    const char* what;
+    const char* rating;
+  } dirs[] = {{loadPeakDischarge_A(s), c.max_discharge_C > 0 ? c.max_discharge_C : kImplausibleDischargeC,
+               c.max_discharge_C > 0, "discharge", "max_discharge_C"},
+              {loadPeakCharge_A(s), c.max_charge_C > 0 ? c.max_charge_C : kImplausibleChargeC, c.max_charge_C > 0,
+               "charge", "max_charge_C"}};
+  for (const auto& d : dirs) {
+    const double rate = d.peak_A / packAh;
+    if (!(rate > d.limitC)) continue;
+    std::ostringstream os;
+    os << loadWhere << ": a peak " << d.what << " of " << fmt(d.peak_A) << " A";
+    if (power) {
+      const double cells = static_cast<double>(s.pack.series) * s.pack.parallel;
+      os << " (" << fmt(d.peak_A * s.pack.series * c.v_min_V / cells) << " W per cell at v_min_V)";
+    }
+    os << " is " << fmt(rate) << "C per cell (" << fmt(d.peak_A / s.pack.parallel) << " A each; " << cellWhere << "), above "
+       << (d.rated ? "the cell's " + std::string(d.rating) + " " + fmt(d.limitC) + " (" + p.originOf(std::string("pack.cell.") + d.rating) + ")"
+                   : fmt(d.limitC) + "C, implausible for any cell (a unit slip: mA, W or kW read as A?)");
+    out.push_back(os.str());
+  }
+}
+
+// Balancing resistors whose heat goes nowhere the BMS can see.
+void checkBalancingBoard(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  const PassiveBalancerConfig& b = s.hardware.balancing;
+  if (!b.present || !b.board_node.empty()) return;
+  out.push_back(p.describe("hardware.balancing.resistor_ohm", numberText(b.resistor_ohm)) +
+                ": the balancing resistors have no board_node, so their heat goes straight to ambient: no board "
+                "temperature is simulated and bms.balancing.board_max_C can never act");
+}
+
+std::string describeTable(const YAML::Node& n) {
+  if (n.IsSequence()) return "list of " + std::to_string(n.size()) + " values";
+  if (!n.IsMap()) return "value";
+  std::string axis = n["axis"] && n["axis"].IsScalar() ? n["axis"].Scalar() : "soc";
+  std::vector<std::string> dims;
+  if (n["x"] || n["poly"]) dims.push_back(axis);
+  if (n["temp_C"] || n["arrhenius_K"]) dims.push_back("temperature");
+  if (dims.empty()) return "mapping";
+  std::string d = dims[0];
+  for (size_t i = 1; i < dims.size(); ++i) d += " and " + dims[i];
+  return "curve over " + d;
+}
+
+}  // namespace
+
+std::string nodePlace(const std::string& file, const YAML::Node& n) {
+  return n.Mark().line >= 0 ? file + ":" + std::to_string(n.Mark().line + 1) : file;
+}
+
+std::string dependenceRemovedWarning(const std::string& key, const YAML::Node& before, const std::string& beforeWhere,
+                                     const YAML::Node& after, const std::string& afterWhere) {
+  return key + ": the " + describeTable(before) + " of " + beforeWhere + " is replaced by the single value " +
+         after.Scalar() + " (" + afterWhere + "); the dependence is gone";
+}
+
+void presetDependenceWarnings(const std::string& cellKey, const CellParams& preset, const CellParams& cell,
+                              const YAML::Node& given, const std::string& presetName, Provenance& prov) {
+  const struct {
+    const char* key;
+    const Curve& before;
+    const Curve& after;
+  } curves[] = {{"ocv_V", preset.ocv_V, cell.ocv_V},
+                {"r0_ohm", preset.r0_ohm, cell.r0_ohm},
+                {"r0_charge_ohm", preset.r0_charge_ohm, cell.r0_charge_ohm},
+                {"docv_dT_V_per_K", preset.docv_dT_V_per_K, cell.docv_dT_V_per_K},
+                {"hysteresis.max_V", preset.hysteresis_max_V, cell.hysteresis_max_V}};
+  for (const auto& c : curves) {
+    const std::string field = c.key;
+    const YAML::Node node = field == "hysteresis.max_V" ? YAML::Node() : given[c.key];
+    if (node && node.IsMap()) continue;  // a curve of its own: deliberate
+    const std::string key = cellKey + "." + c.key;
+    std::vector<std::string> lost;
+    if (c.before.kind != Curve::Kind::Constant && c.after.kind == Curve::Kind::Constant)
+      lost.push_back(c.before.axis == CurveAxis::Soc ? "SOC" : "discharged charge");
+    if (c.before.dependsOnTemperature() && !c.after.dependsOnTemperature()) lost.push_back("temperature");
+    if (lost.empty()) continue;
+    std::string what = lost[0] + (lost.size() > 1 ? " and " + lost[1] : "");
+    prov.warn(prov.describe(key) + " replaces " + presetName + "'s curve, which depends on " + what +
+              ": this cell's " + c.key + " does not (give a curve to keep the dependence)");
+  }
+}
+
+const std::vector<WarningCheck>& warningChecks() {
+  static const std::vector<WarningCheck> checks = {
+      {"sensor_range", checkSensorRange},
+      {"thermistor_reach", checkThermistorReach},
+      {"load_magnitude", checkLoadMagnitude},
+      {"balancing_board", checkBalancingBoard},
+  };
+  return checks;
+}
+
+std::vector<std::string> scenarioWarnings(const Scenario& s) {
+  const Provenance none("");
+  const Provenance& p = s.provenance ? *s.provenance : none;
+  std::vector<std::string> out = p.warnings();
+  for (const WarningCheck& c : warningChecks()) c.check(s, p, out);
+  return out;
+}
+
+}  // namespace packsim

@@ -1,0 +1,54 @@
+// What looks wrong in a scenario that loads: one table of checks, each a small
+// function naming the key(s) and where each came from (docs/scenario.md "Warnings").
+// `packsim show` prints them; `packsim run` prints them to stderr and records each as a
+// `config_warning` event at t = 0.
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+#include "core/scenario/scenario.hpp"
+
+namespace packsim {
+
+class Provenance;
+
+// Every series group should be within this many groups of a thermistor on a cell: one
+// thermistor watches up to nine neighbouring groups (4 either side), what a three-input
+// AFE gives a 16s pack (cells 1, 8, 16). Further away a hot cell reaches a thermistor
+// only through several cell-to-cell conductances, minutes late and kelvins low.
+constexpr int kThermistorReachGroups = 4;
+// A load above these C-rates per cell is implausible for the pack when its cell states
+// no max_discharge_C / max_charge_C (often a unit slip: mA or W read as A).
+constexpr double kImplausibleDischargeC = 20.0;
+constexpr double kImplausibleChargeC = 10.0;
+// An over-current limit above this fraction of the current sensor's range is "close".
+constexpr double kLimitNearSensorRange = 0.9;
+
+struct WarningCheck {
+  const char* name;
+  void (*check)(const Scenario& s, const Provenance& p, std::vector<std::string>& out);
+};
+const std::vector<WarningCheck>& warningChecks();
+
+// The load's own warnings (an override that removed a dependence, a derived default)
+// followed by every check's.
+std::vector<std::string> scenarioWarnings(const Scenario& s);
+
+// A curve of the cell preset that depended on SOC (or charge) or temperature and no
+// longer does after the scenario's field overrides: one warning each, on `prov`. An
+// override written as a curve of its own (a mapping in `given`, the scenario's cell
+// node: `{poly: [0.03], arrhenius_K: 0}`) states its dependences deliberately and is
+// not warned about; a plain number is.
+void presetDependenceWarnings(const std::string& cellKey, const CellParams& preset, const CellParams& cell,
+                              const YAML::Node& given,
+                              const std::string& presetName, Provenance& prov);
+
+// "file:line" of a node (just "file" when the node has no position).
+std::string nodePlace(const std::string& file, const YAML::Node& n);
+// `key`'s table or list at `beforeWhere` replaced by the single value `after` at `afterWhere`.
+std::string dependenceRemovedWarning(const std::string& key, const YAML::Node& before, const std::string& beforeWhere,
+                                     const YAML::Node& after, const std::string& afterWhere);
+
+}  // namespace packsim

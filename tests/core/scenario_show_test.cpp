@@ -1,0 +1,281 @@
+// `packsim show`: where each value came from (file:line of the extends chain, preset,
+// --set, default, derived default), the runnable YAML form, the warnings table and the
+// hardware a user's pack gets when it states none (docs/scenario.md).
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "core/scenario/overrides.hpp"
+#include "core/scenario/provenance.hpp"
+#include "core/scenario/scenario_show.hpp"
+#include "core/scenario/scenario_warnings.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+void writeFile(const fs::path& p, const std::string& text) {
+  std::ofstream out(p);
+  out << text;
+}
+
+std::string originOf(const Scenario& s, const std::string& key) {
+  EXPECT_TRUE(s.provenance);
+  return s.provenance ? s.provenance->originOf(key) : "";
+}
+
+// Warnings that contain `needle`.
+size_t warningsWith(const Scenario& s, const std::string& needle) {
+  size_t n = 0;
+  for (const std::string& w : s.warnings) n += w.find(needle) != std::string::npos;
+  return n;
+}
+
+std::string allWarnings(const Scenario& s) {
+  std::string all;
+  for (const std::string& w : s.warnings) all += w + "\n";
+  return all;
+}
+
+// A user's pack: 24s4p of the bundled NCR18650 preset, nothing about its hardware.
+std::string userPack(const std::string& extra) {
+  return "name: user_pack\n"
+         "pack: {series: 24, parallel: 4, initial_soc: 0.9, cell: {preset: ncr18650_3p1Ah}}\n" + extra;
+}
+
+// test::simpleCellYaml() with more `hardware:` lines, and its 1 A load.
+std::string withHardware(const std::string& lines) {
+  std::string y = test::simpleCellYaml();
+  const std::string ambient = "ambient: {temp_C: 25}\n";
+  y.insert(y.find(ambient), lines);
+  return y + test::kSimpleLoadYaml;
+}
+
+TEST(ScenarioShow, EachValueNamesTheFileLineOfTheChainPresetSetOrDefault) {
+  const fs::path dir = test::freshTempDir("packsim_show_", "chain");
+  writeFile(dir / "base.yaml",
+            "name: base\n"                                             // 1
+            "pack:\n"                                                  // 2
+            "  series: 4\n"                                            // 3
+            "  initial_soc: 0.5\n"                                     // 4
+            "  cell: {preset: lipo_5Ah}\n"                             // 5
+            "load: {current_A: 2}\n"                                   // 6
+            "run: {duration_s: 10}\n");                                // 7
+  writeFile(dir / "child.yaml",
+            "extends: base.yaml\n"                                     // 1
+            "name: child\n"                                            // 2
+            "pack:\n"                                                  // 3
+            "  initial_soc: 0.8\n");                                   // 4
+  const Scenario s = loadScenarioFileWithOverrides((dir / "child.yaml").string(), {{"pack.initial_temp_C", "30"}});
+  const std::string base = (dir / "base.yaml").lexically_normal().string();
+  const std::string child = (dir / "child.yaml").lexically_normal().string();
+  EXPECT_EQ(originOf(s, "pack.series"), base + ":3");
+  EXPECT_EQ(originOf(s, "pack.initial_soc"), child + ":4");
+  EXPECT_EQ(originOf(s, "name"), child + ":2");
+  EXPECT_EQ(originOf(s, "load.current_A"), base + ":6");
+  EXPECT_EQ(originOf(s, "pack.initial_temp_C"), "--set pack.initial_temp_C=30");
+  EXPECT_EQ(originOf(s, "pack.cell.preset"), base + ":5");
+  EXPECT_EQ(originOf(s, "pack.cell.capacity_Ah"), "preset lipo_5Ah (lipo_5Ah.yaml:2)");
+  EXPECT_EQ(originOf(s, "pack.parallel"), "default");
+  EXPECT_EQ(s.provenance->find("pack.initial_soc")->value, "0.8");
+  // Derived: the charge limit from the cell (1C of 5 Ah), the sensor from the limits.
+  EXPECT_EQ(originOf(s, "bms.protections.overcurrent_charge.threshold_A"),
+            "default (1C x 5 Ah x 1 in parallel: the cell states no max_charge_C)");
+  EXPECT_DOUBLE_EQ(s.bms.protection(bms::FaultId::OverCurrentCharge).threshold, 5.0);
+  EXPECT_NE(originOf(s, "hardware.current_sense.amp_gain").find("1.5 x the highest over-current limit 30 A"),
+            std::string::npos);
+  // The text form groups by section and names the origins.
+  const std::string text = showText(s);
+  EXPECT_NE(text.find("\npack\n"), std::string::npos) << text;
+  EXPECT_NE(text.find(base + ":3"), std::string::npos) << text;
+}
+
+// The summary without its warning lines (a warning names the file that states its key:
+// the shown copy, not the original).
+std::string summaryBody(const Scenario& s, const RunResult& r) {
+  std::istringstream in(formatSummary(s, r));
+  std::string line, out;
+  while (std::getline(in, line))
+    if (line.rfind("warning", 0) != 0) out += line + "\n";
+  return out;
+}
+
+// `show --format yaml` runs to the same results as the scenario it shows.
+void expectYamlRunsTheSame(const std::string& rel, const Overrides& set) {
+  const fs::path path = fs::path(test::scenarioDir()) / rel;
+  const Scenario s = loadScenarioFileWithOverrides(path.string(), set);
+  const std::string yaml = showYaml(s);
+  const Scenario again = loadScenarioText(yaml, (path.parent_path() / "shown.yaml").string(), path.parent_path().string());
+  const RunResult a = runScenario(s);
+  const RunResult b = runScenario(again);
+  EXPECT_EQ(summaryBody(s, a), summaryBody(again, b)) << rel << "\n" << yaml;
+  EXPECT_EQ(s.warnings.size(), again.warnings.size()) << rel;
+  ASSERT_EQ(a.rec.time_s.size(), b.rec.time_s.size()) << rel;
+  EXPECT_EQ(a.rec.cell_voltage_V, b.rec.cell_voltage_V) << rel;
+  EXPECT_EQ(a.rec.cell_temp_C, b.rec.cell_temp_C) << rel;
+  ASSERT_EQ(a.events.size(), b.events.size()) << rel;
+  for (size_t i = 0; i < a.events.size(); ++i) {
+    EXPECT_EQ(a.events[i].time_s, b.events[i].time_s) << rel;
+    if (a.events[i].kind != "config_warning") EXPECT_EQ(a.events[i].detail, b.events[i].detail) << rel;
+  }
+}
+
+TEST(ScenarioShow, YamlFormRunsBitIdentical) {
+  expectYamlRunsTheSame("faults/a_overcurrent.yaml", {{"load.laps", "1"}, {"faults.0.at_s", "30"},
+                                                      {"expect", "{}"}});
+  expectYamlRunsTheSame("bench_6s_ncr18650_2C.yaml", {});
+  expectYamlRunsTheSame("balance/solar_4s3p_active.yaml", {{"run.duration_s", "300"}});
+}
+
+TEST(ScenarioShow, JsonNamesEveryValueAndTheWarnings) {
+  const Scenario s = test::scenarioFromYaml(userPack("load: {current_A: 60}\nrun: {duration_s: 1}\n"));
+  const std::string json = showJson(s);
+  EXPECT_NE(json.find("\"pack.series\": {\"value\": \"24\", \"origin\": \"test.yaml:2\", \"stated\": true}"),
+            std::string::npos) << json;
+  EXPECT_NE(json.find("\"warnings\": [\n    \""), std::string::npos) << json;
+}
+
+// Item 3: a 24s4p pack with a 60 A load states no sensor: its range comes from its limits
+// and its load, not from reference system A's +/-33 A.
+TEST(ScenarioShow, UserPackSensorRangeCoversItsLoad) {
+  const Scenario s = test::scenarioFromYaml(userPack("load: {current_A: 60}\nrun: {duration_s: 1}\n"));
+  const double range_A = s.hardware.current_sense.zeroCode() * s.hardware.current_sense.lsb_A();
+  EXPECT_NEAR(range_A, 75.0, 0.01);  // 1.25 x the 60 A peak (above 1.5 x the 30 A limit)
+  EXPECT_EQ(originOf(s, "hardware.current_sense.amp_gain"),
+            "default (a +/-75 A range: 1.25 x the load's peak 60 A, on the 5 mOhm shunt)");
+  // The charge limit from the cell: 1C of 4 x 3.1 Ah.
+  EXPECT_NEAR(s.bms.protection(bms::FaultId::OverCurrentCharge).threshold, 12.4, 1e-12);
+  EXPECT_EQ(warningsWith(s, "overcurrent_discharge.threshold_A = 30 (default): the firmware table's limit"), 1u)
+      << allWarnings(s);
+  // The trip reads the real current, not a sensor rail at 33 A.
+  const RunResult r = runScenario(s);
+  std::string detail;
+  for (const Event& e : r.events)
+    if (e.kind == "fault_active" && detail.empty()) detail = e.detail;
+  EXPECT_EQ(detail.rfind("overcurrent_discharge: current 60.", 0), 0u) << detail;
+  // A warning is an event at t = 0.
+  EXPECT_EQ(test::eventTime(r, "config_warning", "bms.protections.overcurrent_discharge"), 0.0);
+}
+
+TEST(ScenarioShow, CellRatingsSetTheLimits) {
+  const Scenario s = test::scenarioFromYaml(
+      "pack: {series: 24, parallel: 4, cell: {preset: ncr18650_3p1Ah, max_charge_C: 0.5, max_discharge_C: 3}}\n"
+      "load: {current_A: 10}\nrun: {duration_s: 1}\n");
+  EXPECT_NEAR(s.bms.protection(bms::FaultId::OverCurrentCharge).threshold, 6.2, 1e-12);
+  EXPECT_NEAR(s.bms.protection(bms::FaultId::OverCurrentDischarge).threshold, 37.2, 1e-12);
+  EXPECT_EQ(originOf(s, "bms.protections.overcurrent_discharge.threshold_A"),
+            "default (the cell's max_discharge_C 3 x 3.1 Ah x 4 in parallel)");
+  // Stated limits stay as stated, with no derived-default warning.
+  const Scenario stated = test::scenarioFromYaml(
+      "pack: {series: 24, parallel: 4, cell: {preset: ncr18650_3p1Ah, max_charge_C: 0.5}}\n"
+      "bms: {protections: {overcurrent_charge: {threshold_A: 4}, overcurrent_discharge: {threshold_A: 20}}}\n"
+      "load: {current_A: 10}\nrun: {duration_s: 1}\n");
+  EXPECT_DOUBLE_EQ(stated.bms.protection(bms::FaultId::OverCurrentCharge).threshold, 4.0);
+  EXPECT_EQ(warningsWith(stated, "overcurrent_"), 0u) << allWarnings(stated);
+}
+
+TEST(ScenarioShow, BalancingHardwareStatesItsResistor) {
+  const std::string err = test::yamlErrorOf(withHardware("  balancing: {board_node: b}\n"));
+  EXPECT_NE(err.find("missing required key 'resistor_ohm'"), std::string::npos) << err;
+}
+
+// --- the warnings table: each check warns on its case and stays silent on a sound one ---
+
+TEST(ScenarioWarnings, OverrideThatDropsADependence) {
+  const Scenario flat = test::scenarioFromYaml(
+      "pack: {series: 4, cell: {preset: lipo_5Ah, r0_ohm: 0.02}}\nload: {current_A: 1}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(flat, "pack.cell.r0_ohm = 0.02 (test.yaml:1) replaces preset lipo_5Ah's curve, which depends "
+                               "on SOC and temperature"), 1u) << allWarnings(flat);
+  const Scenario curve = test::scenarioFromYaml(
+      "pack: {series: 4, cell: {preset: lipo_5Ah, r0_ohm: {x: [0, 1], y: [0.02, 0.01], arrhenius_K: 2000, "
+      "ref_temp_C: 25}}}\nload: {current_A: 1}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(curve, "replaces"), 0u) << allWarnings(curve);
+  // A --set that puts a single value where the file has a table.
+  const std::string yaml = test::simpleCellYaml() + "load: {points: {time_s: [0, 5], current_A: [1, 2]}}\n"
+                           "run: {duration_s: 10}\n";
+  const Scenario set = loadScenarioWithOverrides(yaml, {{"pack.cell.ocv_V", "3.7"}}, "test.yaml", test::scenarioDir());
+  EXPECT_EQ(warningsWith(set, "pack.cell.ocv_V: the curve over soc of test.yaml:9 is replaced by the single value 3.7 "
+                              "(--set pack.cell.ocv_V=3.7)"), 1u) << allWarnings(set);
+}
+
+TEST(ScenarioWarnings, LimitNearOrBeyondTheSensor) {
+  // +/-33 A sensor (5 mOhm, gain 10, 3.3 V, 16 bits), 30 A limit: within 10 %.
+  const std::string sensor = "hardware: {current_sense: {shunt_ohm: 0.005, amp_gain: 10}}\n";
+  const Scenario near = test::scenarioFromYaml(userPack(sensor + "load: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(warningsWith(near, "bms.protections.overcurrent_discharge.threshold_A = 30 (default) is within 10 % of the "
+                               "current sensor's +/-33 A"), 1u) << allWarnings(near);
+  const Scenario beyond = test::scenarioFromYaml(userPack(sensor + "load: {current_A: 60}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(warningsWith(beyond, "load (test.yaml:"), 1u) << allWarnings(beyond);
+  EXPECT_EQ(warningsWith(beyond, "peaks at 60 A, beyond the current sensor's +/-33 A"), 1u) << allWarnings(beyond);
+  const Scenario fine = test::scenarioFromYaml(
+      userPack(sensor + "bms: {protections: {overcurrent_discharge: {threshold_A: 20}}}\n"
+                        "load: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(warningsWith(fine, "sensor"), 0u) << allWarnings(fine);
+  // A limit at or past the sensor's range stays an error.
+  EXPECT_NE(test::yamlErrorOf(userPack(sensor + "bms: {protections: {overcurrent_discharge: {threshold_A: 60}}}\n"
+                                                "load: {current_A: 10}\nrun: {duration_s: 1}\n"))
+                .find("beyond the current sensor's range"),
+            std::string::npos);
+}
+
+TEST(ScenarioWarnings, SeriesGroupFarFromEveryThermistor) {
+  // 24 groups, the default four thermistors at groups 1, 7, 13, 19: group 24 is 5 away.
+  const Scenario far = test::scenarioFromYaml(userPack("load: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(warningsWith(far, "hardware.thermistors.at_cells = [1, 7, 13, 19] (default (up to 4 spread over the "
+                              "string)): series group 24 (1-based) is more than 4 groups"), 1u) << allWarnings(far);
+  const Scenario covered = test::scenarioFromYaml(
+      userPack("hardware: {thermistors: {at_cells: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(warningsWith(covered, "thermistor"), 0u) << allWarnings(covered);
+}
+
+TEST(ScenarioWarnings, ImplausibleMagnitudesForThePack) {
+  // Milliamps read as amps: 17 kA from one 5 Ah string.
+  const Scenario mA = test::scenarioFromYaml(
+      "pack: {series: 4, cell: {preset: lipo_5Ah}}\nload: {current_A: 17000}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(mA, "a peak discharge of 1.7e+04 A is 3400C per cell"), 1u) << allWarnings(mA);
+  // Watts per cell: 100 kW from 4 LiPo cells.
+  const Scenario watts = test::scenarioFromYaml(
+      "pack: {series: 4, cell: {preset: lipo_5Ah}}\nload: {power_W: 100000}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(watts, "W per cell"), 1u) << allWarnings(watts);
+  // Above the cell's own rating.
+  const Scenario rated = test::scenarioFromYaml(
+      "pack: {series: 4, parallel: 2, cell: {preset: lipo_5Ah, max_discharge_C: 2}}\n"
+      "bms: {protections: {overcurrent_discharge: {threshold_A: 40}}}\n"
+      "load: {current_A: 30}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(rated, "is 3C per cell (15 A each"), 1u) << allWarnings(rated);
+  const Scenario sound = test::scenarioFromYaml(
+      "pack: {series: 4, cell: {preset: lipo_5Ah}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(sound, "per cell"), 0u) << allWarnings(sound);
+}
+
+TEST(ScenarioWarnings, BalancingWithoutABoardNode) {
+  const Scenario bare = test::scenarioFromYaml(withHardware("  balancing: {resistor_ohm: 47}\n"));
+  EXPECT_EQ(warningsWith(bare, "have no board_node"), 1u) << allWarnings(bare);
+  const Scenario board = test::scenarioFromYaml(withHardware("  balancing: {resistor_ohm: 47, board_node: b}\n") +
+                                                "thermal: {nodes: [{name: b, heat_capacity_J_per_K: 20}]}\n");
+  EXPECT_EQ(warningsWith(board, "board_node"), 0u) << allWarnings(board);
+}
+
+// Every bundled scenario loads without a spurious warning; the three that replace the
+// NCR18650 preset's R0 curve by system B's flat 45 mOhm are told so.
+TEST(ScenarioWarnings, BundledScenarios) {
+  for (const auto& e : fs::recursive_directory_iterator(test::scenarioDir())) {
+    const fs::path p = e.path();
+    const std::string rel = p.lexically_relative(test::scenarioDir()).string();
+    if (p.extension() != ".yaml" || rel.rfind("cells/", 0) == 0 || rel.rfind("profiles/", 0) == 0) continue;
+    if (rel.rfind("firmware/", 0) == 0) continue;  // needs the example firmware library
+    const Scenario s = loadScenarioFile(p.string());
+    const bool systemB = rel == "solar_car_28s15p.yaml" || rel == "solar_car_28s15p_balancer.yaml" ||
+                         rel == "balance/solar_4s3p_active.yaml";
+    EXPECT_EQ(s.warnings.size(), systemB ? 1u : 0u) << rel << "\n" << allWarnings(s);
+    if (systemB) EXPECT_EQ(warningsWith(s, "pack.cell.r0_ohm = 0.045"), 1u) << rel;
+  }
+}
+
+}  // namespace
+}  // namespace packsim
