@@ -10,6 +10,7 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
+#include "core/scenario/scenario_inputs.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/stop_signal.hpp"
@@ -45,7 +46,9 @@ int cmdRun(const RunOptions& o) {
   Scenario s = loadScenarioFileWithOverrides(path, parseSetOptions(o.set));
   if (o.seed) s.run.seed = *o.seed;
   const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
-  checkResultPathWritable(out);  // before the run, not after it
+  checkResultIsNotAnInput(out, s);  // -o naming the scenario, its extends: chain or its CSV: exit 2
+  checkResultPathWritable(out);    // before the run, not after it
+  const ResultFileStamp before = resultFileStamp(out);
   // A bar while it runs when stdout is a terminal (never into a file or a pipe).
   const bool bar = !o.quiet && isatty(fileno(stdout));
   const StopCondition progress = bar ? terminalProgressBar(s.endTime_s(), stdout) : StopCondition{};
@@ -61,7 +64,13 @@ int cmdRun(const RunOptions& o) {
     std::snprintf(at, sizeof at, "%.3f", stoppedAt_s);
     throw Interrupted(sig, "interrupted by " + stopSignalName(sig) + " at t = " + at + " s; no result written");
   }
+  // Another run may have written the same result meanwhile: this complete result
+  // replaces it (atomically), and says so.
+  const bool replacedAnother = resultFileStamp(out) != before;
   writeResultHdf5(out, s, r);
+  if (replacedAnother)
+    std::cerr << "packsim: note: another run wrote '" << out << "' while this one ran; it now holds this run's "
+              << "complete result (write to separate -o files to keep both)\n";
   if (!o.quiet) std::cout << formatSummary(s, r) << "result          " << out << "\n";
   return 0;
 }

@@ -9,6 +9,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/result.hpp"
 #include "core/sim/bms_bridge.hpp"
+#include "core/sim/limit_watch.hpp"
 
 namespace packsim {
 
@@ -55,6 +56,8 @@ class RunTracker {
   uint8_t lastBalanceStatus_ = 0;
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
+  LimitWatch limits_;            // cells past a protection limit the BMS has not seen
+  std::vector<double> cellTemp_C_;
 };
 
 }  // namespace packsim

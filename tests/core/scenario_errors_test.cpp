@@ -116,7 +116,7 @@ TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
   const int rc = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(rc), 2);
   EXPECT_FALSE(fs::exists(dir / "out.h5"));
-  EXPECT_FALSE(fs::exists(dir / "out.h5.tmp"));
+  EXPECT_FALSE(test::temporaryOfExists(dir / "out.h5"));
   std::ifstream err(dir / "err.txt");
   const std::string msg((std::istreambuf_iterator<char>(err)), {});
   EXPECT_NE(msg.find("bad.yaml:2:39: pack.cell.capacity_Ah: -1 is out of range; allowed > 0"), std::string::npos) << msg;

@@ -65,6 +65,16 @@ std::filesystem::path freshTempDir(const std::string& prefix, const std::string&
   return d;
 }
 
+bool temporaryOfExists(const std::filesystem::path& result) {
+  namespace fs = std::filesystem;
+  const fs::path dir = result.has_parent_path() ? result.parent_path() : fs::path(".");
+  const std::string prefix = result.filename().string() + ".tmp";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().compare(0, prefix.size(), prefix) == 0) return true;
+  return false;
+}
+
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail) {
   for (const Event& e : r.events)
     if (e.kind == kind && e.detail.compare(0, detail.size(), detail) == 0) return e.time_s;
