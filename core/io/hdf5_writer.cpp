@@ -219,9 +219,9 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   }
   // Attributes that come from the scenario rather than the recording.
   std::string therm;
-  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a cell number, or the node's name
+  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a series group (1-based), or the node's name
     therm += (therm.empty() ? "" : ",") + (site.onCell() ? std::to_string(site.cell + 1) : site.node);
-  w.attrOn("/measured", "thermistor_cells", therm);
+  w.attrOn("/measured", "thermistor_groups", therm);
   w.attrOn("/bms", "fault_bits", faultNames());
   {  // the protection limits the plots draw (an attribute only when the protection is on)
     Handle bms(H5Oopen(file, "/bms", H5P_DEFAULT), H5Oclose, "/bms");

@@ -258,7 +258,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   }
   const MonitorConfig& afe = s.hardware.afe;
   const int boards = afe.devices_per_board > 0 ? (afe.devices + afe.devices_per_board - 1) / afe.devices_per_board : 1;
-  s.faults = readFaults(m, s.pack.series * s.pack.parallel, s.hardware.thermistorCount(), boards);
+  s.faults = readFaults(m, s.pack.series, s.pack.parallel, s.hardware.thermistorCount(), boards);
   s.expect = readExpect(m.optionalMap("expect"));
   if (auto c = m.optionalMap("compare")) {
     const std::string rel = c->string("scenario");

@@ -50,7 +50,7 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   if (e.reported_s >= 0.0 && unseen_s <= e.reported_s) return;  // not longer than one already reported
   e.reported_s = unseen_s;
   const bool volts = l.unit[0] == 'V';
-  const char* f = volts ? "%.3f" : "%.1f";
+  const char* f = volts ? "%.4f" : "%.1f";
   std::string d = std::string(bms::faultName(static_cast<bms::FaultId>(l.fault))) + ": " + subject(li, c) + " " + l.what +
                   " the " + num(volts ? "%.3f" : "%g", l.threshold) + " " + l.unit + " limit from " + num("%.2f", from_s) + " s, ";
   if (seen)

@@ -27,7 +27,7 @@ std::string simpleCellYaml(int series) {
          "    g_ambient_W_per_K: 0.1\n"
          "hardware:\n"
          "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
-         "  thermistors: {at_cells: [1]}\n"
+         "  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
          "ambient: {temp_C: 25}\n";
 }
