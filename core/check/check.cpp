@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "core/check/fault_causes.hpp"
+#include "core/sim/firmware_failure.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/sim/simulation.hpp"
@@ -129,6 +130,11 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     fail(fmt("energy delivered %.2f Wh is not above %.2f Wh", sm.energy_delivered_Wh, *e.energy_delivered_Wh_above));
 
   judgeEstimates(e, sm, fail);
+  // A firmware that failed (load, init, crash, hang, contract break) fails the check
+  // with its reason, unless the scenario means it to.
+  const std::string fwFailure = firmwareFailure(s, r);
+  if (!fwFailure.empty() && !e.firmware_fault) fail(fwFailure);
+  if (fwFailure.empty() && e.firmware_fault) fail("expected a firmware_fault, but the firmware ran to the end");
   if (e.energy_lost_vs_compare_Wh_above || e.min_cell_V_below_compare) {
     const Comparison& c = sm.compare;
     if (!c.present) {
@@ -221,9 +227,10 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     o.verdict += fmt(", SOC error max coulomb %.2f %%, ekf %.2f %%", 100.0 * sm.soc_error_coulomb.max, 100.0 * sm.soc_error_ekf.max);
   if (e.capacity_error_below)
     o.verdict += fmt(", capacity %.3f Ah (true %.3f Ah)", sm.capacity_estimate_Ah, sm.capacity_true_Ah);
+  if (!fwFailure.empty()) o.verdict += "; " + fwFailure;
   if (unreached > 0) o.verdict += ", " + std::to_string(unreached) + " scripted fault" + (unreached > 1 ? "s" : "") + " not reached";
   // Without an expect: block the run is reported, not passed.
-  o.nothing_to_check = !e.present;
+  o.nothing_to_check = !e.present && o.failures.empty();
   if (o.nothing_to_check) o.verdict = "ran, nothing to check (" + o.verdict + ")";
   o.passed = o.failures.empty();
   return o;

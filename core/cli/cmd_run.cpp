@@ -11,6 +11,7 @@
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_inputs.hpp"
+#include "core/sim/firmware_failure.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/stop_signal.hpp"
@@ -72,6 +73,13 @@ int cmdRun(const RunOptions& o) {
     std::cerr << "packsim: note: another run wrote '" << out << "' while this one ran; it now holds this run's "
               << "complete result (write to separate -o files to keep both)\n";
   if (!o.quiet) std::cout << formatSummary(s, r) << "result          " << out << "\n";
+  // A firmware that failed is a failed run, even though the hardware simulation ran on
+  // (the result shows what the dead MCU left the pack to), unless the scenario means it.
+  if (const std::string failure = firmwareFailure(s, r); !failure.empty() && !s.expect.firmware_fault) {
+    std::cerr << "packsim: error: " << failure << "; the run went on with a dead MCU (result kept in '" << out
+              << "'); if the scenario means the firmware to fail, say expect: {firmware_fault: true}\n";
+    return 1;
+  }
   return 0;
 }
 

@@ -297,6 +297,7 @@ Expectations readExpect(std::optional<YamlMap> m) {
   if (m->has("energy_lost_vs_compare_Wh_above"))
     e.energy_lost_vs_compare_Wh_above = m->number("energy_lost_vs_compare_Wh_above", Range{});
   if (m->has("min_cell_V_below_compare")) e.min_cell_V_below_compare = m->boolean("min_cell_V_below_compare", true);
+  e.firmware_fault = m->boolean("firmware_fault", false);
   if (e.no_trip && *e.no_trip && (e.trip_reason || e.trip_within_s))
     throw m->error("no_trip: true contradicts trip_reason / trip_within_s");
   m->finish();
