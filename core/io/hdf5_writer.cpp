@@ -261,6 +261,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   w.attrInt(g, "limit_reached", sm.limit_reached ? 1 : 0);
   w.attr(g, "limit_time_s", sm.limit_time_s);
   w.attrInt(g, "limit_cell", sm.limit_cell);
+  w.attrInt(g, "limit_by_bms_trip", sm.limit_by_bms_trip ? 1 : 0);
   w.attr(g, "energy_start_Wh", sm.energy_start_Wh);
   w.attr(g, "energy_left_Wh", sm.energy_left_Wh);
   w.attr(g, "energy_stranded_Wh", sm.energy_stranded_Wh);

@@ -105,6 +105,7 @@ struct Summary {
   bool limit_reached = false;
   double limit_time_s = 0.0;
   int limit_cell = 0;  // 1-based
+  bool limit_by_bms_trip = false;  // the BMS's under-voltage trip came first (limit_cell: the lowest cell then)
   double energy_start_Wh = 0.0;
   double energy_left_Wh = 0.0;
   double energy_stranded_Wh = 0.0;

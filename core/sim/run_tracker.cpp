@@ -37,9 +37,10 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
     r_.summary.energy_start_Wh += cellEnergy_Wh(plant.pack().cells[static_cast<size_t>(c)], plant.initialSoc()[static_cast<size_t>(c)]);
 }
 
-void RunTracker::noteLimit(double t, const double* x, int cell) {
+void RunTracker::noteLimit(double t, const double* x, int cell, bool byTrip) {
   Summary& sm = r_.summary;
   sm.limit_reached = true;
+  sm.limit_by_bms_trip = byTrip;
   sm.limit_time_s = t;
   sm.limit_cell = cell + 1;
   limitSoc_.clear();
@@ -130,7 +131,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       int weakest = 0;
       for (int c = 1; c < plant_.pack().cellCount(); ++c)
         if (sig.cell_voltage_V[static_cast<size_t>(c)] < sig.cell_voltage_V[static_cast<size_t>(weakest)]) weakest = c;
-      noteLimit(t, x, weakest);
+      noteLimit(t, x, weakest, true);
     }
   }
   if (hw_) {

@@ -33,7 +33,7 @@ class RunTracker {
 
  private:
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
-  void noteLimit(double t, const double* x, int cell);
+  void noteLimit(double t, const double* x, int cell, bool byTrip = false);
   void noteSocRange(double t, const double* x, int cell);
   // State estimation against the truth (issue 17).
   void judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out);

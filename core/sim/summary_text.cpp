@@ -96,7 +96,10 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  " << cellName(m.hottest_cell, P) << " at "
      << fmt("%.2f", m.hottest_time_s) << " s\n";
   os << "energy left     " << fmt("%.2f", m.energy_left_Wh) << " Wh "
-     << (m.limit_reached ? "when " + cellName(m.limit_cell, P) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
+     << (m.limit_reached && m.limit_by_bms_trip
+             ? "when the BMS tripped on under-voltage at " + fmt("%.2f", m.limit_time_s) + " s (lowest " +
+                   cellName(m.limit_cell, P) + ", no cell at its v_min)"
+         : m.limit_reached ? "when " + cellName(m.limit_cell, P) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
                          : std::string("at the end (no cell reached its limit)"))
      << "; " << fmt("%.2f", m.energy_stranded_Wh) << " Wh (" << fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh)
      << " % of the start) stranded by imbalance\n";

@@ -150,6 +150,23 @@ TEST(SummaryText, CellPastALimitUnseenByTheBmsIsReportedWithItsDuration) {
   EXPECT_TRUE(has(text, "unseen limit    " + ev->detail)) << text;
 }
 
+// A channel reading 1.5 V low trips the BMS on under-voltage while every cell sits far
+// above its v_min: the energy line must not say a cell hit its limit.
+TEST(SummaryText, AnUnderVoltageTripIsNotACellAtItsLimit) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(2) + "load: {current_A: 1}\nrun: {duration_s: 60}\n"
+                                            "faults:\n  - {kind: channel_offset, group: 1, offset_mV: -1500, at_s: 5}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  ASSERT_TRUE(r.summary.tripped) << text;
+  EXPECT_EQ(r.summary.trip_reason, "cell_undervoltage");
+  EXPECT_GT(r.summary.min_cell_V, s.pack.cell.v_min_V + 0.3);  // the truth never came near v_min
+  EXPECT_TRUE(r.summary.limit_by_bms_trip);
+  EXPECT_FALSE(has(text, "hit its limit")) << text;
+  char expect[96];
+  std::snprintf(expect, sizeof expect, "when the BMS tripped on under-voltage at %.2f s (lowest cell ", r.summary.trip_time_s);
+  EXPECT_TRUE(has(text, expect)) << text;
+}
+
 // In a pack of parallel cells a cell is named with its series group.
 TEST(SummaryText, CellsOfParallelGroupsNameTheirGroup) {
   EXPECT_EQ(cellName(74, 4), "cell 74 (group 19)");
