@@ -67,7 +67,7 @@ Scenario scaledPack(int series, int parallel, double duration_s, const std::stri
       {"hardware.afe.devices_per_board", std::to_string(std::min(d.hardware.afe.devices_per_board, devices))},
       {"pack.parallel", std::to_string(parallel)},
       {"pack.interconnect_ohm", fmt(1e-4 * series / p, 9)},
-      {"hardware.thermistors.at_cells", list(therm)},
+      {"hardware.thermistors.at_groups", list(therm)},
       {"hardware.current_sense.shunt_ohm", fmt(1e-4 / p, 12)},
       {"bms.protections.overcurrent_discharge", "{threshold_A: " + fmt(400 * p, 3) + ", hysteresis_A: " +
                                                     fmt(10 * p, 3) + ", delay_ms: 500}"},

@@ -53,7 +53,7 @@ def scaled(series: int, parallel: int, duration_s: float) -> list[str]:
     therm = [c for c in THERM_D if c <= series]
     sets = {
         "pack.series": series, "pack.parallel": parallel, "pack.interconnect_ohm": 1e-4 * series / p,
-        "hardware.thermistors.at_cells": json.dumps(therm),
+        "hardware.thermistors.at_groups": json.dumps(therm),
         "hardware.current_sense.shunt_ohm": 1e-4 / p,
         "bms.protections.overcurrent_discharge": f"{{threshold_A: {400 * p}, hysteresis_A: {10 * p}, delay_ms: 500}}",
         "bms.protections.overcurrent_charge": f"{{threshold_A: {120 * p}, hysteresis_A: {5 * p}, delay_ms: 500}}",

@@ -4,6 +4,7 @@ and compares the result files bit for bit.
 
     scripts/compare_results.py --base OLD_PACKSIM [--new build/packsim]
     scripts/compare_results.py --base-ref main     [--new build/packsim]
+    scripts/compare_results.py --base OLD --base-scenarios OLD_TREE/scenarios   (renamed keys)
 
 --base-ref builds that git ref's `packsim` in a detached git worktree under the work
 folder first (with ccache when installed). Without --workdir the worktree is removed
@@ -153,6 +154,8 @@ def main():
     base.add_argument("--base-ref", help="a git ref whose packsim is built in a temporary worktree")
     ap.add_argument("--new", default=str(REPO / "build" / "packsim"), help="the packsim binary under test")
     ap.add_argument("--scenarios", default=str(REPO / "scenarios"), help="folder of scenarios (default: bundled)")
+    ap.add_argument("--base-scenarios", help="the base binary runs each scenario from this folder instead (same "
+                    "relative path): scenarios whose keys were renamed")
     ap.add_argument("--only", action="append", default=[], help="run only scenarios whose path contains this")
     ap.add_argument("--workdir", help="keep results (and a --base-ref build) here instead of a temporary folder")
     args = ap.parse_args()
@@ -181,7 +184,10 @@ def main():
         outs = [workdir / f"{i:03d}-{side}.h5" for side in ("base", "new")]
         for o in outs:
             o.unlink(missing_ok=True)
-        (ok_a, text_a), (ok_b, text_b) = run(base_bin, scen, outs[0]), run(new_bin, scen, outs[1])
+        base_scen = os.path.join(args.base_scenarios, rel) if args.base_scenarios else scen
+        (ok_a, text_a), (ok_b, text_b) = run(base_bin, base_scen, outs[0]), run(new_bin, scen, outs[1])
+        if args.base_scenarios:
+            text_a = text_a.replace(os.path.abspath(args.base_scenarios), os.path.abspath(args.scenarios))
         if not ok_a or not ok_b:
             same_failure = not ok_a and not ok_b and text_a == text_b
             print(f"{'SAME ' if same_failure else 'FAIL '} {rel}: run failed on "

@@ -38,7 +38,7 @@ def scenario(series: int, parallel: int, solver: str, tick_ms: int, step_load: b
                           "coulombic_efficiency": 1.0, "v_min_V": 2.5, "v_max_V": 4.3,
                           "heat_capacity_J_per_K": 850.0, "g_ambient_W_per_K": 0.25}},
         "ambient": {"temp_C": c.AMBIENT_C},
-        "hardware": {"thermistors": {"at_cells": [1]}, "current_sense": {"shunt_ohm": 2e-5, "amp_gain": 20}},
+        "hardware": {"thermistors": {"at_groups": [1]}, "current_sense": {"shunt_ohm": 2e-5, "amp_gain": 20}},
         # Protections out of the way: the comparison is the plant, not a trip.
         "bms": {"tick_ms": tick_ms, "protections": {
             "overcurrent_discharge": {"threshold_A": big}, "overcurrent_charge": {"threshold_A": big},

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "core/check/fault_causes.hpp"
+#include "core/sim/firmware_failure.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/sim/simulation.hpp"
@@ -128,6 +130,11 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     fail(fmt("energy delivered %.2f Wh is not above %.2f Wh", sm.energy_delivered_Wh, *e.energy_delivered_Wh_above));
 
   judgeEstimates(e, sm, fail);
+  // A firmware that failed (load, init, crash, hang, contract break) fails the check
+  // with its reason, unless the scenario means it to.
+  const std::string fwFailure = firmwareFailure(s, r);
+  if (!fwFailure.empty() && !e.firmware_fault) fail(fwFailure);
+  if (fwFailure.empty() && e.firmware_fault) fail("expected a firmware_fault, but the firmware ran to the end");
   if (e.energy_lost_vs_compare_Wh_above || e.min_cell_V_below_compare) {
     const Comparison& c = sm.compare;
     if (!c.present) {
@@ -142,24 +149,51 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     }
   }
 
-  // Detection latency of every injected fault.
+  // Detection latency of every injected fault: to the first BMS fault this injection can
+  // cause (core/check/fault_causes), not to whatever fault came next.
   for (const Event& inj : r.events) {
     if (inj.kind != "fault_injected") continue;
     std::string line = inj.detail + fmt(" @%.3f s: ", inj.time_s);
-    const Event* det = firstAfter(r, inj.time_s, "fault_active");
-    // A library firmware reports its detection as the event "trip: <reason>" (docs/firmware.md).
-    const Event* fwTrip = det ? nullptr : firstAfter(r, inj.time_s, "firmware", "trip: ");
-    std::string fwDetail;
-    if (fwTrip) {
-      fwDetail = fwTrip->detail.substr(6);
-      det = fwTrip;
-    }
-    const Event* open = firstAfter(r, inj.time_s, "relay_contact", "opened");
-    const Event* line_ = firstAfter(r, inj.time_s, "monitor_fault_line", "asserted");
+    FaultKind kind = FaultKind::Overcurrent;
+    const bool known = faultKindOfDetail(inj.detail, kind);
+    const std::vector<std::string>& causes = known ? faultsCausedBy(kind) : std::vector<std::string>{};
+    auto causedHere = [&](const std::string& name) { return std::find(causes.begin(), causes.end(), name) != causes.end(); };
     FaultLatency fl;
     fl.injected = inj.detail;
     fl.injected_at_s = inj.time_s;
-    const std::string detName = fwTrip ? fwDetail : det ? det->detail.substr(0, det->detail.find(':')) : "";
+    if (causes.empty()) {
+      line += "an operator input, not a fault (no BMS fault expected)";
+      o.fault_latencies.push_back(fl);
+      o.latencies.push_back(line);
+      continue;
+    }
+    // The first fault raised at or after the injection that it can cause; a library
+    // firmware reports its detection as the event "trip: <reason>" (docs/firmware.md).
+    const Event* det = nullptr;
+    std::string detName;
+    const Event* unrelated = nullptr;  // the first fault after it that it cannot cause
+    std::string unrelatedName;
+    for (const Event& e : r.events) {
+      if (e.time_s < inj.time_s - 1e-9) continue;
+      std::string name;
+      if (e.kind == "fault_active") name = e.detail.substr(0, e.detail.find(':'));
+      else if (e.kind == "firmware" && startsWith(e.detail, "trip: ")) name = e.detail.substr(6, e.detail.find_first_of(" ,(:", 6) - 6);
+      else continue;
+      if (causedHere(name)) {
+        det = &e;
+        detName = e.kind == "firmware" ? e.detail.substr(6) : name;
+        break;
+      }
+      if (!unrelated) {
+        unrelated = &e;
+        unrelatedName = name;
+      }
+    }
+    const Event* line_ = causedHere("monitor_fault") ? firstAfter(r, inj.time_s, "monitor_fault_line", "asserted") : nullptr;
+    // The relay opening counts for this injection when it followed its own detection
+    // (or the monitor's FAULT line it caused).
+    const double causeAt_s = std::min(det ? det->time_s : INFINITY, line_ ? line_->time_s : INFINITY);
+    const Event* open = std::isfinite(causeAt_s) ? firstAfter(r, causeAt_s, "relay_contact", "opened") : nullptr;
     if (det) {
       fl.detected_fault = detName;
       fl.detection_latency_s = det->time_s - inj.time_s;
@@ -167,19 +201,36 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     if (open) fl.relay_open_latency_s = open->time_s - inj.time_s;
     o.fault_latencies.push_back(fl);
     if (det) line += detName + fmt(" after %.3f s", det->time_s - inj.time_s);
-    else line += "no BMS fault";
+    else line += "no BMS fault it can cause";
     if (line_ && (!det || line_->time_s < det->time_s))
       line += fmt(", monitor FAULT line after %.3f s", line_->time_s - inj.time_s);
-    line += open ? fmt(", relay open after %.3f s", open->time_s - inj.time_s) : ", relay not opened";
+    if (open) {
+      line += fmt(", relay open after %.3f s", open->time_s - inj.time_s);
+    } else {
+      const Event* other = firstAfter(r, inj.time_s, "relay_contact", "opened");
+      line += other ? fmt(", relay opened at %.3f s but not on a fault this injection causes", other->time_s)
+                    : std::string(", relay not opened");
+    }
+    if (!det && unrelated)
+      line += " (" + unrelatedName + fmt(" at %.3f s is not caused by it)", unrelated->time_s);
     o.latencies.push_back(line);
+  }
+  // A scripted fault the run never reached (it ended first) did not test anything.
+  int unreached = 0;
+  for (const Event& ev : r.events) {
+    if (ev.kind != "fault_not_reached") continue;
+    ++unreached;
+    if (e.present) fail("scripted fault never happened: " + ev.detail);
   }
   o.verdict = sm.tripped ? fmt("trip at %.3f s (", sm.trip_time_s) + sm.trip_reason + ")" : "no trip";
   if (!e.soc_error_max_below.empty() || !e.soc_error_rms_below.empty() || !e.soc_error_end_below.empty())
     o.verdict += fmt(", SOC error max coulomb %.2f %%, ekf %.2f %%", 100.0 * sm.soc_error_coulomb.max, 100.0 * sm.soc_error_ekf.max);
   if (e.capacity_error_below)
     o.verdict += fmt(", capacity %.3f Ah (true %.3f Ah)", sm.capacity_estimate_Ah, sm.capacity_true_Ah);
+  if (!fwFailure.empty()) o.verdict += "; " + fwFailure;
+  if (unreached > 0) o.verdict += ", " + std::to_string(unreached) + " scripted fault" + (unreached > 1 ? "s" : "") + " not reached";
   // Without an expect: block the run is reported, not passed.
-  o.nothing_to_check = !e.present;
+  o.nothing_to_check = !e.present && o.failures.empty();
   if (o.nothing_to_check) o.verdict = "ran, nothing to check (" + o.verdict + ")";
   o.passed = o.failures.empty();
   return o;

@@ -10,6 +10,8 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
+#include "core/scenario/scenario_inputs.hpp"
+#include "core/sim/firmware_failure.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/stop_signal.hpp"
@@ -45,7 +47,9 @@ int cmdRun(const RunOptions& o) {
   Scenario s = loadScenarioFileWithOverrides(path, parseSetOptions(o.set));
   if (o.seed) s.run.seed = *o.seed;
   const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
-  checkResultPathWritable(out);  // before the run, not after it
+  checkResultIsNotAnInput(out, s);  // -o naming the scenario, its extends: chain or its CSV: exit 2
+  checkResultPathWritable(out);    // before the run, not after it
+  const ResultFileStamp before = resultFileStamp(out);
   // The scenario's warnings (also config_warning events), once the run will start.
   for (const std::string& w : s.warnings) std::cerr << "packsim: warning: " << w << "\n";
   // A bar while it runs when stdout is a terminal (never into a file or a pipe).
@@ -63,8 +67,21 @@ int cmdRun(const RunOptions& o) {
     std::snprintf(at, sizeof at, "%.3f", stoppedAt_s);
     throw Interrupted(sig, "interrupted by " + stopSignalName(sig) + " at t = " + at + " s; no result written");
   }
+  // Another run may have written the same result meanwhile: this complete result
+  // replaces it (atomically), and says so.
+  const bool replacedAnother = resultFileStamp(out) != before;
   writeResultHdf5(out, s, r);
+  if (replacedAnother)
+    std::cerr << "packsim: note: another run wrote '" << out << "' while this one ran; it now holds this run's "
+              << "complete result (write to separate -o files to keep both)\n";
   if (!o.quiet) std::cout << formatSummary(s, r) << "result          " << out << "\n";
+  // A firmware that failed is a failed run, even though the hardware simulation ran on
+  // (the result shows what the dead MCU left the pack to), unless the scenario means it.
+  if (const std::string failure = firmwareFailure(s, r); !failure.empty() && !s.expect.firmware_fault) {
+    std::cerr << "packsim: error: " << failure << "; the run went on with a dead MCU (result kept in '" << out
+              << "'); if the scenario means the firmware to fail, say expect: {firmware_fault: true}\n";
+    return 1;
+  }
   return 0;
 }
 

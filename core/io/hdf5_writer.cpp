@@ -19,6 +19,9 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <random>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <stdexcept>
 #include <variant>
 #include <vector>
@@ -259,9 +262,9 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   }
   // Attributes that come from the scenario rather than the recording.
   std::string therm;
-  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a cell number, or the node's name
+  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a series group (1-based), or the node's name
     therm += (therm.empty() ? "" : ",") + (site.onCell() ? std::to_string(site.cell + 1) : site.node);
-  w.attrOn("/measured", "thermistor_cells", therm);
+  w.attrOn("/measured", "thermistor_groups", therm);
   w.attrOn("/bms", "fault_bits", faultNames());
   {  // the protection limits the plots draw (an attribute only when the protection is on)
     Handle bms(H5Oopen(file, "/bms", H5P_DEFAULT), H5Oclose, "/bms");
@@ -301,6 +304,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   w.attrInt(g, "limit_reached", sm.limit_reached ? 1 : 0);
   w.attr(g, "limit_time_s", sm.limit_time_s);
   w.attrInt(g, "limit_cell", sm.limit_cell);
+  w.attrInt(g, "limit_by_bms_trip", sm.limit_by_bms_trip ? 1 : 0);
   w.attr(g, "energy_start_Wh", sm.energy_start_Wh);
   w.attr(g, "energy_left_Wh", sm.energy_left_Wh);
   w.attr(g, "energy_stranded_Wh", sm.energy_stranded_Wh);
@@ -318,6 +322,8 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   w.attr(g, "capacity_true_Ah", sm.capacity_true_Ah);
   w.attrInt(g, "display_bars_hidden_max", sm.display_bars_hidden_max);
   w.attrInt(g, "display_bars_extra_max", sm.display_bars_extra_max);
+  w.attr(g, "limit_unseen_longest_s", sm.limit_unseen_longest_s);
+  w.attr(g, "limit_unseen_longest", sm.limit_unseen_longest);
 
   addNetcdfLayout(file, {n, cells, static_cast<size_t>(rec.groups), static_cast<size_t>(rec.thermistors),
                          static_cast<size_t>(rec.devices)});
@@ -337,7 +343,7 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   namespace fs = std::filesystem;
   const fs::path target(path);
   if (target.has_parent_path()) fs::create_directories(target.parent_path());
-  const std::string tmp = path + ".tmp";
+  const std::string tmp = uniqueTemporaryName(path);  // this process's own: concurrent writers never share it
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
   try {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
@@ -358,7 +364,32 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
     throw std::runtime_error("cannot write the result file '" + path + "': " + e.what() +
                              (err ? std::string(" (") + std::strerror(err) + ")" : std::string()));
   }
-  fs::rename(tmp, target);
+  std::error_code ec;
+  fs::rename(tmp, target, ec);  // atomic: readers see the old file or the complete new one
+  if (ec) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error("cannot write the result file '" + path + "': renaming the complete temporary file '" + tmp +
+                             "' failed: " + ec.message());
+  }
+}
+
+std::string uniqueTemporaryName(const std::string& path) {
+  std::random_device rd;
+  char suffix[48];
+  std::snprintf(suffix, sizeof suffix, ".tmp.%ld.%08x", static_cast<long>(getpid()), static_cast<unsigned>(rd()));
+  return path + suffix;
+}
+
+ResultFileStamp resultFileStamp(const std::string& path) {
+  ResultFileStamp st;
+  struct stat sb;
+  if (::stat(path.c_str(), &sb) != 0) return st;
+  st.exists = true;
+  st.device = static_cast<unsigned long long>(sb.st_dev);
+  st.inode = static_cast<unsigned long long>(sb.st_ino);
+  st.size = static_cast<long long>(sb.st_size);
+  st.mtime_ns = static_cast<long long>(sb.st_mtim.tv_sec) * 1000000000LL + sb.st_mtim.tv_nsec;
+  return st;
 }
 
 void checkResultPathWritable(const std::string& path) {
@@ -374,7 +405,7 @@ void checkResultPathWritable(const std::string& path) {
     fs::create_directories(target.parent_path(), ec);
     if (ec) fail("cannot create the folder '" + target.parent_path().string() + "': " + ec.message());
   }
-  const std::string probe = path + ".tmp";
+  const std::string probe = uniqueTemporaryName(path);
   errno = 0;
   std::FILE* f = std::fopen(probe.c_str(), "wb");
   if (!f) fail(std::strerror(errno));

@@ -85,10 +85,10 @@ void applyDerivedDefaults(const YAML::Node& root, Scenario& s) {
   }
 
   // Thermistors: four spread over the string unless stated (readHardware).
-  if (prov && !stated(root, {"hardware", "thermistors", "at_cells"}) && !stated(root, {"hardware", "thermistors", "channels"})) {
+  if (prov && !stated(root, {"hardware", "thermistors", "at_groups"}) && !stated(root, {"hardware", "thermistors", "channels"})) {
     std::string sites;
     for (const ThermistorSite& t : s.hardware.thermistor_sites) sites += (sites.empty() ? "" : ", ") + std::to_string(t.cell + 1);
-    prov->recordDefault("hardware.thermistors.at_cells", "[" + sites + "]", "default (up to 4 spread over the string)");
+    prov->recordDefault("hardware.thermistors.at_groups", "[" + sites + "]", "default (up to 4 spread over the string)");
   }
 
   // Current sensor: sized to the limits it must judge and the load it must measure.

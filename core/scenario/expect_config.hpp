@@ -36,6 +36,9 @@ struct Expectations {
   // above this figure; this run's lowest cell below the reference's.
   std::optional<double> energy_lost_vs_compare_Wh_above;
   std::optional<bool> min_cell_V_below_compare;
+  // The firmware is meant to fail (load, init, crash, hang, contract break: a
+  // firmware_fault event); without it such a failure fails `run` (exit 1) and `check`.
+  bool firmware_fault = false;
 };
 
 }  // namespace packsim

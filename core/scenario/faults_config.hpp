@@ -1,7 +1,8 @@
 // Scripted fault injections (`faults:` in a scenario). Each starts at a time (`at_s`)
 // or when a condition on the plant's truth first holds (`when: "cell_min_V < 3.3"`),
 // and lasts `duration_s` or for the rest of the run. Indices are 0-based here; the
-// YAML counts cells, devices and thermistors from 1.
+// YAML counts cells (1..series*parallel), series groups (1..series), devices and
+// thermistors from 1.
 #pragma once
 #include <string>
 #include <vector>
@@ -50,12 +51,14 @@ struct FaultInjection {
   double at_s = 0.0;
   Condition when;
   double duration_s = 0.0;  // 0: permanent
-  int index = 0;            // cell, device or thermistor (0-based), by kind
+  int index = 0;            // cell (0..S*P-1), series group (channel faults), device or thermistor (0-based), by kind
+  int parallel = 1;         // cells per series group, to name a cell's group
   double value = 0.0;       // A, W, Ω, rate, gain, V … by kind
   double rate_per_s = 0.0;  // current_sensor_drift: offset growth (A/s) from the start
   bool external = false;    // E-switch: which one
   int line = 0;             // where it was written (for reports)
   std::string describe() const;
+  std::string cellText() const;  // "cell 74 (group 19)"; "cell 5" without parallel cells
 };
 
 }  // namespace packsim

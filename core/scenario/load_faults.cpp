@@ -89,9 +89,11 @@ Condition parseCondition(YamlMap& m, const std::string& key) {
   return c;
 }
 
-FaultInjection readInjection(YamlMap f, int cells, int thermistors, int boards) {
+FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistors, int boards) {
+  const int cells = series * parallel;
   FaultInjection inj;
   inj.line = f.raw().Mark().line + 1;
+  inj.parallel = parallel;
   std::vector<std::string> names;
   for (const auto& k : kKinds) names.emplace_back(k.name);
   inj.kind = [&] {
@@ -109,6 +111,13 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors, int boards) 
   }
   inj.duration_s = f.number("duration_s", 0.0, Range::positive(limits::kMaxTime_s));
   auto cell = [&] { return static_cast<int>(f.integer("cell", 1, cells)) - 1; };
+  // A cell input of the monitor measures a series group: channel faults count groups.
+  auto group = [&] {
+    if (f.has("cell"))
+      throw f.errorAt("cell", "a channel fault acts on a series group's measurement channel: write group: N (1.." +
+                                  std::to_string(series) + ")");
+    return static_cast<int>(f.integer("group", 1, series)) - 1;
+  };
   auto device = [&](const char* key) { return static_cast<int>(f.integer(key, 1, 64)) - 1; };
   switch (inj.kind) {
     case FaultKind::Overcurrent: inj.value = f.number("current_A", Range::symmetric(limits::kMaxCurrent_A)); break;
@@ -146,11 +155,11 @@ FaultInjection readInjection(YamlMap f, int cells, int thermistors, int boards) 
       break;
     }
     case FaultKind::ChannelGain:
-      inj.index = cell();
+      inj.index = group();
       inj.value = f.number("gain_error", Range::closed(-0.5, 0.5));
       break;
     case FaultKind::ChannelOffset:
-      inj.index = cell();
+      inj.index = group();
       inj.value = f.number("offset_mV", Range::closed(-2000.0, 2000.0)) * 1e-3;
       break;
     case FaultKind::ThermistorOpen:
@@ -207,12 +216,20 @@ const char* faultKindName(FaultKind k) {
   return "unknown";
 }
 
+std::string FaultInjection::cellText() const {
+  std::string t = "cell " + std::to_string(index + 1);
+  if (parallel > 1) t += " (group " + std::to_string(index / parallel + 1) + ")";
+  return t;
+}
+
 std::string FaultInjection::describe() const {
   char buf[160];
   switch (kind) {
     case FaultKind::Overcurrent: std::snprintf(buf, sizeof buf, "overcurrent +%.3g A", value); break;
-    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell cell %d, %.3g W", index + 1, value); break;
-    case FaultKind::InternalShort: std::snprintf(buf, sizeof buf, "internal_short cell %d, %.3g ohm", index + 1, value); break;
+    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell %s, %.3g W", cellText().c_str(), value); break;
+    case FaultKind::InternalShort:
+      std::snprintf(buf, sizeof buf, "internal_short %s, %.3g ohm", cellText().c_str(), value);
+      break;
     case FaultKind::EStop: std::snprintf(buf, sizeof buf, "estop %s pulled", external ? "external" : "internal"); break;
     case FaultKind::DeviceSilent: std::snprintf(buf, sizeof buf, "device_silent device %d", index + 1); break;
     case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.3g", index + 1, value); break;
@@ -223,8 +240,8 @@ std::string FaultInjection::describe() const {
       else
         std::snprintf(buf, sizeof buf, "broken_link above device %d", index + 1);
       break;
-    case FaultKind::ChannelGain: std::snprintf(buf, sizeof buf, "channel_gain cell %d, %+.2f %%", index + 1, value * 100.0); break;
-    case FaultKind::ChannelOffset: std::snprintf(buf, sizeof buf, "channel_offset cell %d, %+.1f mV", index + 1, value * 1e3); break;
+    case FaultKind::ChannelGain: std::snprintf(buf, sizeof buf, "channel_gain group %d, %+.2f %%", index + 1, value * 100.0); break;
+    case FaultKind::ChannelOffset: std::snprintf(buf, sizeof buf, "channel_offset group %d, %+.1f mV", index + 1, value * 1e3); break;
     case FaultKind::ThermistorOpen: std::snprintf(buf, sizeof buf, "thermistor_open thermistor %d", index + 1); break;
     case FaultKind::ThermistorShort: std::snprintf(buf, sizeof buf, "thermistor_short thermistor %d", index + 1); break;
     case FaultKind::WeldedRelay: std::snprintf(buf, sizeof buf, "welded_relay"); break;
@@ -247,10 +264,10 @@ std::string FaultInjection::describe() const {
   return buf;
 }
 
-std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors, int boards) {
+std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards) {
   std::vector<FaultInjection> out;
   if (!root.has("faults")) return out;
-  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, cells, thermistors, boards));
+  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, series, parallel, thermistors, boards));
   return out;
 }
 
@@ -285,6 +302,7 @@ Expectations readExpect(std::optional<YamlMap> m) {
   if (m->has("energy_lost_vs_compare_Wh_above"))
     e.energy_lost_vs_compare_Wh_above = m->number("energy_lost_vs_compare_Wh_above", Range::symmetric(limits::kMaxEnergy_Wh));
   if (m->has("min_cell_V_below_compare")) e.min_cell_V_below_compare = m->boolean("min_cell_V_below_compare", true);
+  e.firmware_fault = m->boolean("firmware_fault", false);
   if (e.no_trip && *e.no_trip && (e.trip_reason || e.trip_within_s))
     throw m->error("no_trip: true contradicts trip_reason / trip_within_s");
   m->finish();

@@ -188,20 +188,29 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       a->finish();
     }
     if (auto t = hw->optionalMap("thermistors")) {
-      if (t->has("at_cells") && t->has("channels"))
-        throw t->errorAt("channels", "give either at_cells (every thermistor on a cell) or channels, not both");
-      if (t->has("at_cells")) {
+      // Thermistors count series groups (1..series), each on its group's first cell; the
+      // old key at_cells counted groups too and is refused rather than reinterpreted.
+      const std::string groupsText = "1.." + std::to_string(cells) + " series groups";
+      if (t->has("at_cells"))
+        throw t->errorAt("at_cells", "thermistors sit on series groups: write at_groups: [...] (" + groupsText +
+                                         ", each on its group's first cell); at_cells was renamed because a pack's "
+                                         "cells count 1..series*parallel");
+      if (t->has("at_groups") && t->has("channels"))
+        throw t->errorAt("channels", "give either at_groups (every thermistor on a series group) or channels, not both");
+      if (t->has("at_groups")) {
         h.thermistor_sites.clear();
-        for (long c : t->integers("at_cells", 1, cells)) h.thermistor_sites.push_back({static_cast<int>(c - 1), ""});
+        for (long c : t->integers("at_groups", 1, cells)) h.thermistor_sites.push_back({static_cast<int>(c - 1), ""});
         if (h.thermistor_sites.size() > bms::kMaxThermistors)
-          throw t->errorAt("at_cells", "at most " + std::to_string(bms::kMaxThermistors) + " thermistors");
+          throw t->errorAt("at_groups", "at most " + std::to_string(bms::kMaxThermistors) + " thermistors");
       }
-      if (t->has("channels")) {  // in wiring order, each {cell: N} or {node: NAME}
+      if (t->has("channels")) {  // in wiring order, each {group: N} or {node: NAME}
         h.thermistor_sites.clear();
         for (YamlMap c : t->mapList("channels")) {
-          if (c.has("cell") == c.has("node")) throw c.error("a thermistor channel is either {cell: N} or {node: NAME}");
           if (c.has("cell"))
-            h.thermistor_sites.push_back({static_cast<int>(c.integer("cell", 1, cells) - 1), ""});
+            throw c.errorAt("cell", "a thermistor channel sits on a series group: write {group: N} (" + groupsText + ")");
+          if (c.has("group") == c.has("node")) throw c.error("a thermistor channel is either {group: N} or {node: NAME}");
+          if (c.has("group"))
+            h.thermistor_sites.push_back({static_cast<int>(c.integer("group", 1, cells) - 1), ""});
           else
             h.thermistor_sites.push_back({-1, c.string("node")});
           c.finish();

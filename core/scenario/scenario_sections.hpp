@@ -33,7 +33,7 @@ std::string loadCRateError(const PackConfig& pack, double value, bool power);
 double shortCircuitCurrent_A(const PackConfig& pack);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 // boards: the monitor boards (each with its MCU) a host_dead may name.
-std::vector<FaultInjection> readFaults(YamlMap& root, int cells, int thermistors, int boards);
+std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards);
 Expectations readExpect(std::optional<YamlMap> m);
 // load_balancing.cpp
 PassiveBalancerConfig readPassiveBalancer(YamlMap m);

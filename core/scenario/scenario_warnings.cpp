@@ -65,7 +65,7 @@ void checkThermistorReach(const Scenario& s, const Provenance& p, std::vector<st
   std::vector<int> sites;
   for (const ThermistorSite& t : s.hardware.thermistor_sites)
     if (t.onCell()) sites.push_back(t.cell);
-  std::string where = p.describe("hardware.thermistors.at_cells");
+  std::string where = p.describe("hardware.thermistors.at_groups");
   if (sectionOrigin(p, "hardware.thermistors.channels") != "default")
     where = "hardware.thermistors.channels (" + sectionOrigin(p, "hardware.thermistors.channels") + ")";
   if (sites.empty()) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <cstdio>
 
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
@@ -93,6 +94,23 @@ bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, 
   apply(faults);
   return faults.extra_load_A != before.extra_load_A || faults.cell_heat_W != before.cell_heat_W ||
          faults.cell_leak_ohm != before.cell_leak_ohm || faults.relay_welded != before.relay_welded;
+}
+
+void FaultScheduler::reportUnreached(double t_end_s, const std::string& run_end, RunTracker& tracker) const {
+  for (size_t i = 0; i < s_.faults.size(); ++i) {
+    if (state_[i].start_s >= 0.0) continue;
+    const FaultInjection& inj = s_.faults[i];
+    char when[160];
+    if (inj.hasCondition)
+      std::snprintf(when, sizeof when, "when %s never held", inj.when.text.c_str());
+    else
+      std::snprintf(when, sizeof when, "due at %.3f s", inj.at_s);
+    char end[64];
+    std::snprintf(end, sizeof end, "%.3f s", t_end_s);
+    tracker.event(t_end_s, "fault_not_reached",
+                  inj.describe() + " (line " + std::to_string(inj.line) + ", " + when + "; the run ended at " + end + ": " +
+                      run_end + ")");
+  }
 }
 
 // Rebuilds the fault state from every active injection (so overlapping ones add up).

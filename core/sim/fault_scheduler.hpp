@@ -3,6 +3,7 @@
 // duration is over, and rewrites the HardwareFaults the models read. Every start and
 // end becomes an event.
 #pragma once
+#include <string>
 #include <vector>
 
 #include "core/scenario/scenario.hpp"
@@ -26,6 +27,10 @@ class FaultScheduler {
   double nextChange_s(double t) const;
   // Sizes and clears `faults` (everything healthy) before the first tick.
   void reset(HardwareFaults& faults) const { apply(faults); }
+  // At the end of a run (t_end_s: the last tick): one `fault_not_reached` event for
+  // every injection that never started, saying when it was due and why the run ended
+  // first (`run_end`: "the run's duration", "the trip stopped it", ...).
+  void reportUnreached(double t_end_s, const std::string& run_end, RunTracker& tracker) const;
 
  private:
   double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;

@@ -105,6 +105,7 @@ struct Summary {
   bool limit_reached = false;
   double limit_time_s = 0.0;
   int limit_cell = 0;  // 1-based
+  bool limit_by_bms_trip = false;  // the BMS's under-voltage trip came first (limit_cell: the lowest cell then)
   double energy_start_Wh = 0.0;
   double energy_left_Wh = 0.0;
   double energy_stranded_Wh = 0.0;
@@ -119,6 +120,10 @@ struct Summary {
   int display_bars_extra_max = 0;     // most bars it showed above the truth's
   const SocErrorStats& socErrorSelected() const { return soc_estimator == "ekf" ? soc_error_ekf : soc_error_coulomb; }
   Comparison compare;  // against the `compare:` scenario, when the scenario names one
+  // The longest time a cell stayed past a protection limit unseen by the BMS (truth
+  // against the protection table; core/sim/limit_watch.hpp), and its event's text.
+  double limit_unseen_longest_s = 0.0;
+  std::string limit_unseen_longest;
   std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
 };
 

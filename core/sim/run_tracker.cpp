@@ -2,6 +2,7 @@
 
 #include "core/sim/result_channels.hpp"
 #include "core/sim/stranded_energy.hpp"
+#include "core/sim/summary_text.hpp"
 
 #include <bms/bms_balance.hpp>
 #include <bms/bms_core.hpp>
@@ -17,7 +18,7 @@
 namespace packsim {
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
-    : s_(s), plant_(plant), cfg_(cfg) {
+    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel) {
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
@@ -36,9 +37,10 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
     r_.summary.energy_start_Wh += cellEnergy_Wh(plant.pack().cells[static_cast<size_t>(c)], plant.initialSoc()[static_cast<size_t>(c)]);
 }
 
-void RunTracker::noteLimit(double t, const double* x, int cell) {
+void RunTracker::noteLimit(double t, const double* x, int cell, bool byTrip) {
   Summary& sm = r_.summary;
   sm.limit_reached = true;
+  sm.limit_by_bms_trip = byTrip;
   sm.limit_time_s = t;
   sm.limit_cell = cell + 1;
   limitSoc_.clear();
@@ -55,9 +57,9 @@ void RunTracker::noteSocRange(double t, const double* x, int cell) {
   if (bit == 0 || (socOut_[ci] & bit)) return;
   socOut_[ci] |= bit;
   char buf[96];
-  std::snprintf(buf, sizeof buf, "cell %d %s (SOC %.4f, capacity %.3f Ah)", cell + 1,
-                bit == 1 ? "below SOC 0" : "above SOC 1", soc, plant_.pack().cells[ci].capacity_Ah);
-  event(t, "soc_out_of_range", buf);
+  std::snprintf(buf, sizeof buf, " %s (SOC %.4f, capacity %.3f Ah)", bit == 1 ? "below SOC 0" : "above SOC 1", soc,
+                plant_.pack().cells[ci].capacity_Ah);
+  event(t, "soc_out_of_range", cellName(cell + 1, plant_.pack().parallel) + buf);
 }
 
 void RunTracker::setHardware(const HardwareSim* hw) {
@@ -81,9 +83,11 @@ std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) co
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   Summary& sm = r_.summary;
+  cellTemp_C_.resize(static_cast<size_t>(plant_.pack().cellCount()));
   for (int c = 0; c < plant_.pack().cellCount(); ++c) {
     const double v = sig.cell_voltage_V[static_cast<size_t>(c)];
     const double T = x[plant_.tempIndex(c)];
+    cellTemp_C_[static_cast<size_t>(c)] = T;
     if (v < sm.min_cell_V) {
       sm.min_cell_V = v;
       sm.min_cell = c + 1;
@@ -127,7 +131,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       int weakest = 0;
       for (int c = 1; c < plant_.pack().cellCount(); ++c)
         if (sig.cell_voltage_V[static_cast<size_t>(c)] < sig.cell_voltage_V[static_cast<size_t>(weakest)]) weakest = c;
-      noteLimit(t, x, weakest);
+      noteLimit(t, x, weakest, true);
     }
   }
   if (hw_) {
@@ -163,6 +167,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   lastBalanceStatus_ = out.balanceStatus;
   judgeEstimates(x, sig, out);
+  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive,
+               [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
   first_ = false;
   lastState_ = out.state;
   lastActive_ = out.faultActive;
@@ -228,6 +234,9 @@ RunResult RunTracker::finish(const double* q) {
   const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);
   sm.energy_left_Wh = se.left_Wh;
   sm.energy_stranded_Wh = se.stranded_Wh;
+  limits_.finish(lastT_, [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
+  sm.limit_unseen_longest_s = limits_.longestUnseen_s();
+  sm.limit_unseen_longest = limits_.longestUnseen();
   event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");
   return std::move(r_);
 }

@@ -9,6 +9,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/result.hpp"
 #include "core/sim/bms_bridge.hpp"
+#include "core/sim/limit_watch.hpp"
 
 namespace packsim {
 
@@ -32,7 +33,7 @@ class RunTracker {
 
  private:
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
-  void noteLimit(double t, const double* x, int cell);
+  void noteLimit(double t, const double* x, int cell, bool byTrip = false);
   void noteSocRange(double t, const double* x, int cell);
   // State estimation against the truth (issue 17).
   void judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out);
@@ -55,6 +56,8 @@ class RunTracker {
   uint8_t lastBalanceStatus_ = 0;
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
+  LimitWatch limits_;            // cells past a protection limit the BMS has not seen
+  std::vector<double> cellTemp_C_;
 };
 
 }  // namespace packsim

@@ -21,6 +21,14 @@
 
 namespace packsim {
 
+namespace {
+std::string afterTripText(double s) {
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "it stops %g s after the trip (run.stop_after_trip_s)", s);
+  return buf;
+}
+}  // namespace
+
 struct SimulationRun::Impl {
   Impl(const Scenario& sc, RunEnd end)
       : s(sc),
@@ -86,6 +94,7 @@ struct SimulationRun::Impl {
   bool restartNext = false;               // an input of the plant jumped at the last tick
   long k = 0;
   bool ended = false;
+  std::string endReason = "it was stopped";  // why the run ended (for unreached faults)
 };
 
 bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
@@ -127,6 +136,10 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
   if (stop) {
     ended = true;
+    endReason = k >= lastTick                    ? "the scenario's end time"
+                : !driverEnds && tracker.stopRequested(t) ? afterTripText(s.run.stop_after_trip_s)
+                : !driverEnds && hw.chargeComplete()      ? "the charge was complete"
+                                                          : "it was stopped";
     return false;
   }
   return true;
@@ -199,6 +212,7 @@ bool SimulationRun::ended() const { return impl_->ended; }
 
 RunResult SimulationRun::finish() {
   Impl& m = *impl_;
+  m.scheduler.reportUnreached(static_cast<double>(m.k) * m.tick_s, m.endReason, m.tracker);  // before the run's end event
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.solver = m.solver->stats();
   r.summary.firmware_status = m.firmware.status();

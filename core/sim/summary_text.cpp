@@ -1,6 +1,9 @@
 #include "core/sim/summary_text.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <vector>
 #include <cstdio>
 #include <sstream>
 
@@ -43,7 +46,40 @@ std::string socErrorLines(const Summary& m) {
   return out;
 }
 
+// The relay contact as the events record it: open until a relay_contact event says otherwise.
+bool contactClosedBefore(const RunResult& r, double t) {
+  bool closed = false;
+  for (const Event& e : r.events)
+    if (e.kind == "relay_contact" && e.time_s < t - 1e-9) closed = e.detail == "closed";
+  return closed;
+}
+const Event* firstEventFrom(const RunResult& r, double t, const char* kind, const char* detail) {
+  for (const Event& e : r.events)
+    if (e.time_s >= t - 1e-9 && e.kind == kind && e.detail == detail) return &e;
+  return nullptr;
+}
+
+// What the relay contact did from time t on (a command, a trip, the FAULT line): from
+// the relay_contact events, never from what was commanded.
+std::string contactFrom(const RunResult& r, double t) {
+  if (!contactClosedBefore(r, t)) {
+    const Event* lastOpened = nullptr;
+    for (const Event& e : r.events)
+      if (e.kind == "relay_contact" && e.time_s < t - 1e-9 && e.detail == "opened") lastOpened = &e;
+    if (lastOpened) return "the relay contact had opened at " + fmt("%.2f", lastOpened->time_s) + " s";
+    return "the relay contact was open (never closed before)";
+  }
+  if (const Event* opened = firstEventFrom(r, t, "relay_contact", "opened"))
+    return "the relay contact opened at " + fmt("%.2f", opened->time_s) + " s";
+  return "the relay contact stayed closed to the end";
+}
+
 }  // namespace
+
+std::string cellName(int cell, int parallel) {
+  if (parallel <= 1) return "cell " + std::to_string(cell);
+  return "cell " + std::to_string(cell) + " (group " + std::to_string((cell - 1) / parallel + 1) + ")";
+}
 
 std::string formatSummary(const Scenario& s, const RunResult& r) {
   const Summary& m = r.summary;
@@ -54,23 +90,58 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   os << "energy out      " << fmt("%.2f", m.energy_delivered_Wh) << " Wh  (" << fmt("%.3f", m.charge_delivered_Ah)
      << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
   if (!m.firmware_status.empty()) os << "firmware        " << m.firmware_status << "\n";
-  os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  cell " << m.min_cell << " at "
+  const int P = s.pack.parallel;
+  os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  " << cellName(m.min_cell, P) << " at "
      << fmt("%.2f", m.min_cell_time_s) << " s\n";
-  os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  cell " << m.hottest_cell << " at "
+  os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  " << cellName(m.hottest_cell, P) << " at "
      << fmt("%.2f", m.hottest_time_s) << " s\n";
   os << "energy left     " << fmt("%.2f", m.energy_left_Wh) << " Wh "
-     << (m.limit_reached ? "when cell " + std::to_string(m.limit_cell) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
+     << (m.limit_reached && m.limit_by_bms_trip
+             ? "when the BMS tripped on under-voltage at " + fmt("%.2f", m.limit_time_s) + " s (lowest " +
+                   cellName(m.limit_cell, P) + ", no cell at its v_min)"
+         : m.limit_reached ? "when " + cellName(m.limit_cell, P) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
                          : std::string("at the end (no cell reached its limit)"))
      << "; " << fmt("%.2f", m.energy_stranded_Wh) << " Wh (" << fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh)
      << " % of the start) stranded by imbalance\n";
   os << "final SOC       " << fmt("%.3f", m.final_soc_min) << " .. " << fmt("%.3f", m.final_soc_max) << "\n";
   os << socErrorLines(m);
   if (m.tripped) {
-    os << "BMS             TRIP: isolated at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << ")\n";
+    // What the contact did is the relay_contact events' word, not the command's.
+    os << "BMS             TRIP at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << "): "
+       << contactFrom(r, m.trip_time_s) << "\n";
     for (const Event& e : r.events)
       if (e.kind == "fault_active") os << "                  " << fmt("%.2f", e.time_s) << " s  " << e.detail << "\n";
   } else {
     os << "BMS             no trip\n";
+  }
+  // Cells past a protection limit before the BMS saw it (truth against the protection
+  // table): per limit the longest episode, and how many cells had one.
+  {
+    std::vector<std::string> names;
+    for (const Event& e : r.events)
+      if (e.kind == "limit_unseen") {
+        const std::string name = e.detail.substr(0, e.detail.find(':'));
+        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+      }
+    for (const std::string& name : names) {
+      const Event* worst = nullptr;
+      double worst_s = -1.0;
+      std::vector<std::string> subjects;
+      for (const Event& e : r.events) {
+        if (e.kind != "limit_unseen" || e.detail.compare(0, name.size() + 1, name + ":") != 0) continue;
+        const size_t a = name.size() + 2, b = e.detail.find(e.detail.find(" above the ") != std::string::npos ? " above the " : " below the ");
+        const std::string subject = e.detail.substr(a, b - a);
+        if (std::find(subjects.begin(), subjects.end(), subject) == subjects.end()) subjects.push_back(subject);
+        const size_t from = e.detail.find(" limit from ");
+        const double from_s = from == std::string::npos ? e.time_s : std::atof(e.detail.c_str() + from + 12);
+        if (e.time_s - from_s > worst_s) {
+          worst_s = e.time_s - from_s;
+          worst = &e;
+        }
+      }
+      os << "unseen limit    " << worst->detail
+         << (subjects.size() > 1 ? "; " + std::to_string(subjects.size()) + " cells in all" : std::string()) << "\n";
+    }
   }
   if (m.compare.present) {
     const Comparison& c = m.compare;
@@ -91,20 +162,35 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
          << (count > 1 ? "; " + std::to_string(count) + " cells in all" : std::string()) << "\n";
   }
   // What the switching hardware did on its own, and configuration warnings.
-  bool contactOpenedAfterTrip = false;
   for (const Event& e : r.events) {
     if (e.kind == "monitor_fault_line" && e.detail == "asserted")
-      os << "hardware        " << fmt("%.2f", e.time_s) << " s  monitor FAULT line asserted (opens the relay without the MCU)\n";
+      os << "hardware        " << fmt("%.2f", e.time_s) << " s  monitor FAULT line asserted ("
+         << (s.hardware.fault_line_opens_relay ? "it opens the relay without the MCU" : "it does not drive the relay here")
+         << "); " << contactFrom(r, e.time_s) << "\n";
     if (e.kind == "fuse") os << "hardware        " << fmt("%.2f", e.time_s) << " s  fuse " << e.detail << "\n";
-    if (e.kind == "relay_contact" && e.detail == "opened" && m.tripped && e.time_s >= m.trip_time_s)
-      contactOpenedAfterTrip = true;
     if (e.kind == "config_warning") os << "warning         " << e.detail << "\n";
   }
-  if (m.tripped && !contactOpenedAfterTrip) {
-    bool everClosed = false;
-    for (const Event& e : r.events) everClosed = everClosed || (e.kind == "relay_contact" && e.detail == "closed");
-    if (everClosed) os << "hardware        relay contact still closed after the open command (welded?)\n";
+  // A contact closed at the end although the relay has been commanded open for longer
+  // than it takes to release: the contact is stuck (welded).
+  {
+    const Event* lastCommand = nullptr;
+    for (const Event& e : r.events)
+      if (e.kind == "relay") lastCommand = &e;
+    const double release_s = s.hardware.relay.open_delay_s + s.bms.weld_settle_s;
+    if (lastCommand && lastCommand->detail == "open" && contactClosedBefore(r, m.duration_s + 1.0) &&
+        m.duration_s - lastCommand->time_s > release_s) {
+      const Event* welded = nullptr;
+      for (const Event& e : r.events)
+        if (e.kind == "fault_injected" && e.detail.rfind("welded_relay", 0) == 0) welded = &e;
+      os << "hardware        relay contact still closed at the end, " << fmt("%.2f", m.duration_s - lastCommand->time_s)
+         << " s after the open command at " << fmt("%.2f", lastCommand->time_s) << " s"
+         << (welded ? " (welded_relay injected at " + fmt("%.2f", welded->time_s) + " s)" : std::string(" (welded?)"))
+         << "\n";
+    }
   }
+  // Scripted faults the run never reached: it ended first.
+  for (const Event& e : r.events)
+    if (e.kind == "fault_not_reached") os << "fault script    not reached: " << e.detail << "\n";
   return os.str();
 }
 

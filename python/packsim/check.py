@@ -65,7 +65,7 @@ class CheckOutcome:
             return f"{head}\n      {self.error}\n"
         out = [f"{head}  -- {self.verdict}\n"]
         out += [f"      injected {f.line}\n" for f in self.latencies]
-        out += [f"      expected: {f}\n" for f in self.failures]
+        out += [f"      failed: {f}\n" for f in self.failures]
         return "".join(out)
 
 

@@ -29,6 +29,7 @@
 
 #include "core/cli/commands.hpp"
 #include "core/io/hdf5_writer.hpp"
+#include "core/scenario/scenario_inputs.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/provenance.hpp"
 #include "core/scenario/scenario_show.hpp"
@@ -107,6 +108,7 @@ py::bytes image(const RunHandle& h) {
 }
 
 void save(const RunHandle& h, const std::string& path) {
+  checkResultIsNotAnInput(path, h.scenario);  // ValueError: the scenario, its extends: chain or CSV
   py::gil_scoped_release release;
   std::lock_guard<std::mutex> lock(hdf5Mutex());
   writeResultHdf5(path, h.scenario, h.result);

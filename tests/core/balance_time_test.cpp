@@ -219,7 +219,7 @@ TEST(BalanceAccounting, ChargeAndHeatMatchTheClosedFormTo1e6) {
       "thermal:\n  nodes: [{name: board, heat_capacity_J_per_K: 20, g_ambient_W_per_K: 0.2}]\n"
       "hardware:\n"
       "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
-      "  thermistors: {at_cells: [1]}\n"
+      "  thermistors: {at_groups: [1]}\n"
       "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
       "  balancing: {resistor_ohm: 9.5, rds_on_ohm: 0.5, board_node: board}\n"
       "bms: {tick_ms: 1000, balance_time_s: 60, balancing: {when: always, min_cell_V: 2.0}}\n"

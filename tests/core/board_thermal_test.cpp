@@ -52,7 +52,7 @@ TEST(BoardNodes, HotCellTripsOvertemperatureNeverBoardOvertemperature) {
       "hardware:\n"
       "  afe: {model: bq76pl536a, cells_per_device: 6, thermistors_per_device: 2, secondary: {ot_C: 90}}\n"
       "  cell_adc: {noise_mV_rms: 0}\n"
-      "  thermistors: {at_cells: [3]}\n"
+      "  thermistors: {at_groups: [3]}\n"
       "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
       "  balancing: {resistor_ohm: 47, board_node: board, board_thermistors: 1}\n"
       "bms:\n  tick_ms: 100\n  protections:\n"

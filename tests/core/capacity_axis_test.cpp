@@ -23,7 +23,7 @@ std::string race(double weakCapacity_Ah) {
     y += "  cells:\n    - {cell: 3, capacity_Ah: " + q + "}\n    - {cell: 4, capacity_Ah: " + q + "}\n";
   }
   return y +
-         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_cells: [1]}\n"
+         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
          "bms:\n  tick_ms: 100\n  protections:\n    cell_undervoltage: {threshold_V: 2.5, delay_ms: 500}\n"
          "load: {current_A: 1.18}\nrun: {duration_s: 30000}\noutput: {interval_s: 10}\n";

@@ -31,7 +31,7 @@ std::string heldCell(double temp_C, const std::string& r0Yaml, const std::string
          "\n  cell:\n    capacity_Ah: 2.0\n    ocv_V: {poly: [0.8, 3.4]}\n    r0_ohm: " + r0Yaml +
          "\n    rc_pairs: [{r_ohm: 0.01, c_F: 1000}]\n    heat_capacity_J_per_K: 1.0e12\n    g_ambient_W_per_K: 0\n" +
          extraCell +
-         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_cells: [1]}\n"
+         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
          "bms:\n  protections:\n    undertemperature: {threshold_C: -40}\n    undertemperature_charge: {threshold_C: -40}\n"
          "ambient: {temp_C: " + t + "}\n";
@@ -92,7 +92,7 @@ std::string presetCellHeldAt(double temp_C, const std::string& r0Override) {
   return "name: preset_override\nseed: 3\npack:\n  series: 1\n  initial_soc: 0.8\n  initial_temp_C: " + t +
          "\n  cell:\n    preset: ncr18650_3p1Ah\n    r0_ohm: " + r0Override +
          "\n    heat_capacity_J_per_K: 1.0e12\n    g_ambient_W_per_K: 0\n"
-         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_cells: [1]}\n"
+         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
          "ambient: {temp_C: " + t + "}\nload: {current_A: 3}\nrun: {duration_s: 300, solver: fast}\n";
 }

@@ -16,7 +16,7 @@ std::string chargerYaml(const std::string& extra = "") {
          "pack: {series: 1, initial_soc: 0.3, cell: {preset: ncr18650_3p1Ah}}\n"
          "hardware:\n"
          "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
-         "  thermistors: {at_cells: [1]}\n"
+         "  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.001, amp_gain: 10, noise_A_rms: 0}\n"
          "bms: {tick_ms: 1000}\n"
          "load: {charger: {current_A: 0.885, voltage_V: 4.2, end_current_A: 0.1}}\n"

@@ -58,6 +58,63 @@ TEST(Check, CliReportsEveryScenarioAndFailsTheBatch) {
   fs::remove_all(dir);
 }
 
+// A hot cell injected at 300 s (too little heat to reach a limit) and an E-stop at 450 s:
+// the E-stop is not credited to the hot cell (it was: "estop after 150.000 s").
+TEST(Check, EachDetectionIsCreditedToTheInjectionThatCanCauseIt) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 600}\n"
+                                            "faults:\n  - {kind: hot_cell, cell: 1, heat_W: 0.5, at_s: 300}\n"
+                                            "  - {kind: estop, switch: external, at_s: 450}\n");
+  const RunResult r = runScenario(s);
+  const CheckOutcome c = judge(s, r);
+  ASSERT_EQ(c.fault_latencies.size(), 2u);
+  ASSERT_EQ(c.latencies.size(), 2u);
+  const FaultLatency& hot = c.fault_latencies[0];
+  EXPECT_EQ(hot.detected_fault, "");
+  EXPECT_LT(hot.detection_latency_s, 0.0);
+  EXPECT_LT(hot.relay_open_latency_s, 0.0);
+  EXPECT_EQ(c.latencies[0].find("estop after"), std::string::npos) << c.latencies[0];
+  EXPECT_NE(c.latencies[0].find("no BMS fault it can cause"), std::string::npos) << c.latencies[0];
+  EXPECT_NE(c.latencies[0].find("(estop at 450.000 s is not caused by it)"), std::string::npos) << c.latencies[0];
+  EXPECT_NE(c.latencies[0].find("relay opened at 450.000 s but not on a fault this injection causes"), std::string::npos)
+      << c.latencies[0];
+  const FaultLatency& estop = c.fault_latencies[1];
+  EXPECT_EQ(estop.detected_fault, "estop");
+  EXPECT_NEAR(estop.detection_latency_s, 0.0, 1e-9);
+  EXPECT_GE(estop.relay_open_latency_s, 0.0);
+}
+
+// The hot cell that does reach the limit is credited with the over-temperature, even
+// when an unrelated fault (an E-stop that does not latch: monitor only) came first.
+TEST(Check, TheCausingFaultIsFoundPastAnUnrelatedOne) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 900}\n"
+                                            "bms: {protections: {estop: {action: monitor}}}\n"
+                                            "faults:\n  - {kind: hot_cell, cell: 1, heat_W: 8, at_s: 10}\n"
+                                            "  - {kind: estop, switch: external, at_s: 20, duration_s: 5}\n");
+  const RunResult r = runScenario(s);
+  const CheckOutcome c = judge(s, r);
+  ASSERT_EQ(c.fault_latencies.size(), 2u);
+  const double ot = test::eventTime(r, "fault_active", "overtemperature");
+  ASSERT_GT(ot, 20.0);
+  EXPECT_EQ(c.fault_latencies[0].detected_fault, "overtemperature") << c.latencies[0];
+  EXPECT_NEAR(c.fault_latencies[0].detection_latency_s, ot - 10.0, 1e-9);
+}
+
+// An expected injection the run never reached (it stopped 60 s after an earlier trip)
+// fails the check with that reason.
+TEST(Check, UnreachedScriptedFaultFails) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + kTripping.substr(0, kTripping.find("run:")) +
+                                            "run: {duration_s: 600}\nfaults:\n"
+                                            "  - {kind: overcurrent, current_A: 40, at_s: 10}\n"
+                                            "  - {kind: hot_cell, cell: 1, heat_W: 5, at_s: 300}\n"
+                                            "expect: {trip_reason: overcurrent_discharge}\n");
+  const CheckOutcome c = judge(s, runScenario(s));
+  EXPECT_FALSE(c.passed);
+  ASSERT_EQ(c.failures.size(), 1u);
+  EXPECT_NE(c.failures[0].find("scripted fault never happened: hot_cell cell 1, 5 W"), std::string::npos) << c.failures[0];
+  EXPECT_NE(c.failures[0].find("due at 300.000 s"), std::string::npos) << c.failures[0];
+  EXPECT_NE(c.verdict.find("1 scripted fault not reached"), std::string::npos) << c.verdict;
+}
+
 // With a constant OCV the energy of a cell is Q·OCV·SOC, so the stranded energy is
 // exactly Q·OCV·(SOC_i - SOC_weakest) summed.
 TEST(StrandedEnergy, ConstantOcvIsExact) {

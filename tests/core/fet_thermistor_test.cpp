@@ -98,26 +98,26 @@ TEST(FetThermistor, AThermistorOnANodeThatIsNoFetsNodeOrBothFormsAreErrors) {
   std::string base = test::simpleCellYaml() + "thermal: {nodes: [{name: fets, heat_capacity_J_per_K: 10}, "
                                               "{name: busbar, heat_capacity_J_per_K: 10}]}\n" +
                      test::kSimpleLoadYaml;
-  const std::string hw = "hardware:\n", at = "  thermistors: {at_cells: [1]}\n";
+  const std::string hw = "hardware:\n", at = "  thermistors: {at_groups: [1]}\n";
   auto withHardware = [&](const std::string& lines) {
     std::string y = base;
     y.replace(y.find(at), at.size(), lines);
     return y;
   };
   const std::string fet = "  discharge_fet: {thermal_node: fets}\n";
-  std::string e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{cell: 1}, {node: busbar}]}\n"));
+  std::string e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{group: 1}, {node: busbar}]}\n"));
   EXPECT_NE(e.find("channels[1].node"), std::string::npos) << e;
   EXPECT_NE(e.find("FETs' node"), std::string::npos) << e;
-  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{cell: 1}, {node: fest}]}\n"));
+  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{group: 1}, {node: fest}]}\n"));
   EXPECT_NE(e.find("did you mean 'fets'"), std::string::npos) << e;
-  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {at_cells: [1], channels: [{cell: 1}]}\n"));
+  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {at_groups: [1], channels: [{group: 1}]}\n"));
   EXPECT_NE(e.find("not both"), std::string::npos) << e;
-  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{cell: 1, node: fets}]}\n"));
-  EXPECT_NE(e.find("either {cell: N} or {node: NAME}"), std::string::npos) << e;
-  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{cell: 2}]}\n"));
-  EXPECT_NE(e.find("cell"), std::string::npos) << e;
+  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{group: 1, node: fets}]}\n"));
+  EXPECT_NE(e.find("either {group: N} or {node: NAME}"), std::string::npos) << e;
+  e = test::yamlErrorOf(withHardware(fet + "  thermistors: {channels: [{group: 2}]}\n"));
+  EXPECT_NE(e.find("group"), std::string::npos) << e;
   // Accepted: a FET channel on the FETs' node.
-  const Scenario ok = test::scenarioFromYaml(withHardware(fet + "  thermistors: {channels: [{cell: 1}, {node: fets}]}\n"));
+  const Scenario ok = test::scenarioFromYaml(withHardware(fet + "  thermistors: {channels: [{group: 1}, {node: fets}]}\n"));
   ASSERT_EQ(ok.hardware.thermistor_sites.size(), 2u);
   EXPECT_EQ(ok.hardware.thermistor_sites[1].node, "fets");
 }

@@ -28,7 +28,7 @@ std::string base(const std::string& load, double soc = 0.5, double temp = 25.0, 
          "\n  cell: {capacity_Ah: 50, ocv_V: 3.5, r0_ohm: 0.05, heat_capacity_J_per_K: 1e6, g_ambient_W_per_K: 1}\n"
          "hardware:\n" + afe +
          "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
-         "  thermistors: {at_cells: [1, 2]}\n"
+         "  thermistors: {at_groups: [1, 2]}\n"
          "  current_sense: {shunt_ohm: 0.0005, amp_gain: 20, noise_A_rms: 0}\n"
          "ambient: {temp_C: " + std::to_string(temp) + "}\n"
          "bms:\n  tick_ms: 10\n  protections:\n"
@@ -81,8 +81,8 @@ std::vector<TripCase> cases() {
       // Cell 1 reads 3 % high: its device's cell sum exceeds the stack reading by
       // 105 mV, 52.5 mV per cell > 20 mV; at 1 % (17.5 mV per cell) it does not.
       {"cell_sum_plausibility", "cell_sum_plausibility",
-       withFault("{current_A: 0}", "{kind: channel_gain, cell: 1, gain_error: 0.03, at_s: 0}"),
-       withFault("{current_A: 0}", "{kind: channel_gain, cell: 1, gain_error: 0.01, at_s: 0}"), 0.35, false},
+       withFault("{current_A: 0}", "{kind: channel_gain, group: 1, gain_error: 0.03, at_s: 0}"),
+       withFault("{current_A: 0}", "{kind: channel_gain, group: 1, gain_error: 0.01, at_s: 0}"), 0.35, false},
       // The amplifier's output at its rail (+-165 A full scale): a 200 A offset pins it,
       // a 150 A offset does not (both read as over-current, which is disabled here).
       {"current_sensor_fault", "current_sensor_fault",

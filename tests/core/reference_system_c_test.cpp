@@ -19,7 +19,7 @@ namespace {
 std::string oneCell(double initialSoc, const std::string& load, double duration_s) {
   return "name: c_cell\nseed: 1\npack:\n  series: 1\n  initial_soc: " + std::to_string(initialSoc) +
          "\n  cell: {preset: ncr18650_3p1Ah}\n"
-         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_cells: [1]}\n"
+         "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.005, amp_gain: 20, noise_A_rms: 0}\n"
          "bms:\n  tick_ms: 1000\n  protections:\n    cell_undervoltage: {threshold_V: 2.5, delay_ms: 2000}\n"
          "    overcurrent_discharge: {threshold_A: 10, delay_ms: 200}\n    overcurrent_charge: {threshold_A: 2, delay_ms: 200}\n"

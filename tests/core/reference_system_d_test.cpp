@@ -37,7 +37,7 @@ TEST(ReferenceSystemD, FourBoardsOfSixDevicesEachWithItsThermistors) {
   const std::string e = test::yamlErrorOf(
       "name: x\npack: {series: 12, cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}}\n"
       "hardware:\n  afe: {model: bq76pl536a, cells_per_device: 6, devices_per_board: 1}\n"
-      "  thermistors: {at_cells: [1, 2, 7, 8, 9]}\nload: {current_A: 1}\nrun: {duration_s: 1}\n");
+      "  thermistors: {at_groups: [1, 2, 7, 8, 9]}\nload: {current_A: 1}\nrun: {duration_s: 1}\n");
   EXPECT_NE(e.find("devices_per_board: monitor board 2 (cells 7-12) has more thermistors than its 1 devices have inputs (2)"),
             std::string::npos)
       << e;
@@ -47,7 +47,7 @@ TEST(ReferenceSystemD, FourBoardsOfSixDevicesEachWithItsThermistors) {
 std::string twoBoards(const std::string& extra) {
   return "name: two_boards\nseed: 3\npack: {series: 12, initial_soc: 0.6, cell: {capacity_Ah: 20, ocv_V: {poly: [0.8, 3.3]}, r0_ohm: 0.002}}\n"
          "hardware:\n  afe: {model: bq76pl536a, cells_per_device: 6, devices_per_board: 1, fault_line_opens_relay: false}\n"
-         "  cell_adc: {noise_mV_rms: 0}\n  thermistors: {at_cells: [2, 8]}\n"
+         "  cell_adc: {noise_mV_rms: 0}\n  thermistors: {at_groups: [2, 8]}\n"
          "bms:\n  tick_ms: 10\n  readout: {period_ms: 1000}\n  comm_loss_count: 2\n"
          "load: {current_A: 5}\nrun: {duration_s: 8, stop_after_trip_s: 1}\noutput: {interval_s: 0.01}\n" + extra;
 }
@@ -57,7 +57,7 @@ std::string twoBoards(const std::string& extra) {
 // control tick; the debounce (500 ms) runs there.
 TEST(ReferenceSystemD, AMembersCellTripsThePackHostOverCan) {
   const RunResult r = runScenario(test::scenarioFromYaml(twoBoards(
-      "faults: [{kind: channel_offset, cell: 9, offset_mV: 1000, at_s: 2}]\n")));
+      "faults: [{kind: channel_offset, group: 9, offset_mV: 1000, at_s: 2}]\n")));
   const double seen = test::eventTime(r, "fault_active", "cell_overvoltage");
   EXPECT_NEAR(seen, 2.0 + 0.5 + 0.01, 0.0101) << "read-out at 2.0, CAN at 2.01, debounce 0.5 s";
   EXPECT_EQ(r.summary.trip_reason, "cell_overvoltage");

@@ -77,7 +77,7 @@ void expectRunStoppedBy(int sig, const std::string& name) {
   EXPECT_NE(err.find("interrupted by " + name), std::string::npos) << err;
   EXPECT_NE(err.find("no result written"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+  EXPECT_FALSE(test::temporaryOfExists(out));
 }
 
 TEST(RunInterruption, SigintStopsTheRunAndLeavesNoFile) { expectRunStoppedBy(SIGINT, "SIGINT"); }
@@ -94,7 +94,7 @@ TEST(RunInterruption, StopDuringTheWriteRemovesTheTemporaryFile) {
   clearStopSignal();
   std::signal(SIGINT, SIG_DFL);
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+  EXPECT_FALSE(test::temporaryOfExists(out));
   writeResultHdf5(out.string(), s, r);  // without the signal the same write completes
   EXPECT_TRUE(fs::exists(out));
 }
@@ -131,7 +131,7 @@ TEST(OutputErrors, AFailedWriteLeavesNoFile) {
   EXPECT_NE(err.find("cannot write the result file '" + out.string() + "'"), std::string::npos) << err;
   EXPECT_NE(err.find("File too large"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(out));
-  EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
+  EXPECT_FALSE(test::temporaryOfExists(out));
 }
 
 std::string sweepOver(const fs::path& d, const std::string& durations) {
@@ -180,7 +180,7 @@ TEST(BatchFaults, SigintStopsTheBatchAndItResumes) {
   EXPECT_NE(first.find("batch interrupted by SIGINT: 2 of 4 cases complete, 2 not; run the same command again"),
             std::string::npos) << first;
   EXPECT_FALSE(fs::exists(d / "out" / "case_0002.h5"));
-  EXPECT_FALSE(fs::exists(d / "out" / "case_0002.h5.tmp"));
+  EXPECT_FALSE(test::temporaryOfExists(d / "out" / "case_0002.h5"));
   EXPECT_FALSE(fs::exists(d / "out" / "case_0003.h5"));  // never started
   const std::string csv = readText(d / "out" / "summary.csv");
   EXPECT_NE(csv.find("interrupted by SIGINT"), std::string::npos) << csv;

@@ -146,7 +146,7 @@ thermal:
     - {name: case, heat_capacity_J_per_K: 100, to_nodes: [{node: board, g_W_per_K: 0.1}]}
 hardware:
   cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0, gain_error: 0.001, offset_mV: 0.1}
-  thermistors: {at_cells: [1], r25_ohm: 10000, beta_K: 3435, pullup_ohm: 10000, bits: 12, noise_codes_rms: 0.5}
+  thermistors: {at_groups: [1], r25_ohm: 10000, beta_K: 3435, pullup_ohm: 10000, bits: 12, noise_codes_rms: 0.5}
   current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0, amp_offset_mV: 0.1, gain_error: 0.001, vref_V: 3.3, bits: 16}
   precharge: {r_ohm: 50, bus_capacitance_uF: 1000, bus_leak_ohm: 100000, close_delay_ms: 10}
   discharge_fet: {rds_on_ohm: 0.002, diode_vf_V: 0.7, diode_r_ohm: 0.01}
@@ -318,7 +318,7 @@ TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
   const int rc = std::system(cmd.c_str());
   EXPECT_EQ(WEXITSTATUS(rc), 2);
   EXPECT_FALSE(fs::exists(dir / "out.h5"));
-  EXPECT_FALSE(fs::exists(dir / "out.h5.tmp"));
+  EXPECT_FALSE(test::temporaryOfExists(dir / "out.h5"));
   std::ifstream err(dir / "err.txt");
   const std::string msg((std::istreambuf_iterator<char>(err)), {});
   EXPECT_NE(msg.find("bad.yaml:2:39: pack.cell.capacity_Ah: -1 is out of range; allowed (0, 10000]"), std::string::npos) << msg;

@@ -226,10 +226,10 @@ TEST(ScenarioWarnings, LimitNearOrBeyondTheSensor) {
 TEST(ScenarioWarnings, SeriesGroupFarFromEveryThermistor) {
   // 24 groups, the default four thermistors at groups 1, 7, 13, 19: group 24 is 5 away.
   const Scenario far = test::scenarioFromYaml(userPack("load: {current_A: 10}\nrun: {duration_s: 1}\n"));
-  EXPECT_EQ(warningsWith(far, "hardware.thermistors.at_cells = [1, 7, 13, 19] (default (up to 4 spread over the "
+  EXPECT_EQ(warningsWith(far, "hardware.thermistors.at_groups = [1, 7, 13, 19] (default (up to 4 spread over the "
                               "string)): series group 24 (1-based) is more than 4 groups"), 1u) << allWarnings(far);
   const Scenario covered = test::scenarioFromYaml(
-      userPack("hardware: {thermistors: {at_cells: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+      userPack("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
   EXPECT_EQ(warningsWith(covered, "thermistor"), 0u) << allWarnings(covered);
 }
 

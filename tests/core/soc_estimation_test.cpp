@@ -81,7 +81,7 @@ TEST(SocEstimation, CheckFailsAnUnmetSocErrorBound) {
 // (1.2 V per unit SOC between 90 and 100 %): more than 6 %.
 TEST(SocEstimation, EkfGroupErrorPointsAtTheMisreadGroup) {
   const Scenario s = loadScenarioFileWithOverrides(
-      eco(), {{"load.laps", "3"}, {"faults", "[{kind: channel_gain, cell: 6, gain_error: 0.02, at_s: 0}]"}});
+      eco(), {{"load.laps", "3"}, {"faults", "[{kind: channel_gain, group: 6, gain_error: 0.02, at_s: 0}]"}});
   const RunResult r = runScenario(s);
   EXPECT_EQ(r.summary.soc_error_ekf_group, 6);
   EXPECT_GT(r.summary.soc_error_ekf_group_max, 0.06);

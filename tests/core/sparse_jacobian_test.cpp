@@ -21,7 +21,7 @@ Scenario scaled(const std::string& file, int series, int parallel) {
   return loadScenarioFileWithOverrides(test::scenarioDir() + "/" + file,
                                        {{"pack.series", std::to_string(series)},
                                         {"pack.parallel", std::to_string(parallel)},
-                                        {"hardware.thermistors.at_cells", "[1, 2]"},
+                                        {"hardware.thermistors.at_groups", "[1, 2]"},
                                         {"hardware.afe.devices_per_board", "1"}});
 }
 

@@ -27,7 +27,7 @@ std::string simpleCellYaml(int series) {
          "    g_ambient_W_per_K: 0.1\n"
          "hardware:\n"
          "  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n"
-         "  thermistors: {at_cells: [1]}\n"
+         "  thermistors: {at_groups: [1]}\n"
          "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
          "ambient: {temp_C: 25}\n";
 }
@@ -63,6 +63,16 @@ std::filesystem::path freshTempDir(const std::string& prefix, const std::string&
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
+}
+
+bool temporaryOfExists(const std::filesystem::path& result) {
+  namespace fs = std::filesystem;
+  const fs::path dir = result.has_parent_path() ? result.parent_path() : fs::path(".");
+  const std::string prefix = result.filename().string() + ".tmp";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename().string().compare(0, prefix.size(), prefix) == 0) return true;
+  return false;
 }
 
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail) {

@@ -28,6 +28,8 @@ std::filesystem::path freshTempDir(const std::string& prefix, const std::string&
 // A folder of this test process under the system temp folder (created, not emptied):
 // <tmp>/<name>_<pid>, so concurrent test runs (ctest -j, a sanitizer build) never share one.
 std::filesystem::path processTempDir(const std::string& name);
+// Whether a temporary file of the result `result` (<result>.tmp...) is left in its folder.
+bool temporaryOfExists(const std::filesystem::path& result);
 // First event of a kind with a detail starting with `detail` (or -1).
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail = "");
 // Index of the recorded sample at time t (exact tick match).

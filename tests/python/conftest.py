@@ -61,7 +61,7 @@ pack:
     v_min_V: 3.0
 hardware:
   cell_adc: {noise_mV_rms: 0.5}
-  thermistors: {at_cells: [1, 3]}
+  thermistors: {at_groups: [1, 3]}
 load: {current_A: 2.0}
 run: {duration_s: 600}
 output: {interval_s: 1.0}

@@ -74,7 +74,7 @@ def test_no_fault_means_no_latency(simple_yaml):
     y = simple_yaml + OVERCURRENT.replace("duration_s: 5", "duration_s: 0.1")
     (lat,) = packsim.check(y)[0].latencies
     assert lat.detected_fault is None and lat.detection_latency_s is None and lat.relay_open_latency_s is None
-    assert lat.line.endswith("no BMS fault, relay not opened")
+    assert lat.line.endswith("no BMS fault it can cause, relay not opened")
 
 
 def test_result_text_dict_and_overrides(simple_yaml):

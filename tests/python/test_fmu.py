@@ -27,7 +27,7 @@ pack:
   initial_soc: 0.8
   cell: {preset: ncr18650_3p1Ah}
 hardware:
-  thermistors: {at_cells: [2, 5]}
+  thermistors: {at_groups: [2, 5]}
 bms:
   tick_ms: 100
   protections:

@@ -34,7 +34,7 @@ def test_lines_for_small_packs_heatmap_for_large(race, simple_yaml):
     assert len(cell_lines) == race.n_cells and not ax.images  # plus limit and event lines
     drawn = {line.get_ydata().tobytes() for line in cell_lines}
     assert race["truth/cell_voltage_V"][:, 4].copy().tobytes() in drawn
-    big = packsim.run(simple_yaml, {"pack.series": 30, "hardware.thermistors.at_cells": [1, 30]})
+    big = packsim.run(simple_yaml, {"pack.series": 30, "hardware.thermistors.at_groups": [1, 30]})
     fig = plot.cells(big, "temperature")
     ax = fig.axes[0]
     assert not [line for line in ax.lines if len(line.get_ydata()) == big.n_samples] and len(ax.images) == 1

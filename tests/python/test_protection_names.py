@@ -23,7 +23,7 @@ bms:
     cell_imbalance: {enabled: true, threshold_V: 0.005, delay_ms: 300}
     temperature_warning: {enabled: true, threshold_C: 20, delay_ms: 2000}
 faults:
-  - {kind: channel_offset, cell: 2, offset_mV: 20, at_s: 5}
+  - {kind: channel_offset, group: 2, offset_mV: 20, at_s: 5}
   - {kind: estop, switch: external, at_s: 12}
 """
 

@@ -1,0 +1,100 @@
+#include "core/sim/limit_watch.hpp"
+
+#include <bms/bms_faults.hpp>
+#include <cmath>
+#include <cstdio>
+
+#include "core/sim/summary_text.hpp"
+
+namespace packsim {
+
+namespace {
+std::string num(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+}  // namespace
+
+LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(parallel) {
+  if (s.bms.firmware.library) return;
+  using F = bms::FaultId;
+  const struct {
+    F id;
+    bool above;
+    const char* unit;
+    bool perCell;
+  } rows[] = {{F::CellOverVoltage, true, "V", true},
+              {F::CellUnderVoltage, false, "V", true},
+              {F::OverTemperature, true, "C", true},
+              {F::OverCurrentDischarge, true, "A", false},
+              {F::OverCurrentCharge, true, "A", false}};
+  for (const auto& r : rows) {
+    const ProtectionConfig& p = s.bms.protection(r.id);
+    if (!p.enabled) continue;
+    limits_.push_back({static_cast<int>(r.id), r.above ? "above" : "below", r.above, p.threshold, r.unit, r.perCell});
+    ep_.emplace_back(static_cast<size_t>(r.perCell ? cells : 1));
+  }
+}
+
+std::string LimitWatch::subject(size_t li, size_t c) const {
+  return limits_[li].perCell ? cellName(static_cast<int>(c) + 1, parallel_) : std::string("pack current");
+}
+
+void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, const EventSink& sink) {
+  Episode& e = ep_[li][c];
+  const Limit& l = limits_[li];
+  const double unseen_s = t - e.from_s;
+  const double from_s = e.from_s;
+  e.from_s = -1.0;
+  if (e.reported_s >= 0.0 && unseen_s <= e.reported_s) return;  // not longer than one already reported
+  e.reported_s = unseen_s;
+  const bool volts = l.unit[0] == 'V';
+  const char* f = volts ? "%.4f" : "%.1f";
+  std::string d = std::string(bms::faultName(static_cast<bms::FaultId>(l.fault))) + ": " + subject(li, c) + " " + l.what +
+                  " the " + num(volts ? "%.3f" : "%g", l.threshold) + " " + l.unit + " limit from " + num("%.2f", from_s) + " s, ";
+  if (seen)
+    d += "unseen by the BMS for " + num("%.2f", unseen_s) + " s";
+  else if (atEnd)
+    d += "unseen by the BMS to the end of the run (" + num("%.2f", unseen_s) + " s)";
+  else
+    d += "back within it at " + num("%.2f", t) + " s, never seen by the BMS (" + num("%.2f", unseen_s) + " s)";
+  d += std::string(" (") + (l.above ? "max " : "min ") + num(f, e.extreme) + " " + l.unit + ")";
+  if (unseen_s > longest_s_) {
+    longest_s_ = unseen_s;
+    longest_ = d;
+  }
+  sink(t, d);
+}
+
+void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+                      uint32_t faultActive, const EventSink& sink) {
+  for (size_t li = 0; li < limits_.size(); ++li) {
+    const Limit& l = limits_[li];
+    const bool active = (faultActive >> l.fault) & 1u;
+    const bool charge = l.fault == static_cast<int>(bms::FaultId::OverCurrentCharge);
+    for (size_t c = 0; c < ep_[li].size(); ++c) {
+      const double v = !l.perCell ? (charge ? -pack_A : pack_A) : l.unit[0] == 'V' ? cell_V[c] : cell_C[c];
+      const bool past = l.above ? v > l.threshold : v < l.threshold;
+      Episode& e = ep_[li][c];
+      if (e.from_s < 0.0) {
+        if (past && !active) {
+          e.from_s = t;
+          e.extreme = v;
+        }
+        continue;
+      }
+      if (past) e.extreme = l.above ? std::max(e.extreme, v) : std::min(e.extreme, v);
+      if (active) close(li, c, t, true, false, sink);
+      else if (!past) close(li, c, t, false, false, sink);
+    }
+  }
+}
+
+void LimitWatch::finish(double t, const EventSink& sink) {
+  for (size_t li = 0; li < limits_.size(); ++li)
+    for (size_t c = 0; c < ep_[li].size(); ++c)
+      if (ep_[li][c].from_s >= 0.0) close(li, c, t, false, true, sink);
+}
+
+}  // namespace packsim

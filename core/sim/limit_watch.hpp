@@ -1,0 +1,58 @@
+// Cells past a protection limit the BMS has not seen (issue 28): compares the truth
+// (every cell's voltage and temperature, the pack current) with the protection table's
+// thresholds each tick. An episode starts when a cell passes a limit while its
+// protection row is not active in the BMS, and ends when the row becomes active (the
+// BMS saw it), when the cell comes back within the limit (never seen) or at the end of
+// the run. Each (cell, limit)'s first episode and any later longer one become a
+// `limit_unseen` event: "overtemperature: cell 74 (group 19) above the 60 C limit from
+// 511.00 s, unseen by the BMS for 499.00 s (max 86.6 C)".
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/scenario/scenario.hpp"
+
+namespace packsim {
+
+class LimitWatch {
+ public:
+  // Off (nothing watched) for a library firmware: its limits are its own, not the table's.
+  LimitWatch(const Scenario& s, int cells, int parallel);
+
+  using EventSink = std::function<void(double t, const std::string& detail)>;
+  // One tick: truth (cell voltages V, temperatures C, pack current A, + discharges) and
+  // the BMS's active fault bits.
+  void tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+            uint32_t faultActive, const EventSink& sink);
+  // Closes every open episode at the end of the run.
+  void finish(double t, const EventSink& sink);
+  double longestUnseen_s() const { return longest_s_; }
+  const std::string& longestUnseen() const { return longest_; }
+
+ private:
+  struct Limit {
+    int fault;          // bms::FaultId
+    const char* what;   // "above the 60 C limit"
+    bool above;
+    double threshold;
+    const char* unit;
+    bool perCell;       // false: the pack current (one "cell" slot)
+  };
+  struct Episode {
+    double from_s = -1.0;  // < 0: none open
+    double extreme = 0.0;
+    double reported_s = -1.0;  // longest unseen time reported so far (< 0: none yet)
+  };
+  void close(size_t li, size_t c, double t, bool seen, bool atEnd, const EventSink& sink);
+  std::string subject(size_t li, size_t c) const;
+
+  std::vector<Limit> limits_;
+  std::vector<std::vector<Episode>> ep_;  // [limit][cell]
+  int parallel_;
+  double longest_s_ = 0.0;
+  std::string longest_;
+};
+
+}  // namespace packsim

@@ -1,0 +1,188 @@
+// Every summary line follows from the run's events and truth (issue 28): each test
+// builds the case that would contradict a line and checks the line against the
+// relay_contact events, the fault script and the recorded truth.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/scenario/overrides.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+const Event* lastEvent(const RunResult& r, const std::string& kind) {
+  const Event* last = nullptr;
+  for (const Event& e : r.events)
+    if (e.kind == kind) last = &e;
+  return last;
+}
+
+// The key turned off at 10 s opens the relay; an E-stop at 20 s then latches a trip. The
+// contact opened at 10 s and never closed again: no "still closed (welded?)" line.
+TEST(SummaryText, TripAfterTheContactOpenedSaysSoAndClaimsNoWeld) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(4) + "load: {current_A: 1}\nrun: {duration_s: 100}\n"
+                                            "faults:\n  - {kind: key_off, at_s: 10}\n  - {kind: estop, switch: external, at_s: 20}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  const Event* opened = lastEvent(r, "relay_contact");
+  ASSERT_TRUE(opened && opened->detail == "opened") << text;
+  ASSERT_TRUE(r.summary.tripped);
+  ASSERT_GT(r.summary.trip_time_s, opened->time_s);
+  EXPECT_FALSE(has(text, "welded")) << text;
+  char expect[96];
+  std::snprintf(expect, sizeof expect, "(estop): the relay contact had opened at %.2f s", opened->time_s);
+  EXPECT_TRUE(has(text, expect)) << text;
+}
+
+// A welded relay: the contact stays closed after the open command, and the line names
+// the injection instead of guessing.
+TEST(SummaryText, WeldedContactIsReportedFromTheContactNotTheCommand) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 60}\n"
+                                            "faults:\n  - {kind: welded_relay, at_s: 0}\n"
+                                            "  - {kind: overcurrent, current_A: 40, at_s: 10}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  const Event* contact = lastEvent(r, "relay_contact");
+  ASSERT_TRUE(contact && contact->detail == "closed");
+  const Event* command = lastEvent(r, "relay");
+  ASSERT_TRUE(command && command->detail == "open");
+  EXPECT_TRUE(has(text, "the relay contact stayed closed to the end")) << text;
+  char expect[128];
+  std::snprintf(expect, sizeof expect, "relay contact still closed at the end, %.2f s after the open command at %.2f s "
+                "(welded_relay injected at 0.00 s)", r.summary.duration_s - command->time_s, command->time_s);
+  EXPECT_TRUE(has(text, expect)) << text;
+}
+
+// System A's host dies at 300 s; its monitor's FAULT line opens the relay on its own. The
+// same pack with the FAULT line wired to the MCU only: the contact stays closed, and the
+// line must not say the FAULT line opened it.
+TEST(SummaryText, FaultLineSaysWhatItIsWiredToAndWhatTheContactDid) {
+  const std::string path = test::scenarioDir() + "/faults/a_host_dead.yaml";
+  for (const bool opens : {true, false}) {
+    const Scenario s = loadScenarioFileWithOverrides(
+        path, {{"hardware.afe.fault_line_opens_relay", opens ? "true" : "false"}, {"run.duration_s", "400"}});
+    const RunResult r = runScenario(s);
+    const std::string text = formatSummary(s, r);
+    const double asserted = test::eventTime(r, "monitor_fault_line", "asserted");
+    ASSERT_GT(asserted, 0.0) << text;
+    const Event* contact = lastEvent(r, "relay_contact");
+    ASSERT_NE(contact, nullptr);
+    if (opens) {
+      EXPECT_EQ(contact->detail, "opened");
+      EXPECT_TRUE(has(text, "monitor FAULT line asserted (it opens the relay without the MCU); the relay contact opened at"))
+          << text;
+    } else {
+      EXPECT_EQ(contact->detail, "closed");
+      EXPECT_TRUE(has(text, "monitor FAULT line asserted (it does not drive the relay here); the relay contact stayed "
+                            "closed to the end"))
+          << text;
+      EXPECT_FALSE(has(text, "opens the relay")) << text;
+    }
+  }
+}
+
+// A fault scripted after the run stops (60 s after a trip) is an event and a line.
+TEST(SummaryText, UnreachedScriptedFaultIsAnEventAndALine) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 600}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10}\n"
+                                            "  - {kind: hot_cell, cell: 1, heat_W: 5, at_s: 200}\n"
+                                            "  - {kind: estop, switch: internal, when: \"cell_min_V < 1.0\"}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  ASSERT_TRUE(r.summary.tripped);
+  ASSERT_LT(r.summary.duration_s, 200.0);
+  std::vector<std::string> details;
+  for (const Event& e : r.events)
+    if (e.kind == "fault_not_reached") {
+      EXPECT_DOUBLE_EQ(e.time_s, r.summary.duration_s);
+      details.push_back(e.detail);
+    }
+  ASSERT_EQ(details.size(), 2u) << text;
+  EXPECT_TRUE(has(details[0], "hot_cell cell 1, 5 W (line ")) << details[0];
+  EXPECT_TRUE(has(details[0], "due at 200.000 s; the run ended at")) << details[0];
+  EXPECT_TRUE(has(details[0], "it stops 60 s after the trip")) << details[0];
+  EXPECT_TRUE(has(details[1], "when cell_min_V < 1.0 never held")) << details[1];
+  EXPECT_TRUE(has(text, "fault script    not reached: " + details[0])) << text;
+  EXPECT_EQ(test::eventTime(r, "fault_injected", "hot_cell"), -1.0);
+}
+
+// A heater on cell 4 of a 4s pack whose only thermistor sits on cell 1: the cell passes the
+// 60 C over-temperature limit and the BMS never sees it. The episode's start and maximum
+// agree with the recorded truth.
+TEST(SummaryText, CellPastALimitUnseenByTheBmsIsReportedWithItsDuration) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(4) + "load: {current_A: 1}\nrun: {duration_s: 400}\n"
+                                            "faults:\n  - {kind: hot_cell, cell: 4, heat_W: 8, at_s: 0}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  EXPECT_FALSE(r.summary.tripped) << text;
+  // Truth, from the 1 s recording: the first sample above 60 C and the maximum.
+  const Recording& rec = r.rec;
+  double firstAbove = -1.0, maxT = -1e9;
+  for (size_t i = 0; i < rec.samples(); ++i) {
+    const double T = rec.cell_temp_C[i * 4 + 3];
+    if (T > 60.0 && firstAbove < 0.0) firstAbove = rec.time_s[i];
+    maxT = std::max(maxT, T);
+    for (int c = 0; c < 3; ++c) ASSERT_LT(rec.cell_temp_C[i * 4 + static_cast<size_t>(c)], 60.0);
+  }
+  ASSERT_GT(firstAbove, 0.0);
+  const Event* ev = nullptr;
+  for (const Event& e : r.events)
+    if (e.kind == "limit_unseen") {
+      ASSERT_EQ(ev, nullptr) << "one episode only: " << e.detail;
+      ev = &e;
+    }
+  ASSERT_NE(ev, nullptr) << text;
+  EXPECT_TRUE(has(ev->detail, "overtemperature: cell 4 above the 60 C limit from ")) << ev->detail;
+  EXPECT_TRUE(has(ev->detail, "unseen by the BMS to the end of the run")) << ev->detail;
+  const double from_s = std::atof(ev->detail.c_str() + ev->detail.find(" limit from ") + 12);
+  EXPECT_GT(from_s, firstAbove - 1.0);
+  EXPECT_LE(from_s, firstAbove);
+  char maxText[32];
+  std::snprintf(maxText, sizeof maxText, "(max %.1f C)", maxT);
+  EXPECT_TRUE(has(ev->detail, maxText)) << ev->detail << " vs " << maxT;
+  EXPECT_NEAR(r.summary.limit_unseen_longest_s, r.summary.duration_s - from_s, 1e-9);
+  EXPECT_TRUE(has(text, "unseen limit    " + ev->detail)) << text;
+}
+
+// A channel reading 1.5 V low trips the BMS on under-voltage while every cell sits far
+// above its v_min: the energy line must not say a cell hit its limit.
+TEST(SummaryText, AnUnderVoltageTripIsNotACellAtItsLimit) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(2) + "load: {current_A: 1}\nrun: {duration_s: 60}\n"
+                                            "faults:\n  - {kind: channel_offset, group: 1, offset_mV: -1500, at_s: 5}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  ASSERT_TRUE(r.summary.tripped) << text;
+  EXPECT_EQ(r.summary.trip_reason, "cell_undervoltage");
+  EXPECT_GT(r.summary.min_cell_V, s.pack.cell.v_min_V + 0.3);  // the truth never came near v_min
+  EXPECT_TRUE(r.summary.limit_by_bms_trip);
+  EXPECT_FALSE(has(text, "hit its limit")) << text;
+  char expect[96];
+  std::snprintf(expect, sizeof expect, "when the BMS tripped on under-voltage at %.2f s (lowest cell ", r.summary.trip_time_s);
+  EXPECT_TRUE(has(text, expect)) << text;
+}
+
+// In a pack of parallel cells a cell is named with its series group.
+TEST(SummaryText, CellsOfParallelGroupsNameTheirGroup) {
+  EXPECT_EQ(cellName(74, 4), "cell 74 (group 19)");
+  EXPECT_EQ(cellName(73, 4), "cell 73 (group 19)");
+  EXPECT_EQ(cellName(77, 4), "cell 77 (group 20)");
+  EXPECT_EQ(cellName(5, 1), "cell 5");
+  std::string yaml = test::simpleCellYaml(2);
+  yaml.replace(yaml.find("  series: 2\n"), 12, "  series: 2\n  parallel: 2\n");
+  const Scenario s = test::scenarioFromYaml(yaml + "load: {current_A: 2}\nrun: {duration_s: 400}\n"
+                                                   "faults:\n  - {kind: hot_cell, cell: 4, heat_W: 8, at_s: 0}\n");
+  const RunResult r = runScenario(s);
+  const std::string text = formatSummary(s, r);
+  EXPECT_EQ(r.summary.hottest_cell, 4);
+  EXPECT_TRUE(has(text, "C  cell 4 (group 2) at ")) << text;
+  EXPECT_TRUE(has(text, "unseen limit    overtemperature: cell 4 (group 2) above the 60 C limit")) << text;
+}
+
+}  // namespace
+}  // namespace packsim
