@@ -181,7 +181,7 @@ faults:
   - {kind: internal_short, cell: 1, resistance_ohm: 100, at_s: 3}
   - {kind: hot_cell, cell: 2, heat_W: 1, at_s: 3}
   - {kind: current_sensor_drift, offset_A: 0.1, drift_A_per_h: 1, at_s: 3}
-  - {kind: channel_offset, cell: 1, offset_mV: 5, at_s: 3}
+  - {kind: channel_offset, group: 1, offset_mV: 5, at_s: 3}
 expect:
   relay_open_by_s: 100
   energy_delivered_Wh_above: -1
