@@ -77,10 +77,24 @@ void FastIntegrator::substep(double h, double t_end) {
   ++stats_.steps;
 }
 
+// Sub-steps a ramp of the load needs: each explicit sub-step holds the heat rate and
+// the RC drive of its start, and a trapezoid of I² over a ramp a -> b overstates the
+// mean (a² + ab + b²)/3 by (b - a)²/6. A 100 Hz logger ramping 0.5 -> 6 A each 10 ms
+// heated the cells 0.56 K more than CVODE (and read 11 mV lower). Sub-steps of at most
+// 5 % of the larger end current keep that below 0.05 % of the heat (at most 1,000 a
+// piece). A step load (slope 0) needs none.
+long rampSubsteps(const LoadSegment& load, double t0, double t1) {
+  if (load.slope_A_per_s == 0.0) return 1;
+  const double a = load.current_A(t0), b = load.current_A(t1);
+  const double step = 0.05 * std::max(std::fabs(a), std::fabs(b));
+  if (!(step > 0.0)) return 1;
+  return std::min(1000L, std::max(1L, static_cast<long>(std::ceil(std::fabs(b - a) / step - 1e-9))));
+}
+
 void FastIntegrator::advance(double t_out, double /*t_stop*/) {
   const double span = t_out - t_;
   if (!(span > 0.0)) return;
-  const long n = std::max(1L, static_cast<long>(std::ceil(span / hMax_ - 1e-9)));
+  const long n = std::max({1L, static_cast<long>(std::ceil(span / hMax_ - 1e-9)), rampSubsteps(in_.load, t_, t_out)});
   const double h = span / static_cast<double>(n);
   prepareGains(h);
   const double t0 = t_;

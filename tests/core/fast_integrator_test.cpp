@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
+#include <fstream>
 #include <cmath>
 #include <cstdlib>
 #include <new>
@@ -153,6 +155,37 @@ TEST(FastIntegrator, FastRunIsDeterministic) {
   EXPECT_EQ(a.rec.cell_voltage_V, b.rec.cell_voltage_V);
   EXPECT_EQ(a.rec.cell_temp_C, b.rec.cell_temp_C);
   EXPECT_GT(a.solver.steps, 0);
+}
+
+}  // namespace
+}  // namespace packsim
+
+namespace packsim {
+namespace {
+
+// A 100 Hz logger whose current ramps between random values each 10 ms (linear
+// interpolation): one explicit sub-step per piece took each piece's heat as the
+// trapezoid of I², (a² + b²)/2 instead of the ramp's (a² + ab + b²)/3: 9 % too much heat
+// here, and in the campaign's case the cells 0.56 K warmer than CVODE's and 11 mV lower.
+// Ramps are sub-stepped now: the heat agrees with a tight CVODE run to 1 %.
+TEST(FastIntegrator, RampingLoadsHeatAsCvodeDoes) {
+  const std::filesystem::path csv = test::processTempDir("fast_ramps") / "ramps_100hz.csv";
+  {
+    std::ofstream f(csv);
+    f << "time_s,current_A\n";
+    unsigned x = 12345;
+    for (int i = 0; i <= 3000; ++i) {
+      x = x * 1103515245u + 12345u;
+      f << static_cast<double>(i) / 100.0 << "," << -0.5 + 6.5 * ((x >> 8) % 1000) / 1000.0 << "\n";
+    }
+  }
+  const std::string yaml = test::simpleCellYaml(2) + "bms: {tick_ms: 20}\nload: {csv: " + csv.string() +
+                           ", interpolation: linear}\n";
+  const RunResult fast = runScenario(test::scenarioFromYaml(yaml + "run: {duration_s: 30, solver: fast}\n"));
+  const RunResult ref = runScenario(test::scenarioFromYaml(yaml + "run: {duration_s: 30, rtol: 1e-9}\n"));
+  ASSERT_GT(ref.summary.heat_Wh, 0.0);
+  EXPECT_NEAR(fast.summary.heat_Wh, ref.summary.heat_Wh, 0.01 * ref.summary.heat_Wh);
+  EXPECT_NEAR(fast.summary.charge_delivered_Ah, ref.summary.charge_delivered_Ah, 1e-6);
 }
 
 }  // namespace
