@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <sstream>
 #include <random>
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <stdexcept>
@@ -337,12 +338,31 @@ hid_t createFile(const std::string& name, hid_t fapl) {
   return H5Fcreate(name.c_str(), H5F_ACC_TRUNC, fcpl, fapl);
 }
 
+// Temporary files of `path` left by a writer that died (killed mid-write: no rename,
+// no clean-up): `<path>.tmp.<pid>.<hex>` whose process no longer exists. A live
+// writer's file (its pid answers kill(pid, 0)) is never touched.
+void removeStaleTemporaries(const std::filesystem::path& target) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  const std::string prefix = target.filename().string() + ".tmp.";
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    char* rest = nullptr;
+    const long pid = std::strtol(name.c_str() + prefix.size(), &rest, 10);
+    if (pid <= 0 || !rest || *rest != '.') continue;
+    if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) fs::remove(it->path(), ec);
+  }
+}
+
 }  // namespace
 
 void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   if (target.has_parent_path()) fs::create_directories(target.parent_path());
+  removeStaleTemporaries(target);
   const std::string tmp = uniqueTemporaryName(path);  // this process's own: concurrent writers never share it
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors become exceptions, not stderr dumps
   try {
