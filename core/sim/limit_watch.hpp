@@ -3,7 +3,10 @@
 // thresholds each tick. An episode starts when a cell passes a limit while its
 // protection row is not active in the BMS, and ends when the row becomes active (the
 // BMS saw it), when the cell comes back within the limit (never seen) or at the end of
-// the run. Each (cell, limit)'s first episode and any later longer one become a
+// the run. An episode the BMS is built to take -- no longer than the protection's own
+// delay plus one read-out period and one tick (a 20 ms dip under a 500 ms debounce) --
+// is no miss and is only counted. Each (cell, limit)'s first longer episode and any
+// later longer one become a
 // `limit_unseen` event: "overtemperature: cell 74 (group 19) above the 60 C limit from
 // 511.00 s, unseen by the BMS for 499.00 s (max 86.6 C)".
 #pragma once
@@ -29,6 +32,7 @@ class LimitWatch {
   // Closes every open episode at the end of the run.
   void finish(double t, const EventSink& sink);
   double longestUnseen_s() const { return longest_s_; }
+  long shortExcursions() const { return short_; }  // episodes within allowed_s (not events)
   const std::string& longestUnseen() const { return longest_; }
 
  private:
@@ -39,6 +43,7 @@ class LimitWatch {
     double threshold;
     const char* unit;
     bool perCell;       // false: the pack current (one "cell" slot)
+    double allowed_s;   // delay + read-out period + tick: what the BMS takes by design
   };
   struct Episode {
     double from_s = -1.0;  // < 0: none open
@@ -52,6 +57,7 @@ class LimitWatch {
   std::vector<std::vector<Episode>> ep_;  // [limit][cell]
   int parallel_;
   double longest_s_ = 0.0;
+  long short_ = 0;
   std::string longest_;
 };
 

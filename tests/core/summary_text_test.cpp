@@ -150,6 +150,23 @@ TEST(SummaryText, CellPastALimitUnseenByTheBmsIsReportedWithItsDuration) {
   EXPECT_TRUE(has(text, "unseen limit    " + ev->detail)) << text;
 }
 
+// A 0.2 s pulse takes every cell below the 3.0 V under-voltage limit: the BMS's 500 ms
+// debounce ignores it by design, so it is no miss -- no limit_unseen event, no summary
+// line (each short excursion was listed for every cell before).
+TEST(SummaryText, AnExcursionShorterThanTheProtectionsDelayIsNoMiss) {
+  const Scenario s = test::scenarioFromYaml(
+      test::simpleCellYaml(2) +
+      "bms: {protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 500}, "
+      "overcurrent_discharge: {threshold_A: 70}}}\n"
+      "load: {segments: [{duration_s: 2, current_A: 1}, {duration_s: 0.2, current_A: 60}, "
+      "{duration_s: 5, current_A: 1}]}\nrun: {duration_s: 7}\n");
+  const RunResult r = runScenario(s);
+  EXPECT_LT(r.summary.min_cell_V, 3.0);  // the excursion happened
+  EXPECT_FALSE(r.summary.tripped);
+  EXPECT_EQ(test::eventTime(r, "limit_unseen"), -1.0);
+  EXPECT_FALSE(has(formatSummary(s, r), "unseen limit")) << formatSummary(s, r);
+}
+
 // A channel reading 1.5 V low trips the BMS on under-voltage while every cell sits far
 // above its v_min: the energy line must not say a cell hit its limit.
 TEST(SummaryText, AnUnderVoltageTripIsNotACellAtItsLimit) {
