@@ -1,0 +1,55 @@
+"""The generative campaign's smoke run (scripts/campaign.py; the long run and its figures:
+docs/hardening.md): random valid scenarios -- packs of 1-250 series x 1-20 parallel,
+bundled and fitted cells, segment/point/CSV loads with breakpoints at arbitrary
+decimals, chargers, faults at random times, extends chains and overrides, both
+integrators, the example firmware -- each judged by oracles that need no stored output.
+Cases are capped at 20 simulated seconds here so the smoke stays well under a minute."""
+import importlib.util
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _campaign():
+    spec = importlib.util.spec_from_file_location("campaign", ROOT / "scripts" / "campaign.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+@pytest.mark.parametrize("first", [0, 8, 16])
+def test_generated_scenarios_hold_every_oracle(tmp_path, first):
+    campaign = _campaign()
+    failed = []
+    for i in range(first, first + 8):
+        res = campaign.run_case(i, 20261125, tmp_path, keep=False, max_s=20.0)
+        if res["findings"]:
+            failed.append(res)
+    assert not failed, "\n".join(f"case {f['case']} (scripts/campaign.py --seed 20261125 --only {f['case']}): "
+                                 + " | ".join(f["findings"]) for f in failed)
+
+
+def test_the_oracles_can_fail(tmp_path):
+    """An oracle that cannot fail proves nothing: a result with a summary that the
+    truth contradicts, and two runs that differ, are caught."""
+    campaign = _campaign()
+    import packsim
+    yaml = ("pack: {series: 2, cell: {preset: lipo_5Ah}}\nload: {current_A: 2}\nrun: {duration_s: 5}\n"
+            "bms: {tick_ms: 100}\noutput: {interval_s: 0.1}\n")
+    r = packsim.run(yaml)
+    assert campaign.check_physics({}, r) == []
+
+
+    class Tampered:  # the same result with a summary the truth contradicts
+        def __init__(self, r):
+            self.events, self.summary = r.events, dict(r.summary, min_cell_V=r.summary["min_cell_V"] - 0.01)
+            self._r = r
+
+        def __getitem__(self, key):
+            return self._r[key]
+
+    assert any("lowest cell" in f for f in campaign.check_physics({}, Tampered(r)))
+    other = packsim.run(yaml, seed=99)
+    assert campaign.same_bytes(packsim.run(yaml), other) != ""
