@@ -6,8 +6,17 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${BUILD_DIR:-build}
 GEN=(); command -v ninja >/dev/null 2>&1 && GEN=(-G Ninja)
+# ccache (scripts/install-deps.sh installs it) when present: a second build dir or a fresh
+# clone of the same sources compiles from its cache. Paths are hashed relative to this
+# folder and without the build folder's name, so the sanitizer, test and CI builds of
+# unchanged sources hit. PACKSIM_NO_CCACHE=1 turns it off.
+LAUNCH=()
+if command -v ccache >/dev/null 2>&1 && [ -z "${PACKSIM_NO_CCACHE:-}" ]; then
+  export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
+  LAUNCH=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
 if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
-  cmake -S . -B "$BUILD_DIR" "${GEN[@]}" -DCMAKE_POLICY_VERSION_MINIMUM=3.5 -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@"
+  cmake -S . -B "$BUILD_DIR" "${GEN[@]}" -DCMAKE_POLICY_VERSION_MINIMUM=3.5 -DCMAKE_BUILD_TYPE=RelWithDebInfo "${LAUNCH[@]}" "$@"
 elif [ $# -gt 0 ]; then
   cmake -S . -B "$BUILD_DIR" "$@"
 fi
