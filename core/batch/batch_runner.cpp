@@ -1,5 +1,7 @@
 #include "core/batch/batch_runner.hpp"
 
+#include "core/sim/firmware_failure.hpp"
+
 #include <hdf5.h>
 #include <unistd.h>
 
@@ -152,6 +154,10 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
     const RunResult r =
         runScenario(s, [](double, const double*, const PlantSignals&, const bms::Outputs&) { return stopSignal() != 0; });
     if (const int sig = stopSignal()) throw Interrupted(sig, "interrupted by " + stopSignalName(sig));
+    // A firmware that failed is a failed case, as `packsim run` exits 1 for it; no file, so
+    // a resumed batch runs the case again rather than taking it as done.
+    if (const std::string fw = s.expect.firmware_fault ? std::string() : firmwareFailure(s, r); !fw.empty())
+      throw std::runtime_error(fw);
     {
       std::lock_guard<std::mutex> lock(hdf5Mutex());
       writeResultHdf5(path, s, r);

@@ -23,7 +23,7 @@ import os
 from collections.abc import Mapping
 from typing import Any
 
-from ._errors import ScenarioError
+from ._errors import FirmwareError, ScenarioError
 from ._overrides import flatten_overrides
 from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
@@ -207,17 +207,25 @@ def run(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,
 
     The GIL is released while the simulation runs: threads run scenarios in parallel.
     """
-    from .result import _from_handle
     pairs, seed = flatten_overrides(overrides, more), _validate_seed(seed)
     if progress is False or progress is None:
-        return _from_handle(_run_handle(scenario, pairs, seed, base_dir))
+        return _checked(_run_handle(scenario, pairs, seed, base_dir))
     if progress is True:
         from ._progress import tqdm_progress
         with tqdm_progress() as report:
-            return _from_handle(_run_handle(scenario, pairs, seed, base_dir, report))
+            return _checked(_run_handle(scenario, pairs, seed, base_dir, report))
     if not callable(progress):
         raise TypeError(f"progress must be a bool or a callable(t_s, end_s), got {type(progress).__name__}")
-    return _from_handle(_run_handle(scenario, pairs, seed, base_dir, progress))
+    return _checked(_run_handle(scenario, pairs, seed, base_dir, progress))
+
+
+def _checked(handle) -> Result:
+    """The run's Result, or FirmwareError (carrying it) when its firmware failed unexpectedly."""
+    from .result import _from_handle
+    result = _from_handle(handle)
+    if handle.firmware_failure:
+        raise FirmwareError(handle.firmware_failure, result)
+    return result
 
 
 def show(scenario: str | os.PathLike | Mapping[str, Any] | None = None, /,

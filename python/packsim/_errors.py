@@ -1,7 +1,7 @@
 """Exceptions raised by packsim (the C++ core's errors arrive as these)."""
 from __future__ import annotations
 
-__all__ = ["ScenarioError"]
+__all__ = ["ScenarioError", "FirmwareError"]
 
 
 class ScenarioError(ValueError):
@@ -27,3 +27,20 @@ class ScenarioError(ValueError):
 
 def _rebuild(text, file, line, column, field, message):
     return ScenarioError(text, file=file, line=line, column=column, field=field, message=message)
+
+
+class FirmwareError(RuntimeError):
+    """The run's firmware failed: it did not load, broke the contract (ABI, ``init``, a task
+    over its budget), crashed or hung, and the scenario does not say
+    ``expect: {firmware_fault: true}`` -- ``packsim run`` exits 1 for the same run.
+
+    ``str(err)`` names the firmware, the time and the cause; ``result`` is the run as it
+    went on with a dead MCU (the record of what the pack was left to).
+    """
+
+    def __init__(self, text: str, result=None) -> None:
+        super().__init__(text)
+        self.result = result
+
+    def __reduce__(self):  # the message survives pickling (Dask); the result stays behind
+        return (FirmwareError, (str(self),))

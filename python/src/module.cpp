@@ -35,6 +35,7 @@
 #include "core/scenario/scenario_show.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/scenario_paths.hpp"
+#include "core/sim/firmware_failure.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/version.hpp"
@@ -166,7 +167,14 @@ PYBIND11_MODULE(_packsim, m) {
       .def("image", &image, "the result HDF5 file built in memory (uncompressed), as bytes; nothing is written")
       .def_property_readonly("scenario_yaml", [](const RunHandle& h) { return h.scenario.text; })
       .def_property_readonly("scenario_name", [](const RunHandle& h) { return h.scenario.name; })
-      .def_property_readonly("seed", [](const RunHandle& h) { return h.scenario.run.seed; });
+      .def_property_readonly("seed", [](const RunHandle& h) { return h.scenario.run.seed; })
+      .def_property_readonly(
+          "firmware_failure",
+          [](const RunHandle& h) {
+            return h.scenario.expect.firmware_fault ? std::string() : firmwareFailure(h.scenario, h.result);
+          },
+          "why the run's firmware failed (not loaded, contract broken, crashed, hung), unless the scenario "
+          "expects it; '' otherwise");
 
   m.def("result_channels", &resultChannelTable,
         "the result-channel table: [{path, units, axis, dtype, long_name}] in file order");

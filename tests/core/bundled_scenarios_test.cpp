@@ -2,6 +2,9 @@
 // figures of docs/reference-systems.md.
 #include <gtest/gtest.h>
 
+#include <cctype>
+#include <string>
+
 #include <filesystem>
 
 #include "core/check/check.hpp"
@@ -11,13 +14,29 @@
 namespace packsim {
 namespace {
 
-TEST(BundledScenarios, EveryScenarioPassesItsExpectBlock) {
-  const auto files = collectScenarioFiles({test::scenarioDir()});
-  EXPECT_GE(files.size(), 6u);
-  for (const std::string& f : files) {
-    const CheckOutcome c = checkScenarioFile(f);
-    EXPECT_TRUE(c.passed) << f << ": " << (c.error ? c.error_message : c.failures.empty() ? "" : c.failures[0]);
-  }
+// One test per bundled scenario, as `packsim check scenarios` collects them (a loop over
+// all of them ran 60 s on two cores).
+class BundledScenario : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BundledScenario, PassesItsExpectBlock) {
+  const CheckOutcome c = checkScenarioFile(GetParam());
+  EXPECT_TRUE(c.passed) << GetParam() << ": "
+                        << (c.error ? c.error_message : c.failures.empty() ? "" : c.failures[0]);
+}
+
+std::string scenarioTestName(const ::testing::TestParamInfo<std::string>& info) {
+  std::string n = info.param.substr(std::string(PACKSIM_SCENARIO_DIR).size() + 1);
+  n = n.substr(0, n.size() - 5);  // without .yaml
+  for (char& ch : n)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return n;
+}
+
+INSTANTIATE_TEST_SUITE_P(Every, BundledScenario, ::testing::ValuesIn(collectScenarioFiles({PACKSIM_SCENARIO_DIR})),
+                         scenarioTestName);
+
+TEST(BundledScenarios, AtLeastTheSixReferenceScenariosAreCollected) {
+  EXPECT_GE(collectScenarioFiles({test::scenarioDir()}).size(), 6u);
 }
 
 // System A default: a 12s LiPo pack (≈44 V nominal) stays under the 60 V vehicle cap.

@@ -37,6 +37,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
+#include <string>
+#include <vector>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -96,45 +99,60 @@ Differences compare(const RunResult& a, const RunResult& b) {
   return d;
 }
 
-TEST(SolverAgreement, EveryBundledScenarioFastMatchesCvode) {
-  std::map<std::string, fs::path> files;  // sorted: a stable order in the log
-  for (const auto& e : fs::recursive_directory_iterator(test::scenarioDir())) {
-    const fs::path rel = fs::relative(e.path(), test::scenarioDir());
+// One test per bundled scenario (a loop over all of them ran 100 s on two cores).
+std::vector<std::string> bundledScenarios() {
+  std::map<std::string, fs::path> files;  // sorted: a stable order
+  for (const auto& e : fs::recursive_directory_iterator(PACKSIM_SCENARIO_DIR)) {
+    const fs::path rel = fs::relative(e.path(), PACKSIM_SCENARIO_DIR);
     if (e.path().extension() == ".yaml" && *rel.begin() != "cells") files[rel.string()] = e.path();
   }
-  ASSERT_GE(files.size(), 1u);
-  std::printf("%-34s %9s %9s %9s %9s %7s\n", "scenario", "dV_mV", "dSOC", "dT_K", "dtrip_s", "samples");
-  for (const auto& [name, path] : files) {
-    SCOPED_TRACE(name);
-    Scenario s = loadScenarioFile(path.string());
-    const bool bangBang = s.hardware.active_balancer.present;
-    if (bangBang) s.run.duration_s = std::min(s.endTime_s(), kActiveCompare_s);
-    s.run.solver = RunConfig::Solver::Cvode;
-    const double scenarioRtol = s.run.rtol;
-    s.run.rtol = std::min(scenarioRtol, 1e-7);
-    const RunResult ref = runScenario(s);
-    s.run.rtol = scenarioRtol;
-    s.run.solver = RunConfig::Solver::Fast;
-    const RunResult fast = runScenario(s);
-    const Differences d = compare(ref, fast);
-    std::printf("%-34s %9.4f %9.2e %9.2e %9.3f %7zu\n", name.c_str(), d.voltage_V * 1e3, d.soc, d.temp_K, d.trip_s,
-                d.samples);
-    const double vTol = kVoltageTol_V;
-    const double socTol = bangBang ? kActiveSocTol : kSocTol;
-    EXPECT_GT(d.samples, 1u);
-    EXPECT_LE(d.voltage_V, vTol);
-    EXPECT_LE(d.soc, socTol);
-    EXPECT_LE(d.temp_K, kTempTol_K);
-    ASSERT_EQ(ref.summary.tripped, fast.summary.tripped);
-    if (ref.summary.tripped) {
-      EXPECT_EQ(ref.summary.trip_reason, fast.summary.trip_reason);
-      EXPECT_LE(d.trip_s, kTripTolTicks * s.bms.tick_s + kTripTolExtra_s);
-    }
-    EXPECT_NEAR(ref.summary.final_soc_min, fast.summary.final_soc_min, socTol);
-    EXPECT_NEAR(ref.summary.energy_delivered_Wh, fast.summary.energy_delivered_Wh,
-                1e-3 * std::max(1.0, std::fabs(ref.summary.energy_delivered_Wh)));
-  }
+  std::vector<std::string> out;
+  for (const auto& f : files) out.push_back(f.first);
+  return out;
 }
+
+std::string testName(const ::testing::TestParamInfo<std::string>& info) {
+  std::string n = info.param.substr(0, info.param.size() - 5);  // without .yaml
+  for (char& ch : n)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return n;
+}
+
+class SolverAgreement : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SolverAgreement, FastMatchesCvode) {
+  const std::string name = GetParam();
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/" + name);
+  const bool bangBang = s.hardware.active_balancer.present;
+  if (bangBang) s.run.duration_s = std::min(s.endTime_s(), kActiveCompare_s);
+  s.run.solver = RunConfig::Solver::Cvode;
+  const double scenarioRtol = s.run.rtol;
+  s.run.rtol = std::min(scenarioRtol, 1e-7);
+  const RunResult ref = runScenario(s);
+  s.run.rtol = scenarioRtol;
+  s.run.solver = RunConfig::Solver::Fast;
+  const RunResult fast = runScenario(s);
+  const Differences d = compare(ref, fast);
+  std::printf("%-34s dV %.4f mV  dSOC %.2e  dT %.2e K  dtrip %.3f s  %zu samples\n", name.c_str(), d.voltage_V * 1e3,
+              d.soc, d.temp_K, d.trip_s, d.samples);
+  const double vTol = kVoltageTol_V;
+  const double socTol = bangBang ? kActiveSocTol : kSocTol;
+  EXPECT_GT(d.samples, 1u);
+  EXPECT_LE(d.voltage_V, vTol);
+  EXPECT_LE(d.soc, socTol);
+  EXPECT_LE(d.temp_K, kTempTol_K);
+  ASSERT_EQ(ref.summary.tripped, fast.summary.tripped);
+  if (ref.summary.tripped) {
+    EXPECT_EQ(ref.summary.trip_reason, fast.summary.trip_reason);
+    EXPECT_LE(d.trip_s, kTripTolTicks * s.bms.tick_s + kTripTolExtra_s);
+  }
+  EXPECT_NEAR(ref.summary.final_soc_min, fast.summary.final_soc_min, socTol);
+  EXPECT_NEAR(ref.summary.energy_delivered_Wh, fast.summary.energy_delivered_Wh,
+              1e-3 * std::max(1.0, std::fabs(ref.summary.energy_delivered_Wh)));
+}
+
+// The suite is named so that `ctest -E '^SolverAgreement'` (the sanitizer pass) skips it.
+INSTANTIATE_TEST_SUITE_P(Bundled, SolverAgreement, ::testing::ValuesIn(bundledScenarios()), testName);
 
 }  // namespace
 }  // namespace packsim
