@@ -5,23 +5,43 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-echo "== build and C++ tests"
+# Wall time per stage, printed at the end (and so in CI's log), also after a failure.
+STAGES=""
+stage_name=""
+stage_start=$SECONDS
+close_stage() {
+  [ -n "$stage_name" ] && STAGES+=$(printf '  %-50s %5d s' "$stage_name" $((SECONDS - stage_start)))$'\n'
+  stage_name=""
+}
+stage() {  # stage NAME: closes the previous stage, opens NAME
+  close_stage
+  stage_name=$1
+  stage_start=$SECONDS
+  echo "== $1"
+}
+print_stages() {
+  close_stage
+  printf '== time per stage\n%s  %-50s %5d s\n' "$STAGES" total "$SECONDS"
+}
+trap print_stages EXIT
+
+stage "build and C++ tests"
 BUILD_DIR=build scripts/build.sh -DPACKSIM_BUILD_TESTS=ON
 ctest --test-dir build -j2 --output-on-failure --timeout 600
 
 echo "   (includes the firmware property tests, FirmwareProperties.*, and the fault matrix, FaultMatrix.*)"
 
-echo "== every bundled scenario against its expect: block"
+stage "every bundled scenario against its expect: block"
 build/packsim check scenarios
 
-echo "== BMS core cross-compiled for Cortex-M4 (freestanding, no exceptions, no RTTI)"
+stage "BMS core cross-compiled for Cortex-M4 (freestanding, no exceptions, no RTTI)"
 bms/cross_check.sh build/bms-cortex-m4
 
-echo "== fuzz smoke: each loader harness, a fixed seed and input count, under libFuzzer + ASan + UBSan (build-fuzz/)"
+stage "fuzz smoke: each loader harness, a fixed seed and input count, under libFuzzer + ASan + UBSan (build-fuzz/)"
 scripts/fuzz.sh
 
 if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
-  echo "== C++ tests under AddressSanitizer + UBSan"
+  stage "C++ tests under AddressSanitizer + UBSan"
   # Optimised (-O2 -g) so the sanitizers cost ~2-3x rather than the ~10x of -O0. The
   # solver-agreement sweep re-runs every bundled scenario with a second integrator
   # already covered here by the fast-integrator tests: it runs in the pass above only.
@@ -33,6 +53,6 @@ if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
 fi
 
 if [ -d tests/python ]; then
-  echo "== Python tests"
+  stage "Python tests"
   PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}" python3 -m pytest -q tests/python
 fi
