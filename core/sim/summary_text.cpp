@@ -53,25 +53,53 @@ bool contactClosedBefore(const RunResult& r, double t) {
     if (e.kind == "relay_contact" && e.time_s < t - 1e-9) closed = e.detail == "closed";
   return closed;
 }
-const Event* firstEventFrom(const RunResult& r, double t, const char* kind, const char* detail) {
-  for (const Event& e : r.events)
-    if (e.time_s >= t - 1e-9 && e.kind == kind && e.detail == detail) return &e;
-  return nullptr;
-}
 
 // What the relay contact did from time t on (a command, a trip, the FAULT line): from
 // the relay_contact events, never from what was commanded.
 std::string contactFrom(const RunResult& r, double t) {
-  if (!contactClosedBefore(r, t)) {
-    const Event* lastOpened = nullptr;
-    for (const Event& e : r.events)
-      if (e.kind == "relay_contact" && e.time_s < t - 1e-9 && e.detail == "opened") lastOpened = &e;
-    if (lastOpened) return "the relay contact had opened at " + fmt("%.2f", lastOpened->time_s) + " s";
-    return "the relay contact was open (never closed before)";
+  const Event* lastBefore = nullptr;  // the contact's state before t: its last event then
+  const Event* openedFrom = nullptr;  // the first opening at or after t
+  for (const Event& e : r.events) {
+    if (e.kind != "relay_contact") continue;
+    if (e.time_s < t - 1e-9) lastBefore = &e;
+    else if (!openedFrom && e.detail == "opened") openedFrom = &e;
   }
-  if (const Event* opened = firstEventFrom(r, t, "relay_contact", "opened"))
-    return "the relay contact opened at " + fmt("%.2f", opened->time_s) + " s";
+  if (!lastBefore) return "the relay contact was open (never closed before)";
+  if (lastBefore->detail == "opened") return "the relay contact had opened at " + fmt("%.2f", lastBefore->time_s) + " s";
+  if (openedFrom) return "the relay contact opened at " + fmt("%.2f", openedFrom->time_s) + " s";
   return "the relay contact stayed closed to the end";
+}
+
+// Cells past a protection limit before the BMS saw it (the limit_unseen events): per
+// limit the longest episode, and how many cells had one.
+std::string unseenLimitLines(const RunResult& r) {
+  std::string out;
+  std::vector<std::string> names;
+  for (const Event& e : r.events)
+    if (e.kind == "limit_unseen") {
+      const std::string name = e.detail.substr(0, e.detail.find(':'));
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    }
+  for (const std::string& name : names) {
+    const Event* worst = nullptr;
+    double worst_s = -1.0;
+    std::vector<std::string> subjects;
+    for (const Event& e : r.events) {
+      if (e.kind != "limit_unseen" || e.detail.compare(0, name.size() + 1, name + ":") != 0) continue;
+      const size_t a = name.size() + 2, b = e.detail.find(e.detail.find(" above the ") != std::string::npos ? " above the " : " below the ");
+      const std::string subject = e.detail.substr(a, b - a);
+      if (std::find(subjects.begin(), subjects.end(), subject) == subjects.end()) subjects.push_back(subject);
+      const size_t from = e.detail.find(" limit from ");
+      const double from_s = from == std::string::npos ? e.time_s : std::atof(e.detail.c_str() + from + 12);
+      if (e.time_s - from_s > worst_s) {
+        worst_s = e.time_s - from_s;
+        worst = &e;
+      }
+    }
+    out += "unseen limit    " + worst->detail +
+           (subjects.size() > 1 ? "; " + std::to_string(subjects.size()) + " cells in all" : std::string()) + "\n";
+  }
+  return out;
 }
 
 }  // namespace
@@ -114,35 +142,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   } else {
     os << "BMS             no trip\n";
   }
-  // Cells past a protection limit before the BMS saw it (truth against the protection
-  // table): per limit the longest episode, and how many cells had one.
-  {
-    std::vector<std::string> names;
-    for (const Event& e : r.events)
-      if (e.kind == "limit_unseen") {
-        const std::string name = e.detail.substr(0, e.detail.find(':'));
-        if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
-      }
-    for (const std::string& name : names) {
-      const Event* worst = nullptr;
-      double worst_s = -1.0;
-      std::vector<std::string> subjects;
-      for (const Event& e : r.events) {
-        if (e.kind != "limit_unseen" || e.detail.compare(0, name.size() + 1, name + ":") != 0) continue;
-        const size_t a = name.size() + 2, b = e.detail.find(e.detail.find(" above the ") != std::string::npos ? " above the " : " below the ");
-        const std::string subject = e.detail.substr(a, b - a);
-        if (std::find(subjects.begin(), subjects.end(), subject) == subjects.end()) subjects.push_back(subject);
-        const size_t from = e.detail.find(" limit from ");
-        const double from_s = from == std::string::npos ? e.time_s : std::atof(e.detail.c_str() + from + 12);
-        if (e.time_s - from_s > worst_s) {
-          worst_s = e.time_s - from_s;
-          worst = &e;
-        }
-      }
-      os << "unseen limit    " << worst->detail
-         << (subjects.size() > 1 ? "; " + std::to_string(subjects.size()) + " cells in all" : std::string()) << "\n";
-    }
-  }
+  os << unseenLimitLines(r);
   if (m.compare.present) {
     const Comparison& c = m.compare;
     const double lost = c.lostWh();
