@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
 # Configures and builds packsim into build/ (or $BUILD_DIR). Extra arguments go to CMake.
+# TARGETS="packsim" builds only those targets (the README's first command: the executable
+# and nothing else); by default every target (tests, bench, Python module) is built.
 # Works with Debian's CMake 3.25 and with a pip-installed CMake 4.x (the policy floor
 # lets CMake 4 read Debian's older package config files).
 set -euo pipefail
@@ -20,4 +22,6 @@ if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
 elif [ $# -gt 0 ]; then
   cmake -S . -B "$BUILD_DIR" "$@"
 fi
-cmake --build "$BUILD_DIR" -j"${JOBS:-2}"
+TARGET_ARGS=()
+for t in ${TARGETS:-}; do TARGET_ARGS+=(--target "$t"); done
+cmake --build "$BUILD_DIR" -j"${JOBS:-2}" "${TARGET_ARGS[@]}"

@@ -82,6 +82,14 @@ class FirmwareHost {
   const std::vector<uint8_t>& lastTelemetry() const { return lastTelemetry_; }
   double clock_s() const { return static_cast<double>(clock_ns_) * 1e-9; }
   uint64_t taskRuns(int task) const { return runs_[static_cast<size_t>(task)]; }
+  // The longest simulated time one call of `task` took so far (bus transfers and
+  // delays: the firmware's own code takes none), 0 before it ran.
+  double worstTaskTime_s(int task) const {
+    return static_cast<size_t>(task) < worst_ns_.size() ? static_cast<double>(worst_ns_[static_cast<size_t>(task)]) * 1e-9
+                                                       : 0.0;
+  }
+  // Off: a task may run past its budget (a probe that measures what a task needs).
+  void enforceBudgets(bool on) { enforceBudgets_ = on; }
   // The firmware's RAM (null before init): for a debug probe of a linked-in firmware.
   const void* ram() const { return ram_.get(); }
 
@@ -130,6 +138,8 @@ class FirmwareHost {
   uint64_t clock_ns_ = 0;
   std::vector<uint64_t> nextDue_ns_;
   std::vector<uint64_t> runs_;
+  std::vector<uint64_t> worst_ns_;  // per task: the longest call
+  bool enforceBudgets_ = true;
   uint64_t callStart_ns_ = 0, callBudget_ns_ = 0;  // the running task's start and budget (0: none)
   int32_t initResult_ = 0;
   const bms::Inputs* in_ = nullptr;

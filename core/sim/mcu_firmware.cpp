@@ -1,5 +1,7 @@
 #include "core/sim/mcu_firmware.hpp"
 
+#include <algorithm>
+
 #include <bms/bms_firmware.hpp>
 
 namespace packsim {
@@ -69,6 +71,16 @@ bool McuFirmware::anyDead() const {
   for (const auto& h : hosts_)
     if (h->dead()) return true;
   return false;
+}
+
+double McuFirmware::worstTaskTime_s(int task) const {
+  double worst = 0.0;
+  for (const auto& h : hosts_) worst = std::max(worst, h->worstTaskTime_s(task));
+  return worst;
+}
+
+void McuFirmware::enforceBudgets(bool on) {
+  for (auto& h : hosts_) h->enforceBudgets(on);
 }
 
 std::string McuFirmware::status() const {

@@ -41,6 +41,9 @@ class McuFirmware : public FirmwareSink {
   const FirmwareHost& host(int board = 0) const { return *hosts_[static_cast<size_t>(board)]; }
   bool isLibrary() const { return library_; }
   bool anyDead() const;
+  // The longest call of `task` on any board so far (FirmwareHost::worstTaskTime_s).
+  double worstTaskTime_s(int task) const;
+  void enforceBudgets(bool on);
   const CanBus* can() const { return can_.get(); }
 
   void event(double t_s, const std::string& kind, const std::string& detail) override {

@@ -16,6 +16,7 @@
 #include "core/sim/mcu_firmware.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
+#include "core/sim/readout_fit.hpp"
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
 
@@ -30,22 +31,24 @@ std::string afterTripText(double s) {
 }  // namespace
 
 struct SimulationRun::Impl {
-  Impl(const Scenario& sc, RunEnd end)
-      : s(sc),
-        plant(sc),
-        ode(plant, sc.run, inputs),
-        cfg(makeBmsConfig(sc)),
-        hw(sc, plant),
-        rng(sc.run.seed),
+  Impl(std::shared_ptr<const Scenario> fitted, const Scenario& sc, RunEnd end, Budgets budgets)
+      : owned(std::move(fitted)),
+        s(owned ? *owned : sc),
+        plant(s),
+        ode(plant, s.run, inputs),
+        cfg(makeBmsConfig(s)),
+        hw(s, plant),
+        rng(s.run.seed),
         sig(plant.makeSignals()),
-        tracker(sc, plant, cfg),
-        scheduler(sc, plant),
-        tick_s(sc.bms.tick_s),
-        recordEvery(std::max(1L, std::lround(sc.output.interval_s / sc.bms.tick_s))),
-        end_s(sc.endTime_s()),  // past it (a driver's run) the integrators clamp t_stop to t_out
+        tracker(s, plant, cfg),
+        scheduler(s, plant),
+        tick_s(s.bms.tick_s),
+        recordEvery(std::max(1L, std::lround(s.output.interval_s / s.bms.tick_s))),
+        end_s(s.endTime_s()),  // past it (a driver's run) the integrators clamp t_stop to t_out
         lastTick(end == RunEnd::Driver ? std::numeric_limits<long>::max()
-                                       : static_cast<long>(std::floor(sc.endTime_s() / sc.bms.tick_s + 1e-9))),
+                                       : static_cast<long>(std::floor(s.endTime_s() / s.bms.tick_s + 1e-9))),
         driverEnds(end == RunEnd::Driver) {
+    firmware.enforceBudgets(budgets == Budgets::Enforced);
     inputs.faults = &faults;  // healthy until a scripted injection switches something on
     inputs.load = s.load.segmentAt(0.0);
     if (s.run.solver == RunConfig::Solver::Fast)
@@ -69,6 +72,7 @@ struct SimulationRun::Impl {
   bool tick(const StopCondition& stopWhen);
   void advance();
 
+  const std::shared_ptr<const Scenario> owned;  // the scenario with a fitted read-out period, if it needed one
   const Scenario& s;
   const Plant plant;
   HardwareFaults faults;
@@ -188,7 +192,8 @@ void SimulationRun::Impl::advance() {
   ++k;
 }
 
-SimulationRun::SimulationRun(const Scenario& s, RunEnd end) : impl_(std::make_unique<Impl>(s, end)) {}
+SimulationRun::SimulationRun(const Scenario& s, RunEnd end, Budgets budgets)
+    : impl_(std::make_unique<Impl>(budgets == Budgets::Enforced ? readoutThatFits(s) : nullptr, s, end, budgets)) {}
 SimulationRun::~SimulationRun() = default;
 
 bool SimulationRun::step(const StopCondition& stopWhen) {
@@ -197,6 +202,7 @@ bool SimulationRun::step(const StopCondition& stopWhen) {
   return true;
 }
 bool SimulationRun::tick(const StopCondition& stopWhen) { return impl_->tick(stopWhen); }
+double SimulationRun::worstTaskTime_s(int task) const { return impl_->firmware.worstTaskTime_s(task); }
 void SimulationRun::advance() {
   if (!impl_->ended) impl_->advance();
 }

@@ -39,11 +39,16 @@ using StopCondition = std::function<bool(double t_s, const double* x, const Plan
 // only its driver, which stops stepping (an FMU: the importer's stop time rules).
 enum class RunEnd { Scenario, Driver };
 
+// Budgets::Enforced: a firmware task past its budget is a contract break, and packsim's
+// core gets a read-out period that fits its chain (core/sim/readout_fit.hpp).
+// Budgets::Measured: tasks may overrun and only their time is kept (that fit's probe).
+enum class Budgets { Enforced, Measured };
+
 // One run, one BMS tick at a time (an FMU or a firmware host drives it step by step).
 // runScenario is `while (run.step(stopWhen)) {}` then finish().
 class SimulationRun {
  public:
-  explicit SimulationRun(const Scenario& s, RunEnd end = RunEnd::Scenario);
+  explicit SimulationRun(const Scenario& s, RunEnd end = RunEnd::Scenario, Budgets budgets = Budgets::Enforced);
   ~SimulationRun();
   SimulationRun(const SimulationRun&) = delete;
   SimulationRun& operator=(const SimulationRun&) = delete;
@@ -69,6 +74,8 @@ class SimulationRun {
   bool tripped() const;  // the BMS opened the relay on a latched fault (the summary's trip)
   double time_s() const;  // t_k of the next step(), or of the tick() just run
   bool ended() const;
+  // The longest simulated time one call of firmware task `task` took so far, on any MCU.
+  double worstTaskTime_s(int task) const;
   RunResult finish();  // once, after the last step
 
  private:
