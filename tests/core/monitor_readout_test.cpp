@@ -245,22 +245,28 @@ TEST(Monitor, ReadOutHoldsTheBusForItsFramesAndConversion) {
   EXPECT_NEAR(rig.board.t_s - t0, expected, 1e-9);
 }
 
-// 60 cells = 10 devices ≈ 3 ms a read-out: fine every 10 ms; read every 2 ms tick it
-// cannot fit, and the firmware stops on its task budget (a firmware_fault).
-TEST(Monitor, AReadOutLongerThanItsPeriodStopsTheFirmware) {
+// 60 cells = 10 devices ≈ 3 ms a read-out: fine every 10 ms tick; at a 2 ms tick it
+// cannot fit. Unstated, the read-out period becomes 4 ms, the shortest whole number of
+// ticks that holds it (core/sim/readout_fit.hpp); stated at 2 ms, the scenario is
+// refused before t = 0 (it used to run until the firmware broke its task budget).
+TEST(Monitor, AReadOutLongerThanItsPeriodGetsTheShortestPeriodThatHoldsIt) {
   std::string yaml = "name: slow\npack:\n  series: 60\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
                      "hardware:\n  afe: {model: bq76pl536a}\nbms: {tick_ms: TICK}\nload: {current_A: 1}\n"
                      "run: {duration_s: 1}\n";
-  const auto withTick = [&](const char* tick) {
+  const auto withBms = [&](const char* bms) {
     std::string y = yaml;
-    y.replace(y.find("TICK"), 4, tick);
-    return runScenario(test::scenarioFromYaml(y));
+    y.replace(y.find("TICK"), 4, bms);
+    return test::scenarioFromYaml(y);
   };
-  EXPECT_LT(test::eventTime(withTick("10"), "firmware_fault"), 0.0);
-  const RunResult slow = withTick("2");
-  EXPECT_GE(test::eventTime(slow, "firmware_fault", "contract break in task 0 (period 2 ms): ran"), 0.0);
-  EXPECT_NE(slow.summary.firmware_status.find("over its 2.000 ms budget"), std::string::npos)
-      << slow.summary.firmware_status;
+  const RunResult fine = runScenario(withBms("10"));
+  EXPECT_LT(test::eventTime(fine, "firmware_fault"), 0.0);
+  EXPECT_LT(test::eventTime(fine, "config_warning", "bms.readout.period_ms"), 0.0);
+  const RunResult grown = runScenario(withBms("2"));
+  EXPECT_LT(test::eventTime(grown, "firmware_fault"), 0.0) << grown.summary.firmware_status;
+  EXPECT_GE(test::eventTime(grown, "config_warning", "bms.readout.period_ms = 4 (default"), 0.0);
+  const Scenario stated = withBms("2, readout: {period_ms: 2}");
+  const std::string e = test::scenarioErrorOf([&] { runScenario(stated); });
+  EXPECT_NE(e.find("the shortest period that holds it is 4 ms"), std::string::npos) << e;
 }
 
 }  // namespace
