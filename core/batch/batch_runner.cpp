@@ -195,7 +195,7 @@ void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
     if (std::find(fields.begin(), fields.end(), k) == fields.end()) rest.push_back(k);
   std::sort(rest.begin(), rest.end());
   fields.insert(fields.end(), rest.begin(), rest.end());
-  const std::string tmp = rep.csv_path + ".tmp";
+  const std::string tmp = uniqueTemporaryName(rep.csv_path);  // two batches into one folder never share it
   {
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw std::runtime_error("cannot write " + tmp);
@@ -225,7 +225,12 @@ void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
           << '\n';
     }
   }
-  fs::rename(tmp, rep.csv_path);
+  std::error_code ec;
+  fs::rename(tmp, rep.csv_path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + rep.csv_path + ": " + ec.message());
+  }
 }
 
 std::string csvField(const std::string& s) {

@@ -154,6 +154,23 @@ TEST(Batch, RunsEveryCaseWritesCsvAndResumes) {
   EXPECT_EQ(third.ok, 4);
 }
 
+// summary.csv is written under a temporary name of this process (uniqueTemporaryName),
+// not a fixed `summary.csv.tmp` that two batches into one folder would share: a folder
+// already holding that name (here a directory, which no file write can replace) does not
+// stop the batch from writing its table.
+TEST(Batch, SummaryTableHasATemporaryOfItsOwn) {
+  Scratch sc;
+  Sweep sw = loadSweepFile(sc.write("sweep.yaml", "base: base.yaml\noutput_dir: out\ngrid:\n  pack.initial_soc: [0.9]\n"));
+  fs::create_directories(sc.dir / "out" / "summary.csv.tmp");
+  BatchOptions opt;
+  opt.progress = nullptr;
+  const BatchReport r = runBatch(sw, opt);
+  EXPECT_EQ(r.ok, 1);
+  EXPECT_EQ(lines(readFile(r.csv_path)).size(), 2u);
+  for (const auto& e : fs::directory_iterator(sc.dir / "out"))
+    EXPECT_EQ(e.path().filename().string().find("summary.csv.tmp."), std::string::npos) << "left behind: " << e.path();
+}
+
 TEST(Batch, FailingCaseIsRecordedAndOthersFinish) {
   Scratch sc;
   // initial_soc 1.5 is out of range: that case fails at load, the other two run.
