@@ -75,6 +75,8 @@ void judgeEstimates(const Expectations& e, const Summary& sm, const std::functio
 CheckOutcome judge(const Scenario& s, const RunResult& r) {
   CheckOutcome o;
   o.name = s.name;
+  for (const Event& ev : r.events)
+    if (ev.kind == "config_warning") o.warnings.push_back(ev.detail);
   const Expectations& e = s.expect;
   const Summary& sm = r.summary;
   auto fail = [&](const std::string& m) { o.failures.push_back(m); };

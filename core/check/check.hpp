@@ -29,6 +29,7 @@ struct CheckOutcome {
   std::vector<FaultLatency> fault_latencies;  // the same, as numbers
   std::string verdict;                 // short summary of what the BMS did
   bool nothing_to_check = false;       // no expect: block (reported "RAN", not "PASS")
+  std::vector<std::string> warnings;   // the run's config_warning events, as `run` prints them
 };
 
 CheckOutcome judge(const Scenario& s, const RunResult& r);

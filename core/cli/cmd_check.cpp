@@ -24,6 +24,7 @@ int cmdCheck(const CheckOptions& o) {
     std::cout << "  -- " << c.verdict << "\n";
     for (const auto& l : c.latencies) std::cout << "      injected " << l << "\n";
     for (const auto& l : c.failures) std::cout << "      failed: " << l << "\n";
+    for (const auto& l : c.warnings) std::cout << "      warning: " << l << "\n";
   }
   std::cout << passed << " passed, " << failed << " failed";
   if (unchecked > 0) std::cout << ", " << unchecked << " ran with nothing to check";

@@ -51,6 +51,7 @@ class CheckOutcome:
     latencies: tuple[FaultLatency, ...]
     verdict: str
     nothing_to_check: bool = False      # no expect: block: status "RAN", neither passed nor failed
+    warnings: tuple[str, ...] = ()      # the run's config warnings, as `packsim run` prints them
 
     @property
     def status(self) -> str:
@@ -66,6 +67,7 @@ class CheckOutcome:
         out = [f"{head}  -- {self.verdict}\n"]
         out += [f"      injected {f.line}\n" for f in self.latencies]
         out += [f"      failed: {f}\n" for f in self.failures]
+        out += [f"      warning: {w}\n" for w in self.warnings]
         return "".join(out)
 
 
@@ -151,6 +153,7 @@ def _outcome(d: Mapping[str, Any], name: str | None = None) -> CheckOutcome:
         latencies=tuple(FaultLatency(**f) for f in d["latencies"]),
         verdict=d["verdict"],
         nothing_to_check=bool(d.get("nothing_to_check", False)),
+        warnings=tuple(d.get("warnings", ())),
     )
 
 

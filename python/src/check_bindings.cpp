@@ -38,6 +38,7 @@ py::dict outcomeDict(const CheckOutcome& o) {
   d["error"] = o.error ? py::object(py::str(o.error_message)) : py::object(py::none());
   d["failures"] = o.failures;
   d["latencies"] = latencies;
+  d["warnings"] = py::cast(o.warnings);
   d["verdict"] = o.verdict;
   d["nothing_to_check"] = o.nothing_to_check;
   return d;

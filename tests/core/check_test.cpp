@@ -58,6 +58,32 @@ TEST(Check, CliReportsEveryScenarioAndFailsTheBatch) {
   fs::remove_all(dir);
 }
 
+// A check that passes still shows what the loader and the run found questionable: the
+// same config warnings `packsim run` prints (they were printed by `run` alone). A 2 ms
+// tick cannot hold the read-out of ten BQ76PL536A devices: the run warns that it read
+// every 4 ms, and the check says so under its PASS line.
+TEST(Check, PrintsTheRunsConfigWarnings) {
+  const fs::path dir = test::processTempDir("packsim_check_warn");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "warned.yaml")
+      << "name: warned\npack:\n  series: 60\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
+         "hardware:\n  afe: {model: bq76pl536a}\nbms: {tick_ms: 2}\nload: {current_A: 1}\nrun: {duration_s: 1}\n"
+         "expect: {no_trip: true}\n";
+  const CheckOutcome c = checkScenarioFile((dir / "warned.yaml").string());
+  EXPECT_TRUE(c.passed);
+  bool readout = false;
+  for (const std::string& w : c.warnings) readout = readout || w.find("bms.readout.period_ms = 4") == 0;
+  EXPECT_TRUE(readout) << c.warnings.size() << " warnings";
+  const std::string out = (dir / "out.txt").string();
+  const int rc = std::system((std::string(PACKSIM_BINARY) + " check " + (dir / "warned.yaml").string() + " > " + out).c_str());
+  EXPECT_EQ(WEXITSTATUS(rc), 0);
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("      warning: bms.readout.period_ms = 4 (default"), std::string::npos) << text;
+  fs::remove_all(dir);
+}
+
 // A hot cell injected at 300 s (too little heat to reach a limit) and an E-stop at 450 s:
 // the E-stop is not credited to the hot cell (it was: "estop after 150.000 s").
 TEST(Check, EachDetectionIsCreditedToTheInjectionThatCanCauseIt) {
