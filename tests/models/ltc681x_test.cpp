@@ -353,5 +353,75 @@ TEST(Ltc681xAnalog, OpenWireFollowsTheAdowCurrents) {
   EXPECT_EQ(word(rx, 0, 1), 30400 + 30500);
 }
 
+
+TEST(Ltc681xAnalog, PairConversionGpioFaultsAndDeterminism) {
+  Ltc681xConfig c = config(Ltc681xPart::Ltc6813, 1);
+  c.cell_adc.noise_rms = 0.5e-3;
+  auto run = [&](uint64_t seed) {
+    Ltc681xChain chain(c, 18, seed);
+    fillCells(chain, 3.5);
+    chain.analog(0).therm_fault[1] = ThermistorFault::Open;
+    Host h{chain};
+    h.wake();
+    h.write(LTC681X_WRCFGA, {{0xFC, 0, 0, 0, 0, 0}});
+    h.wait(5e-3);
+    h.wake(10e-6);
+    // CH = 1: cells 1, 7 and 13 only, in the one-pair time (405 us at 7 kHz).
+    h.send(cmd(ltc681x_adcv(LTC681X_MD_NORMAL, 0, 1)));
+    h.wait(405e-6);
+    std::vector<uint8_t> a = h.read(LTC681X_RDCVA, 1), cc = h.read(LTC681X_RDCVC, 1), e = h.read(LTC681X_RDCVE, 1);
+    EXPECT_NE(word(a, 0, 0), 0xFFFF);
+    EXPECT_EQ(word(a, 0, 1), 0xFFFF);  // cell 2 not converted
+    EXPECT_NE(word(cc, 0, 0), 0xFFFF);  // cell 7
+    EXPECT_NE(word(e, 0, 0), 0xFFFF);   // cell 13
+    EXPECT_EQ(word(e, 0, 1), 0xFFFF);
+    h.send(cmd(ltc681x_adax(LTC681X_MD_NORMAL, 0)));
+    h.wait(2335e-6);
+    std::vector<uint8_t> ax = h.read(LTC681X_RDAUXA, 1);
+    EXPECT_EQ(word(ax, 0, 1), 30000);  // open NTC on GPIO2: pulled up to VREF2
+    EXPECT_EQ(word(ax, 0, 2), 0);      // no thermistor on GPIO3
+    a.insert(a.end(), cc.begin(), cc.end());
+    return a;
+  };
+  EXPECT_EQ(run(7), run(7));  // same seed, same bytes
+  EXPECT_NE(run(7), run(8));  // the noise is drawn
+}
+
+TEST(Ltc681xDischarge, DctoReadsTheBucketOfTheTimeLeft) {
+  Ltc681xChain chain(config(Ltc681xPart::Ltc6811, 1), 12, 1);
+  Host h{chain};
+  h.wake();
+  h.write(LTC681X_WRCFGA, {{0xF8, 0, 0, 0, 0x80, 0x30}});  // DCC8, DCTO 3 = 2 min
+  EXPECT_TRUE(chain.balancing(0, 7));
+  h.wait(45.0);  // 75 s left: "1 to 2 min" reads 3
+  h.wake();
+  std::vector<uint8_t> rx = h.read(LTC681X_RDCFGA, 1);
+  EXPECT_EQ(rx[5] >> 4, 3);
+  EXPECT_EQ(rx[4], 0x80);
+  h.wait(50.0);  // 25 s left: "0 to 0.5 min" reads 1
+  h.wake();
+  rx = h.read(LTC681X_RDCFGA, 1);
+  EXPECT_EQ(rx[5] >> 4, 1);
+  h.wait(30.0);
+  h.wake();
+  rx = h.read(LTC681X_RDCFGA, 1);
+  EXPECT_EQ(rx[5] >> 4, 0);  // timed out
+  EXPECT_EQ(rx[4], 0x00);
+  EXPECT_FALSE(chain.balancing(0, 7));
+}
+
+TEST(Ltc681xCommands, TheLtc6811IgnoresTheLtc6813sOwnCommands) {
+  Ltc681xChain chain(config(Ltc681xPart::Ltc6811, 1), 12, 1);
+  Host h{chain};
+  h.wake();
+  h.write(LTC681X_WRCFGA, {{0xF8, 0, 0, 0, 0x01, 0}});
+  h.send(cmd(LTC681X_MUTE));
+  EXPECT_TRUE(chain.balancing(0, 0));
+  for (uint16_t cc : {LTC681X_RDCFGB, LTC681X_RDCVE, LTC681X_RDAUXC}) {
+    const std::vector<uint8_t> rx = h.read(cc, 1);
+    for (uint8_t v : rx) EXPECT_EQ(v, 0xFF) << cc;
+  }
+}
+
 }  // namespace
 }  // namespace packsim
