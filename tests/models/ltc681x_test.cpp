@@ -7,6 +7,8 @@
 #include <bms/afe/ltc681x_pec.hpp>
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace packsim {
@@ -420,6 +422,37 @@ TEST(Ltc681xCommands, TheLtc6811IgnoresTheLtc6813sOwnCommands) {
   for (uint16_t cc : {LTC681X_RDCFGB, LTC681X_RDCVE, LTC681X_RDAUXC}) {
     const std::vector<uint8_t> rx = h.read(cc, 1);
     for (uint8_t v : rx) EXPECT_EQ(v, 0xFF) << cc;
+  }
+}
+
+
+TEST(Ltc681xConfigFrom, TakesTheSharedSettingsAndKeepsThePartsOwnAdc) {
+  MonitorConfig m;
+  m.devices = 4;
+  m.cells_per_device = 10;
+  m.thermistors_per_device = 3;
+  m.cell_adc.lsb = 6.25 / 16383.0;  // another part's LSB: not the LTC's
+  m.cell_adc.gain_error = 0.002;
+  m.channel_offset_sd_V = 1e-3;
+  m.baud = 2e6;
+  const Ltc681xConfig c = ltc681xConfigFrom(m, Ltc681xPart::Ltc6811);
+  EXPECT_EQ(c.part, Ltc681xPart::Ltc6811);
+  EXPECT_EQ(c.devices, 4);
+  EXPECT_EQ(c.cells_per_device, 10);
+  EXPECT_EQ(c.thermistors_per_device, 3);
+  EXPECT_DOUBLE_EQ(c.cell_adc.lsb, 100e-6);
+  EXPECT_EQ(c.cell_adc.code_max, 65535);
+  EXPECT_DOUBLE_EQ(c.cell_adc.gain_error, 0.002);
+  EXPECT_DOUBLE_EQ(c.channel_offset_sd_V, 1e-3);
+  EXPECT_DOUBLE_EQ(c.spi_clock_Hz, 2e6);
+  // A part that cannot hold the cells asked for is refused with its range.
+  Ltc681xConfig bad = c;
+  bad.cells_per_device = 13;
+  try {
+    Ltc681xChain chain(bad, 52, 1);
+    FAIL() << "13 cells on an LTC6811 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("outside 1..12"), std::string::npos) << e.what();
   }
 }
 
