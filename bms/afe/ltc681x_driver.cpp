@@ -6,8 +6,6 @@ namespace bms {
 
 namespace {
 
-constexpr uint16_t kMaxFrame = LTC681X_CMD_LEN + LTC681X_SLOT_BYTES * kMaxDevices;
-
 bool is6813(const LtcConfig& c) { return c.part == LtcPart::Ltc6813; }
 uint8_t partCells(const LtcConfig& c) { return is6813(c) ? LTC6813_CELLS : LTC6811_CELLS; }
 uint8_t partGpios(const LtcConfig& c) { return is6813(c) ? LTC6813_GPIOS : LTC6811_GPIOS; }
@@ -47,7 +45,7 @@ void command(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_ap
 void writeGroup(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, uint16_t cc,
                 const uint8_t (*image)[LTC681X_GROUP_BYTES]) {
   ensureAwake(c, s, b, api);
-  uint8_t f[kMaxFrame];
+  uint8_t* f = s.tx;
   f[0] = LTC681X_CMD0(cc);
   f[1] = LTC681X_CMD1(cc);
   ltcPutPec(f, 2);
@@ -63,23 +61,23 @@ void writeGroup(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
 
 FrameResult worse(FrameResult a, FrameResult b) { return a != FrameResult::Ok ? a : b; }
 
-// One read command for every device: data[d] filled where res is Ok. Device 0's slot
-// comes first. A group with a BadCrc somewhere is read again (up to readRetries).
-void readGroup(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, uint16_t cc,
-               uint8_t (*data)[LTC681X_GROUP_BYTES], FrameResult* res) {
+// One read command for every device into s.group / s.groupRes (Ok: the data is there).
+// Device 0's slot comes first. A group with a BadCrc somewhere is read again (up to
+// readRetries).
+void readGroup(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, uint16_t cc) {
   const uint8_t n = devicesOf(c);
+  FrameResult* res = s.groupRes;
   for (uint8_t d = 0; d < n; ++d) res[d] = FrameResult::Timeout;
   for (uint8_t attempt = 0; attempt <= c.readRetries; ++attempt) {
     ensureAwake(c, s, b, api);
     uint8_t f[LTC681X_CMD_LEN] = {LTC681X_CMD0(cc), LTC681X_CMD1(cc), 0, 0};
     ltcPutPec(f, 2);
-    uint8_t rx[LTC681X_SLOT_BYTES * kMaxDevices];
     const uint16_t rxLen = static_cast<uint16_t>(n * LTC681X_SLOT_BYTES);
-    const int32_t got = xfer(c, s, b, api, f, LTC681X_CMD_LEN, rx, rxLen);
+    const int32_t got = xfer(c, s, b, api, f, LTC681X_CMD_LEN, s.rx, rxLen);
     bool retry = false;
     for (uint8_t d = 0; d < n; ++d) {
       if (res[d] == FrameResult::Ok) continue;  // a good copy from an earlier attempt
-      const uint8_t* slot = rx + d * LTC681X_SLOT_BYTES;
+      const uint8_t* slot = s.rx + d * LTC681X_SLOT_BYTES;
       if (got == PSFW_BUS_TIMEOUT || got == PSFW_BUS_ERROR) {
         res[d] = FrameResult::Timeout;
         continue;
@@ -89,7 +87,7 @@ void readGroup(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_
         continue;
       }
       if (ltcPecOk(slot, LTC681X_GROUP_BYTES)) {
-        for (uint8_t i = 0; i < LTC681X_GROUP_BYTES; ++i) data[d][i] = slot[i];
+        for (uint8_t i = 0; i < LTC681X_GROUP_BYTES; ++i) s.group[d][i] = slot[i];
         res[d] = FrameResult::Ok;
         continue;
       }
@@ -149,13 +147,11 @@ void readCells(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_
   for (uint8_t d = 0; d < n; ++d) res[d] = FrameResult::Ok;
   const uint8_t groups = static_cast<uint8_t>((c.cellsPerDevice + 2u) / 3u);
   for (uint8_t g = 0; g < groups; ++g) {
-    uint8_t data[kMaxDevices][LTC681X_GROUP_BYTES];
-    FrameResult r[kMaxDevices];
-    readGroup(c, s, b, api, kGroups[g], data, r);
+    readGroup(c, s, b, api, kGroups[g]);
     for (uint8_t d = 0; d < n; ++d) {
-      res[d] = worse(res[d], r[d]);
-      if (r[d] == FrameResult::Ok)
-        for (uint8_t i = 0; i < 3; ++i) out[d].cell[3 * g + i] = le16(data[d] + 2 * i);
+      res[d] = worse(res[d], s.groupRes[d]);
+      if (s.groupRes[d] == FrameResult::Ok)
+        for (uint8_t i = 0; i < 3; ++i) out[d].cell[3 * g + i] = le16(s.group[d] + 2 * i);
     }
   }
 }
@@ -191,9 +187,9 @@ bool ltcInit(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_ap
   if (!valid(c)) return false;
   fillImage(c, s);
   ensureAwake(c, s, b, api);  // wakes from SLEEP: writes the configuration, waits for the reference
-  uint8_t back[kMaxDevices][LTC681X_GROUP_BYTES];
-  FrameResult res[kMaxDevices];
-  readGroup(c, s, b, api, LTC681X_RDCFGA, back, res);
+  const uint8_t(*back)[LTC681X_GROUP_BYTES] = s.group;
+  const FrameResult* res = s.groupRes;
+  readGroup(c, s, b, api, LTC681X_RDCFGA);
   bool same[kMaxDevices];
   for (uint8_t d = 0; d < devicesOf(c); ++d) {
     same[d] = res[d] == FrameResult::Ok;
@@ -204,7 +200,7 @@ bool ltcInit(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_ap
     }
   }
   if (is6813(c)) {
-    readGroup(c, s, b, api, LTC681X_RDCFGB, back, res);
+    readGroup(c, s, b, api, LTC681X_RDCFGB);
     for (uint8_t d = 0; d < devicesOf(c); ++d)
       same[d] = same[d] && res[d] == FrameResult::Ok && back[d][0] == s.cfgb[d][0] &&
                 (back[d][1] & ~LTC6813_CFGRB1_MUTE) == s.cfgb[d][1];
@@ -225,9 +221,9 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
   convertAndWait(c, s, b, api, ltc681x_adcv(md, c.dischargePermitted ? 1u : 0u, LTC681X_CH_ALL), LTC681X_CONV_CELLS);
   readCells(c, s, b, api, out, res);
 
-  uint8_t data[kMaxDevices][LTC681X_GROUP_BYTES];
-  FrameResult r[kMaxDevices];
-  readGroup(c, s, b, api, LTC681X_RDSTATB, data, r);  // the UV / OV flags of that conversion
+  const uint8_t(*data)[LTC681X_GROUP_BYTES] = s.group;
+  const FrameResult* r = s.groupRes;
+  readGroup(c, s, b, api, LTC681X_RDSTATB);  // the UV / OV flags of that conversion
   for (uint8_t d = 0; d < n; ++d) {
     res[d] = worse(res[d], r[d]);
     if (r[d] != FrameResult::Ok) continue;
@@ -249,7 +245,7 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
     if (groups < 2) groups = 2;
     if (is6813(c) && c.cellsPerDevice > 12) groups = 4;
     for (uint8_t g = 0; g < groups; ++g) {
-      readGroup(c, s, b, api, kAux[g], data, r);
+      readGroup(c, s, b, api, kAux[g]);
       for (uint8_t d = 0; d < n; ++d) {
         res[d] = worse(res[d], r[d]);
         if (r[d] != FrameResult::Ok) continue;
@@ -274,7 +270,7 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
 
   if (c.readStatus) {
     convertAndWait(c, s, b, api, ltc681x_adstat(md, LTC681X_CH_ALL), LTC681X_CONV_STATUS);
-    readGroup(c, s, b, api, LTC681X_RDSTATA, data, r);
+    readGroup(c, s, b, api, LTC681X_RDSTATA);
     for (uint8_t d = 0; d < n; ++d) {
       res[d] = worse(res[d], r[d]);
       if (r[d] != FrameResult::Ok) continue;

@@ -74,6 +74,11 @@ struct LtcState {
   uint32_t idleWakeups;      // wake-ups of the isoSPI ports
   uint32_t readouts;
   bool recover;              // the last read-out lost a device: wake the whole chain from SLEEP first
+  // One frame's scratch, in the firmware's RAM rather than on its stack (64 devices' slots).
+  uint8_t tx[LTC681X_CMD_LEN + LTC681X_SLOT_BYTES * kMaxDevices];
+  uint8_t rx[LTC681X_SLOT_BYTES * kMaxDevices];
+  uint8_t group[kMaxDevices][LTC681X_GROUP_BYTES];  // the last group read, per device
+  FrameResult groupRes[kMaxDevices];
 };
 
 // Power-up: wake, configure, read back. True when every device took its configuration.
