@@ -269,5 +269,28 @@ TEST(LtcDriver, ConversionWaitIsTheTablesTime) {
   }
 }
 
+
+TEST(LtcDriver, AMinuteOfReadOutsWithBalancingNeverLosesTheChain) {
+  // A core's rhythm: read every 250 ms, rewrite the balancing every 10 s with a 1 min
+  // timer. The chain never sleeps, the switches never drop, no PEC error appears.
+  Rig r(modelConfig(Ltc681xPart::Ltc6813, 3), 54);
+  ASSERT_TRUE(r.init());
+  uint32_t mask[bms::kBalanceWords] = {};
+  mask[0] = 1u << 5;
+  mask[1] = 1u << (40 - 32);  // device 2, cell 5
+  for (int k = 0; k < 240; ++k) {
+    if (k % 40 == 0) bms::ltcSetBalance(r.cfg, r.st, r.board.board(), r.board.api(), mask, 60);
+    r.readAll();
+    for (int d = 0; d < 3; ++d) ASSERT_EQ(r.res[d], bms::FrameResult::Ok) << k << " " << d;
+    ASSERT_TRUE(r.chain.balancing(0, 5)) << k;
+    ASSERT_TRUE(r.chain.balancing(2, 4)) << k;
+    r.board.wait(0.25);
+  }
+  EXPECT_EQ(r.st.sleepWakeups, 1u);  // the one at init
+  EXPECT_GE(r.st.idleWakeups, 239u);
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(r.st.pecErrors[d], 0u);
+  EXPECT_NEAR(r.out[2].cell[4] * kLsb_V, cellTruth_V(40), kLsb_V / 2 + 1e-9);
+}
+
 }  // namespace
 }  // namespace packsim
