@@ -236,15 +236,18 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
     out[d].statb5 = data[d][5];
   }
 
-  if (c.thermistorsPerDevice > 0) {
+  // GPIOs: ADAX, then AUXA.. as far as the thermistors go, at least AUXB (the 2nd
+  // reference, a check of the ADC). The LTC6813's cells 13-18 keep their UV/OV flags in
+  // AUXD: read it whenever those cells are used, with or without GPIOs.
+  const bool gpios = c.thermistorsPerDevice > 0;
+  const bool highFlags = is6813(c) && c.cellsPerDevice > 12;
+  if (gpios || highFlags) {
     static const uint16_t kAux[4] = {LTC681X_RDAUXA, LTC681X_RDAUXB, LTC681X_RDAUXC, LTC681X_RDAUXD};
-    convertAndWait(c, s, b, api, ltc681x_adax(md, LTC681X_CH_ALL), LTC681X_CONV_GPIOS);
-    // AUXB holds the 2nd reference (a check of the ADC); the LTC6813's cells 13-18 keep
-    // their flags in AUXD: read it whenever those cells are used.
-    uint8_t groups = static_cast<uint8_t>((c.thermistorsPerDevice + 2u) / 3u);
-    if (groups < 2) groups = 2;
-    if (is6813(c) && c.cellsPerDevice > 12) groups = 4;
-    for (uint8_t g = 0; g < groups; ++g) {
+    if (gpios) convertAndWait(c, s, b, api, ltc681x_adax(md, LTC681X_CH_ALL), LTC681X_CONV_GPIOS);
+    uint8_t groups = gpios ? static_cast<uint8_t>((c.thermistorsPerDevice + 2u) / 3u) : 0u;
+    if (gpios && groups < 2) groups = 2;
+    if (highFlags) groups = 4;
+    for (uint8_t g = gpios ? 0u : 3u; g < groups; ++g) {
       readGroup(c, s, b, api, kAux[g]);
       for (uint8_t d = 0; d < n; ++d) {
         res[d] = worse(res[d], r[d]);
@@ -257,7 +260,7 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
         }
         if (g == 2) for (uint8_t i = 0; i < 3; ++i) out[d].gpio[5 + i] = le16(data[d] + 2 * i);
         if (g == 3) {
-          out[d].gpio[8] = le16(data[d]);
+          if (gpios) out[d].gpio[8] = le16(data[d]);
           for (uint8_t k = 0; k < 6; ++k) {
             const uint8_t byte = data[d][4 + k / 4], sh = static_cast<uint8_t>(2u * (k % 4u));
             out[d].uv |= static_cast<uint32_t>((byte >> sh) & 1u) << (12u + k);

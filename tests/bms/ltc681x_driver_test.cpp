@@ -292,5 +292,20 @@ TEST(LtcDriver, AMinuteOfReadOutsWithBalancingNeverLosesTheChain) {
   EXPECT_NEAR(r.out[2].cell[4] * kLsb_V, cellTruth_V(40), kLsb_V / 2 + 1e-9);
 }
 
+
+TEST(LtcDriver, TheLtc6813sUpperCellFlagsAreReadWithoutThermistorsToo) {
+  Ltc681xConfig mc = modelConfig(Ltc681xPart::Ltc6813, 1);
+  mc.thermistors_per_device = 0;
+  Rig r(mc, 18);
+  r.cfg.readStatus = false;
+  ASSERT_TRUE(r.init());
+  r.chain.analog(0).cell_V[16] = 4.35;  // cell 17 over the 4.2 V VOV
+  r.chain.analog(0).cell_V[2] = 2.5;    // cell 3 under the 2.8 V VUV
+  r.readAll();
+  ASSERT_EQ(r.res[0], bms::FrameResult::Ok);
+  EXPECT_EQ(r.out[0].ov, 1u << 16);
+  EXPECT_EQ(r.out[0].uv, 1u << 2);
+}
+
 }  // namespace
 }  // namespace packsim
