@@ -9,6 +9,7 @@ threads and notebooks alike).
     plot.balancing(r)               # None when the result has no balance mask
     plot.balance_time(packsim.balance_time(resistor=[22, 33, 47]))   # time to balance vs R
     plot.plot_all(r, "figures/")    # all of them as PNG; what `packsim plot` writes
+    plot.run_figure(r)              # interactive (Plotly): the figure of `packsim report`'s run page
 
 Every function takes a Result (or a path to a result file) and returns a
 matplotlib Figure. Every time plot marks the run's fault injections and trips
@@ -29,7 +30,7 @@ from ._plot_marks import draw_limits, mark_events
 from .result import Result, load
 
 __all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "balance_time", "plot_all",
-           "main", "LINE_LIMIT", "timeline_rows"]
+           "main", "LINE_LIMIT", "timeline_rows", "run_figure"]
 
 LINE_LIMIT = 24  # more cells than this: a heatmap instead of one line per cell
 
@@ -462,6 +463,13 @@ def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, 
         fig.savefig(path, dpi=dpi)
         written.append(path)
     return written
+
+
+def run_figure(r: Result | str | os.PathLike, **kw):
+    """The interactive figure of the run page (Plotly; shows itself in Jupyter):
+    packsim.run_figure.run_figure."""
+    from .run_figure import run_figure as make
+    return make(r, **kw)
 
 
 def _matplotlib_or_error(prog: str) -> bool:
