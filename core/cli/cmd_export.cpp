@@ -27,7 +27,7 @@ int cmdExport(const ExportOptions& o) {
 int cmdReport(const ReportOptions& o) {
   if (!std::filesystem::exists(o.source))
     throw ScenarioError(o.source, 0, 0, "", "no such result file or batch folder");
-  return runPythonModule("packsim", {"report", o.source, "-o", o.output}, "numpy, h5py, plotly and matplotlib");
+  return runPythonModule("packsim", {"report", o.source, "-o", o.output}, "numpy, h5py and plotly");
 }
 
 }  // namespace packsim

@@ -127,9 +127,10 @@ _FILTER_JS = """
 """
 
 
-def _figure_div(fig, div_id: str) -> str:
+def _figure_div(fig, div_id: str, *, mode_bar: bool = True) -> str:
     return fig.to_html(full_html=False, include_plotlyjs=False, div_id=div_id,
-                       config={"displaylogo": False, "responsive": True, "scrollZoom": False}
+                       config={"displaylogo": False, "responsive": True, "scrollZoom": False,
+                               "displayModeBar": "hover" if mode_bar else False}
                        ).replace('class="plotly-graph-div"', 'class="plotly-graph-div packsim-figure"')
 
 
@@ -243,7 +244,7 @@ def batch_html(folder: str | os.PathLike) -> str:
              f"<p>{len(t.rows)} cases ({n_ok} ran) from {e(t.path)}; {e(kind)}.</p>",
              f"<h2>Responses ({len(figs)})</h2>",
              "<p class=\"note\">Outputs that vary over the cases that ran; not plotted: " + e(left or "none") + ".</p>",
-             '<div class="grid">' + "".join(f'<div class="{"wide" if "correlation" in title else "cell"}">{_figure_div(f, f"sweep-{i}")}</div>'
+             '<div class="grid">' + "".join(f'<div class="{"wide" if "correlation" in title else "cell"}">{_figure_div(f, f"sweep-{i}", mode_bar=False)}</div>'
                      for i, (title, f) in enumerate(figs)) + "</div>",
              f"<h2>Cases ({len(t.rows)})</h2><p class=\"note\">click a column to sort.</p>",
              '<div class="scroll">' + _table(t.header, t.rows, sortable=True,
@@ -279,6 +280,9 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         print(report(a.source, a.output))
+    except ImportError as e:  # scipy for a Monte Carlo's rank correlation
+        print(f"packsim report: error: {e}", file=sys.stderr)
+        return 1
     except (OSError, ValueError, KeyError) as e:
         print(f"packsim report: error: {e}", file=sys.stderr)
         return 2

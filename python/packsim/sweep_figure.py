@@ -29,6 +29,9 @@ __all__ = ["SweepTable", "read", "figures", "rank_correlation", "IDENTIFIERS"]
 IDENTIFIERS = frozenset({"case", "status", "error", "file", "seed", "min_cell", "hottest_cell", "limit_cell",
                          "soc_error_ekf_group", "trip_reason", "limit_unseen_longest", "soc_estimator"})
 TRIP = "tripped"
+# Outputs a team looks at first, in this order; the others follow in summary.csv's order.
+FIRST = ("energy_delivered_Wh", "energy_stranded_Wh", "min_cell_V", "max_temp_C", "trip_time_s", "tripped",
+         "duration_s", "heat_Wh", "energy_left_Wh")
 
 
 @dataclass
@@ -96,12 +99,16 @@ def read(folder: str | os.PathLike) -> SweepTable:
             continue
         if name not in inputs:
             t.outputs.append(name)
+    t.outputs.sort(key=lambda n: FIRST.index(n) if n in FIRST else len(FIRST))
     return t
 
 
 def rank_correlation(a: np.ndarray, b: np.ndarray) -> float:
     """Spearman's rank correlation of two columns over the cases where both are numbers."""
-    from scipy.stats import spearmanr
+    try:
+        from scipy.stats import spearmanr
+    except ImportError as e:
+        raise ImportError("the rank correlation of a Monte Carlo needs scipy (pip install scipy)") from e
     ok = np.isfinite(a) & np.isfinite(b)
     if ok.sum() < 3 or np.unique(a[ok]).size < 2 or np.unique(b[ok]).size < 2:
         return float("nan")
@@ -115,7 +122,7 @@ def _trip_marks(t: SweepTable) -> np.ndarray:
 def _small(title: str, height: int = 300):
     import plotly.graph_objects as go
     return go.Figure(layout=dict(title=dict(text=title, font=dict(size=12)), height=height,
-                                 margin=dict(l=60, r=20, t=40, b=50), plot_bgcolor="white",
+                                 margin=dict(l=60, r=20, t=50, b=50), plot_bgcolor="white",
                                  xaxis=dict(gridcolor="#e5e5e5"), yaxis=dict(gridcolor="#e5e5e5")))
 
 
