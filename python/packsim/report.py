@@ -221,8 +221,9 @@ def result_html(r: Result | str | os.PathLike, *, points: int | None = None) -> 
              "<h2>Energy</h2>", _energy_html(r),
              "<h2>Figures</h2><p class=\"note\">Drag to zoom (double-click resets), every panel follows; the "
              "grey line is the time under the mouse in every panel; click a legend entry to hide or show it "
-             "(event marks too). Curves are thinned for display to the min and max of each time bucket; "
-             "every number above uses every sample.</p>",
+             "(event marks too); hover over a mark's diamond on the BMS state panel for the event. Curves "
+             "are thinned for display to the min and max of each time bucket; every number above uses every "
+             "recorded sample.</p>",
              _figure_div(fig, "run-figure"),
              f"<h2>Events ({len(r.events)})</h2>", _events_html(r),
              "<h2>Scenario as it ran</h2>", f"<pre id=\"scenario\">{e(r.scenario_yaml)}</pre>"]

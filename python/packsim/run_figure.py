@@ -121,6 +121,20 @@ class _Panels:
                                 legend=self._legend(y_axis), line=dict(color=COLOURS["C3"], width=1, dash="dot"),
                                 hovertemplate=f"{name} limit {value:g}<extra></extra>"))
 
+    def event_points(self, y_axis: str, y: float) -> None:
+        """A diamond per marked event at height y of a panel, its text on hover; in the
+        legend group of its kind's lines, so one click hides both."""
+        by_kind: dict[str, list[dict]] = {}
+        for ev in marked_events(self.r):
+            by_kind.setdefault(ev["kind"], []).append(ev)
+        for kind, evs in by_kind.items():
+            self.traces.append(dict(type="scatter", mode="markers", x=[e["time_s"] / self.scale for e in evs],
+                                    y=[y] * len(evs), yaxis=y_axis, xaxis="x", legendgroup=f"event {kind}",
+                                    showlegend=False, name=kind.replace("_", " "),
+                                    marker=dict(symbol="diamond", size=8, color=COLOURS[_MARK_COLOURS[kind]]),
+                                    text=[f"{e['time_s']:.2f} s {kind}: {e['detail']}" for e in evs],
+                                    hovertemplate="%{text}<extra></extra>"))
+
     def heatmap(self, y_axis: str, a: np.ndarray, name: str, unit: str) -> None:
         tb, z = _bucket_extreme(self.t, a, self.points)
         m = float(np.nanmax(np.abs(z))) if z.size else 1.0
@@ -258,8 +272,9 @@ def run_figure(r, *, points: int = DISPLAY_POINTS):
     state = r["bms/state"].astype(int)
     ticks = sorted(set(names) | set(np.unique(state).tolist()))
     ya = p.add_panel("BMS state", 0.7, tickvals=ticks, ticktext=[names.get(k, str(k)) for k in ticks],
-                     range=[min(ticks) - 0.5, max(ticks) + 0.5])
+                     range=[min(ticks) - 0.5, max(ticks) + 0.6])
     p.line(ya, state.astype(float), "BMS state", "C0", shape="hv", width=1.5)
+    p.event_points(ya, max(ticks) + 0.3)
 
     rows = [(label, on.astype(float), "C2" if src == "commanded" else "C0") for label, on, src in timeline_rows(r)]
     if "bms/fault_active" in r and r.fault_names:

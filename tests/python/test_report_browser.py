@@ -101,12 +101,13 @@ def test_run_page_renders_with_cursor_toggles_and_filter(browser, run_page):
       setTimeout(function(){
         var tr = gd.data.filter(function(t){ return t.name === 'truth hottest cell'; }).map(function(t){ return t.visible; });
         var ev = gd.layout.shapes.filter(function(s){ return s.legendgroup === 'event fault_latched'; })
+                   .concat(gd.data.filter(function(t){ return t.legendgroup === 'event fault_latched'; }))
                    .map(function(s){ return s.visible; });
         done([tr, ev]);
       }, 800);
     """)
     assert traces and all(v == "legendonly" for v in traces)
-    assert marks and all(v == "legendonly" for v in marks)
+    assert len(marks) == 3 and all(v == "legendonly" for v in marks)  # two lines and their diamonds
 
     # the events filter: only the rows whose kind is chosen stay
     shown = browser.execute_script("""
