@@ -11,10 +11,11 @@ APT_PACKAGES=(
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # scripts/fuzz.sh: clang with libFuzzer (compiler-rt) and the OpenMP that SUNDIALS' CMake config asks for
   clang libclang-rt-14-dev libomp-14-dev
+  chromium chromium-driver    # tests/python/test_report_browser.py: the report pages in headless Chromium
 )
 # Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
 # Dask), and the build tools `pip install .` uses without build isolation.
-PIP_PACKAGES=(numpy h5py pytest matplotlib pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
+PIP_PACKAGES=(numpy h5py pytest matplotlib plotly selenium pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
               "dask[distributed]" scikit-build-core pybind11
               fmpy)  # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
 

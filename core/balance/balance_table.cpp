@@ -26,21 +26,22 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
   os << "firmware as configured (bms.balancing.when: " << r.when << (r.when_overridden ? ", set by --when" : "")
      << ")" << (r.during_charge ? ", on the scenario's charger" : ", at rest") << "\n";
   for (const std::string& w : r.warnings) os << "warning: " << w << "\n";
-  os << "  R_ohm    I_mA  board_W  resistor_W  analytic_h  droop_h  firmware_h  true_h  peak_board_C  paused_%  "
-        "useful_Ah  wasted_Ah  heat_Wh  end\n";
+  os << "  R_ohm  cell_I_mA  board_W  resistor_W  const_I_all_h  const_I_to_target_h  droop_to_target_h  "
+        "true_h  firmware_h  board_steady_C  peak_board_C  paused_%  pack_useful_Ah  pack_wasted_Ah  pack_heat_Wh  end\n";
   for (const BalanceTimeRow& w : r.rows) {
-    std::snprintf(line, sizeof line, "%c%6.1f  %6.2f  %7.2f  %9.3f%c  %10.2f  %7.2f", w.fastest ? '*' : ' ',
+    std::snprintf(line, sizeof line, "%c%6.1f  %9.2f  %7.2f  %9.3f%c  %13.2f  %19.2f  %17.2f", w.fastest ? '*' : ' ',
                   w.resistor_ohm, w.current_A * 1e3, w.board_power_W, w.resistor_W, w.within_rating ? ' ' : '!',
-                  w.analytic_h, w.analytic_droop_h);
+                  w.const_I_all_h, w.const_I_to_target_h, w.droop_to_target_h);
     os << line;
     if (w.simulated) {
-      std::snprintf(line, sizeof line, "  %10s  %6s  %12s  %8.1f  %9.3f  %9.3f  %7.2f  %s\n",
-                    num(w.firmware_h, "%.2f").c_str(), num(w.true_h, "%.2f").c_str(),
-                    num(w.peak_board_C, "%.1f").c_str(), 100.0 * w.paused_fraction, w.useful_Ah, w.wasted_Ah,
-                    w.heat_Wh, w.end_reason.c_str());
+      std::snprintf(line, sizeof line, "  %6s  %10s  %14s  %12s  %8.1f  %14.3f  %14.3f  %12.2f  %s\n",
+                    num(w.true_h, "%.2f").c_str(), num(w.firmware_h, "%.2f").c_str(),
+                    num(w.board_steady_C, "%.1f").c_str(), num(w.peak_board_C, "%.1f").c_str(),
+                    100.0 * w.paused_fraction, w.pack_useful_Ah, w.pack_wasted_Ah, w.pack_heat_Wh, w.end_reason.c_str());
       os << line;
     } else {
-      os << "\n";
+      std::snprintf(line, sizeof line, "  %6s  %10s  %14s\n", "-", "-", num(w.board_steady_C, "%.1f").c_str());
+      os << line;
     }
   }
   for (const BalanceTimeRow& w : r.rows) {
@@ -55,7 +56,7 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
   const BalanceTimeRow* byVr = nullptr;
   const BalanceTimeRow* best = nullptr;
   for (const BalanceTimeRow& w : r.rows) {
-    if (w.within_rating && (!byVr || w.analytic_h < byVr->analytic_h)) byVr = &w;
+    if (w.within_rating && (!byVr || w.const_I_all_h < byVr->const_I_all_h)) byVr = &w;
     if (w.fastest) best = &w;
   }
   if (best && byVr && best != byVr) {
@@ -68,10 +69,14 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
   os << "* fastest within limits (target reached, no trip, resistor within "
      << (r.resistor_rating_W > 0 ? num(r.resistor_rating_W, "%.3g") + " W" : std::string("its rating (not stated)"))
      << "); ! resistor_W above the rating.\n"
-        "analytic_h: delta / (V_cell / (R + Rds_on)) at constant V_cell; droop_h: (R + Rds_on) * integral dQ / OCV(Q).\n"
-        "firmware_h: when the firmware (as configured) declared balanced; true_h: when the true rest voltages came\n"
-        "within the target. resistor_W at the cell's v_max_V. paused_%: time paused on board temperature.\n"
-        "useful_Ah: charge bled up to what each cell had above the lowest; wasted_Ah: the rest. heat_Wh: all branch heat.\n";
+        "cell_I_mA: bleed current of one cell at V_cell; board_W: the most loaded board, its high cells balancing.\n"
+        "const_I_all_h: all of delta at constant I = V_cell / (R + Rds_on); const_I_to_target_h: at that I until the\n"
+        "high cell's rest voltage is within the target of the low cell's; droop_to_target_h: (R + Rds_on) * integral\n"
+        "dQ / OCV(Q) to the same target; true_h: simulated, when the true rest voltages came within the target;\n"
+        "firmware_h: when the firmware (as configured) declared balanced. board_steady_C: T_amb + board_W / G of the\n"
+        "board node; peak_board_C: simulated peak. resistor_W at the cell's v_max_V. paused_%: time paused on board\n"
+        "temperature. pack_useful_Ah: summed over cells, what each bled up to its charge above the lowest;\n"
+        "pack_wasted_Ah: summed over cells, the rest; pack_heat_Wh: all branch heat.\n";
   if (r.during_charge)
     for (const BalanceTimeRow& w : r.rows)
       os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: the charger delivers until " << num(w.charge_h, "%.2f")

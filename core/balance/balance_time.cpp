@@ -256,15 +256,15 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   row.paused_fraction = span_s > 0.0 ? (trueAt >= 0.0 ? pausedToTrue_s : paused_s) / span_s : 0.0;
   row.board_peak_C = peak;
   row.peak_board_C = peak.empty() ? NAN : *std::max_element(peak.begin(), peak.end());
-  row.heat_Wh = r.quad[kQuadBalanceHeat_J] / 3600.0;
+  row.pack_heat_Wh = r.quad[kQuadBalanceHeat_J] / 3600.0;
   row.bled_Ah = r.quad[kQuadBalanceCharge_As] / 3600.0;
   double useful_As = 0.0, needed_As = 0.0;
   for (size_t g = 0; g < bled.size(); ++g) {
     useful_As += std::min(bled[g], need[g] * 3600.0);
     needed_As += need[g] * 3600.0;
   }
-  row.useful_Ah = std::min(useful_As / 3600.0, row.bled_Ah);
-  row.wasted_Ah = row.bled_Ah - row.useful_Ah;
+  row.pack_useful_Ah = std::min(useful_As / 3600.0, row.bled_Ah);
+  row.pack_wasted_Ah = row.bled_Ah - row.pack_useful_Ah;
   row.needed_Ah = needed_As / 3600.0;
   // Final spread from the recorded SOC of the last sample.
   const Recording& rec = r.rec;
@@ -288,6 +288,21 @@ void markFastest(BalanceTimeResult& res) {
     if (w.within_limits && (!best || w.true_h < best->true_h)) best = &w;
   }
   if (best) best->fastest = true;
+}
+
+// The balancing board node's conductance to its surroundings: to ambient, to the cells
+// and to other nodes, all taken at ambient (T = T_amb + P/G in steady state); 0 without
+// a board node.
+double boardConductance_W_per_K(const Scenario& s) {
+  const std::string& name = s.hardware.balancing.board_node;
+  for (const ThermalNodeConfig& n : s.thermal.nodes) {
+    if (name.empty() || n.name != name) continue;
+    double g = n.g_ambient_W_per_K + n.g_each_cell_W_per_K * s.pack.series * s.pack.parallel;
+    for (const auto& link : n.cell_links) g += link.second;
+    for (const auto& link : n.node_links) g += link.second;
+    return g;
+  }
+  return 0.0;
 }
 
 }  // namespace
@@ -329,6 +344,7 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   // Cells on the most loaded board: the high cells sit on the first groups.
   const PassiveBalancerConfig& hw = base.hardware.balancing;
   const int perBoard = hw.cells_per_board > 0 ? std::min(res.high_cells, hw.cells_per_board) : res.high_cells;
+  const double boardG = boardConductance_W_per_K(base);
 
   std::vector<double> resistors = o.resistors_ohm;
   if (resistors.empty()) resistors.push_back(hw.resistor_ohm);
@@ -343,8 +359,10 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
     const double iMax = cell.v_max_V / row.branch_ohm;
     row.resistor_W = iMax * iMax * r;
     row.within_rating = hw.resistor_power_rating_W <= 0.0 || row.resistor_W <= hw.resistor_power_rating_W;
-    row.analytic_h = constantCurrentHours(res.delta_Ah, res.cell_V, row.branch_ohm);
-    row.analytic_droop_h = ocvDroopHours(cell, group_Ah, socTarget, socHigh, row.branch_ohm);
+    row.const_I_all_h = constantCurrentHours(res.delta_Ah, res.cell_V, row.branch_ohm);
+    row.const_I_to_target_h = constantCurrentHours(group_Ah * (socHigh - socTarget), res.cell_V, row.branch_ohm);
+    row.droop_to_target_h = ocvDroopHours(cell, group_Ah, socTarget, socHigh, row.branch_ohm);
+    row.board_steady_C = boardG > 0.0 ? base.ambient_C.at(0.0) + row.board_power_W / boardG : NAN;
     row.peak_board_C = NAN;
     row.firmware_h = row.true_h = NAN;
     if (o.simulate) {

@@ -1,9 +1,11 @@
 // Time to balance a pack with passive balancing resistors, per resistor value:
 //
-//   analytic      t = ΔQ / I, I = V_cell / (R + Rds_on) (constant current), and the
-//                 OCV-droop form t = (R + Rds_on)·∫dQ/OCV(Q) over the charge to remove
-//                 until the high group's OCV is within target_mV of the low group's
-//                 (core/balance/balance_analytic)
+//   analytic      at constant current I = V_cell / (R + Rds_on): all of ΔQ, and the
+//                 charge to remove until the high group's OCV is within target_mV of the
+//                 low group's (the simulated true_h's criterion); the OCV-droop form
+//                 t = (R + Rds_on)·∫dQ/OCV(Q) to the same target
+//                 (core/balance/balance_analytic); the board's steady temperature
+//                 T_amb + P/G with every high cell on it balancing at V_cell
 //   simulated     the full co-simulation at rest (no load) with the firmware exactly as
 //                 the scenario configures it: start/stop thresholds, decision period,
 //                 `when`, `no_adjacent`, minimum cell voltage, board pause, averaging,
@@ -62,8 +64,10 @@ struct BalanceTimeRow {
   double board_power_W = 0.0;         // the most loaded board, every high cell on it balancing at cell_V
   double resistor_W = 0.0;            // in the resistor alone at the cell's v_max_V (worst case)
   bool within_rating = true;          // resistor_W <= hardware.balancing.resistor_power_rating_W (true if not stated)
-  double analytic_h = 0.0;            // ΔQ / (V_cell / (R + Rds_on))
-  double analytic_droop_h = 0.0;      // (R + Rds_on)·∫dQ/OCV(Q) until the high OCV is within target_mV of the low
+  double const_I_all_h = 0.0;         // all of ΔQ / (V_cell / (R + Rds_on))
+  double const_I_to_target_h = 0.0;   // the charge until the high OCV is within target_mV of the low, / I
+  double droop_to_target_h = 0.0;     // (R + Rds_on)·∫dQ/OCV(Q) until the high OCV is within target_mV of the low
+  double board_steady_C = 0.0;        // T_amb + board_power_W / G of the board node; NaN without one
   bool simulated = false;
   double firmware_h = 0.0;            // NaN: never declared balanced (firmware_note says why)
   std::string firmware_note;
@@ -74,10 +78,10 @@ struct BalanceTimeRow {
   std::vector<double> board_peak_C;   // per monitor board
   double paused_fraction = 0.0;       // of the run up to true_h (or its end), paused on board temperature
   double bled_Ah = 0.0;               // Σ over groups of ∫ I_bal dt
-  double useful_Ah = 0.0;             // bled by groups up to the charge they had above the lowest
-  double wasted_Ah = 0.0;             // bled beyond that (bled - useful)
+  double pack_useful_Ah = 0.0;        // Σ over groups of what each bled up to the charge it had above the lowest
+  double pack_wasted_Ah = 0.0;        // Σ over groups of what each bled beyond that (bled - useful)
   double needed_Ah = 0.0;             // Σ of the charge above the lowest group at the start
-  double heat_Wh = 0.0;               // dissipated in the balancing branches
+  double pack_heat_Wh = 0.0;          // Σ over the balancing branches of their heat
   double final_spread_Ah = 0.0;       // largest minus smallest series-group charge at the end
   bool tripped = false;               // a protection tripped during the run
   bool within_limits = false;         // reached the target, no trip, resistor within its rating

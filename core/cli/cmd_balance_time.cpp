@@ -27,12 +27,12 @@ void plotBalanceTime(const BalanceTimeResult& r, const std::string& png) {
   {
     std::ofstream f(csv);
     if (!f) throw std::runtime_error("--plot: cannot write " + csv);
-    f << "resistor_ohm,analytic_h,analytic_droop_h,firmware_h,true_h,peak_board_C,paused_fraction,resistor_W,"
-         "within_rating,within_limits,fastest\n";
+    f << "resistor_ohm,const_I_all_h,const_I_to_target_h,droop_to_target_h,firmware_h,true_h,board_steady_C,"
+         "peak_board_C,paused_fraction,resistor_W,within_rating,within_limits,fastest\n";
     f.precision(10);
     for (const BalanceTimeRow& w : r.rows)
-      f << w.resistor_ohm << ',' << w.analytic_h << ',' << w.analytic_droop_h << ',' << w.firmware_h << ','
-        << w.true_h << ',' << w.peak_board_C << ',' << w.paused_fraction << ',' << w.resistor_W << ','
+      f << w.resistor_ohm << ',' << w.const_I_all_h << ',' << w.const_I_to_target_h << ',' << w.droop_to_target_h
+        << ',' << w.firmware_h << ',' << w.true_h << ',' << w.board_steady_C << ',' << w.peak_board_C << ',' << w.paused_fraction << ',' << w.resistor_W << ','
         << w.within_rating << ',' << w.within_limits << ',' << w.fastest << '\n';
   }
   const int rc = runPythonModule("packsim.balance_plot", {csv, png, "--title", r.scenario, "--board-max-C",

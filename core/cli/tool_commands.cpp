@@ -14,8 +14,8 @@ void addToolCommands(CLI::App& app, ToolCommands& t) {
   t.exportCmd->add_option("-o,--output", t.exportOpts.output,
                           "output file (mat, parquet) or folder (csv); default: next to the result");
 
-  t.reportCmd = app.add_subcommand("report", "one self-contained HTML page of a run (summary, events, figures) or "
-                                             "of a batch folder (needs Python 3 with matplotlib)");
+  t.reportCmd = app.add_subcommand("report", "one self-contained interactive HTML page of a run (verdict, margins, "
+                                             "figures, events) or of a batch folder (needs Python 3 with plotly)");
   t.reportCmd->add_option("source", t.reportOpts.source, "result HDF5 file or batch output folder")->required();
   t.reportCmd->add_option("-o,--output", t.reportOpts.output, "HTML file to write")->required();
 

@@ -39,8 +39,10 @@ class BalanceTimeRow:
     board_power_W: float       # the most loaded board, every high cell on it balancing at cell_V
     resistor_W: float          # in the resistor at the cell's v_max_V
     within_rating: bool        # resistor_W <= hardware.balancing.resistor_power_rating_W
-    analytic_h: float          # ΔQ / (V_cell / (R + Rds_on))
-    analytic_droop_h: float    # (R + Rds_on)·∫dQ/OCV(Q) until within target_mV
+    const_I_all_h: float       # all of ΔQ / (V_cell / (R + Rds_on))
+    const_I_to_target_h: float  # the charge until the high OCV is within target_mV of the low, / I
+    droop_to_target_h: float   # (R + Rds_on)·∫dQ/OCV(Q) until within target_mV (true_h's criterion)
+    board_steady_C: float      # T_amb + board_power_W / G of the board node (NaN without one)
     simulated: bool
     firmware_h: float          # the firmware declared balanced (NaN: never; firmware_note says why)
     firmware_note: str
@@ -50,10 +52,10 @@ class BalanceTimeRow:
     board_peak_C: tuple        # per monitor board
     paused_fraction: float     # time paused on board temperature (to true_h)
     bled_Ah: float             # every coulomb through the resistors
-    useful_Ah: float           # bled up to each cell's charge above the lowest
-    wasted_Ah: float           # bled beyond that
+    pack_useful_Ah: float      # Σ over cells of what each bled up to its charge above the lowest
+    pack_wasted_Ah: float      # Σ over cells of what each bled beyond that
     needed_Ah: float
-    heat_Wh: float
+    pack_heat_Wh: float        # Σ over the balancing branches
     final_spread_Ah: float
     tripped: bool
     within_limits: bool        # target reached, no trip, resistor within its rating

@@ -9,6 +9,7 @@ threads and notebooks alike).
     plot.balancing(r)               # None when the result has no balance mask
     plot.balance_time(packsim.balance_time(resistor=[22, 33, 47]))   # time to balance vs R
     plot.plot_all(r, "figures/")    # all of them as PNG; what `packsim plot` writes
+    plot.run_figure(r)              # interactive (Plotly): the figure of `packsim report`'s run page
 
 Every function takes a Result (or a path to a result file) and returns a
 matplotlib Figure. Every time plot marks the run's fault injections and trips
@@ -29,7 +30,7 @@ from ._plot_marks import draw_limits, mark_events
 from .result import Result, load
 
 __all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "balance_time", "plot_all",
-           "main", "LINE_LIMIT", "timeline_rows"]
+           "main", "LINE_LIMIT", "timeline_rows", "run_figure"]
 
 LINE_LIMIT = 24  # more cells than this: a heatmap instead of one line per cell
 
@@ -389,18 +390,20 @@ def balancing(r: Result | str | os.PathLike):
 
 def balance_time_figure(cols, *, title: str = "", board_max_C: float = math.nan):
     """Time to balance (left) and peak board temperature (right) against the resistor from
-    the columns of a balance-time table (resistor_ohm, analytic_h, analytic_droop_h,
-    firmware_h, true_h, peak_board_C, paused_fraction, fastest). The fastest resistor within
+    the columns of a balance-time table (resistor_ohm, const_I_to_target_h,
+    droop_to_target_h, firmware_h, true_h, board_steady_C, peak_board_C, paused_fraction,
+    fastest). The analytic lines and true_h share one end criterion: the rest voltages
+    within the target. The fastest resistor within
     limits is ringed; the paused percentage labels resistors the board pause slowed."""
     order = np.argsort(np.asarray(cols["resistor_ohm"], dtype=float))
-    keys = ("resistor_ohm", "analytic_h", "analytic_droop_h", "firmware_h", "true_h", "peak_board_C",
-            "paused_fraction", "fastest")
+    keys = ("resistor_ohm", "const_I_to_target_h", "droop_to_target_h", "firmware_h", "true_h", "board_steady_C",
+            "peak_board_C", "paused_fraction", "fastest")
     col = {k: np.asarray(cols[k], dtype=float)[order] for k in keys}
     r_ohm = col["resistor_ohm"]
     fig = _figure(11, 4.5)
     ax, temp = fig.subplots(1, 2)
-    ax.plot(r_ohm, col["analytic_h"], "o--", color="C0", label="analytic  ΔQ·(R+Rds_on)/V_cell")
-    ax.plot(r_ohm, col["analytic_droop_h"], "o:", color="C2", label="analytic with OCV droop")
+    ax.plot(r_ohm, col["const_I_to_target_h"], "o--", color="C0", label="analytic, constant current, to the target")
+    ax.plot(r_ohm, col["droop_to_target_h"], "o:", color="C2", label="analytic with OCV droop, to the target")
     if np.any(np.isfinite(col["true_h"])) or np.any(np.isfinite(col["firmware_h"])):
         ax.plot(r_ohm, col["true_h"], "s-", color="C3", label="simulated: true rest voltages within target")
         ax.plot(r_ohm, col["firmware_h"], "^-", color="C1", label="simulated: firmware declared balanced")
@@ -417,11 +420,14 @@ def balance_time_figure(cols, *, title: str = "", board_max_C: float = math.nan)
     ax.set_ylim(bottom=0)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    temp.plot(r_ohm, col["peak_board_C"], "s-", color="C4", label="peak board temperature")
+    if np.any(np.isfinite(col["board_steady_C"])):
+        temp.plot(r_ohm, col["board_steady_C"], "o--", color="C0", label="steady state T_amb + P/G (analytic)")
+    if np.any(np.isfinite(col["peak_board_C"])):
+        temp.plot(r_ohm, col["peak_board_C"], "s-", color="C4", label="peak board temperature (simulated)")
     if math.isfinite(board_max_C):
         temp.axhline(board_max_C, color="0.5", ls="--", label=f"board pause {board_max_C:.0f} °C")
     temp.set_xlabel("balancing resistor (Ω)")
-    temp.set_ylabel("peak board temperature (°C)")
+    temp.set_ylabel("board temperature (°C)")
     temp.grid(alpha=0.3)
     temp.legend(fontsize=8)
     if title:
@@ -462,6 +468,13 @@ def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, 
         fig.savefig(path, dpi=dpi)
         written.append(path)
     return written
+
+
+def run_figure(r: Result | str | os.PathLike, **kw):
+    """The interactive figure of the run page (Plotly; shows itself in Jupyter):
+    packsim.run_figure.run_figure."""
+    from .run_figure import run_figure as make
+    return make(r, **kw)
 
 
 def _matplotlib_or_error(prog: str) -> bool:

@@ -71,8 +71,10 @@ def _read_dataset(ds) -> np.ndarray:
 
 
 def _read_h5(path: str | os.PathLike | io.BytesIO, prefer: Mapping[str, np.ndarray] | None = None):
-    """(datasets, attrs) of a result file. Datasets in `prefer` with the same shape and
-    dtype as in the file are taken from there instead of being read (no copy)."""
+    """(datasets, attrs, dims) of a result file; dims: each dataset's dimension names
+    (its attached dimension scales, docs/results.md "netCDF layout"). Datasets in `prefer`
+    with the same shape and dtype as in the file are taken from there instead of being
+    read (no copy)."""
     try:
         import h5py
     except ImportError as e:  # pragma: no cover - h5py is a dependency
@@ -80,6 +82,7 @@ def _read_h5(path: str | os.PathLike | io.BytesIO, prefer: Mapping[str, np.ndarr
     prefer = prefer or {}
     datasets: dict[str, np.ndarray] = {}
     attrs: dict[str, dict[str, Any]] = {}
+    dims: dict[str, tuple[str, ...]] = {}
     with h5py.File(path, "r") as f:
         attrs[""] = _attrs(f.attrs)
 
@@ -98,6 +101,7 @@ def _read_h5(path: str | os.PathLike | io.BytesIO, prefer: Mapping[str, np.ndarr
                 if isinstance(obj, h5py.Group):
                     walk(obj, name + "/")
                     continue
+                dims[name] = _dim_names(obj)
                 p = prefer.get(name)
                 if p is not None and p.shape == obj.shape and p.dtype == obj.dtype:
                     datasets[name] = p
@@ -105,7 +109,19 @@ def _read_h5(path: str | os.PathLike | io.BytesIO, prefer: Mapping[str, np.ndarr
                     datasets[name] = _read_dataset(obj)
 
         walk(f, "")
-    return datasets, attrs
+    return datasets, attrs, dims
+
+
+def _dim_names(ds) -> tuple[str, ...]:
+    """The names of the dimension scales attached to each axis of an h5py dataset
+    ("" for an axis without one)."""
+    out = []
+    for d in ds.dims:
+        try:
+            out.append(d[0].name.rsplit("/", 1)[-1] if len(d) else "")
+        except (KeyError, IndexError, RuntimeError):
+            out.append("")
+    return tuple(out)
 
 
 def load(path: str | os.PathLike) -> "Result":
@@ -113,8 +129,8 @@ def load(path: str | os.PathLike) -> "Result":
     path = os.fspath(path)
     if not os.path.isfile(path):
         raise FileNotFoundError(f"no such result file: {path}")
-    datasets, attrs = _read_h5(path)
-    return Result(datasets, attrs, source=path)
+    datasets, attrs, dims = _read_h5(path)
+    return Result(datasets, attrs, source=path, dims=dims)
 
 
 def _from_handle(handle) -> "Result":
@@ -138,7 +154,8 @@ class Result:
     """
 
     def __init__(self, datasets: Mapping[str, np.ndarray], attrs: Mapping[str, Mapping[str, Any]] | None,
-                 *, handle=None, source: str | None = None, complete=None) -> None:
+                 *, handle=None, source: str | None = None, complete=None,
+                 dims: Mapping[str, tuple[str, ...]] | None = None) -> None:
         # complete: returns (datasets, attrs) of the whole result, called on first need;
         # until then `datasets` are the ones at hand (the same arrays it will list).
         self._at_hand = dict(datasets)
@@ -147,10 +164,12 @@ class Result:
         self._at = None if complete else {k: dict(v) for k, v in (attrs or {}).items()}
         self._handle = handle
         self.source = source
+        self._dims = dict(dims or {})  # dataset path -> its dimension names in the file
 
     def _load(self) -> None:
-        datasets, attrs = self._complete()
+        datasets, attrs, dims = self._complete()
         self._ds, self._at, self._complete = datasets, attrs, None
+        self._dims = dims
 
     @property
     def _datasets(self) -> dict[str, np.ndarray]:
@@ -345,43 +364,95 @@ class Result:
             return pd.DataFrame(cols)
         raise ValueError(f"kind must be 'samples', 'cells' or 'events', not {kind!r}")
 
+    def _file_dims(self, path: str) -> tuple[str, ...]:
+        if self._complete is not None:
+            self._load()
+        return self._dims.get(path, ())
+
     def to_xarray(self):
-        """An xarray Dataset on dimension time_s; per-cell arrays on ``cell``, monitor
-        readings on ``series``, thermistors on ``thermistor`` (all 1-based). Variables
-        are named by path with '/' -> '_' (``truth_cell_voltage_V``)."""
+        """An xarray DataTree shaped like the file (what ``xr.open_datatree(path,
+        engine="h5netcdf")`` reads from it): the groups ``truth``, ``measured``, ``bms``,
+        ``hardware`` and ``summary`` (attributes only), every variable under its name in
+        the file (``dt["truth/cell_voltage_V"]``, ``dt["bms"]["state"]``), the dimensions
+        named as the file's dimension scales (``time_s``, ``cell``, ``series``,
+        ``thermistor``, ``device``, ``telemetry_byte``; a 2-D channel with another axis
+        ``<name>_index``) with 1-based coordinates, the attributes of every group and
+        dataset, and the events on ``event``. Enumerated channels (those with a
+        ``names`` attribute: ``bms/state``, ``bms/precharge_phase``,
+        ``bms/balance_status``) are pandas categoricals of their names; their codes
+        stay in the Result (``r["bms/state"]``)."""
         xr = _need("xarray")
         n = self.n_samples
         sizes = {"cell": self.n_cells, "series": self.n_series, "thermistor": self.n_thermistors}
-        data_vars = {}
+        groups: dict[str, dict] = {}
         for path, a in self._datasets.items():
-            if path == "time_s" or a.dtype.names or a.ndim == 0 or a.shape[0] != n:
+            if "/" not in path or a.dtype.names or a.ndim == 0 or a.shape[0] != n:
                 continue
-            group = path.split("/")[0] if "/" in path else ""
+            group, name = path.split("/", 1)
+            if "/" in name:
+                continue
+            attrs = dict(self._attrs.get(path, {}))
+            data: Any = a
             if a.ndim == 1:
                 dims: tuple[str, ...] = ("time_s",)
+                codes = _enum_names(attrs.get("names"))
+                if codes:
+                    data = _categorical(a, codes)
             elif a.ndim == 2:
-                k = a.shape[1]
-                if path == "measured/temperature_dC":
-                    dim = "thermistor"
-                elif group == "truth" and k == sizes["cell"]:
-                    dim = "cell"
-                elif k == sizes["series"]:
-                    dim = "series"
-                elif k == sizes["cell"]:
-                    dim = "cell"
-                else:
-                    dim = path.replace("/", "_") + "_index"
-                dims = ("time_s", dim)
+                known = self._file_dims(path)
+                dims = ("time_s", known[1] if len(known) == 2 and known[1] else _axis(path, a.shape[1], sizes))
             else:
                 continue
-            data_vars[path.replace("/", "_")] = (dims, a, dict(self._attrs.get(path, {})))
-        coords = {"time_s": ("time_s", self.time_s, {"units": "s"})}
-        for dim, k in sizes.items():
-            coords[dim] = (dim, np.arange(1, k + 1))
-        ds = xr.Dataset(data_vars, coords=coords,
-                        attrs={k: v for k, v in self._attrs.get("", {}).items()})
-        ds.attrs.update({f"summary_{k}": v for k, v in self.summary.items()})
-        return ds
+            groups.setdefault(group, {})[name] = (dims, data, attrs)
+        tree = {}
+        for group, variables in groups.items():
+            coords = {}
+            for dims, data, _ in variables.values():
+                for d, k in zip(dims[1:], np.shape(data)[1:]):
+                    coords[d] = (d, np.arange(1, k + 1, dtype=np.int32))
+            tree["/" + group] = xr.Dataset(variables, coords=coords, attrs=dict(self._attrs.get(group, {})))
+        if self.summary:
+            tree["/summary"] = xr.Dataset(attrs=self.summary)
+        ev = self.events_array
+        root = xr.Dataset({"events": (("event",), ev)} if ev.size else {},
+                          coords={"time_s": ("time_s", self.time_s, dict(self._attrs.get("time_s", {"units": "s"}))),
+                                  "event": ("event", np.arange(1, ev.size + 1, dtype=np.int32))},
+                          attrs=dict(self._attrs.get("", {})))
+        tree["/"] = root
+        return xr.DataTree.from_dict(tree)
+
+
+def _axis(path: str, k: int, sizes: dict[str, int]) -> str:
+    """The dimension scale of a [n, k] dataset's second axis by the rules the writer
+    follows (docs/results.md, "netCDF layout"), for a result made without a file."""
+    special = {"measured/temperature_dC": "thermistor", "bms/comm_bad": "device", "bms/telemetry": "telemetry_byte"}
+    if path in special:
+        return special[path]
+    if path.startswith("truth/") and k == sizes["cell"]:
+        return "cell"
+    if k == sizes["series"]:
+        return "series"
+    return path.rsplit("/", 1)[-1] + "_index"
+
+
+def _enum_names(text: Any) -> dict[int, str]:
+    """{code: name} from a ``names`` attribute ("0=init,1=standby,...")."""
+    out: dict[int, str] = {}
+    for item in str(text or "").split(","):
+        code, _, name = item.partition("=")
+        if name and code.strip().lstrip("-").isdigit():
+            out[int(code)] = name.strip()
+    return out
+
+
+def _categorical(codes: np.ndarray, names: dict[int, str]):
+    """A pandas Categorical of the names of `codes` (a code without a name keeps its
+    number as its name); the categories in code order."""
+    pd = _need("pandas")
+    known = sorted(set(names) | set(np.unique(codes).tolist()))
+    labels = [names.get(c, str(c)) for c in known]
+    index = np.searchsorted(np.asarray(known), codes)
+    return pd.Categorical.from_codes(index, categories=labels)
 
 
 def _need(module: str):

@@ -28,8 +28,10 @@ py::dict rowDict(const BalanceTimeRow& w) {
   d["board_power_W"] = w.board_power_W;
   d["resistor_W"] = w.resistor_W;
   d["within_rating"] = w.within_rating;
-  d["analytic_h"] = w.analytic_h;
-  d["analytic_droop_h"] = w.analytic_droop_h;
+  d["const_I_all_h"] = w.const_I_all_h;
+  d["const_I_to_target_h"] = w.const_I_to_target_h;
+  d["droop_to_target_h"] = w.droop_to_target_h;
+  d["board_steady_C"] = w.board_steady_C;
   d["simulated"] = w.simulated;
   d["firmware_h"] = w.firmware_h;
   d["firmware_note"] = w.firmware_note;
@@ -39,10 +41,10 @@ py::dict rowDict(const BalanceTimeRow& w) {
   d["board_peak_C"] = py::tuple(py::cast(w.board_peak_C));
   d["paused_fraction"] = w.paused_fraction;
   d["bled_Ah"] = w.bled_Ah;
-  d["useful_Ah"] = w.useful_Ah;
-  d["wasted_Ah"] = w.wasted_Ah;
+  d["pack_useful_Ah"] = w.pack_useful_Ah;
+  d["pack_wasted_Ah"] = w.pack_wasted_Ah;
   d["needed_Ah"] = w.needed_Ah;
-  d["heat_Wh"] = w.heat_Wh;
+  d["pack_heat_Wh"] = w.pack_heat_Wh;
   d["final_spread_Ah"] = w.final_spread_Ah;
   d["tripped"] = w.tripped;
   d["within_limits"] = w.within_limits;

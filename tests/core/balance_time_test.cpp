@@ -26,7 +26,7 @@ TEST(BalanceTime, SystemCAnalyticMatchesDomainFigures) {
   ASSERT_EQ(r.rows.size(), 1u);
   EXPECT_NEAR(r.rows[0].current_A, 0.07659, 0.0001);
   EXPECT_NEAR(r.rows[0].power_W, 0.276, 0.001);
-  EXPECT_NEAR(r.rows[0].analytic_h, 7.32, 0.01);
+  EXPECT_NEAR(r.rows[0].const_I_all_h, 7.32, 0.01);
 }
 
 // System D's first board: 36 cells 2 Ah above the rest at 3.9 V, 47 ohm, the fast
@@ -72,9 +72,9 @@ TEST(BalanceTime, SystemDNoiseFreeMatchesTheDroopClosedFormWithin1Percent) {
   const BalanceTimeRow w = balanceTime(s, o).rows[0];
   ASSERT_TRUE(w.simulated);
   EXPECT_EQ(w.end_reason, "both_known") << w.firmware_note;
-  EXPECT_NEAR(w.true_h, w.analytic_droop_h, 0.01 * w.analytic_droop_h);
+  EXPECT_NEAR(w.true_h, w.droop_to_target_h, 0.01 * w.droop_to_target_h);
   EXPECT_GE(w.firmware_h, w.true_h - 0.05) << "declared balanced only once the readings are within 5 mV";
-  EXPECT_LT(w.wasted_Ah, 1e-4) << "only the tick-by-tick integration's rounding";
+  EXPECT_LT(w.pack_wasted_Ah, 1e-4) << "only the tick-by-tick integration's rounding";
   EXPECT_NEAR(w.needed_Ah, 72.0, 1e-6);
   EXPECT_DOUBLE_EQ(w.paused_fraction, 0.0);
   EXPECT_LT(w.peak_board_C, 60.0);
@@ -91,17 +91,17 @@ TEST(BalanceTime, SystemDWithNoiseStaysWithin2PercentAndWastesUnder1Percent) {
   ASSERT_TRUE(w.simulated);
   EXPECT_TRUE(averaged.warnings.empty());
   EXPECT_EQ(w.end_reason, "both_known") << w.firmware_note;
-  EXPECT_NEAR(w.true_h, w.analytic_droop_h, 0.02 * w.analytic_droop_h);
+  EXPECT_NEAR(w.true_h, w.droop_to_target_h, 0.02 * w.droop_to_target_h);
   EXPECT_FALSE(std::isnan(w.firmware_h)) << w.firmware_note;
-  EXPECT_LT(w.wasted_Ah, 0.01 * w.needed_Ah);
-  EXPECT_NEAR(w.useful_Ah + w.wasted_Ah, w.bled_Ah, 1e-12);
+  EXPECT_LT(w.pack_wasted_Ah, 0.01 * w.needed_Ah);
+  EXPECT_NEAR(w.pack_useful_Ah + w.pack_wasted_Ah, w.bled_Ah, 1e-12);
 
   Scenario s = systemD();
   s.bms.balancing.average_readings = 1;
   const BalanceTimeResult single = balanceTime(s, systemDBoard(47.0));
   ASSERT_EQ(single.warnings.size(), 1u);
   EXPECT_NE(single.warnings[0].find("d2(110)"), std::string::npos) << single.warnings[0];
-  EXPECT_GT(single.rows[0].wasted_Ah, 10.0 * w.wasted_Ah + 0.05);
+  EXPECT_GT(single.rows[0].pack_wasted_Ah, 10.0 * w.pack_wasted_Ah + 0.05);
 }
 
 // 22 ohm puts ~25 W into the first board: the pause (60 C, resume 50 C) binds. The
@@ -126,7 +126,7 @@ TEST(BalanceTime, BoardPauseBindsLikeTheDutyCycleOfTheBoardTimeConstant) {
   const double t0 = tau * std::log((Tinf - amb) / (Tinf - on));
   const double ton = tau * std::log((Tinf - resume) / (Tinf - on));
   const double toff = tau * std::log((on - amb) / (resume - amb));
-  const double tb = w.analytic_droop_h * 3600.0;
+  const double tb = w.droop_to_target_h * 3600.0;
   const double expected_s = t0 + (tb - t0) * (ton + toff) / ton;
   EXPECT_NEAR(w.true_h * 3600.0, expected_s, 0.03 * expected_s);
   const double pausedExpected = (expected_s - tb) / expected_s;
@@ -143,7 +143,7 @@ TEST(BalanceTime, SweepMarksTheFastestWithinLimitsWhereThePauseBinds) {
   o.resistors_ohm = {22.0, 33.0};
   const BalanceTimeResult r = balanceTime(systemD(), o);
   ASSERT_EQ(r.rows.size(), 2u);
-  EXPECT_LT(r.rows[0].analytic_h, r.rows[1].analytic_h);
+  EXPECT_LT(r.rows[0].const_I_all_h, r.rows[1].const_I_all_h);
   EXPECT_GT(r.rows[0].paused_fraction, 0.2);
   EXPECT_LT(r.rows[1].true_h, r.rows[0].true_h) << "33 ohm beats 22 ohm once the board pause binds";
   EXPECT_TRUE(r.rows[1].fastest);
@@ -183,7 +183,7 @@ TEST(BalanceTime, SystemDMaintenanceBalancingAndBoardPower) {
   const Scenario s = preset("balance/motorcycle_110s_balancing.yaml");
   const BalanceTimeResult r = balanceTime(s, o);
   EXPECT_NEAR(r.rows[0].current_A, 0.070, 0.0005);
-  EXPECT_NEAR(r.rows[0].analytic_h, 14.0, 0.35);
+  EXPECT_NEAR(r.rows[0].const_I_all_h, 14.0, 0.35);
   o.cell_V = 3.6;
   const BalanceTimeResult hot = balanceTime(s, o);
   EXPECT_NEAR(hot.rows[0].board_power_W, 36 * 3.6 * 3.6 / 47.0, 1e-9);

@@ -45,7 +45,22 @@ def test_analytic_column_is_the_closed_form():
         i = 3.8 / w.branch_ohm
         assert w.current_A == pytest.approx(i, rel=1e-12)
         assert w.power_W == pytest.approx(3.8 * i, rel=1e-12)
-        assert w.analytic_h == pytest.approx(0.4 / i, rel=1e-12)
+        assert w.const_I_all_h == pytest.approx(0.4 / i, rel=1e-12)
+
+
+def test_analytic_columns_share_the_simulated_end_criterion_and_the_board_has_a_temperature_analytic_only():
+    # 30 C ambient and a 0.08 W/K board node: T = T_amb + P/G needs no simulation
+    over = {"ambient.temp_C": 30.0, "thermal.nodes": [{"name": "balancing_board", "heat_capacity_J_per_K": 30,
+                                                       "g_ambient_W_per_K": 0.08}]}
+    bt = packsim.balance_time(resistor=[22, 47], delta_Ah=0.2, cell_V=3.9, high_cells=2, simulate=False, **over)
+    for w in bt.rows:
+        # to the target, constant current and droop differ only by V_cell against the mean OCV
+        # (a few %); all of ΔQ takes longer by the charge left within the target
+        assert w.const_I_to_target_h == pytest.approx(w.droop_to_target_h, rel=0.03)
+        assert w.const_I_to_target_h < w.const_I_all_h
+        assert w.board_power_W == pytest.approx(2 * 3.9 ** 2 / w.branch_ohm, rel=1e-12)
+        assert w.board_steady_C == pytest.approx(30.0 + w.board_power_W / 0.08, rel=1e-12)
+    assert "board_steady_C" in str(bt) and f"{bt.rows[0].board_steady_C:.1f}" in str(bt)
 
 
 def test_simulated_time_grows_with_the_resistor_and_removes_the_imbalance():
@@ -57,10 +72,11 @@ def test_simulated_time_grows_with_the_resistor_and_removes_the_imbalance():
     for w in bt.rows:
         # Same physics as the droop closed form, to within the decision latency and the
         # noise at the 10 mV stop; the spread left is a small part of what there was.
-        assert w.true_h == pytest.approx(w.analytic_droop_h, rel=0.05)
+        assert w.true_h == pytest.approx(w.droop_to_target_h, rel=0.05)
+        assert w.true_h == pytest.approx(w.const_I_to_target_h, rel=0.08)  # the same end criterion
         assert w.firmware_h >= w.true_h - 0.05
         assert w.final_spread_Ah < 0.2 * 0.25
-        assert w.useful_Ah + w.wasted_Ah == pytest.approx(w.bled_Ah, rel=1e-12)
+        assert w.pack_useful_Ah + w.pack_wasted_Ah == pytest.approx(w.bled_Ah, rel=1e-12)
     assert sim[1] / sim[0] == pytest.approx(bt.rows[1].branch_ohm / bt.rows[0].branch_ohm, rel=0.2)
 
 
@@ -97,15 +113,16 @@ def test_table_and_chart():
     pd = pytest.importorskip("pandas")
     df = bt.table
     assert isinstance(df, pd.DataFrame) and list(df.resistor_ohm) == [22.0, 33.0, 47.0, 68.0]
-    assert {"firmware_h", "true_h", "useful_Ah", "wasted_Ah", "paused_fraction", "peak_board_C"} <= set(df.columns)
+    assert {"firmware_h", "true_h", "pack_useful_Ah", "pack_wasted_Ah", "paused_fraction", "peak_board_C"} <= set(df.columns)
     fig = plot.balance_time(bt)
     ax, temp = fig.axes[0], fig.axes[1]
     analytic, droop, true = ax.lines[0], ax.lines[1], ax.lines[2]
     np.testing.assert_array_equal(analytic.get_xdata(), [22, 33, 47, 68])
-    np.testing.assert_array_equal(analytic.get_ydata(), [w.analytic_h for w in bt.rows])
-    np.testing.assert_array_equal(droop.get_ydata(), [w.analytic_droop_h for w in bt.rows])
+    np.testing.assert_array_equal(analytic.get_ydata(), [w.const_I_to_target_h for w in bt.rows])
+    np.testing.assert_array_equal(droop.get_ydata(), [w.droop_to_target_h for w in bt.rows])
     np.testing.assert_array_equal(true.get_ydata(), [w.true_h for w in bt.rows])
-    np.testing.assert_array_equal(temp.lines[0].get_ydata(), [w.peak_board_C for w in bt.rows])
+    np.testing.assert_array_equal(temp.lines[0].get_ydata(), [w.board_steady_C for w in bt.rows])
+    np.testing.assert_array_equal(temp.lines[1].get_ydata(), [w.peak_board_C for w in bt.rows])
     with pytest.raises(TypeError, match="packsim.balance_time"):
         plot.balance_time({"rows": []})
 
@@ -140,9 +157,22 @@ def test_cli_plot_writes_the_figure_and_its_table(cli, tmp_path):
         rows = list(csv.DictReader(f))
     assert [float(r["resistor_ohm"]) for r in rows] == [22.0, 47.0]
     bt = packsim.balance_time(resistor=[22, 47], simulate=False)
-    assert [float(r["analytic_h"]) for r in rows] == pytest.approx([w.analytic_h for w in bt.rows], rel=1e-9)
+    assert [float(r["const_I_all_h"]) for r in rows] == pytest.approx([w.const_I_all_h for w in bt.rows], rel=1e-9)
 
 
 def test_bad_when_names_the_choices():
     with pytest.raises(ValueError, match="charging, rest, charging_or_rest, always"):
         packsim.balance_time(when="sometimes")
+
+
+def test_table_columns_match_docs_balancing_word_for_word():
+    """The header of the balance-time table, in order, is the column list of
+    docs/balancing.md ("Every column"), and every column there is in the header."""
+    import re
+    from pathlib import Path
+    doc = (Path(__file__).resolve().parents[2] / "docs" / "balancing.md").read_text(encoding="utf-8")
+    section = doc.split("## Every column", 1)[1].split("\n## ", 1)[0]
+    documented = re.findall(r"^\| `([^`]+)` \|", section, re.M)
+    bt = packsim.balance_time(resistor=47, delta_Ah=0.1, cell_V=3.9, simulate=False)
+    header = next(line for line in str(bt).splitlines() if line.strip().startswith("R_ohm")).split()
+    assert header == documented

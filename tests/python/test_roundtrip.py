@@ -93,13 +93,6 @@ def test_dataframe_and_xarray(race):
     with pytest.raises(ValueError):
         race.to_dataframe("nope")
 
-    pytest.importorskip("xarray")
-    ds = race.to_xarray()
-    assert ds["truth_cell_voltage_V"].dims == ("time_s", "cell")
-    assert ds["measured_temperature_dC"].dims == ("time_s", "thermistor")
-    assert ds["bms_state"].dims == ("time_s",)
-    assert float(ds["truth_cell_soc"].sel(cell=3).isel(time_s=10)) == race["truth/cell_soc"][10, 2]
-    assert ds["truth_cell_voltage_V"].attrs["units"] == "V"
 
 
 def test_missing_optional_dependency_is_a_clear_error(race, monkeypatch):
@@ -124,3 +117,39 @@ def test_recorded_arrays_are_at_hand_before_the_file_is_read(simple_yaml):
     fresh.attrs  # read the file first this time
     for k, a in early.items():
         assert _same(fresh[k], a), k
+
+
+def test_to_xarray_is_the_file_as_xarray_reads_it(race, tmp_path):
+    """to_xarray() has the groups, names, dimensions, coordinates and attributes that
+    xarray itself reads from the saved file, and the values of the Result; enumerated
+    channels are categoricals of their names."""
+    xr = pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    path = tmp_path / "race.h5"
+    race.save(path)
+    dt = race.to_xarray()
+    with xr.open_datatree(path, engine="h5netcdf") as f:
+        for group in ("truth", "measured", "bms", "hardware"):
+            mine, theirs = dt[group].to_dataset(), f[group].to_dataset()
+            assert sorted(mine.data_vars) == sorted(theirs.data_vars), group
+            assert dict(mine.sizes) == dict(theirs.sizes), group
+            for name, v in theirs.data_vars.items():
+                assert mine[name].dims == v.dims, f"{group}/{name}"
+                for k in ("units", "long_name"):
+                    assert mine[name].attrs.get(k) == v.attrs.get(k), f"{group}/{name}.{k}"
+                if "names" not in v.attrs:
+                    np.testing.assert_array_equal(mine[name].values, race[f"{group}/{name}"])
+            for d in mine.dims:
+                if d != "time_s":
+                    np.testing.assert_array_equal(mine[d].values, theirs[d].values)
+            assert dt[group].attrs == f[group].attrs
+        assert dt["summary"].attrs == f["summary"].attrs
+    assert dt["truth/cell_voltage_V"].dims == ("time_s", "cell")
+    assert float(dt["truth/cell_soc"].sel(cell=3).isel(time_s=10)) == race["truth/cell_soc"][10, 2]
+    np.testing.assert_array_equal(dt["time_s"].values, race.time_s)
+    state = dt["bms/state"]
+    assert str(state.dtype) == "category"
+    names = dict(item.split("=") for item in race.attrs["bms/state"]["names"].split(","))
+    np.testing.assert_array_equal(np.asarray(state.values, dtype=object),
+                                  [names[str(c)] for c in race["bms/state"]])
+    assert list(dt["events"].values["kind"]) == [e["kind"] for e in race.events]

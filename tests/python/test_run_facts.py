@@ -1,0 +1,136 @@
+"""The lines a run page says first (packsim.run_facts), each against a result built so
+that a wrong reading of the file would say something else: the trip from the events
+(not the summary), the margin from the data with its sign, place and time, a parallel
+pack's cell named with its group, an open thermistor ignored, charge current negative,
+a protection switched off absent, and the energy account from the summary."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from packsim import run_facts
+from packsim.result import Result, _EVENT_DTYPE
+from packsim.run_figure import display_indices, group_deviation
+
+N = 11  # samples, 1 s apart
+SERIES, PARALLEL = 2, 2
+
+
+def _result(events=(), bms_limits=None, summary=None, **override) -> Result:
+    t = np.arange(N, dtype=float)
+    v = np.full((N, SERIES * PARALLEL), 3.7)
+    temp = np.full((N, SERIES * PARALLEL), 25.0)
+    cur = np.full(N, 2.0)
+    mv = np.full((N, SERIES), 3700, dtype=np.uint16)
+    dc = np.full((N, 2), 250, dtype=np.int16)
+    ma = np.full(N, 2000, dtype=np.int32)
+    ds = {"time_s": t, "truth/cell_voltage_V": v, "truth/cell_temp_C": temp, "truth/pack_current_A": cur,
+          "measured/cell_voltage_mV": mv, "measured/temperature_dC": dc, "measured/current_mA": ma}
+    ds.update(override)
+    ev = np.array([(float(a), k, d) for a, k, d in events], dtype=_EVENT_DTYPE)
+    ds["events"] = ev
+    limits = {"limit_cell_overvoltage_V": 4.2, "limit_cell_undervoltage_V": 3.0, "limit_overtemperature_C": 60.0,
+              "limit_undertemperature_C": -20.0, "limit_overcurrent_discharge_A": 30.0,
+              "limit_overcurrent_charge_A": 5.0} if bms_limits is None else bms_limits
+    attrs = {"": {"scenario_name": "made"}, "bms": dict(limits), "summary": dict(summary or {}),
+             "measured": {"thermistor_groups": "1,2"}}
+    return Result(ds, attrs)
+
+
+def _margin(r: Result, limit: str) -> run_facts.Margin:
+    return next(m for m in run_facts.margins(r) if m.channel.limit == limit)
+
+
+def test_no_latched_fault_is_no_trip_even_if_the_summary_says_otherwise():
+    r = _result(summary={"tripped": 1, "trip_reason": "overtemperature", "trip_time_s": 3.0},
+                events=[(0.0, "bms_state", "init"), (4.0, "fault_active", "overtemperature: 61 C")])
+    v = run_facts.verdict(r)
+    assert not v.tripped and v.headline.startswith("NO TRIP") and v.trip_time_s is None
+
+
+def test_the_first_latched_fault_is_the_trip_with_the_reading_at_that_sample():
+    v = np.full((N, 4), 3.7)
+    v[6, 2] = 2.95  # truth: cell 3 below 3.0 V at t = 6 s
+    mv = np.full((N, SERIES), 3700, dtype=np.uint16)
+    mv[6, 1] = 2980  # the BMS read group 2 at 2.980 V
+    r = _result(events=[(6.0, "fault_active", "cell_undervoltage: min 2.980 V < 3.000 V"),
+                        (6.0, "fault_latched", "cell_undervoltage"), (6.0, "relay_contact", "opened"),
+                        (8.0, "fault_latched", "overtemperature"), (9.0, "relay_contact", "closed")],
+                **{"truth/cell_voltage_V": v, "measured/cell_voltage_mV": mv})
+    out = run_facts.verdict(r)
+    assert out.tripped and out.protection == "cell_undervoltage" and out.trip_time_s == 6.0
+    assert out.headline == "TRIPPED at 6.00 s: cell_undervoltage"
+    text = "\n".join(out.lines)
+    assert "the BMS's reason: cell_undervoltage: min 2.980 V < 3.000 V" in text
+    assert "measured lowest cell voltage 2.98 V" in text and "the truth was 2.95 V" in text
+    assert "then latched at 8.00 s: overtemperature" in text
+    assert "6.00 s: relay contact opened" in text and "closed" not in text  # only what opened
+
+
+def test_margin_sign_place_time_and_time_past_the_limit():
+    v = np.full((N, 4), 3.7)
+    v[7, 2] = 4.25  # cell 3 = group 2 in a 2s2p pack, past 4.2 V for one sample
+    v[8, 2] = 4.21
+    r = _result(**{"truth/cell_voltage_V": v})
+    m = _margin(r, "cell_overvoltage_V")
+    assert m.limit == 4.2
+    assert m.truth.value == 4.25 and m.truth.margin == pytest.approx(-0.05)
+    assert m.truth.time_s == 7.0 and m.truth.where == "cell 3 (group 2)"
+    assert m.truth.past_s == pytest.approx(2.0)
+    assert m.measured.margin == pytest.approx(0.5) and m.measured.past_s == 0.0  # the BMS never saw it
+    assert m.tripped_s is None
+    low = _margin(r, "cell_undervoltage_V")
+    assert low.truth.value == 3.7 and low.truth.margin == pytest.approx(0.7)
+
+
+def test_an_open_thermistor_is_no_reading_and_the_thermistor_is_named_with_its_group():
+    dc = np.full((N, 2), 250, dtype=np.int16)
+    dc[3:, 0] = -32768  # open from 3 s
+    dc[5, 1] = 300
+    r = _result(**{"measured/temperature_dC": dc})
+    cold = _margin(r, "undertemperature_C")
+    assert cold.measured.value == 25.0  # not -3276.8
+    hot = _margin(r, "overtemperature_C")
+    assert hot.measured.value == 30.0 and hot.measured.where == "thermistor 2 (group 2)"
+    assert hot.measured.time_s == 5.0
+
+
+def test_charge_current_is_negative_and_a_switched_off_protection_has_no_row():
+    cur = np.full(N, 2.0)
+    cur[4] = -6.0
+    r = _result(bms_limits={"limit_overcurrent_charge_A": 5.0}, **{"truth/pack_current_A": cur})
+    rows = run_facts.margins(r)
+    assert [m.channel.limit for m in rows] == ["overcurrent_charge_A"]
+    assert rows[0].limit == -5.0 and rows[0].truth.value == -6.0 and rows[0].truth.margin == pytest.approx(-1.0)
+    assert run_facts.margins(_result(bms_limits={})) == []
+
+
+def test_latched_time_per_protection_comes_from_the_events():
+    r = _result(events=[(3.0, "fault_latched", "overtemperature"), (5.0, "fault_latched", "overtemperature")])
+    assert _margin(r, "overtemperature_C").tripped_s == 3.0
+    assert _margin(r, "cell_overvoltage_V").tripped_s is None
+
+
+def test_energy_account_is_the_summary_and_only_what_it_holds():
+    r = _result(summary={"energy_delivered_Wh": 12.5, "energy_stranded_Wh": 0.25})
+    rows = run_facts.energy(r)
+    assert [(label, wh) for label, wh, _ in rows] == [("delivered at the terminals", 12.5),
+                                                      ("stranded by imbalance", 0.25)]
+
+
+def test_group_deviation_is_from_the_mean_of_the_groups_of_parallel_cells():
+    soc = np.tile(np.array([0.5, 0.7, 0.8, 0.8]), (N, 1))  # groups: 0.6 and 0.8, mean 0.7
+    r = _result(**{"truth/cell_soc": soc})
+    d = group_deviation(r, "truth/cell_soc")
+    assert d.shape == (N, SERIES)
+    np.testing.assert_allclose(d[0], [-0.1, 0.1])
+
+
+def test_display_decimation_keeps_every_spike():
+    y = np.zeros(200_000)
+    y[123_457] = 5.0
+    y[7] = -3.0
+    idx = display_indices(y, 1000)
+    assert idx.size <= 2 * 1000 + 2
+    assert 123_457 in idx and 7 in idx and idx[0] == 0 and idx[-1] == y.size - 1
+    assert np.array_equal(display_indices(np.arange(50.0), 1000), np.arange(50))
