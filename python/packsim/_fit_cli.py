@@ -51,6 +51,9 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--invert-current", action="store_true", help="the files log discharge current as negative")
     p.add_argument("--max-evaluations", type=int, default=400,
                    help="model evaluations before the fit counts as not converged (default 400)")
+    p.add_argument("--temperature-law", choices=("arrhenius", "table"), default="arrhenius",
+                   help="tests more than 3 °C apart: one joint fit with Arrhenius laws, every sample at its "
+                   "measured temp_C (default), or one fit per temperature written as 2-D tables")
     p.add_argument("--report", help="write the fit report (measured vs model, residual) as this PNG")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
@@ -77,7 +80,7 @@ def main(argv: list[str]) -> int:
                 initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,
                 temps_C=args.temp_C[0] if args.temp_C and len(args.temp_C) == 1 else args.temp_C,
                 columns=args.columns, invert_current=args.invert_current,
-                max_evaluations=args.max_evaluations)
+                max_evaluations=args.max_evaluations, temperature_law=args.temperature_law)
         if args.report:
             try:
                 f.plot(args.report)

@@ -72,7 +72,7 @@ def _number(text: str, where: str, column: str) -> float:
     return v
 
 
-def _read_csv(path: str, names: dict[str, str]) -> tuple[dict[str, list[float]], list[str]]:
+def _read_csv(path: str, names: dict[str, str]) -> tuple[dict[str, np.ndarray], list[str]]:
     """Columns as lists and the location ("file:line") of every row."""
     if not os.path.isfile(path):
         raise FitError(f"{path}: no such file")
@@ -90,16 +90,22 @@ def _read_csv(path: str, names: dict[str, str]) -> tuple[dict[str, list[float]],
         elif ours in REQUIRED:
             raise FitError(f"{path}:{header_line}: no column '{theirs}'{_closest(theirs, head)} "
                            f"(header: {', '.join(head)}; choose columns by name with columns=/--columns)")
-    data: dict[str, list[float]] = {c: [] for c in cols}
-    where: list[str] = []
     body = lines[1:]
-    for (n, _), row in zip(body, csv.reader([line for _, line in body])):
-        loc = f"{path}:{n}"
-        if len(row) < len(head):
-            raise FitError(f"{loc}: {len(row)} fields, the header has {len(head)}")
-        for c, k in cols.items():
-            data[c].append(_number(row[k], loc, names[c]))
-        where.append(loc)
+    rows = list(csv.reader([line for _, line in body]))
+    where = [f"{path}:{n}" for n, _ in body]
+    short = [k for k, row in enumerate(rows) if len(row) < len(head)]
+    if short:
+        raise FitError(f"{where[short[0]]}: {len(rows[short[0]])} fields, the header has {len(head)}")
+    data = {}
+    for c, k in cols.items():
+        text = [row[k] for row in rows]
+        try:  # numpy's own conversion; a failure is found again row by row for its message
+            values = np.array(text, dtype=float)
+        except ValueError:
+            values = None
+        if values is None or not np.all(np.isfinite(values)):
+            values = np.array([_number(v, loc, names[c]) for v, loc in zip(text, where)])
+        data[c] = values
     return data, where
 
 

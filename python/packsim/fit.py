@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+from dataclasses import replace
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -24,12 +25,14 @@ import numpy as np
 
 from ._atomic import replaced_when_done
 from ._fit_data import FitError, read_test, rest_mask
-from ._fit_ecm import Layout, fit_group, prepare, soc_trace
+from ._fit_ecm import REF_TEMP_C, Layout, fit_group, held_current, prepare, soc_trace
 from ._fit_preset import preset_yaml
 
-__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS", "parse_soc_grid"]
+__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
+           "arrhenius_factor"]
 
 FORMS = ("table", "poly")
+TEMPERATURE_LAWS = ("arrhenius", "table")
 TEMP_GROUP_C = 3.0       # tests whose temperatures are closer share one fit
 SOC_MARGIN = 0.05        # counted SOC may leave 0..1 by this much (a CV top-up, an over-discharge)
 # Denser near empty, where a cell's OCV and resistance bend most.
@@ -53,12 +56,16 @@ class FileFit:
 
 @dataclass
 class FitAtTemperature:
-    """The parameters fitted at one temperature (None: the tests had no temp_C)."""
+    """The parameters fitted at one temperature (None: the tests had no temp_C); with the
+    arrhenius law, at its reference 25 °C with the Arrhenius constants (K) of each."""
     temp_C: float | None
     ocv_V: np.ndarray        # at FitResult.soc_grid
     r0: np.ndarray           # table values at the grid, or polynomial coefficients (highest first)
     rc_r_ohm: np.ndarray     # [pairs, grid] or [pairs, 1]
     rc_tau_s: np.ndarray     # [pairs]
+    r0_K: float = 0.0        # R(T)/R(25 °C) = exp(K·(1/T_K - 1/298.15)); 0: no temperature law
+    rc_r_K: np.ndarray | None = None   # [pairs]
+    rc_tau_K: np.ndarray | None = None  # [pairs]
 
 
 @dataclass
@@ -73,6 +80,8 @@ class FitResult:
     v_min_V: float
     v_max_V: float
     capacity_source: str = "given"   # or how it was measured
+    temperature_law: str = "none"    # none, table (a fit per temperature) or arrhenius (one joint fit)
+    evaluations: int = 0             # model evaluations the optimiser used
 
     @property
     def yaml(self) -> str:
@@ -88,13 +97,13 @@ class FitResult:
                                   "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist()}
                                  for g in self.temperatures]}
 
-    def r0_ohm(self, soc: Any, temperature: int = 0) -> np.ndarray:
-        """Fitted R0 at the given SOC(s), at the index-th temperature."""
+    def r0_ohm(self, soc: Any, temperature: int = 0, temp_C: float | None = None) -> np.ndarray:
+        """Fitted R0 at the given SOC(s), at the index-th temperature (with the arrhenius law:
+        at temp_C, default 25 °C)."""
         g = self.temperatures[temperature]
         soc = np.asarray(soc, dtype=float)
-        if self.form == "poly":
-            return np.polyval(g.r0, (1.0 - soc) * self.capacity_Ah)
-        return np.interp(soc, self.soc_grid, g.r0)
+        r = np.polyval(g.r0, (1.0 - soc) * self.capacity_Ah) if self.form == "poly" else np.interp(soc, self.soc_grid, g.r0)
+        return r * arrhenius_factor(g.r0_K, temp_C)
 
     def ocv_V(self, soc: Any, temperature: int = 0) -> np.ndarray:
         return np.interp(np.asarray(soc, dtype=float), self.soc_grid, self.temperatures[temperature].ocv_V)
@@ -124,8 +133,18 @@ class FitResult:
             at = "" if g.temp_C is None else f" at {g.temp_C:.1f} °C"
             taus = ", ".join(f"{t:.4g}" for t in g.rc_tau_s)
             lines.append(f"  tau_s{at}: [{taus}]")
+            if self.temperature_law == "arrhenius":
+                lines.append(f"  Arrhenius K (ref {REF_TEMP_C:g} °C): R0 {g.r0_K:.0f} K, RC R "
+                             f"[{', '.join(f'{k:.0f}' for k in g.rc_r_K)}] K, tau [{', '.join(f'{k:.0f}' for k in g.rc_tau_K)}] K")
         lines += [f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV" for f in self.files]
         return "\n".join(lines)
+
+
+def arrhenius_factor(k: float, temp_C: float | None) -> float:
+    """exp(K·(1/T_K - 1/T_ref,K)), T_ref = 25 °C: the plant's factor (models/cell/curve.hpp)."""
+    if temp_C is None or k == 0.0:
+        return 1.0
+    return float(np.exp(k * (1.0 / (temp_C + 273.15) - 1.0 / (REF_TEMP_C + 273.15))))
 
 
 def _write_atomic(path: str, data: bytes) -> None:
@@ -210,7 +229,7 @@ def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
 def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_grid: Any = None,
         form: str = "table", poly_order: int = 5, rc_over_soc: bool = False, initial_soc: Any = 1.0,
         temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
-        max_evaluations: int = 400) -> FitResult:
+        max_evaluations: int = 400, temperature_law: str = "arrhenius") -> FitResult:
     """Fit a cell preset to test data.
 
     data:          a CSV path or pandas DataFrame, or a list of them
@@ -225,8 +244,13 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     temps_C:       temperature of each test (default: its first temp_C value)
     columns:       our column -> the name in the data, e.g. {"voltage_V": "Voltage(V)"}
     invert_current: the data logs discharge as negative current
-    max_evaluations: model evaluations the optimiser may use (per temperature) before the
-                   fit counts as not converged
+    max_evaluations: model evaluations the optimiser may use (per fit) before the fit counts
+                   as not converged
+    temperature_law: tests more than 3 °C apart: "arrhenius" (default) fits them jointly,
+                   every sample at its measured temp_C, with R0, the RC resistances and the
+                   time constants as Arrhenius laws around 25 °C and one OCV (one test with
+                   rests is enough); "table" fits each temperature on its own (each needs a
+                   rest) and writes 2-D tables over SOC × temp_C
 
     Raises FitError (a ValueError) naming the file and line, or the reason.
     """
@@ -262,34 +286,91 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     for t, s0 in zip(tests, socs0):
         _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
 
-    groups = _group_by_temperature(temps)
+    law = _temperature_law(temperature_law, temps)
+    groups = [list(range(len(tests)))] if law == "arrhenius" else _group_by_temperature(temps)
     if form == "poly" and len(groups) > 1:
         raise FitError("form poly fits one temperature; the tests span "
-                       f"{min(temps):.1f} to {max(temps):.1f} °C (use form table for 2-D tables)")
+                       f"{min(temps):.1f} to {max(temps):.1f} °C (use form table for 2-D tables, or "
+                       "temperature_law arrhenius)")
+    if law == "arrhenius":
+        layout = replace(layout, arrhenius=True)
+    sample_temps = [_sample_temps(t, g) for t, g in zip(tests, given_temps)]
     fitted: list[FitAtTemperature] = []
-    files: list[FileFit | None] = [None] * len(tests)
+    evaluations = 0
     for members in groups:
         names = ", ".join(tests[k].name for k in members)
         if not any(rest_mask(tests[k]).any() for k in members):
-            raise FitError(f"{names}: no rest (|current| near zero for at least 10 s), so there is no OCV "
+            where = "" if law != "table" or len(groups) == 1 else f" at {temps[members[0]]:.1f} °C"
+            raise FitError(f"{names}: no rest{where} (|current| near zero for at least 10 s), so there is no OCV "
                            "information to tell the open-circuit voltage from the resistive drop; "
-                           "record a rest before the first pulse and after each step")
-        traces = [prepare(tests[k], socs0[k], layout) for k in members]
+                           "record a rest before the first pulse and after each step"
+                           + ("" if law != "table" else
+                              ", or fit all temperatures jointly (temperature_law arrhenius), where one "
+                              "test's rests give the OCV for all"))
+        traces = [prepare(tests[k], socs0[k], layout, sample_temps[k] if law == "arrhenius" else None)
+                  for k in members]
         try:
             sol = fit_group(traces, layout, int(max_evaluations))
             if form == "poly":
                 _check_poly_positive(sol.r0, layout.capacity_Ah)
         except FitError as e:
             raise FitError(f"{names}: {e}") from None
-        temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
-        fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s))
-        for k, tr, model in zip(members, traces, sol.model_V):
-            err = model - tests[k].voltage_V
-            files[k] = FileFit(tests[k].name, temps[k], err.size, 1e3 * float(np.sqrt(np.mean(err ** 2))),
-                               1e3 * float(np.max(np.abs(err))), tests[k].time_s, tests[k].current_A,
-                               tests[k].voltage_V, model, tr.soc)
+        if law == "arrhenius":
+            temp = REF_TEMP_C
+        else:
+            temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
+        fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s, sol.r0_K,
+                                       sol.rc_r_K, sol.rc_tau_K))
+        evaluations += sol.evaluations
     v_all = np.concatenate([t.voltage_V for t in tests])
     v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
     v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
-    return FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, files, v_min, v_max,  # type: ignore[arg-type]
-                     capacity_source)
+    result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
+                       law, evaluations)
+    result.files = _file_errors(result, tests, socs0, [_model_temps(law, temps[k], sample_temps[k], tests[k])
+                                                       for k in range(len(tests))])
+    return result
+
+
+def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.ndarray]) -> list[FileFit]:
+    """Each test re-simulated with the preset as written (C++: the plant's equations under
+    an exact zero-order hold, packsim._packsim.simulate_cell) against its measured voltage."""
+    from ._packsim import simulate_cell
+    text = result.yaml
+    files = []
+    for test, soc0, temp in zip(tests, socs0, temps):
+        model = simulate_cell(text, test.time_s, test.current_A, held_current(test.current_A), temp, soc0)
+        err = model - test.voltage_V
+        files.append(FileFit(test.name, test.start_temp_C if test.temp_C is not None else None, err.size,
+                             1e3 * float(np.sqrt(np.mean(err ** 2))), 1e3 * float(np.max(np.abs(err))),
+                             test.time_s, test.current_A, test.voltage_V, model,
+                             soc_trace(test, soc0, result.capacity_Ah)))
+    return files
+
+
+def _sample_temps(test, given: float | None) -> np.ndarray | None:
+    """Each sample's temperature: the one given for the test, else its measured temp_C."""
+    if given is not None:
+        return np.full(test.time_s.size, given)
+    return None if test.temp_C is None else test.temp_C
+
+
+def _model_temps(law: str, test_temp: float | None, samples: np.ndarray | None, test) -> np.ndarray:
+    """The temperature the fit gave each sample: measured (arrhenius), the test's (table)."""
+    if law == "arrhenius" and samples is not None:
+        return samples
+    return np.full(test.time_s.size, REF_TEMP_C if test_temp is None else test_temp)
+
+
+def _temperature_law(law: str, temps: list[float | None]) -> str:
+    """none (one temperature), table (one fit per temperature) or arrhenius (one joint fit)."""
+    if law not in TEMPERATURE_LAWS:
+        raise FitError(f"temperature_law '{law}' is not one of {', '.join(TEMPERATURE_LAWS)}")
+    known = [t for t in temps if t is not None]
+    if len(known) != len(temps) or not known or max(known) - min(known) <= TEMP_GROUP_C:
+        if len(known) not in (0, len(temps)):
+            missing = [k for k, t in enumerate(temps) if t is None]
+            raise FitError(f"test {missing[0] + 1} has no temperature (no temp_C column, no temps_C) while others "
+                           "have one: give every test a temperature or none")
+        return "none"
+    return law
