@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 
 __all__ = ["main"]
 
@@ -36,7 +37,7 @@ def parser() -> argparse.ArgumentParser:
                                 "CSV files with time_s,current_A,voltage_V[,temp_C], positive current discharging.")
     p.add_argument("data", nargs="+", help="test CSV files (constant-current discharges, pulse/HPPC tests with rests)")
     p.add_argument("-o", "--output", required=True, help="the cell preset YAML to write (e.g. cells/my_cell.yaml)")
-    p.add_argument("--rc-pairs", type=int, default=1, help="number of RC pairs, 0..4 (default 1)")
+    p.add_argument("--rc-pairs", type=int, default=2, help="number of RC pairs, 0..4 (default 2)")
     p.add_argument("--soc-grid", help="SOC nodes of the tables: start:step:stop or a,b,c (default: every 0.05, "
                    "and 0.01,0.02,0.035,0.075 near empty)")
     p.add_argument("--form", choices=("table", "poly"), default="table",
@@ -75,12 +76,14 @@ def main(argv: list[str]) -> int:
             folder = os.path.dirname(os.path.abspath(path))
             if not os.path.isdir(folder):
                 raise FitError(f"{path}: no such folder {folder}")
-        f = fit(args.data, capacity_Ah=args.capacity_Ah, rc_pairs=args.rc_pairs, soc_grid=args.soc_grid,
-                form=args.form, poly_order=args.poly_order, rc_over_soc=args.rc_over_soc,
-                initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,
-                temps_C=args.temp_C[0] if args.temp_C and len(args.temp_C) == 1 else args.temp_C,
-                columns=args.columns, invert_current=args.invert_current,
-                max_evaluations=args.max_evaluations, temperature_law=args.temperature_law)
+        with warnings.catch_warnings():  # printed below, once, as the CLI's own lines
+            warnings.simplefilter("ignore")
+            f = fit(args.data, capacity_Ah=args.capacity_Ah, rc_pairs=args.rc_pairs, soc_grid=args.soc_grid,
+                    form=args.form, poly_order=args.poly_order, rc_over_soc=args.rc_over_soc,
+                    initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,
+                    temps_C=args.temp_C[0] if args.temp_C and len(args.temp_C) == 1 else args.temp_C,
+                    columns=args.columns, invert_current=args.invert_current,
+                    max_evaluations=args.max_evaluations, temperature_law=args.temperature_law)
         if args.report:
             try:
                 f.plot(args.report)
@@ -90,6 +93,8 @@ def main(argv: list[str]) -> int:
     except FitError as e:
         print(f"packsim fit: error: {e}", file=sys.stderr)
         return 2
+    for w in f.warnings:
+        print(f"packsim fit: warning: {w}", file=sys.stderr)
     if not args.quiet:
         print(f.summary())
         print(f"wrote {args.output}" + (f" and {args.report}" if args.report else ""))

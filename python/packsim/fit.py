@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import warnings
 from dataclasses import replace
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -24,11 +25,12 @@ from typing import Any
 import numpy as np
 
 from ._atomic import replaced_when_done
-from ._fit_data import FitError, read_test, rest_mask
+from ._fit_data import REST_REL_CURRENT as REST_REL
+from ._fit_data import FitError, FitWarning, read_test, rest_mask
 from ._fit_ecm import REF_TEMP_C, Layout, fit_group, held_current, prepare, soc_trace
 from ._fit_preset import preset_yaml
 
-__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
+__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FitWarning", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
            "arrhenius_factor"]
 
 FORMS = ("table", "poly")
@@ -82,6 +84,7 @@ class FitResult:
     capacity_source: str = "given"   # or how it was measured
     temperature_law: str = "none"    # none, table (a fit per temperature) or arrhenius (one joint fit)
     evaluations: int = 0             # model evaluations the optimiser used
+    warnings: list[str] = field(default_factory=list)  # what the data could not determine
 
     @property
     def yaml(self) -> str:
@@ -198,6 +201,63 @@ def _check_poly_positive(coefficients: np.ndarray, capacity_Ah: float) -> None:
                        f"{x_Ah[k]:.3g} Ah): the tests do not cover that range; use form table or a lower poly_order")
 
 
+MAX_CELL_CAPACITY_AH = 2000.0   # no single cell holds more: beyond, the current's unit is wrong
+MAX_C_RATE = 100.0              # |current| / capacity beyond which a unit is wrong
+MIN_PEAK_C_RATE = 0.01          # a test whose largest current is below C/100: likewise
+
+
+def _check_measured_capacity(test, capacity_Ah: float) -> None:
+    if capacity_Ah > MAX_CELL_CAPACITY_AH:
+        raise FitError(f"{test.name}: column '{test.current_column}' (read as current_A) removes {capacity_Ah:,.0f} Ah, "
+                       f"more than any single cell holds (> {MAX_CELL_CAPACITY_AH:,.0f} Ah): a current logged in mA "
+                       "read as A? Convert the column to A, or give --capacity-Ah")
+
+
+def _check_c_rate(tests, capacity_Ah: float, given: bool) -> None:
+    """The current against the capacity: a thousand times off is a unit error."""
+    for t in tests:
+        peak_A = float(np.max(np.abs(t.current_A)))
+        k = int(np.argmax(np.abs(t.current_A)))
+        c_rate = peak_A / capacity_Ah
+        source = "the given capacity_Ah" if given else "the measured capacity"
+        if c_rate > MAX_C_RATE:
+            raise FitError(f"{t.rows[k]}: column '{t.current_column}' (read as current_A) reaches {peak_A:.4g} A, "
+                           f"{c_rate:,.0f} C of {source} {capacity_Ah:.4g} Ah (at most {MAX_C_RATE:g} C is "
+                           "plausible): is the current in mA, or the capacity in mAh?")
+        if peak_A > 0 and c_rate < MIN_PEAK_C_RATE and given:
+            raise FitError(f"{t.rows[k]}: column '{t.current_column}' (read as current_A) peaks at {peak_A:.4g} A, "
+                           f"{c_rate:.2g} C of the given capacity_Ah {capacity_Ah:.4g} Ah: is capacity_Ah in mAh, "
+                           "or the current in kA?")
+
+
+def _is_full_discharge(test) -> bool:
+    """One uninterrupted discharge removes at least half of the test's charge and ends at
+    the test's lowest voltage (a discharge to the cut-off)."""
+    i = test.current_A
+    peak = float(np.max(np.abs(i)))
+    on = i > REST_REL * peak
+    if not on.any():
+        return False
+    u = held_current(i)
+    dq = u[:-1] * np.diff(test.time_s)
+    removed = float(np.max(np.cumsum(dq))) if dq.size else 0.0
+    best_q, best_end = 0.0, 0
+    k, n = 0, i.size
+    while k < n:
+        if not on[k]:
+            k += 1
+            continue
+        end = k
+        while end + 1 < n and on[end + 1]:
+            end += 1
+        q = float(np.sum(dq[k:end]))
+        if q > best_q:
+            best_q, best_end = q, end
+        k = end + 1
+    v_min = float(np.min(test.voltage_V))
+    return removed > 0 and best_q >= 0.5 * removed and test.voltage_V[best_end] <= v_min + 0.02 * abs(v_min)
+
+
 def _check_soc_range(test, soc: np.ndarray) -> None:
     """Coulomb counting must stay near 0..1: beyond, the sign of the current, the initial
     SOC or the capacity is wrong."""
@@ -226,7 +286,7 @@ def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
     return groups
 
 
-def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_grid: Any = None,
+def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_grid: Any = None,
         form: str = "table", poly_order: int = 5, rc_over_soc: bool = False, initial_soc: Any = 1.0,
         temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
         max_evaluations: int = 400, temperature_law: str = "arrhenius") -> FitResult:
@@ -234,8 +294,9 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
 
     data:          a CSV path or pandas DataFrame, or a list of them
     capacity_Ah:   given, or None: measured as the most charge any one test removes, divided
-                   by its initial_soc (give a full constant-current discharge to the cut-off)
-    rc_pairs:      number of RC pairs (0..4); constant R and tau unless rc_over_soc
+                   by its initial_soc (give a full constant-current discharge to the cut-off;
+                   without one a FitWarning says the capacity is likely low)
+    rc_pairs:      number of RC pairs (0..4, default 2); constant R and tau unless rc_over_soc
     soc_grid:      SOC nodes of the OCV/R0 tables, a list or "start:step:stop" (default: every
                    0.05, and 0.01, 0.02, 0.035, 0.075 too: denser near empty)
     form:          "table" (R0 over the SOC grid) or "poly" (R0 a polynomial of poly_order over
@@ -275,13 +336,23 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     temps = [g if g is not None else t.start_temp_C for g, t in zip(given_temps, tests)]
 
     capacity_source = "given"
+    fit_warnings: list[str] = []
     if capacity_Ah is None:
         # a test from initial_soc s to empty removes s·Q
         removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) / max(s0, 1e-9) for t, s0 in zip(tests, socs0)]
-        capacity_Ah = max(removed_Ah)
-        capacity_source = f"measured: the most charge one test removed, {tests[int(np.argmax(removed_Ah))].name}"
+        best = int(np.argmax(removed_Ah))
+        capacity_Ah = removed_Ah[best]
+        capacity_source = f"measured: the most charge one test removed, {tests[best].name}"
         if not capacity_Ah > 0:
             raise FitError("no test discharges the cell: give capacity_Ah (or a full constant-current discharge)")
+        _check_measured_capacity(tests[best], capacity_Ah)
+        if not _is_full_discharge(tests[best]):
+            fit_warnings.append(
+                f"the capacity {capacity_Ah:.4g} Ah is the charge {tests[best].name} removed, but no test is a full "
+                "discharge to the cut-off (one uninterrupted discharge removing most of the charge and ending at "
+                "the test's lowest voltage; an HPPC stops short of empty), so it is likely too low: give "
+                "--capacity-Ah / capacity_Ah, or add a full constant-current discharge")
+    _check_c_rate(tests, float(capacity_Ah), capacity_source == "given")
     layout = Layout(grid, form, int(poly_order), int(rc_pairs), bool(rc_over_soc), float(capacity_Ah))
     for t, s0 in zip(tests, socs0):
         _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
@@ -326,7 +397,9 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
     v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
     result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
-                       law, evaluations)
+                       law, evaluations, fit_warnings)
+    for w in fit_warnings:
+        warnings.warn(w, FitWarning, stacklevel=2)
     result.files = _file_errors(result, tests, socs0, [_model_temps(law, temps[k], sample_temps[k], tests[k])
                                                        for k in range(len(tests))])
     return result
@@ -339,7 +412,11 @@ def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.nda
     text = result.yaml
     files = []
     for test, soc0, temp in zip(tests, socs0, temps):
-        model = simulate_cell(text, test.time_s, test.current_A, held_current(test.current_A), temp, soc0)
+        try:
+            model = simulate_cell(text, test.time_s, test.current_A, held_current(test.current_A), temp, soc0)
+        except ValueError as e:  # packsim.ScenarioError: the loader refuses the fitted values
+            raise FitError(f"the fitted preset is not a valid cell ({e}): the tests do not determine it; "
+                           "check capacity_Ah and the current's unit and sign") from None
         err = model - test.voltage_V
         files.append(FileFit(test.name, test.start_temp_C if test.temp_C is not None else None, err.size,
                              1e3 * float(np.sqrt(np.mean(err ** 2))), 1e3 * float(np.max(np.abs(err))),
