@@ -97,7 +97,10 @@ class FitResult:
         return {"capacity_Ah": self.capacity_Ah, "soc_grid": self.soc_grid.tolist(), "form": self.form,
                 "temperatures": [{"temp_C": g.temp_C, "ocv_V": g.ocv_V.tolist(),
                                   ("r0_poly" if self.form == "poly" else "r0_ohm"): g.r0.tolist(),
-                                  "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist()}
+                                  "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist(),
+                                  **({"arrhenius_K": {"r0": g.r0_K, "rc_r": g.rc_r_K.tolist(),
+                                                      "rc_tau": g.rc_tau_K.tolist()}, "ref_temp_C": REF_TEMP_C}
+                                     if self.temperature_law == "arrhenius" else {})}
                                  for g in self.temperatures]}
 
     def r0_ohm(self, soc: Any, temperature: int = 0, temp_C: float | None = None) -> np.ndarray:

@@ -52,6 +52,7 @@ def test_arrhenius_laws_recovered(fitted):
     assert fitted.temperature_law == "arrhenius"
     (g,) = fitted.temperatures
     assert g.r0_K == pytest.approx(R0_K, rel=0.03)
+    assert fitted.params["temperatures"][0]["arrhenius_K"]["r0"] == g.r0_K
     for k, pair in enumerate(KNOWN_RC):
         assert g.rc_r_ohm[k, 0] == pytest.approx(pair["r_ohm"], rel=0.05), k
         assert g.rc_tau_s[k] == pytest.approx(pair["tau_s"], rel=0.10), k
