@@ -55,6 +55,13 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--temperature-law", choices=("arrhenius", "table"), default="arrhenius",
                    help="tests more than 3 °C apart: one joint fit with Arrhenius laws, every sample at its "
                    "measured temp_C (default), or one fit per temperature written as 2-D tables")
+    p.add_argument("--validate", action="append", metavar="CSV",
+                   help="a held-out test (repeat for several): not fitted; its error is printed (RMS, max, below "
+                   "10 %% SOC) and the tables' smoothness is chosen as the one with the lowest error on them")
+    p.add_argument("--validate-initial-soc", type=_numbers, default=[1.0],
+                   help="SOC at the start of each held-out test (default 1)")
+    p.add_argument("--smoothing", type=float,
+                   help="weight of the tables' second-difference penalty (default 0.1, or chosen by --validate)")
     p.add_argument("--report", help="write the fit report (measured vs model, residual) as this PNG")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
@@ -83,7 +90,11 @@ def main(argv: list[str]) -> int:
                     initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,
                     temps_C=args.temp_C[0] if args.temp_C and len(args.temp_C) == 1 else args.temp_C,
                     columns=args.columns, invert_current=args.invert_current,
-                    max_evaluations=args.max_evaluations, temperature_law=args.temperature_law)
+                    max_evaluations=args.max_evaluations, temperature_law=args.temperature_law,
+                    validate=args.validate,
+                    validate_initial_soc=(args.validate_initial_soc * len(args.validate or [])
+                                          if len(args.validate_initial_soc) == 1 else args.validate_initial_soc),
+                    smoothing=args.smoothing)
         if args.report:
             try:
                 f.plot(args.report)

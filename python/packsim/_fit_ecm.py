@@ -30,7 +30,8 @@ import numpy as np
 
 from ._fit_data import CellTest, FitError
 
-__all__ = ["Layout", "Trace", "LinearFit", "prepare", "fit_group", "soc_trace", "held_current", "REF_TEMP_C"]
+__all__ = ["Layout", "Trace", "LinearFit", "prepare", "fit_group", "soc_trace", "held_current", "REF_TEMP_C",
+           "SMOOTH_WEIGHT"]
 
 SMOOTH_WEIGHT = 0.1   # second-difference penalty on table values (fills nodes without data)
 R_MIN_OHM = 1e-7      # resistances stay positive (the loader requires > 0)
@@ -52,6 +53,7 @@ class Layout:
     rc_over_soc: bool       # RC resistances as tables over the grid (else constants)
     capacity_Ah: float
     arrhenius: bool = False
+    smooth_weight: float = SMOOTH_WEIGHT
 
     def r0_columns(self) -> int:
         return self.poly_order + 1 if self.form == "poly" else self.soc_grid.size
@@ -142,16 +144,17 @@ def _smoothing(layout: Layout, i_scale_A: float) -> tuple[np.ndarray, int]:
     d2 = np.zeros((max(n - 2, 0), n))
     for k in range(n - 2):
         d2[k, k:k + 3] = (1.0, -2.0, 1.0)
-    blocks = [(0, SMOOTH_WEIGHT)]
+    weight = layout.smooth_weight
+    blocks = [(0, weight)]
     if layout.form == "table":
-        blocks.append((n, SMOOTH_WEIGHT * i_scale_A))
+        blocks.append((n, weight * i_scale_A))
     start = n + layout.r0_columns()
     if layout.rc_over_soc:
-        blocks += [(start + p * n, SMOOTH_WEIGHT * i_scale_A) for p in range(layout.rc_pairs)]
+        blocks += [(start + p * n, weight * i_scale_A) for p in range(layout.rc_pairs)]
     cols = start + layout.rc_pairs * layout.rc_columns()
     rows = np.zeros((d2.shape[0] * len(blocks), cols))
-    for b, (c0, weight) in enumerate(blocks):
-        rows[b * d2.shape[0]:(b + 1) * d2.shape[0], c0:c0 + n] = weight * d2
+    for b, (c0, w) in enumerate(blocks):
+        rows[b * d2.shape[0]:(b + 1) * d2.shape[0], c0:c0 + n] = w * d2
     return rows, cols
 
 

@@ -55,6 +55,9 @@ def preset_yaml(fit) -> str:
         temp = "" if f.temp_C is None else f" at {f.temp_C:.1f} °C"
         out.append(f"#   {f.name}{temp}: {f.samples} samples, voltage error {f.rms_mV:.2f} mV RMS, "
                    f"{f.max_mV:.2f} mV max")
+    for f in fit.validation:
+        out.append(f"#   held out, not fitted: {f.name}: {f.samples} samples, voltage error {f.rms_mV:.2f} mV RMS, "
+                   f"{f.max_mV:.2f} mV max")
     out.append("# Thermal parameters are not fitted: heat_capacity_J_per_K and g_ambient_W_per_K keep")
     out.append("# packsim's defaults unless a scenario overrides them.")
     out.append(f"capacity_Ah: {_num(fit.capacity_Ah)}   # {fit.capacity_source}")

@@ -27,7 +27,7 @@ import numpy as np
 from ._atomic import replaced_when_done
 from ._fit_data import REST_REL_CURRENT as REST_REL
 from ._fit_data import FitError, FitWarning, read_test, rest_mask
-from ._fit_ecm import REF_TEMP_C, Layout, fit_group, held_current, prepare, soc_trace
+from ._fit_ecm import REF_TEMP_C, SMOOTH_WEIGHT, Layout, fit_group, held_current, prepare, soc_trace
 from ._fit_preset import preset_yaml
 
 __all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FitWarning", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
@@ -35,6 +35,9 @@ __all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FitWa
 
 FORMS = ("table", "poly")
 TEMPERATURE_LAWS = ("arrhenius", "table")
+LOW_SOC = 0.1   # the band reported on its own: where a cell's OCV and resistance bend most
+# Smoothness weights tried when held-out tests are given: the one with the lowest error on them is kept.
+SMOOTHING_CANDIDATES = (0.001, 0.01, 0.1, 1.0, 10.0)
 TEMP_GROUP_C = 3.0       # tests whose temperatures are closer share one fit
 SOC_MARGIN = 0.05        # counted SOC may leave 0..1 by this much (a CV top-up, an over-discharge)
 # Denser near empty, where a cell's OCV and resistance bend most.
@@ -54,6 +57,7 @@ class FileFit:
     voltage_V: np.ndarray = field(repr=False)
     model_V: np.ndarray = field(repr=False)
     soc: np.ndarray = field(repr=False)
+    low_soc_rms_mV: float | None = None   # RMS over the samples below 10 % SOC (None: none there)
 
 
 @dataclass
@@ -85,6 +89,9 @@ class FitResult:
     temperature_law: str = "none"    # none, table (a fit per temperature) or arrhenius (one joint fit)
     evaluations: int = 0             # model evaluations the optimiser used
     warnings: list[str] = field(default_factory=list)  # what the data could not determine
+    smoothing: float = SMOOTH_WEIGHT  # weight of the second-difference penalty on the tables
+    validation: list[FileFit] = field(default_factory=list)  # held-out tests: the preset's error on them
+    smoothing_scores: list[tuple[float, float]] = field(default_factory=list)  # (weight, held-out RMS mV) tried
 
     @property
     def yaml(self) -> str:
@@ -142,8 +149,19 @@ class FitResult:
             if self.temperature_law == "arrhenius":
                 lines.append(f"  Arrhenius K (ref {REF_TEMP_C:g} °C): R0 {g.r0_K:.0f} K, RC R "
                              f"[{', '.join(f'{k:.0f}' for k in g.rc_r_K)}] K, tau [{', '.join(f'{k:.0f}' for k in g.rc_tau_K)}] K")
-        lines += [f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV" for f in self.files]
+        lines += [_file_line(f) for f in self.files]
+        if self.validation:
+            lines.append("  held out (not fitted):")
+            lines += ["  " + _file_line(f) for f in self.validation]
+        if self.smoothing_scores:
+            tried = ", ".join(f"{w:g}: {rms:.2f} mV" for w, rms in self.smoothing_scores)
+            lines.append(f"  smoothing {self.smoothing:g}, the lowest held-out RMS of those tried ({tried})")
         return "\n".join(lines)
+
+
+def _file_line(f: FileFit) -> str:
+    low = "" if f.low_soc_rms_mV is None else f", below 10 % SOC RMS {f.low_soc_rms_mV:.2f} mV"
+    return f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV{low}"
 
 
 def arrhenius_factor(k: float, temp_C: float | None) -> float:
@@ -292,7 +310,8 @@ def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
 def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_grid: Any = None,
         form: str = "table", poly_order: int = 5, rc_over_soc: bool = False, initial_soc: Any = 1.0,
         temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
-        max_evaluations: int = 400, temperature_law: str = "arrhenius") -> FitResult:
+        max_evaluations: int = 400, temperature_law: str = "arrhenius", validate: Any = None,
+        validate_initial_soc: Any = 1.0, smoothing: float | None = None) -> FitResult:
     """Fit a cell preset to test data.
 
     data:          a CSV path or pandas DataFrame, or a list of them
@@ -369,6 +388,54 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
     if law == "arrhenius":
         layout = replace(layout, arrhenius=True)
     sample_temps = [_sample_temps(t, g) for t, g in zip(tests, given_temps)]
+    held_out = [read_test(src, len(tests) + k, columns, invert_current) for k, src in enumerate(validate or [])]
+    held_socs0 = _per_file("validate_initial_soc", validate_initial_soc, len(held_out), 0.0, 1.0)
+    for t, s0 in zip(held_out, held_socs0):
+        _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
+    if law != "none" and any(t.temp_C is None for t in held_out):
+        raise FitError(f"{next(t.name for t in held_out if t.temp_C is None)}: no temp_C column, while the fit is "
+                       "over temperature: a held-out test needs its temperature")
+    held_temps = [_model_temps(law, t.start_temp_C, t.temp_C, t) for t in held_out]
+    if smoothing is None:
+        weights = SMOOTHING_CANDIDATES if held_out else (SMOOTH_WEIGHT,)
+    else:
+        if isinstance(smoothing, bool) or not isinstance(smoothing, (int, float)) or not 0 <= smoothing <= 1e3:
+            raise FitError(f"smoothing: {smoothing!r} is not a number in [0, 1000]")
+        weights = (float(smoothing),)
+    v_all = np.concatenate([t.voltage_V for t in tests])
+    v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
+    v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
+    best: FitResult | None = None
+    best_score = np.inf
+    scores: list[tuple[float, float]] = []
+    for weight in weights:
+        lay = replace(layout, smooth_weight=weight)
+        fitted, evaluations = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
+        result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
+                           law, evaluations, fit_warnings, weight)
+        result.validation = _file_errors(result, held_out, held_socs0, held_temps)
+        score = _pooled_rms_mV(result.validation) if held_out else 0.0
+        scores.append((weight, score))
+        if best is None or score < best_score:
+            best, best_score = result, score
+    assert best is not None
+    best.smoothing_scores = scores if held_out and len(weights) > 1 else []
+    for w in fit_warnings:
+        warnings.warn(w, FitWarning, stacklevel=2)
+    best.files = _file_errors(best, tests, socs0, [_model_temps(law, temps[k], sample_temps[k], tests[k])
+                                                   for k in range(len(tests))])
+    return best
+
+
+def _pooled_rms_mV(files: list[FileFit]) -> float:
+    """RMS over every sample of these tests."""
+    sq = sum(f.samples * f.rms_mV ** 2 for f in files)
+    return float(np.sqrt(sq / max(sum(f.samples for f in files), 1)))
+
+
+def _fit_groups(tests, groups, socs0, temps, sample_temps, layout: Layout, law: str,
+                max_evaluations: int) -> tuple[list[FitAtTemperature], int]:
+    """One fit per group of tests (one group for the arrhenius law)."""
     fitted: list[FitAtTemperature] = []
     evaluations = 0
     for members in groups:
@@ -384,8 +451,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
         traces = [prepare(tests[k], socs0[k], layout, sample_temps[k] if law == "arrhenius" else None)
                   for k in members]
         try:
-            sol = fit_group(traces, layout, int(max_evaluations))
-            if form == "poly":
+            sol = fit_group(traces, layout, max_evaluations)
+            if layout.form == "poly":
                 _check_poly_positive(sol.r0, layout.capacity_Ah)
         except FitError as e:
             raise FitError(f"{names}: {e}") from None
@@ -396,16 +463,7 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
         fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s, sol.r0_K,
                                        sol.rc_r_K, sol.rc_tau_K))
         evaluations += sol.evaluations
-    v_all = np.concatenate([t.voltage_V for t in tests])
-    v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
-    v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
-    result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
-                       law, evaluations, fit_warnings)
-    for w in fit_warnings:
-        warnings.warn(w, FitWarning, stacklevel=2)
-    result.files = _file_errors(result, tests, socs0, [_model_temps(law, temps[k], sample_temps[k], tests[k])
-                                                       for k in range(len(tests))])
-    return result
+    return fitted, evaluations
 
 
 def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.ndarray]) -> list[FileFit]:
@@ -421,10 +479,12 @@ def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.nda
             raise FitError(f"the fitted preset is not a valid cell ({e}): the tests do not determine it; "
                            "check capacity_Ah and the current's unit and sign") from None
         err = model - test.voltage_V
+        soc = soc_trace(test, soc0, result.capacity_Ah)
+        low = soc < LOW_SOC
         files.append(FileFit(test.name, test.start_temp_C if test.temp_C is not None else None, err.size,
                              1e3 * float(np.sqrt(np.mean(err ** 2))), 1e3 * float(np.max(np.abs(err))),
-                             test.time_s, test.current_A, test.voltage_V, model,
-                             soc_trace(test, soc0, result.capacity_Ah)))
+                             test.time_s, test.current_A, test.voltage_V, model, soc,
+                             1e3 * float(np.sqrt(np.mean(err[low] ** 2))) if low.any() else None))
     return files
 
 
