@@ -350,7 +350,7 @@ def fit_group(traces: list[Trace], layout: Layout, max_evaluations: int = 400) -
             hi_b += [k_hi] * (1 + 2 * pairs)
             start += [K_START_K["r"] / K_SCALE] * (1 + pairs) + [K_START_K["tau"] / K_SCALE] * pairs
         res = least_squares(problem.residual, np.array(start), jac=problem.jacobian, bounds=(lo_b, hi_b),
-                            method="trf", x_scale=1.0, xtol=1e-10, ftol=1e-12, gtol=1e-10, max_nfev=max_evaluations)
+                            method="trf", x_scale="jac", xtol=1e-10, ftol=1e-12, gtol=1e-10, max_nfev=max_evaluations)
         if res.status <= 0 or not np.all(np.isfinite(res.x)):
             raise FitError(f"the fit did not converge after {res.nfev} evaluations: {res.message} "
                            "(fewer RC pairs, a coarser SOC grid or more evaluations may help)")
