@@ -302,8 +302,8 @@ class _Problem:
         n = self.n
         basis = np.eye(self.cols)
         basis[:n, :n] = _ocv_basis(n)
-        gram_q = basis.T @ self.gram @ basis
-        rhs_q = basis.T @ self.rhs
+        gram_q = np.einsum("ki,kl,lj->ij", basis, self.gram, basis, optimize=False)
+        rhs_q = np.einsum("ki,k->i", basis, self.rhs)
         norm = np.sqrt(np.diag(gram_q))
         norm[norm == 0] = 1.0
         gram_n = gram_q / norm[:, None] / norm[None, :]
