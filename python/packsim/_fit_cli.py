@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 
 __all__ = ["main"]
 
@@ -36,7 +37,7 @@ def parser() -> argparse.ArgumentParser:
                                 "CSV files with time_s,current_A,voltage_V[,temp_C], positive current discharging.")
     p.add_argument("data", nargs="+", help="test CSV files (constant-current discharges, pulse/HPPC tests with rests)")
     p.add_argument("-o", "--output", required=True, help="the cell preset YAML to write (e.g. cells/my_cell.yaml)")
-    p.add_argument("--rc-pairs", type=int, default=1, help="number of RC pairs, 0..4 (default 1)")
+    p.add_argument("--rc-pairs", type=int, default=2, help="number of RC pairs, 0..4 (default 2)")
     p.add_argument("--soc-grid", help="SOC nodes of the tables: start:step:stop or a,b,c (default: every 0.05, "
                    "and 0.01,0.02,0.035,0.075 near empty)")
     p.add_argument("--form", choices=("table", "poly"), default="table",
@@ -51,6 +52,16 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--invert-current", action="store_true", help="the files log discharge current as negative")
     p.add_argument("--max-evaluations", type=int, default=400,
                    help="model evaluations before the fit counts as not converged (default 400)")
+    p.add_argument("--temperature-law", choices=("arrhenius", "table"), default="arrhenius",
+                   help="tests more than 3 °C apart: one joint fit with Arrhenius laws, every sample at its "
+                   "measured temp_C (default), or one fit per temperature written as 2-D tables")
+    p.add_argument("--validate", action="append", metavar="CSV",
+                   help="a held-out test (repeat for several): not fitted; its error is printed (RMS, max, below "
+                   "10 %% SOC) and the tables' smoothness is chosen as the one with the lowest error on them")
+    p.add_argument("--validate-initial-soc", type=_numbers, default=[1.0],
+                   help="SOC at the start of each held-out test (default 1)")
+    p.add_argument("--smoothing", type=float,
+                   help="weight of the tables' second-difference penalty (default 0.1, or chosen by --validate)")
     p.add_argument("--report", help="write the fit report (measured vs model, residual) as this PNG")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
@@ -72,12 +83,18 @@ def main(argv: list[str]) -> int:
             folder = os.path.dirname(os.path.abspath(path))
             if not os.path.isdir(folder):
                 raise FitError(f"{path}: no such folder {folder}")
-        f = fit(args.data, capacity_Ah=args.capacity_Ah, rc_pairs=args.rc_pairs, soc_grid=args.soc_grid,
-                form=args.form, poly_order=args.poly_order, rc_over_soc=args.rc_over_soc,
-                initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,
-                temps_C=args.temp_C[0] if args.temp_C and len(args.temp_C) == 1 else args.temp_C,
-                columns=args.columns, invert_current=args.invert_current,
-                max_evaluations=args.max_evaluations)
+        with warnings.catch_warnings():  # printed below, once, as the CLI's own lines
+            warnings.simplefilter("ignore")
+            f = fit(args.data, capacity_Ah=args.capacity_Ah, rc_pairs=args.rc_pairs, soc_grid=args.soc_grid,
+                    form=args.form, poly_order=args.poly_order, rc_over_soc=args.rc_over_soc,
+                    initial_soc=args.initial_soc * n if len(args.initial_soc) == 1 else args.initial_soc,
+                    temps_C=args.temp_C[0] if args.temp_C and len(args.temp_C) == 1 else args.temp_C,
+                    columns=args.columns, invert_current=args.invert_current,
+                    max_evaluations=args.max_evaluations, temperature_law=args.temperature_law,
+                    validate=args.validate,
+                    validate_initial_soc=(args.validate_initial_soc * len(args.validate or [])
+                                          if len(args.validate_initial_soc) == 1 else args.validate_initial_soc),
+                    smoothing=args.smoothing)
         if args.report:
             try:
                 f.plot(args.report)
@@ -87,6 +104,8 @@ def main(argv: list[str]) -> int:
     except FitError as e:
         print(f"packsim fit: error: {e}", file=sys.stderr)
         return 2
+    for w in f.warnings:
+        print(f"packsim fit: warning: {w}", file=sys.stderr)
     if not args.quiet:
         print(f.summary())
         print(f"wrote {args.output}" + (f" and {args.report}" if args.report else ""))

@@ -10,12 +10,13 @@ import csv
 import difflib
 import math
 import os
+import re
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
-__all__ = ["FitError", "CellTest", "read_test", "rest_mask"]
+__all__ = ["FitError", "FitWarning", "CellTest", "read_test", "rest_mask"]
 
 REQUIRED = ("time_s", "current_A", "voltage_V")
 OPTIONAL = ("temp_C",)
@@ -29,6 +30,18 @@ class FitError(ValueError):
     """Bad test data or a fit that failed: nothing was written."""
 
 
+class FitWarning(UserWarning):
+    """A fit that succeeded on data that cannot determine everything (e.g. the capacity)."""
+
+
+# Units a column's name may state that are not the unit packsim fit reads it in: the
+# values would be a thousand (or 60, 3600) times off. Words of the name, case-sensitive
+# (mA is milliamperes, MA would be megaamperes).
+FOREIGN_UNITS = {"current_A": ("mA", "uA", "µA", "kA"), "voltage_V": ("mV", "kV", "uV", "µV"),
+                 "time_s": ("ms", "min", "h", "hr", "hrs", "hour", "hours", "minutes"),
+                 "temp_C": ("K", "F", "degF", "Kelvin", "Fahrenheit")}
+
+
 @dataclass
 class CellTest:
     """One test file as arrays (SI, positive current discharges)."""
@@ -38,6 +51,7 @@ class CellTest:
     voltage_V: np.ndarray
     temp_C: np.ndarray | None
     rows: list[str]          # where each sample is: "file:line" or "<DataFrame k>: row n"
+    current_column: str = "current_A"   # the name of the current's column in the data
 
     @property
     def start_temp_C(self) -> float | None:
@@ -62,6 +76,20 @@ def _column_names(columns: dict[str, str] | None) -> dict[str, str]:
     return names
 
 
+def _check_units(label: str, names: dict[str, str], present: list[str]) -> None:
+    """A column whose name states another unit than ours (current_mA read as current_A)."""
+    for ours, theirs in names.items():
+        if theirs not in present:
+            continue
+        words = re.findall(r"[A-Za-zµ]+", theirs)
+        foreign = [w for w in words if w in FOREIGN_UNITS[ours]]
+        if foreign and theirs != ours:
+            unit = ours.rsplit("_", 1)[1]
+            raise FitError(f"{label}: column '{theirs}' is read as {ours}, but its name says {foreign[0]}: "
+                           f"packsim fit reads {ours} in {unit} (values in {foreign[0]} would be off by a factor "
+                           f"of 1000 or more); convert the column to {unit} first")
+
+
 def _number(text: str, where: str, column: str) -> float:
     try:
         v = float(text)
@@ -72,7 +100,7 @@ def _number(text: str, where: str, column: str) -> float:
     return v
 
 
-def _read_csv(path: str, names: dict[str, str]) -> tuple[dict[str, list[float]], list[str]]:
+def _read_csv(path: str, names: dict[str, str]) -> tuple[dict[str, np.ndarray], list[str]]:
     """Columns as lists and the location ("file:line") of every row."""
     if not os.path.isfile(path):
         raise FitError(f"{path}: no such file")
@@ -90,16 +118,23 @@ def _read_csv(path: str, names: dict[str, str]) -> tuple[dict[str, list[float]],
         elif ours in REQUIRED:
             raise FitError(f"{path}:{header_line}: no column '{theirs}'{_closest(theirs, head)} "
                            f"(header: {', '.join(head)}; choose columns by name with columns=/--columns)")
-    data: dict[str, list[float]] = {c: [] for c in cols}
-    where: list[str] = []
+    _check_units(path, names, head)
     body = lines[1:]
-    for (n, _), row in zip(body, csv.reader([line for _, line in body])):
-        loc = f"{path}:{n}"
-        if len(row) < len(head):
-            raise FitError(f"{loc}: {len(row)} fields, the header has {len(head)}")
-        for c, k in cols.items():
-            data[c].append(_number(row[k], loc, names[c]))
-        where.append(loc)
+    rows = list(csv.reader([line for _, line in body]))
+    where = [f"{path}:{n}" for n, _ in body]
+    short = [k for k, row in enumerate(rows) if len(row) < len(head)]
+    if short:
+        raise FitError(f"{where[short[0]]}: {len(rows[short[0]])} fields, the header has {len(head)}")
+    data = {}
+    for c, k in cols.items():
+        text = [row[k] for row in rows]
+        try:  # numpy's own conversion; a failure is found again row by row for its message
+            values = np.array(text, dtype=float)
+        except ValueError:
+            values = None
+        if values is None or not np.all(np.isfinite(values)):
+            values = np.array([_number(v, loc, names[c]) for v, loc in zip(text, where)])
+        data[c] = values
     return data, where
 
 
@@ -107,6 +142,7 @@ def _read_frame(df: Any, label: str, names: dict[str, str]) -> tuple[dict[str, l
     head = [str(c) for c in df.columns]
     data: dict[str, list[float]] = {}
     where = [f"{label}: row {k}" for k in range(len(df))]
+    _check_units(label, names, head)
     for ours, theirs in names.items():
         if theirs not in head:
             if ours in REQUIRED:
@@ -153,7 +189,7 @@ def read_test(source: Any, index: int, columns: dict[str, str] | None = None,
         bad = np.flatnonzero((temp < -60) | (temp > 150))
         if bad.size:
             raise FitError(f"{where[bad[0]]}: temp_C {temp[bad[0]]:g} is outside [-60, 150] °C")
-    return CellTest(label, t, i, v, temp, where)
+    return CellTest(label, t, i, v, temp, where, names["current_A"])
 
 
 def rest_mask(test: CellTest) -> np.ndarray:

@@ -1,18 +1,26 @@
 """The equivalent-circuit model packsim.fit adjusts to test data, and the least-squares
-solve (SciPy). The model is the plant's (models/cell/ecm.hpp), at one temperature:
+solve. The model is the plant's (models/cell/ecm.hpp), every sample at its temperature T:
 
-    v_term = OCV(soc) - i·R0(soc) - Σ v_k,   d v_k/dt = (i·R_k(soc) - v_k) / tau_k
-    soc    = soc_0 - ∫ i dt / (3600·Q)        (positive current discharges)
+    v_term = OCV(soc) - i·R0(soc)·f0(T) - Σ v_k,   d v_k/dt = (u·R_k(soc)·f_k(T) - v_k) / (tau_k·g_k(T))
+    soc    = soc_0 - ∫ u dt / (3600·Q)        (positive current discharges)
 
-For fixed time constants tau_k the terminal voltage is *linear* in everything else — the
-OCV table's values, R0's table values or polynomial coefficients, the RC resistances —
-because R_k(soc(t)) is a weighted sum of table values and the RC voltage is a linear
-filter of i·R_k. So the fit is a variable projection: scipy.optimize.least_squares moves
-log(tau_k) and, for every trial, scipy.optimize.lsq_linear finds the linear parameters
-(resistances kept positive). Between samples the current is taken as the mean of its two
-ends; every file starts with the cell at rest (all v_k = 0). The OCV table is fitted as
-its first value and its rises from node to node, bounded below, so it increases strictly
-with SOC as the loader requires.
+f(T) = exp(K·(1/T_K - 1/T_ref,K)) are Arrhenius factors (T_ref = 25 °C), fitted only in a
+joint fit over several temperatures (Layout.arrhenius); otherwise all K are 0. The current
+u held over a sample interval is the mean of its two ends, and the RC voltages follow
+the exact zero-order hold of their equation, computed in C++ (packsim._packsim.rc_response,
+core/fit/ecm_zoh.hpp). Every file starts with the cell at rest (all v_k = 0).
+
+For fixed nonlinear parameters theta — log tau_k and, jointly over temperatures, the
+Arrhenius constants — the voltage is *linear* in everything else: the OCV and R0 table
+values (each sample a weighted sum of two neighbouring nodes), R0's polynomial
+coefficients, the RC resistances (an RC voltage is a linear filter of its input). So the
+fit is a variable projection (Golub & Pereyra): scipy.optimize.least_squares moves theta;
+for each trial the linear parameters are the solution of a small normal-equation system,
+built from the sparse fixed columns (precomputed) and the RC columns (C++); the Jacobian
+is Kaufman's, from the analytic derivatives of the RC responses (C++,
+rc_sensitivity). At the optimum the linear parameters are solved once more with bounds
+(scipy.optimize.lsq_linear): resistances positive, the OCV's rise from node to node
+positive (the preset loader requires a strictly increasing OCV).
 """
 from __future__ import annotations
 
@@ -22,22 +30,30 @@ import numpy as np
 
 from ._fit_data import CellTest, FitError
 
-__all__ = ["Layout", "Trace", "LinearFit", "prepare", "fit_group", "soc_trace"]
+__all__ = ["Layout", "Trace", "LinearFit", "prepare", "fit_group", "soc_trace", "held_current", "REF_TEMP_C",
+           "SMOOTH_WEIGHT"]
 
 SMOOTH_WEIGHT = 0.1   # second-difference penalty on table values (fills nodes without data)
 R_MIN_OHM = 1e-7      # resistances stay positive (the loader requires > 0)
 OCV_STEP_MIN_V = 1e-5  # the OCV table rises strictly with SOC (the loader requires it)
+REF_TEMP_C = 25.0     # reference temperature of the fitted Arrhenius laws
+K_SCALE = 1000.0      # Arrhenius constants are moved in kK (theta of order 1)
+K_BOUNDS_K = (-10000.0, 20000.0)
+K_START_K = {"r": 2000.0, "tau": 0.0}
 
 
 @dataclass(frozen=True)
 class Layout:
-    """What is fitted: the SOC grid of the tables, R0's form and the RC pairs."""
+    """What is fitted: the SOC grid of the tables, R0's form, the RC pairs, and whether
+    the resistances and time constants follow fitted Arrhenius laws over temperature."""
     soc_grid: np.ndarray
     form: str               # "table" (R0 over the SOC grid) or "poly" (R0 over discharged Ah)
     poly_order: int
     rc_pairs: int
     rc_over_soc: bool       # RC resistances as tables over the grid (else constants)
     capacity_Ah: float
+    arrhenius: bool = False
+    smooth_weight: float = SMOOTH_WEIGHT
 
     def r0_columns(self) -> int:
         return self.poly_order + 1 if self.form == "poly" else self.soc_grid.size
@@ -45,56 +61,74 @@ class Layout:
     def rc_columns(self) -> int:
         return self.soc_grid.size if self.rc_over_soc else 1
 
+    def thetas(self) -> int:
+        return self.rc_pairs + (1 + 2 * self.rc_pairs if self.arrhenius else 0)
+
 
 @dataclass
 class Trace:
-    """One test prepared for the model: SOC, interpolation weights, fixed columns."""
+    """One test prepared for the model."""
     test: CellTest
-    soc: np.ndarray
-    fixed: np.ndarray        # [samples, ocv + r0 columns]
-    rc_input: np.ndarray     # [samples, rc columns]: i, or i·weights
-    dt_s: np.ndarray
+    soc: np.ndarray          # at each sample
+    held_A: np.ndarray       # current held over the interval after each sample
+    ocv_w: object            # sparse [samples, grid]: interpolation weights
+    r0_basis: object         # sparse [samples, r0 columns]: weights, or powers of discharged Ah
+    rc_input: np.ndarray     # [samples, rc columns]: u, or u·weights
+    temp_C: np.ndarray       # each sample's temperature (REF_TEMP_C where none is known)
+    g: np.ndarray            # 1/T_K - 1/T_ref,K
 
 
 @dataclass
 class LinearFit:
-    """The solution: parameters, tau, and the model voltage of each test."""
+    """The solution: parameters and tau (at REF_TEMP_C when arrhenius)."""
     ocv_V: np.ndarray                # at the grid
     r0: np.ndarray                   # table values at the grid, or poly coefficients (highest first)
     rc_r_ohm: np.ndarray             # [pairs, rc columns]
     rc_tau_s: np.ndarray             # [pairs]
-    model_V: list[np.ndarray]
+    r0_K: float = 0.0                # Arrhenius constants (0 without a temperature law)
+    rc_r_K: np.ndarray | None = None
+    rc_tau_K: np.ndarray | None = None
+    evaluations: int = 0
 
 
 def soc_trace(test: CellTest, soc0: float, capacity_Ah: float) -> np.ndarray:
-    """Coulomb-counted SOC at every sample (trapezoidal charge)."""
-    dq_Ah = 0.5 * (test.current_A[1:] + test.current_A[:-1]) * np.diff(test.time_s) / 3600.0
+    """Coulomb-counted SOC at every sample (the held current: trapezoidal charge)."""
+    dq_Ah = held_current(test.current_A)[:-1] * np.diff(test.time_s) / 3600.0
     return soc0 - np.concatenate(([0.0], np.cumsum(dq_Ah))) / capacity_Ah
 
 
-def _weights(soc: np.ndarray, grid: np.ndarray) -> np.ndarray:
+def held_current(current_A: np.ndarray) -> np.ndarray:
+    """The current held over each interval: the mean of its two ends (the last sample's own)."""
+    u = np.empty_like(current_A)
+    u[:-1] = 0.5 * (current_A[1:] + current_A[:-1])
+    u[-1] = current_A[-1]
+    return u
+
+
+def _weights(soc: np.ndarray, grid: np.ndarray):
+    from scipy.sparse import csr_matrix
     s = np.clip(soc, grid[0], grid[-1])  # held flat beyond the grid, as the loader's tables
     j = np.clip(np.searchsorted(grid, s, side="right") - 1, 0, grid.size - 2)
     f = (s - grid[j]) / (grid[j + 1] - grid[j])
-    w = np.zeros((soc.size, grid.size))
-    rows = np.arange(soc.size)
-    w[rows, j] = 1.0 - f
-    w[rows, j + 1] += f
-    return w
+    rows = np.repeat(np.arange(soc.size), 2)
+    cols = np.column_stack([j, j + 1]).ravel()
+    vals = np.column_stack([1.0 - f, f]).ravel()
+    return csr_matrix((vals, (rows, cols)), shape=(soc.size, grid.size))
 
 
-def prepare(test: CellTest, soc0: float, layout: Layout) -> Trace:
+def prepare(test: CellTest, soc0: float, layout: Layout, temp_C: np.ndarray | None = None) -> Trace:
+    from scipy.sparse import csr_matrix
     soc = soc_trace(test, soc0, layout.capacity_Ah)
     w = _weights(soc, layout.soc_grid)
-    i = test.current_A[:, None]
+    u = held_current(test.current_A)
     if layout.form == "poly":
-        x_Ah = (1.0 - soc) * layout.capacity_Ah
-        r0_cols = -i * np.vander(x_Ah, layout.poly_order + 1)
+        r0_basis = csr_matrix(np.vander((1.0 - soc) * layout.capacity_Ah, layout.poly_order + 1))
     else:
-        r0_cols = -i * w
-    rc_input = i * w if layout.rc_over_soc else i.copy()
-    # OCV columns: w @ _ocv_basis, i.e. for node j the weights of nodes j and above
-    return Trace(test, soc, np.hstack([np.cumsum(w[:, ::-1], axis=1)[:, ::-1], r0_cols]), rc_input, np.diff(test.time_s))
+        r0_basis = w
+    rc_input = (w.multiply(u[:, None])).toarray() if layout.rc_over_soc else u[:, None].copy()
+    temp = np.full(soc.size, REF_TEMP_C) if temp_C is None else np.asarray(temp_C, dtype=float)
+    g = 1.0 / (temp + 273.15) - 1.0 / (REF_TEMP_C + 273.15)
+    return Trace(test, soc, u, w, r0_basis, rc_input, temp, g)
 
 
 def _ocv_basis(n: int) -> np.ndarray:
@@ -103,47 +137,29 @@ def _ocv_basis(n: int) -> np.ndarray:
     return np.tril(np.ones((n, n)))
 
 
-def _rc_filter(x: np.ndarray, time_s: np.ndarray, tau_s: float) -> np.ndarray:
-    """Exact response of d u/dt = (x - u)/tau from u = 0, x held at the mean of the
-    samples on each side of a step, for any sampling. With a_k = exp(-dt_k/tau) the step
-    is u[k+1] = a_k·u[k] + (1 - a_k)·x̄_k; scaled by exp(t/tau) it becomes a running sum,
-    taken in chunks of at most 50 tau so that the scale never overflows."""
-    beta = -np.expm1(-np.diff(time_s) / tau_s)[:, None] * (0.5 * (x[1:] + x[:-1]))
-    s = (time_s - time_s[0]) / tau_s
-    u = np.zeros_like(x)
-    start, n = 0, time_s.size
-    while start < n - 1:
-        end = min(max(int(np.searchsorted(s, s[start] + 50.0, side="right")) - 1, start + 1), n - 1)
-        if end == start + 1:
-            u[end] = np.exp(s[start] - s[end]) * u[start] + beta[start]
-        else:
-            ss = s[start + 1:end + 1] - s[start]
-            acc = np.cumsum(np.exp(ss)[:, None] * beta[start:end], axis=0)
-            u[start + 1:end + 1] = np.exp(-ss)[:, None] * (u[start] + acc)
-        start = end
-    return u
-
-
 def _smoothing(layout: Layout, i_scale_A: float) -> tuple[np.ndarray, int]:
-    """Second-difference rows on every table block (OCV, R0 table, RC tables)."""
+    """Second-difference rows on every table block (OCV, R0 table, RC tables), on the
+    nodal values."""
     n = layout.soc_grid.size
     d2 = np.zeros((max(n - 2, 0), n))
     for k in range(n - 2):
         d2[k, k:k + 3] = (1.0, -2.0, 1.0)
-    blocks = [(0, SMOOTH_WEIGHT)]
+    weight = layout.smooth_weight
+    blocks = [(0, weight)]
     if layout.form == "table":
-        blocks.append((n, SMOOTH_WEIGHT * i_scale_A))
+        blocks.append((n, weight * i_scale_A))
     start = n + layout.r0_columns()
     if layout.rc_over_soc:
-        blocks += [(start + p * n, SMOOTH_WEIGHT * i_scale_A) for p in range(layout.rc_pairs)]
+        blocks += [(start + p * n, weight * i_scale_A) for p in range(layout.rc_pairs)]
     cols = start + layout.rc_pairs * layout.rc_columns()
     rows = np.zeros((d2.shape[0] * len(blocks), cols))
-    for b, (c0, weight) in enumerate(blocks):
-        rows[b * d2.shape[0]:(b + 1) * d2.shape[0], c0:c0 + n] = weight * (d2 @ _ocv_basis(n) if b == 0 else d2)
+    for b, (c0, w) in enumerate(blocks):
+        rows[b * d2.shape[0]:(b + 1) * d2.shape[0], c0:c0 + n] = w * d2
     return rows, cols
 
 
 def _bounds(layout: Layout, cols: int) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds in the solve's variables: OCV as its first value and rises."""
     n = layout.soc_grid.size
     lo = np.full(cols, R_MIN_OHM)
     hi = np.full(cols, np.inf)
@@ -154,51 +170,155 @@ def _bounds(layout: Layout, cols: int) -> tuple[np.ndarray, np.ndarray]:
     return lo, hi
 
 
+def _gram(a, b=None) -> np.ndarray:
+    """aᵀb in einsum's own loops (not a threaded BLAS: bit-identical on any machine load)."""
+    return np.einsum("ki,kj->ij", a, a if b is None else b)
+
+
 class _Problem:
-    """The linear least-squares problem for given time constants."""
+    """The separable least-squares problem: A(theta)·p ≈ measured, plus smoothing rows S·p ≈ 0.
+    A = [F(theta) | C(theta)]: F the sparse OCV and R0 columns, C the RC columns."""
 
     def __init__(self, traces: list[Trace], layout: Layout) -> None:
+        from scipy.sparse import vstack
         self.traces = traces
         self.layout = layout
+        self.n = layout.soc_grid.size
+        self.nf = self.n + layout.r0_columns()
         i_scale = max(float(np.max(np.abs(t.test.current_A))) for t in traces)
         self.smooth, self.cols = _smoothing(layout, i_scale)
+        self.sts = _gram(self.smooth)
         self.lo, self.hi = _bounds(layout, self.cols)
         self.measured = np.concatenate([t.test.voltage_V for t in traces])
+        self.g = np.concatenate([t.g for t in traces])
+        self.ocv_w = vstack([t.ocv_w for t in traces]).tocsr()
+        self.r0_i = vstack([t.r0_basis.multiply(-t.test.current_A[:, None]) for t in traces]).tocsr()
+        self._theta = None
+        self.evaluations = 0
 
-    def matrix(self, tau_s: np.ndarray) -> np.ndarray:
-        blocks = []
+    def split(self, theta: np.ndarray):
+        pairs = self.layout.rc_pairs
+        tau = np.exp(theta[:pairs])
+        if not self.layout.arrhenius:
+            return tau, 0.0, np.zeros(pairs), np.zeros(pairs)
+        k = K_SCALE * theta[pairs:]
+        return tau, float(k[0]), k[1:1 + pairs], k[1 + pairs:]
+
+    def _fixed(self, r0_K: float):
+        from scipy.sparse import diags, hstack
+        r0 = self.r0_i if r0_K == 0.0 else (diags(np.exp(r0_K * self.g)) @ self.r0_i)
+        return hstack([self.ocv_w, r0]).tocsr()
+
+    def _rc(self, tau: np.ndarray, r_K: np.ndarray, tau_K: np.ndarray) -> np.ndarray:
+        from ._packsim import rc_response
+        rc_cols = self.layout.rc_columns()
+        c = np.zeros((self.measured.size, self.layout.rc_pairs * rc_cols))
+        row = 0
         for t in self.traces:
-            rc = [-_rc_filter(t.rc_input, t.test.time_s, tau) for tau in tau_s]
-            blocks.append(np.hstack([t.fixed] + rc))
-        return np.vstack(blocks + [self.smooth])
+            rows = slice(row, row + t.soc.size)
+            for p in range(self.layout.rc_pairs):
+                tau_k = np.array([tau[p]]) if tau_K[p] == 0.0 else tau[p] * np.exp(tau_K[p] * t.g)
+                scale = None if r_K[p] == 0.0 else np.exp(r_K[p] * t.g)
+                for j in range(rc_cols):
+                    x = t.rc_input[:, j] if scale is None else t.rc_input[:, j] * scale
+                    c[rows, p * rc_cols + j] = -rc_response(t.test.time_s, x, tau_k)
+            row += t.soc.size
+        return c
 
-    def solve(self, tau_s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(parameters, a residual vector whose sum of squares is the misfit). The tall
-        problem is reduced through its Gram matrix (Cholesky factor R) to a square one,
-        ||A p - b||² = ||R p - d||² + (bᵀb - dᵀd), so the bounded solve is small. The
-        sums run in einsum's own loops, not a threaded BLAS: the same data give
-        bit-identical parameters on any machine load."""
-        from scipy.linalg import cholesky, solve_triangular
-        from scipy.optimize import lsq_linear
-        a = self.matrix(tau_s)
-        b = np.concatenate([self.measured, np.zeros(self.smooth.shape[0])])
-        norm = np.sqrt(np.einsum("ki,ki->i", a, a))
-        norm[norm == 0] = 1.0
-        a /= norm
-        gram = np.einsum("ki,kj->ij", a, a)
-        gram[np.diag_indices_from(gram)] += 1e-12 * np.trace(gram) / gram.shape[0]
+    def evaluate(self, theta: np.ndarray) -> None:
+        """The free (unbounded) solution for theta, and what the Jacobian needs."""
+        from scipy.linalg import cho_factor, cho_solve
+        if self._theta is not None and np.array_equal(theta, self._theta):
+            return
+        self.evaluations += 1
+        tau, r0_K, r_K, tau_K = self.split(theta)
+        f = self._fixed(r0_K)
+        c = self._rc(tau, r_K, tau_K)
+        ftf = (f.T @ f).toarray()
+        ftc = np.asarray(f.T @ c)
+        gram = np.block([[ftf, ftc], [ftc.T, _gram(c)]]) + self.sts
+        rhs = np.concatenate([f.T @ self.measured, c.T @ self.measured])
+        scale = np.sqrt(np.diag(gram))
+        scale[scale == 0] = 1.0
+        gram_n = gram / scale[:, None] / scale[None, :]
+        gram_n[np.diag_indices_from(gram_n)] += 1e-12
         try:
-            r = cholesky(gram, lower=False)
+            self.chol = cho_factor(gram_n)
         except np.linalg.LinAlgError:
             raise FitError("the fit did not converge: the parameters cannot be told apart by these tests "
                            "(a singular problem; fewer RC pairs or a coarser SOC grid may help)") from None
-        d = solve_triangular(r, np.einsum("ki,k->i", a, b), trans="T")
-        unreachable = float(np.sqrt(max(float(np.einsum("k,k->", b, b)) - float(np.einsum("i,i->", d, d)), 0.0)))
+        self.scale = scale
+        self.p = cho_solve(self.chol, rhs / scale) / scale
+        self.f, self.c, self.gram, self.rhs = f, c, gram, rhs
+        self.tau, self.r0_K, self.r_K, self.tau_K = tau, r0_K, r_K, tau_K
+        self._theta = np.array(theta, copy=True)
+
+    def model(self, p: np.ndarray) -> np.ndarray:
+        return self.f @ p[:self.nf] + self.c @ p[self.nf:]
+
+    def residual(self, theta: np.ndarray) -> np.ndarray:
+        self.evaluate(theta)
+        return np.concatenate([self.model(self.p) - self.measured, self.smooth @ self.p])
+
+    def jacobian(self, theta: np.ndarray) -> np.ndarray:
+        """Kaufman's variable-projection Jacobian: column j is P⊥·(dA/dtheta_j)·p, with
+        (dA/dtheta_j)·p from the analytic derivatives of the RC responses (C++)."""
+        from scipy.linalg import cho_solve
+        from ._packsim import rc_response, rc_sensitivity
+        self.evaluate(theta)
+        lay = self.layout
+        pairs, rc_cols = lay.rc_pairs, lay.rc_columns()
+        h = np.zeros((self.measured.size, lay.thetas()))
+        row = 0
+        for t in self.traces:
+            rows = slice(row, row + t.soc.size)
+            for p in range(pairs):
+                r_p = self.p[self.nf + p * rc_cols:self.nf + (p + 1) * rc_cols]
+                x = t.rc_input @ r_p
+                if self.r_K[p] != 0.0:
+                    x = x * np.exp(self.r_K[p] * t.g)
+                if lay.arrhenius:
+                    tau_k = self.tau[p] * np.exp(self.tau_K[p] * t.g)
+                    dlog = np.column_stack([np.ones_like(t.g), K_SCALE * t.g])
+                    _, s = rc_sensitivity(t.test.time_s, x, tau_k, dlog)
+                    h[rows, p] = -s[:, 0]
+                    h[rows, pairs + 1 + pairs + p] = -s[:, 1]
+                    h[rows, pairs + 1 + p] = -rc_response(t.test.time_s, x * (K_SCALE * t.g), tau_k)
+                else:
+                    _, s = rc_sensitivity(t.test.time_s, x, np.array([self.tau[p]]), np.ones((t.soc.size, 1)))
+                    h[rows, p] = -s[:, 0]
+            row += t.soc.size
+        if lay.arrhenius:
+            h[:, pairs] = (self.f[:, self.n:self.nf] @ self.p[self.n:self.nf]) * (K_SCALE * self.g)
+        ath = np.vstack([np.asarray(self.f.T @ h), np.einsum("ki,kj->ij", self.c, h)])
+        y = cho_solve(self.chol, ath / self.scale[:, None]) / self.scale[:, None]
+        return np.vstack([h - (self.f @ y[:self.nf] + self.c @ y[self.nf:]), -(self.smooth @ y)])
+
+    def bounded(self) -> np.ndarray:
+        """The linear parameters at the current theta with their bounds (lsq_linear on the
+        Cholesky-reduced problem: ||A p - b||² = ||R q - d||² + const)."""
+        from scipy.linalg import cholesky, solve_triangular
+        from scipy.optimize import lsq_linear
+        n = self.n
+        basis = np.eye(self.cols)
+        basis[:n, :n] = _ocv_basis(n)
+        gram_q = np.einsum("ki,kl,lj->ij", basis, self.gram, basis, optimize=False)
+        rhs_q = np.einsum("ki,k->i", basis, self.rhs)
+        norm = np.sqrt(np.diag(gram_q))
+        norm[norm == 0] = 1.0
+        gram_n = gram_q / norm[:, None] / norm[None, :]
+        gram_n[np.diag_indices_from(gram_n)] += 1e-12
+        try:
+            r = cholesky(gram_n, lower=False)
+        except np.linalg.LinAlgError:
+            raise FitError("the fit did not converge: the parameters cannot be told apart by these tests "
+                           "(a singular problem; fewer RC pairs or a coarser SOC grid may help)") from None
+        d = solve_triangular(r, rhs_q / norm, trans="T")
         sol = lsq_linear(r, d, bounds=(self.lo * norm, self.hi * norm), method="trf", lsq_solver="exact",
                          tol=1e-12, max_iter=2000)
         if not np.all(np.isfinite(sol.x)):
             raise FitError(f"the fit did not converge: the linear solve gave non-finite values ({sol.message})")
-        return sol.x / norm, np.append(r @ sol.x - d, unreachable)
+        return basis @ (sol.x / norm)
 
 
 def _initial_taus(pairs: int, lo: float, hi: float) -> np.ndarray:
@@ -208,30 +328,37 @@ def _initial_taus(pairs: int, lo: float, hi: float) -> np.ndarray:
 
 
 def fit_group(traces: list[Trace], layout: Layout, max_evaluations: int = 400) -> LinearFit:
-    """Fit one temperature's tests; FitError if the optimiser does not converge."""
+    """Fit these tests together; FitError if the optimiser does not converge."""
     from scipy.optimize import least_squares
     problem = _Problem(traces, layout)
-    tau = np.zeros(0)
-    if layout.rc_pairs:
-        dt = np.concatenate([t.dt_s for t in traces])
-        lo = max(0.5 * float(np.median(dt)), 1e-3)
-        hi = max(float(t.test.time_s[-1] - t.test.time_s[0]) for t in traces)
-        if not hi > 4 * lo:
-            raise FitError(f"the tests are too short ({hi:g} s) to fit an RC pair next to samples {2 * lo:g} s apart")
-        res = least_squares(lambda th: problem.solve(np.exp(th))[1], np.log(_initial_taus(layout.rc_pairs, lo, hi)),
-                            bounds=(np.log(lo), np.log(hi)), method="trf", x_scale=1.0, diff_step=1e-4,
-                            xtol=1e-10, ftol=1e-12, max_nfev=max_evaluations)
+    pairs = layout.rc_pairs
+    theta = np.zeros(0)
+    if layout.thetas():
+        lo_b, hi_b, start = [], [], []
+        if pairs:
+            dt = np.concatenate([np.diff(t.test.time_s) for t in traces])
+            lo = max(0.5 * float(np.median(dt)), 1e-3)
+            hi = max(float(t.test.time_s[-1] - t.test.time_s[0]) for t in traces)
+            if not hi > 4 * lo:
+                raise FitError(f"the tests are too short ({hi:g} s) to fit an RC pair next to samples {2 * lo:g} s apart")
+            lo_b += [np.log(lo)] * pairs
+            hi_b += [np.log(hi)] * pairs
+            start += list(np.log(_initial_taus(pairs, lo, hi)))
+        if layout.arrhenius:
+            k_lo, k_hi = (k / K_SCALE for k in K_BOUNDS_K)
+            lo_b += [k_lo] * (1 + 2 * pairs)
+            hi_b += [k_hi] * (1 + 2 * pairs)
+            start += [K_START_K["r"] / K_SCALE] * (1 + pairs) + [K_START_K["tau"] / K_SCALE] * pairs
+        res = least_squares(problem.residual, np.array(start), jac=problem.jacobian, bounds=(lo_b, hi_b),
+                            method="trf", x_scale="jac", xtol=1e-10, ftol=1e-12, gtol=1e-10, max_nfev=max_evaluations)
         if res.status <= 0 or not np.all(np.isfinite(res.x)):
             raise FitError(f"the fit did not converge after {res.nfev} evaluations: {res.message} "
                            "(fewer RC pairs, a coarser SOC grid or more evaluations may help)")
-        tau = np.exp(res.x)
-    p, _ = problem.solve(tau)
+        theta = res.x
+    problem.evaluate(theta)
+    p = problem.bounded()
+    tau, r0_K, r_K, tau_K = problem.split(theta)
     order = np.argsort(tau)
-    n = layout.soc_grid.size
-    r0_end = n + layout.r0_columns()
-    rc = p[r0_end:].reshape(layout.rc_pairs, layout.rc_columns()) if layout.rc_pairs else np.zeros((0, 1))
-    model = []
-    for t in traces:
-        a = np.hstack([t.fixed] + [-_rc_filter(t.rc_input, t.test.time_s, x) for x in tau])
-        model.append(a @ p)
-    return LinearFit(_ocv_basis(n) @ p[:n], p[n:r0_end], rc[order], tau[order], model)
+    n, nf = problem.n, problem.nf
+    rc = p[nf:].reshape(pairs, layout.rc_columns()) if pairs else np.zeros((0, 1))
+    return LinearFit(p[:n], p[n:nf], rc[order], tau[order], r0_K, r_K[order], tau_K[order], problem.evaluations)

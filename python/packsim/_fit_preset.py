@@ -32,6 +32,15 @@ def _curve(grid: np.ndarray, temps_C: list[float], rows: list[np.ndarray], inden
     return "\n".join(lines)
 
 
+def _arrhenius(grid: np.ndarray, row: np.ndarray, k: float, indent: str) -> str:
+    """A curve over SOC (or a constant) times the plant's Arrhenius factor around 25 °C."""
+    from ._fit_ecm import REF_TEMP_C
+    law = f"{indent}  arrhenius_K: {_num(k)}\n{indent}  ref_temp_C: {_num(REF_TEMP_C)}"
+    if row.size == 1:
+        return f"\n{indent}  poly: [{_num(row[0])}]\n{law}"
+    return f"\n{indent}  axis: soc\n{indent}  x: {_list(grid)}\n{indent}  y: {_list(row)}\n{law}"
+
+
 def _key(name: str, value: str) -> str:
     return f"{name}:{value}" if value.startswith("\n") else f"{name}: {value}"
 
@@ -46,15 +55,30 @@ def preset_yaml(fit) -> str:
         temp = "" if f.temp_C is None else f" at {f.temp_C:.1f} °C"
         out.append(f"#   {f.name}{temp}: {f.samples} samples, voltage error {f.rms_mV:.2f} mV RMS, "
                    f"{f.max_mV:.2f} mV max")
+    for f in fit.validation:
+        out.append(f"#   held out, not fitted: {f.name}: {f.samples} samples, voltage error {f.rms_mV:.2f} mV RMS, "
+                   f"{f.max_mV:.2f} mV max")
     out.append("# Thermal parameters are not fitted: heat_capacity_J_per_K and g_ambient_W_per_K keep")
     out.append("# packsim's defaults unless a scenario overrides them.")
     out.append(f"capacity_Ah: {_num(fit.capacity_Ah)}   # {fit.capacity_source}")
     out.append(_key("ocv_V", _curve(grid, temps, [g.ocv_V for g in groups], "")))
-    if fit.form == "poly":
+    if fit.temperature_law == "arrhenius":
+        (g,) = groups
+        if fit.form == "poly":
+            out.append(f"r0_ohm: {{poly: {_list(g.r0)}, axis: discharged_Ah, arrhenius_K: {_num(g.r0_K)}, "
+                       f"ref_temp_C: 25}}")
+        else:
+            out.append(_key("r0_ohm", _arrhenius(grid, g.r0, g.r0_K, "")))
+        if fit.rc_pairs:
+            out.append("rc_pairs:")
+            for k in range(fit.rc_pairs):
+                out.append(_key("  - r_ohm", _arrhenius(grid, g.rc_r_ohm[k], g.rc_r_K[k], "    ")))
+                out.append(_key("    tau_s", _arrhenius(grid, np.array([g.rc_tau_s[k]]), g.rc_tau_K[k], "    ")))
+    elif fit.form == "poly":
         out.append(f"r0_ohm: {{poly: {_list(groups[0].r0)}, axis: discharged_Ah}}")
     else:
         out.append(_key("r0_ohm", _curve(grid, temps, [g.r0 for g in groups], "")))
-    if fit.rc_pairs:
+    if fit.rc_pairs and fit.temperature_law != "arrhenius":
         out.append("rc_pairs:")
         for k in range(fit.rc_pairs):
             r = _curve(grid, temps, [g.rc_r_ohm[k] for g in groups], "    ")

@@ -118,3 +118,11 @@ def balance_time(source: str, is_file: bool, overrides: list[tuple[str, str]], r
 
 def preset_path(name: str) -> str:
     """A bundled scenario by name (scenarios/ or scenarios/balance/); ValueError if none."""
+def rc_response(time_s: np.ndarray, x: np.ndarray, tau_s: np.ndarray) -> np.ndarray:
+    """One RC branch under a zero-order hold: v[k+1] = a·v[k] + (1 - a)·x[k], a = exp(-dt_k/tau_k)."""
+def rc_sensitivity(time_s: np.ndarray, x: np.ndarray, tau_s: np.ndarray,
+                   dlogtau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(v, dv/dtheta) of rc_response for parameters theta_j with d log tau_k / d theta_j = dlogtau[k, j]."""
+def simulate_cell(preset_yaml: str, time_s: np.ndarray, current_A: np.ndarray, held_A: np.ndarray,
+                  temp_C: np.ndarray, initial_soc: float, file: str = "<preset>") -> np.ndarray:
+    """Terminal voltage of a cell preset over a record (exact zero-order hold of the plant's equations)."""

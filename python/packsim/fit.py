@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import os
 import tempfile
+import warnings
+from dataclasses import replace
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -23,13 +25,19 @@ from typing import Any
 import numpy as np
 
 from ._atomic import replaced_when_done
-from ._fit_data import FitError, read_test, rest_mask
-from ._fit_ecm import Layout, fit_group, prepare, soc_trace
+from ._fit_data import REST_REL_CURRENT as REST_REL
+from ._fit_data import FitError, FitWarning, read_test, rest_mask
+from ._fit_ecm import REF_TEMP_C, SMOOTH_WEIGHT, Layout, fit_group, held_current, prepare, soc_trace
 from ._fit_preset import preset_yaml
 
-__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FORMS", "parse_soc_grid"]
+__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FitWarning", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
+           "arrhenius_factor"]
 
 FORMS = ("table", "poly")
+TEMPERATURE_LAWS = ("arrhenius", "table")
+LOW_SOC = 0.1   # the band reported on its own: where a cell's OCV and resistance bend most
+# Smoothness weights tried when held-out tests are given: the one with the lowest error on them is kept.
+SMOOTHING_CANDIDATES = (0.001, 0.01, 0.1, 1.0, 10.0)
 TEMP_GROUP_C = 3.0       # tests whose temperatures are closer share one fit
 SOC_MARGIN = 0.05        # counted SOC may leave 0..1 by this much (a CV top-up, an over-discharge)
 # Denser near empty, where a cell's OCV and resistance bend most.
@@ -49,16 +57,21 @@ class FileFit:
     voltage_V: np.ndarray = field(repr=False)
     model_V: np.ndarray = field(repr=False)
     soc: np.ndarray = field(repr=False)
+    low_soc_rms_mV: float | None = None   # RMS over the samples below 10 % SOC (None: none there)
 
 
 @dataclass
 class FitAtTemperature:
-    """The parameters fitted at one temperature (None: the tests had no temp_C)."""
+    """The parameters fitted at one temperature (None: the tests had no temp_C); with the
+    arrhenius law, at its reference 25 °C with the Arrhenius constants (K) of each."""
     temp_C: float | None
     ocv_V: np.ndarray        # at FitResult.soc_grid
     r0: np.ndarray           # table values at the grid, or polynomial coefficients (highest first)
     rc_r_ohm: np.ndarray     # [pairs, grid] or [pairs, 1]
     rc_tau_s: np.ndarray     # [pairs]
+    r0_K: float = 0.0        # R(T)/R(25 °C) = exp(K·(1/T_K - 1/298.15)); 0: no temperature law
+    rc_r_K: np.ndarray | None = None   # [pairs]
+    rc_tau_K: np.ndarray | None = None  # [pairs]
 
 
 @dataclass
@@ -73,6 +86,12 @@ class FitResult:
     v_min_V: float
     v_max_V: float
     capacity_source: str = "given"   # or how it was measured
+    temperature_law: str = "none"    # none, table (a fit per temperature) or arrhenius (one joint fit)
+    evaluations: int = 0             # model evaluations the optimiser used
+    warnings: list[str] = field(default_factory=list)  # what the data could not determine
+    smoothing: float = SMOOTH_WEIGHT  # weight of the second-difference penalty on the tables
+    validation: list[FileFit] = field(default_factory=list)  # held-out tests: the preset's error on them
+    smoothing_scores: list[tuple[float, float]] = field(default_factory=list)  # (weight, held-out RMS mV) tried
 
     @property
     def yaml(self) -> str:
@@ -85,16 +104,19 @@ class FitResult:
         return {"capacity_Ah": self.capacity_Ah, "soc_grid": self.soc_grid.tolist(), "form": self.form,
                 "temperatures": [{"temp_C": g.temp_C, "ocv_V": g.ocv_V.tolist(),
                                   ("r0_poly" if self.form == "poly" else "r0_ohm"): g.r0.tolist(),
-                                  "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist()}
+                                  "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist(),
+                                  **({"arrhenius_K": {"r0": g.r0_K, "rc_r": g.rc_r_K.tolist(),
+                                                      "rc_tau": g.rc_tau_K.tolist()}, "ref_temp_C": REF_TEMP_C}
+                                     if self.temperature_law == "arrhenius" else {})}
                                  for g in self.temperatures]}
 
-    def r0_ohm(self, soc: Any, temperature: int = 0) -> np.ndarray:
-        """Fitted R0 at the given SOC(s), at the index-th temperature."""
+    def r0_ohm(self, soc: Any, temperature: int = 0, temp_C: float | None = None) -> np.ndarray:
+        """Fitted R0 at the given SOC(s), at the index-th temperature (with the arrhenius law:
+        at temp_C, default 25 °C)."""
         g = self.temperatures[temperature]
         soc = np.asarray(soc, dtype=float)
-        if self.form == "poly":
-            return np.polyval(g.r0, (1.0 - soc) * self.capacity_Ah)
-        return np.interp(soc, self.soc_grid, g.r0)
+        r = np.polyval(g.r0, (1.0 - soc) * self.capacity_Ah) if self.form == "poly" else np.interp(soc, self.soc_grid, g.r0)
+        return r * arrhenius_factor(g.r0_K, temp_C)
 
     def ocv_V(self, soc: Any, temperature: int = 0) -> np.ndarray:
         return np.interp(np.asarray(soc, dtype=float), self.soc_grid, self.temperatures[temperature].ocv_V)
@@ -124,8 +146,29 @@ class FitResult:
             at = "" if g.temp_C is None else f" at {g.temp_C:.1f} °C"
             taus = ", ".join(f"{t:.4g}" for t in g.rc_tau_s)
             lines.append(f"  tau_s{at}: [{taus}]")
-        lines += [f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV" for f in self.files]
+            if self.temperature_law == "arrhenius":
+                lines.append(f"  Arrhenius K (ref {REF_TEMP_C:g} °C): R0 {g.r0_K:.0f} K, RC R "
+                             f"[{', '.join(f'{k:.0f}' for k in g.rc_r_K)}] K, tau [{', '.join(f'{k:.0f}' for k in g.rc_tau_K)}] K")
+        lines += [_file_line(f) for f in self.files]
+        if self.validation:
+            lines.append("  held out (not fitted):")
+            lines += ["  " + _file_line(f) for f in self.validation]
+        if self.smoothing_scores:
+            tried = ", ".join(f"{w:g}: {rms:.2f} mV" for w, rms in self.smoothing_scores)
+            lines.append(f"  smoothing {self.smoothing:g}, the lowest held-out RMS of those tried ({tried})")
         return "\n".join(lines)
+
+
+def _file_line(f: FileFit) -> str:
+    low = "" if f.low_soc_rms_mV is None else f", below 10 % SOC RMS {f.low_soc_rms_mV:.2f} mV"
+    return f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV{low}"
+
+
+def arrhenius_factor(k: float, temp_C: float | None) -> float:
+    """exp(K·(1/T_K - 1/T_ref,K)), T_ref = 25 °C: the plant's factor (models/cell/curve.hpp)."""
+    if temp_C is None or k == 0.0:
+        return 1.0
+    return float(np.exp(k * (1.0 / (temp_C + 273.15) - 1.0 / (REF_TEMP_C + 273.15))))
 
 
 def _write_atomic(path: str, data: bytes) -> None:
@@ -179,6 +222,63 @@ def _check_poly_positive(coefficients: np.ndarray, capacity_Ah: float) -> None:
                        f"{x_Ah[k]:.3g} Ah): the tests do not cover that range; use form table or a lower poly_order")
 
 
+MAX_CELL_CAPACITY_AH = 2000.0   # no single cell holds more: beyond, the current's unit is wrong
+MAX_C_RATE = 100.0              # |current| / capacity beyond which a unit is wrong
+MIN_PEAK_C_RATE = 0.01          # a test whose largest current is below C/100: likewise
+
+
+def _check_measured_capacity(test, capacity_Ah: float) -> None:
+    if capacity_Ah > MAX_CELL_CAPACITY_AH:
+        raise FitError(f"{test.name}: column '{test.current_column}' (read as current_A) removes {capacity_Ah:,.0f} Ah, "
+                       f"more than any single cell holds (> {MAX_CELL_CAPACITY_AH:,.0f} Ah): a current logged in mA "
+                       "read as A? Convert the column to A, or give --capacity-Ah")
+
+
+def _check_c_rate(tests, capacity_Ah: float, given: bool) -> None:
+    """The current against the capacity: a thousand times off is a unit error."""
+    for t in tests:
+        peak_A = float(np.max(np.abs(t.current_A)))
+        k = int(np.argmax(np.abs(t.current_A)))
+        c_rate = peak_A / capacity_Ah
+        source = "the given capacity_Ah" if given else "the measured capacity"
+        if c_rate > MAX_C_RATE:
+            raise FitError(f"{t.rows[k]}: column '{t.current_column}' (read as current_A) reaches {peak_A:.4g} A, "
+                           f"{c_rate:,.0f} C of {source} {capacity_Ah:.4g} Ah (at most {MAX_C_RATE:g} C is "
+                           "plausible): is the current in mA, or the capacity in mAh?")
+        if peak_A > 0 and c_rate < MIN_PEAK_C_RATE and given:
+            raise FitError(f"{t.rows[k]}: column '{t.current_column}' (read as current_A) peaks at {peak_A:.4g} A, "
+                           f"{c_rate:.2g} C of the given capacity_Ah {capacity_Ah:.4g} Ah: is capacity_Ah in mAh, "
+                           "or the current in kA?")
+
+
+def _is_full_discharge(test) -> bool:
+    """One uninterrupted discharge removes at least half of the test's charge and ends at
+    the test's lowest voltage (a discharge to the cut-off)."""
+    i = test.current_A
+    peak = float(np.max(np.abs(i)))
+    on = i > REST_REL * peak
+    if not on.any():
+        return False
+    u = held_current(i)
+    dq = u[:-1] * np.diff(test.time_s)
+    removed = float(np.max(np.cumsum(dq))) if dq.size else 0.0
+    best_q, best_end = 0.0, 0
+    k, n = 0, i.size
+    while k < n:
+        if not on[k]:
+            k += 1
+            continue
+        end = k
+        while end + 1 < n and on[end + 1]:
+            end += 1
+        q = float(np.sum(dq[k:end]))
+        if q > best_q:
+            best_q, best_end = q, end
+        k = end + 1
+    v_min = float(np.min(test.voltage_V))
+    return removed > 0 and best_q >= 0.5 * removed and test.voltage_V[best_end] <= v_min + 0.02 * abs(v_min)
+
+
 def _check_soc_range(test, soc: np.ndarray) -> None:
     """Coulomb counting must stay near 0..1: beyond, the sign of the current, the initial
     SOC or the capacity is wrong."""
@@ -207,16 +307,18 @@ def _group_by_temperature(temps: list[float | None]) -> list[list[int]]:
     return groups
 
 
-def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_grid: Any = None,
+def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_grid: Any = None,
         form: str = "table", poly_order: int = 5, rc_over_soc: bool = False, initial_soc: Any = 1.0,
         temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
-        max_evaluations: int = 400) -> FitResult:
+        max_evaluations: int = 400, temperature_law: str = "arrhenius", validate: Any = None,
+        validate_initial_soc: Any = 1.0, smoothing: float | None = None) -> FitResult:
     """Fit a cell preset to test data.
 
     data:          a CSV path or pandas DataFrame, or a list of them
     capacity_Ah:   given, or None: measured as the most charge any one test removes, divided
-                   by its initial_soc (give a full constant-current discharge to the cut-off)
-    rc_pairs:      number of RC pairs (0..4); constant R and tau unless rc_over_soc
+                   by its initial_soc (give a full constant-current discharge to the cut-off;
+                   without one a FitWarning says the capacity is likely low)
+    rc_pairs:      number of RC pairs (0..4, default 2); constant R and tau unless rc_over_soc
     soc_grid:      SOC nodes of the OCV/R0 tables, a list or "start:step:stop" (default: every
                    0.05, and 0.01, 0.02, 0.035, 0.075 too: denser near empty)
     form:          "table" (R0 over the SOC grid) or "poly" (R0 a polynomial of poly_order over
@@ -225,8 +327,13 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     temps_C:       temperature of each test (default: its first temp_C value)
     columns:       our column -> the name in the data, e.g. {"voltage_V": "Voltage(V)"}
     invert_current: the data logs discharge as negative current
-    max_evaluations: model evaluations the optimiser may use (per temperature) before the
-                   fit counts as not converged
+    max_evaluations: model evaluations the optimiser may use (per fit) before the fit counts
+                   as not converged
+    temperature_law: tests more than 3 °C apart: "arrhenius" (default) fits them jointly,
+                   every sample at its measured temp_C, with R0, the RC resistances and the
+                   time constants as Arrhenius laws around 25 °C and one OCV (one test with
+                   rests is enough); "table" fits each temperature on its own (each needs a
+                   rest) and writes 2-D tables over SOC × temp_C
 
     Raises FitError (a ValueError) naming the file and line, or the reason.
     """
@@ -251,45 +358,159 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 1, soc_g
     temps = [g if g is not None else t.start_temp_C for g, t in zip(given_temps, tests)]
 
     capacity_source = "given"
+    fit_warnings: list[str] = []
     if capacity_Ah is None:
         # a test from initial_soc s to empty removes s·Q
         removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) / max(s0, 1e-9) for t, s0 in zip(tests, socs0)]
-        capacity_Ah = max(removed_Ah)
-        capacity_source = f"measured: the most charge one test removed, {tests[int(np.argmax(removed_Ah))].name}"
+        best = int(np.argmax(removed_Ah))
+        capacity_Ah = removed_Ah[best]
+        capacity_source = f"measured: the most charge one test removed, {tests[best].name}"
         if not capacity_Ah > 0:
             raise FitError("no test discharges the cell: give capacity_Ah (or a full constant-current discharge)")
+        _check_measured_capacity(tests[best], capacity_Ah)
+        if not _is_full_discharge(tests[best]):
+            fit_warnings.append(
+                f"the capacity {capacity_Ah:.4g} Ah is the charge {tests[best].name} removed, but no test is a full "
+                "discharge to the cut-off (one uninterrupted discharge removing most of the charge and ending at "
+                "the test's lowest voltage; an HPPC stops short of empty), so it is likely too low: give "
+                "--capacity-Ah / capacity_Ah, or add a full constant-current discharge")
+    _check_c_rate(tests, float(capacity_Ah), capacity_source == "given")
     layout = Layout(grid, form, int(poly_order), int(rc_pairs), bool(rc_over_soc), float(capacity_Ah))
     for t, s0 in zip(tests, socs0):
         _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
 
-    groups = _group_by_temperature(temps)
+    law = _temperature_law(temperature_law, temps)
+    groups = [list(range(len(tests)))] if law == "arrhenius" else _group_by_temperature(temps)
     if form == "poly" and len(groups) > 1:
         raise FitError("form poly fits one temperature; the tests span "
-                       f"{min(temps):.1f} to {max(temps):.1f} °C (use form table for 2-D tables)")
-    fitted: list[FitAtTemperature] = []
-    files: list[FileFit | None] = [None] * len(tests)
-    for members in groups:
-        names = ", ".join(tests[k].name for k in members)
-        if not any(rest_mask(tests[k]).any() for k in members):
-            raise FitError(f"{names}: no rest (|current| near zero for at least 10 s), so there is no OCV "
-                           "information to tell the open-circuit voltage from the resistive drop; "
-                           "record a rest before the first pulse and after each step")
-        traces = [prepare(tests[k], socs0[k], layout) for k in members]
-        try:
-            sol = fit_group(traces, layout, int(max_evaluations))
-            if form == "poly":
-                _check_poly_positive(sol.r0, layout.capacity_Ah)
-        except FitError as e:
-            raise FitError(f"{names}: {e}") from None
-        temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
-        fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s))
-        for k, tr, model in zip(members, traces, sol.model_V):
-            err = model - tests[k].voltage_V
-            files[k] = FileFit(tests[k].name, temps[k], err.size, 1e3 * float(np.sqrt(np.mean(err ** 2))),
-                               1e3 * float(np.max(np.abs(err))), tests[k].time_s, tests[k].current_A,
-                               tests[k].voltage_V, model, tr.soc)
+                       f"{min(temps):.1f} to {max(temps):.1f} °C (use form table for 2-D tables, or "
+                       "temperature_law arrhenius)")
+    if law == "arrhenius":
+        layout = replace(layout, arrhenius=True)
+    sample_temps = [_sample_temps(t, g) for t, g in zip(tests, given_temps)]
+    held_out = [read_test(src, len(tests) + k, columns, invert_current) for k, src in enumerate(validate or [])]
+    held_socs0 = _per_file("validate_initial_soc", validate_initial_soc, len(held_out), 0.0, 1.0)
+    for t, s0 in zip(held_out, held_socs0):
+        _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
+    if law != "none" and any(t.temp_C is None for t in held_out):
+        raise FitError(f"{next(t.name for t in held_out if t.temp_C is None)}: no temp_C column, while the fit is "
+                       "over temperature: a held-out test needs its temperature")
+    held_temps = [_model_temps(law, t.start_temp_C, t.temp_C, t) for t in held_out]
+    if smoothing is None:
+        weights = SMOOTHING_CANDIDATES if held_out else (SMOOTH_WEIGHT,)
+    else:
+        if isinstance(smoothing, bool) or not isinstance(smoothing, (int, float)) or not 0 <= smoothing <= 1e3:
+            raise FitError(f"smoothing: {smoothing!r} is not a number in [0, 1000]")
+        weights = (float(smoothing),)
     v_all = np.concatenate([t.voltage_V for t in tests])
     v_min = float(np.clip(np.min(v_all), 0.5, 4.9))
     v_max = float(np.clip(np.max(v_all), v_min + 0.05, 5.0))
-    return FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, files, v_min, v_max,  # type: ignore[arg-type]
-                     capacity_source)
+    best: FitResult | None = None
+    best_score = np.inf
+    scores: list[tuple[float, float]] = []
+    for weight in weights:
+        lay = replace(layout, smooth_weight=weight)
+        fitted, evaluations = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
+        result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
+                           law, evaluations, fit_warnings, weight)
+        result.validation = _file_errors(result, held_out, held_socs0, held_temps)
+        score = _pooled_rms_mV(result.validation) if held_out else 0.0
+        scores.append((weight, score))
+        if best is None or score < best_score:
+            best, best_score = result, score
+    assert best is not None
+    best.smoothing_scores = scores if held_out and len(weights) > 1 else []
+    for w in fit_warnings:
+        warnings.warn(w, FitWarning, stacklevel=2)
+    best.files = _file_errors(best, tests, socs0, [_model_temps(law, temps[k], sample_temps[k], tests[k])
+                                                   for k in range(len(tests))])
+    return best
+
+
+def _pooled_rms_mV(files: list[FileFit]) -> float:
+    """RMS over every sample of these tests."""
+    sq = sum(f.samples * f.rms_mV ** 2 for f in files)
+    return float(np.sqrt(sq / max(sum(f.samples for f in files), 1)))
+
+
+def _fit_groups(tests, groups, socs0, temps, sample_temps, layout: Layout, law: str,
+                max_evaluations: int) -> tuple[list[FitAtTemperature], int]:
+    """One fit per group of tests (one group for the arrhenius law)."""
+    fitted: list[FitAtTemperature] = []
+    evaluations = 0
+    for members in groups:
+        names = ", ".join(tests[k].name for k in members)
+        if not any(rest_mask(tests[k]).any() for k in members):
+            where = "" if law != "table" or len(groups) == 1 else f" at {temps[members[0]]:.1f} °C"
+            raise FitError(f"{names}: no rest{where} (|current| near zero for at least 10 s), so there is no OCV "
+                           "information to tell the open-circuit voltage from the resistive drop; "
+                           "record a rest before the first pulse and after each step"
+                           + ("" if law != "table" else
+                              ", or fit all temperatures jointly (temperature_law arrhenius), where one "
+                              "test's rests give the OCV for all"))
+        traces = [prepare(tests[k], socs0[k], layout, sample_temps[k] if law == "arrhenius" else None)
+                  for k in members]
+        try:
+            sol = fit_group(traces, layout, max_evaluations)
+            if layout.form == "poly":
+                _check_poly_positive(sol.r0, layout.capacity_Ah)
+        except FitError as e:
+            raise FitError(f"{names}: {e}") from None
+        if law == "arrhenius":
+            temp = REF_TEMP_C
+        else:
+            temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
+        fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s, sol.r0_K,
+                                       sol.rc_r_K, sol.rc_tau_K))
+        evaluations += sol.evaluations
+    return fitted, evaluations
+
+
+def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.ndarray]) -> list[FileFit]:
+    """Each test re-simulated with the preset as written (C++: the plant's equations under
+    an exact zero-order hold, packsim._packsim.simulate_cell) against its measured voltage."""
+    from ._packsim import simulate_cell
+    text = result.yaml
+    files = []
+    for test, soc0, temp in zip(tests, socs0, temps):
+        try:
+            model = simulate_cell(text, test.time_s, test.current_A, held_current(test.current_A), temp, soc0)
+        except ValueError as e:  # packsim.ScenarioError: the loader refuses the fitted values
+            raise FitError(f"the fitted preset is not a valid cell ({e}): the tests do not determine it; "
+                           "check capacity_Ah and the current's unit and sign") from None
+        err = model - test.voltage_V
+        soc = soc_trace(test, soc0, result.capacity_Ah)
+        low = soc < LOW_SOC
+        files.append(FileFit(test.name, test.start_temp_C if test.temp_C is not None else None, err.size,
+                             1e3 * float(np.sqrt(np.mean(err ** 2))), 1e3 * float(np.max(np.abs(err))),
+                             test.time_s, test.current_A, test.voltage_V, model, soc,
+                             1e3 * float(np.sqrt(np.mean(err[low] ** 2))) if low.any() else None))
+    return files
+
+
+def _sample_temps(test, given: float | None) -> np.ndarray | None:
+    """Each sample's temperature: the one given for the test, else its measured temp_C."""
+    if given is not None:
+        return np.full(test.time_s.size, given)
+    return None if test.temp_C is None else test.temp_C
+
+
+def _model_temps(law: str, test_temp: float | None, samples: np.ndarray | None, test) -> np.ndarray:
+    """The temperature the fit gave each sample: measured (arrhenius), the test's (table)."""
+    if law == "arrhenius" and samples is not None:
+        return samples
+    return np.full(test.time_s.size, REF_TEMP_C if test_temp is None else test_temp)
+
+
+def _temperature_law(law: str, temps: list[float | None]) -> str:
+    """none (one temperature), table (one fit per temperature) or arrhenius (one joint fit)."""
+    if law not in TEMPERATURE_LAWS:
+        raise FitError(f"temperature_law '{law}' is not one of {', '.join(TEMPERATURE_LAWS)}")
+    known = [t for t in temps if t is not None]
+    if len(known) != len(temps) or not known or max(known) - min(known) <= TEMP_GROUP_C:
+        if len(known) not in (0, len(temps)):
+            missing = [k for k, t in enumerate(temps) if t is None]
+            raise FitError(f"test {missing[0] + 1} has no temperature (no temp_C column, no temps_C) while others "
+                           "have one: give every test a temperature or none")
+        return "none"
+    return law

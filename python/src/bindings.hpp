@@ -14,6 +14,7 @@ namespace packsim::python {
 void bindCheck(pybind11::module_& m);  // check_bindings.cpp: `packsim check` as functions
 void bindBatch(pybind11::module_& m);  // batch_bindings.cpp: sweeps and `packsim batch`
 void bindBalance(pybind11::module_& m);  // balance_bindings.cpp: `packsim balance-time`
+void bindFit(pybind11::module_& m);  // fit_bindings.cpp: `packsim fit`'s simulation (rc_response, simulate_cell)
 
 // The scenario `run` and `balance_time` take (module.cpp): the file `source` if is_file,
 // else YAML text named file_name whose relative paths resolve against base_dir; with the

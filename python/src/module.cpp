@@ -10,6 +10,7 @@
 //   check_*           `packsim check` (check_bindings.cpp)
 //   Sweep, run_batch, run_sweep_case ...   `packsim batch` (batch_bindings.cpp)
 //   balance_time, preset_path                `packsim balance-time` (balance_bindings.cpp)
+//   rc_response, rc_sensitivity, simulate_cell   `packsim fit`'s simulation (fit_bindings.cpp)
 //
 // Everything else (the Result class, loading HDF5, plotting) is plain Python in
 // python/packsim/. C++ ScenarioError becomes packsim.ScenarioError (a ValueError with
@@ -201,6 +202,7 @@ PYBIND11_MODULE(_packsim, m) {
   bindCheck(m);
   bindBatch(m);
   bindBalance(m);
+  bindFit(m);
 
   py::register_exception_translator(&translate);
 }

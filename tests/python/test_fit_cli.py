@@ -34,7 +34,7 @@ def test_cli_writes_preset_and_report_without_pythonpath(cli, tmp_path):
     out, png = tmp_path / "cell.yaml", tmp_path / "fit.png"
     # no PYTHONPATH: the package is found next to the executable (<build>/python)
     p = subprocess.run([str(cli), "fit", data, "-o", str(out), "--capacity-Ah", "2", "--soc-grid", "0.9:0.05:1",
-                        "--report", str(png)], capture_output=True, text=True, cwd=tmp_path,
+                        "--rc-pairs", "1", "--report", str(png)], capture_output=True, text=True, cwd=tmp_path,
                        env=_env(PYTHONPATH=None, PACKSIM_PYTHONPATH=None))
     assert p.returncode == 0, p.stderr
     assert "pulses.csv: 600 samples, RMS" in p.stdout

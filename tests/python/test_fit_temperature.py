@@ -1,5 +1,6 @@
-"""packsim.fit with tests at several temperatures: one fit per temperature, written as
-2-D tables over SOC × temp_C. Here only the fit; loading such a preset is in
+"""packsim.fit with tests at several temperatures and temperature_law "table": one fit per
+temperature, written as 2-D tables over SOC × temp_C (the joint Arrhenius fit is in
+test_fit_arrhenius.py). Here only the fit; loading such a preset is in
 test_fit_tables_load.py."""
 from __future__ import annotations
 
@@ -23,7 +24,8 @@ def tests_at_temperatures(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def fitted(tests_at_temperatures):
-    return packsim.fit([str(p) for p in reversed(tests_at_temperatures)], rc_pairs=2, capacity_Ah=5.0)
+    return packsim.fit([str(p) for p in reversed(tests_at_temperatures)], rc_pairs=2, capacity_Ah=5.0,
+                       temperature_law="table")
 
 
 def test_one_fit_per_temperature(fitted):
@@ -51,4 +53,5 @@ def test_preset_has_2d_tables(fitted):
 
 def test_poly_form_refuses_several_temperatures(tests_at_temperatures):
     with pytest.raises(packsim.FitError, match="form poly fits one temperature"):
-        packsim.fit([str(p) for p in tests_at_temperatures], form="poly", rc_pairs=0, capacity_Ah=5.0)
+        packsim.fit([str(p) for p in tests_at_temperatures], form="poly", rc_pairs=0, capacity_Ah=5.0,
+                    temperature_law="table")
