@@ -46,7 +46,7 @@ void writeMonitors(CoreFirmwareRam& r, psfw_board* b, const psfw_board_api* api)
     for (uint8_t w = 0; w < kBalanceWords; ++w) r.writtenMask[w] = out.balanceMask[w];
     r.writtenArm = out.balanceArmCount;
   }
-  if (r.cfg.afe.model == AfeModel::Bq76952 &&
+  if (monitorHasFets(r.cfg) &&
       (!r.fetsWritten || out.chargeFetOn != r.writtenChg || out.dischargeFetOn != r.writtenDsg)) {
     monitorWriteFets(r.cfg, r.monitors, b, api, out.chargeFetOn, out.dischargeFetOn);
     r.fetsWritten = true;
@@ -96,6 +96,7 @@ int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint
       api->set_task_period(b, kTaskAlerts, c.readout.alertPeriod_ms, 0) != 0 ||
       api->set_task_period(b, kTaskControl, c.tickPeriod_ms, 0) != 0)
     return 4;
+  if (!monitorPartKnown(c)) return 5;  // an image for a monitor part this build does not drive
   init(r.core);
   if (!monitorInit(c, r.monitors, r.core.acq, b, api))
     api->event(b, "monitor stack: not every device took its address and configuration at init");

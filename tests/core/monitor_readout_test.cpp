@@ -4,6 +4,8 @@
 // what its retries leave, stuck 0x00/0xFF, silent devices, a broken daisy-chain link),
 // the secondary protection's latch cleared through the bus, the BQ76952's coulomb
 // counter, the time a read-out holds the bus, and a read-out too slow for its period.
+#include <bms/afe/bq76pl536a_driver.hpp>
+#include <bms/bms_afe_driver.hpp>
 #include <bms/bms_monitor.hpp>
 #include <gtest/gtest.h>
 
@@ -96,7 +98,9 @@ TEST(Monitor, CrcErrorsAtTheirRateAndWhatRetriesLeave) {
   const double p = 0.3;
   for (int retries : {0, 2}) {
     Rig rig("bq76pl536a", 12);
-    rig.cfg.drivers.pl536.crcRetries = static_cast<uint8_t>(retries);
+    bms::Bq536Config settings = bms::afeSettingsGet<bms::Bq536Config>(rig.cfg.afe.settings);
+    settings.crcRetries = static_cast<uint8_t>(retries);
+    bms::afeSettingsPut(rig.cfg.afe.settings, settings);
     ASSERT_TRUE(rig.init());
     rig.truth.comm[1].crc_error_rate = p;
     int bad = 0, badOther = 0;
