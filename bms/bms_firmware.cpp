@@ -91,12 +91,12 @@ int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint
   if (head[0] != kCoreImageTag || head[1] != sizeof(CoreImage)) return 2;
   std::memcpy(&r.cfg, config + offsetof(CoreImage, cfg), sizeof r.cfg);
   const Config& c = r.cfg;
+  if (!monitorPartKnown(c)) return 5;  // an image for a monitor part this build does not drive
   if (api->abi_version < 2u) return 3;  // needs set_task_period
   if (api->set_task_period(b, kTaskReadout, c.readout.period_ms, 0) != 0 ||
       api->set_task_period(b, kTaskAlerts, c.readout.alertPeriod_ms, 0) != 0 ||
       api->set_task_period(b, kTaskControl, c.tickPeriod_ms, 0) != 0)
     return 4;
-  if (!monitorPartKnown(c)) return 5;  // an image for a monitor part this build does not drive
   init(r.core);
   if (!monitorInit(c, r.monitors, r.core.acq, b, api))
     api->event(b, "monitor stack: not every device took its address and configuration at init");
