@@ -7,6 +7,7 @@
 #include "core/parts/monitor_parts.hpp"
 #include "core/scenario/value_ranges.hpp"
 #include "core/scenario/yaml_map.hpp"
+#include "models/afe/bq76952.hpp"
 
 namespace packsim {
 

@@ -6,6 +6,7 @@
 #include "core/parts/bq76pl_secondary.hpp"
 #include "core/parts/monitor_parts.hpp"
 #include "core/scenario/yaml_map.hpp"
+#include "models/afe/bq76pl536a.hpp"
 
 namespace packsim {
 
