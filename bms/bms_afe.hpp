@@ -1,6 +1,7 @@
-// What the core knows of its monitor ICs: the part class, the stack's shape as flashed,
-// and one device's reading in firmware units. The bytes on the bus (frames, CRCs,
-// registers) belong to the drivers in bms/afe/, which fill DeviceReading and report a
+// What the core knows of its monitor ICs: which registered part (bms_afe_driver.hpp),
+// the stack's shape as flashed, the part's own settings as an opaque block, and one
+// device's reading in firmware units. The bytes on the bus (frames, CRCs, registers)
+// belong to the parts' drivers in bms/afe/, which fill DeviceReading and report a
 // FrameResult per device; the core never parses a frame itself.
 #pragma once
 #include <cstddef>
@@ -10,32 +11,37 @@
 
 namespace bms {
 
-enum class AfeModel : uint8_t { Bq76pl536a = 0, Bq76pl455a = 1, Bq76952 = 2 };
+// A part's own settings as flashed: its driver's settings struct, stored as bytes so
+// that the configuration image holds any registered part's (afeSettingsGet / Put in
+// bms_afe_driver.hpp copy it in and out, so the block needs no alignment).
+struct AfeSettings {
+  uint8_t bytes[kAfeSettingsBytes];
+};
 
-// Shape of the monitor stack, as flashed into the firmware.
+// The monitor stack, as flashed into the firmware.
 struct AfeConfig {
-  AfeModel model;
+  uint8_t part;                  // index of its driver in the registry (afeDriver(part))
   uint8_t deviceCount;
   uint8_t cellsPerDevice;        // the last device may hold fewer
   uint8_t thermistorsPerDevice;  // inputs in use per device (AFE thermistors)
-  bool crcEnabled;               // BQ76952 only; the others always carry a CRC
   uint8_t commLossCount;         // consecutive bad read-outs of a device that mean "device lost"
+  AfeSettings settings;          // the part's own settings (its driver's struct)
 };
 
 // What one good read of a device says, in firmware units.
 struct DeviceReading {
   uint16_t cell_mV[kMaxCellsPerDevice];
-  uint16_t thermCode[kMaxThermPerDevice];  // ratiometric codes (PL536A/PL455A)
-  int16_t temp_dC[kMaxThermPerDevice];     // converted by the device (BQ76952)
+  uint16_t thermCode[kMaxThermPerDevice];  // ratiometric codes (parts that convert no temperature)
+  int16_t temp_dC[kMaxThermPerDevice];     // converted by the device (parts that do)
   uint32_t stack_mV;                       // module / stack voltage channel
   int16_t die_dC;
   bool fault;          // the device's own protection has latched (FAULT / safety status)
   bool alert;          // a threshold is crossed, not yet debounced
-  uint8_t fetStatus;   // BQ76952 FET_STATUS
-  uint8_t safetyA;     // BQ76952 SAFETY_STATUS_A (PL536A FAULT_STATUS, PL455A summary low byte)
-  uint8_t safetyB;     // BQ76952 SAFETY_STATUS_B (PL536A ALERT_STATUS, PL455A summary high byte)
-  int32_t current_mA;  // BQ76952 CC2
-  int32_t charge_mAs;  // BQ76952 accumulated charge
+  uint8_t fetStatus;   // a part with FETs: their status as it reports it
+  uint8_t safetyA;     // the part's first protection status byte (its driver's header says which)
+  uint8_t safetyB;     // its second
+  int32_t current_mA;  // a part with a current input: its reading
+  int32_t charge_mAs;  // ... and its accumulated charge
 };
 
 // How a driver's read of one device ended. Timeout: nothing answered; BadLength,

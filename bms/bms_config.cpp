@@ -1,5 +1,7 @@
 #include "bms_config.hpp"
 
+#include "bms_afe_driver.hpp"
+
 namespace bms {
 
 Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
@@ -10,36 +12,13 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   c.scaling = SensorScaling{6250000.0f / 16383.0f, 0.0f, 1.0f, 4095.0f, 10000.0f, 10000.0f, 3435.0f, 65535, 1.0f};
   const uint8_t perDevice = cellCount < 6 ? static_cast<uint8_t>(cellCount) : 6;
   const uint16_t devices = static_cast<uint16_t>(perDevice == 0 ? 0 : (cellCount + perDevice - 1) / perDevice);
-  c.afe = AfeConfig{AfeModel::Bq76pl536a, static_cast<uint8_t>(devices), perDevice, 2, true, 5};
+  c.afe.deviceCount = static_cast<uint8_t>(devices);
+  c.afe.cellsPerDevice = perDevice;
+  c.afe.thermistorsPerDevice = 2;
+  c.afe.commLossCount = 5;
+  afeSelect(c, 0);  // the registry's first part with its drivers' defaults
   c.readout = ReadoutConfig{c.tickPeriod_ms, 0};
   c.pack = PackConfig{0, 1};
-  // Drivers: a CRC failure is read again twice; the parts' own protections as their
-  // datasheets ship them (BQ76PL536A comparators written at init, BQ76PL455A and
-  // BQ76952 keep what their EEPROM / OTP holds).
-  Bq536Config& p536 = c.drivers.pl536;
-  p536.crcRetries = 2;
-  p536.conversionPerChannel_us = 6;
-  p536.protectionEnabled = true;
-  p536.cov_mV = 4350;
-  p536.covDelay_us = 1000000;
-  p536.cuv_mV = 2500;
-  p536.cuvDelay_us = 1000000;
-  p536.ot_C = 65;
-  p536.otDelay_ms = 1000;
-  Pl455Config& p455 = c.drivers.pl455;
-  p455.oversamplingLog2 = 0;
-  p455.comparators = true;
-  p455.commTimeoutCode = 0;
-  p455.crcRetries = 2;
-  Bq952DriverConfig& b952 = c.drivers.bq952;
-  b952.crc = true;
-  b952.crcRetries = 2;
-  b952.waitForScan = false;
-  b952.scanTimeout_us = 100000;
-  b952.userAmps = 1;  // 1 mA
-  b952.writeProtections = false;
-  b952.balanceInterval_s = 20;
-  b952.balancingConfig = 0;
   c.precharge = PrechargeConfig{false, 1000, 50, 2000, 1000, 30, 3};
   c.soc.capacity_mAh = 1000.0f;
   c.soc.ocvPoints = 2;

@@ -3,9 +3,6 @@
 #pragma once
 #include <cstdint>
 
-#include "afe/bq76952_driver.hpp"
-#include "afe/bq76pl455a_driver.hpp"
-#include "afe/bq76pl536a_driver.hpp"
 #include "bms_afe.hpp"
 #include "bms_faults.hpp"
 #include "bms_limits.hpp"
@@ -126,15 +123,6 @@ struct ReadoutConfig {
   uint32_t alertPeriod_ms;  // the devices' protection flags alone, between read-outs (0: not polled)
 };
 
-// Each part's driver settings as flashed; bms_monitor uses the one AfeConfig::model
-// names and sets the stack's shape fields in it (bus, devices, cells, thermistors)
-// from AfeConfig at init.
-struct MonitorDriverConfig {
-  Bq536Config pl536;
-  Pl455Config pl455;
-  Bq952DriverConfig bq952;
-};
-
 // Which monitor board this host serves in a pack of several (bms_pack.hpp): board 0 is
 // the pack host; boards = 1 is a pack with one host.
 struct PackConfig {
@@ -150,9 +138,8 @@ struct Config {
   uint8_t thermistorCount;
   uint32_t tickPeriod_ms;
   SensorScaling scaling;
-  AfeConfig afe;
+  AfeConfig afe;                // the monitor stack: its part (driver), shape and the part's settings
   ReadoutConfig readout;
-  MonitorDriverConfig drivers;
   PackConfig pack;
   PrechargeConfig precharge;
   SocConfig soc;
@@ -168,8 +155,9 @@ struct Config {
   ProtectionRule rules[kFaultCount];
 };
 
-// Defaults for a LiPo/NMC pack with a BQ76PL536A-class stack of up to 6 cells per
-// device; callers overwrite thresholds and hardware from the scenario.
+// Defaults for a LiPo/NMC pack with a stack of the registry's first part (its default
+// settings; bms_afe_driver.hpp) at up to 6 cells per device; callers overwrite
+// thresholds and hardware from the scenario.
 Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount);
 
 // Thermistor channels read by the monitor ICs (the rest are on the MCU's ADC).

@@ -46,7 +46,7 @@ void writeMonitors(CoreFirmwareRam& r, psfw_board* b, const psfw_board_api* api)
     for (uint8_t w = 0; w < kBalanceWords; ++w) r.writtenMask[w] = out.balanceMask[w];
     r.writtenArm = out.balanceArmCount;
   }
-  if (r.cfg.afe.model == AfeModel::Bq76952 &&
+  if (monitorHasFets(r.cfg) &&
       (!r.fetsWritten || out.chargeFetOn != r.writtenChg || out.dischargeFetOn != r.writtenDsg)) {
     monitorWriteFets(r.cfg, r.monitors, b, api, out.chargeFetOn, out.dischargeFetOn);
     r.fetsWritten = true;
@@ -91,6 +91,7 @@ int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint
   if (head[0] != kCoreImageTag || head[1] != sizeof(CoreImage)) return 2;
   std::memcpy(&r.cfg, config + offsetof(CoreImage, cfg), sizeof r.cfg);
   const Config& c = r.cfg;
+  if (!monitorPartKnown(c)) return 5;  // an image for a monitor part this build does not drive
   if (api->abi_version < 2u) return 3;  // needs set_task_period
   if (api->set_task_period(b, kTaskReadout, c.readout.period_ms, 0) != 0 ||
       api->set_task_period(b, kTaskAlerts, c.readout.alertPeriod_ms, 0) != 0 ||

@@ -11,7 +11,7 @@
 //                    protection flags alone (skipped when a read-out has just read them)
 //   task 2 control   every tickPeriod_ms: ADC and GPIO in -> bms::step -> relay,
 //                    precharge, FET and charger pins; then on the bus only what changed
-//                    (balancing mask and timer, a fault clear, BQ76952 FETs); the
+//                    (balancing mask and timer, a fault clear, the monitor part's own FETs); the
 //                    telemetry frame out
 // Tasks due together run in that order, so a control tick sees a read-out of the same
 // instant. All state is in CoreFirmwareRam, handed over by the board (no statics).
@@ -43,7 +43,7 @@ struct CoreFirmwareRam {
   uint32_t readoutDue_ms;               // when the last read-out started
   uint32_t writtenMask[kBalanceWords];  // balancing as last written to the devices
   uint8_t writtenArm;
-  bool fetsWritten, writtenChg, writtenDsg;  // BQ76952 FETs as last commanded
+  bool fetsWritten, writtenChg, writtenDsg;  // the monitor part's FETs as last commanded
   uint8_t telemetry[kTelemetryFrameBytes];
 };
 

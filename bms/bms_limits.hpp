@@ -15,5 +15,12 @@ constexpr uint8_t kDisplayBars = 8;         // SOC display bars (reference syste
 constexpr uint8_t kBalanceWords = (kMaxCells + 31) / 32;
 constexpr uint8_t kMaxBoards = 16;          // monitor boards, each with its own balancing-board thermistors
 constexpr uint8_t kMaxBalanceAverage = 64;  // readings the balancing decision may average per cell
+// A monitor part's flashed settings and its driver's state in RAM (its driver's own
+// structs; bms_afe_driver.hpp). Sized to what the drivers of the three TI parts took
+// together before they shared one block, so the configuration image (1216 bytes) and
+// the core's RAM (18176 bytes) kept their sizes on a 64-bit host; a part needing more
+// raises them (its static_assert says so), and the core's image and RAM grow with them.
+constexpr uint16_t kAfeSettingsBytes = 127;
+constexpr uint16_t kAfeDataBytes = 1264;
 
 }  // namespace bms

@@ -2,6 +2,8 @@
 
 #include <math.h>
 
+#include "bms_afe_driver.hpp"
+
 namespace bms {
 
 uint16_t cellCodeToMillivolts(const SensorScaling& s, uint16_t code) { return afeCellCodeToMv(code, s.cellLsb_uV); }
@@ -51,14 +53,6 @@ void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* r
   if (full) a.fresh = true;
 }
 
-namespace {
-
-// A device-converted temperature (BQ76952) far outside any battery's range is a
-// sensor at a rail.
-int16_t checkedDeviceTemp(int16_t dC) { return (dC < -500 || dC > 2000) ? kTempInvalid_dC : dC; }
-
-}  // namespace
-
 void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]) {
   // 1. Comm status of every device; the device's own protection counts from a read that
@@ -106,6 +100,7 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
 
   // 3. Temperatures: the first channels sit on the monitor ICs, the rest on the MCU.
   const uint8_t afeTherm = afeThermistorChannels(cfg);
+  const AfeDriver* part = afeDriver(cfg.afe.part);  // converts its thermistor inputs
   int16_t maxT = INT16_MIN;
   int16_t minT = INT16_MAX;
   int16_t maxFet = INT16_MIN;
@@ -119,8 +114,7 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
         tm.temperature_dC[k] = kTempInvalid_dC;
         continue;  // no data yet is a comm problem, not a sensor fault
       }
-      dC = cfg.afe.model == AfeModel::Bq76952 ? checkedDeviceTemp(a.device[d].temp_dC[i])
-                                              : thermistorCodeToDeciCelsius(cfg.scaling, a.device[d].thermCode[i]);
+      dC = part != nullptr ? part->api->temperature_dC(cfg, a.device[d], i) : kTempInvalid_dC;
     } else {
       dC = thermistorCodeToDeciCelsius(cfg.scaling, in.mcuThermistorCode[k - afeTherm]);
     }

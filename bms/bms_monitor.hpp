@@ -1,18 +1,19 @@
-// The core's monitor ICs: one interface over the three parts' drivers (bms/afe), the one
-// AfeConfig::model names. The drivers speak the parts' own frames and CRCs through the
-// firmware contract (packsim_fw.h); this layer gives them the stack's shape from
-// AfeConfig, lets them write good readings straight into the acquisition (a device
-// that fails keeps its last good reading) and counts each read's result there.
+// The core's monitor ICs: one interface over the registered parts' drivers, dispatched
+// through the driver table (bms_afe_driver.hpp) of the part Config::afe.part names. The
+// drivers speak the parts' own frames and CRCs through the firmware contract
+// (packsim_fw.h) and take the stack's shape from AfeConfig; good readings go straight
+// into the acquisition (a device that fails keeps its last good reading) and each
+// read's result is counted there.
 //
-//   init         address and configure the stack (bq536Init / pl455Init /
-//                bq952Configure) and make one full read-out, so the core has data at
-//                its first control tick
-//   read-out     every device in full; a BQ76952's balancing is serviced (re-armed)
+//   init         the part's init (address and configure the stack) and one full
+//                read-out, so the core has data at its first control tick
+//   read-out     every device in full (a part's driver may service timers here, e.g.
+//                re-arm balancing)
 //   alerts       the protection flags alone (between read-outs)
 //   clear        the devices' latched flags (a latch whose condition is still present
 //                stays: the device decides)
-//   balance      the mask and timer, per device
-//   FETs         BQ76952 only: the device drives CHG / DSG; others have none
+//   balance      the mask and timer
+//   FETs         only a part with its own FETs (AfeDriverApi::writeFets)
 //
 // Freestanding: no heap, no globals; MonitorDrivers lives in the firmware's RAM.
 #pragma once
@@ -25,12 +26,14 @@
 namespace bms {
 
 struct MonitorDrivers {
-  MonitorDriverConfig cfg;  // the flashed settings with the stack's shape filled in
-  Bq536State pl536;
-  Pl455State pl455;
-  Bq952Driver bq952;
-  bool configured;          // every device took its address and configuration at init
+  alignas(8) uint8_t data[kAfeDataBytes];  // the part's driver state (its own struct, placed by its init)
+  bool configured;                         // every device took its address and configuration at init
 };
+
+// Whether Config::afe.part names a registered driver (an image that does not is refused).
+bool monitorPartKnown(const Config& c);
+// Whether the part drives FETs of its own (the core then writes them when they change).
+bool monitorHasFets(const Config& c);
 
 bool monitorInit(const Config& c, MonitorDrivers& m, AcquisitionState& a, psfw_board* b, const psfw_board_api* api);
 void monitorReadAll(const Config& c, MonitorDrivers& m, AcquisitionState& a, psfw_board* b, const psfw_board_api* api);

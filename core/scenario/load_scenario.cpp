@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "core/parts/monitor_parts.hpp"
 #include "core/scenario/derived_defaults.hpp"
 #include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/provenance.hpp"
@@ -213,8 +214,8 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
   if (s.hardware.thermistorCount() > bms::kMaxThermistors)
     throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
                                                               std::to_string(bms::kMaxThermistors));
-  const Bq952AutoBalance& ab = s.hardware.afe.bq_balance;
-  if ((ab.charging || ab.relax) && !b.present)
+  const MonitorPart& part = monitorPart(s.hardware.afe.model);
+  if (part.balances_on_its_own != nullptr && part.balances_on_its_own(s.hardware.afe) && !b.present)
     throw hwMap("afe").errorAt("autonomous_balancing", "the AFE's balancing needs balancing resistors (hardware.balancing)");
   if (s.bms.balancing.enabled && !b.present)
     throw root.map("bms").errorAt("balancing", "the balancing policy needs balancing resistors (hardware.balancing)");

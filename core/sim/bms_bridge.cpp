@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "models/afe/bq76pl455a.hpp"
+#include "core/parts/monitor_parts.hpp"
 #include "models/hw/charger.hpp"
 #include "models/random/random.hpp"
 #include "models/hw/mosfet.hpp"
@@ -68,32 +68,21 @@ void setBalancing(bms::Config& c, const Scenario& s) {
   c.chargeFullCell_mV = static_cast<uint16_t>(std::lround(s.bms.charge_full_cell_V * 1e3));
 }
 
-// Read-out rates and the monitor drivers' settings: the parts' own protections as the
-// scenario configures them (the BQ76PL536A's comparators are written at init; the
-// BQ76PL455A's and BQ76952's EEPROM / OTP already hold the scenario's values).
-void setMonitorDrivers(bms::Config& c, const Scenario& s) {
+// Read-out rates and the monitor stack: its part (driver) with the scenario's settings in
+// the driver's units (the part's descriptor, core/parts), the stack's shape.
+void setMonitors(bms::Config& c, const Scenario& s) {
   const BmsSettings& b = s.bms;
   const MonitorConfig& a = s.hardware.afe;
   auto ms = [](double t_s) { return static_cast<uint32_t>(std::lround(t_s * 1e3)); };
   c.readout.period_ms = b.readout.period_s > 0.0 ? ms(b.readout.period_s) : c.tickPeriod_ms;
   c.readout.alertPeriod_ms = ms(b.readout.alert_period_s);
-  bms::Bq536Config& p536 = c.drivers.pl536;
-  const SecondaryProtection& sp = a.secondary;
-  p536.conversionPerChannel_us = static_cast<uint16_t>(std::lround(a.conversion_s_per_channel * 1e6));
-  p536.protectionEnabled = sp.enabled;
-  p536.cov_mV = static_cast<uint16_t>(std::lround(sp.cov_V * 1e3));
-  p536.covDelay_us = static_cast<uint32_t>(std::lround(sp.cov_delay_s * 1e6));
-  p536.cuv_mV = static_cast<uint16_t>(std::lround(sp.cuv_V * 1e3));
-  p536.cuvDelay_us = static_cast<uint32_t>(std::lround(sp.cuv_delay_s * 1e6));
-  p536.ot_C = static_cast<int16_t>(std::lround(sp.ot_C));
-  p536.otDelay_ms = static_cast<uint16_t>(ms(sp.ot_delay_s));
-  int log2 = 0;
-  while ((1 << log2) < a.oversampling) ++log2;
-  c.drivers.pl455.oversamplingLog2 = static_cast<uint8_t>(log2);
-  c.drivers.pl455.comparators = sp.enabled;
-  c.drivers.pl455.commTimeoutCode = pl455CommTimeoutCode(sp.comm_timeout_s);
-  c.drivers.bq952.userAmps = bq952_user_amps_field(static_cast<uint32_t>(std::lround(a.bq.user_amps_A * 1e4)));
-  c.drivers.bq952.crc = a.crc;
+  const MonitorPart& part = monitorPart(a.model);
+  bms::afeSelect(c, firmwarePartIndex(part));
+  part.firmware_settings(a, c.afe.settings);
+  c.afe.deviceCount = static_cast<uint8_t>(a.devices);
+  c.afe.cellsPerDevice = static_cast<uint8_t>(a.cells_per_device);
+  c.afe.thermistorsPerDevice = static_cast<uint8_t>(a.thermistors_per_device);
+  c.afe.commLossCount = static_cast<uint8_t>(b.comm_loss_count);
 }
 
 }  // namespace
@@ -124,11 +113,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.scaling.thermBeta_K = static_cast<float>(hw.thermistor.beta_K);
   c.scaling.busLsb_mV = static_cast<float>(hw.bus_adc.lsb * 1e3);
 
-  const MonitorConfig& a = hw.afe;
-  c.afe = bms::AfeConfig{a.model, static_cast<uint8_t>(a.devices), static_cast<uint8_t>(a.cells_per_device),
-                         static_cast<uint8_t>(a.thermistors_per_device), a.crc,
-                         static_cast<uint8_t>(b.comm_loss_count)};
-  setMonitorDrivers(c, s);
+  setMonitors(c, s);
 
   const PrechargeSettings& p = b.precharge;
   c.precharge = bms::PrechargeConfig{p.enabled,
@@ -277,7 +262,7 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   // The current of the tick that just ended heats the fuse.
   fuseStep(hw.fuse, fuse_, sig.pack_current_A, dt);
 
-  const bool dsg = out.dischargeFetOn && chains_.front()->dischargeAllowed();  // BQ76952: one board
+  const bool dsg = out.dischargeFetOn && chains_.front()->dischargeAllowed();  // a part with FETs: one board
   const bool chg = out.chargeFetOn && chains_.front()->chargeAllowed();
   const bool dischargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg, hw.charge_fet, chg, 1.0);
   const bool chargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg, hw.charge_fet, chg, -1.0);

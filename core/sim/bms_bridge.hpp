@@ -14,7 +14,7 @@
 //               run and reset requests)
 //   actuate(t)  the firmware's pins at t -> relay coils (the monitor FAULT line is wired
 //               in series with the coil drive, so it opens the relay without the MCU),
-//               relay delays and weld, FETs (BQ76952: the device's own FET control),
+//               relay delays and weld, FETs (a monitor part with FETs: its own control),
 //               fuse I²t, precharge RC, balancing switches (as the monitor ICs hold
 //               them), charger CC-CV, active balancer controller; fills the plant's
 //               inputs for [t, t + tick).
@@ -46,7 +46,7 @@ struct HardwareStatus {
   bool relay_closed = false;      // main contact
   bool precharge_closed = false;  // precharge contact
   bool fuse_blown = false;
-  bool discharge_fet_on = false;  // gate actually on (after the BQ76952's own control)
+  bool discharge_fet_on = false;  // gate actually on (after the monitor part's own control)
   bool charge_fet_on = false;
   bool fault_line = false;        // monitor FAULT / ALERT line asserted
   double bus_V = 0.0;

@@ -3,25 +3,13 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "core/parts/monitor_parts.hpp"
+
 namespace packsim {
-
-namespace {
-
-// The register-level model of the scenario's part (one file per part, models/afe).
-std::unique_ptr<MonitorChain> makeChain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {
-  switch (cfg.model) {
-    case bms::AfeModel::Bq76pl536a: return makeBq76pl536aChain(cfg, cellCount, seed);
-    case bms::AfeModel::Bq76pl455a: return makeBq76pl455aChain(cfg, cellCount, seed);
-    case bms::AfeModel::Bq76952: return makeBq76952Chain(cfg, cellCount, seed);
-  }
-  throw std::runtime_error("unknown monitor part (hardware.afe.model)");
-}
-
-}  // namespace
 
 MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint64_t seed)
     : cfg_(cfg), cells_(cellCount) {
-  bus_.chain = makeChain(cfg, cellCount, seed);
+  bus_.chain = monitorPart(cfg.model).make_chain(cfg, cellCount, seed);  // its register-level model
   int first = 0;
   for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
     firstCell_.push_back(first);

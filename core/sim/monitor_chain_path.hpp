@@ -1,9 +1,9 @@
-// HardwareSim's monitor ICs: the register-level chain of the scenario's part
-// (models/afe, monitor_part.hpp), which every firmware talks to byte for byte over bus
+// HardwareSim's monitor ICs: the register-level chain of the scenario's part (made by its
+// descriptor, core/parts; models/afe, monitor_part.hpp), which every firmware talks to byte for byte over bus
 // 0 (packsim's own core included). Each tick the chain's analog inputs are filled from
 // a MonitorTruth (cells at the pins, injected channel errors, thermistors, die = board +
 // die_rise_C, current), scripted comm faults are set on its devices, and it advances to
-// t. Its FAULT line, balancing switches and (BQ76952) FETs drive the rest of the
+// t. Its FAULT line, balancing switches and (a part with its own) FETs drive the rest of the
 // hardware.
 #pragma once
 #include <vector>

@@ -35,6 +35,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <bms/afe/bq76952_regs.h>
@@ -152,5 +153,8 @@ class Bq76952Chain : public MonitorChain {
   uint8_t subLo_ = 0, subHi_ = 0, checksum_ = 0, length_ = 0;
   std::array<uint8_t, BQ952_TRANSFER_BUFFER_LEN> buffer_{};
 };
+
+// The part's register-level chain (registered by core/parts/bq76952_part.cpp).
+std::unique_ptr<MonitorChain> makeBq76952Chain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
 
 }  // namespace packsim

@@ -28,6 +28,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <bms/afe/bq76pl455a_regs.h>
@@ -110,5 +111,8 @@ class Bq76pl455aChain final : public MonitorChain {
 // The CTO fault timer code of a link-supervision time (0 s: off), or -1 when the part has
 // no such setting.
 int pl455CommTimeoutCode(double timeout_s);
+
+// The part's register-level chain (registered by core/parts/bq76pl455a_part.cpp).
+std::unique_ptr<MonitorChain> makeBq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
 
 }  // namespace packsim

@@ -25,6 +25,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <bms/afe/bq76pl536a_regs.h>
@@ -107,5 +108,8 @@ class Bq76pl536aChain final : public MonitorChain {
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
   std::vector<int> reached_;         // scratch: devices one frame reaches
 };
+
+// The part's register-level chain (registered by core/parts/bq76pl536a_part.cpp).
+std::unique_ptr<MonitorChain> makeBq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
 
 }  // namespace packsim

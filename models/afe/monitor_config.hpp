@@ -1,5 +1,7 @@
-// Configuration of a simulated monitor-IC stack (constant during a run). Three
-// classes after TI parts (the parts' datasheets):
+// Configuration of a simulated monitor-IC stack (constant during a run). Which part
+// is `model`, a name in the part registry (core/parts/monitor_parts.hpp,
+// docs/monitor-parts.md); the fields below are common to every part, then the settings
+// of the TI parts packsim began with (their own structs, read by their part files):
 //   bq76pl536a: 3-6 cells/device, 14-bit ADC (6250/16383 mV LSB), 2 thermistors,
 //               SPI frames with CRC-8, secondary COV/CUV/OT comparators latching FAULT
 //   bq76pl455a: up to 16 cells/device, 5 V/65535 LSB, 2 aux thermistors, UART
@@ -7,9 +9,11 @@
 //   bq76952:    up to 16 cells, mV readings (±5 mV), 3 thermistors reported in 0.1 K,
 //               own protections with delays and recovery, CHG/DSG/PCHG/PDSG FETs,
 //               coulomb counter; optional CRC-8
+// A part added since keeps its settings in its own struct behind `part_settings`.
 // Units SI (V, A, s, °C) with suffixes.
 #pragma once
-#include <bms/bms_afe.hpp>
+#include <memory>
+#include <string>
 
 #include "models/sensors/adc.hpp"
 #include "models/sensors/thermistor.hpp"
@@ -57,8 +61,13 @@ struct Bq952AutoBalance {
   double min_cell_temp_C = -20.0, max_cell_temp_C = 60.0, max_internal_C = 70.0;
 };
 
+// The settings of one part of its own (derive, and cast back in the part's model).
+struct MonitorPartSettings {
+  virtual ~MonitorPartSettings() = default;
+};
+
 struct MonitorConfig {
-  bms::AfeModel model = bms::AfeModel::Bq76pl536a;
+  std::string model;                // the part: its name in the registry (hardware.afe.model)
   int devices = 1;
   int devices_per_board = 0;        // > 0: boards of this many devices, each its own stack and host MCU (core/scenario/monitor_boards.hpp)
   int cells_per_device = 6;
@@ -81,6 +90,7 @@ struct MonitorConfig {
   Bq952AutoBalance bq_balance;
   double baud = 250000.0;           // link speed for the read-out time
   double conversion_s_per_channel = 6e-6;
+  std::shared_ptr<const MonitorPartSettings> part_settings;  // a part's own settings (its part file reads them)
 };
 
 }  // namespace packsim

@@ -1,5 +1,5 @@
-// The part API every register-level monitor-IC model implements (one file per IC:
-// bq76pl536a, bq76pl455a, bq76952). A MonitorChain is what one MCU bus reaches: a
+// The part API every register-level monitor-IC model implements (one file per IC,
+// models/afe/<part>.*; the registered parts: bms/afe/monitor_parts.def). A MonitorChain is what one MCU bus reaches: a
 // stack of devices on a vertical SPI bus or a UART daisy chain, or one I2C device.
 // It answers bus transactions byte for byte, in the part's own frame format and
 // CRC, from a register map the firmware drivers share (bms/afe/<part>_regs.h).
@@ -67,9 +67,7 @@ class MonitorChain {
   virtual bool thermistorBias(int d) const { return cellsOf(d) > 0; }
 };
 
-// Factories, one per part (each in its own file).
-std::unique_ptr<MonitorChain> makeBq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
-std::unique_ptr<MonitorChain> makeBq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
-std::unique_ptr<MonitorChain> makeBq76952Chain(const MonitorConfig& cfg, int cellCount, uint64_t seed);
+// Each part's factory is declared in its own header (models/afe/<part>.hpp) and
+// registered by its descriptor (core/parts/<part>_part.cpp, MonitorPart::make_chain).
 
 }  // namespace packsim

@@ -17,7 +17,7 @@ namespace {
 
 MonitorConfig modelConfig(bool crc) {
   MonitorConfig c;
-  c.model = bms::AfeModel::Bq76952;
+  c.model = "bq76952";
   c.cells_per_device = 16;
   c.thermistors_per_device = 3;
   c.cell_adc.lsb = 1e-3;

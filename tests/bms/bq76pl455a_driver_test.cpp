@@ -16,7 +16,7 @@ namespace {
 
 MonitorConfig chainConfig(int devices, int cells) {
   MonitorConfig c;
-  c.model = bms::AfeModel::Bq76pl455a;
+  c.model = "bq76pl455a";
   c.devices = devices;
   c.cells_per_device = cells;
   c.thermistors_per_device = 2;

@@ -71,7 +71,7 @@ struct FaultKindRow {
 // relation tests/core/monitor_readout_test.cpp checks). Other parts: within a tick here.
 double readoutBlock_s(const Scenario& s) {
   const MonitorConfig& a = s.hardware.afe;
-  if (a.model != bms::AfeModel::Bq76pl536a) return 0.0;
+  if (a.model != "bq76pl536a") return 0.0;
   const int devices = a.devices_per_board > 0 ? std::min(a.devices_per_board, a.devices) : a.devices;
   const double bytes = 4 + devices * ((3 + 19 + 1) + (3 + 4 + 1));
   return bytes * 8.0 / a.baud + (a.cells_per_device + 1 + a.thermistors_per_device) * a.conversion_s_per_channel;

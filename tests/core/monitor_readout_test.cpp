@@ -4,12 +4,19 @@
 // what its retries leave, stuck 0x00/0xFF, silent devices, a broken daisy-chain link),
 // the secondary protection's latch cleared through the bus, the BQ76952's coulomb
 // counter, the time a read-out holds the bus, and a read-out too slow for its period.
+#include <bms/afe/bq76pl536a_driver.hpp>
+#include <bms/afe/bq76952_driver.hpp>
+#include <bms/bms_afe_driver.hpp>
+#include <bms/bms_firmware.hpp>
 #include <bms/bms_monitor.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 
 #include "../models/chain_test_board.hpp"
+#include "core/parts/monitor_parts.hpp"
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/monitor_chain_path.hpp"
 #include "core/sim/simulation.hpp"
@@ -60,6 +67,74 @@ struct Rig {
   }
 };
 
+// The part registry: each simulator part has its firmware driver at the same index
+// (the line order of bms/afe/monitor_parts.def), under the same name.
+TEST(MonitorParts, EachPartHasItsDriverAtItsIndex) {
+  const std::vector<const MonitorPart*>& parts = monitorParts();
+  const std::vector<std::string> expected = {"bq76pl536a", "bq76pl455a", "bq76952"};
+  ASSERT_EQ(parts.size(), expected.size());
+  ASSERT_EQ(bms::afeDriverCount(), expected.size());
+  for (size_t i = 0; i < parts.size(); ++i) {
+    EXPECT_EQ(parts[i]->name, expected[i]);
+    EXPECT_EQ(firmwarePartIndex(*parts[i]), i);
+    EXPECT_EQ(std::string(bms::afeDriver(static_cast<uint8_t>(i))->name), expected[i]);
+    EXPECT_EQ(&monitorPart(expected[i]), parts[i]);
+  }
+  EXPECT_EQ(bms::afeDriver(bms::afeDriverCount()), nullptr);
+  EXPECT_THROW(monitorPart("ltc6811"), std::invalid_argument);
+}
+
+// The firmware image names the scenario's part, carries its settings from the scenario
+// (here the BQ76952's CRC mode) and lets only a part with FETs of its own drive them.
+TEST(MonitorParts, ImageCarriesTheScenarioPart) {
+  for (const char* model : {"bq76pl536a", "bq76pl455a", "bq76952"}) {
+    const bms::Config c = makeBmsConfig(stackScenario(model, 12));
+    EXPECT_EQ(std::string(bms::afeDriver(c.afe.part)->name), model);
+    EXPECT_EQ(bms::monitorHasFets(c), std::string(model) == "bq76952") << model;
+  }
+  const Scenario s = test::scenarioFromYaml(
+      "name: afe\npack:\n  series: 12\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
+      "hardware:\n  afe: {model: bq76952, crc: false}\nload: {current_A: 0}\nrun: {duration_s: 1}\n");
+  bms::Config c = makeBmsConfig(s);
+  EXPECT_FALSE(bms::afeSettingsGet<bms::Bq952DriverConfig>(c.afe.settings).crc);
+  // Selecting a part writes its driver's defaults (the BQ76952 ships with its CRC on).
+  ASSERT_TRUE(bms::afeSelect(c, c.afe.part));
+  EXPECT_TRUE(bms::afeSettingsGet<bms::Bq952DriverConfig>(c.afe.settings).crc);
+  EXPECT_FALSE(bms::afeSelect(c, bms::afeDriverCount()));
+}
+
+// A key of another part names the parts that have it.
+TEST(MonitorParts, AnotherPartsKeyNamesItsParts) {
+  auto errorOf = [](const std::string& afe) {
+    return test::yamlErrorOf("name: afe\npack:\n  series: 12\n  cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}\n"
+                             "hardware:\n  afe: " + afe + "\nload: {current_A: 0}\nrun: {duration_s: 1}\n");
+  };
+  const std::string crc = errorOf("{model: bq76pl536a, crc: false}");
+  EXPECT_NE(crc.find("hardware.afe.crc"), std::string::npos) << crc;
+  EXPECT_NE(crc.find("only a bq76952 has `crc` (this stack is a bq76pl536a)"), std::string::npos) << crc;
+  const std::string secondary = errorOf("{model: bq76952, secondary: {enabled: false}}");
+  EXPECT_NE(secondary.find("only a bq76pl536a or bq76pl455a has `secondary` (this stack is a bq76952)"),
+            std::string::npos) << secondary;
+  const std::string boards = errorOf("{model: bq76952, cells_per_device: 12, devices_per_board: 1}");
+  EXPECT_NE(boards.find("boards are for stacked parts (bq76pl536a or bq76pl455a)"), std::string::npos) << boards;
+}
+
+// packsim's core refuses an image whose part this build has no driver for (init 5),
+// before it touches the board.
+TEST(MonitorParts, CoreRefusesAnImageOfAnUnknownPart) {
+  Rig rig("bq76pl536a");
+  std::vector<uint8_t> image = coreImage(rig.cfg);
+  bms::CoreImage img{};
+  std::memcpy(&img, image.data(), sizeof img);
+  img.cfg.afe.part = bms::afeDriverCount();
+  std::memcpy(image.data(), &img, sizeof img);
+  const psfw_firmware* fw = bms::coreFirmware();
+  std::vector<std::max_align_t> ram(fw->instance_bytes / sizeof(std::max_align_t) + 1);
+  EXPECT_EQ(fw->init(ram.data(), rig.board.board(), rig.board.api(), image.data(), static_cast<uint32_t>(image.size())),
+            5);
+  EXPECT_EQ(rig.board.transfers, 0);
+}
+
 struct LsbCase {
   const char* model;
   double lsb_V;  // datasheet
@@ -96,7 +171,9 @@ TEST(Monitor, CrcErrorsAtTheirRateAndWhatRetriesLeave) {
   const double p = 0.3;
   for (int retries : {0, 2}) {
     Rig rig("bq76pl536a", 12);
-    rig.cfg.drivers.pl536.crcRetries = static_cast<uint8_t>(retries);
+    bms::Bq536Config settings = bms::afeSettingsGet<bms::Bq536Config>(rig.cfg.afe.settings);
+    settings.crcRetries = static_cast<uint8_t>(retries);
+    bms::afeSettingsPut(rig.cfg.afe.settings, settings);
     ASSERT_TRUE(rig.init());
     rig.truth.comm[1].crc_error_rate = p;
     int bad = 0, badOther = 0;

@@ -31,7 +31,7 @@ constexpr uint8_t W = BQ952_I2C_ADDR << 1, R = (BQ952_I2C_ADDR << 1) | 1;
 
 MonitorConfig config(bool crc) {
   MonitorConfig c;
-  c.model = bms::AfeModel::Bq76952;
+  c.model = "bq76952";
   c.cells_per_device = 4;
   c.thermistors_per_device = 3;
   c.cell_adc.lsb = 1e-3;

@@ -42,7 +42,7 @@ std::vector<uint8_t> frame(uint8_t req, int address, uint8_t reg, std::vector<ui
 
 MonitorConfig pl455Config(int devices, int cells) {
   MonitorConfig c;
-  c.model = bms::AfeModel::Bq76pl455a;
+  c.model = "bq76pl455a";
   c.devices = devices;
   c.cells_per_device = cells;
   c.thermistors_per_device = 2;
