@@ -14,6 +14,7 @@ struct RouteSegment {
 struct Route {
   std::vector<RouteSegment> segments;
   int laps = 1;
+  double time_limit_s = 0.0;  // the race's time limit for the route (0: none)
 
   double lap_m() const;
   double total_m() const { return lap_m() * laps; }

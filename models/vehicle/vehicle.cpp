@@ -23,6 +23,7 @@ VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits)
   const int seg = route_.segmentAt(s_);
   pl.grade = route_.segments[static_cast<size_t>(seg)].grade;
   pl.target_m_per_s = route_.targetSpeed_m_per_s(s_, driver_.brake_m_per_s2);
+  if (driver_.max_speed_m_per_s > 0.0) pl.target_m_per_s = std::min(pl.target_m_per_s, driver_.max_speed_m_per_s);
   pl.array_W = array_W;
   double a = (pl.target_m_per_s - v_) / std::max(driver_.response_s, dt);
   a = std::clamp(a, -driver_.brake_m_per_s2, driver_.accel_m_per_s2);

@@ -24,6 +24,7 @@ struct DriverParams {
   double brake_m_per_s2 = 1.0;   // most the driver brakes (and plans braking with)
   double response_s = 2.0;       // a = (v_target - v) / response_s, within the bounds
   double power_cap_W = 0.0;      // most drive power the driver asks for (0: the motor's own)
+  double max_speed_m_per_s = 0.0;  // never faster than this, whatever the route allows (0: no cap)
 };
 
 // What cut the drive power back (in order of precedence when several apply).
