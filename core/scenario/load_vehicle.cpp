@@ -1,6 +1,7 @@
 // `load: {vehicle, route, driver, sun}` (docs/scenario.md, "Vehicle and route").
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 
 #include "core/scenario/scenario_sections.hpp"
@@ -9,6 +10,12 @@
 namespace packsim {
 
 namespace {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
 
 // Bounds of the vehicle keys, each with its reason.
 // 100 t: a loaded heavy truck is 40 t; an eco-marathon car with its driver ~100 kg.
@@ -45,7 +52,7 @@ VehicleParams readParams(YamlMap m, const PackConfig& pack) {
     throw m.errorAt("max_regen_power_W", why);
   p.aux_power_W = m.number("aux_power_W", 0.0, Range::nonNegative(limits::kMaxPower_W));
   if (p.aux_power_W >= p.max_drive_power_W)
-    throw m.errorAt("aux_power_W", "must be below max_drive_power_W (" + std::to_string(p.max_drive_power_W) + " W)");
+    throw m.errorAt("aux_power_W", "must be below max_drive_power_W (" + num(p.max_drive_power_W) + " W)");
   p.max_current_A = m.number("max_current_A", 0.0, Range::nonNegative(limits::kMaxCurrent_A));
   if (m.has("cutoff_start_V") != m.has("cutoff_end_V"))
     throw m.errorAt(m.has("cutoff_start_V") ? "cutoff_start_V" : "cutoff_end_V",
@@ -56,7 +63,7 @@ VehicleParams readParams(YamlMap m, const PackConfig& pack) {
     p.cutoff_start_V = m.number("cutoff_start_V", Range::positive(1.0e4));
     p.cutoff_end_V = m.number("cutoff_end_V", Range::nonNegative(1.0e4));
     if (!(p.cutoff_end_V < p.cutoff_start_V))
-      throw m.errorAt("cutoff_end_V", "must be below cutoff_start_V (" + std::to_string(p.cutoff_start_V) + " V)");
+      throw m.errorAt("cutoff_end_V", "must be below cutoff_start_V (" + num(p.cutoff_start_V) + " V)");
   }
   m.finish();
   return p;

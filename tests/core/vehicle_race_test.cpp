@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 
 #include "core/scenario/overrides.hpp"
 #include "core/sim/simulation.hpp"
@@ -206,4 +207,61 @@ TEST(VehicleRace, ScooterRangeAtCruiseHotAndCold) {
   EXPECT_NEAR(scooterLap_Wh(1.184), 9.753, 0.001);
   // Colder: denser air and a stiffer pack, a shorter range.
   EXPECT_LT(cold.summary.vehicle.distance_m, warm.summary.vehicle.distance_m);
+}
+
+TEST(VehicleRace, ASweepOverSpeedFindsTheFastestThatFinishes) {
+  // 10 km on the scooter from 25 % charge, the driver's speed capped at 20, 30, 40 km/h.
+  // A km costs (F_r + k·v²)/η + P_aux/v: 12.30 Wh at 30 km/h, 18.88 Wh at 40 (hand, with
+  // ρ = 1.184); 30 km/h finishes, 40 km/h stands still short of the line -- and the
+  // energy the pack gave the 40 km/h ride would have carried it over the line at 30.
+  auto wh_per_km = [](double kmh) {
+    const double v = kmh / 3.6;
+    return (force_N(100, 0.01, 1.184, 0.6, v, 0.0) * 1000.0 / 0.8 + 10.0 * 1000.0 / v) / 3600.0;
+  };
+  EXPECT_NEAR(wh_per_km(30), 12.30, 0.01);
+  EXPECT_NEAR(wh_per_km(40), 18.88, 0.01);
+  std::vector<RunResult> runs;
+  for (double v : {20.0, 30.0, 40.0})
+    runs.push_back(runScenario(loadScenarioFileWithOverrides(
+        race("scooter_16s_lto_range"), {{"pack.initial_soc", "0.25"}, {"expect", "{}"}, {"load.route.laps", "10"},
+                                        {"load.route.segments", "[{length_m: 1000, speed_kmh: 60}]"},
+                                        {"load.driver.max_speed_kmh", std::to_string(v)}})));
+  EXPECT_TRUE(runs[0].summary.vehicle.finished);
+  EXPECT_TRUE(runs[1].summary.vehicle.finished);
+  const VehicleSummary& fast = runs[2].summary.vehicle;
+  ASSERT_FALSE(fast.finished);
+  EXPECT_TRUE(fast.stood_still);
+  EXPECT_GT(fast.pack_Wh / wh_per_km(30), 10.0);
+  EXPECT_LT(fast.pack_Wh / wh_per_km(40), 10.0);
+  // Faster is quicker while it lasts: 30 km/h covers the 10 km in 1200 s plus the start.
+  EXPECT_NEAR(runs[1].summary.vehicle.time_s - runs[1].summary.vehicle.start_s, 1200.0, 6.0);
+}
+
+TEST(VehicleRace, BadVehicleKeysNameFileLineAndRange) {
+  const auto dir = test::processTempDir("vehicle_keys");
+  const auto file = dir / "bad.yaml";
+  {
+    std::ofstream out(file);
+    out << "extends: " << race("scooter_16s_lto_range") << "\n"
+        << "load:\n"
+        << "  vehicle:\n"
+        << "    mass_kg: -3\n";
+  }
+  const std::string e = test::fileErrorOf(file);
+  EXPECT_NE(e.find("bad.yaml:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("load.vehicle.mass_kg"), std::string::npos) << e;
+  EXPECT_NE(e.find("(0, 100000]"), std::string::npos) << e;
+  const std::string fold = test::scenarioErrorOf(
+      [] { loadScenarioFileWithOverrides(race("scooter_16s_lto_range"), {{"load.vehicle.cutoff_end_V", "40"}}); });
+  EXPECT_NE(fold.find("load.vehicle.cutoff_end_V: must be below cutoff_start_V (33.6 V)"), std::string::npos) << fold;
+  const std::string key = test::scenarioErrorOf(
+      [] { loadScenarioFileWithOverrides(race("scooter_16s_lto_range"), {{"load.driver.max_speed", "30"}}); });
+  EXPECT_NE(key.find("max_speed_kmh"), std::string::npos) << key;
+  // A one-way discharge path cannot take the array's charge.
+  const std::string sun = test::scenarioErrorOf([] {
+    loadScenarioFileWithOverrides(race("scooter_16s_lto_range"),
+                                  {{"load.sun", "{array_area_m2: 1, efficiency: 0.2, latitude_deg: 0, day_of_year: 80, "
+                                                "start_solar_hour: 9}"}});
+  });
+  EXPECT_NE(sun.find("fet_paths: separate"), std::string::npos) << sun;
 }
