@@ -70,11 +70,11 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, RunTrac
                         std::to_string(sum_.limit_lap) + "), " + fmt("%.1f", car_.speed_m_per_s() * 3.6) +
                         " km/h: the drive got ";
         if (lim == DriveLimit::PackShortfall)
-          d += fmt("%.1f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + plan_.array_W)) + " W of the " +
-               fmt("%.1f", plan_.drive_W) + " W it asked the pack for";
+          d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + plan_.array_W)) + " W of the " +
+               fmt("%.2f", plan_.drive_W) + " W it asked the pack for";
         else
-          d += fmt("%.1f", plan_.drive_W) + " W of the " + fmt("%.1f", plan_.wanted_W) + " W the driver wanted (pack " +
-               fmt("%.2f", pack_V) + " V, controller limit " + fmt("%.2f", (plan_.net_W) / std::max(pack_V, 1e-9)) +
+          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted (pack " +
+               fmt("%.2f", pack_V) + " V, the controller allowed " + fmt("%.2f", plan_.net_W / std::max(pack_V, 1e-9)) +
                " A)";
         sum_.limit_detail = d;
         tracker.event(t0, "vehicle_limited", d);
@@ -101,6 +101,11 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, RunTrac
     } else {
       still_s_ = 0.0;
     }
+  }
+  if (!started_ && !ready && !stood_ && t >= cfg_.standstill_end_s) {  // the ready light never came on
+    stood_ = true;
+    tracker.event(t, "vehicle_stopped",
+                  "never set off: the BMS was not ready (normal state) within " + fmt("%.0f", t) + " s");
   }
   if (!started_ && ready) {
     started_ = true;

@@ -74,7 +74,9 @@ TEST(VehicleRace, EcoCircuitLapEnergyIsTheHandRoadLoadBudget) {
 TEST(VehicleRace, ControllerCurrentLimitSlowsTheClimbAndTheLostTimeAddsUp) {
   // At 12 A the climb's 759 W (17 A at 44 V) is cut back: the car slows on the hill (and
   // already at the start: 0.5 m/s² needs 570 W at 14 km/h).
-  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.vehicle.max_current_A", "12"}});
+  // (The fast integrator: a power that changes every tick restarts CVODE every tick.)
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"load.vehicle.max_current_A", "12"}, {"run.solver", "fast"}});
   const RunResult r = runScenario(s);
   const VehicleSummary& v = r.summary.vehicle;
   ASSERT_TRUE(v.finished);
@@ -136,10 +138,11 @@ TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
   // A 0.5 m² array at 20 % through a 95 % MPPT on the eco car, 45° N on day 172 from
   // 11:00 solar time: its energy is the integral of the clear-sky formula over the race,
   // and the pack gives that much less.
-  const Scenario plain = loadScenarioFile(race("eco_marathon_12s_circuit"));
+  const Scenario plain = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"run.solver", "fast"}});
   const Scenario sunny = loadScenarioFileWithOverrides(
       race("eco_marathon_12s_circuit"),
-      {{"load.sun", "{array_area_m2: 0.5, efficiency: 0.2, mppt_efficiency: 0.95, latitude_deg: 45, day_of_year: 172, "
+      {{"run.solver", "fast"},
+       {"load.sun", "{array_area_m2: 0.5, efficiency: 0.2, mppt_efficiency: 0.95, latitude_deg: 45, day_of_year: 172, "
                     "start_solar_hour: 11}"}});
   const RunResult a = runScenario(plain), b = runScenario(sunny);
   const VehicleSummary& v = b.summary.vehicle;
@@ -264,4 +267,17 @@ TEST(VehicleRace, BadVehicleKeysNameFileLineAndRange) {
                                                 "start_solar_hour: 9}"}});
   });
   EXPECT_NE(sun.find("fet_paths: separate"), std::string::npos) << sun;
+}
+
+TEST(VehicleRace, NoReadyLightNoRace) {
+  // Without the drive-enable input the BMS stays in standby: the car never sets off and the
+  // run ends after standstill_end_s (not after 30 days of simulated standing).
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"bms.run_request", "false"}, {"expect", "{}"},
+                                                    {"load.standstill_end_s", "5"}});
+  const RunResult r = runScenario(s);
+  EXPECT_NEAR(test::eventTime(r, "vehicle_stopped", "never set off"), 5.0, 0.011);
+  EXPECT_EQ(r.summary.vehicle.distance_m, 0.0);
+  EXPECT_NEAR(r.summary.energy_delivered_Wh, 0.0, 1e-9);
+  EXPECT_NE(formatSummary(s, r).find("range           0.000 km: it never set off"), std::string::npos);
 }
