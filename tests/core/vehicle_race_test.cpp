@@ -281,3 +281,22 @@ TEST(VehicleRace, NoReadyLightNoRace) {
   EXPECT_NEAR(r.summary.energy_delivered_Wh, 0.0, 1e-9);
   EXPECT_NE(formatSummary(s, r).find("range           0.000 km: it never set off"), std::string::npos);
 }
+
+TEST(VehicleRace, RegenerationOnTheDescentComesOffTheLapBudget) {
+  // With 150 W of regeneration the descent (-3 %: F = -43.3 N at 27 km/h, -325 W at the
+  // wheel, -276 W after η) returns the capped 150 W for its 33.3 s: 1.389 Wh a lap less.
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"load.vehicle.max_regen_power_W", "150"}, {"run.solver", "fast"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  const double down_N = force_N(220, 0.006, 1.2, 0.25, kEcoV, -0.03);
+  EXPECT_LT(down_N * kEcoV * 0.85, -150.0);  // the cap binds
+  const double lap_Wh = (ecoLapPack_J() - 150.0 * 250.0 / kEcoV) / 3600.0;
+  EXPECT_NEAR(lap_Wh, 13.80, 0.01);
+  for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.02 * lap_Wh) << "lap " << i + 1;
+  // The pack is charged on the descent: 142 W net of the 8 W aux.
+  const auto& i = r.rec.pack_current_A;
+  EXPECT_LT(*std::min_element(i.begin(), i.end()), -142.0 / 50.4);
+  EXPECT_FALSE(r.summary.tripped);
+}
