@@ -57,8 +57,9 @@ std::string vehicleSummaryLines(const VehicleSummary& v) {
     os << "time lost       " << fmt("%.1f", v.time_s - v.reference_time_s)
        << " s against the same driver on a pack that never limits it (" << fmt("%.1f", v.reference_time_s) << " s)\n";
   else if (!v.finished)
-    os << "range           " << km(v.distance_m)
-       << (v.stood_still ? (v.distance_m > 0.0 ? ", where the vehicle stood still" : ": it never set off") : "")
+    os << (v.stood_still ? "range           " : "distance        ") << km(v.distance_m)
+       << (v.stood_still ? (v.distance_m > 0.0 ? ", where the vehicle stood still" : ": it never set off")
+                         : " when the run ended (the route not finished)")
        << (v.reference_time_s > 0.0 ? "; on a pack that never limits it the route takes " +
                                           fmt("%.1f", v.reference_time_s - v.start_s) + " s"
                                     : std::string())

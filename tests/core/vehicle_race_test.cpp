@@ -132,6 +132,10 @@ TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   ASSERT_LT(r.rec.vehicle_distance_m[k1], 600.0);  // still on the flat
   EXPECT_NEAR(r.rec.vehicle_speed_m_per_s[k1], v1, 0.01 * v1);
   EXPECT_FALSE(v.finished);
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("pack limit      first at 30.0"), std::string::npos) << text;
+  EXPECT_NE(text.find("distance        0."), std::string::npos) << text;  // still rolling at the run's end
+  EXPECT_NE(text.find("when the run ended (the route not finished)"), std::string::npos) << text;
 }
 
 TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
