@@ -304,3 +304,61 @@ TEST(VehicleRace, RegenerationOnTheDescentComesOffTheLapBudget) {
   EXPECT_LT(*std::min_element(i.begin(), i.end()), -142.0 / 50.4);
   EXPECT_FALSE(r.summary.tripped);
 }
+
+namespace {
+// Clear-sky global horizontal irradiance (docs/vehicle.md), written out again.
+double clearSky(double lat, int day, double hour) {
+  const double pi = std::acos(-1.0), deg = pi / 180.0;
+  const double decl = 23.45 * deg * std::sin(2.0 * pi * (284.0 + day) / 365.0);
+  const double cz = std::sin(lat * deg) * std::sin(decl) + std::cos(lat * deg) * std::cos(decl) * std::cos((hour - 12) * 15 * deg);
+  return cz <= 0 ? 0.0 : 1.1 * 1353.0 * std::pow(0.7, std::pow(1.0 / cz, 0.678)) * cz;
+}
+}  // namespace
+
+TEST(VehicleRace, SolarStageRoadLoadIsPackPlusArray) {
+  // solar_car_28s15p_stage.yaml: 300 kg, C_rr 0.005, CdA 0.09, ρ 1.16, η 0.95, aux 20 W,
+  // 80 km/h over 120 km flat, 10 km at +2 %, 10 km at -2 % (regeneration, below its cap);
+  // 4 m² × 24 % × 98 % at 12.5° S on day 296 from 13:00 solar time.
+  const Scenario s = loadScenarioFile(race("solar_car_28s15p_stage"));
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  const double sp = 80.0 / 3.6;
+  const double flat = force_N(300, 0.005, 1.16, 0.09, sp, 0.0), up = force_N(300, 0.005, 1.16, 0.09, sp, 0.02),
+               down = force_N(300, 0.005, 1.16, 0.09, sp, -0.02);
+  ASSERT_LT(down, 0.0);
+  ASSERT_GT(down * sp * 0.95, -2000.0);  // regeneration below its cap
+  const double drive_J = (flat * 120e3 + up * 10e3) / 0.95 + down * 10e3 * 0.95 + 0.5 * 300 * sp * sp / 0.95 +
+                         20.0 * (v.time_s - v.start_s);
+  EXPECT_NEAR(drive_J / 3600.0, 1719.0, 5.0);
+  // What the drive and the aux used came from the pack and the array.
+  EXPECT_NEAR(v.pack_Wh + v.array_Wh, drive_J / 3600.0, 0.02 * drive_J / 3600.0);
+  // The array: the clear-sky integral over the stage (trapezoids of 10 s).
+  double e_J = 0.0;
+  for (double t = v.start_s; t < v.time_s; t += 10.0) {
+    const double t1 = std::min(t + 10.0, v.time_s);
+    e_J += 0.5 * (clearSky(-12.5, 296, 13 + t / 3600) + clearSky(-12.5, 296, 13 + t1 / 3600)) * (t1 - t);
+  }
+  const double array_Wh = 4.0 * 0.24 * 0.98 * e_J / 3600.0;
+  EXPECT_NEAR(v.array_Wh, array_Wh, 0.02 * array_Wh);
+  EXPECT_FALSE(v.limited);
+}
+
+TEST(VehicleRace, ThePackFullTheBmsEndsTheArraysCharge) {
+  // From 98 % at noon and 50 km/h (the drive ~380 W, the array ~980 W) the array charges
+  // the pack past 4.20 V a cell: the BMS's over-voltage trip opens the relay, as it would
+  // end a charger's charge.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("solar_car_28s15p_stage"), {{"pack.initial_soc", "0.98"}, {"expect", "{}"}, {"load.driver.max_speed_kmh", "50"},
+                                       {"load.sun.start_solar_hour", "12"}});
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped);
+  EXPECT_NE(r.summary.trip_reason.find("cell_overvoltage"), std::string::npos) << r.summary.trip_reason;
+  const double trip_s = r.summary.trip_time_s;
+  double charge_A = 0.0;
+  for (size_t k = 0; k < r.rec.samples(); ++k) {
+    if (r.rec.time_s[k] < trip_s) charge_A = std::min(charge_A, r.rec.pack_current_A[k]);
+    else if (r.rec.time_s[k] > trip_s + 1.0) EXPECT_EQ(r.rec.pack_current_A[k], 0.0) << r.rec.time_s[k];
+  }
+  EXPECT_LT(charge_A, -1.0);  // it was charging before
+}
