@@ -362,3 +362,15 @@ TEST(VehicleRace, ThePackFullTheBmsEndsTheArraysCharge) {
   }
   EXPECT_LT(charge_A, -1.0);  // it was charging before
 }
+
+TEST(VehicleRace, SameScenarioSameBits) {
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"load.vehicle.max_current_A", "12"}, {"run.duration_s", "300"}});
+  const RunResult a = runScenario(s), b = runScenario(s);
+  ASSERT_GT(a.rec.samples(), 100u);
+  EXPECT_EQ(a.rec.vehicle_distance_m, b.rec.vehicle_distance_m);
+  EXPECT_EQ(a.rec.vehicle_speed_m_per_s, b.rec.vehicle_speed_m_per_s);
+  EXPECT_EQ(a.rec.vehicle_pack_request_W, b.rec.vehicle_pack_request_W);
+  EXPECT_EQ(a.rec.pack_current_A, b.rec.pack_current_A);
+  EXPECT_EQ(formatSummary(s, a), formatSummary(s, b));
+}
