@@ -130,6 +130,20 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
          fmt(") is not below %.2f C", *e.max_temp_C_below));
   if (e.energy_delivered_Wh_above && !(sm.energy_delivered_Wh > *e.energy_delivered_Wh_above))
     fail(fmt("energy delivered %.2f Wh is not above %.2f Wh", sm.energy_delivered_Wh, *e.energy_delivered_Wh_above));
+  {
+    const VehicleSummary& v = sm.vehicle;
+    const double km = v.distance_m / 1000.0;
+    if ((e.vehicle_distance_km_above || e.vehicle_distance_km_below || e.vehicle_finished) && !v.present)
+      fail("the vehicle expectations need a vehicle (load: {vehicle: ...})");
+    else {
+      if (e.vehicle_distance_km_above && !(km > *e.vehicle_distance_km_above))
+        fail(fmt("the vehicle drove %.3f km, not above ", km) + fmt("%.3f km", *e.vehicle_distance_km_above));
+      if (e.vehicle_distance_km_below && !(km < *e.vehicle_distance_km_below))
+        fail(fmt("the vehicle drove %.3f km, not below ", km) + fmt("%.3f km", *e.vehicle_distance_km_below));
+      if (e.vehicle_finished && v.finished != *e.vehicle_finished)
+        fail(std::string("the vehicle ") + (v.finished ? "finished" : "did not finish") + " its route");
+    }
+  }
 
   judgeEstimates(e, sm, fail);
   // A firmware that failed (load, init, crash, hang, contract break) fails the check

@@ -325,6 +325,16 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
   w.attrInt(g, "display_bars_extra_max", sm.display_bars_extra_max);
   w.attr(g, "limit_unseen_longest_s", sm.limit_unseen_longest_s);
   w.attr(g, "limit_unseen_longest", sm.limit_unseen_longest);
+  if (sm.vehicle.present) {  // a vehicle on its route (docs/vehicle.md): summary.csv of a sweep over its speed
+    const VehicleSummary& v = sm.vehicle;
+    w.attr(g, "vehicle_distance_km", v.distance_m / 1000.0);
+    w.attrInt(g, "vehicle_finished", v.finished ? 1 : 0);
+    w.attr(g, "vehicle_time_s", v.time_s - v.start_s);
+    w.attr(g, "vehicle_time_lost_s", v.finished && v.reference_time_s > 0.0 ? v.time_s - v.reference_time_s : 0.0);
+    w.attr(g, "vehicle_pack_Wh", v.pack_Wh);
+    w.attr(g, "vehicle_array_Wh", v.array_Wh);
+    w.attr(g, "vehicle_limit_time_s", v.limited ? v.limit_time_s : -1.0);
+  }
 
   addNetcdfLayout(file, {n, cells, static_cast<size_t>(rec.groups), static_cast<size_t>(rec.thermistors),
                          static_cast<size_t>(rec.devices)});

@@ -30,6 +30,10 @@ struct Expectations {
   std::optional<double> max_temp_C_below;
   std::optional<double> final_soc_spread_above, final_soc_spread_below;  // max - min cell SOC at the end
   std::optional<double> energy_delivered_Wh_above;
+  // A vehicle on its route (docs/vehicle.md): the distance it drove, and whether it
+  // finished the route.
+  std::optional<double> vehicle_distance_km_above, vehicle_distance_km_below;
+  std::optional<bool> vehicle_finished;
   std::vector<SocErrorBound> soc_error_max_below, soc_error_rms_below, soc_error_end_below;  // |end|
   std::optional<double> capacity_error_below;   // |SOH estimate / true - 1|; needs an estimate
   // Against the `compare:` reference run: energy delivered lost (reference − this run)

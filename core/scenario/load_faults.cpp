@@ -298,6 +298,12 @@ Expectations readExpect(std::optional<YamlMap> m) {
     e.final_soc_spread_below = m->number("final_soc_spread_below", Range::closed(0.0, 1.0));
   if (m->has("energy_delivered_Wh_above"))
     e.energy_delivered_Wh_above = m->number("energy_delivered_Wh_above", Range::symmetric(limits::kMaxEnergy_Wh));
+  // Distances up to 1e6 km (25 times round the earth).
+  if (m->has("vehicle_distance_km_above"))
+    e.vehicle_distance_km_above = m->number("vehicle_distance_km_above", Range::nonNegative(1.0e6));
+  if (m->has("vehicle_distance_km_below"))
+    e.vehicle_distance_km_below = m->number("vehicle_distance_km_below", Range::nonNegative(1.0e6));
+  if (m->has("vehicle_finished")) e.vehicle_finished = m->boolean("vehicle_finished", true);
   readSocExpectations(*m, e);  // load_estimation.cpp
   if (m->has("energy_lost_vs_compare_Wh_above"))
     e.energy_lost_vs_compare_Wh_above = m->number("energy_lost_vs_compare_Wh_above", Range::symmetric(limits::kMaxEnergy_Wh));

@@ -164,9 +164,11 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   // A child that names its own kind of load (current, power, segments, points, csv,
   // charger) replaces the base's load whole; otherwise its load keys (laps, ...) merge.
   if (cbase["load"] && cbase["load"].IsMap() && root["load"] && root["load"].IsMap()) {
-    static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv", "charger"};
+    static const char* kinds[] = {"current_A", "power_W", "segments", "points", "csv", "charger", "vehicle"};
     bool childKind = false;
     for (const char* k : kinds) childKind = childKind || root["load"][k];
+    // A vehicle extending a vehicle: its keys (mass, route, driver ...) merge.
+    if (root["load"]["vehicle"] && cbase["load"]["vehicle"]) childKind = false;
     if (childKind) {
       base.remove("load");
       if (Provenance* p = Provenance::active()) p->eraseUnder("load");
@@ -320,6 +322,11 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
         s.bms.run_request = false;
         if (prov) prov->recordDefault("bms.run_request", "false", "default (the load is a charger)");
       }
+    } else if (load.has("vehicle")) {  // a vehicle on a route draws a power it decides each tick
+      s.vehicle = readVehicle(load, s.pack);
+      load.finish();
+      s.load = LoadProfile::constant(0.0);
+      s.load.quantity = LoadProfile::Quantity::Power_W;
     } else {
       s.load = readLoad(load, base_dir, s.pack);
     }
@@ -359,9 +366,9 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   m.finish();
 
   // Cross-field checks, reported at the field a user would change.
-  if (s.load.isConstant() && s.run.duration_s <= 0.0)
+  if (s.load.isConstant() && s.run.duration_s <= 0.0 && !s.vehicle.present)
     throw m.errorAt("load", "a constant load needs run.duration_s");
-  if (s.run.duration_s <= 0.0 && s.load.duration_s() > limits::kMaxTime_s) {
+  if (s.run.duration_s <= 0.0 && s.load.duration_s() > limits::kMaxTime_s && !s.vehicle.present) {
     std::ostringstream os;
     os << "the load lasts " << s.load.duration_s() << " s (" << s.load.laps << " laps of " << s.load.lap_s()
        << " s); a run lasts at most " << limits::kMaxTime_s << " s (30 days): fewer laps or a run.duration_s";
@@ -376,6 +383,11 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
       *std::min_element(s.load.i_A.begin(), s.load.i_A.end()) < 0.0)
     throw m.errorAt("load", "the load sits on the one-way discharge path (hardware.fet_paths: separate): it cannot "
                             "push current into the pack; a charge comes from `load: {charger: ...}`");
+  if (s.vehicle.present && s.hardware.fet_paths == FetPaths::Separate &&
+      (s.vehicle.params.max_regen_power_W > 0.0 || s.vehicle.array.area_m2 > 0.0))
+    throw m.map("load").errorAt(s.vehicle.params.max_regen_power_W > 0.0 ? "vehicle" : "sun",
+                                "the load sits on the one-way discharge path (hardware.fet_paths: separate): "
+                                "regeneration and a solar array cannot charge the pack");
   const double senseRange_A = s.hardware.current_sense.zeroCode() * s.hardware.current_sense.lsb_A();
   for (const auto* p : {&s.bms.protection(bms::FaultId::OverCurrentDischarge), &s.bms.protection(bms::FaultId::OverCurrentCharge)}) {
     if (p->enabled && p->threshold >= senseRange_A) {
@@ -404,6 +416,10 @@ Scenario loadScenarioFile(const std::string& path) {
   return loadScenarioText(text, path, dir.empty() ? "." : dir);
 }
 
-double Scenario::endTime_s() const { return run.duration_s > 0.0 ? run.duration_s : load.duration_s(); }
+// A vehicle ends its own run (route finished, or standing still): at most 30 days.
+double Scenario::endTime_s() const {
+  if (run.duration_s > 0.0) return run.duration_s;
+  return vehicle.present ? limits::kMaxTime_s : load.duration_s();
+}
 
 }  // namespace packsim

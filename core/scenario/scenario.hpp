@@ -11,6 +11,7 @@
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
 #include "core/scenario/protection_table.hpp"
+#include "core/scenario/vehicle_config.hpp"
 #include "core/scenario/firmware_config.hpp"
 #include "models/afe/monitor_config.hpp"
 #include "models/balance/active_balancer.hpp"
@@ -209,6 +210,7 @@ struct Scenario {
   BmsSettings bms;
   LoadProfile load;
   ChargerConfig charger;  // `load: {charger: {...}}`: the pack sits on a CC-CV charger
+  VehicleConfig vehicle;  // `load: {vehicle: {...}, route: {...}}`: a vehicle drives the load (docs/vehicle.md)
   TimeSeries ambient_C = TimeSeries::constant(25.0);
   ThermalConfig thermal;
   RunConfig run;

@@ -32,6 +32,8 @@ std::string loadCRateError(const PackConfig& pack, double value, bool power);
 // the lowest R0 of its cell (SOC 0..1, 25 C). No fault current can exceed it.
 double shortCircuitCurrent_A(const PackConfig& pack);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
+// load_vehicle.cpp: `load: {vehicle, route, driver, sun, standstill_end_s}` (the caller finishes `load`)
+VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack);
 // boards: the monitor boards (each with its MCU) a host_dead may name.
 std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards);
 Expectations readExpect(std::optional<YamlMap> m);

@@ -7,6 +7,7 @@
 
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/soc_error.hpp"
+#include "core/sim/vehicle_summary.hpp"
 
 namespace packsim {
 
@@ -64,6 +65,10 @@ struct Recording {
   std::vector<double> capacity_estimate_Ah;    // SOH: series-group capacity (0: none yet)
   std::vector<uint8_t> soc_display_bars;       // what the SOC display shows (mean measured cell)
   std::vector<uint8_t> soc_display_bars_truth; // what it would show from the true OCV
+  // a vehicle on its route (docs/vehicle.md): only filled for `load: {vehicle: ...}`
+  bool has_vehicle = false;
+  std::vector<double> vehicle_distance_m, vehicle_speed_m_per_s, vehicle_pack_request_W, vehicle_array_W;
+  std::vector<uint8_t> vehicle_limit;
 
   size_t samples() const { return time_s.size(); }
 };
@@ -125,6 +130,7 @@ struct Summary {
   double limit_unseen_longest_s = 0.0;
   std::string limit_unseen_longest;
   std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
+  VehicleSummary vehicle;       // `load: {vehicle: ...}`: laps, the pack's limits on the vehicle
 };
 
 struct RunResult {

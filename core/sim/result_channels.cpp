@@ -11,6 +11,7 @@
 
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/plant.hpp"
+#include "models/vehicle/vehicle.hpp"
 
 namespace packsim {
 
@@ -50,6 +51,8 @@ double trueMeanSoc(const S& s) {
 }
 
 constexpr ChannelAttr kNoAttr{};
+// A vehicle channel over time that xarray also indexes by the distance driven.
+const ChannelAttr kAtDistance{"coordinates", [](const Recording&) { return std::string("distance_m"); }};
 
 std::vector<ResultChannel> makeChannels() {
   using A = Axis;
@@ -183,6 +186,19 @@ std::vector<ResultChannel> makeChannels() {
    {"meaning", [](const Recording&) { return std::string("series-group capacity between two rested OCV points; 0 = none yet"); }}},
   {"/bms/soc_display_bars", "bars", A::None, P::Always, "soc display bars (bms)",
    Column<uint8_t>{&Recording::soc_display_bars, [](const S& s, V<uint8_t>& v) { v.push_back(s.out.telemetry.socDisplayBars); }}, kNoAttr},
+  // a vehicle on its route (core/sim/vehicle_run.hpp)
+  // (CF `coordinates`: xarray makes distance_m a coordinate of the vehicle's series)
+  {"/vehicle/distance_m", "m", A::None, P::Vehicle, "distance driven",
+   Column<double>{&Recording::vehicle_distance_m, [](const S& s, V<double>& v) { v.push_back(s.vehicle->distance_m); }}, kNoAttr},
+  {"/vehicle/speed_m_per_s", "m/s", A::None, P::Vehicle, "vehicle speed",
+   Column<double>{&Recording::vehicle_speed_m_per_s, [](const S& s, V<double>& v) { v.push_back(s.vehicle->speed_m_per_s); }}, kAtDistance},
+  {"/vehicle/pack_request_W", "W", A::None, P::Vehicle, "pack power the vehicle asks for over the next tick",
+   Column<double>{&Recording::vehicle_pack_request_W, [](const S& s, V<double>& v) { v.push_back(s.vehicle->pack_request_W); }}, kAtDistance},
+  {"/vehicle/array_W", "W", A::None, P::Vehicle, "solar array power into the bus",
+   Column<double>{&Recording::vehicle_array_W, [](const S& s, V<double>& v) { v.push_back(s.vehicle->array_W); }}, kAtDistance},
+  {"/vehicle/limit", nullptr, A::None, P::Vehicle, "what limited the drive over the last tick",
+   Column<uint8_t>{&Recording::vehicle_limit, [](const S& s, V<uint8_t>& v) { v.push_back(s.vehicle->limit); }},
+   {"names", [](const Recording&) { return enumNames(&driveLimitName, static_cast<uint8_t>(DriveLimit::PackShortfall) + 1); }}},
   };
   // clang-format on
 }
@@ -217,6 +233,7 @@ bool isRecorded(const ResultChannel& c, const Recording& rec) {
     case Presence::Board: return rec.has_board;
     case Presence::ActiveBalancer: return rec.has_active_balancer;
     case Presence::Charger: return rec.has_charger;
+    case Presence::Vehicle: return rec.has_vehicle;
   }
   return false;
 }

@@ -36,13 +36,14 @@ struct ChannelSample {
   const bms::Config& cfg;
   const HardwareSim* hw;  // set whenever a channel with Presence::Hardware is recorded
   const Recording& rec;   // its sizes (thermistors, devices)
+  const VehicleSample* vehicle = nullptr;  // set whenever a channel with Presence::Vehicle is recorded
 };
 
 // The second axis of a [samples, k] channel; None: a [samples] channel.
 enum class Axis : uint8_t { None, Cell, Series, Thermistor, Device, TelemetryByte };
 
 // Which runs record a channel (Recording's has_* flags).
-enum class Presence : uint8_t { Always, Hardware, Balancing, BalancingHardware, Board, ActiveBalancer, Charger };
+enum class Presence : uint8_t { Always, Hardware, Balancing, BalancingHardware, Board, ActiveBalancer, Charger, Vehicle };
 
 // Where a channel's values live and how one sample of them is appended (one value, or
 // one per entry of its axis).

@@ -62,6 +62,11 @@ void RunTracker::noteSocRange(double t, const double* x, int cell) {
   event(t, "soc_out_of_range", cellName(cell + 1, plant_.pack().parallel) + buf);
 }
 
+void RunTracker::setVehicle(const VehicleSample* v) {
+  vehicle_ = v;
+  r_.rec.has_vehicle = v != nullptr;
+}
+
 void RunTracker::setHardware(const HardwareSim* hw) {
   hw_ = hw;
   r_.rec.has_hardware = hw != nullptr;
@@ -187,7 +192,7 @@ void RunTracker::firmwareTrip(double t, const std::string& reason) {
 }
 
 void RunTracker::record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
-  recordSample({t, x, sig, out, plant_, cfg_, hw_, r_.rec}, r_.rec);
+  recordSample({t, x, sig, out, plant_, cfg_, hw_, r_.rec, vehicle_}, r_.rec);
 }
 
 bool RunTracker::stopRequested(double t) const {

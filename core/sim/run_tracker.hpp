@@ -30,6 +30,8 @@ class RunTracker {
   void firmwareTrip(double t, const std::string& reason);
   // The switching hardware and monitors whose actual state is recorded (bms_bridge).
   void setHardware(const HardwareSim* hw);
+  // A vehicle run's state, recorded with every sample (/vehicle channels).
+  void setVehicle(const VehicleSample* v);
 
  private:
   std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
@@ -50,6 +52,7 @@ class RunTracker {
   double lastT_ = 0.0;
   const double* lastX_ = nullptr;
   const HardwareSim* hw_ = nullptr;
+  const VehicleSample* vehicle_ = nullptr;
   HardwareStatus lastHw_;
   uint8_t lastPrechargePhase_ = 0;
   uint64_t lastLost_ = 0;

@@ -19,6 +19,7 @@
 #include "core/sim/readout_fit.hpp"
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
+#include "core/sim/vehicle_run.hpp"
 
 namespace packsim {
 
@@ -67,6 +68,12 @@ struct SimulationRun::Impl {
     // A balancing stop threshold below what the measurement noise of N channels allows.
     if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
     scheduler.reset(faults);
+    if (s.vehicle.present) {  // a vehicle decides the power load each tick (core/sim/vehicle_run.hpp)
+      vehicle = std::make_unique<VehicleRun>(s.vehicle, tick_s);
+      tracker.setVehicle(&vehicle->sample());
+      plant.evaluate(0.0, x.data(), inputs, sig);
+      packV = sig.pack_voltage_V;
+    }
   }
 
   bool tick(const StopCondition& stopWhen);
@@ -94,6 +101,8 @@ struct SimulationRun::Impl {
   const long lastTick;
   const bool driverEnds;
   ExternalInputs ext;
+  std::unique_ptr<VehicleRun> vehicle;  // `load: {vehicle: ...}`: null otherwise
+  double packV = 0.0;                   // pack voltage at the last tick (what the motor controller measures)
   const PlantSignals* sampled = nullptr;  // the signals of the last tick
   bool restartNext = false;               // an input of the plant jumped at the last tick
   long k = 0;
@@ -105,6 +114,9 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   if (ended) return false;
   Integrator& integ = *solver;
   const double t = static_cast<double>(k) * tick_s;
+  if (vehicle)  // the vehicle moves over the last tick and asks its power for the next
+    ext.load_A_or_W = vehicle->tick(t, integ.state()[plant.stateSize() + kQuadLoadEnergy_J], packV,
+                                    out.state == bms::State::Normal, tracker);
   if (ext.applyToPlant(t, inputs)) integ.reset(t, integ.state());  // external inputs, if any
   const double* xs = integ.state();
 
@@ -120,6 +132,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
   hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
   ext.applyToPins(in);
+  packV = sg.pack_voltage_V;
 
   // 2. the firmware decides: its tasks due in [t_k, t_k+1) run on the MCU's clock,
   //    talking to the monitor chain over the bus (a hung MCU does not: its pins hold
@@ -136,13 +149,14 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   // 4. record
   tracker.tick(t, xs, sg, out);
   const bool stop = k >= lastTick || (!driverEnds && (tracker.stopRequested(t) || hw.chargeComplete())) ||
-                    (stopWhen && stopWhen(t, xs, sg, out));
+                    (stopWhen && stopWhen(t, xs, sg, out)) || (vehicle && vehicle->done());
   if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
   if (stop) {
     ended = true;
     endReason = k >= lastTick                    ? "the scenario's end time"
                 : !driverEnds && tracker.stopRequested(t) ? afterTripText(s.run.stop_after_trip_s)
                 : !driverEnds && hw.chargeComplete()      ? "the charge was complete"
+                : vehicle && vehicle->done()              ? vehicle->endReason()
                                                           : "it was stopped";
     return false;
   }
@@ -222,6 +236,7 @@ RunResult SimulationRun::finish() {
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.solver = m.solver->stats();
   r.summary.firmware_status = m.firmware.status();
+  if (m.vehicle) r.summary.vehicle = m.vehicle->summary(static_cast<double>(m.k) * m.tick_s);
   compareWithReference(m.s, r);  // the `compare:` reference run, if the scenario names one
   return r;
 }

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/sim/vehicle_text.hpp"
+
 namespace packsim {
 
 std::string clockText(double s) {
@@ -188,6 +190,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
          << "\n";
     }
   }
+  os << vehicleSummaryLines(m.vehicle);  // a vehicle on its route (docs/vehicle.md)
   // Scripted faults the run never reached: it ended first.
   for (const Event& e : r.events)
     if (e.kind == "fault_not_reached") os << "fault script    not reached: " << e.detail << "\n";

@@ -94,7 +94,7 @@ def test_the_channel_table_is_complete_and_consistent():
     assert len(paths) == len(set(paths)) >= 40
     for c in CHANNELS:
         group = c["path"].rsplit("/", 1)[0]
-        assert group in ("", "/truth", "/measured", "/bms", "/hardware"), c
+        assert group in ("", "/truth", "/measured", "/bms", "/hardware", "/vehicle"), c
         assert c["axis"] in SHAPE and c["long_name"], c
 
 

@@ -1,0 +1,125 @@
+// `load: {vehicle, route, driver, sun}` (docs/scenario.md, "Vehicle and route").
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/value_ranges.hpp"
+
+namespace packsim {
+
+namespace {
+
+std::string num(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// Bounds of the vehicle keys, each with its reason.
+// 100 t: a loaded heavy truck is 40 t; an eco-marathon car with its driver ~100 kg.
+constexpr double kMaxMass_kg = 1.0e5;
+// C_rr: 0.001 (a train on steel) .. 0.3 (sand); 1 leaves room for a test rig.
+constexpr double kMaxRolling = 1.0;
+// C_d·A: 0.03 m² (a shell-eco car) .. ~10 m² (a truck); 100 m² leaves room.
+constexpr double kMaxDragArea_m2 = 100.0;
+// Air: 0.5 kg/m³ at 6 km altitude .. 1.5 kg/m³ on a cold day at sea level; 5 leaves room.
+constexpr double kMaxAirDensity_kg_per_m3 = 5.0;
+// 100 m/s = 360 km/h.
+constexpr double kMaxSpeed_kmh = 360.0;
+// Grades: ±100 % (45°); the steepest public roads are ~35 %.
+constexpr double kMaxGrade_percent = 100.0;
+// Acceleration or braking up to 3 g.
+constexpr double kMaxAccel_m_per_s2 = 30.0;
+// A segment up to 1,000 km; a route of up to 100,000 laps.
+constexpr double kMaxLength_m = 1.0e6;
+// A flat array up to 100 m² (a solar car carries ~4-6 m²).
+constexpr double kMaxArrayArea_m2 = 100.0;
+
+VehicleParams readParams(YamlMap m, const PackConfig& pack) {
+  VehicleParams p;
+  p.mass_kg = m.number("mass_kg", Range::positive(kMaxMass_kg));
+  p.rolling_coefficient = m.number("rolling_coefficient", Range::nonNegative(kMaxRolling));
+  p.drag_area_m2 = m.number("drag_area_m2", Range::nonNegative(kMaxDragArea_m2));
+  p.air_density_kg_per_m3 = m.number("air_density_kg_per_m3", 1.2, Range::nonNegative(kMaxAirDensity_kg_per_m3));
+  p.drivetrain_efficiency = m.number("drivetrain_efficiency", Range::positive(1.0));
+  p.max_drive_power_W = m.number("max_drive_power_W", Range::positive(limits::kMaxPower_W));
+  if (const std::string why = loadCRateError(pack, p.max_drive_power_W, true); !why.empty())
+    throw m.errorAt("max_drive_power_W", why);
+  p.max_regen_power_W = m.number("max_regen_power_W", 0.0, Range::nonNegative(limits::kMaxPower_W));
+  if (const std::string why = loadCRateError(pack, p.max_regen_power_W, true); !why.empty())
+    throw m.errorAt("max_regen_power_W", why);
+  p.aux_power_W = m.number("aux_power_W", 0.0, Range::nonNegative(limits::kMaxPower_W));
+  if (p.aux_power_W >= p.max_drive_power_W)
+    throw m.errorAt("aux_power_W", "must be below max_drive_power_W (" + num(p.max_drive_power_W) + " W)");
+  p.max_current_A = m.number("max_current_A", 0.0, Range::nonNegative(limits::kMaxCurrent_A));
+  if (m.has("cutoff_start_V") != m.has("cutoff_end_V"))
+    throw m.errorAt(m.has("cutoff_start_V") ? "cutoff_start_V" : "cutoff_end_V",
+                    "the low-voltage fold-back needs both cutoff_start_V and cutoff_end_V");
+  if (m.has("cutoff_start_V")) {
+    if (p.max_current_A <= 0.0)
+      throw m.errorAt("cutoff_start_V", "the fold-back scales max_current_A: give max_current_A too");
+    p.cutoff_start_V = m.number("cutoff_start_V", Range::positive(1.0e4));
+    p.cutoff_end_V = m.number("cutoff_end_V", Range::nonNegative(1.0e4));
+    if (!(p.cutoff_end_V < p.cutoff_start_V))
+      throw m.errorAt("cutoff_end_V", "must be below cutoff_start_V (" + num(p.cutoff_start_V) + " V)");
+  }
+  m.finish();
+  return p;
+}
+
+Route readRoute(YamlMap m) {
+  Route r;
+  for (YamlMap s : m.mapList("segments")) {
+    RouteSegment g;
+    g.length_m = s.number("length_m", Range::positive(kMaxLength_m));
+    g.grade = s.number("grade_percent", 0.0, Range::symmetric(kMaxGrade_percent)) / 100.0;
+    g.speed_m_per_s = s.number("speed_kmh", Range::positive(kMaxSpeed_kmh)) / 3.6;
+    s.finish();
+    r.segments.push_back(g);
+  }
+  r.laps = static_cast<int>(m.integer("laps", 1, 1, 100000));
+  r.time_limit_s = m.number("time_limit_s", 0.0, Range::nonNegative(limits::kMaxTime_s));
+  m.finish();
+  return r;
+}
+
+DriverParams readDriver(std::optional<YamlMap> m) {
+  DriverParams d;
+  if (!m) return d;
+  d.accel_m_per_s2 = m->number("accel_m_per_s2", d.accel_m_per_s2, Range::positive(kMaxAccel_m_per_s2));
+  d.brake_m_per_s2 = m->number("brake_m_per_s2", d.brake_m_per_s2, Range::positive(kMaxAccel_m_per_s2));
+  d.response_s = m->number("response_s", d.response_s, Range::positive(3600.0));
+  d.power_cap_W = m->number("power_cap_W", 0.0, Range::nonNegative(limits::kMaxPower_W));
+  d.max_speed_m_per_s = m->number("max_speed_kmh", 0.0, Range::nonNegative(kMaxSpeed_kmh)) / 3.6;
+  m->finish();
+  return d;
+}
+
+SolarArray readSun(YamlMap m) {
+  SolarArray a;
+  a.area_m2 = m.number("array_area_m2", Range::positive(kMaxArrayArea_m2));
+  a.efficiency = m.number("efficiency", Range::positive(1.0));
+  a.mppt_efficiency = m.number("mppt_efficiency", 1.0, Range::positive(1.0));
+  a.where.latitude_deg = m.number("latitude_deg", Range::closed(-90.0, 90.0));
+  a.where.day_of_year = static_cast<int>(m.integer("day_of_year", 1, 366));
+  a.start_solar_hour = m.number("start_solar_hour", Range{0.0, 24.0, false, true});
+  m.finish();
+  return a;
+}
+
+}  // namespace
+
+VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack) {
+  VehicleConfig c;
+  c.present = true;
+  c.params = readParams(load.map("vehicle"), pack);
+  c.route = readRoute(load.map("route"));
+  c.driver = readDriver(load.optionalMap("driver"));
+  if (auto sun = load.optionalMap("sun")) c.array = readSun(*sun);
+  c.standstill_end_s = load.number("standstill_end_s", c.standstill_end_s, Range::positive(limits::kMaxTime_s));
+  return c;
+}
+
+}  // namespace packsim

@@ -1,0 +1,168 @@
+#include "core/sim/vehicle_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/sim/run_tracker.hpp"
+
+namespace packsim {
+
+namespace {
+constexpr double kArrayHold_s = 1.0;
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+}  // namespace
+
+VehicleRun::VehicleRun(const VehicleConfig& c, double tick_s)
+    : cfg_(c), dt_(tick_s), car_(c.params, c.route, c.driver), ref_(c.params, c.route, c.driver) {
+  sum_.present = true;
+  sum_.route_m = c.route.total_m();
+  sum_.time_limit_s = c.route.time_limit_s;
+}
+
+void VehicleRun::account(double t0, double dt, double e0, double e1, double s0, double s1, double a0, double a1) {
+  const Route& r = cfg_.route;
+  const double lap = r.lap_m();
+  for (int n = static_cast<int>(std::floor(s0 / lap)) + 1; n <= r.laps && n * lap <= s1; ++n) {
+    const double f = (n * lap - s0) / (s1 - s0);  // the line is crossed this far into the tick
+    const double tc = t0 + f * dt, ec = e0 + f * (e1 - e0), ac = a0 + f * (a1 - a0);
+    LapRecord l;
+    l.lap = n;
+    l.start_s = lapStart_s_;
+    l.time_s = tc - lapStart_s_;
+    l.distance_m = lap;
+    l.pack_Wh = (ec - lapStartE_J_) / 3600.0;
+    l.array_Wh = (ac - lapStartA_J_) / 3600.0;
+    l.complete = true;
+    sum_.laps.push_back(l);
+    lapStart_s_ = tc;
+    lapStartE_J_ = ec;
+    lapStartA_J_ = ac;
+    if (n == r.laps) finish_s_ = tc;
+  }
+}
+
+double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, RunTracker& tracker) {
+  if (!first_ && started_) {
+    const double t0 = t - dt_;
+    const double delivered_W = (e_J - energy_J_) / dt_;
+    // Array power the pack did not take (a charge it refused) is curtailed by the MPPT.
+    const double taken_W = std::clamp(plan_.array_W - std::max(0.0, delivered_W - plan_.net_W), 0.0, plan_.array_W);
+    const double a0 = array_J_;
+    array_J_ += taken_W * dt_;
+    const double s0 = car_.distance_m();
+    const bool wasFinished = car_.finished();
+    const DriveLimit lim = wasFinished ? DriveLimit::None : car_.advance(plan_, delivered_W, dt_);
+    if (!wasFinished) account(t0, dt_, energy_J_, e_J, s0, car_.distance_m(), a0, array_J_);
+    sample_.limit = static_cast<uint8_t>(lim);
+    if (packLimit(lim)) {
+      sum_.limited_s += dt_;
+      if (!sum_.limited) {
+        sum_.limited = true;
+        sum_.limit_time_s = t0;
+        sum_.limit_distance_m = s0;
+        sum_.limit_lap = cfg_.route.lapAt(s0) + 1;
+        std::string d = std::string(driveLimitName(lim)) + " at km " + fmt("%.3f", s0 / 1000.0) + " (lap " +
+                        std::to_string(sum_.limit_lap) + "), " + fmt("%.1f", car_.speed_m_per_s() * 3.6) +
+                        " km/h: the drive got ";
+        if (lim == DriveLimit::PackShortfall)
+          d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + plan_.array_W)) + " W of the " +
+               fmt("%.2f", plan_.drive_W) + " W it asked the pack for";
+        else
+          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted (pack " +
+               fmt("%.2f", pack_V) + " V, the controller allowed " + fmt("%.2f", plan_.net_W / std::max(pack_V, 1e-9)) +
+               " A)";
+        sum_.limit_detail = d;
+        tracker.event(t0, "vehicle_limited", d);
+      }
+    }
+    if (!ref_.finished()) {
+      const double r0 = ref_.distance_m();
+      ref_.advance(refPlan_, refPlan_.net_W, dt_);
+      const double lap = cfg_.route.lap_m();
+      for (int n = static_cast<int>(std::floor(r0 / lap)) + 1; n <= cfg_.route.laps && n * lap <= ref_.distance_m(); ++n) {
+        const double tc = t0 + dt_ * (n * lap - r0) / (ref_.distance_m() - r0);
+        refLapEnd_s_.push_back(tc);
+        if (n == cfg_.route.laps) refFinish_s_ = tc;
+      }
+    }
+    if (!car_.finished() && car_.speed_m_per_s() == 0.0 && plan_.target_m_per_s > 0.0) {
+      still_s_ += dt_;
+      if (still_s_ >= cfg_.standstill_end_s && !stood_) {
+        stood_ = true;
+        tracker.event(t, "vehicle_stopped",
+                      "standing at km " + fmt("%.3f", car_.distance_m() / 1000.0) + " for " + fmt("%.0f", still_s_) +
+                          " s although the driver wants " + fmt("%.1f", plan_.target_m_per_s * 3.6) + " km/h");
+      }
+    } else {
+      still_s_ = 0.0;
+    }
+  }
+  if (!started_ && !ready && !stood_ && t >= cfg_.standstill_end_s) {  // the ready light never came on
+    stood_ = true;
+    tracker.event(t, "vehicle_stopped",
+                  "never set off: the BMS was not ready (normal state) within " + fmt("%.0f", t) + " s");
+  }
+  if (!started_ && ready) {
+    started_ = true;
+    sum_.start_s = t;
+    lapStart_s_ = t;
+    lapStartE_J_ = e_J;
+    lapStartA_J_ = array_J_;
+  }
+  first_ = false;
+  energy_J_ = e_J;
+  // The irradiance changes over minutes: the array's power is held for a second at a time
+  // (a power load that changed every tick would restart the integrator every tick).
+  const double array_W = cfg_.array.power_W(std::floor(t / kArrayHold_s) * kArrayHold_s);
+  if (started_) {
+    plan_ = car_.plan(dt_, pack_V, array_W, true);
+    refPlan_ = ref_.plan(dt_, pack_V, array_W, false);
+  } else {
+    plan_ = VehiclePlan{};  // waiting for the ready light: nothing drawn yet
+  }
+  sample_.distance_m = car_.distance_m();
+  sample_.speed_m_per_s = car_.speed_m_per_s();
+  sample_.pack_request_W = plan_.net_W;
+  sample_.array_W = started_ ? array_W : 0.0;
+  return plan_.net_W;
+}
+
+std::string VehicleRun::endReason() const {
+  if (car_.finished()) return "the vehicle finished its route";
+  if (stood_) return "the vehicle stood still";
+  return "";
+}
+
+VehicleSummary VehicleRun::summary(double end_s) const {
+  VehicleSummary s = sum_;
+  s.distance_m = std::min(car_.distance_m(), cfg_.route.total_m());
+  s.finished = car_.finished();
+  s.stood_still = stood_;
+  s.time_s = s.finished ? finish_s_ : end_s;
+  s.reference_time_s = refFinish_s_ > 0.0 ? refFinish_s_ : 0.0;
+  s.pack_Wh = energy_J_ / 3600.0;
+  s.array_Wh = array_J_ / 3600.0;
+  if (!s.finished && started_ && car_.distance_m() > 0.0) {  // the lap the run ended in
+    LapRecord l;
+    l.lap = static_cast<int>(s.laps.size()) + 1;
+    l.start_s = lapStart_s_;
+    l.time_s = end_s - lapStart_s_;
+    l.distance_m = car_.distance_m() - cfg_.route.lap_m() * static_cast<double>(s.laps.size());
+    l.pack_Wh = (energy_J_ - lapStartE_J_) / 3600.0;
+    l.array_Wh = (array_J_ - lapStartA_J_) / 3600.0;
+    s.laps.push_back(l);
+  }
+  for (LapRecord& l : s.laps) {
+    const size_t i = static_cast<size_t>(l.lap - 1);
+    if (l.complete && i < refLapEnd_s_.size())
+      l.reference_time_s = refLapEnd_s_[i] - (i == 0 ? sum_.start_s : refLapEnd_s_[i - 1]);
+  }
+  return s;
+}
+
+}  // namespace packsim

@@ -1,0 +1,54 @@
+// The vehicle in front of the pack during a run (docs/vehicle.md). At every BMS tick t_k
+// it first moves the vehicle over the tick that just ended with the pack power that
+// actually flowed (the pack's load-energy quadrature over the tick: a trip, a blocked
+// FET or a pack that cannot give the power all show there), then plans the next tick
+// from the pack voltage the controller measured, and hands the loop the pack power to
+// hold until t_k+1 (the plant solves V·I = P for it). A reference vehicle -- the same
+// driver on a pack that never limits it -- runs beside it; the time lost to the pack
+// is the difference of the two.
+#pragma once
+#include <string>
+
+#include "core/scenario/vehicle_config.hpp"
+#include "core/sim/vehicle_summary.hpp"
+
+namespace packsim {
+
+class RunTracker;
+
+class VehicleRun {
+ public:
+  VehicleRun(const VehicleConfig& c, double tick_s);
+
+  // At t_k: loadEnergy_J, the pack's energy out so far; pack_V, the pack voltage the
+  // controller measured at the last tick; ready, the BMS was in its normal state at the
+  // last tick (the dashboard's ready light: the driver sets off at the first one).
+  // Returns the pack power for [t_k, t_k+1) [W].
+  double tick(double t_s, double loadEnergy_J, double pack_V, bool ready, RunTracker& tracker);
+  // The route is complete, or the vehicle stood still for standstill_end_s.
+  bool done() const { return car_.finished() || stood_; }
+  std::string endReason() const;
+  const VehicleSample& sample() const { return sample_; }
+  VehicleSummary summary(double end_s) const;
+
+ private:
+  void account(double t0, double dt, double e0_J, double e1_J, double s0, double s1, double a0_J, double a1_J);
+
+  const VehicleConfig cfg_;
+  const double dt_;
+  Vehicle car_, ref_;
+  VehiclePlan plan_, refPlan_;
+  bool first_ = true;
+  bool started_ = false;
+  double energy_J_ = 0.0;   // load quadrature at the last tick
+  double array_J_ = 0.0;    // array energy taken into the bus so far
+  double still_s_ = 0.0;
+  bool stood_ = false;
+  double finish_s_ = -1.0, refFinish_s_ = -1.0;
+  double lapStart_s_ = 0.0, lapStartE_J_ = 0.0, lapStartA_J_ = 0.0;
+  std::vector<double> refLapEnd_s_;
+  VehicleSummary sum_;
+  VehicleSample sample_;
+};
+
+}  // namespace packsim

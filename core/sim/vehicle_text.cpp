@@ -1,0 +1,70 @@
+#include "core/sim/vehicle_text.hpp"
+
+#include <cstdio>
+#include <sstream>
+
+namespace packsim {
+
+namespace {
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+std::string km(double m) { return fmt("%.3f", m / 1000.0) + " km"; }
+}  // namespace
+
+std::string vehicleSummaryLines(const VehicleSummary& v) {
+  if (!v.present) return "";
+  std::ostringstream os;
+  const double driven_s = v.time_s - v.start_s;
+  const int complete = static_cast<int>(v.laps.size()) - (!v.laps.empty() && !v.laps.back().complete ? 1 : 0);
+  os << "vehicle         " << (v.finished ? "finished " : "did not finish: ") << km(v.distance_m) << " of "
+     << km(v.route_m) << " (" << complete << " lap" << (complete == 1 ? "" : "s") << ") in " << fmt("%.1f", driven_s)
+     << " s, " << fmt("%.2f", driven_s > 0.0 ? v.distance_m / driven_s * 3.6 : 0.0) << " km/h on average; set off at "
+     << fmt("%.2f", v.start_s) << " s (BMS ready)\n";
+  os << "                 lap     time_s    km/h   pack_Wh   Wh/km  array_Wh  lost_s\n";
+  for (const LapRecord& l : v.laps) {
+    char row[160];
+    const double perKm = l.distance_m > 0.0 ? l.pack_Wh / (l.distance_m / 1000.0) : 0.0;
+    const std::string lost = l.complete && l.reference_time_s > 0.0 ? fmt("%7.1f", l.time_s - l.reference_time_s)
+                                                                    : std::string("      -");
+    std::snprintf(row, sizeof row, "                %4d%s %10.1f %7.2f %9.3f %7.3f %9.3f %s\n", l.lap,
+                  l.complete ? " " : "*", l.time_s, l.time_s > 0.0 ? l.distance_m / l.time_s * 3.6 : 0.0, l.pack_Wh,
+                  perKm, l.array_Wh, lost.c_str());
+    os << row;
+  }
+  if (!v.laps.empty() && !v.laps.back().complete)
+    os << "                 * the lap the run ended in (" << km(v.laps.back().distance_m) << " of it)\n";
+  os << "vehicle energy  " << fmt("%.2f", v.pack_Wh) << " Wh from the pack"
+     << (v.distance_m > 0.0 ? " (" + fmt("%.2f", v.pack_Wh / (v.distance_m / 1000.0)) + " Wh/km)" : std::string())
+     << (v.pack_Wh > 0.0 ? ", " + fmt("%.1f", v.distance_m / v.pack_Wh) + " km/kWh" : std::string()) << ", "
+     << fmt("%.2f", v.array_Wh) << " Wh from the array\n";
+  if (v.time_limit_s > 0.0) {
+    const double left_s = v.time_limit_s - driven_s;
+    os << "time limit      " << fmt("%.0f", v.time_limit_s) << " s: "
+       << (v.finished && left_s >= 0.0 ? "met with " + fmt("%.1f", left_s) + " s to spare"
+           : v.finished               ? "missed by " + fmt("%.1f", -left_s) + " s"
+                                      : std::string("not met (the route was not finished)"))
+       << "\n";
+  }
+  if (v.limited)
+    os << "pack limit      first at " << fmt("%.2f", v.limit_time_s) << " s: " << v.limit_detail << "; it acted "
+       << fmt("%.1f", v.limited_s) << " s in all\n";
+  else
+    os << "pack limit      none: every tick the pack gave the drive what the driver and motor asked\n";
+  if (v.finished && v.reference_time_s > 0.0)
+    os << "time lost       " << fmt("%.1f", v.time_s - v.reference_time_s)
+       << " s against the same driver on a pack that never limits it (" << fmt("%.1f", v.reference_time_s) << " s)\n";
+  else if (!v.finished)
+    os << (v.stood_still ? "range           " : "distance        ") << km(v.distance_m)
+       << (v.stood_still ? (v.distance_m > 0.0 ? ", where the vehicle stood still" : ": it never set off")
+                         : " when the run ended (the route not finished)")
+       << (v.reference_time_s > 0.0 ? "; on a pack that never limits it the route takes " +
+                                          fmt("%.1f", v.reference_time_s - v.start_s) + " s"
+                                    : std::string())
+       << "\n";
+  return os.str();
+}
+
+}  // namespace packsim

@@ -1,0 +1,41 @@
+#include "models/vehicle/road_load.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace packsim {
+
+double resistanceForce_N(const VehicleParams& p, double v, double grade) {
+  const double c = 1.0 / std::sqrt(1.0 + grade * grade);  // cos θ
+  const double s = grade * c;                             // sin θ
+  const double weight_N = p.mass_kg * kGravity_m_per_s2;
+  return weight_N * p.rolling_coefficient * c + 0.5 * p.air_density_kg_per_m3 * p.drag_area_m2 * v * v + weight_N * s;
+}
+
+double wheelPower_W(const VehicleParams& p, double v, double grade, double a, double dt) {
+  return (resistanceForce_N(p, v, grade) + p.mass_kg * a) * (v + 0.5 * a * dt);
+}
+
+double accelerationFor(const VehicleParams& p, double v, double grade, double wheel_W, double dt) {
+  // (m·dt/2)·a² + (m·v + F·dt/2)·a + (F·v - P) = 0; the root that is continuous in P.
+  const double f = resistanceForce_N(p, v, grade);
+  const double qa = 0.5 * p.mass_kg * dt;
+  const double qb = p.mass_kg * v + 0.5 * f * dt;
+  const double qc = f * v - wheel_W;
+  const double disc = std::max(0.0, qb * qb - 4.0 * qa * qc);  // >= 0 for P >= 0 (docs/vehicle.md)
+  const double root = std::sqrt(disc);
+  if (qb >= 0.0) return -2.0 * qc / (qb + root);
+  return (-qb + root) / (2.0 * qa);
+}
+
+double allowedCurrent_A(const VehicleParams& p, double pack_V) {
+  double i = p.max_current_A > 0.0 ? p.max_current_A : std::numeric_limits<double>::infinity();
+  if (p.cutoff_start_V > p.cutoff_end_V) {
+    const double f = std::clamp((pack_V - p.cutoff_end_V) / (p.cutoff_start_V - p.cutoff_end_V), 0.0, 1.0);
+    i *= f;  // the loader requires max_current_A with a fold-back
+  }
+  return i;
+}
+
+}  // namespace packsim

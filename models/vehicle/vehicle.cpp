@@ -1,0 +1,81 @@
+#include "models/vehicle/vehicle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace packsim {
+
+const char* driveLimitName(DriveLimit l) {
+  switch (l) {
+    case DriveLimit::None: return "none";
+    case DriveLimit::MotorPower: return "motor_power";
+    case DriveLimit::DriverCap: return "driver_power_cap";
+    case DriveLimit::ControllerCurrent: return "controller_current_limit";
+    case DriveLimit::VoltageFoldback: return "low_voltage_foldback";
+    case DriveLimit::PackShortfall: return "pack_shortfall";
+  }
+  return "?";
+}
+
+VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits) const {
+  VehiclePlan pl;
+  const int seg = route_.segmentAt(s_);
+  pl.grade = route_.segments[static_cast<size_t>(seg)].grade;
+  pl.target_m_per_s = route_.targetSpeed_m_per_s(s_, driver_.brake_m_per_s2);
+  if (driver_.max_speed_m_per_s > 0.0) pl.target_m_per_s = std::min(pl.target_m_per_s, driver_.max_speed_m_per_s);
+  pl.array_W = array_W;
+  double a = (pl.target_m_per_s - v_) / std::max(driver_.response_s, dt);
+  a = std::clamp(a, -driver_.brake_m_per_s2, driver_.accel_m_per_s2);
+  a = std::max(a, -v_ / dt);  // braking ends at a standstill
+  const double wheel = wheelPower_W(p_, v_, pl.grade, a, dt);
+  const double eta = p_.drivetrain_efficiency;
+  if (wheel <= 0.0) {  // coasting or braking: regeneration up to its limit, the rest friction
+    pl.drive_W = std::max(wheel * eta, -p_.max_regen_power_W);
+    pl.wanted_W = pl.drive_W;
+  } else {
+    pl.wanted_W = wheel / eta;
+    double cap = pl.wanted_W;
+    auto cut = [&](double most, DriveLimit why) {
+      if (most < cap) {
+        cap = std::max(0.0, most);
+        pl.limit = why;
+      }
+    };
+    cut(p_.max_drive_power_W, DriveLimit::MotorPower);
+    if (driver_.power_cap_W > 0.0) cut(driver_.power_cap_W, DriveLimit::DriverCap);
+    if (limits) {
+      const double fullI = allowedCurrent_A(p_, std::numeric_limits<double>::infinity());
+      const double i = allowedCurrent_A(p_, pack_V);
+      if (std::isfinite(i)) cut(i * pack_V - p_.aux_power_W + array_W,
+                                i < fullI ? DriveLimit::VoltageFoldback : DriveLimit::ControllerCurrent);
+    }
+    pl.drive_W = cap;
+    if (cap < pl.wanted_W) a = accelerationFor(p_, v_, pl.grade, cap * eta, dt);
+  }
+  pl.accel_m_per_s2 = a;
+  pl.net_W = pl.drive_W + p_.aux_power_W - array_W;
+  return pl;
+}
+
+DriveLimit Vehicle::advance(const VehiclePlan& pl, double delivered_W, double dt) {
+  double a = pl.accel_m_per_s2;
+  DriveLimit limit = pl.limit;
+  // Integration tolerance of the pack's energy (a relative 1e-6 or so) is no shortfall.
+  const double shortfall = pl.net_W - delivered_W;
+  if (pl.drive_W > 0.0 && shortfall > 1e-4 * std::fabs(pl.net_W) + 1e-3) {
+    const double drive = std::max(0.0, pl.drive_W - shortfall);
+    a = accelerationFor(p_, v_, pl.grade, drive * p_.drivetrain_efficiency, dt);
+    limit = DriveLimit::PackShortfall;
+  }
+  if (v_ + a * dt <= 0.0) {  // comes to a standstill inside the tick and holds there (no rolling back)
+    s_ += a < 0.0 ? v_ * v_ / (-2.0 * a) : 0.0;
+    v_ = 0.0;
+  } else {
+    s_ += v_ * dt + 0.5 * a * dt * dt;
+    v_ += a * dt;
+  }
+  return limit;
+}
+
+}  // namespace packsim

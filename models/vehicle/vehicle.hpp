@@ -1,0 +1,79 @@
+// A vehicle on its route under a simple driver, one BMS tick at a time
+// (docs/vehicle.md). The driver aims for the route's target speed (braking in time for
+// a slower segment ahead) with a proportional response and acceleration / braking
+// bounds, and never asks the drive for more than its power cap. Each tick:
+//
+//   plan     the acceleration the driver wants -> wheel power -> pack power, cut back
+//            by the motor's power, the driver's cap and the controller's battery-current
+//            limit at the pack voltage it measures (with its low-voltage fold-back);
+//            where cut back, the acceleration that the remaining power gives
+//   advance  with the pack power that actually flowed over the tick (a trip, a FET
+//            that blocks, a pack that cannot give the power): a shortfall comes off the
+//            drive and slows the vehicle; braking the regeneration cannot take goes to
+//            the friction brakes.
+#pragma once
+#include <cstdint>
+
+#include "models/vehicle/road_load.hpp"
+#include "models/vehicle/route.hpp"
+
+namespace packsim {
+
+struct DriverParams {
+  double accel_m_per_s2 = 1.0;   // most the driver accelerates
+  double brake_m_per_s2 = 1.0;   // most the driver brakes (and plans braking with)
+  double response_s = 2.0;       // a = (v_target - v) / response_s, within the bounds
+  double power_cap_W = 0.0;      // most drive power the driver asks for (0: the motor's own)
+  double max_speed_m_per_s = 0.0;  // never faster than this, whatever the route allows (0: no cap)
+};
+
+// What cut the drive power back (in order of precedence when several apply).
+enum class DriveLimit : uint8_t {
+  None = 0,
+  MotorPower,        // the drive's max_drive_power_W (the vehicle's own)
+  DriverCap,         // the driver's power_cap_W (the strategy)
+  ControllerCurrent, // the controller's max_current_A at the pack voltage
+  VoltageFoldback,   // the controller's low-voltage fold-back
+  PackShortfall,     // the pack gave less than asked (trip, blocked FET, power beyond the pack)
+};
+const char* driveLimitName(DriveLimit l);
+// A limit set by the pack (not by the vehicle's own motor or its driver).
+inline bool packLimit(DriveLimit l) { return l >= DriveLimit::ControllerCurrent; }
+
+struct VehiclePlan {
+  double accel_m_per_s2 = 0.0;
+  double grade = 0.0;
+  double target_m_per_s = 0.0;
+  double drive_W = 0.0;   // pack-side drive power (negative: regeneration)
+  double array_W = 0.0;   // solar array into the bus
+  double net_W = 0.0;     // asked of the pack: drive + aux - array
+  double wanted_W = 0.0;  // drive power the driver wanted before any limit
+  DriveLimit limit = DriveLimit::None;
+};
+
+class Vehicle {
+ public:
+  Vehicle(const VehicleParams& p, const Route& r, const DriverParams& d) : p_(p), route_(r), driver_(d) {}
+
+  // pack_V: the pack voltage the controller measures; limits false: a vehicle whose
+  // pack never limits it (the reference the lost time is measured against).
+  VehiclePlan plan(double dt_s, double pack_V, double array_W, bool limits) const;
+  // Moves the vehicle over dt with the pack power that flowed (average, W); returns the
+  // plan's limit, or PackShortfall when the pack gave less than asked.
+  DriveLimit advance(const VehiclePlan& plan, double delivered_W, double dt_s);
+
+  double speed_m_per_s() const { return v_; }
+  double distance_m() const { return s_; }
+  bool finished() const { return s_ >= route_.total_m(); }
+  const Route& route() const { return route_; }
+  const VehicleParams& params() const { return p_; }
+
+ private:
+  VehicleParams p_;
+  Route route_;
+  DriverParams driver_;
+  double v_ = 0.0;
+  double s_ = 0.0;
+};
+
+}  // namespace packsim

@@ -1,0 +1,376 @@
+// The bundled races (scenarios/vehicle) against hand energy budgets, and the pack's
+// limits acting back on the vehicle (docs/vehicle.md). Each hand figure below is
+// worked from the scenario's own numbers with the road-load equation written out
+// again here, not with models/vehicle.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "core/scenario/overrides.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
+#include "test_support.hpp"
+
+using namespace packsim;
+
+namespace {
+
+constexpr double kG = 9.80665;
+
+std::string race(const std::string& name) { return test::scenarioDir() + "/vehicle/" + name + ".yaml"; }
+
+// Steady wheel force on grade G (rise/run) at v: m·g·(C_rr·cos θ + sin θ) + ½·ρ·CdA·v².
+double force_N(double m, double crr, double rho, double cda, double v, double grade) {
+  const double c = 1.0 / std::sqrt(1.0 + grade * grade);
+  return m * kG * (crr * c + grade * c) + 0.5 * rho * cda * v * v;
+}
+
+// Eco circuit (eco_marathon_12s_circuit.yaml): 220 kg, C_rr 0.006, CdA 0.25, ρ 1.2, η 0.85,
+// aux 8 W; 600 m flat, 250 m at +3 %, 250 m at -3 % (no regeneration: the drive gives
+// nothing, the brakes hold the speed), 500 m flat; 27 km/h.
+constexpr double kEcoV = 27.0 / 3.6;
+double ecoLapWheel_J() {
+  const double flat = force_N(220, 0.006, 1.2, 0.25, kEcoV, 0.0);
+  const double up = force_N(220, 0.006, 1.2, 0.25, kEcoV, 0.03);
+  EXPECT_LT(force_N(220, 0.006, 1.2, 0.25, kEcoV, -0.03), 0.0);  // downhill the car brakes
+  return flat * 1100.0 + up * 250.0;
+}
+double ecoLapPack_J() { return ecoLapWheel_J() / 0.85 + 8.0 * 1600.0 / kEcoV; }
+
+}  // namespace
+
+TEST(VehicleRace, EcoCircuitLapEnergyIsTheHandRoadLoadBudget) {
+  const Scenario s = loadScenarioFile(race("eco_marathon_12s_circuit"));
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.present);
+  ASSERT_TRUE(v.finished);
+  ASSERT_EQ(v.laps.size(), 10u);
+  // Per lap at cruise: 15.19 Wh (flat 21.38 N over 1100 m, the climb 86.07 N over 250 m).
+  const double lap_Wh = ecoLapPack_J() / 3600.0;
+  EXPECT_NEAR(lap_Wh, 15.19, 0.01);
+  for (size_t i = 1; i < v.laps.size(); ++i) {
+    EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.02 * lap_Wh) << "lap " << i + 1;
+    EXPECT_NEAR(v.laps[i].time_s, 1600.0 / kEcoV, 0.05) << "lap " << i + 1;
+  }
+  // The race: ten laps plus the start, ½·m·v²/η, from the pack (its energy quadrature).
+  const double race_Wh = (10.0 * ecoLapPack_J() + 0.5 * 220.0 * kEcoV * kEcoV / 0.85) / 3600.0;
+  EXPECT_NEAR(r.summary.energy_delivered_Wh, race_Wh, 0.02 * race_Wh);
+  EXPECT_NEAR(v.pack_Wh, r.summary.energy_delivered_Wh, 1e-9);
+  // Its time limit: 2400 s for 16 km at 27 km/h (2133 s a lap of cruise, plus the start).
+  EXPECT_LT(v.time_s - v.start_s, 2400.0);
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("time limit      2400 s: met with"), std::string::npos) << text;
+  // Nothing limited it: no vehicle_limited event, and the reference car is no faster.
+  EXPECT_FALSE(v.limited);
+  EXPECT_LT(test::eventTime(r, "vehicle_limited"), 0.0);
+  EXPECT_NEAR(v.time_s, v.reference_time_s, 1e-9);
+  EXPECT_NE(text.find("pack limit      none"), std::string::npos);
+}
+
+TEST(VehicleRace, ControllerCurrentLimitSlowsTheClimbAndTheLostTimeAddsUp) {
+  // At 12 A the climb's 759 W (17 A at 44 V) is cut back: the car slows on the hill (and
+  // already at the start: 0.5 m/s² needs 570 W at 14 km/h).
+  // (The fast integrator: a power that changes every tick restarts CVODE every tick.)
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"load.vehicle.max_current_A", "12"}, {"run.solver", "fast"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_TRUE(v.limited);
+  EXPECT_EQ(v.limit_lap, 1);
+  EXPECT_LT(v.limit_distance_m, 600.0);  // accelerating on the first flat
+  EXPECT_EQ(v.limit_detail.rfind("controller_current_limit at km 0.0", 0), 0u) << v.limit_detail;
+  // From lap 2 on (at speed), only on the climb: 600..850 m of each lap, and a little
+  // after it while the car gets back to speed.
+  for (size_t k = 0; k < r.rec.samples(); ++k) {
+    const double s_m = r.rec.vehicle_distance_m[k];
+    if (s_m < 1600.0 || r.rec.vehicle_limit[k] != static_cast<uint8_t>(DriveLimit::ControllerCurrent)) continue;
+    const double inLap = std::fmod(s_m, 1600.0);
+    EXPECT_GT(inLap, 600.0) << s_m;
+    EXPECT_LT(inLap, 1100.0) << s_m;
+  }
+  EXPECT_NEAR(test::eventTime(r, "vehicle_limited"), v.limit_time_s, 1e-12);
+  // The pack current stays at the controller's limit (it sets the power at the voltage
+  // it measured one tick before: a hair above at most).
+  const auto& i = r.rec.pack_current_A;
+  EXPECT_LT(*std::max_element(i.begin(), i.end()), 12.0 * 1.01);
+  // The time lost is the sum of the laps' (each against the reference car's lap).
+  double lostLaps = 0.0;
+  for (const LapRecord& l : v.laps) lostLaps += l.time_s - l.reference_time_s;
+  const double lost = v.time_s - v.reference_time_s;
+  EXPECT_GT(lost, 10.0);
+  EXPECT_NEAR(lostLaps, lost, 1e-6);
+  const std::string text = formatSummary(s, r);
+  char line[64];
+  std::snprintf(line, sizeof line, "time lost       %.1f s", lost);
+  EXPECT_NE(text.find(line), std::string::npos) << text;
+  EXPECT_NE(text.find("pack limit      first at"), std::string::npos);
+}
+
+TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
+  // The E-switch at 30 s opens the pack on the first flat (at ~210 m of 600 m): no
+  // power; the car coasts, m·dv/dt = -(F_r + k·v²), F_r = m·g·C_rr, k = ½·ρ·CdA, so
+  // v(t) = √(F_r/k)·tan(atan(v0·√(k/F_r)) - √(F_r·k)·t/m).
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"), {{"faults", "[{kind: estop, switch: internal, at_s: 30}]"},
+                                         {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(r.summary.tripped);
+  ASSERT_TRUE(v.limited);
+  EXPECT_EQ(v.limit_detail.rfind("pack_shortfall", 0), 0u) << v.limit_detail;
+  EXPECT_GE(v.limit_time_s, 30.0);
+  EXPECT_LE(v.limit_time_s, 30.02);  // the relay opens within a tick or two of the switch
+  const size_t k0 = test::sampleAt(r.rec, 31.0), k1 = test::sampleAt(r.rec, 81.0);
+  const double v0 = r.rec.vehicle_speed_m_per_s[k0];
+  const double fr = 220.0 * kG * 0.006, kd = 0.5 * 1.2 * 0.25;
+  const double v1 = std::sqrt(fr / kd) * std::tan(std::atan(v0 * std::sqrt(kd / fr)) - std::sqrt(fr * kd) * 50.0 / 220.0);
+  ASSERT_LT(r.rec.vehicle_distance_m[k1], 600.0);  // still on the flat
+  EXPECT_NEAR(r.rec.vehicle_speed_m_per_s[k1], v1, 0.01 * v1);
+  EXPECT_FALSE(v.finished);
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("pack limit      first at 30.0"), std::string::npos) << text;
+  EXPECT_NE(text.find("distance        0."), std::string::npos) << text;  // still rolling at the run's end
+  EXPECT_NE(text.find("when the run ended (the route not finished)"), std::string::npos) << text;
+}
+
+TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
+  // A 0.5 m² array at 20 % through a 95 % MPPT on the eco car, 45° N on day 172 from
+  // 11:00 solar time: its energy is the integral of the clear-sky formula over the race,
+  // and the pack gives that much less.
+  const Scenario plain = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"run.solver", "fast"}});
+  const Scenario sunny = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"run.solver", "fast"},
+       {"load.sun", "{array_area_m2: 0.5, efficiency: 0.2, mppt_efficiency: 0.95, latitude_deg: 45, day_of_year: 172, "
+                    "start_solar_hour: 11}"}});
+  const RunResult a = runScenario(plain), b = runScenario(sunny);
+  const VehicleSummary& v = b.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  // The formula again (docs/vehicle.md), by the trapezoid rule over the set-off .. finish.
+  const double pi = std::acos(-1.0), deg = pi / 180.0;
+  const double decl = 23.45 * deg * std::sin(2.0 * pi * (284.0 + 172.0) / 365.0);
+  auto g = [&](double t) {
+    const double h = 11.0 + t / 3600.0;
+    const double cz = std::sin(45 * deg) * std::sin(decl) + std::cos(45 * deg) * std::cos(decl) * std::cos((h - 12) * 15 * deg);
+    return cz <= 0 ? 0.0 : 1.1 * 1353.0 * std::pow(0.7, std::pow(1.0 / cz, 0.678)) * cz;
+  };
+  double e_J = 0.0;
+  const int n = 2000;
+  for (int k = 0; k < n; ++k) {
+    const double t0 = v.start_s + (v.time_s - v.start_s) * k / n, t1 = v.start_s + (v.time_s - v.start_s) * (k + 1) / n;
+    e_J += 0.5 * (g(t0) + g(t1)) * (t1 - t0);
+  }
+  const double array_Wh = 0.5 * 0.2 * 0.95 * e_J / 3600.0;
+  EXPECT_GT(array_Wh, 50.0);
+  EXPECT_NEAR(v.array_Wh, array_Wh, 0.02 * array_Wh);
+  EXPECT_NEAR(a.summary.vehicle.pack_Wh - v.pack_Wh, array_Wh, 0.02 * array_Wh);
+}
+
+namespace {
+// Scooter (scooter_16s_lto_range*.yaml): 100 kg, C_rr 0.01, CdA 0.6, η 0.8, aux 10 W, 25 km/h
+// on 1 km laps.
+double scooterLap_Wh(double rho) {
+  const double v = 25.0 / 3.6;
+  return (force_N(100, 0.01, rho, 0.6, v, 0.0) * 1000.0 / 0.8 + 10.0 * 1000.0 / v) / 3600.0;
+}
+}  // namespace
+
+TEST(VehicleRace, ScooterRangeAtCruiseHotAndCold) {
+  // From 25 % charge (the bundled rides start at 90 %: the same physics, a quarter the run).
+  const Overrides o{{"pack.initial_soc", "0.25"}, {"expect", "{}"}};
+  const RunResult warm = runScenario(loadScenarioFileWithOverrides(race("scooter_16s_lto_range"), o));
+  const RunResult cold = runScenario(loadScenarioFileWithOverrides(race("scooter_16s_lto_range_cold"), o));
+  // Air at 25 C (1.184 kg/m³) and -15 C (1.367 kg/m³): 9.753 and 10.672 Wh a lap.
+  for (const auto& [r, rho] : {std::pair<const RunResult&, double>{warm, 1.184}, {cold, 1.367}}) {
+    const VehicleSummary& v = r.summary.vehicle;
+    ASSERT_FALSE(v.finished);
+    ASSERT_GE(v.laps.size(), 6u);
+    int cruise = 0;
+    for (size_t i = 1; i < v.laps.size(); ++i)  // laps at cruise: ended before the first limit
+      if (v.laps[i].start_s + v.laps[i].time_s < v.limit_time_s && ++cruise)
+        EXPECT_NEAR(v.laps[i].pack_Wh, scooterLap_Wh(rho), 0.02 * scooterLap_Wh(rho)) << "lap " << i + 1;
+    EXPECT_GE(cruise, 4);
+    // It ends standing, folded back, not tripped. The fold-back (40 A · (V − 32)/1.6 V)
+    // cuts the cruise power P = 245.8 W (266.8 W cold) once V·I_allowed(V) < P, below
+    // V_cut = 32 + 1.6·P/(40·V): before the first limit every recorded voltage is above it.
+    const double p_W = scooterLap_Wh(rho) * 3600.0 / 144.0;
+    double vCut = 33.0;
+    for (int it = 0; it < 50; ++it) vCut = 32.0 + 1.6 * p_W / (40.0 * vCut);
+    EXPECT_TRUE(v.stood_still);
+    EXPECT_FALSE(r.summary.tripped);
+    EXPECT_EQ(v.limit_detail.rfind("low_voltage_foldback", 0), 0u) << v.limit_detail;
+    EXPECT_GE(test::eventTime(r, "vehicle_stopped"), v.limit_time_s);
+    for (size_t k = 0; k < r.rec.samples(); ++k) {
+      if (r.rec.time_s[k] < v.limit_time_s - 0.01) EXPECT_GT(r.rec.pack_voltage_V[k], vCut) << r.rec.time_s[k];
+      else if (r.rec.time_s[k] > v.limit_time_s && r.rec.vehicle_speed_m_per_s[k] == 0.0)
+        EXPECT_LT(r.rec.pack_voltage_V[k], vCut) << r.rec.time_s[k];
+    }
+  }
+  EXPECT_NEAR(scooterLap_Wh(1.184), 9.753, 0.001);
+  // Colder: denser air and a stiffer pack, a shorter range.
+  EXPECT_LT(cold.summary.vehicle.distance_m, warm.summary.vehicle.distance_m);
+}
+
+TEST(VehicleRace, ASweepOverSpeedFindsTheFastestThatFinishes) {
+  // 10 km on the scooter from 25 % charge, the driver's speed capped at 20, 30, 40 km/h.
+  // A km costs (F_r + k·v²)/η + P_aux/v: 12.30 Wh at 30 km/h, 18.88 Wh at 40 (hand, with
+  // ρ = 1.184); 30 km/h finishes, 40 km/h stands still short of the line -- and the
+  // energy the pack gave the 40 km/h ride would have carried it over the line at 30.
+  auto wh_per_km = [](double kmh) {
+    const double v = kmh / 3.6;
+    return (force_N(100, 0.01, 1.184, 0.6, v, 0.0) * 1000.0 / 0.8 + 10.0 * 1000.0 / v) / 3600.0;
+  };
+  EXPECT_NEAR(wh_per_km(30), 12.30, 0.01);
+  EXPECT_NEAR(wh_per_km(40), 18.88, 0.01);
+  std::vector<RunResult> runs;
+  for (double v : {20.0, 30.0, 40.0})
+    runs.push_back(runScenario(loadScenarioFileWithOverrides(
+        race("scooter_16s_lto_range"), {{"pack.initial_soc", "0.25"}, {"expect", "{}"}, {"load.route.laps", "10"},
+                                        {"load.route.segments", "[{length_m: 1000, speed_kmh: 60}]"},
+                                        {"load.driver.max_speed_kmh", std::to_string(v)}})));
+  EXPECT_TRUE(runs[0].summary.vehicle.finished);
+  EXPECT_TRUE(runs[1].summary.vehicle.finished);
+  const VehicleSummary& fast = runs[2].summary.vehicle;
+  ASSERT_FALSE(fast.finished);
+  EXPECT_TRUE(fast.stood_still);
+  EXPECT_GT(fast.pack_Wh / wh_per_km(30), 10.0);
+  EXPECT_LT(fast.pack_Wh / wh_per_km(40), 10.0);
+  // Faster is quicker while it lasts: 30 km/h covers the 10 km in 1200 s plus the start.
+  EXPECT_NEAR(runs[1].summary.vehicle.time_s - runs[1].summary.vehicle.start_s, 1200.0, 6.0);
+}
+
+TEST(VehicleRace, BadVehicleKeysNameFileLineAndRange) {
+  const auto dir = test::processTempDir("vehicle_keys");
+  const auto file = dir / "bad.yaml";
+  {
+    std::ofstream out(file);
+    out << "extends: " << race("scooter_16s_lto_range") << "\n"
+        << "load:\n"
+        << "  vehicle:\n"
+        << "    mass_kg: -3\n";
+  }
+  const std::string e = test::fileErrorOf(file);
+  EXPECT_NE(e.find("bad.yaml:4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("load.vehicle.mass_kg"), std::string::npos) << e;
+  EXPECT_NE(e.find("(0, 100000]"), std::string::npos) << e;
+  const std::string fold = test::scenarioErrorOf(
+      [] { loadScenarioFileWithOverrides(race("scooter_16s_lto_range"), {{"load.vehicle.cutoff_end_V", "40"}}); });
+  EXPECT_NE(fold.find("load.vehicle.cutoff_end_V: must be below cutoff_start_V (33.6 V)"), std::string::npos) << fold;
+  const std::string key = test::scenarioErrorOf(
+      [] { loadScenarioFileWithOverrides(race("scooter_16s_lto_range"), {{"load.driver.max_speed", "30"}}); });
+  EXPECT_NE(key.find("max_speed_kmh"), std::string::npos) << key;
+  // A one-way discharge path cannot take the array's charge.
+  const std::string sun = test::scenarioErrorOf([] {
+    loadScenarioFileWithOverrides(race("scooter_16s_lto_range"),
+                                  {{"load.sun", "{array_area_m2: 1, efficiency: 0.2, latitude_deg: 0, day_of_year: 80, "
+                                                "start_solar_hour: 9}"}});
+  });
+  EXPECT_NE(sun.find("fet_paths: separate"), std::string::npos) << sun;
+}
+
+TEST(VehicleRace, NoReadyLightNoRace) {
+  // Without the drive-enable input the BMS stays in standby: the car never sets off and the
+  // run ends after standstill_end_s (not after 30 days of simulated standing).
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"bms.run_request", "false"}, {"expect", "{}"},
+                                                    {"load.standstill_end_s", "5"}});
+  const RunResult r = runScenario(s);
+  EXPECT_NEAR(test::eventTime(r, "vehicle_stopped", "never set off"), 5.0, 0.011);
+  EXPECT_EQ(r.summary.vehicle.distance_m, 0.0);
+  EXPECT_NEAR(r.summary.energy_delivered_Wh, 0.0, 1e-9);
+  EXPECT_NE(formatSummary(s, r).find("range           0.000 km: it never set off"), std::string::npos);
+}
+
+TEST(VehicleRace, RegenerationOnTheDescentComesOffTheLapBudget) {
+  // With 150 W of regeneration the descent (-3 %: F = -43.3 N at 27 km/h, -325 W at the
+  // wheel, -276 W after η) returns the capped 150 W for its 33.3 s: 1.389 Wh a lap less.
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"load.vehicle.max_regen_power_W", "150"}, {"run.solver", "fast"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  const double down_N = force_N(220, 0.006, 1.2, 0.25, kEcoV, -0.03);
+  EXPECT_LT(down_N * kEcoV * 0.85, -150.0);  // the cap binds
+  const double lap_Wh = (ecoLapPack_J() - 150.0 * 250.0 / kEcoV) / 3600.0;
+  EXPECT_NEAR(lap_Wh, 13.80, 0.01);
+  for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.02 * lap_Wh) << "lap " << i + 1;
+  // The pack is charged on the descent: 142 W net of the 8 W aux.
+  const auto& i = r.rec.pack_current_A;
+  EXPECT_LT(*std::min_element(i.begin(), i.end()), -142.0 / 50.4);
+  EXPECT_FALSE(r.summary.tripped);
+}
+
+namespace {
+// Clear-sky global horizontal irradiance (docs/vehicle.md), written out again.
+double clearSky(double lat, int day, double hour) {
+  const double pi = std::acos(-1.0), deg = pi / 180.0;
+  const double decl = 23.45 * deg * std::sin(2.0 * pi * (284.0 + day) / 365.0);
+  const double cz = std::sin(lat * deg) * std::sin(decl) + std::cos(lat * deg) * std::cos(decl) * std::cos((hour - 12) * 15 * deg);
+  return cz <= 0 ? 0.0 : 1.1 * 1353.0 * std::pow(0.7, std::pow(1.0 / cz, 0.678)) * cz;
+}
+}  // namespace
+
+TEST(VehicleRace, SolarStageRoadLoadIsPackPlusArray) {
+  // solar_car_28s15p_stage.yaml: 300 kg, C_rr 0.005, CdA 0.09, ρ 1.16, η 0.95, aux 20 W,
+  // 80 km/h over 120 km flat, 10 km at +2 %, 10 km at -2 % (regeneration, below its cap);
+  // 4 m² × 24 % × 98 % at 12.5° S on day 296 from 13:00 solar time.
+  const Scenario s = loadScenarioFile(race("solar_car_28s15p_stage"));
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  const double sp = 80.0 / 3.6;
+  const double flat = force_N(300, 0.005, 1.16, 0.09, sp, 0.0), up = force_N(300, 0.005, 1.16, 0.09, sp, 0.02),
+               down = force_N(300, 0.005, 1.16, 0.09, sp, -0.02);
+  ASSERT_LT(down, 0.0);
+  ASSERT_GT(down * sp * 0.95, -2000.0);  // regeneration below its cap
+  const double drive_J = (flat * 120e3 + up * 10e3) / 0.95 + down * 10e3 * 0.95 + 0.5 * 300 * sp * sp / 0.95 +
+                         20.0 * (v.time_s - v.start_s);
+  EXPECT_NEAR(drive_J / 3600.0, 1719.0, 5.0);
+  // What the drive and the aux used came from the pack and the array.
+  EXPECT_NEAR(v.pack_Wh + v.array_Wh, drive_J / 3600.0, 0.02 * drive_J / 3600.0);
+  // The array: the clear-sky integral over the stage (trapezoids of 10 s).
+  double e_J = 0.0;
+  for (double t = v.start_s; t < v.time_s; t += 10.0) {
+    const double t1 = std::min(t + 10.0, v.time_s);
+    e_J += 0.5 * (clearSky(-12.5, 296, 13 + t / 3600) + clearSky(-12.5, 296, 13 + t1 / 3600)) * (t1 - t);
+  }
+  const double array_Wh = 4.0 * 0.24 * 0.98 * e_J / 3600.0;
+  EXPECT_NEAR(v.array_Wh, array_Wh, 0.02 * array_Wh);
+  EXPECT_FALSE(v.limited);
+}
+
+TEST(VehicleRace, ThePackFullTheBmsEndsTheArraysCharge) {
+  // From 98 % at noon and 50 km/h (the drive ~380 W, the array ~980 W) the array charges
+  // the pack past 4.20 V a cell: the BMS's over-voltage trip opens the relay, as it would
+  // end a charger's charge.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("solar_car_28s15p_stage"), {{"pack.initial_soc", "0.98"}, {"expect", "{}"}, {"load.driver.max_speed_kmh", "50"},
+                                       {"load.sun.start_solar_hour", "12"}});
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped);
+  EXPECT_NE(r.summary.trip_reason.find("cell_overvoltage"), std::string::npos) << r.summary.trip_reason;
+  const double trip_s = r.summary.trip_time_s;
+  double charge_A = 0.0;
+  for (size_t k = 0; k < r.rec.samples(); ++k) {
+    if (r.rec.time_s[k] < trip_s) charge_A = std::min(charge_A, r.rec.pack_current_A[k]);
+    else if (r.rec.time_s[k] > trip_s + 1.0) EXPECT_EQ(r.rec.pack_current_A[k], 0.0) << r.rec.time_s[k];
+  }
+  EXPECT_LT(charge_A, -1.0);  // it was charging before
+}
+
+TEST(VehicleRace, SameScenarioSameBits) {
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                                   {{"load.vehicle.max_current_A", "12"}, {"run.duration_s", "300"}});
+  const RunResult a = runScenario(s), b = runScenario(s);
+  ASSERT_GT(a.rec.samples(), 100u);
+  EXPECT_EQ(a.rec.vehicle_distance_m, b.rec.vehicle_distance_m);
+  EXPECT_EQ(a.rec.vehicle_speed_m_per_s, b.rec.vehicle_speed_m_per_s);
+  EXPECT_EQ(a.rec.vehicle_pack_request_W, b.rec.vehicle_pack_request_W);
+  EXPECT_EQ(a.rec.pack_current_A, b.rec.pack_current_A);
+  EXPECT_EQ(formatSummary(s, a), formatSummary(s, b));
+}

@@ -1,0 +1,167 @@
+// The vehicle, route and sun models against hand calculations (docs/vehicle.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "models/vehicle/clear_sky.hpp"
+#include "models/vehicle/road_load.hpp"
+#include "models/vehicle/route.hpp"
+#include "models/vehicle/vehicle.hpp"
+
+using namespace packsim;
+
+namespace {
+VehicleParams car() {
+  VehicleParams p;
+  p.mass_kg = 100.0;
+  p.rolling_coefficient = 0.01;
+  p.drag_area_m2 = 0.5;
+  p.air_density_kg_per_m3 = 1.2;
+  p.drivetrain_efficiency = 0.8;
+  p.max_drive_power_W = 1.0e6;
+  return p;
+}
+Route flat(double speed, double length_m = 1000.0, int laps = 1) {
+  Route r;
+  r.segments = {RouteSegment{length_m, 0.0, speed}};
+  r.laps = laps;
+  return r;
+}
+}  // namespace
+
+TEST(RoadLoad, ResistanceByHand) {
+  // 100 kg · 9.80665 · 0.01 = 9.80665 N rolling; ½ · 1.2 · 0.5 · 10² = 30 N drag.
+  EXPECT_NEAR(resistanceForce_N(car(), 10.0, 0.0), 39.80665, 1e-9);
+  // 10 % grade: cos θ = 1/√1.01, sin θ = 0.1/√1.01.
+  const double c = 1.0 / std::sqrt(1.01);
+  EXPECT_NEAR(resistanceForce_N(car(), 10.0, 0.1), 9.80665 * c + 30.0 + 980.665 * 0.1 * c, 1e-9);
+}
+
+TEST(RoadLoad, AccelerationInvertsWheelPower) {
+  for (double v : {0.0, 3.0, 15.0})
+    for (double a : {-0.5, 0.0, 0.7})
+      for (double g : {-0.05, 0.0, 0.08}) {
+        if (v + 0.5 * a * 0.1 < 0.0) continue;
+        const double p = wheelPower_W(car(), v, g, a, 0.1);
+        // At rest with no power both a = 0 and a = -F/m solve it: downhill the car rolls.
+        if (v == 0.0 && a <= 0.0) continue;
+        EXPECT_NEAR(accelerationFor(car(), v, g, p, 0.1), a, 1e-9) << v << " " << a << " " << g;
+      }
+}
+
+TEST(RoadLoad, FoldbackIsLinearBetweenItsVoltages) {
+  VehicleParams p = car();
+  EXPECT_TRUE(std::isinf(allowedCurrent_A(p, 40.0)));
+  p.max_current_A = 30.0;
+  p.cutoff_start_V = 44.0;
+  p.cutoff_end_V = 40.0;
+  EXPECT_DOUBLE_EQ(allowedCurrent_A(p, 48.0), 30.0);
+  EXPECT_DOUBLE_EQ(allowedCurrent_A(p, 43.0), 30.0 * 0.75);
+  EXPECT_DOUBLE_EQ(allowedCurrent_A(p, 39.0), 0.0);
+}
+
+TEST(Route, LapsSegmentsAndBrakingLookAhead) {
+  Route r;
+  r.segments = {RouteSegment{100.0, 0.0, 20.0}, RouteSegment{100.0, 0.02, 10.0}};
+  r.laps = 3;
+  EXPECT_DOUBLE_EQ(r.total_m(), 600.0);
+  EXPECT_EQ(r.segmentAt(150.0), 1);
+  EXPECT_EQ(r.segmentAt(250.0), 0);
+  EXPECT_EQ(r.lapAt(250.0), 1);
+  EXPECT_EQ(r.lapAt(600.0), 3);
+  // Braking at 1 m/s² for the 10 m/s segment at 100 m: √(10² + 2·1·100) at 0 m.
+  EXPECT_NEAR(r.targetSpeed_m_per_s(0.0, 1.0), std::sqrt(300.0), 1e-12);
+  EXPECT_NEAR(r.targetSpeed_m_per_s(50.0, 1.0), std::sqrt(200.0), 1e-12);
+  EXPECT_DOUBLE_EQ(r.targetSpeed_m_per_s(150.0, 1.0), 10.0);
+  // Leaving the slow segment, the next lap's fast one: its own 20 m/s (nothing slower ahead
+  // within reach until the next slow segment at 300 m: √(100 + 2·(300 - 210)) = 16.7).
+  EXPECT_NEAR(r.targetSpeed_m_per_s(210.0, 1.0), std::sqrt(100.0 + 180.0), 1e-12);
+}
+
+TEST(Vehicle, AcceleratesAtItsBoundThenCruisesAtTheTarget) {
+  DriverParams d;
+  d.accel_m_per_s2 = 1.0;
+  d.response_s = 2.0;
+  Vehicle v(car(), flat(20.0), d);
+  const double dt = 0.01;
+  for (int k = 0; k < 500; ++k) {  // 5 s at 1 m/s² (v < 18 m/s: the bound holds)
+    const VehiclePlan p = v.plan(dt, 50.0, 0.0, true);
+    v.advance(p, p.net_W, dt);
+  }
+  EXPECT_NEAR(v.speed_m_per_s(), 5.0, 1e-9);
+  EXPECT_NEAR(v.distance_m(), 12.5, 1e-9);
+}
+
+TEST(Vehicle, CruisePackPowerIsTheRoadLoadOverEfficiencyPlusAux) {
+  VehicleParams p = car();
+  p.aux_power_W = 15.0;
+  Vehicle v(p, flat(10.0, 5000.0), DriverParams{});
+  VehiclePlan pl;
+  for (int k = 0; k < 6000; ++k) {  // 60 s: settled at 10 m/s
+    pl = v.plan(0.01, 50.0, 0.0, true);
+    v.advance(pl, pl.net_W, 0.01);
+  }
+  EXPECT_NEAR(v.speed_m_per_s(), 10.0, 1e-6);
+  EXPECT_NEAR(pl.net_W, 39.80665 * 10.0 / 0.8 + 15.0, 1e-3);
+}
+
+TEST(Vehicle, PowerCapGivesTheKineticEnergyOfItsWork) {
+  // No resistance: ½·m·v² = η·P·t exactly (the tick's work is F·ds).
+  VehicleParams p = car();
+  p.rolling_coefficient = 0.0;
+  p.drag_area_m2 = 0.0;
+  DriverParams d;
+  d.accel_m_per_s2 = 100.0;
+  d.power_cap_W = 500.0;
+  d.response_s = 0.01;  // wants 100 m/s² from the first tick: the cap binds throughout
+  Vehicle v(p, flat(50.0, 1e5), d);
+  for (int k = 0; k < 1000; ++k) {  // 10 s
+    const VehiclePlan pl = v.plan(0.01, 50.0, 0.0, true);
+    ASSERT_EQ(pl.limit, DriveLimit::DriverCap);
+    v.advance(pl, pl.net_W, 0.01);
+  }
+  EXPECT_NEAR(v.speed_m_per_s(), std::sqrt(2.0 * 0.8 * 500.0 * 10.0 / 100.0), 1e-9);
+}
+
+TEST(Vehicle, ControllerLimitsThePackCurrentAndAShortfallSlowsIt) {
+  VehicleParams p = car();
+  p.max_current_A = 10.0;
+  p.aux_power_W = 20.0;
+  Vehicle v(p, flat(20.0), DriverParams{});
+  VehiclePlan pl;
+  for (int k = 0; k < 500; ++k) {  // 5 s at 1 m/s² on a pack without limits: 5 m/s, ~730 W
+    pl = v.plan(0.01, 48.0, 0.0, false);
+    v.advance(pl, pl.net_W, 0.01);
+  }
+  // At 48 V the pack may give 480 W: 460 W to the drive, 20 W to the aux.
+  pl = v.plan(0.01, 48.0, 0.0, true);
+  EXPECT_EQ(pl.limit, DriveLimit::ControllerCurrent);
+  EXPECT_NEAR(pl.net_W, 480.0, 1e-9);
+  // The reference vehicle is not limited by the pack.
+  EXPECT_EQ(v.plan(0.01, 48.0, 0.0, false).limit, DriveLimit::None);
+  // Cruising at 10 m/s, the pack gives nothing: the vehicle coasts at -F/m.
+  Vehicle c(car(), flat(10.0), DriverParams{});
+  for (int k = 0; k < 3000; ++k) {
+    pl = c.plan(0.01, 50.0, 0.0, true);
+    c.advance(pl, pl.net_W, 0.01);
+  }
+  const double v0 = c.speed_m_per_s();
+  pl = c.plan(0.01, 50.0, 0.0, true);
+  EXPECT_EQ(c.advance(pl, 0.0, 0.01), DriveLimit::PackShortfall);
+  EXPECT_NEAR((c.speed_m_per_s() - v0) / 0.01, -resistanceForce_N(car(), v0, 0.0) / 100.0, 1e-9);
+}
+
+TEST(ClearSky, NoonIrradianceByHand) {
+  // Equinox (day 80) on the equator at noon: the sun overhead, AM 1:
+  // 1.1 · 1353 · 0.7 = 1041.8 W/m² (declination -0.40°: cos z = 0.99998).
+  EXPECT_NEAR(clearSkyIrradiance_W_per_m2({0.0, 80}, 12.0), 1041.78, 0.01);
+  // 45° N at midsummer noon: z = 45° - 23.45°, AM 1.0752: 951.73 W/m².
+  EXPECT_NEAR(clearSkyIrradiance_W_per_m2({45.0, 172}, 12.0), 951.73, 0.01);
+  // Night, and sunrise at 06:00 solar time on the equator at the equinox.
+  EXPECT_EQ(clearSkyIrradiance_W_per_m2({45.0, 172}, 0.5), 0.0);
+  EXPECT_EQ(clearSkyIrradiance_W_per_m2({0.0, 80}, 5.9), 0.0);
+  EXPECT_GT(clearSkyIrradiance_W_per_m2({0.0, 80}, 6.2), 0.0);
+  // A 4 m² array at 22 % through a 97 % MPPT, started at 11:00, one hour later.
+  SolarArray a{4.0, 0.22, 0.97, {0.0, 80}, 11.0};
+  EXPECT_NEAR(a.power_W(3600.0), 4.0 * 0.22 * 0.97 * 1041.78, 0.01);
+}
