@@ -151,9 +151,10 @@ void CvodeIntegrator::reset(double t, const double* x) {
   // continuous. The first step tries a quarter of the last step size (kRestartStepFraction:
   // the restart is at order 1, whose error constant is larger than that of the order
   // the last step had; CVODE's error test shrinks it further if the new inputs need
-  // less), instead of CVODE's own estimate from scratch, and the Newton matrix starts from the last Jacobian
-  // while it is younger than CVODE's own reuse limit (kJacobianMaxAgeSteps); a Newton
-  // failure on it makes CVODE ask again, and that request is evaluated afresh.
+  // less), instead of CVODE's own estimate from scratch; the Newton matrix starts from
+  // the last Jacobian while it is younger than CVODE's own reuse limit
+  // (kJacobianMaxAgeSteps); a Newton failure on it makes CVODE ask again, and that
+  // request is evaluated afresh.
   check(CVodeSetInitStep(m.mem, kRestartStepFraction * lastStep_s_), "CVodeSetInitStep");
   m.reuseSavedJ = m.haveSavedJ && base_.steps - m.stepsAtJ < kJacobianMaxAgeSteps;
   t_ = t;
