@@ -30,7 +30,7 @@ struct RunFigures {
   double sim_s = 0.0;
   long ticks = 0;
   Timing time;
-  long solver_steps = 0, rhs_evals = 0, jac_evals = 0;
+  long solver_steps = 0, rhs_evals = 0, jac_evals = 0, reinits = 0, lin_setups = 0;
   double cpuNsPerCellStep() const { return time.cpu_s * 1e9 / (static_cast<double>(cells) * static_cast<double>(ticks)); }
   double wallNsPerCellStep() const { return time.wall_s * 1e9 / (static_cast<double>(cells) * static_cast<double>(ticks)); }
 };

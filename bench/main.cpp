@@ -1,7 +1,8 @@
 // packsim_bench: runs the benchmarks and prints their figures as one table.
 //
-//   packsim_bench [--quick] [floor|plant|macro|presets|scaling|batch ...]   (default: all)
-//   (plant: system D's fast integrator alone, for profiling the plant with perf)
+//   packsim_bench [--quick] [floor|plant|macro|presets|scaling|batch|restarts ...]   (default: all)
+//   (plant: system D's fast integrator alone, for profiling the plant with perf;
+//    restarts: system B's balancer race, CVODE against the fast integrator)
 //
 // Figures per row: simulated time, ticks, CPU and wall time (minimum of repeats),
 // real-time factor (simulated / CPU time), ns per cell-step (CPU) and the ratio to
@@ -46,9 +47,11 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--quick") quick = true;
-    else if (a == "floor" || a == "plant" || a == "macro" || a == "presets" || a == "scaling" || a == "batch") want.insert(a);
+    else if (a == "floor" || a == "plant" || a == "macro" || a == "presets" || a == "scaling" || a == "batch" ||
+             a == "restarts")
+      want.insert(a);
     else {
-      std::fprintf(stderr, "usage: %s [--quick] [floor|plant|macro|presets|scaling|batch ...]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--quick] [floor|plant|macro|presets|scaling|batch|restarts ...]\n", argv[0]);
       return 2;
     }
   }
@@ -131,6 +134,31 @@ int main(int argc, char** argv) {
     }
     std::printf("Scaling (system D's cell and race; current, shunt and over-current limits x parallel):\n%s\n",
                 t.str().c_str());
+  }
+
+  if (on("restarts")) {
+    // System B's race with its active balancer: a converter switches at most 100 ms ticks,
+    // and CVODE restarts at each switch (core/sim/cvode_integrator.hpp). The first
+    // 5 minutes (1 with --quick), without the `compare:` run; CVODE's CPU time as a
+    // ratio to the fast integrator's, both measured here.
+    const double dur = quick ? 60.0 : 300.0;
+    const Overrides base = {{"run.duration_s", fmt(dur, 0)}};
+    Overrides fo = base, co = base;
+    fo.push_back({"run.solver", "fast"});
+    co.push_back({"run.solver", "cvode"});
+    Scenario fa = bundledScenario("solar_car_28s15p_balancer.yaml", fo);
+    Scenario cv = bundledScenario("solar_car_28s15p_balancer.yaml", co);
+    fa.compare_scenario.clear();
+    cv.compare_scenario.clear();
+    const RunFigures f = timeScenario("fast  B + active balancer", fa, 1, quick ? 1 : 3);
+    const RunFigures c = timeScenario("cvode B + active balancer", cv, 1, quick ? 1 : 2);
+    Table t({"benchmark", "sim s", "CPU s", "wall s", "x fast (CPU)", "steps", "restarts", "jac evals", "setups"});
+    for (const RunFigures* r : {&f, &c})
+      t.add({r->label, fmt(r->sim_s, 0), fmt(r->time.cpu_s, 2), fmt(r->time.wall_s, 2),
+             fmt(r->time.cpu_s / f.time.cpu_s, 1), std::to_string(r->solver_steps), std::to_string(r->reinits),
+             r->jac_evals > 0 ? std::to_string(r->jac_evals) : "-",
+             r->lin_setups > 0 ? std::to_string(r->lin_setups) : "-"});
+    std::printf("Restarts at input switches (system B's race with its active balancer):\n%s\n", t.str().c_str());
   }
 
   if (on("batch")) {

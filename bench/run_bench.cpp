@@ -23,6 +23,8 @@ RunFigures timeScenario(const std::string& label, const Scenario& s, int runs, i
   f.solver_steps = runs * last.solver.steps;  // the runs are identical
   f.rhs_evals = runs * last.solver.rhs_evals;
   f.jac_evals = runs * last.solver.jac_evals;
+  f.reinits = runs * last.solver.reinits;
+  f.lin_setups = runs * last.solver.lin_setups;
   return f;
 }
 

@@ -2,7 +2,11 @@
 // solver on the plant's Jacobian pattern (OdeSystem::jacobianPattern), filled by
 // difference quotients with column colouring (core/sim/cvode_jacobian.hpp): per cell
 // the cost does not grow with the pack's size. KLU analyses the pattern once and
-// refactors numerically at every Jacobian update. Re-initialised only at discontinuities.
+// refactors numerically at every Jacobian update. Re-initialised only at discontinuities,
+// and warmly (reset()): an input that jumps (a relay, a fault, a load step, the active
+// balancer's converters every tick) restarts the method at order 1, as the SUNDIALS
+// usage notes require after a discontinuity, but keeps what the jump does not make
+// stale -- the step size, the last Jacobian while it is young, KLU's symbolic analysis.
 //
 // The caller owns time: advance(t_out, t_stop) returns the solution at t_out and
 // never lets CVODE step past t_stop (the next discontinuity). Between calls CVODE
@@ -41,7 +45,19 @@ class CvodeIntegrator : public Integrator {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  // CVODE's own limit on a Jacobian's age (msbj, steps) also bounds its reuse across restarts.
+  static constexpr long kJacobianMaxAgeSteps = 51;
+  // First step after a restart, as a fraction of the last step (reset()); on system B's
+  // balancer race 0.25 took 1,390 steps per 30 s against 1,521 for 1.0 and 1,613 for
+  // CVODE's own estimate.
+  static constexpr double kRestartStepFraction = 0.25;
+  // Relative change of γ that forms a new Newton matrix (CVodeSetDeltaGammaMaxLSetup;
+  // CVODE's default 0.3). 2: B's balancer race 549 setups per 30 s (1,224 at 0.3), and
+  // the 100 Hz ramp logger's charge (Breakpoints.*) within 2.5e-3 As of its integral,
+  // as with the default (up to 5e-3); at 5 it drifted to 1.3e-2 As.
+  static constexpr double kGammaChangeForSetup = 2.0;
   double t_ = 0.0;
+  double lastStep_s_ = 0.0;  // 0: CVODE estimates the first step itself
   long reinits_ = 0;
   CvodeStats base_;
 };

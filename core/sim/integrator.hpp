@@ -21,6 +21,9 @@ struct SolverStats {
   long rhs_evals = 0;  // right-hand-side evaluations
   long jac_evals = 0;  // Jacobian evaluations (CVODE only)
   long reinits = 0;    // restarts at discontinuities
+  long lin_setups = 0;     // linear-solver setups: Newton matrix I - γJ formed and factored (CVODE only)
+  long jac_rhs_evals = 0;  // right-hand sides spent on the Jacobian's difference quotients (CVODE only)
+  long jac_reused = 0;     // restarts that kept the last Jacobian instead of evaluating one (CVODE only)
 };
 
 class Integrator {
