@@ -195,6 +195,15 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
   if (afe) {
     a.cells_per_device = static_cast<int>(afe->integer("cells_per_device", a.cells_per_device, 1, part->max_cells));
     const int needed = (cells + a.cells_per_device - 1) / a.cells_per_device;
+    if (!part->stacked && needed > 1) {  // one device alone on its bus: the pack must fit it
+      std::vector<const MonitorPart*> stacked;
+      for (const MonitorPart* p : monitorParts())
+        if (p->stacked) stacked.push_back(p);
+      throw afe->errorAt("model", std::string("a ") + part->name + " monitors one stack of up to " +
+                                      std::to_string(part->max_cells) + " series cells; this pack has " +
+                                      std::to_string(cells) + " (pack.series): use a stacked part (" +
+                                      partList(stacked) + ")");
+    }
     a.devices = static_cast<int>(afe->integer("devices", needed, 1, bms::kMaxDevices));
     if (a.devices != needed) {
       std::ostringstream os;

@@ -27,6 +27,19 @@ TEST(ScenarioErrors, UnknownKeySuggestsClosest) {
   EXPECT_NE(e.find("test.yaml:8:5: pack.cell.capcity_Ah: unknown key; did you mean 'capacity_Ah'?"), std::string::npos) << e;
 }
 
+// Found by the campaign: a bq76952 (one device, up to 16 cells) under a 96s pack ran
+// into the model's own check at the start of the run -- "bq76952: one device holds
+// 1..16 cells, got 96", no file, line or key. Now the loader names the model key.
+TEST(ScenarioErrors, ASingleDevicePartUnderALongerStringNamesTheModelKey) {
+  const std::string e = errorOf("name: t\npack: {series: 96, cell: {capacity_Ah: 5, ocv_V: 3.7, r0_ohm: 0.01}}\n"
+                                "hardware: {afe: {model: bq76952}}\nload: {current_A: 1}\nrun: {duration_s: 1}\n");
+  EXPECT_NE(e.find(":3:"), std::string::npos) << e;
+  EXPECT_NE(e.find("hardware.afe.model: a bq76952 monitors one stack of up to 16 series cells; this pack has 96"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(e.find("bq76pl536a or bq76pl455a"), std::string::npos) << e;
+}
+
 TEST(ScenarioErrors, UnknownTopLevelSection) {
   const std::string e = errorOf(test::simpleCellYaml() + kLoad + "outptu: {interval_s: 1}\n");
   EXPECT_NE(e.find("outptu: unknown key; did you mean 'output'?"), std::string::npos) << e;
