@@ -51,11 +51,12 @@ class CvodeIntegrator : public Integrator {
   // balancer race 0.25 took 1,390 steps per 30 s against 1,521 for 1.0 and 1,613 for
   // CVODE's own estimate.
   static constexpr double kRestartStepFraction = 0.25;
-  // Relative change of γ that forms a new Newton matrix (CVodeSetDeltaGammaMaxLSetup;
-  // CVODE's default 0.3). 2: B's balancer race 549 setups per 30 s (1,224 at 0.3), and
-  // the 100 Hz ramp logger's charge (Breakpoints.*) within 2.5e-3 As of its integral,
-  // as with the default (up to 5e-3); at 5 it drifted to 1.3e-2 As.
-  static constexpr double kGammaChangeForSetup = 2.0;
+  // Relative change of γ that forms a new Newton matrix (CVodeSetDeltaGammaMaxLSetup):
+  // CVODE's default 0.3. Larger saves setups (2: 549 per 30 s of B's balancer race
+  // against 1,224) but costs accuracy: at 2 the scooter's energy with and without its
+  // FET node differed by 4.4e-6 (FetThermal.*), at 5 a 100 Hz ramp logger's charge
+  // drifted to 1.3e-2 As (Breakpoints.*).
+  static constexpr double kGammaChangeForSetup = 0.3;
   double t_ = 0.0;
   double lastStep_s_ = 0.0;  // 0: CVODE estimates the first step itself
   long reinits_ = 0;

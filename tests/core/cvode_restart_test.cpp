@@ -10,9 +10,11 @@
 //
 // The counters below are the oracle, not a time: they come from CVODE's own statistics
 // (CVodeGetNumJacEvals, CVodeGetNumLinSolvSetups) and the difference quotients' count.
-// Measured at this commit over 60 s: 594 restarts, 54 Jacobian evaluations (541 restarts
-// reused one), 1.85 setups per restart. Before: 593 Jacobian evaluations (one per
-// restart) and 4.6 setups per restart (2,730).
+// Measured over 60 s: 594 restarts, 54 Jacobian evaluations (541 restarts reused one),
+// 4.0 Newton-matrix setups per restart. Before: 593 Jacobian evaluations (one per
+// restart) and 4.6 setups per restart (2,730). The setups stay at CVODE's own threshold
+// (a γ change of 0.3): at 2 they fell to 1.85 per restart, but the scooter's energy with
+// and without its FET node then differed by 4.4e-6 (FetThermal.*; 1e-7 at 0.3).
 #include <gtest/gtest.h>
 
 #include "core/sim/simulation.hpp"
@@ -36,9 +38,9 @@ TEST(CvodeRestarts, BalancerSwitchesReuseTheJacobianAndTheFactorisation) {
   // A restart keeps the last Jacobian while it is younger than CVODE's own reuse limit.
   EXPECT_GT(st.jac_reused, st.reinits / 2);
   EXPECT_LT(st.jac_evals, st.reinits / 4);
-  // The Newton matrix: the setup CVODE forces after a re-initialisation and about one
-  // more, not one per step while the step size grows again from a cold estimate.
-  EXPECT_LT(static_cast<double>(st.lin_setups), 2.5 * static_cast<double>(st.reinits));
+  // The Newton matrix: fewer setups than before (4.6 a restart), the step starting from
+  // a quarter of the last one instead of a cold estimate.
+  EXPECT_LT(static_cast<double>(st.lin_setups), 4.4 * static_cast<double>(st.reinits));
   // The difference quotients cost fewer right-hand sides than the steps themselves.
   EXPECT_LT(st.jac_rhs_evals, st.rhs_evals);
 }
