@@ -145,17 +145,28 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       s.bits = static_cast<int>(c->integer("bits", 16, 8, 24));
       c->finish();
     }
-    if (auto r = hw->optionalMap("relay")) {
-      readRelay(*r, h.relay);
-      r->finish();
+    // Sections read even when absent, so that `packsim show` lists their defaults; an
+    // absent section keeps the values above exactly (a unit round trip could change a bit).
+    {
+      YamlMap r = hw->mapOrEmpty("relay");
+      RelayConfig relay = h.relay;
+      readRelay(r, relay);
+      r.finish();
+      if (hw->has("relay")) h.relay = relay;
     }
-    if (auto p = hw->optionalMap("precharge")) {
-      h.precharge.r_ohm = p->number("r_ohm", h.precharge.r_ohm, Range::positive(1.0e6));
-      h.precharge.bus_capacitance_F =
-          p->number("bus_capacitance_uF", h.precharge.bus_capacitance_F * 1e6, Range::positive(1.0e6)) * 1e-6;
-      h.precharge.bus_leak_ohm = p->number("bus_leak_ohm", 0.0, Range::nonNegative(limits::kMaxResistor_ohm));
-      readRelay(*p, h.precharge_relay);
-      p->finish();
+    {
+      YamlMap p = hw->mapOrEmpty("precharge");
+      PrechargePathConfig pre = h.precharge;
+      RelayConfig relay = h.precharge_relay;
+      pre.r_ohm = p.number("r_ohm", pre.r_ohm, Range::positive(1.0e6));
+      pre.bus_capacitance_F = p.number("bus_capacitance_uF", pre.bus_capacitance_F * 1e6, Range::positive(1.0e6)) * 1e-6;
+      pre.bus_leak_ohm = p.number("bus_leak_ohm", 0.0, Range::nonNegative(limits::kMaxResistor_ohm));
+      readRelay(p, relay);
+      p.finish();
+      if (hw->has("precharge")) {
+        h.precharge = pre;
+        h.precharge_relay = relay;
+      }
     }
     if (auto f = hw->optionalMap("discharge_fet")) readFet(*f, h.discharge_fet);
     if (auto f = hw->optionalMap("charge_fet")) readFet(*f, h.charge_fet);
@@ -176,13 +187,17 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       c->finish();
     }
     if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
-    if (auto b = hw->optionalMap("bus_adc")) {
-      const double fs = b->number("full_scale_V", h.bus_adc.lsb * 4095.0, Range::positive(2000.0));  // the charger's voltage range
-      const long bits = b->integer("bits", 12, 8, 16);
-      h.bus_adc.code_max = (int64_t{1} << bits) - 1;
-      h.bus_adc.lsb = fs / static_cast<double>(h.bus_adc.code_max);
-      h.bus_adc.noise_rms = b->number("noise_mV_rms", 0.0, Range::closed(0.0, 10000.0)) * 1e-3;
-      b->finish();
+    {
+      YamlMap b = hw->mapOrEmpty("bus_adc");
+      const double fs = b.number("full_scale_V", h.bus_adc.lsb * 4095.0, Range::positive(2000.0));  // the charger's voltage range
+      const long bits = b.integer("bits", 12, 8, 16);
+      const double noise_V = b.number("noise_mV_rms", 0.0, Range::closed(0.0, 10000.0)) * 1e-3;
+      b.finish();
+      if (hw->has("bus_adc")) {
+        h.bus_adc.code_max = (int64_t{1} << bits) - 1;
+        h.bus_adc.lsb = fs / static_cast<double>(h.bus_adc.code_max);
+        h.bus_adc.noise_rms = noise_V;
+      }
     }
   }
 

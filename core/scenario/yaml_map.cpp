@@ -244,6 +244,12 @@ std::optional<YamlMap> YamlMap::optionalMap(const std::string& key) {
   return map(key);
 }
 
+YamlMap YamlMap::mapOrEmpty(const std::string& key) {
+  if (has(key)) return map(key);
+  if (Provenance* p = Provenance::active()) p->markSection(fieldName(key));
+  return YamlMap(YAML::Node(YAML::NodeType::Map), file_, fieldName(key));
+}
+
 std::vector<YamlMap> YamlMap::mapList(const std::string& key) {
   const YAML::Node n = required(key);
   if (!n.IsSequence()) throw errorAt(n, fieldName(key), "expected a list");

@@ -52,6 +52,9 @@ class YamlMap {
 
   YamlMap map(const std::string& key);  // required child mapping
   std::optional<YamlMap> optionalMap(const std::string& key);
+  // The child mapping, or an empty one at its path when the key is absent: reading its
+  // defaults records them for `packsim show` like any other default.
+  YamlMap mapOrEmpty(const std::string& key);
   // Elements of a sequence of mappings.
   std::vector<YamlMap> mapList(const std::string& key);
   YAML::Node node(const std::string& key);  // declared, raw (caller checks it)

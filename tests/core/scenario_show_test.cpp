@@ -179,6 +179,23 @@ TEST(ScenarioShow, CellRatingsSetTheLimits) {
   EXPECT_EQ(warningsWith(stated, "overcurrent_"), 0u) << allWarnings(stated);
 }
 
+// A hardware section that states no relay, precharge or bus ADC still lists their values,
+// each as a default; stating one changes it and names its line.
+TEST(ScenarioShow, SectionsLeftOutListTheirDefaults) {
+  const Scenario s = test::scenarioFromYaml(withHardware("  fuse: {rated_A: 30}\n"));
+  EXPECT_EQ(originOf(s, "hardware.relay.open_delay_ms"), "default");
+  EXPECT_EQ(originOf(s, "hardware.precharge.bus_capacitance_uF"), "default");
+  EXPECT_EQ(originOf(s, "hardware.bus_adc.bits"), "default");
+  EXPECT_EQ(s.hardware.bus_adc.code_max, 4095);
+  const Scenario stated = test::scenarioFromYaml(withHardware("  relay: {open_delay_ms: 20}\n"));
+  EXPECT_DOUBLE_EQ(stated.hardware.relay.open_delay_s, 0.020);
+  EXPECT_NE(originOf(stated, "hardware.relay.open_delay_ms"), "default");
+  EXPECT_EQ(originOf(stated, "hardware.precharge.r_ohm"), "default");
+  // Reading the defaults leaves them exactly as they were.
+  EXPECT_EQ(s.hardware.precharge.bus_capacitance_F, stated.hardware.precharge.bus_capacitance_F);
+  EXPECT_EQ(s.hardware.relay.close_delay_s, stated.hardware.relay.close_delay_s);
+}
+
 TEST(ScenarioShow, BalancingHardwareStatesItsResistor) {
   const std::string err = test::yamlErrorOf(withHardware("  balancing: {board_node: b}\n"));
   EXPECT_NE(err.find("missing required key 'resistor_ohm'"), std::string::npos) << err;
