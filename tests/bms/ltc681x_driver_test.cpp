@@ -135,9 +135,17 @@ TEST(LtcDriver, CoreReadingForTheTwelveCellPart) {
   EXPECT_TRUE(dr.alert);
   EXPECT_EQ(r.out[0].ov, 1u << 3);
   EXPECT_NEAR(dr.die_dC, 400, 1);
-  // The 18-cell part does not fit the core's 16-cell reading.
+}
+
+TEST(LtcDriver, CoreReadingHoldsAllEighteenCellsOfTheLtc6813) {
   Rig s(modelConfig(Ltc681xPart::Ltc6813, 1), 18);
-  EXPECT_FALSE(bms::ltcToDeviceReading(s.cfg, 0, s.out[0], dr));
+  ASSERT_TRUE(s.init());
+  s.chain.analog(0).cell_V[17] = 3.123;
+  s.readAll();
+  ASSERT_EQ(s.res[0], bms::FrameResult::Ok);
+  bms::DeviceReading dr{};
+  ASSERT_TRUE(bms::ltcToDeviceReading(s.cfg, 0, s.out[0], dr));
+  for (int c = 0; c < 18; ++c) EXPECT_NEAR(dr.cell_mV[c], (c == 17 ? 3.123 : cellTruth_V(c)) * 1e3, 0.5 + 0.05 + 1e-6) << c;
 }
 
 TEST(LtcDriver, WatchdogSleepResetsTheConfigurationAndTheDriverRestoresIt) {
