@@ -113,7 +113,8 @@ void ltcOpenWireCheck(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw
 uint32_t ltcConversionTime_us(const LtcConfig& c, enum ltc681x_conversion kind);
 // A reading in the core's units: cells in mV, GPIO codes (100 uV; VREF2 = 30000 is the
 // thermistor divider's full scale), the sum of cells in mV, die temperature in 0.1 degC;
-// alert = a used cell outside VUV / VOV (the parts latch nothing: fault stays false).
+// alert = a used cell outside VUV / VOV (the parts latch nothing: fault stays false);
+// safetyA / safetyB = the OV / UV flags of cells 1-8.
 // False when the device has more cells than DeviceReading holds (kMaxCellsPerDevice).
 bool ltcToDeviceReading(const LtcConfig& c, uint8_t d, const LtcReading& r, DeviceReading& out);
 
