@@ -262,8 +262,9 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
   if (gpios || highFlags) {
     static const uint16_t kAux[4] = {LTC681X_RDAUXA, LTC681X_RDAUXB, LTC681X_RDAUXC, LTC681X_RDAUXD};
     if (gpios) convertAndWait(c, s, b, api, ltc681x_adax(md, LTC681X_CH_ALL), LTC681X_CONV_GPIOS);
-    uint8_t groups = gpios ? static_cast<uint8_t>((c.thermistorsPerDevice + 2u) / 3u) : 0u;
-    if (gpios && groups < 2) groups = 2;
+    // AUXA holds GPIO1-3, AUXB GPIO4-5 and REF (read in any case), AUXC GPIO6-8, AUXD GPIO9.
+    const uint8_t t = c.thermistorsPerDevice;
+    uint8_t groups = !gpios ? 0u : t <= 5u ? 2u : t <= 8u ? 3u : 4u;
     if (highFlags) groups = 4;
     for (uint8_t g = gpios ? 0u : 3u; g < groups; ++g) {
       readGroup(c, s, b, api, kAux[g]);
