@@ -62,6 +62,8 @@ void readKeys(YamlMap& afe, MonitorConfig& a) {
   s->uv_V = afe.number("uv_V", s->uv_V, Range::closed(0.0016, 6.5536));
   s->ov_V = afe.number("ov_V", s->ov_V, Range::closed(0.0, 6.552));
   if (!(s->uv_V < s->ov_V)) throw afe.errorAt("ov_V", "must be above uv_V");
+  // isoSPI runs at up to 1 Mb/s.
+  if (a.baud > 1e6) throw afe.errorAt("baud", "the LTC681x's isoSPI link runs at most 1000000 (1 Mb/s)");
   // One host drives at most kLtcMaxDevices devices (its RAM for their readings).
   const int chain = a.devices_per_board > 0 ? a.devices_per_board : a.devices;
   if (chain > bms::kLtcMaxDevices) {

@@ -195,6 +195,9 @@ TEST(Ltc681xPart, LoadErrorsNameTheKeyAndTheLimit) {
   EXPECT_NE(gpios.find("hardware.afe.thermistors_per_device"), std::string::npos) << gpios;
   const std::string cmp = errorOf(24, ", uv_V: 3.0, ov_V: 2.9");
   EXPECT_NE(cmp.find("hardware.afe.ov_V"), std::string::npos) << cmp;
+  const std::string baud = errorOf(24, ", baud: 2000000");
+  EXPECT_NE(baud.find("hardware.afe.baud"), std::string::npos) << baud;
+  EXPECT_NE(baud.find("at most 1000000"), std::string::npos) << baud;
   const std::string lsb = test::yamlErrorOf(
       ltcPack("ltc6813", 18, "", "  cell_adc: {lsb_uV: 200}\nload: {current_A: 1}\nrun: {duration_s: 1}\n"));
   EXPECT_NE(lsb.find("reports cells in 100 uV codes"), std::string::npos) << lsb;
