@@ -31,8 +31,12 @@ struct AfeConfig {
 // What one good read of a device says, in firmware units.
 struct DeviceReading {
   uint16_t cell_mV[kMaxCellsPerDevice];
-  uint16_t thermCode[kMaxThermPerDevice];  // ratiometric codes (parts that convert no temperature)
-  int16_t temp_dC[kMaxThermPerDevice];     // converted by the device (parts that do)
+  // A part reports its thermistor inputs one way (its driver writes that array, its
+  // temperature_dC reads it): ratiometric codes or temperatures it converted itself.
+  union {
+    uint16_t thermCode[kMaxThermPerDevice];  // ratiometric codes (parts that convert no temperature)
+    int16_t temp_dC[kMaxThermPerDevice];     // converted by the device (parts that do)
+  };
   uint32_t stack_mV;                       // module / stack voltage channel
   int16_t die_dC;
   bool fault;          // the device's own protection has latched (FAULT / safety status)

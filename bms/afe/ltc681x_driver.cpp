@@ -9,7 +9,7 @@ namespace {
 bool is6813(const LtcConfig& c) { return c.part == LtcPart::Ltc6813; }
 uint8_t partCells(const LtcConfig& c) { return is6813(c) ? LTC6813_CELLS : LTC6811_CELLS; }
 uint8_t partGpios(const LtcConfig& c) { return is6813(c) ? LTC6813_GPIOS : LTC6811_GPIOS; }
-uint8_t devicesOf(const LtcConfig& c) { return c.deviceCount < kMaxDevices ? c.deviceCount : kMaxDevices; }
+uint8_t devicesOf(const LtcConfig& c) { return c.deviceCount < kLtcMaxDevices ? c.deviceCount : kLtcMaxDevices; }
 
 uint8_t cellsOf(const LtcConfig& c, uint8_t d) {
   const int32_t left = static_cast<int32_t>(c.cellCount) - static_cast<int32_t>(d) * c.cellsPerDevice;
@@ -18,7 +18,7 @@ uint8_t cellsOf(const LtcConfig& c, uint8_t d) {
 }
 
 bool valid(const LtcConfig& c) {
-  return c.deviceCount >= 1 && c.deviceCount <= kMaxDevices && c.cellsPerDevice >= 1 &&
+  return c.deviceCount >= 1 && c.deviceCount <= kLtcMaxDevices && c.cellsPerDevice >= 1 &&
          c.cellsPerDevice <= partCells(c) && c.thermistorsPerDevice <= partGpios(c) &&
          ltc681x_mode_index(c.adcMode, c.adcopt ? 1u : 0u) >= 0;
 }
@@ -156,6 +156,35 @@ void readCells(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_
   }
 }
 
+// RDSTATB: cells 1-12's UV / OV flags (CxUV in even, CxOV in odd bits of STBR2..4),
+// THSD and MUXFAIL; the flags of cells 13-18 are cleared here, RDAUXD sets them.
+void readStatusB(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, LtcReading* out,
+                 FrameResult* res) {
+  readGroup(c, s, b, api, LTC681X_RDSTATB);
+  for (uint8_t d = 0; d < devicesOf(c); ++d) {
+    const FrameResult r = s.groupRes[d];
+    res[d] = worse(res[d], r);
+    if (r != FrameResult::Ok) continue;
+    const uint8_t* data = s.group[d];
+    out[d].ov = out[d].uv = 0;
+    for (uint8_t k = 0; k < 12; ++k) {
+      const uint8_t byte = data[2 + k / 4], sh = static_cast<uint8_t>(2u * (k % 4u));
+      out[d].uv |= static_cast<uint32_t>((byte >> sh) & 1u) << k;
+      out[d].ov |= static_cast<uint32_t>((byte >> (sh + 1u)) & 1u) << k;
+    }
+    out[d].statb5 = data[5];
+  }
+}
+
+// RDAUXD bytes 4-5: the LTC6813's cells 13-18 UV / OV flags.
+void upperFlags(const uint8_t* data, LtcReading& out) {
+  for (uint8_t k = 0; k < 6; ++k) {
+    const uint8_t byte = data[4 + k / 4], sh = static_cast<uint8_t>(2u * (k % 4u));
+    out.uv |= static_cast<uint32_t>((byte >> sh) & 1u) << (12u + k);
+    out.ov |= static_cast<uint32_t>((byte >> (sh + 1u)) & 1u) << (12u + k);
+  }
+}
+
 void fillImage(const LtcConfig& c, LtcState& s) {
   const uint16_t vuv = ltc681x_vuv_code(c.uv_mV), vov = ltc681x_vov_code(c.ov_mV);
   for (uint8_t d = 0; d < devicesOf(c); ++d) {
@@ -183,7 +212,7 @@ bool ltcInit(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_ap
   s.recover = false;
   s.configured = 0;
   s.sleepWakeups = s.idleWakeups = s.readouts = 0;
-  for (uint8_t d = 0; d < kMaxDevices; ++d) s.pecErrors[d] = 0;
+  for (uint8_t d = 0; d < kLtcMaxDevices; ++d) s.pecErrors[d] = 0;
   if (!valid(c)) return false;
   fillImage(c, s);
   ensureAwake(c, s, b, api);  // wakes from SLEEP: writes the configuration, waits for the reference
@@ -223,18 +252,7 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
 
   const uint8_t(*data)[LTC681X_GROUP_BYTES] = s.group;
   const FrameResult* r = s.groupRes;
-  readGroup(c, s, b, api, LTC681X_RDSTATB);  // the UV / OV flags of that conversion
-  for (uint8_t d = 0; d < n; ++d) {
-    res[d] = worse(res[d], r[d]);
-    if (r[d] != FrameResult::Ok) continue;
-    out[d].ov = out[d].uv = 0;
-    for (uint8_t k = 0; k < 12; ++k) {
-      const uint8_t byte = data[d][2 + k / 4], sh = static_cast<uint8_t>(2u * (k % 4u));
-      out[d].uv |= static_cast<uint32_t>((byte >> sh) & 1u) << k;
-      out[d].ov |= static_cast<uint32_t>((byte >> (sh + 1u)) & 1u) << k;
-    }
-    out[d].statb5 = data[d][5];
-  }
+  readStatusB(c, s, b, api, out, res);  // the UV / OV flags of that conversion
 
   // GPIOs: ADAX, then AUXA.. as far as the thermistors go, at least AUXB (the 2nd
   // reference, a check of the ADC). The LTC6813's cells 13-18 keep their UV/OV flags in
@@ -244,8 +262,9 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
   if (gpios || highFlags) {
     static const uint16_t kAux[4] = {LTC681X_RDAUXA, LTC681X_RDAUXB, LTC681X_RDAUXC, LTC681X_RDAUXD};
     if (gpios) convertAndWait(c, s, b, api, ltc681x_adax(md, LTC681X_CH_ALL), LTC681X_CONV_GPIOS);
-    uint8_t groups = gpios ? static_cast<uint8_t>((c.thermistorsPerDevice + 2u) / 3u) : 0u;
-    if (gpios && groups < 2) groups = 2;
+    // AUXA holds GPIO1-3, AUXB GPIO4-5 and REF (read in any case), AUXC GPIO6-8, AUXD GPIO9.
+    const uint8_t t = c.thermistorsPerDevice;
+    uint8_t groups = !gpios ? 0u : t <= 5u ? 2u : t <= 8u ? 3u : 4u;
     if (highFlags) groups = 4;
     for (uint8_t g = gpios ? 0u : 3u; g < groups; ++g) {
       readGroup(c, s, b, api, kAux[g]);
@@ -261,11 +280,7 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
         if (g == 2) for (uint8_t i = 0; i < 3; ++i) out[d].gpio[5 + i] = le16(data[d] + 2 * i);
         if (g == 3) {
           if (gpios) out[d].gpio[8] = le16(data[d]);
-          for (uint8_t k = 0; k < 6; ++k) {
-            const uint8_t byte = data[d][4 + k / 4], sh = static_cast<uint8_t>(2u * (k % 4u));
-            out[d].uv |= static_cast<uint32_t>((byte >> sh) & 1u) << (12u + k);
-            out[d].ov |= static_cast<uint32_t>((byte >> (sh + 1u)) & 1u) << (12u + k);
-          }
+          upperFlags(data[d], out[d]);
         }
       }
     }
@@ -279,6 +294,27 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
       if (r[d] != FrameResult::Ok) continue;
       out[d].sc = le16(data[d]);
       out[d].itmp = le16(data[d] + 2);
+    }
+  }
+  for (uint8_t d = 0; d < n; ++d) s.recover = s.recover || res[d] != FrameResult::Ok;
+}
+
+void ltcPollFlags(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, LtcReading* out,
+                  FrameResult* res) {
+  const uint8_t n = devicesOf(c);
+  if (!valid(c)) {
+    for (uint8_t d = 0; d < n; ++d) res[d] = FrameResult::BadHeader;
+    return;
+  }
+  for (uint8_t d = 0; d < n; ++d) res[d] = FrameResult::Ok;
+  convertAndWait(c, s, b, api, ltc681x_adcv(c.adcMode, c.dischargePermitted ? 1u : 0u, LTC681X_CH_ALL),
+                 LTC681X_CONV_CELLS);
+  readStatusB(c, s, b, api, out, res);
+  if (is6813(c) && c.cellsPerDevice > 12) {
+    readGroup(c, s, b, api, LTC681X_RDAUXD);
+    for (uint8_t d = 0; d < n; ++d) {
+      res[d] = worse(res[d], s.groupRes[d]);
+      if (s.groupRes[d] == FrameResult::Ok && res[d] == FrameResult::Ok) upperFlags(s.group[d], out[d]);
     }
   }
   for (uint8_t d = 0; d < n; ++d) s.recover = s.recover || res[d] != FrameResult::Ok;
@@ -343,7 +379,6 @@ bool ltcToDeviceReading(const LtcConfig& c, uint8_t d, const LtcReading& r, Devi
     out.cell_mV[i] = i < cells ? afeCellCodeToMv(r.cell[i], static_cast<float>(LTC681X_LSB_UV)) : 0;
   for (uint8_t k = 0; k < kMaxThermPerDevice; ++k) {
     out.thermCode[k] = k < c.thermistorsPerDevice && k < LTC681X_GPIOS_MAX ? r.gpio[k] : 0;
-    out.temp_dC[k] = 0;
   }
   const uint32_t factor = is6813(c) ? LTC6813_SC_FACTOR : LTC6811_SC_FACTOR;
   out.stack_mV = (static_cast<uint32_t>(r.sc) * factor * LTC681X_LSB_UV + 500u) / 1000u;

@@ -35,10 +35,17 @@ namespace bms {
 
 enum class LtcPart : uint8_t { Ltc6811 = 0, Ltc6813 = 1 };
 
+// Devices one chain (one host) drives: its state and a reading per device must fit the
+// core's block for a part's RAM (kAfeDataBytes, with LtcReading staging each device's
+// groups until all of them passed). 16 LTC6813s hold 288 cells, more than a BMS image
+// monitors (kMaxCells); a longer LTC6811 string is split over boards
+// (hardware.afe.devices_per_board), each its own host and chain.
+constexpr uint8_t kLtcMaxDevices = 16;
+
 struct LtcConfig {
   uint8_t bus;                   // PSFW_BUS_MONITOR(n)
   LtcPart part;
-  uint8_t deviceCount;           // 1..kMaxDevices, device 0 nearest the MCU
+  uint8_t deviceCount;           // 1..kLtcMaxDevices, device 0 nearest the MCU
   uint8_t cellsPerDevice;        // inputs C1..Cn in use, 1..12 (6811) / 1..18 (6813)
   uint16_t cellCount;            // the last device may hold fewer
   uint8_t thermistorsPerDevice;  // NTCs on GPIO1..n, 0..5 (6811) / 0..9 (6813)
@@ -67,18 +74,18 @@ struct LtcState {
   uint32_t lastActivity_us;  // now_us of the last transfer
   bool woken;                // the chain has been woken since init
   uint8_t configured;        // devices whose configuration read back as written at init
-  uint8_t cfga[kMaxDevices][LTC681X_GROUP_BYTES];  // the image the driver writes, per device
-  uint8_t cfgb[kMaxDevices][LTC681X_GROUP_BYTES];
-  uint32_t pecErrors[kMaxDevices];  // slots that failed their PEC, per device
+  uint8_t cfga[kLtcMaxDevices][LTC681X_GROUP_BYTES];  // the image the driver writes, per device
+  uint8_t cfgb[kLtcMaxDevices][LTC681X_GROUP_BYTES];
+  uint32_t pecErrors[kLtcMaxDevices];  // slots that failed their PEC, per device
   uint32_t sleepWakeups;     // wake-ups from the core's SLEEP (configuration rewritten)
   uint32_t idleWakeups;      // wake-ups of the isoSPI ports
   uint32_t readouts;
   bool recover;              // the last read-out lost a device: wake the whole chain from SLEEP first
-  // One frame's scratch, in the firmware's RAM rather than on its stack (64 devices' slots).
-  uint8_t tx[LTC681X_CMD_LEN + LTC681X_SLOT_BYTES * kMaxDevices];
-  uint8_t rx[LTC681X_SLOT_BYTES * kMaxDevices];
-  uint8_t group[kMaxDevices][LTC681X_GROUP_BYTES];  // the last group read, per device
-  FrameResult groupRes[kMaxDevices];
+  // One frame's scratch, in the firmware's RAM rather than on its stack (a full chain's slots).
+  uint8_t tx[LTC681X_CMD_LEN + LTC681X_SLOT_BYTES * kLtcMaxDevices];
+  uint8_t rx[LTC681X_SLOT_BYTES * kLtcMaxDevices];
+  uint8_t group[kLtcMaxDevices][LTC681X_GROUP_BYTES];  // the last group read, per device
+  FrameResult groupRes[kLtcMaxDevices];
 };
 
 // Power-up: wake, configure, read back. True when every device took its configuration.
@@ -87,6 +94,10 @@ bool ltcInit(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_ap
 // device d passed its PEC.
 void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, LtcReading* out,
                 FrameResult* res);
+// The cells' UV / OV flags alone (an alert poll): ADCV, then RDSTATB (+ RDAUXD on an
+// LTC6813 with cells 13-18 in use); out[d].ov / uv written only where res[d] is Ok.
+void ltcPollFlags(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, LtcReading* out,
+                  FrameResult* res);
 // Balancing switches (one bit per series cell, kBalanceWords words) and the discharge
 // timer the devices enforce (0 s: timer off, the switches stay until changed or the
 // watchdog resets them).
@@ -102,7 +113,8 @@ void ltcOpenWireCheck(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw
 uint32_t ltcConversionTime_us(const LtcConfig& c, enum ltc681x_conversion kind);
 // A reading in the core's units: cells in mV, GPIO codes (100 uV; VREF2 = 30000 is the
 // thermistor divider's full scale), the sum of cells in mV, die temperature in 0.1 degC;
-// alert = a used cell outside VUV / VOV (the parts latch nothing: fault stays false).
+// alert = a used cell outside VUV / VOV (the parts latch nothing: fault stays false);
+// safetyA / safetyB = the OV / UV flags of cells 1-8.
 // False when the device has more cells than DeviceReading holds (kMaxCellsPerDevice).
 bool ltcToDeviceReading(const LtcConfig& c, uint8_t d, const LtcReading& r, DeviceReading& out);
 

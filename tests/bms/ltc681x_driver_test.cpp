@@ -135,9 +135,40 @@ TEST(LtcDriver, CoreReadingForTheTwelveCellPart) {
   EXPECT_TRUE(dr.alert);
   EXPECT_EQ(r.out[0].ov, 1u << 3);
   EXPECT_NEAR(dr.die_dC, 400, 1);
-  // The 18-cell part does not fit the core's 16-cell reading.
+}
+
+// Every used GPIO is read, whichever auxiliary group holds it (AUXA GPIO1-3, AUXB
+// GPIO4-5, AUXC GPIO6-8, AUXD GPIO9): for each count of thermistors on an LTC6813, each
+// GPIO in use reads its NTC's divider (was: 6 thermistors left GPIO6 unread).
+TEST(LtcDriver, EveryThermistorCountReadsEachOfItsGpios) {
+  for (int n = 1; n <= 9; ++n) {
+    Ltc681xConfig mc = modelConfig(Ltc681xPart::Ltc6813, 1);
+    mc.thermistors_per_device = n;
+    Rig r(mc, 18);
+    DeviceAnalog& a = r.chain.analog(0);
+    a.therm_C.assign(static_cast<size_t>(n), 0.0);
+    a.therm_fault.assign(static_cast<size_t>(n), ThermistorFault::None);
+    for (int k = 0; k < n; ++k) a.therm_C[static_cast<size_t>(k)] = 15.0 + 3.0 * k;
+    ASSERT_TRUE(r.init()) << n;
+    r.readAll();
+    ASSERT_EQ(r.res[0], bms::FrameResult::Ok) << n;
+    for (int k = 0; k < n; ++k) {
+      const double t_K = 273.15 + 15.0 + 3.0 * k;
+      const double r_ntc = 10000.0 * std::exp(3435.0 * (1.0 / t_K - 1.0 / 298.15));
+      EXPECT_NEAR(r.out[0].gpio[k] * kLsb_V, 3.0 * r_ntc / (10000.0 + r_ntc), kLsb_V / 2 + 1e-9) << n << " GPIO" << k + 1;
+    }
+  }
+}
+
+TEST(LtcDriver, CoreReadingHoldsAllEighteenCellsOfTheLtc6813) {
   Rig s(modelConfig(Ltc681xPart::Ltc6813, 1), 18);
-  EXPECT_FALSE(bms::ltcToDeviceReading(s.cfg, 0, s.out[0], dr));
+  ASSERT_TRUE(s.init());
+  s.chain.analog(0).cell_V[17] = 3.123;
+  s.readAll();
+  ASSERT_EQ(s.res[0], bms::FrameResult::Ok);
+  bms::DeviceReading dr{};
+  ASSERT_TRUE(bms::ltcToDeviceReading(s.cfg, 0, s.out[0], dr));
+  for (int c = 0; c < 18; ++c) EXPECT_NEAR(dr.cell_mV[c], (c == 17 ? 3.123 : cellTruth_V(c)) * 1e3, 0.5 + 0.05 + 1e-6) << c;
 }
 
 TEST(LtcDriver, WatchdogSleepResetsTheConfigurationAndTheDriverRestoresIt) {

@@ -71,7 +71,7 @@ struct Rig {
 // (the line order of bms/afe/monitor_parts.def), under the same name.
 TEST(MonitorParts, EachPartHasItsDriverAtItsIndex) {
   const std::vector<const MonitorPart*>& parts = monitorParts();
-  const std::vector<std::string> expected = {"bq76pl536a", "bq76pl455a", "bq76952"};
+  const std::vector<std::string> expected = {"bq76pl536a", "bq76pl455a", "bq76952", "ltc6811", "ltc6813"};
   ASSERT_EQ(parts.size(), expected.size());
   ASSERT_EQ(bms::afeDriverCount(), expected.size());
   for (size_t i = 0; i < parts.size(); ++i) {
@@ -81,7 +81,7 @@ TEST(MonitorParts, EachPartHasItsDriverAtItsIndex) {
     EXPECT_EQ(&monitorPart(expected[i]), parts[i]);
   }
   EXPECT_EQ(bms::afeDriver(bms::afeDriverCount()), nullptr);
-  EXPECT_THROW(monitorPart("ltc6811"), std::invalid_argument);
+  EXPECT_THROW(monitorPart("ltc6812"), std::invalid_argument);
 }
 
 // The firmware image names the scenario's part, carries its settings from the scenario
@@ -116,7 +116,7 @@ TEST(MonitorParts, AnotherPartsKeyNamesItsParts) {
   EXPECT_NE(secondary.find("only a bq76pl536a or bq76pl455a has `secondary` (this stack is a bq76952)"),
             std::string::npos) << secondary;
   const std::string boards = errorOf("{model: bq76952, cells_per_device: 12, devices_per_board: 1}");
-  EXPECT_NE(boards.find("boards are for stacked parts (bq76pl536a or bq76pl455a)"), std::string::npos) << boards;
+  EXPECT_NE(boards.find("boards are for stacked parts (bq76pl536a, bq76pl455a, ltc6811 or ltc6813)"), std::string::npos) << boards;
 }
 
 // packsim's core refuses an image whose part this build has no driver for (init 5),
@@ -161,7 +161,8 @@ TEST_P(Lsb, CellCodesFollowTheDatasheetLsb) {
 
 INSTANTIATE_TEST_SUITE_P(Monitor, Lsb,
                          ::testing::Values(LsbCase{"bq76pl536a", 6.25 / 16383.0}, LsbCase{"bq76pl455a", 5.0 / 65535.0},
-                                           LsbCase{"bq76952", 1e-3}),
+                                           LsbCase{"bq76952", 1e-3}, LsbCase{"ltc6811", 100e-6},
+                                           LsbCase{"ltc6813", 100e-6}),
                          [](const ::testing::TestParamInfo<LsbCase>& i) { return std::string(i.param.model); });
 
 // Each BQ76PL536A read-out reads two blocks per device (results, flags); a reply fails its
