@@ -58,6 +58,7 @@ class FileFit:
     model_V: np.ndarray = field(repr=False)
     soc: np.ndarray = field(repr=False)
     low_soc_rms_mV: float | None = None   # RMS over the samples below 10 % SOC (None: none there)
+    reader: str = ""                      # a cycler export: its format, sign and units as read
 
 
 @dataclass
@@ -179,7 +180,8 @@ class FitResult:
 
 def _file_line(f: FileFit) -> str:
     low = "" if f.low_soc_rms_mV is None else f", below 10 % SOC RMS {f.low_soc_rms_mV:.2f} mV"
-    return f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV{low}"
+    read = f"\n    {f.reader}" if f.reader else ""
+    return f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV{low}{read}"
 
 
 def arrhenius_factor(k: float, temp_C: float | None) -> float:
@@ -523,7 +525,7 @@ def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.nda
         files.append(FileFit(test.name, test.start_temp_C if test.temp_C is not None else None, err.size,
                              1e3 * float(np.sqrt(np.mean(err ** 2))), 1e3 * float(np.max(np.abs(err))),
                              test.time_s, test.current_A, test.voltage_V, model, soc,
-                             1e3 * float(np.sqrt(np.mean(err[low] ** 2))) if low.any() else None))
+                             1e3 * float(np.sqrt(np.mean(err[low] ** 2))) if low.any() else None, test.reader))
     return files
 
 
