@@ -263,27 +263,27 @@ def _sensitivity_html(t) -> str:
     e = html.escape
     not_drawn = [k for k, why in t.left_out.items() if k.startswith(DRAWN) and why.startswith("not drawn")]
     note = ("<p class=\"note\">Random inputs: each case's cell values as drawn from its seed, per series "
-            "group (docs/batch.md). ρ is Spearman's rank correlation over the cases that ran (+1: the output "
+            "group (docs/batch.md); beside them any other input the sweep varies. ρ is Spearman's rank correlation over the cases that ran (+1: the output "
             "rises with the input; 0: no monotonic relation); p the chance of a correlation this strong with "
             "none at all — with few cases only a large |ρ| means something. Bold: p < 0.05."
             + (" Not drawn (spread 0, the same in every case): " + e(", ".join(not_drawn)) + "." if not_drawn else "")
             + "</p>")
     if not t.drawn:
-        return ("<h2>Sensitivity to the random inputs</h2><p>No random input varies over the cases that ran "
+        return ("<h2>Sensitivity to the inputs</h2><p>No random input varies over the cases that ran "
                 "(summary.csv has no varying drawn_* column).</p>" + note)
     rows = []
     for sv in sensitivity(t):
         best = sv.strongest
         cells = []
-        for name in t.drawn:
+        for name in t.drawn + t.swept:
             r, p = sv.rho[name], sv.p_value[name]
             txt = "-" if not np.isfinite(r) else f"{r:+.2f}"
             cells.append(f"<b>{txt}</b>" if np.isfinite(p) and p < 0.05 else txt)
         lead = [e(sv.output), e(best or "-"),
                 "-" if best is None else f"{sv.rho[best]:+.2f}", "-" if best is None else f"{sv.p_value[best]:.2g}"]
         rows.append("<tr>" + "".join(f"<td>{c}</td>" for c in lead + cells) + "</tr>")
-    head = "".join(f"<th>{e(h)}</th>" for h in ["output", "strongest random input", "ρ", "p"] + t.drawn)
-    return ("<h2>Sensitivity to the random inputs</h2>" + note
+    head = "".join(f"<th>{e(h)}</th>" for h in ["output", "strongest input", "ρ", "p"] + t.drawn + t.swept)
+    return ("<h2>Sensitivity to the inputs</h2>" + note
             + f'<div class="scroll"><table class="sortable" id="sensitivity"><thead><tr>{head}</tr></thead>'
             + f"<tbody>{''.join(rows)}</tbody></table></div>")
 

@@ -10,10 +10,10 @@
 - more inputs: each output against each input (points);
 - a Monte Carlo (the seed is an input): each output's distribution; its sensitivity to
   each random input -- the cell values each case drew, the ``drawn_*`` columns
-  (core/batch/drawn_inputs.hpp, docs/batch.md) -- as a rank correlation (Spearman) table
-  and heat-map, and each output against each random input (a scatter per output, the
-  input chosen from a menu, the strongest first); the rank correlation between outputs
-  and with any other varied input.
+  (core/batch/drawn_inputs.hpp, docs/batch.md) -- and to any other swept input, as a
+  rank correlation (Spearman) table and heat-map, and each output against each input (a
+  scatter per output, the input chosen from a menu, the strongest first); the rank
+  correlation between outputs.
 
 Plotted are the outputs that vary over the cases that ran: the case id, status, error,
 file, the cell/group numbers (identifiers, not quantities) and the columns that are the
@@ -150,7 +150,8 @@ class Sensitivity:
 
 def sensitivity(t: SweepTable) -> list[Sensitivity]:
     """For each output of a Monte Carlo, its rank correlation with each random input
-    (t.drawn) over the cases that ran. Empty when no random input varies."""
+    (t.drawn) and each other swept input (t.swept: a Monte Carlo at several ambient
+    temperatures, say) over the cases that ran."""
     try:
         from scipy.stats import spearmanr
     except ImportError as e:
@@ -159,7 +160,7 @@ def sensitivity(t: SweepTable) -> list[Sensitivity]:
     for name in t.outputs:
         y = t.column(name)
         rho, p = {}, {}
-        for x_name in t.drawn:
+        for x_name in t.drawn + t.swept:
             x = t.column(x_name)
             ok = np.isfinite(x) & np.isfinite(y)
             if ok.sum() < 3 or np.unique(x[ok]).size < 2 or np.unique(y[ok]).size < 2:
@@ -175,7 +176,7 @@ def _scatter_menu(t: SweepTable, s: Sensitivity):
     """One output against each random input: a menu picks the input (the strongest first)."""
     y, trip = t.column(s.output), _trip_marks(t)
     order = s.ranked
-    fig = _small(f"{s.output} against the random inputs", 340)
+    fig = _small(f"{s.output} against the inputs", 340)
     colors = np.where(trip, "#d62728", "#1f77b4")
     for k, x_name in enumerate(order):
         fig.add_scatter(x=t.column(x_name), y=y, mode="markers", name=x_name, visible=k == 0,
@@ -273,15 +274,15 @@ def figures(t: SweepTable) -> list[tuple[str, object]]:
         for name in t.outputs:
             out.append((f"distribution of {name}", _histogram(t, name)))
         if t.drawn and t.outputs:
-            out.append(("sensitivity to the random inputs",
-                        _correlation(t, t.outputs, t.drawn,
-                                     "sensitivity: rank correlation (Spearman) of each output with each random input")))
+            out.append(("sensitivity to the inputs",
+                        _correlation(t, t.outputs, t.drawn + swept,
+                                     "sensitivity: rank correlation (Spearman) of each output with each input")))
             for s in sensitivity(t):
-                out.append((f"{s.output} against the random inputs", _scatter_menu(t, s)))
+                out.append((f"{s.output} against the inputs", _scatter_menu(t, s)))
         if len(t.outputs) >= 2:
             out.append(("rank correlation between outputs",
                         _correlation(t, t.outputs, t.outputs, "rank correlation (Spearman) between outputs")))
-        if swept:
+        if swept and not t.drawn:
             out.append(("sensitivity to the varied inputs",
                         _correlation(t, t.outputs, swept, "rank correlation of each output with each input")))
         return out

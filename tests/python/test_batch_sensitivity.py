@@ -122,9 +122,9 @@ def test_the_report_shows_the_sensitivity_table_and_each_output_against_each_inp
     d, _ = mc
     t = sweep_figure.read(d / "a")
     figs = dict(sweep_figure.figures(t))
-    heat = figs["sensitivity to the random inputs"]
+    heat = figs["sensitivity to the inputs"]
     assert list(heat.data[0].x) == t.drawn and list(heat.data[0].y) == t.outputs
-    scatter = figs["min_cell_V against the random inputs"]
+    scatter = figs["min_cell_V against the inputs"]
     assert len(scatter.data) == len(t.drawn)  # one trace per random input
     assert [tr.visible for tr in scatter.data].count(True) == 1
     assert scatter.data[0].name == sweep_figure.sensitivity(t)[t.outputs.index("min_cell_V")].strongest
