@@ -92,6 +92,12 @@ def test_same_seed_same_drawn_values_and_the_file_holds_every_cell(mc):
             q = (soc[0] - soc[limit]) * cap  # Ah out of each cell up to the limit
             assert np.ptp(q) < 1e-6 * q.mean()  # one series current: the same charge from every cell
             assert np.argmin(soc[limit]) == int(np.argmin(cap))  # the weakest cell reached the limit
+    pytest.importorskip("xarray")
+    tree = a.load(0).to_xarray()  # the group as the file holds it, on the cells' dimension
+    with h5py.File(a.paths[0]) as fa:
+        assert np.array_equal(tree["inputs/cell_capacity_Ah"].values, fa["inputs/cell_capacity_Ah"][()])
+        assert tree["inputs"].attrs["drawn_capacity_min_Ah"] == fa["inputs"].attrs["drawn_capacity_min_Ah"]
+    assert tree["inputs/cell_capacity_Ah"].dims == ("cell",)
 
 
 def test_sensitivity_names_the_capacity_and_not_an_input_that_was_not_drawn(mc):
