@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "core/batch/case_processes.hpp"
+#include "core/batch/drawn_inputs.hpp"
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/sim/simulation.hpp"
@@ -141,7 +142,11 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
     if (resume && fs::exists(path)) {
       std::string stored;
       auto summary = readResultSummary(path, &stored);
-      if (!summary.empty() && stored == text) {
+      // Complete, this very scenario, and its drawn inputs recorded (a file of an older
+      // packsim without /inputs runs again, so summary.csv has them for every case).
+      const bool drawn = std::any_of(summary.begin(), summary.end(),
+                                     [](const auto& kv) { return kv.first.rfind("drawn_", 0) == 0; });
+      if (!summary.empty() && stored == text && drawn) {
         o.ok = o.skipped = true;
         o.summary = std::move(summary);
         return o;
@@ -160,7 +165,8 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
       throw std::runtime_error(fw);
     {
       std::lock_guard<std::mutex> lock(hdf5Mutex());
-      writeResultHdf5(path, s, r);
+      const DrawnInputs drawn = drawnInputs(s);
+      writeResultHdf5(path, s, r, &drawn);
     }
     o.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
     o.summary = readResultSummary(path, nullptr);
@@ -176,8 +182,8 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
 }
 
 void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
-  // The union of the summary attributes: the race figures in reading order, then any
-  // others alphabetically.
+  // The union of the summary attributes: the drawn inputs (core/batch/drawn_inputs.hpp)
+  // in their order, the race figures in reading order, then any others alphabetically.
   static const char* const kOrder[] = {
       "duration_s", "tripped", "trip_time_s", "trip_reason", "energy_delivered_Wh", "charge_delivered_Ah",
       "heat_Wh", "min_cell_V", "min_cell", "min_cell_time_s", "max_temp_C", "hottest_cell", "hottest_time_s",
@@ -188,6 +194,8 @@ void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
     for (const auto& kv : o.summary)
       if (std::find(seen.begin(), seen.end(), kv.first) == seen.end()) seen.push_back(kv.first);
   std::vector<std::string> fields;
+  for (const std::string& k : drawnInputNames())
+    if (std::find(seen.begin(), seen.end(), k) != seen.end()) fields.push_back(k);
   for (const char* k : kOrder)
     if (std::find(seen.begin(), seen.end(), k) != seen.end()) fields.emplace_back(k);
   std::vector<std::string> rest;
@@ -254,13 +262,14 @@ std::vector<std::pair<std::string, std::string>> readResultSummary(const std::st
     *scenario_yaml = readStringAttr(a);
     H5Aclose(a);
   }
-  if (H5Lexists(f, "/summary", H5P_DEFAULT) > 0) {
-    const hid_t g = H5Oopen(f, "/summary", H5P_DEFAULT);
-    if (g >= 0) {
-      hsize_t idx = 0;
-      H5Aiterate2(g, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, collect, &out);
-      H5Oclose(g);
-    }
+  // The drawn inputs of a batch case first (core/batch/drawn_inputs.hpp), then the run's summary.
+  for (const char* group : {"/inputs", "/summary"}) {
+    if (H5Lexists(f, group, H5P_DEFAULT) <= 0) continue;
+    const hid_t g = H5Oopen(f, group, H5P_DEFAULT);
+    if (g < 0) continue;
+    hsize_t idx = 0;
+    H5Aiterate2(g, H5_INDEX_NAME, H5_ITER_NATIVE, &idx, collect, &out);
+    H5Oclose(g);
   }
   H5Fclose(f);
   return out;

@@ -2,11 +2,14 @@
 //
 //   for each case, by whichever worker is free:
 //     text = applyOverrides(base, case.params)         core/scenario/overrides.hpp
-//     if <output_dir>/case_<id>.h5 exists and holds this very scenario text: skip (resume)
-//     else load strictly, run, write the HDF5 (written to a temporary name and renamed,
-//          so a file that exists is complete); an exception becomes the case's error
+//     if <output_dir>/case_<id>.h5 exists, holds this very scenario text and its drawn
+//          inputs: skip (resume)
+//     else load strictly, run, write the HDF5 with the drawn inputs (/inputs,
+//          core/batch/drawn_inputs.hpp; written to a temporary name and renamed, so a
+//          file that exists is complete); an exception becomes the case's error
 //   then <output_dir>/summary.csv: one row per case — id, the varied parameters,
-//   status (ok | failed), every /summary attribute of its result file, error, file.
+//   status (ok | failed), the /inputs attributes (drawn_*), every /summary attribute of
+//   its result file, error, file.
 //
 // A failing case never stops the others. Progress goes to `progress` (a bar with ETA
 // when it is a terminal, one line per finished case otherwise).
@@ -54,7 +57,8 @@ CaseOutcome runSweepCase(const Sweep& sweep, const SweepCase& c, bool resume);
 // <output_dir>/summary.csv from outcomes in sweep order (as runBatch writes it).
 void writeSummaryCsv(const Sweep& sweep, const BatchReport& report);
 
-// Reads the /summary attributes of a result file as (name, text) in stored order;
+// Reads the /inputs (a batch case's drawn inputs) and /summary attributes of a result
+// file as (name, text), in that order;
 // empty if the file is not a complete packsim result. `scenario_yaml` receives the
 // root attribute of the same name.
 std::vector<std::pair<std::string, std::string>> readResultSummary(const std::string& path, std::string* scenario_yaml);

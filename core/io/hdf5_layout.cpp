@@ -114,7 +114,9 @@ class Layout {
     H5Sclose(space);
     if (rank < 1 || rank > 2) return;
     const std::string group = parentOf(path);
-    if (dims[0] == z_.samples && path != "/events") {
+    if (group == "/inputs") {  // a batch case's drawn values: one per cell
+      attach(ds, 0, indexScale(group, "cell", dims[0]));
+    } else if (dims[0] == z_.samples && path != "/events") {
       attach(ds, 0, timeScale(group));
     } else {
       attach(ds, 0, indexScale(group, path == "/events" ? "event" : baseName(path) + "_index", dims[0]));

@@ -232,7 +232,22 @@ std::string faultNames() {
   return s;
 }
 
-void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) {
+// /inputs of a batch case: every cell's drawn values and the figures of them.
+void writeDrawnInputs(Writer& w, hid_t file, const DrawnInputs& d) {
+  w.group("/inputs");
+  const size_t cells = d.capacity_Ah.size();
+  w.dataset("/inputs/cell_capacity_Ah", d.capacity_Ah, cells, 0, "Ah");
+  w.dataset("/inputs/cell_r0_scale", d.r0_scale, cells, 0, "1");
+  w.dataset("/inputs/cell_initial_soc", d.initial_soc, cells, 0, "1");
+  w.dataset("/inputs/cell_self_discharge_A", d.self_discharge_A, cells, 0, "A");
+  Handle g(H5Oopen(file, "/inputs", H5P_DEFAULT), H5Oclose, "inputs");
+  for (const auto& [name, value] : drawnInputFigures(d)) {
+    if (name == "drawn_weakest_group") w.attrInt(g, name.c_str(), static_cast<long long>(value));
+    else w.attr(g, name.c_str(), value);
+  }
+}
+
+void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, const DrawnInputs* drawn = nullptr) {
   const Recording& rec = r.rec;
   Writer w(file, compress, &rec.time_s);
   const size_t n = rec.samples();
@@ -336,6 +351,8 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress) 
     w.attr(g, "vehicle_limit_time_s", v.limited ? v.limit_time_s : -1.0);
   }
 
+  if (drawn) writeDrawnInputs(w, file, *drawn);
+
   addNetcdfLayout(file, {n, cells, static_cast<size_t>(rec.groups), static_cast<size_t>(rec.thermistors),
                          static_cast<size_t>(rec.devices)});
 }
@@ -368,7 +385,7 @@ void removeStaleTemporaries(const std::filesystem::path& target) {
 
 }  // namespace
 
-void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r) {
+void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r, const DrawnInputs* drawn) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   if (target.has_parent_path()) fs::create_directories(target.parent_path());
@@ -378,7 +395,7 @@ void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult
   try {
     Handle fapl(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
     Handle file(createFile(tmp, fapl), H5Fclose, tmp.c_str());
-    writeAll(file, s, r, true);
+    writeAll(file, s, r, true, drawn);
     file.close(tmp.c_str());
     if (const int sig = stopSignal())
       throw Interrupted(sig, "interrupted by " + stopSignalName(sig) + " while writing " + path + "; nothing written");

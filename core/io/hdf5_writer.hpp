@@ -8,6 +8,8 @@
 //   /bms/…            state, fault bits, relay and FET commands [n]
 //   /events           table (time_s, kind, detail)
 //   /summary          attrs: the run summary
+//   /inputs           a batch case only (drawn != nullptr): the random inputs as drawn,
+//                     per-cell datasets and their figures as attrs (core/batch/drawn_inputs.hpp)
 //
 // Laid out for netCDF tools (core/io/hdf5_layout.hpp): dimension scales, long_name and
 // units attributes, datasets chunked and compressed with deflate + shuffle.
@@ -19,6 +21,7 @@
 #pragma once
 #include <string>
 
+#include "core/batch/drawn_inputs.hpp"
 #include "core/scenario/scenario.hpp"
 #include "core/sim/result.hpp"
 
@@ -27,7 +30,8 @@ namespace packsim {
 // Throws Interrupted (core/sim/stop_signal.hpp) instead of renaming when a stop signal
 // arrived while writing, and std::runtime_error when a write or the close fails (disk
 // full); the temporary file is removed in both cases.
-void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r);
+void writeResultHdf5(const std::string& path, const Scenario& s, const RunResult& r,
+                     const DrawnInputs* drawn = nullptr);
 // The same file built in memory (HDF5's core driver, nothing on disk; no compression:
 // it is read back at once), as bytes: what packsim.run() reads its attributes and
 // events from.

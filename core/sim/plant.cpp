@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/sim/scenario_cells.hpp"
 #include "models/hw/charger.hpp"
 #include "models/hw/mosfet.hpp"
 
@@ -14,8 +15,7 @@ Plant::Plant(const Scenario& s)
   pack_.series = s.pack.series;
   pack_.parallel = s.pack.parallel;
   pack_.interconnect_ohm = s.pack.interconnect_ohm;
-  PackCells cells = drawCells(s.pack.cell, s.pack.initial_soc, pack_.cellCount(), pack_.parallel, s.pack.spread,
-                              s.pack.cell_overrides, s.run.seed);
+  PackCells cells = scenarioCells(s);
   pack_.cells = std::move(cells.params);
   initialSoc_ = std::move(cells.initial_soc);
   pack_.layout.n_rc = static_cast<int>(s.pack.cell.rc.size());

@@ -55,6 +55,9 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--temperature-law", choices=("arrhenius", "table"), default="arrhenius",
                    help="tests more than 3 °C apart: one joint fit with Arrhenius laws, every sample at its "
                    "measured temp_C (default), or one fit per temperature written as 2-D tables")
+    p.add_argument("--no-ocv-temperature", action="store_true",
+                   help="one OCV for every temperature (default: with rests at several temperatures, the joint fit "
+                        "fits the OCV's temperature coefficient dOCV/dT over SOC)")
     p.add_argument("--validate", action="append", metavar="CSV",
                    help="a held-out test (repeat for several): not fitted; its error is printed (RMS, max, below "
                    "10 %% SOC) and the tables' smoothness is chosen as the one with the lowest error on them")
@@ -94,7 +97,7 @@ def main(argv: list[str]) -> int:
                     validate=args.validate,
                     validate_initial_soc=(args.validate_initial_soc * len(args.validate or [])
                                           if len(args.validate_initial_soc) == 1 else args.validate_initial_soc),
-                    smoothing=args.smoothing)
+                    smoothing=args.smoothing, ocv_temperature=False if args.no_ocv_temperature else None)
         if args.report:
             try:
                 f.plot(args.report)

@@ -52,6 +52,7 @@ class CellTest:
     temp_C: np.ndarray | None
     rows: list[str]          # where each sample is: "file:line" or "<DataFrame k>: row n"
     current_column: str = "current_A"   # the name of the current's column in the data
+    reader: str = ""         # a cycler export: its format, and how its sign and units were read
 
     @property
     def start_temp_C(self) -> float | None:
@@ -163,9 +164,22 @@ def read_test(source: Any, index: int, columns: dict[str, str] | None = None,
               invert_current: bool = False) -> CellTest:
     """One test from a CSV path or a pandas DataFrame, checked."""
     names = _column_names(columns)
+    reader = ""
     if isinstance(source, (str, os.PathLike)):
         label = os.fspath(source)
-        data, where = _read_csv(label, names)
+        if not os.path.isfile(label):
+            raise FitError(f"{label}: no such file")
+        from ._fit_cyclers import read_cycler
+        cycler = None if columns else read_cycler(label)  # --columns: the file read as a plain CSV
+        if cycler is not None:
+            if invert_current:
+                raise FitError(f"{label}: {cycler.format} export, whose sign packsim fit takes from the format "
+                               f"({cycler.note}); --invert-current / invert_current does not apply")
+            data, where = cycler.columns, cycler.where
+            names = dict(names, **cycler.source_columns)
+            reader = f"{cycler.format} export: {cycler.note}"
+        else:
+            data, where = _read_csv(label, names)
     elif hasattr(source, "columns") and hasattr(source, "__getitem__"):
         label = f"<DataFrame {index}>"
         data, where = _read_frame(source, label, names)
@@ -189,7 +203,7 @@ def read_test(source: Any, index: int, columns: dict[str, str] | None = None,
         bad = np.flatnonzero((temp < -60) | (temp > 150))
         if bad.size:
             raise FitError(f"{where[bad[0]]}: temp_C {temp[bad[0]]:g} is outside [-60, 150] °C")
-    return CellTest(label, t, i, v, temp, where, names["current_A"])
+    return CellTest(label, t, i, v, temp, where, names["current_A"], reader)
 
 
 def rest_mask(test: CellTest) -> np.ndarray:

@@ -5,7 +5,9 @@ solve. The model is the plant's (models/cell/ecm.hpp), every sample at its tempe
     soc    = soc_0 - ∫ u dt / (3600·Q)        (positive current discharges)
 
 f(T) = exp(K·(1/T_K - 1/T_ref,K)) are Arrhenius factors (T_ref = 25 °C), fitted only in a
-joint fit over several temperatures (Layout.arrhenius); otherwise all K are 0. The current
+joint fit over several temperatures (Layout.arrhenius); otherwise all K are 0. With rests at
+several temperatures (Layout.ocv_dT) the OCV has a temperature coefficient over SOC too:
+OCV(soc, T) = OCV(soc) + (T - T_ref)·dOCV/dT(soc), both tables over the SOC grid. The current
 u held over a sample interval is the mean of its two ends, and the RC voltages follow
 the exact zero-order hold of their equation, computed in C++ (packsim._packsim.rc_response,
 core/fit/ecm_zoh.hpp). Every file starts with the cell at rest (all v_k = 0).
@@ -40,6 +42,7 @@ REF_TEMP_C = 25.0     # reference temperature of the fitted Arrhenius laws
 K_SCALE = 1000.0      # Arrhenius constants are moved in kK (theta of order 1)
 K_BOUNDS_K = (-10000.0, 20000.0)
 K_START_K = {"r": 2000.0, "tau": 0.0}
+DOCV_DT_MAX_V_PER_K = 0.01  # the preset loader's range of docv_dT_V_per_K
 
 
 @dataclass(frozen=True)
@@ -54,6 +57,8 @@ class Layout:
     capacity_Ah: float
     arrhenius: bool = False
     smooth_weight: float = SMOOTH_WEIGHT
+    ocv_dT: bool = False    # an OCV temperature coefficient over the grid (rests at several temperatures)
+    dT_scale_K: float = 1.0  # its smoothing rows are weighted by the span of temperatures (V, like the OCV's)
 
     def r0_columns(self) -> int:
         return self.poly_order + 1 if self.form == "poly" else self.soc_grid.size
@@ -63,6 +68,11 @@ class Layout:
 
     def thetas(self) -> int:
         return self.rc_pairs + (1 + 2 * self.rc_pairs if self.arrhenius else 0)
+
+    def fixed_columns(self) -> int:
+        """OCV, R0 and (with ocv_dT) the OCV's temperature coefficient: the columns that do
+        not depend on the nonlinear parameters."""
+        return self.soc_grid.size * (2 if self.ocv_dT else 1) + self.r0_columns()
 
 
 @dataclass
@@ -89,6 +99,7 @@ class LinearFit:
     rc_r_K: np.ndarray | None = None
     rc_tau_K: np.ndarray | None = None
     evaluations: int = 0
+    docv_dT: np.ndarray | None = None  # V/K at the grid (None: no temperature coefficient)
 
 
 def soc_trace(test: CellTest, soc0: float, capacity_Ah: float) -> np.ndarray:
@@ -148,7 +159,9 @@ def _smoothing(layout: Layout, i_scale_A: float) -> tuple[np.ndarray, int]:
     blocks = [(0, weight)]
     if layout.form == "table":
         blocks.append((n, weight * i_scale_A))
-    start = n + layout.r0_columns()
+    if layout.ocv_dT:
+        blocks.append((n + layout.r0_columns(), weight * layout.dT_scale_K))
+    start = layout.fixed_columns()
     if layout.rc_over_soc:
         blocks += [(start + p * n, weight * i_scale_A) for p in range(layout.rc_pairs)]
     cols = start + layout.rc_pairs * layout.rc_columns()
@@ -167,6 +180,9 @@ def _bounds(layout: Layout, cols: int) -> tuple[np.ndarray, np.ndarray]:
     lo[1:n] = OCV_STEP_MIN_V                        # its rise to each next node
     if layout.form == "poly":
         lo[n:n + layout.r0_columns()] = -np.inf     # polynomial coefficients: any sign
+    if layout.ocv_dT:
+        d0 = n + layout.r0_columns()
+        lo[d0:d0 + n], hi[d0:d0 + n] = -DOCV_DT_MAX_V_PER_K, DOCV_DT_MAX_V_PER_K
     return lo, hi
 
 
@@ -184,7 +200,8 @@ class _Problem:
         self.traces = traces
         self.layout = layout
         self.n = layout.soc_grid.size
-        self.nf = self.n + layout.r0_columns()
+        self.nr = self.n + layout.r0_columns()  # R0's columns end here
+        self.nf = layout.fixed_columns()
         i_scale = max(float(np.max(np.abs(t.test.current_A))) for t in traces)
         self.smooth, self.cols = _smoothing(layout, i_scale)
         self.sts = _gram(self.smooth)
@@ -193,6 +210,8 @@ class _Problem:
         self.g = np.concatenate([t.g for t in traces])
         self.ocv_w = vstack([t.ocv_w for t in traces]).tocsr()
         self.r0_i = vstack([t.r0_basis.multiply(-t.test.current_A[:, None]) for t in traces]).tocsr()
+        self.ocv_t = vstack([t.ocv_w.multiply((t.temp_C - REF_TEMP_C)[:, None]) for t in traces]).tocsr() \
+            if layout.ocv_dT else None
         self._theta = None
         self.evaluations = 0
 
@@ -207,7 +226,7 @@ class _Problem:
     def _fixed(self, r0_K: float):
         from scipy.sparse import diags, hstack
         r0 = self.r0_i if r0_K == 0.0 else (diags(np.exp(r0_K * self.g)) @ self.r0_i)
-        return hstack([self.ocv_w, r0]).tocsr()
+        return hstack([self.ocv_w, r0] + ([self.ocv_t] if self.ocv_t is not None else [])).tocsr()
 
     def _rc(self, tau: np.ndarray, r_K: np.ndarray, tau_K: np.ndarray) -> np.ndarray:
         from ._packsim import rc_response
@@ -289,7 +308,7 @@ class _Problem:
                     h[rows, p] = -s[:, 0]
             row += t.soc.size
         if lay.arrhenius:
-            h[:, pairs] = (self.f[:, self.n:self.nf] @ self.p[self.n:self.nf]) * (K_SCALE * self.g)
+            h[:, pairs] = (self.f[:, self.n:self.nr] @ self.p[self.n:self.nr]) * (K_SCALE * self.g)
         ath = np.vstack([np.asarray(self.f.T @ h), np.einsum("ki,kj->ij", self.c, h)])
         y = cho_solve(self.chol, ath / self.scale[:, None]) / self.scale[:, None]
         return np.vstack([h - (self.f @ y[:self.nf] + self.c @ y[self.nf:]), -(self.smooth @ y)])
@@ -359,6 +378,7 @@ def fit_group(traces: list[Trace], layout: Layout, max_evaluations: int = 400) -
     p = problem.bounded()
     tau, r0_K, r_K, tau_K = problem.split(theta)
     order = np.argsort(tau)
-    n, nf = problem.n, problem.nf
+    n, nr, nf = problem.n, problem.nr, problem.nf
     rc = p[nf:].reshape(pairs, layout.rc_columns()) if pairs else np.zeros((0, 1))
-    return LinearFit(p[:n], p[n:nf], rc[order], tau[order], r0_K, r_K[order], tau_K[order], problem.evaluations)
+    return LinearFit(p[:n], p[n:nr], rc[order], tau[order], r0_K, r_K[order], tau_K[order], problem.evaluations,
+                     p[nr:nf] if layout.ocv_dT else None)

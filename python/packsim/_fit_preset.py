@@ -61,7 +61,17 @@ def preset_yaml(fit) -> str:
     out.append("# Thermal parameters are not fitted: heat_capacity_J_per_K and g_ambient_W_per_K keep")
     out.append("# packsim's defaults unless a scenario overrides them.")
     out.append(f"capacity_Ah: {_num(fit.capacity_Ah)}   # {fit.capacity_source}")
-    out.append(_key("ocv_V", _curve(grid, temps, [g.ocv_V for g in groups], "")))
+    docv = groups[0].docv_dT_V_per_K if len(groups) == 1 else None
+    if docv is not None:  # OCV(soc, T) = OCV(soc) + (T - 25 °C)·dOCV/dT(soc): exact between the rows
+        from ._fit_ecm import REF_TEMP_C
+        rows_C = list(fit.ocv_temps_C)
+        out.append(f"# OCV with its fitted temperature coefficient, at the coldest and hottest test temperature "
+                   f"(held beyond them); 25 °C: {_list(groups[0].ocv_V)}")
+        out.append(_key("ocv_V", _curve(grid, rows_C, [groups[0].ocv_V + (t - REF_TEMP_C) * docv for t in rows_C], "")))
+        out.append("# dOCV/dT over SOC, V/K: the same coefficient, for the reversible (entropic) heat")
+        out.append(_key("docv_dT_V_per_K", _curve(grid, [None], [docv], "")))
+    else:
+        out.append(_key("ocv_V", _curve(grid, temps, [g.ocv_V for g in groups], "")))
     if fit.temperature_law == "arrhenius":
         (g,) = groups
         if fit.form == "poly":

@@ -95,7 +95,8 @@ class BatchResult:
     """What a batch run produced, one entry per case in sweep order.
 
     table:    one row per case: ``case`` (id), each varied key (its value), ``status``
-              (ok | failed), every summary field, ``error`` and ``path`` — a pandas
+              (ok | failed), the drawn inputs (``drawn_*``, docs/batch.md), every
+              summary field, ``error`` and ``path`` — a pandas
               DataFrame when pandas is installed, else a dict of column lists. The same
               content as summary.csv (numbers to the CSV's 10 significant digits; load a
               result file for full precision).

@@ -58,6 +58,7 @@ class FileFit:
     model_V: np.ndarray = field(repr=False)
     soc: np.ndarray = field(repr=False)
     low_soc_rms_mV: float | None = None   # RMS over the samples below 10 % SOC (None: none there)
+    reader: str = ""                      # a cycler export: its format, sign and units as read
 
 
 @dataclass
@@ -72,6 +73,7 @@ class FitAtTemperature:
     r0_K: float = 0.0        # R(T)/R(25 °C) = exp(K·(1/T_K - 1/298.15)); 0: no temperature law
     rc_r_K: np.ndarray | None = None   # [pairs]
     rc_tau_K: np.ndarray | None = None  # [pairs]
+    docv_dT_V_per_K: np.ndarray | None = None  # at the grid: OCV(soc,T) = ocv_V + (T - 25 °C)·this; None: none
 
 
 @dataclass
@@ -92,6 +94,8 @@ class FitResult:
     smoothing: float = SMOOTH_WEIGHT  # weight of the second-difference penalty on the tables
     validation: list[FileFit] = field(default_factory=list)  # held-out tests: the preset's error on them
     smoothing_scores: list[tuple[float, float]] = field(default_factory=list)  # (weight, held-out RMS mV) tried
+    ocv_temps_C: tuple[float, float] | None = None  # with an OCV temperature coefficient: the rows of the
+                                                    # preset's 2-D OCV (the training samples' coldest, hottest)
 
     @property
     def yaml(self) -> str:
@@ -107,7 +111,9 @@ class FitResult:
                                   "rc_r_ohm": g.rc_r_ohm.tolist(), "rc_tau_s": g.rc_tau_s.tolist(),
                                   **({"arrhenius_K": {"r0": g.r0_K, "rc_r": g.rc_r_K.tolist(),
                                                       "rc_tau": g.rc_tau_K.tolist()}, "ref_temp_C": REF_TEMP_C}
-                                     if self.temperature_law == "arrhenius" else {})}
+                                     if self.temperature_law == "arrhenius" else {}),
+                                  **({"docv_dT_V_per_K": g.docv_dT_V_per_K.tolist()}
+                                     if g.docv_dT_V_per_K is not None else {})}
                                  for g in self.temperatures]}
 
     def r0_ohm(self, soc: Any, temperature: int = 0, temp_C: float | None = None) -> np.ndarray:
@@ -118,8 +124,21 @@ class FitResult:
         r = np.polyval(g.r0, (1.0 - soc) * self.capacity_Ah) if self.form == "poly" else np.interp(soc, self.soc_grid, g.r0)
         return r * arrhenius_factor(g.r0_K, temp_C)
 
-    def ocv_V(self, soc: Any, temperature: int = 0) -> np.ndarray:
-        return np.interp(np.asarray(soc, dtype=float), self.soc_grid, self.temperatures[temperature].ocv_V)
+    def ocv_V(self, soc: Any, temperature: int = 0, temp_C: float | None = None) -> np.ndarray:
+        """Fitted OCV at the given SOC(s); with a temperature coefficient at temp_C (default
+        25 °C), held at the preset's coldest / hottest row beyond them as the preset is."""
+        g = self.temperatures[temperature]
+        soc = np.asarray(soc, dtype=float)
+        v = np.interp(soc, self.soc_grid, g.ocv_V)
+        if g.docv_dT_V_per_K is None or temp_C is None:
+            return v
+        t = float(np.clip(temp_C, *self.ocv_temps_C)) if self.ocv_temps_C else float(temp_C)
+        return v + (t - REF_TEMP_C) * np.interp(soc, self.soc_grid, g.docv_dT_V_per_K)
+
+    def docv_dT_V_per_K(self, soc: Any, temperature: int = 0) -> np.ndarray | None:
+        """The fitted OCV temperature coefficient at the given SOC(s), V/K (None: not fitted)."""
+        d = self.temperatures[temperature].docv_dT_V_per_K
+        return None if d is None else np.interp(np.asarray(soc, dtype=float), self.soc_grid, d)
 
     def save(self, path: str | os.PathLike) -> None:
         """Write the preset; a temporary file renamed when complete (no partial file)."""
@@ -161,7 +180,8 @@ class FitResult:
 
 def _file_line(f: FileFit) -> str:
     low = "" if f.low_soc_rms_mV is None else f", below 10 % SOC RMS {f.low_soc_rms_mV:.2f} mV"
-    return f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV{low}"
+    read = f"\n    {f.reader}" if f.reader else ""
+    return f"  {f.name}: {f.samples} samples, RMS {f.rms_mV:.2f} mV, max {f.max_mV:.2f} mV{low}{read}"
 
 
 def arrhenius_factor(k: float, temp_C: float | None) -> float:
@@ -311,7 +331,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
         form: str = "table", poly_order: int = 5, rc_over_soc: bool = False, initial_soc: Any = 1.0,
         temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
         max_evaluations: int = 400, temperature_law: str = "arrhenius", validate: Any = None,
-        validate_initial_soc: Any = 1.0, smoothing: float | None = None) -> FitResult:
+        validate_initial_soc: Any = 1.0, smoothing: float | None = None,
+        ocv_temperature: bool | None = None) -> FitResult:
     """Fit a cell preset to test data.
 
     data:          a CSV path or pandas DataFrame, or a list of them
@@ -334,6 +355,10 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
                    time constants as Arrhenius laws around 25 °C and one OCV (one test with
                    rests is enough); "table" fits each temperature on its own (each needs a
                    rest) and writes 2-D tables over SOC × temp_C
+    ocv_temperature: the OCV's temperature coefficient dOCV/dT over SOC in a joint fit:
+                   None (default) fits it when rests lie at temperatures more than 3 °C
+                   apart (only a rest tells the OCV at a temperature), True requires it,
+                   False leaves it out (one OCV for every temperature)
 
     Raises FitError (a ValueError) naming the file and line, or the reason.
     """
@@ -388,6 +413,9 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
     if law == "arrhenius":
         layout = replace(layout, arrhenius=True)
     sample_temps = [_sample_temps(t, g) for t, g in zip(tests, given_temps)]
+    ocv_temps = _ocv_temperature(ocv_temperature, law, tests, sample_temps)
+    if ocv_temps is not None:
+        layout = replace(layout, ocv_dT=True, dT_scale_K=max(ocv_temps[1] - ocv_temps[0], 1.0))
     held_out = [read_test(src, len(tests) + k, columns, invert_current) for k, src in enumerate(validate or [])]
     held_socs0 = _per_file("validate_initial_soc", validate_initial_soc, len(held_out), 0.0, 1.0)
     for t, s0 in zip(held_out, held_socs0):
@@ -411,8 +439,21 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
     for weight in weights:
         lay = replace(layout, smooth_weight=weight)
         fitted, evaluations = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
+        if lay.ocv_dT and not _ocv_rows_rise(fitted[0], ocv_temps):
+            if ocv_temperature:
+                raise FitError("the OCV with its fitted temperature coefficient does not rise with SOC at "
+                               f"{ocv_temps[0]:.1f} or {ocv_temps[1]:.1f} °C: the rests do not determine it "
+                               "(fit without it: ocv_temperature False / --no-ocv-temperature)")
+            dropped = ("the OCV temperature coefficient the rests gave would make the OCV fall with SOC "
+                       "at the coldest or hottest test: left out (one OCV for every temperature)")
+            if dropped not in fit_warnings:
+                fit_warnings.append(dropped)
+            lay = replace(lay, ocv_dT=False)
+            fitted, more = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
+            evaluations += more
         result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
-                           law, evaluations, fit_warnings, weight)
+                           law, evaluations, fit_warnings, weight,
+                           ocv_temps_C=ocv_temps if lay.ocv_dT else None)
         result.validation = _file_errors(result, held_out, held_socs0, held_temps)
         score = _pooled_rms_mV(result.validation) if held_out else 0.0
         scores.append((weight, score))
@@ -461,7 +502,7 @@ def _fit_groups(tests, groups, socs0, temps, sample_temps, layout: Layout, law: 
         else:
             temp = None if temps[members[0]] is None else float(np.mean([temps[k] for k in members]))
         fitted.append(FitAtTemperature(temp, sol.ocv_V, sol.r0, sol.rc_r_ohm, sol.rc_tau_s, sol.r0_K,
-                                       sol.rc_r_K, sol.rc_tau_K))
+                                       sol.rc_r_K, sol.rc_tau_K, sol.docv_dT))
         evaluations += sol.evaluations
     return fitted, evaluations
 
@@ -484,8 +525,35 @@ def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.nda
         files.append(FileFit(test.name, test.start_temp_C if test.temp_C is not None else None, err.size,
                              1e3 * float(np.sqrt(np.mean(err ** 2))), 1e3 * float(np.max(np.abs(err))),
                              test.time_s, test.current_A, test.voltage_V, model, soc,
-                             1e3 * float(np.sqrt(np.mean(err[low] ** 2))) if low.any() else None))
+                             1e3 * float(np.sqrt(np.mean(err[low] ** 2))) if low.any() else None, test.reader))
     return files
+
+
+def _ocv_temperature(wanted: bool | None, law: str, tests, sample_temps) -> tuple[float, float] | None:
+    """Whether the joint fit gets an OCV temperature coefficient: (coldest, hottest training
+    sample, the rows of the preset's 2-D OCV) when it does, else None. Only rests tell the
+    OCV at a temperature, so their temperatures must lie more than TEMP_GROUP_C apart."""
+    if wanted is not None and not isinstance(wanted, bool):
+        raise FitError(f"ocv_temperature: {wanted!r} is not True, False or None")
+    if wanted is False:
+        return None
+    rest_temps = [temps[rest_mask(t)] for t, temps in zip(tests, sample_temps) if temps is not None]
+    rest_temps = np.concatenate(rest_temps) if rest_temps else np.zeros(0)
+    span = float(np.ptp(rest_temps)) if rest_temps.size else 0.0
+    if law != "arrhenius" or span <= TEMP_GROUP_C:
+        if wanted:
+            raise FitError("ocv_temperature: an OCV temperature coefficient needs rests at temperatures more than "
+                           f"{TEMP_GROUP_C:g} °C apart in a joint fit over temperatures; these tests' rests span "
+                           f"{span:.1f} °C" + ("" if law == "arrhenius" else f" (temperature law: {law})"))
+        return None
+    every = np.concatenate([t for t in sample_temps if t is not None])
+    return float(np.min(every)), float(np.max(every))
+
+
+def _ocv_rows_rise(g: FitAtTemperature, temps_C: tuple[float, float]) -> bool:
+    """The preset's OCV rows at the coldest and hottest temperature rise strictly with SOC
+    (the preset loader requires it at every row of a 2-D table)."""
+    return all(np.all(np.diff(g.ocv_V + (t - REF_TEMP_C) * g.docv_dT_V_per_K) > 0) for t in temps_C)
 
 
 def _sample_temps(test, given: float | None) -> np.ndarray | None:

@@ -243,14 +243,49 @@ def batch_html(folder: str | os.PathLike) -> str:
     left = ", ".join(f"{k} ({v})" for k, v in t.left_out.items())
     parts = [f"<h1>Sweep {e(os.path.basename(os.path.abspath(os.fspath(folder))))}</h1>",
              f"<p>{len(t.rows)} cases ({n_ok} ran) from {e(t.path)}; {e(kind)}.</p>",
+             _sensitivity_html(t),
              f"<h2>Responses ({len(figs)})</h2>",
              "<p class=\"note\">Outputs that vary over the cases that ran; not plotted: " + e(left or "none") + ".</p>",
-             '<div class="grid">' + "".join(f'<div class="{"wide" if "correlation" in title else "cell"}">{_figure_div(f, f"sweep-{i}", mode_bar=False)}</div>'
+             '<div class="grid">' + "".join(f'<div class="{"wide" if "correlation" in title or "sensitivity" in title else "cell"}">{_figure_div(f, f"sweep-{i}", mode_bar=False)}</div>'
                      for i, (title, f) in enumerate(figs)) + "</div>",
              f"<h2>Cases ({len(t.rows)})</h2><p class=\"note\">click a column to sort.</p>",
              '<div class="scroll">' + _table(t.header, t.rows, sortable=True,
                                              table_id="cases") + "</div>"]
     return _page("packsim sweep", "\n".join(parts), plotly=True)
+
+
+def _sensitivity_html(t) -> str:
+    """A Monte Carlo's sensitivity table: each output's rank correlation with each random
+    input the cases drew (sweep_figure.sensitivity), the strongest named first."""
+    from .sweep_figure import DRAWN, sensitivity
+    if not t.monte_carlo:
+        return ""
+    e = html.escape
+    not_drawn = [k for k, why in t.left_out.items() if k.startswith(DRAWN) and why.startswith("not drawn")]
+    note = ("<p class=\"note\">Random inputs: each case's cell values as drawn from its seed, per series "
+            "group (docs/batch.md); beside them any other input the sweep varies. ρ is Spearman's rank correlation over the cases that ran (+1: the output "
+            "rises with the input; 0: no monotonic relation); p the chance of a correlation this strong with "
+            "none at all — with few cases only a large |ρ| means something. Bold: p < 0.05."
+            + (" Not drawn (spread 0, the same in every case): " + e(", ".join(not_drawn)) + "." if not_drawn else "")
+            + "</p>")
+    if not t.drawn:
+        return ("<h2>Sensitivity to the inputs</h2><p>No random input varies over the cases that ran "
+                "(summary.csv has no varying drawn_* column).</p>" + note)
+    rows = []
+    for sv in sensitivity(t):
+        best = sv.strongest
+        cells = []
+        for name in t.drawn + t.swept:
+            r, p = sv.rho[name], sv.p_value[name]
+            txt = "-" if not np.isfinite(r) else f"{r:+.2f}"
+            cells.append(f"<b>{txt}</b>" if np.isfinite(p) and p < 0.05 else txt)
+        lead = [e(sv.output), e(best or "-"),
+                "-" if best is None else f"{sv.rho[best]:+.2f}", "-" if best is None else f"{sv.p_value[best]:.2g}"]
+        rows.append("<tr>" + "".join(f"<td>{c}</td>" for c in lead + cells) + "</tr>")
+    head = "".join(f"<th>{e(h)}</th>" for h in ["output", "strongest input", "ρ", "p"] + t.drawn + t.swept)
+    return ("<h2>Sensitivity to the inputs</h2>" + note
+            + f'<div class="scroll"><table class="sortable" id="sensitivity"><thead><tr>{head}</tr></thead>'
+            + f"<tbody>{''.join(rows)}</tbody></table></div>")
 
 
 def report(source: Result | str | os.PathLike, output: str | os.PathLike) -> str:

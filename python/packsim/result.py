@@ -372,7 +372,8 @@ class Result:
     def to_xarray(self):
         """An xarray DataTree shaped like the file (what ``xr.open_datatree(path,
         engine="h5netcdf")`` reads from it): the groups ``truth``, ``measured``, ``bms``,
-        ``hardware`` and ``summary`` (attributes only), every variable under its name in
+        ``hardware``, ``summary`` (attributes only) and, for a batch case, ``inputs`` (its
+        drawn cell values on ``cell``, docs/results.md), every variable under its name in
         the file (``dt["truth/cell_voltage_V"]``, ``dt["bms"]["state"]``), the dimensions
         named as the file's dimension scales (``time_s``, ``cell``, ``series``,
         ``thermistor``, ``device``, ``telemetry_byte``; a 2-D channel with another axis
@@ -413,6 +414,11 @@ class Result:
             tree["/" + group] = xr.Dataset(variables, coords=coords, attrs=dict(self._attrs.get(group, {})))
         if self.summary:
             tree["/summary"] = xr.Dataset(attrs=self.summary)
+        drawn = {k.split("/", 1)[1]: (("cell",), a, dict(self._attrs.get(k, {})))
+                 for k, a in self._datasets.items() if k.startswith("inputs/") and a.ndim == 1}
+        if drawn:  # a batch case's drawn cell values (docs/results.md)
+            tree["/inputs"] = xr.Dataset(drawn, coords={"cell": ("cell", np.arange(1, self.n_cells + 1, dtype=np.int32))},
+                                         attrs=dict(self._attrs.get("inputs", {})))
         ev = self.events_array
         root = xr.Dataset({"events": (("event",), ev)} if ev.size else {},
                           coords={"time_s": ("time_s", self.time_s, dict(self._attrs.get("time_s", {"units": "s"}))),

@@ -8,12 +8,17 @@
 - one swept input: each output as a line over it, tripped cases marked;
 - a 2-D grid: each output as a heat-map over the two inputs, tripped cases marked;
 - more inputs: each output against each input (points);
-- a Monte Carlo (the seed is the only input): each output's distribution, and the rank
-  correlation (Spearman) between outputs and with any other varied input.
+- a Monte Carlo (the seed is an input): each output's distribution; its sensitivity to
+  each random input -- the cell values each case drew, the ``drawn_*`` columns
+  (core/batch/drawn_inputs.hpp, docs/batch.md) -- and to any other swept input, as a
+  rank correlation (Spearman) table and heat-map, and each output against each input (a
+  scatter per output, the input chosen from a menu, the strongest first); the rank
+  correlation between outputs.
 
 Plotted are the outputs that vary over the cases that ran: the case id, status, error,
 file, the cell/group numbers (identifiers, not quantities) and the columns that are the
-same in every case are not.
+same in every case are not. A random input that is the same in every case was not drawn
+(its spread is 0): it is listed as such and has no sensitivity.
 """
 from __future__ import annotations
 
@@ -23,11 +28,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["SweepTable", "read", "figures", "rank_correlation", "IDENTIFIERS"]
+__all__ = ["SweepTable", "read", "figures", "rank_correlation", "sensitivity", "Sensitivity", "IDENTIFIERS",
+           "DRAWN"]
 
 # Columns that name things rather than measure them.
 IDENTIFIERS = frozenset({"case", "status", "error", "file", "seed", "min_cell", "hottest_cell", "limit_cell",
-                         "soc_error_ekf_group", "trip_reason", "limit_unseen_longest", "soc_estimator"})
+                         "soc_error_ekf_group", "trip_reason", "limit_unseen_longest", "soc_estimator",
+                         "drawn_weakest_group"})
+# The prefix of the random inputs a case drew (summary.csv columns; core/batch/drawn_inputs.hpp).
+DRAWN = "drawn_"
 TRIP = "tripped"
 # Outputs a team looks at first, in this order; the others follow in summary.csv's order.
 FIRST = ("energy_delivered_Wh", "energy_stranded_Wh", "min_cell_V", "max_temp_C", "trip_time_s", "tripped",
@@ -42,6 +51,7 @@ class SweepTable:
     inputs: list[str]              # the varied values (between `case` and `status`)
     outputs: list[str]             # numeric outputs that vary over the cases that ran
     left_out: dict[str, str] = field(default_factory=dict)  # column -> why it is not plotted
+    drawn: list[str] = field(default_factory=list)  # random inputs that vary (drawn_* columns)
 
     def column(self, name: str, ok_only: bool = True) -> np.ndarray:
         j = self.header.index(name)
@@ -94,10 +104,16 @@ def read(folder: str | os.PathLike) -> SweepTable:
                 t.left_out[name] = "not a number"
             continue
         finite = col[np.isfinite(col)]
+        is_drawn = name.startswith(DRAWN)
         if np.unique(finite).size < 2:
-            t.left_out[name] = "the same in every case"
+            t.left_out[name] = "not drawn: the same in every case" if is_drawn else "the same in every case"
             continue
-        if name not in inputs:
+        if is_drawn:
+            if t.monte_carlo:
+                t.drawn.append(name)
+            else:  # one seed: the drawn values follow the swept ones, they are not random here
+                t.left_out[name] = "drawn from one seed: follows the swept inputs"
+        elif name not in inputs:
             t.outputs.append(name)
     t.outputs.sort(key=lambda n: FIRST.index(n) if n in FIRST else len(FIRST))
     return t
@@ -113,6 +129,71 @@ def rank_correlation(a: np.ndarray, b: np.ndarray) -> float:
     if ok.sum() < 3 or np.unique(a[ok]).size < 2 or np.unique(b[ok]).size < 2:
         return float("nan")
     return float(spearmanr(a[ok], b[ok]).statistic)
+
+
+@dataclass
+class Sensitivity:
+    """Spearman's rank correlation of one output with each random input, strongest first."""
+    output: str
+    rho: dict[str, float]      # input -> rank correlation (NaN: too few cases or a constant)
+    p_value: dict[str, float]  # input -> two-sided p-value of no correlation
+
+    @property
+    def ranked(self) -> list[str]:
+        return sorted(self.rho, key=lambda k: -abs(self.rho[k]) if np.isfinite(self.rho[k]) else 0.0)
+
+    @property
+    def strongest(self) -> str | None:
+        r = self.ranked
+        return r[0] if r and np.isfinite(self.rho[r[0]]) else None
+
+
+def sensitivity(t: SweepTable) -> list[Sensitivity]:
+    """For each output of a Monte Carlo, its rank correlation with each random input
+    (t.drawn) and each other swept input (t.swept: a Monte Carlo at several ambient
+    temperatures, say) over the cases that ran."""
+    try:
+        from scipy.stats import spearmanr
+    except ImportError as e:
+        raise ImportError("the rank correlation of a Monte Carlo needs scipy (pip install scipy)") from e
+    out = []
+    for name in t.outputs:
+        y = t.column(name)
+        rho, p = {}, {}
+        for x_name in t.drawn + t.swept:
+            x = t.column(x_name)
+            ok = np.isfinite(x) & np.isfinite(y)
+            if ok.sum() < 3 or np.unique(x[ok]).size < 2 or np.unique(y[ok]).size < 2:
+                rho[x_name] = p[x_name] = float("nan")
+                continue
+            r = spearmanr(x[ok], y[ok])
+            rho[x_name], p[x_name] = float(r.statistic), float(r.pvalue)
+        out.append(Sensitivity(name, rho, p))
+    return out
+
+
+def _scatter_menu(t: SweepTable, s: Sensitivity):
+    """One output against each random input: a menu picks the input (the strongest first)."""
+    y, trip = t.column(s.output), _trip_marks(t)
+    order = s.ranked
+    fig = _small(f"{s.output} against the inputs", 340)
+    colors = np.where(trip, "#d62728", "#1f77b4")
+    for k, x_name in enumerate(order):
+        fig.add_scatter(x=t.column(x_name), y=y, mode="markers", name=x_name, visible=k == 0,
+                        marker=dict(color=list(colors), size=7),
+                        hovertemplate=f"{x_name} %{{x:.5g}}<br>{s.output} %{{y:.5g}}<extra></extra>")
+
+    def label(x_name: str) -> str:
+        r = s.rho[x_name]
+        return f"{x_name} (ρ {r:+.2f})" if np.isfinite(r) else f"{x_name} (ρ -)"
+    buttons = [dict(label=label(x_name), method="update",
+                    args=[{"visible": [j == k for j in range(len(order))]}, {"xaxis.title.text": x_name}])
+               for k, x_name in enumerate(order)]
+    fig.update_layout(xaxis_title=order[0], yaxis_title=s.output, showlegend=False,
+                      updatemenus=[dict(buttons=buttons, direction="down", x=1.0, xanchor="right", y=1.18,
+                                        yanchor="top", showactive=True, font=dict(size=10))],
+                      margin=dict(l=60, r=20, t=70, b=50))
+    return fig
 
 
 def _trip_marks(t: SweepTable) -> np.ndarray:
@@ -192,10 +273,16 @@ def figures(t: SweepTable) -> list[tuple[str, object]]:
     if t.monte_carlo:
         for name in t.outputs:
             out.append((f"distribution of {name}", _histogram(t, name)))
+        if t.drawn and t.outputs:
+            out.append(("sensitivity to the inputs",
+                        _correlation(t, t.outputs, t.drawn + swept,
+                                     "sensitivity: rank correlation (Spearman) of each output with each input")))
+            for s in sensitivity(t):
+                out.append((f"{s.output} against the inputs", _scatter_menu(t, s)))
         if len(t.outputs) >= 2:
             out.append(("rank correlation between outputs",
                         _correlation(t, t.outputs, t.outputs, "rank correlation (Spearman) between outputs")))
-        if swept:
+        if swept and not t.drawn:
             out.append(("sensitivity to the varied inputs",
                         _correlation(t, t.outputs, swept, "rank correlation of each output with each input")))
         return out

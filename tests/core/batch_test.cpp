@@ -209,6 +209,50 @@ TEST(Batch, CliExitStatusSaysSomeFailed) {
   EXPECT_FALSE(fs::exists(sc.dir / "out_typo"));
 }
 
+// A Monte Carlo records each case's drawn cell values (core/batch/drawn_inputs.hpp): in
+// summary.csv and the result file, the same for the same seed, different between samples,
+// constant for a spread that is not drawn -- and the values the run used: with 3 A for
+// 20 s and no self-discharge, the lowest final SOC is 0.8 - (the charge delivered) / the smallest drawn
+// capacity, an independent account of the charge.
+TEST(Batch, MonteCarloRecordsTheDrawnInputs) {
+  Scratch sc;
+  std::string base = test::simpleCellYaml(4);
+  base.insert(base.find("  cell:"), "  spread: {capacity_rel_sd: 0.05}\n");
+  std::ofstream(sc.dir / "spread.yaml") << base << "load: {current_A: 3}\nrun: {duration_s: 20, solver: fast}\n";
+  const std::string text = "base: spread.yaml\nmonte_carlo: {samples: 4, master_seed: 11}\n";
+  Sweep a = loadSweepText(text + "output_dir: a\n", "", sc.dir.string());
+  Sweep b = loadSweepText(text + "output_dir: b\n", "", sc.dir.string());
+  BatchOptions opt;
+  opt.progress = nullptr;
+  const BatchReport ra = runBatch(a, opt), rb = runBatch(b, opt);
+  ASSERT_EQ(ra.ok, 4) << ra.cases[0].error;
+  ASSERT_EQ(rb.ok, 4);
+  std::set<std::string> capacities;
+  for (size_t i = 0; i < ra.cases.size(); ++i) {
+    const CaseOutcome& o = ra.cases[i];
+    for (const char* name : {"drawn_capacity_min_Ah", "drawn_capacity_max_Ah", "drawn_charge_min_Ah",
+                             "drawn_r0_scale_max", "drawn_initial_soc_min", "drawn_weakest_group"})
+      EXPECT_EQ(field(o, name), field(rb.cases[i], name)) << name << " of case " << i;  // same seed, same draw
+    capacities.insert(field(o, "drawn_capacity_min_Ah"));
+    const double cmin = std::stod(field(o, "drawn_capacity_min_Ah"));
+    EXPECT_LT(cmin, std::stod(field(o, "drawn_capacity_max_Ah")));
+    EXPECT_GT(cmin, 2.0 * (1 - 3 * 0.05) - 1e-12);  // truncated at 3 sd
+    EXPECT_NEAR(std::stod(field(o, "drawn_charge_min_Ah")), 0.8 * cmin, 1e-9);
+    EXPECT_EQ(field(o, "drawn_r0_scale_max"), "1");  // not drawn
+    EXPECT_EQ(field(o, "drawn_r0_scale_rel_sd"), "0");
+    EXPECT_EQ(field(o, "drawn_initial_soc_min"), "0.8");
+    const double q = std::stod(field(o, "charge_delivered_Ah"));  // through every cell of the string
+    EXPECT_NEAR(q, 3.0 * 20.0 / 3600.0, 1e-4);
+    EXPECT_NEAR(std::stod(field(o, "final_soc_min")), 0.8 - q / cmin, 1e-8) << "case " << i;
+  }
+  EXPECT_EQ(capacities.size(), 4u);  // each sample its own draw
+  const std::vector<std::string> csv = lines(readFile(ra.csv_path));
+  EXPECT_EQ(csv[0].rfind("case,seed,status,drawn_capacity_min_Ah,drawn_capacity_max_Ah,", 0), 0u) << csv[0];
+  // The per-cell values are in the result file, under /inputs.
+  const std::string h5 = readFile(a.resultPath(a.cases[0]));
+  EXPECT_NE(h5.find("cell_capacity_Ah"), std::string::npos);
+}
+
 TEST(Batch, CsvFieldQuoting) {
   EXPECT_EQ(csvField("plain"), "plain");
   EXPECT_EQ(csvField("a,b"), "\"a,b\"");

@@ -141,3 +141,38 @@ def test_sweep_page_renders_every_figure(browser, tmp_path):
     """)
     assert order == sorted(order)  # a click sorts by ambient temperature
     assert _errors(browser) == []
+
+
+def test_monte_carlo_page_menu_picks_the_random_input(browser, tmp_path):
+    # bench_6s draws capacity and resistance spreads: a scatter per output, its menu one entry per random input
+    sweep = {"base": packsim.bundled_scenarios("bench_6s_ncr18650_2C.yaml")[0], "output_dir": str(tmp_path / "mc"),
+             "grid": {"run.duration_s": [600]}, "monte_carlo": {"samples": 4, "master_seed": 2}}
+    assert packsim.batch(sweep).ok
+    page = tmp_path / "mc.html"
+    packsim.report(tmp_path / "mc", page)
+    _open(browser, page)
+    assert browser.find_element("id", "sensitivity")
+    picked = browser.execute_async_script("""
+      var done = arguments[arguments.length - 1];
+      function guard(f){ return function(){ try { f(); } catch (e) { done('error: ' + e); } }; }
+      var gd = Array.from(document.querySelectorAll('.packsim-figure')).find(function(g){
+        return g.layout.updatemenus && g.layout.updatemenus.length; });
+      var before = gd.data.map(function(t){ return t.visible; });
+      guard(function(){
+        gd.querySelector('.updatemenu-header').dispatchEvent(new MouseEvent('click', {bubbles: true}));
+      })();
+      setTimeout(guard(function(){
+        var buttons = gd.querySelectorAll('.updatemenu-dropdown-button');
+        buttons[1].dispatchEvent(new MouseEvent('click', {bubbles: true}));
+        setTimeout(guard(function(){
+          done([before, gd.data.map(function(t){ return t.visible; }), gd.data[1].name,
+                gd.layout.xaxis.title.text, buttons.length]);
+        }), 300);
+      }), 300);
+    """)
+    assert not isinstance(picked, str), picked
+    before, after, name, x_title, n_buttons = picked
+    assert before[0] is True and before.count(True) == 1
+    assert after[1] is True and after.count(True) == 1 and n_buttons == len(after)
+    assert x_title == name  # the x axis names the input now shown
+    assert _errors(browser) == []
