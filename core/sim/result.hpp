@@ -130,6 +130,7 @@ struct Summary {
   double limit_unseen_longest_s = 0.0;
   std::string limit_unseen_longest;
   std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
+  std::vector<std::string> firmware_target;  // target mode: per task instructions and cycles, CPU load, stack, resets
   VehicleSummary vehicle;       // `load: {vehicle: ...}`: laps, the pack's limits on the vehicle
 };
 

@@ -1,0 +1,161 @@
+// Target mode (bms.firmware.target: cortex-m4): the example firmware's unchanged C
+// source cross-compiled for the Cortex-M4 and run by the virtual MCU against the
+// simulated pack. Independent expectations: host mode's decisions on the same
+// scenarios, the ELF header of an x86-64 library, the configured budget and watchdog.
+// Skipped (with the reason) only when arm-none-eabi-gcc was not found at configure time.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "core/firmware/elf_image.hpp"
+#include "core/sim/firmware_failure.hpp"
+#include "core/sim/simulation.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+#ifdef PACKSIM_TARGET_ELF_DIR
+#define REQUIRE_ARM_TOOLCHAIN()
+const std::string kElfDir = PACKSIM_TARGET_ELF_DIR;
+#else
+#define REQUIRE_ARM_TOOLCHAIN() GTEST_SKIP() << "arm-none-eabi-gcc was not found when packsim was configured: no target ELF"
+const std::string kElfDir;
+#endif
+
+std::string exampleElf() { return kElfDir + "/packsim_example_bms_cm4.elf"; }
+std::string watchdogElf() { return kElfDir + "/packsim_watchdog_demo_cm4.elf"; }
+
+Scenario bundled(const std::string& name) {
+  return loadScenarioFile(test::scenarioDir() + "/firmware/" + name + ".yaml");
+}
+
+// The example firmware in target mode trips for the same reason as in host mode, at
+// the same time to within one 10 ms tick (its decisions are the same code's; the clock
+// differs only by the code's own cycles, which host mode does not count).
+void expectSameDecisions(const std::string& name) {
+  const RunResult host = runScenario(bundled(name));
+  const RunResult target = runScenario(bundled("target/" + name + "_cm4"));
+  ASSERT_TRUE(host.summary.tripped) << name;
+  ASSERT_TRUE(target.summary.tripped) << name << ": " << target.summary.firmware_status;
+  EXPECT_EQ(target.summary.trip_reason, host.summary.trip_reason) << name;
+  EXPECT_NEAR(target.summary.trip_time_s, host.summary.trip_time_s, 0.010 + 1e-9) << name;
+  EXPECT_NE(target.summary.firmware_status.find("example_bms 1.0: ran to the end"), std::string::npos)
+      << target.summary.firmware_status;
+  ASSERT_FALSE(target.summary.firmware_target.empty());
+}
+
+TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnOverCurrent) {
+  REQUIRE_ARM_TOOLCHAIN();
+  expectSameDecisions("c_example_firmware_overcurrent");
+}
+
+TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnASilentDevice) {
+  REQUIRE_ARM_TOOLCHAIN();
+  expectSameDecisions("c_example_firmware_device_silent");
+}
+
+TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnTheESwitch) {
+  REQUIRE_ARM_TOOLCHAIN();
+  expectSameDecisions("c_example_firmware_estop");
+}
+
+// The counts are the emulator's, block by block: the same run gives the same numbers.
+TEST(TargetMode, InstructionAndCycleCountsAreDeterministic) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = bundled("target/c_example_firmware_estop_cm4");
+  const RunResult a = runScenario(s), b = runScenario(s);
+  EXPECT_EQ(a.summary.firmware_target, b.summary.firmware_target);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (size_t i = 0; i < a.events.size(); ++i) {
+    EXPECT_EQ(a.events[i].time_s, b.events[i].time_s) << a.events[i].detail;
+    EXPECT_EQ(a.events[i].detail, b.events[i].detail);
+  }
+  // Both tasks ran, with code in them: instructions and cycles per task, a stack.
+  // 40 s (10 s past the 30 s trip): a call every 10 ms, one every 100 ms.
+  const std::string& task0 = a.summary.firmware_target.at(0);
+  EXPECT_EQ(task0.rfind("task 0 (period 10 ms): 400", 0), 0u) << task0;
+  EXPECT_EQ(a.summary.firmware_target.at(1).rfind("task 1 (period 100 ms): 400 calls", 0), 0u)
+      << a.summary.firmware_target.at(1);
+  EXPECT_NE(a.summary.firmware_target.back().find("cortex-m4 at 168 MHz"), std::string::npos);
+}
+
+// The demo firmware hangs at its task on its first boot (hang_at_ms): with a watchdog
+// longer than the task's 100 ms budget, the budget stops it, the same contract break
+// as in host mode, now counting the code's cycles; a failed run.
+TEST(TargetMode, AFirmwareThatLoopsForeverIsStoppedByItsBudget) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {target: cortex-m4, elf: " + watchdogElf() +
+      ", config: {hang_at_ms: 200, watchdog_timeout_us: 5000000}}}\n"
+      "run: {duration_s: 1}\n");
+  const RunResult r = runScenario(s);
+  const double t = test::eventTime(r, "firmware_fault", "contract break in task 0 (period 10 ms): ran 100.0");
+  EXPECT_NEAR(t, 0.2, 1e-9);
+  const std::string failure = firmwareFailure(s, r);
+  EXPECT_NE(failure.find("its code on the MCU clock"), std::string::npos) << failure;
+  EXPECT_NE(failure.find("over its 100.000 ms budget"), std::string::npos) << failure;
+  EXPECT_EQ(test::eventTime(r, "mcu_reset"), -1.0);
+}
+
+// The same hang with a 30 ms watchdog: no kick, the MCU resets at 30 ms after the last
+// kick, boots again at the next tick (the .noinit counter says "boot 1"), and closes
+// the relay again; the run is not a failure.
+TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = bundled("target/c_watchdog_reset_cm4");
+  const RunResult r = runScenario(s);
+  const double hang_s = test::eventTime(r, "firmware", "hanging");
+  const double reset_s = test::eventTime(r, "mcu_reset", "watchdog: not kicked for 30.000 ms");
+  const double boot1_s = test::eventTime(r, "firmware", "boot 1 after 1 watchdog resets");
+  ASSERT_NEAR(hang_s, 5.0, 1e-6);
+  // The last kick: the end of the task at 4.99 s (its code's few microseconds after it).
+  EXPECT_GT(reset_s, 4.99 + 0.030);
+  EXPECT_LT(reset_s, 4.99 + 0.030 + 0.001);
+  EXPECT_GT(boot1_s, reset_s);
+  EXPECT_LT(boot1_s, reset_s + 0.010 + 1e-6);  // the next tick
+  EXPECT_EQ(test::eventTime(r, "firmware_fault"), -1.0);
+  EXPECT_EQ(firmwareFailure(s, r), "");
+  // The relay dropped at the reset and closed again after the second boot.
+  // It opens at the actuation of the tick that holds the reset (5.02 s), not before.
+  const double opened_s = test::eventTime(r, "relay_contact", "opened");
+  EXPECT_GE(opened_s, 5.02 - 1e-9);
+  EXPECT_LT(opened_s, boot1_s + 0.010);
+  bool reclosed = false;
+  for (const Event& e : r.events)
+    if (e.kind == "relay_contact" && e.detail.rfind("closed", 0) == 0 && e.time_s > opened_s) reclosed = true;
+  EXPECT_TRUE(reclosed);
+  EXPECT_NE(r.summary.firmware_target.back().find("1 watchdog resets"), std::string::npos)
+      << r.summary.firmware_target.back();
+}
+
+// A library built for the host is refused when the scenario loads, naming the file and
+// the ELF field; so are a missing file and an ELF without the board's symbols.
+TEST(TargetMode, AnElfForAnotherArchitectureOrWithoutTheBoardIsALoadError) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const std::string base = "extends: bench_6s_ncr18650_2C.yaml\nbms: {firmware: {target: cortex-m4, elf: ";
+  const std::string x86 = test::yamlErrorOf(base + PACKSIM_PROBE_FW + "}}\n");
+  EXPECT_NE(x86.find("test.yaml:2:"), std::string::npos) << x86;
+  EXPECT_NE(x86.find(PACKSIM_PROBE_FW), std::string::npos) << x86;
+  EXPECT_NE(x86.find("e_machine: 62 (x86-64)"), std::string::npos) << x86;
+  const std::string missing = test::yamlErrorOf(base + "no_such_fw}}\n");
+  EXPECT_NE(missing.find("firmware ELF 'no_such_fw' not found"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("no_such_fw.elf"), std::string::npos) << missing;
+  const fs::path stripped = test::processTempDir("target_mode") / "stripped.elf";
+  const std::string cmd = "arm-none-eabi-strip -o " + stripped.string() + " " + exampleElf();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const std::string noSyms = test::yamlErrorOf(base + stripped.string() + "}}\n");
+  EXPECT_NE(noSyms.find("symbol psbsp_entry: missing"), std::string::npos) << noSyms;
+  const std::string wrongTarget = test::yamlErrorOf(
+      "extends: bench_6s_ncr18650_2C.yaml\nbms: {firmware: {target: cortex-m7, elf: " + exampleElf() + "}}\n");
+  EXPECT_NE(wrongTarget.find("unknown target 'cortex-m7'; allowed: cortex-m4"), std::string::npos) << wrongTarget;
+  EXPECT_THROW(readTargetElf(PACKSIM_PROBE_FW), ElfError);
+}
+
+}  // namespace
+}  // namespace packsim
