@@ -148,7 +148,8 @@ TargetCallResult TargetMcu::run(uint32_t start, TargetPeripherals& p) {
   }
   if (e != UC_ERR_OK) {
     char why[200];
-    std::snprintf(why, sizeof why, "%s at PC 0x%08x", uc_strerror(e), pc());
+    std::snprintf(why, sizeof why, "%s at PC 0x%08x",
+                  e == UC_ERR_INSN_INVALID ? "undefined instruction (UsageFault: UNDEFINSTR)" : uc_strerror(e), pc());
     r.stop = TargetStop::Fault;
     r.fault = why;
     return r;

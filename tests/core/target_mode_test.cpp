@@ -27,6 +27,12 @@ const std::string kElfDir = PACKSIM_TARGET_ELF_DIR;
 const std::string kElfDir;
 #endif
 
+#ifdef PACKSIM_TARGET_FAULT_FW
+#define PACKSIM_TARGET_FAULT_FW_OR_EMPTY PACKSIM_TARGET_FAULT_FW
+#else
+#define PACKSIM_TARGET_FAULT_FW_OR_EMPTY ""
+#endif
+
 std::string exampleElf() { return kElfDir + "/packsim_example_bms_cm4.elf"; }
 std::string watchdogElf() { return kElfDir + "/packsim_watchdog_demo_cm4.elf"; }
 
@@ -132,6 +138,33 @@ TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
   EXPECT_TRUE(reclosed);
   EXPECT_NE(r.summary.firmware_target.back().find("1 watchdog resets"), std::string::npos)
       << r.summary.firmware_target.back();
+}
+
+// A fault on the MCU ends the call: a firmware_fault with the reason and the PC (in
+// the task's code, in flash), and a failed run, as a crash in host mode.
+std::string faultOf(int mode) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {target: cortex-m4, elf: " PACKSIM_TARGET_FAULT_FW_OR_EMPTY
+      ", config: {mode: " + std::to_string(mode) + ", at_ms: 300}}}\n"
+      "run: {duration_s: 1}\n");
+  const RunResult r = runScenario(s);
+  EXPECT_NEAR(test::eventTime(r, "firmware_fault"), 0.3, 1e-6);
+  return firmwareFailure(s, r);
+}
+
+TEST(TargetMode, AFaultOnTheMcuIsAFirmwareFailureWithItsPc) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const std::string nullWrite = faultOf(0);
+  EXPECT_NE(nullWrite.find("the firmware ELF '" PACKSIM_TARGET_FAULT_FW_OR_EMPTY "' failed at 0.300 s: fault in task 0 "
+                           "(period 10 ms): write to unmapped memory: 4 bytes at 0x00000000, PC 0x080"),
+            std::string::npos)
+      << nullWrite;
+  const std::string udf = faultOf(1);
+  EXPECT_NE(udf.find("fault in task 0 (period 10 ms): undefined instruction (UsageFault: UNDEFINSTR) at PC 0x080"), std::string::npos) << udf;
+  const std::string flashRx = faultOf(2);
+  EXPECT_NE(flashRx.find("bus_transfer's rx buffer at 0x080"), std::string::npos) << flashRx;
+  EXPECT_NE(flashRx.find("is not in the MCU's RAM"), std::string::npos) << flashRx;
 }
 
 // A library built for the host is refused when the scenario loads, naming the file and
