@@ -234,7 +234,7 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   std::optional<FaultGuard::Scope> handlers;
   if (guard_) handlers.emplace();
   if (!started_) start(t_s);
-  while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots at the next tick
+  while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots in the tick of its instant
     int next = -1;
     for (uint32_t i = 0; i < fw_.task_count; ++i)
       if (nextDue_ns_[i] < windowEnd_ns && (next < 0 || nextDue_ns_[i] < nextDue_ns_[static_cast<size_t>(next)]))
@@ -323,7 +323,7 @@ void FirmwareHost::watchdogReset() {
   char detail[240];
   std::snprintf(detail, sizeof detail,
                 "watchdog: not kicked for %.3f ms; the MCU resets: outputs off, RAM reloaded from the ELF except "
-                ".noinit, the entry and init run again at the next tick (reset %u)",
+                ".noinit, the entry and init run again (reset %u)",
                 static_cast<double>(target_->watchdogTimeout_ns()) * 1e-6,
                 target_->resets() + 1);
   sink_.event(static_cast<double>(at_ns) * 1e-9, "mcu_reset", detail);

@@ -9,7 +9,7 @@
 // The watchdog (psbsp.h): started by the firmware, kicked after every task that returns
 // (and by the firmware at will); a missed kick resets the MCU: its outputs drop to their
 // reset level, RAM is reloaded from the ELF except .noinit, and the entry and init run
-// again at the reset's instant.
+// again in the BMS tick that holds the reset's instant.
 #pragma once
 #include <cstdint>
 #include <memory>
