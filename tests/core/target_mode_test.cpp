@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "core/firmware/cycle_model.hpp"
 #include "core/firmware/elf_image.hpp"
 #include "core/sim/firmware_failure.hpp"
 #include "core/sim/simulation.hpp"
@@ -165,6 +166,46 @@ TEST(TargetMode, AFaultOnTheMcuIsAFirmwareFailureWithItsPc) {
   const std::string flashRx = faultOf(2);
   EXPECT_NE(flashRx.find("bus_transfer's rx buffer at 0x080"), std::string::npos) << flashRx;
   EXPECT_NE(flashRx.find("is not in the MCU's RAM"), std::string::npos) << flashRx;
+}
+
+// The cost model on single Thumb-2 instructions (hand-assembled, little-endian
+// halfwords) against the Cortex-M4 TRM's cycle table: the model's figure and the
+// table's range. Needs no toolchain.
+TEST(TargetCycleModel, EachInstructionClassCostsWhatTheTableSays) {
+  const CycleModel model;
+  struct Case {
+    const char* what;
+    std::vector<uint16_t> halfwords;
+    uint32_t cycles, min, max;
+  };
+  const Case cases[] = {
+      {"movs r0, #1", {0x2001}, 1, 1, 1},
+      {"ldr r0, [r1]", {0x6808}, 2, 1, 2},             // 2; 1 when pipelined with a neighbour
+      {"str r0, [r1]", {0x6008}, 2, 1, 2},
+      {"ldrd r0, r1, [r2]", {0xE9D2, 0x0100}, 3, 2, 3},
+      {"push {r4-r7, lr}", {0xB5F0}, 6, 6, 6},         // 1 + N
+      {"pop {r4, pc}", {0xBD10}, 3, 3, 3},             // 1 + N (the refill is the block transition's)
+      {"sdiv r0, r1, r2", {0xFB91, 0xF0F2}, 7, 2, 12},
+      {"vdiv.f32 s0, s1, s2", {0xEE80, 0x0A81}, 14, 14, 14},
+      {"muls r0, r1, r0", {0x4348}, 1, 1, 1},
+  };
+  for (const Case& c : cases) {
+    std::vector<uint8_t> bytes;
+    for (uint16_t h : c.halfwords) {
+      bytes.push_back(static_cast<uint8_t>(h & 0xFF));
+      bytes.push_back(static_cast<uint8_t>(h >> 8));
+    }
+    const BlockCost b = model.cost(bytes.data(), bytes.size(), 0x08000000);
+    EXPECT_EQ(b.instructions, 1u) << c.what;
+    EXPECT_EQ(b.cycles, c.cycles) << c.what;
+    EXPECT_EQ(b.cyclesMin, c.min) << c.what;
+    EXPECT_EQ(b.cyclesMax, c.max) << c.what;
+  }
+  // A block adds up its instructions.
+  const uint8_t block[] = {0x01, 0x20, 0x08, 0x68, 0xF0, 0xB5};  // movs, ldr, push
+  const BlockCost b = model.cost(block, sizeof block, 0x08000000);
+  EXPECT_EQ(b.instructions, 3u);
+  EXPECT_EQ(b.cycles, 1u + 2u + 6u);
 }
 
 // A library built for the host is refused when the scenario loads, naming the file and
