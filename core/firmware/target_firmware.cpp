@@ -135,6 +135,11 @@ bool TargetFirmware::call(const char* what, int task) {
   }
   const uint32_t stack = mcu_->stackUsed_bytes();
   stackHighWater_ = std::max(stackHighWater_, stack);
+  if (stack >= mcu_->stackBytes()) {  // the paint is gone to the last word: it ran past the bottom
+    h.fault(start_s, "stack overflow in " + where + ": the call used all " + std::to_string(mcu_->stackBytes()) +
+                         " bytes of the stack (PSBSP_STACK_BYTES) and wrote below it, into the RAM under it");
+    return false;
+  }
   if (task >= 0) {
     TargetTaskStats& s = stats_[static_cast<size_t>(task)];
     const uint64_t n = mcu_->instructions() - startInstructions, c = mcu_->cycles() - callStartCycles_;

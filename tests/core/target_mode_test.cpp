@@ -166,6 +166,11 @@ TEST(TargetMode, AFaultOnTheMcuIsAFirmwareFailureWithItsPc) {
   const std::string flashRx = faultOf(2);
   EXPECT_NE(flashRx.find("bus_transfer's rx buffer at 0x080"), std::string::npos) << flashRx;
   EXPECT_NE(flashRx.find("is not in the MCU's RAM"), std::string::npos) << flashRx;
+  // 13 levels of 1 KiB past the 8 KiB stack: found by the stack paint when the call returns.
+  const std::string overflow = faultOf(3);
+  EXPECT_NE(overflow.find("stack overflow in task 0 (period 10 ms): the call used all 8192 bytes of the stack"),
+            std::string::npos)
+      << overflow;
 }
 
 // The cost model on single Thumb-2 instructions (hand-assembled, little-endian

@@ -5,6 +5,7 @@
  *   0  writes through a null pointer (no memory at address 0 on the MCU)
  *   1  executes an undefined instruction (UDF)
  *   2  hands bus_transfer a receive buffer in flash
+ *   3  recurses with 1 KiB on the stack per level until it runs past the stack's bottom
  */
 #include <stdint.h>
 #include <string.h>
@@ -15,6 +16,13 @@ typedef struct tf_ram {
   int32_t mode, at_ms;
 } tf_ram;
 
+/* Deep recursion: each level keeps 1 KiB live (the sum goes back to the caller). */
+static uint32_t tf_deep(uint32_t level) {
+  volatile uint8_t block[1024];
+  for (uint32_t i = 0; i < sizeof block; ++i) block[i] = (uint8_t)(level + i);
+  return level == 0 ? block[7] : tf_deep(level - 1) + block[level % sizeof block];
+}
+
 static void tf_task(void* ram, psfw_board* b, const psfw_board_api* api) {
   tf_ram* r = (tf_ram*)ram;
   static const uint8_t frame[4] = {1, 2, 3, 4};
@@ -22,6 +30,7 @@ static void tf_task(void* ram, psfw_board* b, const psfw_board_api* api) {
   switch (r->mode) {
     case 0: *(volatile uint32_t*)0 = 1u; break;
     case 1: __asm volatile("udf #0"); break;
+    case 3: api->event(b, tf_deep(12) ? "deep" : "deep 0"); break;
     default: api->bus_transfer(b, PSFW_BUS_MONITOR(0), frame, 4, (uint8_t*)frame, 4); break;
   }
 }
