@@ -306,7 +306,7 @@ std::string FirmwareHost::status() const {
 
 bool FirmwareHost::checkBudget() {
   if (!enforceBudgets_ || callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return true;
-  breakContract(target_ ? "ran %.3f ms of simulated time (its code on the MCU clock, bus transfers and delays), over "
+  breakContract(target_ ? "ran %.6f ms of simulated time (its code on the MCU clock, bus transfers and delays), over "
                           "its %.3f ms budget"
                         : "ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
                 static_cast<double>(clock_ns_ - callStart_ns_) * 1e-6, static_cast<double>(callBudget_ns_) * 1e-6);

@@ -114,7 +114,9 @@ bool TargetFirmware::call(const char* what, int task) {
     }
     if (h.breakCause_[0] == '\0') h.checkBudget();  // a deadline: the budget, the watchdog or a runaway
     if (h.breakCause_[0] != '\0') {
-      h.fault(start_s, "contract break in " + where + ": " + h.breakCause_);
+      char pc[32];
+      std::snprintf(pc, sizeof pc, " (stopped at PC 0x%08x)", mcu_->pc());
+      h.fault(start_s, "contract break in " + where + ": " + h.breakCause_ + pc);
       return false;
     }
     if (watchdogExpired(h.clock_ns_)) {
