@@ -85,7 +85,6 @@ ElfImage readTargetElf(const std::string& path) {
     ElfSegment s;
     s.vaddr = ph.p_vaddr;
     s.memsz = ph.p_memsz;
-    s.writable = (ph.p_flags & PF_W) != 0;
     s.bytes.assign(f.begin() + ph.p_offset, f.begin() + ph.p_offset + ph.p_filesz);
     img.segments.push_back(std::move(s));
   }

@@ -26,7 +26,6 @@ struct ElfSegment {
   uint32_t vaddr = 0;          // where it runs (flash for code, RAM for initialised data)
   uint32_t memsz = 0;          // bytes in memory; those past bytes.size() are zero (.bss)
   std::vector<uint8_t> bytes;  // the file's bytes
-  bool writable = false;
 };
 
 struct ElfImage {

@@ -58,7 +58,7 @@ TargetMcu::TargetMcu(const ElfImage& elf) : elf_(elf) {
                     &TargetMcu::onWatchdogWrite, this),
         "map the watchdog");
   for (const ElfSegment& s : elf.segments)
-    if (!s.writable && s.vaddr >= target::kFlashBase && !s.bytes.empty())
+    if (s.vaddr >= target::kFlashBase && s.vaddr < target::kFlashBase + target::kFlashBytes && !s.bytes.empty())
       check(uc_mem_write(uc_, s.vaddr, s.bytes.data(), s.bytes.size()), "load flash");
   const uint16_t bkpt[2] = {0xBE00, 0xBE00};  // never executed: reaching the page ends the call
   check(uc_mem_write(uc_, target::kReturnPage, bkpt, sizeof bkpt), "fill the return page");
