@@ -285,6 +285,34 @@ std::vector<std::string> FirmwareHost::targetSummary(double elapsed_s) const {
   return lines;
 }
 
+std::vector<std::pair<std::string, double>> FirmwareHost::targetFigures(double elapsed_s) const {
+  std::vector<std::pair<std::string, double>> f;
+  if (!target_) return f;
+  const TargetFirmware& t = *target_;
+  const auto d = [](uint64_t v) { return static_cast<double>(v); };
+  f.emplace_back("target_clock_hz", t.clock_hz());
+  f.emplace_back("target_instructions", d(t.totalInstructions()));
+  f.emplace_back("target_cycles", d(t.totalCycles()));
+  f.emplace_back("target_cycles_trm_min", d(t.totalCyclesMin()));
+  f.emplace_back("target_cycles_trm_max", d(t.totalCyclesMax()));
+  f.emplace_back("target_cpu_load", elapsed_s > 0 ? d(t.totalCycles()) / (t.clock_hz() * elapsed_s) : 0.0);
+  f.emplace_back("target_stack_high_water_bytes", t.stackHighWater_bytes());
+  f.emplace_back("target_stack_bytes", t.stackSize_bytes());
+  f.emplace_back("target_watchdog_resets", t.resets());
+  for (size_t i = 0; i < t.taskStats().size(); ++i) {
+    const TargetTaskStats& s = t.taskStats()[i];
+    const std::string p = "target_task" + std::to_string(i) + "_";
+    const double n = s.calls ? d(s.calls) : 1.0;
+    f.emplace_back(p + "calls", d(s.calls));
+    f.emplace_back(p + "mean_instructions", d(s.instructions) / n);
+    f.emplace_back(p + "mean_cycles", d(s.cycles) / n);
+    f.emplace_back(p + "worst_instructions", d(s.worstInstructions));
+    f.emplace_back(p + "worst_cycles", d(s.worstCycles));
+    f.emplace_back(p + "stack_bytes", s.stack_bytes);
+  }
+  return f;
+}
+
 std::string FirmwareHost::status() const {
   std::string telemetry = "; " + std::to_string(telemetryFrames_) + " telemetry frames";
   if (!lastTelemetry_.empty()) {

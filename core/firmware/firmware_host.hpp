@@ -99,6 +99,8 @@ class FirmwareHost {
   // Target mode: summary lines (per task: instructions, cycles, worst case; CPU load,
   // stack high-water, resets) over `elapsed_s` of run; empty in host mode.
   std::vector<std::string> targetSummary(double elapsed_s) const;
+  // The same figures by name (target_cycles, target_task0_worst_cycles, ...); empty in host mode.
+  std::vector<std::pair<std::string, double>> targetFigures(double elapsed_s) const;
 
   // Board services (the psfw_board_api entries land here).
   uint32_t nowMs() const { return static_cast<uint32_t>(clock_ns_ / 1000000u); }

@@ -4,6 +4,7 @@
 // scenarios, the ELF header of an x86-64 library, the configured budget and watchdog.
 // Skipped (with the reason) only when arm-none-eabi-gcc was not found at configure time.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -11,6 +12,7 @@
 
 #include "core/firmware/cycle_model.hpp"
 #include "core/firmware/elf_image.hpp"
+#include "core/io/hdf5_writer.hpp"
 #include "core/sim/firmware_failure.hpp"
 #include "core/sim/simulation.hpp"
 #include "test_support.hpp"
@@ -89,6 +91,44 @@ TEST(TargetMode, InstructionAndCycleCountsAreDeterministic) {
   EXPECT_EQ(a.summary.firmware_target.at(1).rfind("task 1 (period 100 ms): 400 calls", 0), 0u)
       << a.summary.firmware_target.at(1);
   EXPECT_NE(a.summary.firmware_target.back().find("cortex-m4 at 168 MHz"), std::string::npos);
+}
+
+double summaryAttr(const std::string& file, const std::string& name) {
+  double v = -1.0;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t g = H5Gopen2(f, "/summary", H5P_DEFAULT);
+  if (H5Aexists(g, name.c_str()) > 0) {
+    const hid_t a = H5Aopen(g, name.c_str(), H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(a);
+  }
+  H5Gclose(g);
+  H5Fclose(f);
+  return v;
+}
+
+// The summary's figures are in the result file too, as /summary attributes (only in
+// target mode: a host-mode file has none).
+TEST(TargetMode, TheFiguresAreSummaryAttributesOfTheResultFile) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = bundled("target/c_example_firmware_overcurrent_cm4");
+  const RunResult r = runScenario(s);
+  const std::string file = (test::processTempDir("target_mode") / "r.h5").string();
+  writeResultHdf5(file, s, r);
+  // task 0's worst call as the summary line prints it
+  const std::string& line = r.summary.firmware_target.at(0);
+  const size_t at = line.find("instructions / ", line.find("worst ")) + 15;
+  const double worst = std::stod(line.substr(at));
+  EXPECT_GT(worst, 0.0);
+  EXPECT_EQ(summaryAttr(file, "target_task0_worst_cycles"), worst) << line;
+  EXPECT_EQ(summaryAttr(file, "target_clock_hz"), 168e6);
+  const double cycles = summaryAttr(file, "target_cycles");
+  EXPECT_GE(cycles, summaryAttr(file, "target_cycles_trm_min"));
+  EXPECT_LE(cycles, summaryAttr(file, "target_cycles_trm_max"));
+  EXPECT_NEAR(summaryAttr(file, "target_cpu_load"), cycles / (168e6 * r.summary.duration_s), 1e-6);
+  const Scenario host = bundled("c_example_firmware_overcurrent");
+  writeResultHdf5(file, host, runScenario(host));
+  EXPECT_EQ(summaryAttr(file, "target_cycles"), -1.0);  // absent
 }
 
 // The demo firmware hangs at its task on its first boot (hang_at_ms): with a watchdog
