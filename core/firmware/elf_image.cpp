@@ -3,6 +3,7 @@
 #include <elf.h>
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -46,6 +47,11 @@ bool inside(uint32_t a, uint32_t n, uint32_t base, uint32_t size) {
 }  // namespace
 
 ElfImage readTargetElf(const std::string& path) {
+  constexpr std::uintmax_t kMaxElfBytes = 64u << 20;  // 1 MiB of flash, the rest debug information
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw ElfError(path, "file", "cannot be read (" + ec.message() + ")");
+  if (size > kMaxElfBytes) throw ElfError(path, "file", "larger than 64 MiB: not a firmware ELF for 1 MiB of flash");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ElfError(path, "file", "cannot be opened");
   const std::vector<uint8_t> f((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
