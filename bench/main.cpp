@@ -1,6 +1,7 @@
 // packsim_bench: runs the benchmarks and prints their figures as one table.
 //
-//   packsim_bench [--quick] [floor|plant|macro|presets|scaling|batch|restarts ...]   (default: all)
+//   packsim_bench [--quick] [floor|plant|macro|presets|scaling|batch|restarts|target ...]   (default: all)
+//   (target: the example firmware in host mode and on the virtual Cortex-M4, same scenarios)
 //   (plant: system D's fast integrator alone, for profiling the plant with perf;
 //    restarts: system B's balancer race, CVODE against the fast integrator)
 //
@@ -11,8 +12,10 @@
 #include <ctime>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "bench/benchmarks.hpp"
+#include "core/sim/simulation.hpp"
 
 using namespace packsim;
 using namespace packsim::bench;
@@ -48,10 +51,11 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--quick") quick = true;
     else if (a == "floor" || a == "plant" || a == "macro" || a == "presets" || a == "scaling" || a == "batch" ||
-             a == "restarts")
+             a == "restarts" || a == "target")
       want.insert(a);
     else {
-      std::fprintf(stderr, "usage: %s [--quick] [floor|plant|macro|presets|scaling|batch|restarts ...]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--quick] [floor|plant|macro|presets|scaling|batch|restarts|target ...]\n",
+                   argv[0]);
       return 2;
     }
   }
@@ -159,6 +163,32 @@ int main(int argc, char** argv) {
              r->jac_evals > 0 ? std::to_string(r->jac_evals) : "-",
              r->lin_setups > 0 ? std::to_string(r->lin_setups) : "-"});
     std::printf("Restarts at input switches (system B's race with its active balancer):\n%s\n", t.str().c_str());
+  }
+
+  if (on("target")) {
+    // The example firmware as a host library and as Cortex-M4 code in the emulator, on
+    // the same scenarios (the ELFs and the library next to this executable).
+    Table t({"example firmware (system C / D)", "sim s", "host CPU s", "target CPU s", "target / host",
+             "instructions", "RTF target"});
+    const char* names[] = {"c_example_firmware_overcurrent", "c_example_firmware_hot_cell", "d_example_firmware_device_silent"};
+    for (const char* n : names) {
+      const std::string name = n;
+      const Scenario host = bundledScenario("firmware/" + name + ".yaml");
+      const Scenario target = bundledScenario("firmware/target/" + name + "_cm4.yaml");
+      const RunFigures h = timeScenario(name, host, 1, quick ? 1 : 3);
+      const RunFigures g = timeScenario(name, target, 1, quick ? 1 : 3);
+      const std::vector<std::string> lines = runScenario(target).summary.firmware_target;
+      std::string instr = "-";
+      if (!lines.empty()) {
+        const std::string& last = lines.back();
+        const size_t colon = last.find(": ");
+        instr = last.substr(colon + 2, last.find(" instructions") - colon - 2);
+      }
+      t.add({name, fmt(g.sim_s, 0), fmt(h.time.cpu_s, 3), fmt(g.time.cpu_s, 3), fmt(g.time.cpu_s / h.time.cpu_s, 2),
+             instr, fmt(g.sim_s / g.time.cpu_s, 0)});
+    }
+    std::printf("Target mode (Unicorn, 168 MHz Cortex-M4) against host mode (the same C as an x86-64 library):\n%s\n",
+                t.str().c_str());
   }
 
   if (on("batch")) {

@@ -8,6 +8,7 @@ APT_PACKAGES=(
   libsundials-dev libsuitesparse-dev libyaml-cpp-dev libhdf5-dev libeigen3-dev libgtest-dev libgmock-dev
   pybind11-dev libcli11-dev
   libzip-dev                  # packsim fmu: writes the FMU archive
+  libunicorn-dev libcapstone-dev  # bms.firmware.target: cortex-m4: the ARM emulator and the disassembler of its cycle model
   gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   # scripts/fuzz.sh: clang with libFuzzer (compiler-rt) and the OpenMP that SUNDIALS' CMake config asks for
   clang libclang-rt-14-dev libomp-14-dev

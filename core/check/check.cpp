@@ -77,6 +77,7 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   o.name = s.name;
   for (const Event& ev : r.events)
     if (ev.kind == "config_warning") o.warnings.push_back(ev.detail);
+  o.target = r.summary.firmware_target;
   const Expectations& e = s.expect;
   const Summary& sm = r.summary;
   auto fail = [&](const std::string& m) { o.failures.push_back(m); };

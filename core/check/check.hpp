@@ -30,6 +30,7 @@ struct CheckOutcome {
   std::string verdict;                 // short summary of what the BMS did
   bool nothing_to_check = false;       // no expect: block (reported "RAN", not "PASS")
   std::vector<std::string> warnings;   // the run's config_warning events, as `run` prints them
+  std::vector<std::string> target;     // target mode: the summary's target lines (cycles, CPU load, stack, resets)
 };
 
 CheckOutcome judge(const Scenario& s, const RunResult& r);

@@ -23,6 +23,7 @@ int cmdCheck(const CheckOptions& o) {
     }
     std::cout << "  -- " << c.verdict << "\n";
     for (const auto& l : c.latencies) std::cout << "      injected " << l << "\n";
+    for (const auto& l : c.target) std::cout << "      target " << l << "\n";
     for (const auto& l : c.failures) std::cout << "      failed: " << l << "\n";
     for (const auto& l : c.warnings) std::cout << "      warning: " << l << "\n";
   }

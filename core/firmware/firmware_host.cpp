@@ -96,10 +96,13 @@ FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, doubl
       board_(std::move(board)),
       tick_ns_(toNs(tick_s)),
       sink_(sink),
-      lib_(std::make_unique<FirmwareLibrary>(s.library_path)),
-      guard_(std::make_unique<FaultGuard>(s.watchdog_s)),
+      lib_(s.isTarget() ? nullptr : std::make_unique<FirmwareLibrary>(s.library_path)),
+      guard_(s.isTarget() ? nullptr : std::make_unique<FaultGuard>(s.watchdog_s)),
       api_(makeApi()),
-      name_(s.library_path) {}
+      name_(s.library_path) {
+  if (s.isTarget())
+    target_ = std::make_unique<TargetFirmware>(*this, s.library_path, static_cast<uint32_t>(std::llround(s.clock_hz)));
+}
 
 FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, FirmwareBoard board,
                            double tick_s, FirmwareSink& sink)
@@ -133,6 +136,7 @@ void FirmwareHost::breakContract(const char* fmt, ...) {
 // Runs one call (under the guard for a library); false (and the MCU dead) when it did
 // not return cleanly or broke the contract.
 bool FirmwareHost::call(const char* what, int task) {
+  if (target_) return target_->call(what, task);
   Call c{this, task};
   breakCause_[0] = '\0';
   const double start_s = clock_s();
@@ -177,7 +181,7 @@ void FirmwareHost::failed(double start_s, const std::string& where, const GuardR
 void FirmwareHost::start(double t_s) {
   started_ = true;
   if (lib_ && !lib_->entry()) return fault(t_s, lib_->error());
-  if (!call("the entry " PSFW_ENTRY_SYMBOL, -2)) return;
+  if (!call("the entry " PSFW_ENTRY_SYMBOL, -2)) return watchdogReset();
   if (const std::string bad = checkFirmwareDescriptor(fw_); !bad.empty()) return fault(t_s, bad);
   const size_t words = (std::max<uint32_t>(fw_.instance_bytes, 1u) + sizeof(std::max_align_t) - 1) / sizeof(std::max_align_t);
   ram_.reset(new std::max_align_t[words]);
@@ -192,7 +196,7 @@ void FirmwareHost::start(double t_s) {
   inInit_ = true;
   const bool ok = call("init", -1);
   inInit_ = false;
-  if (!ok) return;
+  if (!ok) return watchdogReset();
   if (initResult_ != 0) return fault(t_s, "init returned " + std::to_string(initResult_) + " (not 0)");
   // Periods as init left them (set_task_period): first due one period after power-up.
   nextDue_ns_.assign(fw_.task_count, std::numeric_limits<uint64_t>::max());
@@ -200,7 +204,7 @@ void FirmwareHost::start(double t_s) {
     const uint64_t p_ns = uint64_t{fw_.tasks[i].period_ms} * 1000000u;
     if (p_ns == 0) continue;  // switched off at init
     nextDue_ns_[i] = toNs(t_s) + p_ns;
-    if (p_ns % tick_ns_ != 0 || p_ns < tick_ns_) {
+    if ((p_ns % tick_ns_ != 0 || p_ns < tick_ns_) && !(target_ && target_->resets() > 0)) {
       char note[200];
       std::snprintf(note, sizeof note,
                     "firmware task %u: its %u ms period is not a multiple of the %.0f ms BMS tick; it runs at its "
@@ -217,6 +221,11 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   out_ = &out;
   clock_ns_ = std::max(clock_ns_, toNs(t_s));
   const uint64_t windowEnd_ns = toNs(t_s) + tick_ns_;
+  if (target_ && started_ && target_->watchdogExpired(toNs(t_s))) {
+    target_->expire();  // it ran out while the MCU waited for its next task
+    watchdogReset();
+  }
+  if (!bootAfterReset(windowEnd_ns, out)) return;
   bool due = !started_;
   for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
   if (!due) return;
@@ -225,7 +234,7 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   std::optional<FaultGuard::Scope> handlers;
   if (guard_) handlers.emplace();
   if (!started_) start(t_s);
-  while (!dead_) {
+  while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots in the tick of its instant
     int next = -1;
     for (uint32_t i = 0; i < fw_.task_count; ++i)
       if (nextDue_ns_[i] < windowEnd_ns && (next < 0 || nextDue_ns_[i] < nextDue_ns_[static_cast<size_t>(next)]))
@@ -235,12 +244,73 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
     callStart_ns_ = clock_ns_;
     callBudget_ns_ = (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u;
-    if (!call("task", next)) return;
+    if (!call("task", next)) return watchdogReset();
     ++runs_[static_cast<size_t>(next)];
     worst_ns_[static_cast<size_t>(next)] = std::max(worst_ns_[static_cast<size_t>(next)], clock_ns_ - callStart_ns_);
     nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
   }
   callBudget_ns_ = 0;
+}
+
+std::vector<std::string> FirmwareHost::targetSummary(double elapsed_s) const {
+  std::vector<std::string> lines;
+  if (!target_) return lines;
+  const TargetFirmware& t = *target_;
+  const double mhz = t.clock_hz() * 1e-6;
+  char line[300];
+  for (size_t i = 0; i < t.taskStats().size(); ++i) {
+    const TargetTaskStats& s = t.taskStats()[i];
+    if (s.calls == 0) continue;
+    std::snprintf(line, sizeof line,
+                  "task %zu (period %u ms): %llu calls, mean %.0f instructions / %.0f cycles (TRM range %.0f-%.0f), "
+                  "worst %llu instructions / %llu cycles = %.1f us at %.0f MHz, stack %u bytes",
+                  i, fw_.tasks[i].period_ms, static_cast<unsigned long long>(s.calls),
+                  static_cast<double>(s.instructions) / static_cast<double>(s.calls),
+                  static_cast<double>(s.cycles) / static_cast<double>(s.calls),
+                  static_cast<double>(s.cyclesMin) / static_cast<double>(s.calls),
+                  static_cast<double>(s.cyclesMax) / static_cast<double>(s.calls),
+                  static_cast<unsigned long long>(s.worstInstructions), static_cast<unsigned long long>(s.worstCycles),
+                  static_cast<double>(s.worstCycles) / mhz, mhz, s.stack_bytes);
+    lines.push_back(line);
+  }
+  const double load = elapsed_s > 0 ? static_cast<double>(t.totalCycles()) / (t.clock_hz() * elapsed_s) : 0.0;
+  std::snprintf(line, sizeof line,
+                "cortex-m4 at %.0f MHz: %llu instructions, %llu cycles (TRM range %llu-%llu), CPU load %.3f %%, "
+                "stack high-water %u of %u bytes, %u watchdog resets",
+                mhz, static_cast<unsigned long long>(t.totalInstructions()),
+                static_cast<unsigned long long>(t.totalCycles()), static_cast<unsigned long long>(t.totalCyclesMin()),
+                static_cast<unsigned long long>(t.totalCyclesMax()), 100.0 * load, t.stackHighWater_bytes(),
+                t.stackSize_bytes(), t.resets());
+  lines.push_back(line);
+  return lines;
+}
+
+std::vector<std::pair<std::string, double>> FirmwareHost::targetFigures(double elapsed_s) const {
+  std::vector<std::pair<std::string, double>> f;
+  if (!target_) return f;
+  const TargetFirmware& t = *target_;
+  const auto d = [](uint64_t v) { return static_cast<double>(v); };
+  f.emplace_back("target_clock_hz", t.clock_hz());
+  f.emplace_back("target_instructions", d(t.totalInstructions()));
+  f.emplace_back("target_cycles", d(t.totalCycles()));
+  f.emplace_back("target_cycles_trm_min", d(t.totalCyclesMin()));
+  f.emplace_back("target_cycles_trm_max", d(t.totalCyclesMax()));
+  f.emplace_back("target_cpu_load", elapsed_s > 0 ? d(t.totalCycles()) / (t.clock_hz() * elapsed_s) : 0.0);
+  f.emplace_back("target_stack_high_water_bytes", t.stackHighWater_bytes());
+  f.emplace_back("target_stack_bytes", t.stackSize_bytes());
+  f.emplace_back("target_watchdog_resets", t.resets());
+  for (size_t i = 0; i < t.taskStats().size(); ++i) {
+    const TargetTaskStats& s = t.taskStats()[i];
+    const std::string p = "target_task" + std::to_string(i) + "_";
+    const double n = s.calls ? d(s.calls) : 1.0;
+    f.emplace_back(p + "calls", d(s.calls));
+    f.emplace_back(p + "mean_instructions", d(s.instructions) / n);
+    f.emplace_back(p + "mean_cycles", d(s.cycles) / n);
+    f.emplace_back(p + "worst_instructions", d(s.worstInstructions));
+    f.emplace_back(p + "worst_cycles", d(s.worstCycles));
+    f.emplace_back(p + "stack_bytes", s.stack_bytes);
+  }
+  return f;
 }
 
 std::string FirmwareHost::status() const {
@@ -264,9 +334,45 @@ std::string FirmwareHost::status() const {
 
 bool FirmwareHost::checkBudget() {
   if (!enforceBudgets_ || callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return true;
-  breakContract("ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
+  breakContract(target_ ? "ran %.6f ms of simulated time (its code on the MCU clock, bus transfers and delays), over "
+                          "its %.3f ms budget"
+                        : "ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
                 static_cast<double>(clock_ns_ - callStart_ns_) * 1e-6, static_cast<double>(callBudget_ns_) * 1e-6);
   return false;
+}
+
+// Target mode, after a call that did not return: if the watchdog ran out, the MCU
+// resets (RAM reloaded except .noinit) and, at the tick that holds the reset's instant,
+// its outputs drop to their reset level and it boots again (bootAfterReset); else the
+// firmware is dead (recorded).
+void FirmwareHost::watchdogReset() {
+  if (!target_ || !target_->resetPending()) return;
+  const uint64_t at_ns = target_->watchdogDeadline_ns();
+  char detail[240];
+  std::snprintf(detail, sizeof detail,
+                "watchdog: not kicked for %.3f ms; the MCU resets: outputs off, RAM reloaded from the ELF except "
+                ".noinit, the entry and init run again (reset %u)",
+                static_cast<double>(target_->watchdogTimeout_ns()) * 1e-6,
+                target_->resets() + 1);
+  sink_.event(static_cast<double>(at_ns) * 1e-9, "mcu_reset", detail);
+  target_->reset();
+  started_ = false;
+  resetPending_ = true;
+  resetAt_ns_ = at_ns;
+  nextDue_ns_.clear();
+  callBudget_ns_ = 0;
+}
+
+// At the tick whose window holds the reset's instant: the outputs drop to their reset
+// level and the MCU boots; false while that tick has not come yet.
+bool FirmwareHost::bootAfterReset(uint64_t windowEnd_ns, bms::Outputs& out) {
+  if (!resetPending_) return true;
+  if (resetAt_ns_ >= windowEnd_ns) return false;
+  out.relayClose = out.prechargeClose = out.dischargeFetOn = out.chargeFetOn = false;
+  out.chargerEnable = false;
+  out.chargerCurrentRequest_mA = 0;
+  resetPending_ = false;
+  return true;
 }
 
 void FirmwareHost::delayUs(uint32_t us) {

@@ -33,6 +33,7 @@
 #include "core/firmware/fault_guard.hpp"
 #include "core/firmware/firmware_library.hpp"
 #include "core/firmware/monitor_bus.hpp"
+#include "core/firmware/target_firmware.hpp"
 #include "core/scenario/firmware_config.hpp"
 
 namespace packsim {
@@ -58,7 +59,8 @@ struct FirmwareBoard {
 
 class FirmwareHost {
  public:
-  // A user library (s.library_path, s.config, s.watchdog_s) on `board`.
+  // A user library (s.library_path, s.config, s.watchdog_s) on `board`; with s.target,
+  // the ELF at s.library_path on the virtual MCU (target_firmware.hpp).
   FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, double tick_s, FirmwareSink& sink);
   // A firmware linked into packsim, with its configuration blob.
   FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> config, FirmwareBoard board, double tick_s,
@@ -92,6 +94,13 @@ class FirmwareHost {
   void enforceBudgets(bool on) { enforceBudgets_ = on; }
   // The firmware's RAM (null before init): for a debug probe of a linked-in firmware.
   const void* ram() const { return ram_.get(); }
+  // Target mode: the virtual MCU's counts (null in host mode).
+  const TargetFirmware* target() const { return target_.get(); }
+  // Target mode: summary lines (per task: instructions, cycles, worst case; CPU load,
+  // stack high-water, resets) over `elapsed_s` of run; empty in host mode.
+  std::vector<std::string> targetSummary(double elapsed_s) const;
+  // The same figures by name (target_cycles, target_task0_worst_cycles, ...); empty in host mode.
+  std::vector<std::pair<std::string, double>> targetFigures(double elapsed_s) const;
 
   // Board services (the psfw_board_api entries land here).
   uint32_t nowMs() const { return static_cast<uint32_t>(clock_ns_ / 1000000u); }
@@ -109,7 +118,10 @@ class FirmwareHost {
   int32_t canReceive(uint8_t can, uint32_t* id, uint8_t* data);
 
  private:
+  friend class TargetFirmware;  // runs the calls of target mode and serves its supervisor calls
   struct Call;  // one call into the firmware (guarded for a library)
+  void watchdogReset();
+  bool bootAfterReset(uint64_t windowEnd_ns, bms::Outputs& out);
   bool call(const char* what, int task);
   void failed(double start_s, const std::string& where, const GuardResult& r);
   void start(double t_s);
@@ -127,6 +139,9 @@ class FirmwareHost {
   std::unique_ptr<FirmwareLibrary> lib_;  // a user library; null for a linked-in firmware
   const psfw_firmware* linked_ = nullptr;
   std::unique_ptr<FaultGuard> guard_;     // libraries only
+  std::unique_ptr<TargetFirmware> target_;  // target mode only
+  bool resetPending_ = false;                // a watchdog reset whose tick has not come yet
+  uint64_t resetAt_ns_ = 0;
   psfw_firmware fw_{};
   psfw_board_api api_{};
   std::unique_ptr<std::max_align_t[]> ram_;

@@ -340,6 +340,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
   w.attrInt(g, "display_bars_extra_max", sm.display_bars_extra_max);
   w.attr(g, "limit_unseen_longest_s", sm.limit_unseen_longest_s);
   w.attr(g, "limit_unseen_longest", sm.limit_unseen_longest);
+  for (const auto& [name, value] : sm.firmware_target_figures) w.attr(g, name.c_str(), value);  // target mode only
   if (sm.vehicle.present) {  // a vehicle on its route (docs/vehicle.md): summary.csv of a sweep over its speed
     const VehicleSummary& v = sm.vehicle;
     w.attr(g, "vehicle_distance_km", v.distance_m / 1000.0);

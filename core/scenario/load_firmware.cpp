@@ -8,6 +8,9 @@
 //                fields in that order reads it as is)
 //   config_file: raw bytes instead (relative to the scenario's folder)
 //   watchdog_ms: CPU time one init or task call may take before it counts as hung
+//                (target mode: the MCU's simulated time)
+//   target:      cortex-m4: instead of a library, an ELF (`elf:`, looked up as a library
+//                is, bare names as <name>.elf) runs on the virtual MCU at clock_mhz
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +18,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/firmware/elf_image.hpp"
 #include "core/io/install_paths.hpp"
 #include "core/scenario/scenario_sections.hpp"
 
@@ -26,7 +30,7 @@ namespace {
 
 constexpr size_t kMaxConfigBytes = 65536;
 
-std::vector<std::string> libraryCandidates(const std::string& name, const std::string& baseDir) {
+std::vector<std::string> libraryCandidates(const std::string& name, const std::string& baseDir, bool elf) {
   const fs::path given(name);
   if (given.is_absolute()) return {name};
   if (given.has_parent_path()) return {(fs::path(baseDir) / given).string()};
@@ -41,7 +45,7 @@ std::vector<std::string> libraryCandidates(const std::string& name, const std::s
   std::vector<std::string> out;
   for (const std::string& d : dirs) {
     out.push_back((fs::path(d) / name).string());
-    if (bare) out.push_back((fs::path(d) / ("lib" + name + ".so")).string());
+    if (bare) out.push_back((fs::path(d) / (elf ? name + ".elf" : "lib" + name + ".so")).string());
   }
   return out;
 }
@@ -101,9 +105,19 @@ FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseD
   FirmwareSettings f;
   if (!m) return f;
   f.library = true;
-  const std::string name = m->string("library");
+  if (m->has("target")) {
+    f.target = m->string("target");
+    if (f.target != "cortex-m4") throw m->errorAt("target", "unknown target '" + f.target + "'; allowed: cortex-m4");
+    // `library: null` clears a library an extended scenario names.
+    if (m->has("library") && !m->node("library").IsNull())
+      throw m->errorAt("library", "a cortex-m4 target runs an ELF: give elf:, not library: (a host-mode shared library; "
+                                  "`library: null` clears one an extended scenario names)");
+    f.clock_hz = m->number("clock_mhz", f.clock_hz * 1e-6, Range::closed(1.0, 1000.0)) * 1e6;
+  }
+  const char* key = f.isTarget() ? "elf" : "library";
+  const std::string name = m->string(key);
   std::string tried;
-  for (const std::string& c : libraryCandidates(name, baseDir)) {
+  for (const std::string& c : libraryCandidates(name, baseDir, f.isTarget())) {
     std::error_code ec;
     if (fs::is_regular_file(c, ec)) {
       f.library_path = fs::absolute(c, ec).string();
@@ -112,8 +126,16 @@ FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseD
     tried += "\n  " + c;
   }
   if (f.library_path.empty())
-    throw m->errorAt("library", "firmware library '" + name + "' not found; tried:" + tried +
-                                    "\n(build it, give a path relative to the scenario, or set PACKSIM_FIRMWARE_PATH)");
+    throw m->errorAt(key, std::string(f.isTarget() ? "firmware ELF '" : "firmware library '") + name +
+                              "' not found; tried:" + tried +
+                              "\n(build it, give a path relative to the scenario, or set PACKSIM_FIRMWARE_PATH)");
+  if (f.isTarget()) {
+    try {
+      (void)readTargetElf(f.library_path);
+    } catch (const ElfError& e) {
+      throw m->errorAt("elf", e.what());
+    }
+  }
   if (m->has("config") && m->has("config_file")) throw m->errorAt("config_file", "give config or config_file, not both");
   if (m->has("config")) f.config = configBlob(*m);
   if (m->has("config_file")) f.config = configFileBytes(*m, baseDir);

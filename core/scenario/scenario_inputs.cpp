@@ -67,7 +67,7 @@ std::vector<Input> inputs(const Scenario& s) {
   if (!s.compare_scenario.empty() && fileExists(s.compare_scenario))
     out.push_back({s.compare_scenario, "the compare: scenario"});
   if (s.bms.firmware.library && fileExists(s.bms.firmware.library_path))
-    out.push_back({s.bms.firmware.library_path, "the firmware library"});
+    out.push_back({s.bms.firmware.library_path, s.bms.firmware.isTarget() ? "the firmware ELF" : "the firmware library"});
   return out;
 }
 

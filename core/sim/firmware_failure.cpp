@@ -10,7 +10,7 @@ std::string firmwareFailure(const Scenario& s, const RunResult& r) {
     char at[48];
     std::snprintf(at, sizeof at, " failed at %.3f s: ", e.time_s);
     const std::string cause = e.detail.substr(0, e.detail.find("; the MCU is stopped"));
-    const std::string who = s.bms.firmware.library ? "the firmware library '" + s.bms.firmware.library_path + "'"
+    const std::string who = s.bms.firmware.library ? (s.bms.firmware.isTarget() ? "the firmware ELF '" : "the firmware library '") + s.bms.firmware.library_path + "'"
                                                    : std::string("packsim's core firmware");
     return who + at + cause;
   }

@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/sim/cvode_integrator.hpp"
@@ -130,6 +131,9 @@ struct Summary {
   double limit_unseen_longest_s = 0.0;
   std::string limit_unseen_longest;
   std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
+  std::vector<std::string> firmware_target;  // target mode: per task instructions and cycles, CPU load, stack, resets
+  // target mode: the same figures by name, the result file's /summary attributes target_*
+  std::vector<std::pair<std::string, double>> firmware_target_figures;
   VehicleSummary vehicle;       // `load: {vehicle: ...}`: laps, the pack's limits on the vehicle
 };
 

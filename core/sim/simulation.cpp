@@ -236,6 +236,8 @@ RunResult SimulationRun::finish() {
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.solver = m.solver->stats();
   r.summary.firmware_status = m.firmware.status();
+  r.summary.firmware_target = m.firmware.host().targetSummary(static_cast<double>(m.k) * m.tick_s);
+  r.summary.firmware_target_figures = m.firmware.host().targetFigures(static_cast<double>(m.k) * m.tick_s);
   if (m.vehicle) r.summary.vehicle = m.vehicle->summary(static_cast<double>(m.k) * m.tick_s);
   compareWithReference(m.s, r);  // the `compare:` reference run, if the scenario names one
   return r;

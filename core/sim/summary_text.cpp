@@ -120,6 +120,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   os << "energy out      " << fmt("%.2f", m.energy_delivered_Wh) << " Wh  (" << fmt("%.3f", m.charge_delivered_Ah)
      << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
   if (!m.firmware_status.empty()) os << "firmware        " << m.firmware_status << "\n";
+  for (const std::string& line : m.firmware_target) os << "target          " << line << "\n";
   const int P = s.pack.parallel;
   os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  " << cellName(m.min_cell, P) << " at "
      << fmt("%.2f", m.min_cell_time_s) << " s\n";

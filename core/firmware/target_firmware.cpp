@@ -1,0 +1,344 @@
+#include "core/firmware/target_firmware.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+
+#include "core/firmware/firmware_host.hpp"
+#include "core/firmware/target_memory_map.hpp"
+
+namespace packsim {
+
+namespace {
+
+// A non-null stand-in for a function that lives in the MCU's flash: the host's
+// descriptor checks ask only whether a task has one (psbsp_task calls the real one).
+void targetTask(void*, psfw_board*, const psfw_board_api*) {}
+int32_t targetInit(void*, psfw_board*, const psfw_board_api*, const uint8_t*, uint32_t) { return 0; }
+
+constexpr uint32_t kDescriptorBytes = 20 + 12 * PSFW_MAX_TASKS;  // psfw_firmware on a 32-bit ARM
+constexpr size_t kNameChars = 65;
+
+uint32_t align8(uint32_t a) { return (a + 7u) & ~7u; }
+
+uint32_t word(const uint8_t* p) {
+  uint32_t v;
+  std::memcpy(&v, p, 4);
+  return v;
+}
+
+}  // namespace
+
+TargetFirmware::TargetFirmware(FirmwareHost& host, const std::string& elfPath, uint32_t clock_hz)
+    : host_(host), clock_hz_(clock_hz), runawayCycles_(UINT64_MAX) {
+  try {
+    elf_ = std::make_unique<ElfImage>(readTargetElf(elfPath));
+    mcu_ = std::make_unique<TargetMcu>(*elf_);
+    mcu_->loadRam(false);
+  } catch (const std::exception& e) {
+    error_ = e.what();
+    mcu_.reset();
+  }
+}
+
+TargetFirmware::~TargetFirmware() = default;
+
+void TargetFirmware::syncClock() {
+  const uint64_t n = mcu_->cycles() - syncedCycles_;
+  syncedCycles_ = mcu_->cycles();
+  const unsigned __int128 total = static_cast<unsigned __int128>(n) * 1000000000u + cycleFraction_;
+  host_.clock_ns_ += static_cast<uint64_t>(total / clock_hz_);
+  cycleFraction_ = static_cast<uint64_t>(total % clock_hz_);
+}
+
+// The cycle count at which the running call must stop to be judged: its budget ends,
+// the watchdog runs out, or the runaway limit.
+void TargetFirmware::setDeadline() {
+  const FirmwareHost& h = host_;
+  // Cycles whose time exceeds ns (by at least 1 ns after the clock's rounding down).
+  const auto cyclesPast = [&](uint64_t ns) {
+    return static_cast<uint64_t>(static_cast<unsigned __int128>(ns + 1) * clock_hz_ / 1000000000u) + 1;
+  };
+  uint64_t limit = callStartCycles_ + runawayCycles_;
+  if (h.enforceBudgets_ && h.callBudget_ns_ != 0) {
+    const uint64_t used = h.clock_ns_ - h.callStart_ns_;
+    limit = std::min(limit, syncedCycles_ + cyclesPast(h.callBudget_ns_ > used ? h.callBudget_ns_ - used : 0));
+  }
+  if (wdgRunning_) {
+    const uint64_t d = watchdogDeadline_ns();
+    limit = std::min(limit, syncedCycles_ + cyclesPast(d > h.clock_ns_ ? d - h.clock_ns_ : 0));
+  }
+  mcu_->setCycleDeadline(limit);
+}
+
+bool TargetFirmware::call(const char* what, int task) {
+  FirmwareHost& h = host_;
+  h.breakCause_[0] = '\0';
+  resetPending_ = false;
+  const double start_s = h.clock_s();
+  std::string where = what;
+  if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(h.fw_.tasks[task].period_ms) + " ms)";
+  if (!mcu_) {
+    h.fault(start_s, error_);
+    return false;
+  }
+  if (watchdogExpired(h.clock_ns_)) {  // it ran out while the MCU was idle between calls
+    resetPending_ = true;
+    return false;
+  }
+  runawayCycles_ = static_cast<uint64_t>(h.watchdog_s_ * clock_hz_);
+  uint32_t fn = 0;
+  std::vector<uint32_t> args;
+  if (task == -2) {
+    fn = elf_->symbol("psbsp_entry");
+  } else if (task == -1) {
+    fn = elf_->symbol("psbsp_init");
+    args = {desc_, ram_, config_, static_cast<uint32_t>(h.config_.size())};
+  } else {
+    fn = elf_->symbol("psbsp_task");
+    args = {desc_, static_cast<uint32_t>(task), ram_};
+  }
+  mcu_->paintStack();
+  callStartCycles_ = syncedCycles_ = mcu_->cycles();
+  callStartMin_ = mcu_->cyclesMin();
+  callStartMax_ = mcu_->cyclesMax();
+  const uint64_t startInstructions = mcu_->instructions();
+  setDeadline();
+  TargetCallResult r = mcu_->call(fn, args, *this);
+  for (;;) {
+    syncClock();
+    if (r.stop == TargetStop::Returned) break;
+    if (r.stop == TargetStop::Fault) {
+      h.fault(start_s, "fault in " + where + ": " + r.fault);
+      return false;
+    }
+    if (h.breakCause_[0] == '\0') h.checkBudget();  // a deadline: the budget, the watchdog or a runaway
+    if (h.breakCause_[0] != '\0') {
+      char pc[32];
+      std::snprintf(pc, sizeof pc, " (stopped at PC 0x%08x)", mcu_->pc());
+      h.fault(start_s, "contract break in " + where + ": " + h.breakCause_ + pc);
+      return false;
+    }
+    if (watchdogExpired(h.clock_ns_)) {
+      resetPending_ = true;
+      return false;
+    }
+    if (mcu_->cycles() - callStartCycles_ >= runawayCycles_) {
+      char why[200];
+      std::snprintf(why, sizeof why,
+                    "runaway in %s: still running after %.0f ms of MCU time (%llu instructions; watchdog_ms), PC 0x%08x",
+                    where.c_str(), h.watchdog_s_ * 1e3,
+                    static_cast<unsigned long long>(mcu_->instructions() - startInstructions), mcu_->pc());
+      h.fault(start_s, why);
+      return false;
+    }
+    setDeadline();
+    r = mcu_->resume(*this);
+  }
+  const uint32_t stack = mcu_->stackUsed_bytes();
+  stackHighWater_ = std::max(stackHighWater_, stack);
+  if (stack >= mcu_->stackBytes()) {  // the paint is gone to the last word: it ran past the bottom
+    h.fault(start_s, "stack overflow in " + where + ": the call used all " + std::to_string(mcu_->stackBytes()) +
+                         " bytes of the stack (PSBSP_STACK_BYTES) and wrote below it, into the RAM under it");
+    return false;
+  }
+  if (task >= 0) {
+    TargetTaskStats& s = stats_[static_cast<size_t>(task)];
+    const uint64_t n = mcu_->instructions() - startInstructions, c = mcu_->cycles() - callStartCycles_;
+    ++s.calls;
+    s.instructions += n;
+    s.cycles += c;
+    s.cyclesMin += mcu_->cyclesMin() - callStartMin_;
+    s.cyclesMax += mcu_->cyclesMax() - callStartMax_;
+    s.worstInstructions = std::max(s.worstInstructions, n);
+    s.worstCycles = std::max(s.worstCycles, c);
+    s.stack_bytes = std::max(s.stack_bytes, stack);
+  }
+  if (task == -2) {
+    std::string why;
+    if (!readDescriptor(r.r0, why)) {
+      h.fault(start_s, why);
+      return false;
+    }
+  } else if (task == -1) {
+    h.initResult_ = static_cast<int32_t>(r.r0);
+  }
+  return true;
+}
+
+// The descriptor psfw_firmware_entry returned (r0), read from the MCU's memory into the
+// host's copy; the instance RAM and the configuration blob placed after .bss.
+bool TargetFirmware::readDescriptor(uint32_t addr, std::string& why) {
+  FirmwareHost& h = host_;
+  uint8_t d[kDescriptorBytes];
+  char hex[16];
+  std::snprintf(hex, sizeof hex, "0x%08x", addr);
+  if (addr == 0) {
+    why = PSFW_ENTRY_SYMBOL " returned no descriptor";
+    return false;
+  }
+  if (!mcu_->read(addr, d, sizeof d)) {
+    why = PSFW_ENTRY_SYMBOL " returned " + std::string(hex) + ", not a descriptor in the MCU's memory";
+    return false;
+  }
+  psfw_firmware fw{};
+  fw.abi_version = word(d);
+  fw.instance_bytes = word(d + 8);
+  fw.init = word(d + 12) ? &targetInit : nullptr;
+  fw.task_count = word(d + 16);
+  for (uint32_t i = 0; i < PSFW_MAX_TASKS; ++i) {
+    fw.tasks[i].period_ms = word(d + 20 + 12 * i);
+    fw.tasks[i].budget_us = word(d + 24 + 12 * i);
+    fw.tasks[i].run = word(d + 28 + 12 * i) ? &targetTask : nullptr;
+  }
+  char name[kNameChars] = {0};
+  if (word(d + 4) && !mcu_->readString(word(d + 4), name, sizeof name)) name[0] = '\0';
+  h.fw_ = fw;
+  h.name_ = name[0] ? name : "(unnamed)";
+  desc_ = addr;
+  if (resets_ == 0) stats_.assign(std::min<uint32_t>(fw.task_count, PSFW_MAX_TASKS), TargetTaskStats{});  // over the run
+  // Instance RAM, then the configuration blob, between .bss / .noinit and the stack.
+  ram_ = align8(mcu_->freeStart());
+  const uint64_t end = uint64_t{align8(static_cast<uint32_t>(std::min<uint64_t>(uint64_t{ram_} + fw.instance_bytes,
+                                                                              0xFFFFFFF0u)))} +
+                       h.config_.size();
+  if (end > mcu_->stackLimit()) {
+    why = "instance_bytes " + std::to_string(fw.instance_bytes) + " and the " + std::to_string(h.config_.size()) +
+          "-byte configuration do not fit in the " + std::to_string(mcu_->stackLimit() - ram_) +
+          " bytes of RAM between .bss and the stack";
+    return false;
+  }
+  config_ = align8(ram_ + fw.instance_bytes);
+  mcu_->write(config_, h.config_.data(), h.config_.size());
+  return true;
+}
+
+void TargetFirmware::reset() {
+  ++resets_;
+  wdgRunning_ = false;
+  resetPending_ = false;
+  wdgTimeoutUs_ = 0;
+  mcu_->loadRam(true);
+}
+
+bool TargetFirmware::copyIn(uint32_t addr, void* out, size_t n, const char* what) {
+  if (mcu_->read(addr, out, n)) return true;
+  char why[200];
+  std::snprintf(why, sizeof why, "%s at 0x%08x (%zu bytes) is not in the MCU's memory, PC 0x%08x", what, addr, n,
+                mcu_->pc());
+  mcu_->raiseFault(why);
+  return false;
+}
+
+bool TargetFirmware::copyOut(uint32_t addr, const void* in, size_t n, const char* what) {
+  if (mcu_->write(addr, in, n)) return true;
+  char why[200];
+  std::snprintf(why, sizeof why, "%s at 0x%08x (%zu bytes) is not in the MCU's RAM, PC 0x%08x", what, addr, n,
+                mcu_->pc());
+  mcu_->raiseFault(why);
+  return false;
+}
+
+// A service: the arguments from the stub's registers and stack, buffers copied between
+// the MCU's memory and the host's, the host's own service code in between.
+uint32_t TargetFirmware::supervisorCall(TargetMcu& m, unsigned number) {
+  FirmwareHost& h = host_;
+  syncClock();
+  uint32_t r = 0;
+  switch (number) {
+    case kSvcNowMs: r = h.nowMs(); break;
+    case kSvcNowUs: r = h.nowUs(); break;
+    case kSvcDelayUs: h.delayUs(m.arg(1)); break;
+    case kSvcBusTransfer: {
+      const uint8_t bus = static_cast<uint8_t>(m.arg(1));
+      const uint32_t tx = m.arg(2), rx = m.arg(4);
+      const uint16_t txLen = static_cast<uint16_t>(m.arg(3)), rxLen = static_cast<uint16_t>(m.arg(5));
+      uint8_t txb[PSFW_BUS_MAX_FRAME], rxb[PSFW_BUS_MAX_FRAME];
+      if (tx && txLen <= PSFW_BUS_MAX_FRAME && !copyIn(tx, txb, txLen, "bus_transfer's tx buffer")) return 0;
+      const int32_t got = h.busTransfer(bus, tx ? txb : nullptr, txLen, rx ? rxb : nullptr, rxLen);
+      if (rx && rxLen <= PSFW_BUS_MAX_FRAME && h.breakCause_[0] == '\0' &&
+          !copyOut(rx, rxb, rxLen, "bus_transfer's rx buffer"))
+        return 0;
+      r = static_cast<uint32_t>(got);
+      break;
+    }
+    case kSvcAdcRead: r = static_cast<uint32_t>(h.adcRead(static_cast<uint8_t>(m.arg(1)))); break;
+    case kSvcGpioRead: r = static_cast<uint32_t>(h.gpioRead(static_cast<uint8_t>(m.arg(1)))); break;
+    case kSvcGpioWrite: h.gpioWrite(static_cast<uint8_t>(m.arg(1)), static_cast<int32_t>(m.arg(2))); break;
+    case kSvcDacWrite: h.dacWrite(static_cast<uint8_t>(m.arg(1)), static_cast<int32_t>(m.arg(2))); break;
+    case kSvcTelemetrySend: {
+      const uint32_t bytes = m.arg(1);
+      const uint16_t len = static_cast<uint16_t>(m.arg(2));
+      uint8_t b[256];
+      const size_t n = std::min<size_t>(len, sizeof b);  // the host keeps at most these
+      if (bytes && !copyIn(bytes, b, n, "telemetry_send's buffer")) return 0;
+      h.telemetrySend(bytes ? b : nullptr, static_cast<uint16_t>(bytes ? n : len));
+      break;
+    }
+    case kSvcEvent: {
+      const uint32_t text = m.arg(1);
+      char t[122];
+      if (text && !m.readString(text, t, sizeof t)) {
+        copyIn(text, t, 1, "event's text");
+        return 0;
+      }
+      h.firmwareEvent(text ? t : nullptr);
+      break;
+    }
+    case kSvcSetTaskPeriod: r = static_cast<uint32_t>(h.setTaskPeriod(m.arg(1), m.arg(2), m.arg(3))); break;
+    case kSvcCanSend: {
+      const uint32_t data = m.arg(3);
+      const uint8_t len = static_cast<uint8_t>(m.arg(4));
+      uint8_t b[8] = {0};
+      if (data && len <= 8 && !copyIn(data, b, len, "can_send's data")) return 0;
+      r = static_cast<uint32_t>(h.canSend(static_cast<uint8_t>(m.arg(1)), m.arg(2), data ? b : nullptr, len));
+      break;
+    }
+    case kSvcCanReceive: {
+      const uint32_t id = m.arg(2), data = m.arg(3);
+      uint32_t gotId = 0;
+      uint8_t b[8] = {0};
+      const int32_t n = h.canReceive(static_cast<uint8_t>(m.arg(1)), id ? &gotId : nullptr, data ? b : nullptr);
+      if (n >= 0 && (!copyOut(id, &gotId, 4, "can_receive's id") || !copyOut(data, b, static_cast<size_t>(n), "can_receive's data")))
+        return 0;
+      r = static_cast<uint32_t>(n);
+      break;
+    }
+    default: {
+      char why[120];
+      std::snprintf(why, sizeof why, "supervisor call #%u, which the board does not offer (1-13), PC 0x%08x", number,
+                    m.pc());
+      m.raiseFault(why);
+      return 0;
+    }
+  }
+  if (h.breakCause_[0] != '\0')
+    m.requestStop();
+  else
+    setDeadline();
+  return r;
+}
+
+uint32_t TargetFirmware::watchdogRead(uint32_t offset) {
+  switch (offset) {
+    case 4: return wdgTimeoutUs_;
+    case 8: return resets_;
+    default: return 0;
+  }
+}
+
+void TargetFirmware::watchdogWrite(TargetMcu&, uint32_t offset, uint32_t value) {
+  syncClock();
+  if (offset == 4 && !wdgRunning_) wdgTimeoutUs_ = value;
+  if (offset != 0) return;
+  if (value == 0xCCCCu && !wdgRunning_ && wdgTimeoutUs_ > 0) {
+    wdgRunning_ = true;
+    wdgTimeout_ns_ = uint64_t{wdgTimeoutUs_} * 1000u;
+    wdgLastKick_ns_ = host_.clock_ns_;
+  } else if (value == 0xAAAAu && wdgRunning_) {
+    wdgLastKick_ns_ = host_.clock_ns_;
+  }
+  setDeadline();
+}
+
+}  // namespace packsim

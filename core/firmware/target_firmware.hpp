@@ -1,0 +1,101 @@
+// A firmware ELF on the virtual Cortex-M4 (bms.firmware.target: cortex-m4), driven by
+// the firmware host (firmware_host.hpp) exactly as a library is: the host's scheduler
+// calls the entry, init and the tasks (through the board-support layer's psbsp_entry,
+// psbsp_init, psbsp_task), a SysTick-style tick, and the board's services are the
+// host's own, reached from the firmware's supervisor calls (psbsp_board.c's numbers
+// below). The MCU clock advances by the cycles the code takes (cycle_model.hpp) at the
+// configured clock as well as by bus time and delays, so a task's budget counts its code.
+//
+// The watchdog (psbsp.h): started by the firmware, kicked after every task that returns
+// (and by the firmware at will); a missed kick resets the MCU: its outputs drop to their
+// reset level, RAM is reloaded from the ELF except .noinit, and the entry and init run
+// again in the BMS tick that holds the reset's instant.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/firmware/elf_image.hpp"
+#include "core/firmware/target_mcu.hpp"
+
+namespace packsim {
+
+class FirmwareHost;
+
+// The supervisor calls of psbsp_board.c.
+enum TargetService : unsigned {
+  kSvcNowMs = 1, kSvcNowUs, kSvcDelayUs, kSvcBusTransfer, kSvcAdcRead, kSvcGpioRead, kSvcGpioWrite, kSvcDacWrite,
+  kSvcTelemetrySend, kSvcEvent, kSvcSetTaskPeriod, kSvcCanSend, kSvcCanReceive
+};
+
+// What the code of one task cost, over the run.
+struct TargetTaskStats {
+  uint64_t calls = 0;
+  uint64_t instructions = 0, cycles = 0;            // totals
+  uint64_t worstInstructions = 0, worstCycles = 0;  // the longest call's
+  uint64_t cyclesMin = 0, cyclesMax = 0;            // the totals at the TRM ranges' ends (the model's error)
+  uint32_t stack_bytes = 0;                         // the deepest stack of any call
+};
+
+class TargetFirmware : public TargetPeripherals {
+ public:
+  TargetFirmware(FirmwareHost& host, const std::string& elfPath, uint32_t clock_hz);
+  ~TargetFirmware() override;
+  // Why the MCU could not be set up ("" if it was): a firmware_fault at power-up.
+  const std::string& error() const { return error_; }
+
+  // One call (the host's task numbering: -2 entry, -1 init, n task n). False when it
+  // did not return: the host's MCU is then dead (a fault or contract break, recorded),
+  // or it was reset by the watchdog (resetPending()).
+  bool call(const char* what, int task);
+  bool resetPending() const { return resetPending_; }
+  // The reset: RAM reloaded except .noinit, the watchdog stopped; the host runs the
+  // entry and init again.
+  void reset();
+  // The watchdog's deadline on the MCU clock (ns), if it runs.
+  bool watchdogExpired(uint64_t clock_ns) const { return wdgRunning_ && clock_ns > wdgLastKick_ns_ + wdgTimeout_ns_; }
+  uint64_t watchdogDeadline_ns() const { return wdgLastKick_ns_ + wdgTimeout_ns_; }
+  uint64_t watchdogTimeout_ns() const { return wdgTimeout_ns_; }
+  void expire() { resetPending_ = true; }
+
+  uint32_t clock_hz() const { return clock_hz_; }
+  const std::vector<TargetTaskStats>& taskStats() const { return stats_; }
+  uint64_t totalCycles() const { return mcu_ ? mcu_->cycles() : 0; }
+  uint64_t totalCyclesMin() const { return mcu_ ? mcu_->cyclesMin() : 0; }
+  uint64_t totalCyclesMax() const { return mcu_ ? mcu_->cyclesMax() : 0; }
+  uint64_t totalInstructions() const { return mcu_ ? mcu_->instructions() : 0; }
+  uint32_t stackHighWater_bytes() const { return stackHighWater_; }
+  uint32_t stackSize_bytes() const { return mcu_ ? mcu_->stackBytes() : 0; }
+  uint32_t resets() const { return resets_; }
+
+  uint32_t supervisorCall(TargetMcu& mcu, unsigned number) override;
+  uint32_t watchdogRead(uint32_t offset) override;
+  void watchdogWrite(TargetMcu& mcu, uint32_t offset, uint32_t value) override;
+
+ private:
+  void syncClock();
+  void setDeadline();
+  bool copyIn(uint32_t addr, void* out, size_t n, const char* what);
+  bool copyOut(uint32_t addr, const void* in, size_t n, const char* what);
+  bool readDescriptor(uint32_t addr, std::string& why);
+
+  FirmwareHost& host_;
+  uint32_t clock_hz_;
+  std::unique_ptr<ElfImage> elf_;
+  std::unique_ptr<TargetMcu> mcu_;
+  std::string error_;
+  uint32_t desc_ = 0, ram_ = 0, config_ = 0;  // addresses in the MCU's memory
+  uint64_t syncedCycles_ = 0;
+  uint64_t cycleFraction_ = 0;  // cycles·1e9 not yet turned into whole ns
+  uint64_t runawayCycles_;      // a call's hard limit when no budget applies
+  uint64_t callStartCycles_ = 0, callStartMin_ = 0, callStartMax_ = 0;
+  std::vector<TargetTaskStats> stats_;
+  uint32_t stackHighWater_ = 0;
+  bool wdgRunning_ = false, resetPending_ = false;
+  uint32_t wdgTimeoutUs_ = 0;
+  uint64_t wdgTimeout_ns_ = 0, wdgLastKick_ns_ = 0;
+  uint32_t resets_ = 0;
+};
+
+}  // namespace packsim

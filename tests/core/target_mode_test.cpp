@@ -1,0 +1,280 @@
+// Target mode (bms.firmware.target: cortex-m4): the example firmware's unchanged C
+// source cross-compiled for the Cortex-M4 and run by the virtual MCU against the
+// simulated pack. Independent expectations: host mode's decisions on the same
+// scenarios, the ELF header of an x86-64 library, the configured budget and watchdog.
+// Skipped (with the reason) only when arm-none-eabi-gcc was not found at configure time.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "core/firmware/cycle_model.hpp"
+#include "core/firmware/elf_image.hpp"
+#include "core/io/hdf5_writer.hpp"
+#include "core/sim/firmware_failure.hpp"
+#include "core/sim/simulation.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+#ifdef PACKSIM_TARGET_ELF_DIR
+#define REQUIRE_ARM_TOOLCHAIN()
+const std::string kElfDir = PACKSIM_TARGET_ELF_DIR;
+#else
+#define REQUIRE_ARM_TOOLCHAIN() GTEST_SKIP() << "arm-none-eabi-gcc was not found when packsim was configured: no target ELF"
+const std::string kElfDir;
+#endif
+
+#ifdef PACKSIM_TARGET_FAULT_FW
+#define PACKSIM_TARGET_FAULT_FW_OR_EMPTY PACKSIM_TARGET_FAULT_FW
+#else
+#define PACKSIM_TARGET_FAULT_FW_OR_EMPTY ""
+#endif
+
+std::string exampleElf() { return kElfDir + "/packsim_example_bms_cm4.elf"; }
+std::string watchdogElf() { return kElfDir + "/packsim_watchdog_demo_cm4.elf"; }
+
+Scenario bundled(const std::string& name) {
+  return loadScenarioFile(test::scenarioDir() + "/firmware/" + name + ".yaml");
+}
+
+// The example firmware in target mode trips for the same reason as in host mode, at
+// the same time to within one 10 ms tick (its decisions are the same code's; the clock
+// differs only by the code's own cycles, which host mode does not count).
+void expectSameDecisions(const std::string& name) {
+  const RunResult host = runScenario(bundled(name));
+  const RunResult target = runScenario(bundled("target/" + name + "_cm4"));
+  ASSERT_TRUE(host.summary.tripped) << name;
+  ASSERT_TRUE(target.summary.tripped) << name << ": " << target.summary.firmware_status;
+  EXPECT_EQ(target.summary.trip_reason, host.summary.trip_reason) << name;
+  EXPECT_NEAR(target.summary.trip_time_s, host.summary.trip_time_s, 0.010 + 1e-9) << name;
+  EXPECT_NE(target.summary.firmware_status.find("example_bms 1.0: ran to the end"), std::string::npos)
+      << target.summary.firmware_status;
+  ASSERT_FALSE(target.summary.firmware_target.empty());
+}
+
+TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnOverCurrent) {
+  REQUIRE_ARM_TOOLCHAIN();
+  expectSameDecisions("c_example_firmware_overcurrent");
+}
+
+TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnASilentDevice) {
+  REQUIRE_ARM_TOOLCHAIN();
+  expectSameDecisions("c_example_firmware_device_silent");
+}
+
+TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnTheESwitch) {
+  REQUIRE_ARM_TOOLCHAIN();
+  expectSameDecisions("c_example_firmware_estop");
+}
+
+// The counts are the emulator's, block by block: the same run gives the same numbers.
+TEST(TargetMode, InstructionAndCycleCountsAreDeterministic) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = bundled("target/c_example_firmware_estop_cm4");
+  const RunResult a = runScenario(s), b = runScenario(s);
+  EXPECT_EQ(a.summary.firmware_target, b.summary.firmware_target);
+  ASSERT_EQ(a.events.size(), b.events.size());
+  for (size_t i = 0; i < a.events.size(); ++i) {
+    EXPECT_EQ(a.events[i].time_s, b.events[i].time_s) << a.events[i].detail;
+    EXPECT_EQ(a.events[i].detail, b.events[i].detail);
+  }
+  // Both tasks ran, with code in them: instructions and cycles per task, a stack.
+  // 40 s (10 s past the 30 s trip): a call every 10 ms, one every 100 ms.
+  const std::string& task0 = a.summary.firmware_target.at(0);
+  EXPECT_EQ(task0.rfind("task 0 (period 10 ms): 400", 0), 0u) << task0;
+  EXPECT_EQ(a.summary.firmware_target.at(1).rfind("task 1 (period 100 ms): 400 calls", 0), 0u)
+      << a.summary.firmware_target.at(1);
+  EXPECT_NE(a.summary.firmware_target.back().find("cortex-m4 at 168 MHz"), std::string::npos);
+}
+
+double summaryAttr(const std::string& file, const std::string& name) {
+  double v = -1.0;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t g = H5Gopen2(f, "/summary", H5P_DEFAULT);
+  if (H5Aexists(g, name.c_str()) > 0) {
+    const hid_t a = H5Aopen(g, name.c_str(), H5P_DEFAULT);
+    H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+    H5Aclose(a);
+  }
+  H5Gclose(g);
+  H5Fclose(f);
+  return v;
+}
+
+// The summary's figures are in the result file too, as /summary attributes (only in
+// target mode: a host-mode file has none).
+TEST(TargetMode, TheFiguresAreSummaryAttributesOfTheResultFile) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = bundled("target/c_example_firmware_overcurrent_cm4");
+  const RunResult r = runScenario(s);
+  const std::string file = (test::processTempDir("target_mode") / "r.h5").string();
+  writeResultHdf5(file, s, r);
+  // task 0's worst call as the summary line prints it
+  const std::string& line = r.summary.firmware_target.at(0);
+  const size_t at = line.find("instructions / ", line.find("worst ")) + 15;
+  const double worst = std::stod(line.substr(at));
+  EXPECT_GT(worst, 0.0);
+  EXPECT_EQ(summaryAttr(file, "target_task0_worst_cycles"), worst) << line;
+  EXPECT_EQ(summaryAttr(file, "target_clock_hz"), 168e6);
+  const double cycles = summaryAttr(file, "target_cycles");
+  EXPECT_GE(cycles, summaryAttr(file, "target_cycles_trm_min"));
+  EXPECT_LE(cycles, summaryAttr(file, "target_cycles_trm_max"));
+  EXPECT_NEAR(summaryAttr(file, "target_cpu_load"), cycles / (168e6 * r.summary.duration_s), 1e-6);
+  const Scenario host = bundled("c_example_firmware_overcurrent");
+  writeResultHdf5(file, host, runScenario(host));
+  EXPECT_EQ(summaryAttr(file, "target_cycles"), -1.0);  // absent
+}
+
+// The demo firmware hangs at its task on its first boot (hang_at_ms): with a watchdog
+// longer than the task's 100 ms budget, the budget stops it, the same contract break
+// as in host mode, now counting the code's cycles; a failed run.
+TEST(TargetMode, AFirmwareThatLoopsForeverIsStoppedByItsBudget) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {target: cortex-m4, elf: " + watchdogElf() +
+      ", config: {hang_at_ms: 200, watchdog_timeout_us: 5000000}}}\n"
+      "run: {duration_s: 1}\n");
+  const RunResult r = runScenario(s);
+  const double t = test::eventTime(r, "firmware_fault", "contract break in task 0 (period 10 ms): ran 100.0");
+  EXPECT_NEAR(t, 0.2, 1e-9);
+  const std::string failure = firmwareFailure(s, r);
+  EXPECT_NE(failure.find("its code on the MCU clock"), std::string::npos) << failure;
+  EXPECT_NE(failure.find("over its 100.000 ms budget"), std::string::npos) << failure;
+  EXPECT_EQ(test::eventTime(r, "mcu_reset"), -1.0);
+}
+
+// The same hang with a 30 ms watchdog: no kick, the MCU resets at 30 ms after the last
+// kick, boots again at the next tick (the .noinit counter says "boot 1"), and closes
+// the relay again; the run is not a failure.
+TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = bundled("target/c_watchdog_reset_cm4");
+  const RunResult r = runScenario(s);
+  const double hang_s = test::eventTime(r, "firmware", "hanging");
+  const double reset_s = test::eventTime(r, "mcu_reset", "watchdog: not kicked for 30.000 ms");
+  const double boot1_s = test::eventTime(r, "firmware", "boot 1 after 1 watchdog resets");
+  ASSERT_NEAR(hang_s, 5.0, 1e-6);
+  // The last kick: the end of the task at 4.99 s (its code's few microseconds after it).
+  EXPECT_GT(reset_s, 4.99 + 0.030);
+  EXPECT_LT(reset_s, 4.99 + 0.030 + 0.001);
+  EXPECT_GT(boot1_s, reset_s);
+  EXPECT_LT(boot1_s, reset_s + 0.010 + 1e-6);  // the next tick
+  EXPECT_EQ(test::eventTime(r, "firmware_fault"), -1.0);
+  EXPECT_EQ(firmwareFailure(s, r), "");
+  // The relay dropped at the reset and closed again after the second boot.
+  // It opens at the actuation of the tick that holds the reset (5.02 s), not before.
+  const double opened_s = test::eventTime(r, "relay_contact", "opened");
+  EXPECT_GE(opened_s, 5.02 - 1e-9);
+  EXPECT_LT(opened_s, boot1_s + 0.010);
+  bool reclosed = false;
+  for (const Event& e : r.events)
+    if (e.kind == "relay_contact" && e.detail.rfind("closed", 0) == 0 && e.time_s > opened_s) reclosed = true;
+  EXPECT_TRUE(reclosed);
+  EXPECT_NE(r.summary.firmware_target.back().find("1 watchdog resets"), std::string::npos)
+      << r.summary.firmware_target.back();
+}
+
+// A fault on the MCU ends the call: a firmware_fault with the reason and the PC (in
+// the task's code, in flash), and a failed run, as a crash in host mode.
+std::string faultOf(int mode) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {target: cortex-m4, elf: " PACKSIM_TARGET_FAULT_FW_OR_EMPTY
+      ", config: {mode: " + std::to_string(mode) + ", at_ms: 300}}}\n"
+      "run: {duration_s: 1}\n");
+  const RunResult r = runScenario(s);
+  EXPECT_NEAR(test::eventTime(r, "firmware_fault"), 0.3, 1e-6);
+  return firmwareFailure(s, r);
+}
+
+TEST(TargetMode, AFaultOnTheMcuIsAFirmwareFailureWithItsPc) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const std::string nullWrite = faultOf(0);
+  EXPECT_NE(nullWrite.find("the firmware ELF '" PACKSIM_TARGET_FAULT_FW_OR_EMPTY "' failed at 0.300 s: fault in task 0 "
+                           "(period 10 ms): write to unmapped memory: 4 bytes at 0x00000000, PC 0x080"),
+            std::string::npos)
+      << nullWrite;
+  const std::string udf = faultOf(1);
+  EXPECT_NE(udf.find("fault in task 0 (period 10 ms): undefined instruction (UsageFault: UNDEFINSTR) at PC 0x080"), std::string::npos) << udf;
+  const std::string flashRx = faultOf(2);
+  EXPECT_NE(flashRx.find("bus_transfer's rx buffer at 0x080"), std::string::npos) << flashRx;
+  EXPECT_NE(flashRx.find("is not in the MCU's RAM"), std::string::npos) << flashRx;
+  // 13 levels of 1 KiB past the 8 KiB stack: found by the stack paint when the call returns.
+  const std::string overflow = faultOf(3);
+  EXPECT_NE(overflow.find("stack overflow in task 0 (period 10 ms): the call used all 8192 bytes of the stack"),
+            std::string::npos)
+      << overflow;
+}
+
+// The cost model on single Thumb-2 instructions (hand-assembled, little-endian
+// halfwords) against the Cortex-M4 TRM's cycle table: the model's figure and the
+// table's range. Needs no toolchain.
+TEST(TargetCycleModel, EachInstructionClassCostsWhatTheTableSays) {
+  const CycleModel model;
+  struct Case {
+    const char* what;
+    std::vector<uint16_t> halfwords;
+    uint32_t cycles, min, max;
+  };
+  const Case cases[] = {
+      {"movs r0, #1", {0x2001}, 1, 1, 1},
+      {"ldr r0, [r1]", {0x6808}, 2, 1, 2},             // 2; 1 when pipelined with a neighbour
+      {"str r0, [r1]", {0x6008}, 2, 1, 2},
+      {"ldrd r0, r1, [r2]", {0xE9D2, 0x0100}, 3, 2, 3},
+      {"push {r4-r7, lr}", {0xB5F0}, 6, 6, 6},         // 1 + N
+      {"pop {r4, pc}", {0xBD10}, 3, 3, 3},             // 1 + N (the refill is the block transition's)
+      {"sdiv r0, r1, r2", {0xFB91, 0xF0F2}, 7, 2, 12},
+      {"vdiv.f32 s0, s1, s2", {0xEE80, 0x0A81}, 14, 14, 14},
+      {"muls r0, r1, r0", {0x4348}, 1, 1, 1},
+  };
+  for (const Case& c : cases) {
+    std::vector<uint8_t> bytes;
+    for (uint16_t h : c.halfwords) {
+      bytes.push_back(static_cast<uint8_t>(h & 0xFF));
+      bytes.push_back(static_cast<uint8_t>(h >> 8));
+    }
+    const BlockCost b = model.cost(bytes.data(), bytes.size(), 0x08000000);
+    EXPECT_EQ(b.instructions, 1u) << c.what;
+    EXPECT_EQ(b.cycles, c.cycles) << c.what;
+    EXPECT_EQ(b.cyclesMin, c.min) << c.what;
+    EXPECT_EQ(b.cyclesMax, c.max) << c.what;
+  }
+  // A block adds up its instructions.
+  const uint8_t block[] = {0x01, 0x20, 0x08, 0x68, 0xF0, 0xB5};  // movs, ldr, push
+  const BlockCost b = model.cost(block, sizeof block, 0x08000000);
+  EXPECT_EQ(b.instructions, 3u);
+  EXPECT_EQ(b.cycles, 1u + 2u + 6u);
+}
+
+// A library built for the host is refused when the scenario loads, naming the file and
+// the ELF field; so are a missing file and an ELF without the board's symbols.
+TEST(TargetMode, AnElfForAnotherArchitectureOrWithoutTheBoardIsALoadError) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const std::string base = "extends: bench_6s_ncr18650_2C.yaml\nbms: {firmware: {target: cortex-m4, elf: ";
+  const std::string x86 = test::yamlErrorOf(base + PACKSIM_PROBE_FW + "}}\n");
+  EXPECT_NE(x86.find("test.yaml:2:"), std::string::npos) << x86;
+  EXPECT_NE(x86.find(PACKSIM_PROBE_FW), std::string::npos) << x86;
+  EXPECT_NE(x86.find("e_machine: 62 (x86-64)"), std::string::npos) << x86;
+  const std::string missing = test::yamlErrorOf(base + "no_such_fw}}\n");
+  EXPECT_NE(missing.find("firmware ELF 'no_such_fw' not found"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("no_such_fw.elf"), std::string::npos) << missing;
+  const fs::path stripped = test::processTempDir("target_mode") / "stripped.elf";
+  const std::string cmd = "arm-none-eabi-strip -o " + stripped.string() + " " + exampleElf();
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  const std::string noSyms = test::yamlErrorOf(base + stripped.string() + "}}\n");
+  EXPECT_NE(noSyms.find("symbol psbsp_entry: missing"), std::string::npos) << noSyms;
+  const std::string wrongTarget = test::yamlErrorOf(
+      "extends: bench_6s_ncr18650_2C.yaml\nbms: {firmware: {target: cortex-m7, elf: " + exampleElf() + "}}\n");
+  EXPECT_NE(wrongTarget.find("unknown target 'cortex-m7'; allowed: cortex-m4"), std::string::npos) << wrongTarget;
+  EXPECT_THROW(readTargetElf(PACKSIM_PROBE_FW), ElfError);
+}
+
+}  // namespace
+}  // namespace packsim
