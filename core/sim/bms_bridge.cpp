@@ -1,6 +1,7 @@
 #include "core/sim/bms_bridge.hpp"
 
 #include <bms/bms_firmware.hpp>
+#include <bms/bms_settings.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -37,35 +38,18 @@ void setFlagRule(bms::ProtectionRule& r, const ProtectionConfig& p) {
 
 bms::ProtectionRule& rule(bms::Config& c, bms::FaultId id) { return c.rules[static_cast<int>(id)]; }
 
-// Balancing policy and charger request in firmware units; the board thermistors are
-// the channels after the cell ones.
+// Where the balancing policy (a settings row each) meets the hardware: the board
+// thermistors are the channels after the sites', the boards' shape; and the charger request.
 void setBalancing(bms::Config& c, const Scenario& s) {
-  const BalanceSettings& b = s.bms.balancing;
   bms::BalanceConfig& k = c.balance;
-  k.enabled = b.enabled;
-  k.when = b.when == "charging" ? bms::BalanceWhen::Charging
-           : b.when == "rest"   ? bms::BalanceWhen::Rest
-           : b.when == "always" ? bms::BalanceWhen::Always
-                                : bms::BalanceWhen::ChargingOrRest;
-  k.startDelta_mV = static_cast<uint16_t>(std::lround(b.start_delta_V * 1e3));
-  k.stopDelta_mV = static_cast<uint16_t>(std::lround(b.stop_delta_V * 1e3));
-  k.minCell_mV = static_cast<uint16_t>(std::lround(b.min_cell_V * 1e3));
-  k.boardMax_dC = static_cast<int16_t>(std::lround(b.board_max_C * 10.0));
-  k.boardResume_dC = static_cast<int16_t>(std::lround(b.board_resume_C * 10.0));
-  k.noAdjacent = b.no_adjacent;
-  k.restCurrent_mA = toInt(b.rest_current_A * 1e3);
-  k.rest_ms = static_cast<uint32_t>(std::lround(b.rest_s * 1e3));
-  k.period_ms = static_cast<uint32_t>(std::lround(b.period_s * 1e3));
   k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_sites.size());
   k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors * s.hardware.balancing.boards);
-  k.averageReadings = static_cast<uint8_t>(b.average_readings);
   k.boardCount = static_cast<uint8_t>(s.hardware.balancing.boards);
   k.cellsPerBoard = static_cast<uint16_t>(s.hardware.balancing.cells_per_board);
   const double request_A = s.bms.charge_current_A > 0.0 ? s.bms.charge_current_A
                            : s.charger.present          ? s.charger.current_A
                                                         : 0.0;
   c.chargeRequest_mA = toInt(request_A * 1e3);
-  c.chargeFullCell_mV = static_cast<uint16_t>(std::lround(s.bms.charge_full_cell_V * 1e3));
 }
 
 // Read-out rates and the monitor stack: its part (driver) with the scenario's settings in
@@ -82,7 +66,6 @@ void setMonitors(bms::Config& c, const Scenario& s) {
   c.afe.deviceCount = static_cast<uint8_t>(a.devices);
   c.afe.cellsPerDevice = static_cast<uint8_t>(a.cells_per_device);
   c.afe.thermistorsPerDevice = static_cast<uint8_t>(a.thermistors_per_device);
-  c.afe.commLossCount = static_cast<uint8_t>(b.comm_loss_count);
 }
 
 }  // namespace
@@ -114,19 +97,9 @@ bms::Config makeBmsConfig(const Scenario& s) {
   c.scaling.busLsb_mV = static_cast<float>(hw.bus_adc.lsb * 1e3);
 
   setMonitors(c, s);
-
-  const PrechargeSettings& p = b.precharge;
-  c.precharge = bms::PrechargeConfig{p.enabled,
-                                     static_cast<uint32_t>(std::lround(p.done_delta_V * 1e3)),
-                                     toInt(p.done_current_A * 1e3),
-                                     static_cast<uint32_t>(std::lround(p.timeout_s * 1e3)),
-                                     static_cast<uint32_t>(std::lround(p.pause_s * 1e3)),
-                                     static_cast<uint32_t>(std::lround(p.overlap_s * 1e3)),
-                                     static_cast<uint8_t>(p.retries)};
-
-  setSocConfig(c.soc, s);  // core/sim/soc_config.cpp
-  c.weldSettle_ms = static_cast<uint32_t>(std::lround(b.weld_settle_s * 1e3));
-  c.balanceTime_s = b.balance_time_s;
+  // The scalar settings, already in firmware units (bms/bms_settings.def).
+  bms::copySettings(c, b.image);
+  setSocConfig(c.soc, s);  // core/sim/soc_config.cpp: the model from the pack's cell
   setBalancing(c, s);
   c.fetThermistors = hw.nodeThermistors();  // every node site is on the FETs
 
@@ -143,8 +116,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
         break;
     }
   }
-  c.relayAuxFeedback = b.relay_aux_feedback;
-  rule(c, F::CommLoss).threshold = b.comm_loss_count - 1;  // trips at the N-th bad reply
+  rule(c, F::CommLoss).threshold = c.afe.commLossCount - 1;  // trips at the N-th bad reply
   return c;
 }
 
