@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/sim/bms_bridge.hpp"
+#include "core/sim/bms_image.hpp"
 
 namespace packsim {
 
