@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/scenario/bms_setting_table.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
 
@@ -58,9 +59,11 @@ void checkOptions(const Scenario& s, const BalanceTimeOptions& o) {
   if (!(o.max_hours > 0.0 && o.max_hours <= 1000.0)) bad("--max-hours: must be within (0, 1000] h");
   if (o.resistors_ohm.empty() && !s.hardware.balancing.present)
     bad("the scenario has no hardware.balancing: give --resistor");
-  static const char* const kWhen[] = {"charging", "rest", "charging_or_rest", "always"};
-  if (o.when && std::find(std::begin(kWhen), std::end(kWhen), *o.when) == std::end(kWhen))
-    bad("--when: must be one of charging, rest, charging_or_rest, always (got '" + *o.when + "')");
+  if (o.when && settingChoiceIndex("balancing.when", *o.when) < 0) {
+    std::string names;
+    for (const std::string& n : settingRow("balancing.when").choices) names += (names.empty() ? "" : ", ") + n;
+    bad("--when: must be one of " + names + " (got '" + *o.when + "')");
+  }
   if (o.during_charge && !s.charger.present)
     bad("--during-charge: the scenario has no charger (load: {charger: {...}})");
 }
@@ -81,14 +84,15 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
     s.bms.charger_present = false;
     s.bms.run_request = true;
   }
-  if (o.when) s.bms.balancing.when = *o.when;
+  bms::BalanceConfig& policy = s.bms.image.balance;
+  if (o.when) policy.when = static_cast<bms::BalanceWhen>(settingChoiceIndex("balancing.when", *o.when));
   s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (docs/reference-systems.md D)
   s.output.interval_s = std::max(60.0, s.bms.tick_s);
   s.run.duration_s = o.max_hours * 3600.0;
   s.run.stop_after_trip_s = 0.0;
   s.hardware.balancing.present = true;
-  s.bms.balancing.enabled = true;
-  s.bms.balancing.period_s = std::max(s.bms.balancing.period_s, s.bms.tick_s);
+  policy.enabled = true;
+  policy.period_ms = std::max(policy.period_ms, static_cast<uint32_t>(std::lround(s.bms.tick_s * 1e3)));
   if (o.delta_Ah) {
     // Identical cells; the high ones start at cell_V, the rest delta_Ah lower.
     const PackConfig& p = s.pack;
@@ -115,11 +119,23 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
   return s;
 }
 
+// The firmware's balancing policy in the key's units, for the experiment's reasoning and text.
+struct Policy {
+  bms::BalanceWhen when;
+  double start_delta_V, stop_delta_V, min_cell_V, board_max_C, rest_s, period_s;
+  int average_readings;
+};
+Policy policyOf(const Scenario& s) {
+  const bms::BalanceConfig& k = s.bms.image.balance;
+  return {k.when,        k.startDelta_mV * 1e-3, k.stopDelta_mV * 1e-3, k.minCell_mV * 1e-3, k.boardMax_dC * 0.1,
+          k.rest_ms * 1e-3, k.period_ms * 1e-3,   k.averageReadings};
+}
+
 // Why a firmware that never balanced did not start.
 std::string notStartedWhy(const Scenario& s, const Plant& plant, const double* x0) {
-  const BalanceSettings& b = s.bms.balancing;
+  const Policy b = policyOf(s);
   const std::vector<double> v = groupOcv_V(plant, x0);
-  if (b.when == "charging") return "the scenario balances only while charging (bms.balancing.when: charging)";
+  if (b.when == bms::BalanceWhen::Charging) return "the scenario balances only while charging (bms.balancing.when: charging)";
   if (*std::max_element(v.begin(), v.end()) < b.min_cell_V)
     return fmt("the high cells (%.3f V) are below bms.balancing.min_cell_V (%.3f V)", *std::max_element(v.begin(), v.end()),
                b.min_cell_V);
@@ -141,7 +157,7 @@ double highestVoltage_V(const RunResult& r) {
 
 // Why a firmware that balanced stopped before the rest voltages came within the target.
 std::string stoppedWhy(const Scenario& s, const RunResult& r) {
-  const BalanceSettings& b = s.bms.balancing;
+  const Policy b = policyOf(s);
   const double vmax = highestVoltage_V(r);
   if (vmax < b.min_cell_V + b.stop_delta_V)
     return fmt("stopped short of the target: the cells still high are at %.3f V, at the bms.balancing.min_cell_V "
@@ -160,11 +176,11 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   std::vector<double> need(q0.size()), bled(q0.size(), 0.0);
   for (size_t g = 0; g < q0.size(); ++g) need[g] = q0[g] - lowest;
 
-  const BalanceSettings& b = s.bms.balancing;
+  const Policy b = policyOf(s);
   const double tick_s = s.bms.tick_s;
   // The firmware's decision needs a period and (with averaging) a full block of readings.
   const double settle_s = std::max(60.0, 3.0 * std::max(b.period_s, b.average_readings * tick_s));
-  const double wait_start_s = (b.when == "rest" || b.when == "charging_or_rest" ? b.rest_s : 0.0) + settle_s;
+  const double wait_start_s = (b.when == bms::BalanceWhen::Rest || b.when == bms::BalanceWhen::ChargingOrRest ? b.rest_s : 0.0) + settle_s;
 
   bool started = false;
   double declaredAt = -1.0, trueAt = -1.0, quietSince = -1.0, lastT = 0.0, paused_s = 0.0, pausedToTrue_s = 0.0;
@@ -315,11 +331,13 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   // Default target: half again the firmware's stop threshold. The firmware leaves each cell
   // up to that threshold above the lowest reading, so the truth settles about there, a
   // little above or below with the noise: a target at the threshold itself may never be met.
-  res.target_mV = o.target_mV ? *o.target_mV : std::max(0.1, 1.5 * base.bms.balancing.stop_delta_V * 1e3);
+  const Policy policy = policyOf(base);
+  const std::string when = settingChoice("balancing.when", base.bms.image);
+  res.target_mV = o.target_mV ? *o.target_mV : std::max(0.1, 1.5 * policy.stop_delta_V * 1e3);
   res.resistor_rating_W = base.hardware.balancing.resistor_power_rating_W;
-  res.board_max_C = base.bms.balancing.board_max_C;
-  res.when = o.when ? *o.when : base.bms.balancing.when;
-  res.when_overridden = o.when.has_value() && *o.when != base.bms.balancing.when;
+  res.board_max_C = policy.board_max_C;
+  res.when = o.when ? *o.when : when;
+  res.when_overridden = o.when.has_value() && *o.when != when;
   res.during_charge = o.during_charge;
 
   // The imbalance and the cell voltage of the analytic estimate.
@@ -376,7 +394,7 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
     // The same charge without balancing: it ends when the charger stops delivering (the
     // charger's taper, or the firmware ending the charge on its first full cell).
     Scenario s = experimentBase;
-    s.bms.balancing.enabled = false;
+    s.bms.image.balance.enabled = false;
     const double end_A = s.charger.end_current_A;
     double lastCharging_s = 0.0;
     auto stopWhen = [&](double t, const double*, const PlantSignals& sig, const bms::Outputs&) {

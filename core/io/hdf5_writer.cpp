@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "core/scenario/bms_setting_table.hpp"
 #include "core/sim/stop_signal.hpp"
 
 #include <bms/bms_core.hpp>
@@ -296,7 +297,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
     for (const auto& l : limits)
       if (l.p.enabled) w.attr(bms, l.name, l.p.threshold);
   }
-  w.attrOn("/bms/soc_estimate_permille", "estimator", s.bms.soc_estimation.estimator);
+  w.attrOn("/bms/soc_estimate_permille", "estimator", settingChoice("soc.estimator", s.bms.image));
   w.events(r.events);
 
   w.group("/summary");

@@ -3,6 +3,7 @@
 // the charger load kind (load: {charger: {...}}).
 #include <bms/bms_limits.hpp>
 
+#include "core/scenario/bms_setting_table.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -67,25 +68,12 @@ ActiveBalancerConfig readActiveBalancer(YamlMap m) {
   return a;
 }
 
-BalanceSettings readBalanceSettings(YamlMap m) {
-  BalanceSettings b;
-  b.enabled = m.boolean("enabled", true);
-  b.when = m.choice("when", b.when, {"charging", "rest", "charging_or_rest", "always"});
-  b.start_delta_V = m.number("start_delta_mV", b.start_delta_V * 1e3, Range::closed(1.0, 2000.0)) * 1e-3;
-  b.stop_delta_V = m.number("stop_delta_mV", b.stop_delta_V * 1e3, Range::closed(0.0, 2000.0)) * 1e-3;
-  if (!(b.stop_delta_V <= b.start_delta_V)) throw m.errorAt("stop_delta_mV", "must not exceed start_delta_mV");
-  b.min_cell_V = m.number("min_cell_V", b.min_cell_V, Range::closed(0.0, 5.0));
-  b.board_max_C = m.number("board_max_C", b.board_max_C, Range::closed(0.0, 150.0));
-  b.board_resume_C = m.number("board_resume_C", b.board_resume_C, Range::closed(-40.0, 150.0));
-  if (!(b.board_resume_C <= b.board_max_C)) throw m.errorAt("board_resume_C", "must not exceed board_max_C");
-  b.no_adjacent = m.boolean("no_adjacent", b.no_adjacent);
-  b.rest_current_A = m.number("rest_current_A", b.rest_current_A, Range::positive(1000.0));  // below it the pack rests
-  b.rest_s = m.number("rest_s", b.rest_s, Range::closed(0.0, 86400.0));
-  b.period_s = m.number("period_ms", b.period_s * 1e3, Range::closed(1.0, 600000.0)) * 1e-3;
-  b.measure_paused = m.boolean("measure_paused", b.measure_paused);
-  b.average_readings = static_cast<int>(m.integer("average_readings", b.average_readings, 1, bms::kMaxBalanceAverage));
-  m.finish();
-  return b;
+void readBalanceSettings(YamlMap* m, BmsSettings& b) {
+  const std::map<std::string, double> v = readSettings(m, "balancing", b.image);  // the firmware's policy
+  if (m == nullptr) return;
+  if (!(v.at("stop_delta_mV") <= v.at("start_delta_mV"))) throw m->errorAt("stop_delta_mV", "must not exceed start_delta_mV");
+  if (!(v.at("board_resume_C") <= v.at("board_max_C"))) throw m->errorAt("board_resume_C", "must not exceed board_max_C");
+  b.balancing.measure_paused = m->boolean("measure_paused", b.balancing.measure_paused);
 }
 
 ChargerConfig readCharger(YamlMap m) {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "core/scenario/bms_setting_table.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -72,7 +73,10 @@ ProtectionConfig readFlagRule(YamlMap& parent, const std::string& key, Protectio
 
 BmsSettings readBms(std::optional<YamlMap> m) {
   BmsSettings b;
-  if (!m) return b;
+  if (!m) {
+    for (const char* section : {"", "precharge", "soc", "soc.ekf", "balancing"}) readSettings(nullptr, section, b.image);
+    return b;
+  }
   b.tick_s = static_cast<double>(m->integer("tick_ms", 10, 1, 10000)) * 1e-3;
   if (auto r = m->optionalMap("readout")) {
     // Whole ticks: the read-out task shares the control task's clock.
@@ -107,33 +111,26 @@ BmsSettings readBms(std::optional<YamlMap> m) {
       throw p->error("cell_undervoltage.threshold_V must be below cell_overvoltage.threshold_V");
     p->finish();
   }
-  b.comm_loss_count = static_cast<int>(m->integer("comm_loss_count", b.comm_loss_count, 1, 255));
-  b.relay_aux_feedback = m->boolean("relay_aux_feedback", b.relay_aux_feedback);
-  b.weld_settle_s = m->number("weld_settle_ms", b.weld_settle_s * 1e3, Range::closed(0.0, 10000.0)) * 1e-3;
-  if (auto p = m->optionalMap("precharge")) {
-    PrechargeSettings& c = b.precharge;
-    c.enabled = p->boolean("enabled", true);
-    c.done_delta_V = p->number("done_delta_V", c.done_delta_V, Range::positive(100.0));
-    c.done_current_A = p->number("done_current_A", c.done_current_A, Range::positive(limits::kMaxCurrent_A));
-    c.timeout_s = p->number("timeout_ms", c.timeout_s * 1e3, Range::closed(1.0, 600000.0)) * 1e-3;
-    c.pause_s = p->number("pause_ms", c.pause_s * 1e3, Range::closed(0.0, 600000.0)) * 1e-3;
-    c.overlap_s = p->number("overlap_ms", c.overlap_s * 1e3, Range::closed(0.0, 10000.0)) * 1e-3;
-    c.retries = static_cast<int>(p->integer("retries", c.retries, 0, 10));
-    p->finish();
+  readSettings(&*m, "", b.image);  // comm_loss_count, weld detection, balance_time_s, charge_full_cell_V
+  {
+    std::optional<YamlMap> p = m->optionalMap("precharge");
+    readSettings(p ? &*p : nullptr, "precharge", b.image);
+    if (p) p->finish();
   }
-  if (auto s = m->optionalMap("soc")) {
-    b.soc_rest_s = s->number("rest_s", b.soc_rest_s, Range::closed(0.0, 86400.0));
-    b.soc_rest_current_A = s->number("rest_current_A", b.soc_rest_current_A, Range::positive(limits::kMaxCurrent_A));
-    b.soc_estimation = readSocEstimation(*s);
-    s->finish();
+  {
+    std::optional<YamlMap> soc = m->optionalMap("soc");
+    readSettings(soc ? &*soc : nullptr, "soc", b.image);
+    b.soc_estimation = readSocEstimation(soc ? &*soc : nullptr, b.image);
+    if (soc) soc->finish();
   }
   b.run_request = m->boolean("run_request", b.run_request);
   b.charger_present = m->boolean("charger_present", b.charger_present);
-  // 1 s … 63 min: what the monitor's balancing timer can hold.
-  b.balance_time_s = static_cast<uint16_t>(m->integer("balance_time_s", b.balance_time_s, 1, 3780));
-  if (auto bal = m->optionalMap("balancing")) b.balancing = readBalanceSettings(*bal);
+  {
+    std::optional<YamlMap> bal = m->optionalMap("balancing");
+    readBalanceSettings(bal ? &*bal : nullptr, b);
+    if (bal) bal->finish();
+  }
   b.charge_current_A = m->number("charge_current_A", b.charge_current_A, Range::nonNegative(1000.0));  // the charger's range
-  b.charge_full_cell_V = m->number("charge_full_cell_V", b.charge_full_cell_V, Range::closed(0.0, 5.0));
   m->finish();
   return b;
 }

@@ -1,4 +1,5 @@
 // Reads the state-estimation keys of `bms.soc` strictly (docs/state-estimation.md).
+#include "core/scenario/bms_setting_table.hpp"
 #include "core/scenario/scenario_sections.hpp"
 
 namespace packsim {
@@ -16,9 +17,13 @@ void checkRising(YamlMap& m, const std::string& key, const std::vector<double>& 
 
 }  // namespace
 
-SocEstimationSettings readSocEstimation(YamlMap& m) {
+SocEstimationSettings readSocEstimation(YamlMap* soc, bms::Config& image) {
   SocEstimationSettings e;
-  e.estimator = m.choice("estimator", e.estimator, {"coulomb", "ekf"});
+  if (soc == nullptr) {
+    readSettings(nullptr, "soc.ekf", image);
+    return e;
+  }
+  YamlMap& m = *soc;
   if (m.has("cell_capacity_Ah")) e.cell_capacity_Ah = m.number("cell_capacity_Ah", Range::closed(0.001, 10000.0));
   if (m.has("ocv_V")) {
     e.ocv_V = m.numbers("ocv_V", Range::closed(0.5, 5.0), 2);
@@ -37,15 +42,12 @@ SocEstimationSettings readSocEstimation(YamlMap& m) {
   if (m.has("tau1_s")) e.tau1_s = m.number("tau1_s", Range::closed(0.01, 100000.0));
   if (m.has("r0_arrhenius_K")) e.r0_arrhenius_K = m.number("r0_arrhenius_K", Range::closed(0.0, 20000.0));
   e.r0_ref_temp_C = m.number("r0_ref_temp_C", e.r0_ref_temp_C, Range::closed(-40.0, 85.0));
-  if (auto k = m.optionalMap("ekf")) {
-    e.voltage_sd_mV = k->number("voltage_sd_mV", e.voltage_sd_mV, Range::closed(0.01, 1000.0));
-    e.soc_walk_per_sqrt_h = k->number("soc_walk_per_sqrt_h", e.soc_walk_per_sqrt_h, Range::closed(0.0, 1.0));
-    e.v1_walk_mV_per_sqrt_s = k->number("v1_walk_mV_per_sqrt_s", e.v1_walk_mV_per_sqrt_s, Range::closed(0.0, 1000.0));
+  std::optional<YamlMap> k = m.optionalMap("ekf");
+  readSettings(k ? &*k : nullptr, "soc.ekf", image);  // the EKF's noise settings
+  if (k) {
     if (k->has("initial_soc")) e.initial_soc = k->number("initial_soc", Range::closed(0.0, 1.0));
-    e.initial_soc_sd = k->number("initial_soc_sd", e.initial_soc_sd, Range::closed(0.001, 1.0));
     k->finish();
   }
-  e.soh_min_delta_soc = m.number("soh_min_delta_soc", e.soh_min_delta_soc, Range::closed(0.01, 1.0));
   if (m.has("display_bars_V")) {
     e.display_bars_V = m.numbers("display_bars_V", Range::closed(0.5, 5.0), 7);
     if (e.display_bars_V.size() != 7)

@@ -219,9 +219,9 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
   const MonitorPart& part = monitorPart(s.hardware.afe.model);
   if (part.balances_on_its_own != nullptr && part.balances_on_its_own(s.hardware.afe) && !b.present)
     throw hwMap("afe").errorAt("autonomous_balancing", "the AFE's balancing needs balancing resistors (hardware.balancing)");
-  if (s.bms.balancing.enabled && !b.present)
+  if (s.bms.image.balance.enabled && !b.present)
     throw root.map("bms").errorAt("balancing", "the balancing policy needs balancing resistors (hardware.balancing)");
-  if (s.hardware.active_balancer.present && b.present && s.bms.balancing.enabled)
+  if (s.hardware.active_balancer.present && b.present && s.bms.image.balance.enabled)
     throw root.map("bms").errorAt("balancing", "choose passive (bms.balancing) or active (hardware.active_balancer) balancing");
 }
 

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <bms/bms_config.hpp>
+
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
 #include "core/scenario/protection_table.hpp"
@@ -101,39 +103,16 @@ struct HardwareConfig {
   }
 };
 
-// Contactor precharge sequencing of the BMS (bms::PrechargeConfig in SI units).
-struct PrechargeSettings {
-  bool enabled = false;
-  double done_delta_V = 1.0;
-  double done_current_A = 0.05;
-  double timeout_s = 2.0;
-  double pause_s = 1.0;
-  double overlap_s = 0.03;
-  int retries = 3;
-};
-
-// Balancing policy of the BMS (bms::BalanceConfig in SI units).
-struct BalanceSettings {
-  bool enabled = false;
-  std::string when = "charging_or_rest";  // charging | rest | charging_or_rest | always
-  double start_delta_V = 0.05;
-  double stop_delta_V = 0.01;
-  double min_cell_V = 3.3;
-  double board_max_C = 70.0;
-  double board_resume_C = 60.0;
-  bool no_adjacent = false;
-  double rest_current_A = 0.2;
-  double rest_s = 600.0;
-  double period_s = 1.0;
+// The host's balancing measurement (not a firmware setting: the simulated monitor ICs).
+struct BalanceMeasurement {
   bool measure_paused = true;  // switches open for each conversion (no I_bal·R0 in the readings)
-  int average_readings = 1;    // decide on each cell's mean of this many readings (firmware block average)
 };
 
-// The firmware's state estimation (bms::SocConfig in SI units; docs/state-estimation.md):
-// its own cell model, as flashed. Negative / empty values mean "from the pack's cell"
-// (the datasheet a firmware engineer would copy).
+// The firmware's state estimation (docs/state-estimation.md): its own cell model, as
+// flashed, where it comes from the pack's cell. Negative / empty values mean "from the
+// pack's cell" (the datasheet a firmware engineer would copy); bms.soc's other keys
+// (estimator, the EKF's noise, the rest) are rows of bms/bms_settings.def.
 struct SocEstimationSettings {
-  std::string estimator = "coulomb";  // coulomb | ekf: which one the telemetry reports
   double cell_capacity_Ah = -1.0;
   std::vector<double> ocv_V;           // OCV at SOC 0 .. 1, evenly spaced (2..16 points)
   std::vector<double> cell_r0_ohm;     // one value, or one per OCV point; empty: the cell's R0 at those points
@@ -141,12 +120,7 @@ struct SocEstimationSettings {
   double tau1_s = -1.0;
   double r0_arrhenius_K = -1.0;        // R0's temperature factor; < 0: the cell's (0: none)
   double r0_ref_temp_C = 25.0;         // where cell_r0_ohm (given or the cell's) holds
-  double voltage_sd_mV = 10.0;         // EKF measurement noise + model error
-  double soc_walk_per_sqrt_h = 0.01;   // EKF SOC process noise
-  double v1_walk_mV_per_sqrt_s = 2.0;  // EKF v1 process noise
   double initial_soc = -1.0;           // EKF start; < 0: from the first reading's OCV
-  double initial_soc_sd = 0.05;
-  double soh_min_delta_soc = 0.3;      // capacity estimate across rested points this far apart
   std::vector<double> display_bars_V;  // 7 thresholds; empty: reference system C's table
 };
 
@@ -161,19 +135,16 @@ struct BmsSettings {
   ReadoutSettings readout;
   // One per bms::FaultId, defaults from the firmware table (core/scenario/protection_table.hpp).
   std::array<ProtectionConfig, bms::kFaultCount> protections = defaultProtections();
-  int comm_loss_count = 5;          // consecutive bad reads of one device (read-outs and alert polls)
-  double weld_settle_s = 0.05;      // relay release time before current means "welded"
-  bool relay_aux_feedback = true;   // the relay's auxiliary contact is read (closed after open = welded)
-  PrechargeSettings precharge;
-  double soc_rest_s = 1800.0;       // rest before the SOC estimate re-anchors to OCV
-  double soc_rest_current_A = 0.2;
+  // The scalar firmware settings (bms/bms_settings.def: comm loss, weld detection,
+  // precharge, SOC rest and estimator, balancing policy, ...) in firmware units, as the
+  // loader read them; only those rows' fields of this image are meaningful
+  // (core/scenario/bms_setting_table.hpp). The bridge fills the rest from the pack.
+  bms::Config image = bms::defaultConfig(0, 0);
   SocEstimationSettings soc_estimation;
   bool run_request = true;          // GPIO levels held for the run
   bool charger_present = false;
-  uint16_t balance_time_s = 60;
-  BalanceSettings balancing;
+  BalanceMeasurement balancing;
   double charge_current_A = 0.0;    // charger current request; 0: the charger's own current_A
-  double charge_full_cell_V = 0.0;  // BMS ends the charge when a cell reads this; 0: the charger ends it
 
   ProtectionConfig& protection(bms::FaultId id) { return protections[static_cast<size_t>(id)]; }
   const ProtectionConfig& protection(bms::FaultId id) const { return protections[static_cast<size_t>(id)]; }

@@ -40,10 +40,12 @@ Expectations readExpect(std::optional<YamlMap> m);
 // load_balancing.cpp
 PassiveBalancerConfig readPassiveBalancer(YamlMap m);
 ActiveBalancerConfig readActiveBalancer(YamlMap m);
-BalanceSettings readBalanceSettings(YamlMap m);
+// bms.balancing (bal absent: the section is not stated): the firmware's rows and the host's measure_paused
+void readBalanceSettings(YamlMap* bal, BmsSettings& b);
 ChargerConfig readCharger(YamlMap m);
-// load_estimation.cpp: the estimator keys of `bms.soc` (the caller finishes the map)
-SocEstimationSettings readSocEstimation(YamlMap& soc);
+// load_estimation.cpp: the estimator keys of `bms.soc` (soc absent: not stated; the
+// caller finishes the map): the cell-derived ones, and bms.soc.ekf's rows into `image`
+SocEstimationSettings readSocEstimation(YamlMap* soc, bms::Config& image);
 // ... and the SOC-error keys of `expect` (soc_error_max_below …, capacity_error_below)
 void readSocExpectations(YamlMap& expect, Expectations& e);
 

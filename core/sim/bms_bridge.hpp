@@ -1,9 +1,5 @@
-// The simulator side of the BMS boundary.
-//
-// makeBmsConfig: the firmware configuration from the scenario (nominal datasheet
-// scaling, SI thresholds -> firmware units, read-out rates and monitor-driver settings,
-// OCV table and capacity for the SOC). coreImage: it as the configuration blob packsim's
-// core firmware is flashed with (bms/bms_firmware.hpp).
+// The simulator side of the BMS boundary: the firmware image (makeBmsConfig, coreImage:
+// core/sim/bms_image.hpp) and the hardware around the MCU.
 //
 // HardwareSim: everything between the plant and the MCU pins, as discrete models
 // advanced once per tick:
@@ -25,6 +21,7 @@
 
 #include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/scenario.hpp"
+#include "core/sim/bms_image.hpp"
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/monitor_chain_path.hpp"
 #include "core/sim/plant.hpp"
@@ -33,13 +30,6 @@
 #include "models/sensors/adc.hpp"
 
 namespace packsim {
-
-bms::Config makeBmsConfig(const Scenario& s);
-// The configuration blob of packsim's core firmware: a bms::CoreImage of cfg.
-std::vector<uint8_t> coreImage(const bms::Config& cfg);
-// The state-estimation part of it (core/sim/soc_config.cpp): the firmware's own OCV
-// table, capacity and 1-RC model per series group, EKF tuning, SOH and display tables.
-void setSocConfig(bms::SocConfig& c, const Scenario& s);
 
 // What the switching hardware is actually doing (for records and events).
 struct HardwareStatus {

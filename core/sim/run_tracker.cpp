@@ -1,5 +1,6 @@
 #include "core/sim/run_tracker.hpp"
 
+#include "core/scenario/bms_setting_table.hpp"
 #include "core/sim/result_channels.hpp"
 #include "core/sim/stranded_energy.hpp"
 #include "core/sim/summary_text.hpp"
@@ -28,7 +29,7 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   rec.has_charger = s.charger.present;
   rec.has_board = plant.boardNode() >= 0;
   r_.summary.scenario = s.name;
-  r_.summary.soc_estimator = s.bms.soc_estimation.estimator;
+  r_.summary.soc_estimator = settingChoice("soc.estimator", s.bms.image);
   for (const auto& cell : plant.pack().cells) r_.summary.capacity_true_Ah += cell.capacity_Ah;
   r_.summary.capacity_true_Ah /= plant.pack().series;
   r_.summary.min_cell_V = INFINITY;

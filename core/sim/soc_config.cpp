@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "core/sim/bms_bridge.hpp"
+#include "core/sim/bms_image.hpp"
 
 namespace packsim {
 
@@ -68,10 +68,7 @@ void setSocConfig(bms::SocConfig& c, const Scenario& s) {
     mv = std::max<uint16_t>(mv, prev);  // the table must not fall
     c.ocv_mV[i] = prev = mv;
   }
-  c.rest_ms = static_cast<uint32_t>(std::lround(s.bms.soc_rest_s * 1e3));
-  c.restCurrent_mA = static_cast<int32_t>(std::lround(s.bms.soc_rest_current_A * 1e3));
-
-  c.estimator = e.estimator == "ekf" ? bms::SocEstimator::Ekf : bms::SocEstimator::CoulombCounting;
+  // rest_ms, restCurrent_mA, estimator, sohMinDeltaSoc and the EKF's noise: settings rows.
   const bool hasRc = !cell.rc.empty();
   const double r1_ohm = e.cell_r1_ohm >= 0.0 ? e.cell_r1_ohm : hasRc ? cell.rc[0].r_ohm : 0.0;
   const double tau1_s = e.tau1_s > 0.0 ? e.tau1_s : hasRc ? cell.rc[0].tau_s() : 30.0;
@@ -89,12 +86,7 @@ void setSocConfig(bms::SocConfig& c, const Scenario& s) {
   setGroupThermistors(k, s);
   k.r1_mOhm = static_cast<float>(r1_ohm / parallel * 1e3);
   k.tau1_s = static_cast<float>(tau1_s);
-  k.voltageSd_mV = static_cast<float>(e.voltage_sd_mV);
-  k.socSdPerSqrtS = static_cast<float>(e.soc_walk_per_sqrt_h / 60.0);
-  k.v1SdPerSqrtS_mV = static_cast<float>(e.v1_walk_mV_per_sqrt_s);
   k.initialSoc = static_cast<float>(e.initial_soc);
-  k.initialSocSd = static_cast<float>(e.initial_soc_sd);
-  c.sohMinDeltaSoc = static_cast<float>(e.soh_min_delta_soc);
   for (size_t i = 0; i < e.display_bars_V.size() && i + 1 < bms::kDisplayBars; ++i)
     c.displayBars_mV[i] = static_cast<uint16_t>(std::lround(e.display_bars_V[i] * 1e3));
 }

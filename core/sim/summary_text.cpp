@@ -179,7 +179,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
     const Event* lastCommand = nullptr;
     for (const Event& e : r.events)
       if (e.kind == "relay") lastCommand = &e;
-    const double release_s = s.hardware.relay.open_delay_s + s.bms.weld_settle_s;
+    const double release_s = s.hardware.relay.open_delay_s + s.bms.image.weldSettle_ms * 1e-3;
     if (lastCommand && lastCommand->detail == "open" && contactClosedBefore(r, m.duration_s + 1.0) &&
         m.duration_s - lastCommand->time_s > release_s) {
       const Event* welded = nullptr;

@@ -97,7 +97,7 @@ TEST(BalanceTime, SystemDWithNoiseStaysWithin2PercentAndWastesUnder1Percent) {
   EXPECT_NEAR(w.pack_useful_Ah + w.pack_wasted_Ah, w.bled_Ah, 1e-12);
 
   Scenario s = systemD();
-  s.bms.balancing.average_readings = 1;
+  s.bms.image.balance.averageReadings = 1;
   const BalanceTimeResult single = balanceTime(s, systemDBoard(47.0));
   ASSERT_EQ(single.warnings.size(), 1u);
   EXPECT_NE(single.warnings[0].find("d2(110)"), std::string::npos) << single.warnings[0];

@@ -84,7 +84,7 @@ TEST(NoiseFloor, ExpectedRangeOfNormalsMatchesClosedForms) {
 TEST(NoiseFloor, WarnsWhenTheStopThresholdIsBelowTheNoiseSpreadOfNChannels) {
   Scenario s = systemD();
   EXPECT_EQ(balanceNoiseWarning(s), "") << "16 averaged readings: sigma/4";
-  s.bms.balancing.average_readings = 1;
+  s.bms.image.balance.averageReadings = 1;
   const BalanceNoiseFloor f = balanceNoiseFloor(s);
   EXPECT_GT(f.expected_spread_V, 0.005);
   EXPECT_EQ(f.readings_needed, 2);

@@ -94,7 +94,7 @@ std::pair<double, double> throughMonitor(const ProtectionConfig& p, const Scenar
 // intervals later.
 std::pair<double, double> commLoss(const Scenario& s) {
   const double every = s.bms.readout.alert_period_s > 0.0 ? s.bms.readout.alert_period_s : readout_s(s);
-  return {(s.bms.comm_loss_count - 1) * every, s.bms.comm_loss_count * every};
+  return {(s.bms.image.afe.commLossCount - 1) * every, s.bms.image.afe.commLossCount * every};
 }
 
 std::string at(const std::string& body) {

@@ -105,7 +105,7 @@ TEST(ReferenceSystemD, AHighMemberBoardBleedsToThePacksLowestCell) {
   const Recording& rec = r.rec;
   const size_t last = rec.samples() - 1;
   const double cap_Ah = s.pack.cell.capacity_Ah;
-  const double balancing_s = s.run.duration_s - s.bms.balancing.rest_s - 16.0;
+  const double balancing_s = s.run.duration_s - s.bms.image.balance.rest_ms * 1e-3 - 16.0;
   const double expected_Ah = 3.84 / 47.0 * balancing_s / 3600.0;
   for (int c = 0; c < 110; ++c) {
     const double lost_Ah = (rec.cell_soc[static_cast<size_t>(c)] - rec.cell_soc[last * 110 + static_cast<size_t>(c)]) * cap_Ah;
