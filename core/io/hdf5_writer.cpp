@@ -197,6 +197,40 @@ class Writer {
     attr(o, name, value);
   }
 
+  // A multi-day route's stage table (route.stages): one row per stage.
+  void stages(const std::vector<StageRecord>& st) {
+    struct Row {
+      int32_t stage;
+      uint8_t complete;
+      double depart_s, time_s, distance_m, pack_Wh, array_Wh, parked_s, parked_pack_Wh, parked_array_Wh;
+    };
+    std::vector<Row> rows;
+    for (const StageRecord& g : st) {
+      for (double v : {g.depart_s, g.time_s, g.distance_m, g.pack_Wh, g.array_Wh, g.parked_s, g.parked_pack_Wh, g.parked_array_Wh})
+        if (!std::isfinite(v)) throw NonFiniteValue("/vehicle/stages: stage " + std::to_string(g.stage) + " holds a non-finite value");
+      rows.push_back({g.stage, static_cast<uint8_t>(g.complete ? 1 : 0), g.depart_s, g.time_s, g.distance_m, g.pack_Wh,
+                      g.array_Wh, g.parked_s, g.parked_pack_Wh, g.parked_array_Wh});
+    }
+    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "stages type");
+    H5Tinsert(type, "stage", HOFFSET(Row, stage), H5T_NATIVE_INT32);
+    H5Tinsert(type, "complete", HOFFSET(Row, complete), H5T_NATIVE_UINT8);
+#define PACKSIM_STAGE_FIELD(f) H5Tinsert(type, #f, HOFFSET(Row, f), H5T_NATIVE_DOUBLE)
+    PACKSIM_STAGE_FIELD(depart_s);
+    PACKSIM_STAGE_FIELD(time_s);
+    PACKSIM_STAGE_FIELD(distance_m);
+    PACKSIM_STAGE_FIELD(pack_Wh);
+    PACKSIM_STAGE_FIELD(array_Wh);
+    PACKSIM_STAGE_FIELD(parked_s);
+    PACKSIM_STAGE_FIELD(parked_pack_Wh);
+    PACKSIM_STAGE_FIELD(parked_array_Wh);
+#undef PACKSIM_STAGE_FIELD
+    hsize_t dims[1] = {rows.size()};
+    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "stages");
+    Handle ds(H5Dcreate2(file_, "/vehicle/stages", type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose,
+              "/vehicle/stages");
+    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "/vehicle/stages");
+  }
+
   void events(const std::vector<Event>& ev) {
     struct Row {
       double time_s;
@@ -351,6 +385,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
     w.attr(g, "vehicle_pack_Wh", v.pack_Wh);
     w.attr(g, "vehicle_array_Wh", v.array_Wh);
     w.attr(g, "vehicle_limit_time_s", v.limited ? v.limit_time_s : -1.0);
+    if (!v.stages.empty()) w.stages(v.stages);  // route.stages: the stage table
   }
 
   if (drawn) writeDrawnInputs(w, file, *drawn);

@@ -117,6 +117,9 @@ void rebaseRelativePaths(YAML::Node base, const std::string& fromDir, const std:
     if (cbase["load"]["csv"].IsMap()) rebase(base["load"]["csv"], "file");
     else rebase(base["load"], "csv");
   }
+  if (cbase["load"] && cbase["load"].IsMap() && cbase["load"]["route"] && cbase["load"]["route"].IsMap() &&
+      cbase["load"]["route"]["csv"])
+    rebase(base["load"]["route"], "csv");
   if (cbase["compare"] && cbase["compare"].IsMap()) rebase(base["compare"], "scenario");
 }
 
@@ -323,7 +326,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
         if (prov) prov->recordDefault("bms.run_request", "false", "default (the load is a charger)");
       }
     } else if (load.has("vehicle")) {  // a vehicle on a route draws a power it decides each tick
-      s.vehicle = readVehicle(load, s.pack);
+      s.vehicle = readVehicle(load, s.pack, base_dir);
       load.finish();
       s.load = LoadProfile::constant(0.0);
       s.load.quantity = LoadProfile::Quantity::Power_W;

@@ -1,9 +1,12 @@
 // `load: {vehicle, route, driver, sun}` (docs/scenario.md, "Vehicle and route").
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <string>
 
+#include "core/scenario/route_csv.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -34,6 +37,8 @@ constexpr double kMaxGrade_percent = 100.0;
 constexpr double kMaxAccel_m_per_s2 = 30.0;
 // A segment up to 1,000 km; a route of up to 100,000 laps.
 constexpr double kMaxLength_m = 1.0e6;
+// Wind along the road: the strongest gusts measured are ~400 km/h.
+constexpr double kMaxWind_kmh = 400.0;
 // A flat array up to 100 m² (a solar car carries ~4-6 m²).
 constexpr double kMaxArrayArea_m2 = 100.0;
 
@@ -69,18 +74,92 @@ VehicleParams readParams(YamlMap m, const PackConfig& pack) {
   return p;
 }
 
-Route readRoute(YamlMap m) {
+// route.stages and route.stops (docs/vehicle.md, "Stages and stops"): stops at the stage
+// ends until the next stage's start time of day, and control stops of a set duration.
+void readStops(YamlMap& m, Route& r, const SolarArray* sun) {
+  const double total_m = r.total_m();
+  std::vector<double> stageEnds_m;
+  if (m.has("stages")) {
+    std::vector<YamlMap> stages = m.mapList("stages");
+    if (!sun)
+      throw m.errorAt("stages", "a stage's start time of day needs the clock: give load.sun (its start_solar_hour is "
+                                "the time of day at t = 0)");
+    const double clock0_h = sun->start_solar_hour;
+    int day = 0;
+    double prevEnd_m = 0.0, prevStart_s = -1.0;
+    for (size_t i = 0; i < stages.size(); ++i) {
+      YamlMap& g = stages[i];
+      const double end_m = g.number("end_km", Range::positive(total_m / 1000.0)) * 1000.0;
+      const double hour = g.number("start_hour", Range{0.0, 24.0, false, true});
+      day = static_cast<int>(g.integer("day", day + 1, 1, 366));
+      g.finish();
+      const bool last = i + 1 == stages.size();
+      if (!(end_m > prevEnd_m))
+        throw g.errorAt("end_km", "must be beyond the previous stage's end (" + num(prevEnd_m / 1000.0) + " km)");
+      if (!last && !(end_m < total_m))
+        throw g.errorAt("end_km", "must be before the route's end (" + num(total_m / 1000.0) + " km): only the last stage ends there");
+      if (last && std::fabs(end_m - total_m) > 1e-6 * total_m)
+        throw g.errorAt("end_km", "the last stage must end at the route's end, " + num(total_m / 1000.0) +
+                                      " km (segments x laps)");
+      const double start_s = ((day - 1) * 24.0 + hour - clock0_h) * 3600.0;
+      if (start_s < 0.0)
+        throw g.errorAt("start_hour", "stage " + std::to_string(i + 1) + " would start before t = 0 (load.sun.start_solar_hour " +
+                                          num(clock0_h) + " on day 1)");
+      if (!(start_s > prevStart_s))
+        throw g.errorAt(g.has("day") ? "day" : "start_hour", "must start after stage " + std::to_string(i) +
+                                                                 " (give a later day or hour)");
+      // The stop before this stage: the start line (stage 1) or the previous stage's end.
+      r.stops.push_back(RouteStop{prevEnd_m, 0.0, start_s, static_cast<int>(i)});
+      if (!last) stageEnds_m.push_back(end_m);
+      prevEnd_m = end_m;
+      prevStart_s = start_s;
+    }
+    r.stages = static_cast<int>(stages.size());
+  }
+  if (m.has("stops")) {
+    double prev_m = 0.0;
+    for (YamlMap c : m.mapList("stops")) {
+      const double at_m = c.number("at_km", Range{0.0, total_m / 1000.0, true, true}) * 1000.0;
+      const double dur_s = c.number("duration_s", Range::positive(limits::kMaxTime_s));
+      c.finish();
+      if (!(at_m > prev_m)) throw c.errorAt("at_km", "must be beyond the previous stop (" + num(prev_m / 1000.0) + " km)");
+      for (double e : stageEnds_m)
+        if (e == at_m) throw c.errorAt("at_km", "is a stage's end (a stop already): give a place inside a stage");
+      r.stops.push_back(RouteStop{at_m, dur_s, 0.0, -1});
+      prev_m = at_m;
+    }
+  }
+  std::stable_sort(r.stops.begin(), r.stops.end(), [](const RouteStop& a, const RouteStop& b) { return a.at_m < b.at_m; });
+}
+
+Route readRoute(YamlMap m, const SolarArray* sun, const std::string& baseDir) {
   Route r;
-  for (YamlMap s : m.mapList("segments")) {
-    RouteSegment g;
-    g.length_m = s.number("length_m", Range::positive(kMaxLength_m));
-    g.grade = s.number("grade_percent", 0.0, Range::symmetric(kMaxGrade_percent)) / 100.0;
-    g.speed_m_per_s = s.number("speed_kmh", Range::positive(kMaxSpeed_kmh)) / 3.6;
-    s.finish();
-    r.segments.push_back(g);
+  if (m.has("csv")) {  // a route table (core/scenario/route_csv.hpp)
+    if (m.has("segments")) {  // an empty list clears a base scenario's segments
+      const YAML::Node segs = m.node("segments");
+      if (!segs.IsSequence() || segs.size() != 0)
+        throw m.errorAt("segments", "give segments or csv, not both (a scenario extending one with segments: set "
+                                    "segments: [])");
+    }
+    const std::string rel = m.string("csv");
+    const std::filesystem::path path =
+        std::filesystem::path(rel).is_relative() ? std::filesystem::path(baseDir) / rel : std::filesystem::path(rel);
+    if (!std::filesystem::exists(path)) throw m.errorAt("csv", "file not found: " + path.string());
+    r.segments = readRouteCsv(path.string());
+  } else {
+    for (YamlMap s : m.mapList("segments")) {
+      RouteSegment g;
+      g.length_m = s.number("length_m", Range::positive(kMaxLength_m));
+      g.grade = s.number("grade_percent", 0.0, Range::symmetric(kMaxGrade_percent)) / 100.0;
+      g.speed_m_per_s = s.number("speed_kmh", Range::positive(kMaxSpeed_kmh)) / 3.6;
+      g.headwind_m_per_s = s.number("headwind_kmh", 0.0, Range::symmetric(kMaxWind_kmh)) / 3.6;
+      s.finish();
+      r.segments.push_back(g);
+    }
   }
   r.laps = static_cast<int>(m.integer("laps", 1, 1, 100000));
   r.time_limit_s = m.number("time_limit_s", 0.0, Range::nonNegative(limits::kMaxTime_s));
+  readStops(m, r, sun);
   m.finish();
   return r;
 }
@@ -111,13 +190,14 @@ SolarArray readSun(YamlMap m) {
 
 }  // namespace
 
-VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack) {
+VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack, const std::string& baseDir) {
   VehicleConfig c;
   c.present = true;
   c.params = readParams(load.map("vehicle"), pack);
-  c.route = readRoute(load.map("route"));
+  YamlMap route = load.map("route");
   c.driver = readDriver(load.optionalMap("driver"));
   if (auto sun = load.optionalMap("sun")) c.array = readSun(*sun);
+  c.route = readRoute(route, c.array.area_m2 > 0.0 ? &c.array : nullptr, baseDir);
   c.standstill_end_s = load.number("standstill_end_s", c.standstill_end_s, Range::positive(limits::kMaxTime_s));
   return c;
 }

@@ -33,7 +33,7 @@ std::string loadCRateError(const PackConfig& pack, double value, bool power);
 double shortCircuitCurrent_A(const PackConfig& pack);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 // load_vehicle.cpp: `load: {vehicle, route, driver, sun, standstill_end_s}` (the caller finishes `load`)
-VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack);
+VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack, const std::string& baseDir);
 // boards: the monitor boards (each with its MCU) a host_dead may name.
 std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards);
 Expectations readExpect(std::optional<YamlMap> m);

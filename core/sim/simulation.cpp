@@ -69,7 +69,7 @@ struct SimulationRun::Impl {
     if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
     scheduler.reset(faults);
     if (s.vehicle.present) {  // a vehicle decides the power load each tick (core/sim/vehicle_run.hpp)
-      vehicle = std::make_unique<VehicleRun>(s.vehicle, tick_s);
+      vehicle = std::make_unique<VehicleRun>(s.vehicle, tick_s, s.bms.charge_full_cell_V);
       tracker.setVehicle(&vehicle->sample());
       plant.evaluate(0.0, x.data(), inputs, sig);
       packV = sig.pack_voltage_V;
@@ -116,7 +116,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   const double t = static_cast<double>(k) * tick_s;
   if (vehicle)  // the vehicle moves over the last tick and asks its power for the next
     ext.load_A_or_W = vehicle->tick(t, integ.state()[plant.stateSize() + kQuadLoadEnergy_J], packV,
-                                    out.state == bms::State::Normal, tracker);
+                                    out.state == bms::State::Normal, out.telemetry.maxCell_mV * 1e-3, tracker);
   if (ext.applyToPlant(t, inputs)) integ.reset(t, integ.state());  // external inputs, if any
   const double* xs = integ.state();
 

@@ -17,9 +17,10 @@ std::string fmt(const char* f, double v) {
 }
 }  // namespace
 
-VehicleRun::VehicleRun(const VehicleConfig& c, double tick_s)
-    : cfg_(c), dt_(tick_s), car_(c.params, c.route, c.driver), ref_(c.params, c.route, c.driver) {
+VehicleRun::VehicleRun(const VehicleConfig& c, double tick_s, double fullCell_V)
+    : cfg_(c), dt_(tick_s), fullCell_V_(fullCell_V), car_(c.params, c.route, c.driver), ref_(c.params, c.route, c.driver) {
   sum_.present = true;
+  sum_.clock_start_hour = c.array.start_solar_hour;
   sum_.route_m = c.route.total_m();
   sum_.time_limit_s = c.route.time_limit_s;
 }
@@ -42,11 +43,74 @@ void VehicleRun::account(double t0, double dt, double e0, double e1, double s0, 
     lapStart_s_ = tc;
     lapStartE_J_ = ec;
     lapStartA_J_ = ac;
-    if (n == r.laps) finish_s_ = tc;
+    if (n == r.laps) {
+      finish_s_ = tc;
+      finishE_J_ = ec;
+      finishA_J_ = ac;
+    }
   }
 }
 
-double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, RunTracker& tracker) {
+std::string VehicleRun::clock(double t) const {
+  const double h = cfg_.array.start_solar_hour + t / 3600.0;
+  const int day = static_cast<int>(std::floor(h / 24.0)) + 1;
+  const double hd = h - 24.0 * (day - 1);
+  const int minutes = static_cast<int>(std::floor(hd * 60.0 + 1e-9));
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "day %d %02d:%02d", day, minutes / 60, minutes % 60);
+  return buf;
+}
+
+// A stage's start and end, and the stop after it (route.stages).
+void VehicleRun::stageEvent(StopEvent ev, double t, double e_J, RunTracker& tracker) {
+  const Route& r = cfg_.route;
+  if (ev == StopEvent::Departed) {
+    const RouteStop& st = r.stops[car_.nextStop() - 1];
+    full_ = false;  // the array may charge the pack again
+    if (st.stage_end < 0) return;
+    if (parkOpen_ && !sum_.stages.empty()) {
+      StageRecord& prev = sum_.stages.back();
+      prev.parked_s = t - parkT_s_;
+      prev.parked_pack_Wh = (e_J - parkE_J_) / 3600.0;
+      prev.parked_array_Wh = (array_J_ - parkA_J_) / 3600.0;
+      parkOpen_ = false;
+    }
+    StageRecord g;
+    g.stage = st.stage_end + 1;
+    g.depart_s = t;
+    sum_.stages.push_back(g);
+    stageOpen_ = true;
+    stageE_J_ = e_J;
+    stageA_J_ = array_J_;
+    stageS_m_ = car_.distance_m();
+    tracker.event(t, "vehicle_stop", "stage " + std::to_string(g.stage) + " set off at km " +
+                                         fmt("%.3f", car_.distance_m() / 1000.0) + " (" + clock(t) + " solar time)");
+    return;
+  }
+  const RouteStop& st = r.stops[car_.nextStop()];
+  if (st.stage_end < 1) {
+    tracker.event(t, "vehicle_stop", "control stop at km " + fmt("%.3f", car_.distance_m() / 1000.0) + " (" +
+                                         clock(t) + " solar time) for " + fmt("%.0f", st.duration_s) + " s");
+    return;
+  }
+  if (stageOpen_ && !sum_.stages.empty()) {
+    StageRecord& g = sum_.stages.back();
+    g.time_s = t - g.depart_s;
+    g.distance_m = car_.distance_m() - stageS_m_;
+    g.pack_Wh = (e_J - stageE_J_) / 3600.0;
+    g.array_Wh = (array_J_ - stageA_J_) / 3600.0;
+    g.complete = true;
+    stageOpen_ = false;
+  }
+  parkOpen_ = true;
+  parkT_s_ = t;
+  parkE_J_ = e_J;
+  parkA_J_ = array_J_;
+  tracker.event(t, "vehicle_stop", "stage " + std::to_string(st.stage_end) + " ended at km " +
+                                       fmt("%.3f", car_.distance_m() / 1000.0) + " (" + clock(t) + " solar time)");
+}
+
+double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, double maxCell_V, RunTracker& tracker) {
   if (!first_ && started_) {
     const double t0 = t - dt_;
     const double delivered_W = (e_J - energy_J_) / dt_;
@@ -114,6 +178,11 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, RunTrac
     lapStartE_J_ = e_J;
     lapStartA_J_ = array_J_;
   }
+  if (started_) {  // stops: park at one reached, set off from one whose time is up
+    const StopEvent ev = car_.serveStops(t);
+    if (ev != StopEvent::None) stageEvent(ev, t, e_J, tracker);
+    ref_.serveStops(t);
+  }
   first_ = false;
   energy_J_ = e_J;
   // The irradiance changes over minutes: the array's power is held for a second at a time
@@ -122,13 +191,28 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, RunTrac
   if (started_) {
     plan_ = car_.plan(dt_, pack_V, array_W, true);
     refPlan_ = ref_.plan(dt_, pack_V, array_W, false);
+    // The BMS reads its full voltage on the highest module: the array's MPPT charges the
+    // pack no more (it still feeds the drive and the auxiliaries) until the vehicle next
+    // sets off, as the BMS ends a charger's charge.
+    if (fullCell_V_ > 0.0 && array_W > 0.0 && !full_ && maxCell_V >= fullCell_V_) {
+      full_ = true;
+      if (sum_.array_full_s < 0.0) sum_.array_full_s = t;
+      tracker.event(t, "vehicle_stop", "array charge ended: the BMS read " + fmt("%.3f", maxCell_V) +
+                                           " V on the highest module (bms.charge_full_cell_V " + fmt("%.3f", fullCell_V_) +
+                                           " V) at km " + fmt("%.3f", car_.distance_m() / 1000.0));
+    }
+    if (full_ && plan_.net_W < 0.0 && plan_.array_W > 0.0) {
+      const double loads_W = plan_.net_W + plan_.array_W;  // drive (regeneration: negative) + aux
+      plan_.array_W = std::clamp(loads_W, 0.0, plan_.array_W);
+      plan_.net_W = loads_W - plan_.array_W;  // regeneration alone may still charge it
+    }
   } else {
     plan_ = VehiclePlan{};  // waiting for the ready light: nothing drawn yet
   }
   sample_.distance_m = car_.distance_m();
   sample_.speed_m_per_s = car_.speed_m_per_s();
   sample_.pack_request_W = plan_.net_W;
-  sample_.array_W = started_ ? array_W : 0.0;
+  sample_.array_W = started_ ? plan_.array_W : 0.0;
   return plan_.net_W;
 }
 
@@ -156,6 +240,20 @@ VehicleSummary VehicleRun::summary(double end_s) const {
     l.pack_Wh = (energy_J_ - lapStartE_J_) / 3600.0;
     l.array_Wh = (array_J_ - lapStartA_J_) / 3600.0;
     s.laps.push_back(l);
+  }
+  if (stageOpen_ && !s.stages.empty()) {  // the last stage: to the finish line, or the run's end
+    StageRecord& g = s.stages.back();
+    g.complete = car_.finished();
+    g.time_s = (g.complete ? finish_s_ : end_s) - g.depart_s;
+    g.distance_m = (g.complete ? cfg_.route.total_m() : car_.distance_m()) - stageS_m_;
+    g.pack_Wh = ((g.complete ? finishE_J_ : energy_J_) - stageE_J_) / 3600.0;
+    g.array_Wh = ((g.complete ? finishA_J_ : array_J_) - stageA_J_) / 3600.0;
+  }
+  if (parkOpen_ && !s.stages.empty()) {  // the run ended parked after a stage
+    StageRecord& g = s.stages.back();
+    g.parked_s = end_s - parkT_s_;
+    g.parked_pack_Wh = (energy_J_ - parkE_J_) / 3600.0;
+    g.parked_array_Wh = (array_J_ - parkA_J_) / 3600.0;
   }
   for (LapRecord& l : s.laps) {
     const size_t i = static_cast<size_t>(l.lap - 1);

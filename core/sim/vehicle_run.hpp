@@ -18,13 +18,16 @@ class RunTracker;
 
 class VehicleRun {
  public:
-  VehicleRun(const VehicleConfig& c, double tick_s);
+  // fullCell_V: bms.charge_full_cell_V (0: none) -- with it the array stops charging the
+  // pack once the BMS reads it on the highest module, until the vehicle next sets off.
+  VehicleRun(const VehicleConfig& c, double tick_s, double fullCell_V);
 
   // At t_k: loadEnergy_J, the pack's energy out so far; pack_V, the pack voltage the
   // controller measured at the last tick; ready, the BMS was in its normal state at the
-  // last tick (the dashboard's ready light: the driver sets off at the first one).
+  // last tick (the dashboard's ready light: the driver sets off at the first one);
+  // maxCell_V: the highest cell (module) voltage the BMS reports.
   // Returns the pack power for [t_k, t_k+1) [W].
-  double tick(double t_s, double loadEnergy_J, double pack_V, bool ready, RunTracker& tracker);
+  double tick(double t_s, double loadEnergy_J, double pack_V, bool ready, double maxCell_V, RunTracker& tracker);
   // The route is complete, or the vehicle stood still for standstill_end_s.
   bool done() const { return car_.finished() || stood_; }
   std::string endReason() const;
@@ -33,9 +36,13 @@ class VehicleRun {
 
  private:
   void account(double t0, double dt, double e0_J, double e1_J, double s0, double s1, double a0_J, double a1_J);
+  void stageEvent(StopEvent ev, double t, double e_J, RunTracker& tracker);
+  std::string clock(double t_s) const;
 
   const VehicleConfig cfg_;
   const double dt_;
+  const double fullCell_V_;
+  bool full_ = false;                    // the BMS read the full voltage: the array charges no more
   Vehicle car_, ref_;
   VehiclePlan plan_, refPlan_;
   bool first_ = true;
@@ -47,6 +54,10 @@ class VehicleRun {
   double finish_s_ = -1.0, refFinish_s_ = -1.0;
   double lapStart_s_ = 0.0, lapStartE_J_ = 0.0, lapStartA_J_ = 0.0;
   std::vector<double> refLapEnd_s_;
+  double finishE_J_ = 0.0, finishA_J_ = 0.0;  // at the finish line (interpolated)
+  // the open stage (or the stop after it): energy, array energy and distance at its start
+  double stageE_J_ = 0.0, stageA_J_ = 0.0, stageS_m_ = 0.0, parkE_J_ = 0.0, parkA_J_ = 0.0, parkT_s_ = 0.0;
+  bool stageOpen_ = false, parkOpen_ = false;
   VehicleSummary sum_;
   VehicleSample sample_;
 };

@@ -27,9 +27,27 @@ struct LapRecord {
   bool complete = false;        // false: the lap the run ended in
 };
 
+// One stage of a multi-day route (route.stages): from setting off at its start to
+// standing at its end (control stops inside it count in its time), then parked there
+// until the next stage sets off (docs/vehicle.md, "Stages and stops").
+struct StageRecord {
+  int stage = 0;                // 1-based
+  double depart_s = 0.0;        // set off from the stage's start
+  double time_s = 0.0;          // from setting off to its end (or the run's end)
+  double distance_m = 0.0;
+  double pack_Wh = 0.0;         // energy out of the pack terminals over the stage
+  double array_Wh = 0.0;        // array energy taken into the bus over the stage
+  bool complete = false;        // false: the stage the run ended in
+  // Parked after the stage until the next one set off (or the run ended): its time, the
+  // pack's energy out over it (negative: the array charged it) and the array's energy.
+  double parked_s = 0.0, parked_pack_Wh = 0.0, parked_array_Wh = 0.0;
+};
+
 struct VehicleSummary {
   bool present = false;
   std::vector<LapRecord> laps;
+  std::vector<StageRecord> stages;  // route.stages only
+  double clock_start_hour = 0.0;    // solar time of day at t = 0 (with stages: the stage table's times)
   double distance_m = 0.0;
   double route_m = 0.0;
   double time_limit_s = 0.0;     // the route's time limit (0: none)
@@ -46,6 +64,9 @@ struct VehicleSummary {
   int limit_lap = 0;              // 1-based
   std::string limit_detail;
   double limited_s = 0.0;         // total time a pack limit acted
+  // bms.charge_full_cell_V with an array: the first time the BMS read it on the highest
+  // module and the array's charge of the pack ended (-1: never).
+  double array_full_s = -1.0;
 };
 
 }  // namespace packsim

@@ -1,5 +1,6 @@
 #include "core/sim/vehicle_text.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -36,6 +37,26 @@ std::string vehicleSummaryLines(const VehicleSummary& v) {
   }
   if (!v.laps.empty() && !v.laps.back().complete)
     os << "                 * the lap the run ended in (" << km(v.laps.back().distance_m) << " of it)\n";
+  if (!v.stages.empty()) {  // route.stages: a row per stage, then the stop after it
+    os << "stages           stage  set off (solar)  time_s      km    km/h   pack_Wh  array_Wh | parked_s  pack_Wh  "
+          "array_Wh\n";
+    for (const StageRecord& g : v.stages) {
+      const double h = v.clock_start_hour + g.depart_s / 3600.0;
+      const int day = static_cast<int>(std::floor(h / 24.0)) + 1;
+      const int minutes = static_cast<int>(std::floor((h - 24.0 * (day - 1)) * 60.0 + 1e-9));
+      char row[200];
+      std::snprintf(row, sizeof row, "                %5d%s  day %d %02d:%02d %9.1f %7.3f %7.2f %9.2f %9.2f | %8.0f %8.2f %9.2f\n",
+                    g.stage, g.complete ? " " : "*", day, minutes / 60, minutes % 60, g.time_s, g.distance_m / 1000.0,
+                    g.time_s > 0.0 ? g.distance_m / g.time_s * 3.6 : 0.0, g.pack_Wh, g.array_Wh, g.parked_s,
+                    g.parked_pack_Wh, g.parked_array_Wh);
+      os << row;
+    }
+    if (!v.stages.back().complete) os << "                 * the stage the run ended in\n";
+    os << "                 (parked: after the stage until the next set off; pack_Wh < 0: the array charged it)\n";
+  }
+  if (v.array_full_s >= 0.0)
+    os << "array full      the BMS first read bms.charge_full_cell_V on the highest module at " << fmt("%.1f", v.array_full_s)
+       << " s: the array charged the pack no more until the vehicle next set off\n";
   os << "vehicle energy  " << fmt("%.2f", v.pack_Wh) << " Wh from the pack"
      << (v.distance_m > 0.0 ? " (" + fmt("%.2f", v.pack_Wh / (v.distance_m / 1000.0)) + " Wh/km)" : std::string())
      << (v.pack_Wh > 0.0 ? ", " + fmt("%.1f", v.distance_m / v.pack_Wh) + " km/kWh" : std::string()) << ", "

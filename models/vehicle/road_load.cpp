@@ -6,20 +6,22 @@
 
 namespace packsim {
 
-double resistanceForce_N(const VehicleParams& p, double v, double grade) {
+double resistanceForce_N(const VehicleParams& p, double v, double grade, double wind) {
   const double c = 1.0 / std::sqrt(1.0 + grade * grade);  // cos θ
   const double s = grade * c;                             // sin θ
   const double weight_N = p.mass_kg * kGravity_m_per_s2;
-  return weight_N * p.rolling_coefficient * c + 0.5 * p.air_density_kg_per_m3 * p.drag_area_m2 * v * v + weight_N * s;
+  const double air = v + wind;  // the air's speed past the vehicle (v >= 0: without wind exactly v·v below)
+  return weight_N * p.rolling_coefficient * c + 0.5 * p.air_density_kg_per_m3 * p.drag_area_m2 * air * std::fabs(air) +
+         weight_N * s;
 }
 
-double wheelPower_W(const VehicleParams& p, double v, double grade, double a, double dt) {
-  return (resistanceForce_N(p, v, grade) + p.mass_kg * a) * (v + 0.5 * a * dt);
+double wheelPower_W(const VehicleParams& p, double v, double grade, double a, double dt, double wind) {
+  return (resistanceForce_N(p, v, grade, wind) + p.mass_kg * a) * (v + 0.5 * a * dt);
 }
 
-double accelerationFor(const VehicleParams& p, double v, double grade, double wheel_W, double dt) {
+double accelerationFor(const VehicleParams& p, double v, double grade, double wheel_W, double dt, double wind) {
   // (m·dt/2)·a² + (m·v + F·dt/2)·a + (F·v - P) = 0; the root that is continuous in P.
-  const double f = resistanceForce_N(p, v, grade);
+  const double f = resistanceForce_N(p, v, grade, wind);
   const double qa = 0.5 * p.mass_kg * dt;
   const double qb = p.mass_kg * v + 0.5 * f * dt;
   const double qc = f * v - wheel_W;

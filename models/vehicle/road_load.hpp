@@ -1,7 +1,10 @@
 // The road-load equation: the force at the wheels that moves a vehicle of mass m at
 // speed v up a grade G (rise over run) while it accelerates at a (docs/vehicle.md).
 //
-//   F_wheel = m·g·C_rr·cos θ + ½·ρ·CdA·v² + m·g·sin θ + m·a      θ = atan(G)   [N]
+//   F_wheel = m·g·C_rr·cos θ + ½·ρ·CdA·(v+w)·|v+w| + m·g·sin θ + m·a      θ = atan(G)   [N]
+//
+// with w the headwind: the wind's component against the direction of travel (negative:
+// a tailwind), so the air moves past the vehicle at v + w.
 //
 // Over one tick of length dt at a constant force the vehicle covers
 // ds = v·dt + ½·a·dt², so the wheel power that does that work is F·ds/dt [W]. The
@@ -31,14 +34,16 @@ struct VehicleParams {
   double cutoff_end_V = 0.0;
 };
 
-// Resistance at speed v on grade G: rolling + aerodynamic + climbing [N].
-double resistanceForce_N(const VehicleParams& p, double speed_m_per_s, double grade);
+// Resistance at speed v on grade G against headwind w: rolling + aerodynamic + climbing [N].
+double resistanceForce_N(const VehicleParams& p, double speed_m_per_s, double grade, double headwind_m_per_s = 0.0);
 // Wheel power over one tick of dt at speed v and constant acceleration a [W]:
 // (resistance at v + m·a) · (v + a·dt/2).
-double wheelPower_W(const VehicleParams& p, double speed_m_per_s, double grade, double accel_m_per_s2, double dt_s);
+double wheelPower_W(const VehicleParams& p, double speed_m_per_s, double grade, double accel_m_per_s2, double dt_s,
+                    double headwind_m_per_s = 0.0);
 // The acceleration that wheel power P gives over dt (the inverse of wheelPower_W at
-// the same v and grade): the root of m·a·(v + a·dt/2) + F_res·(v + a·dt/2) = P.
-double accelerationFor(const VehicleParams& p, double speed_m_per_s, double grade, double wheel_W, double dt_s);
+// the same v, grade and wind): the root of m·a·(v + a·dt/2) + F_res·(v + a·dt/2) = P.
+double accelerationFor(const VehicleParams& p, double speed_m_per_s, double grade, double wheel_W, double dt_s,
+                       double headwind_m_per_s = 0.0);
 // The pack current the controller allows at pack voltage V (infinite without a limit).
 double allowedCurrent_A(const VehicleParams& p, double pack_V);
 

@@ -1,5 +1,7 @@
 // A route: a circuit of distance-based segments, each with its grade and the speed the
-// driver aims for on it, driven for a number of laps (docs/vehicle.md).
+// driver aims for on it, driven for a number of laps, with the places the vehicle
+// stops on the way: control stops of a set duration and the ends of a multi-day race's
+// stages, where it waits for the next stage's start time (docs/vehicle.md).
 #pragma once
 #include <vector>
 
@@ -9,10 +11,24 @@ struct RouteSegment {
   double length_m = 0.0;
   double grade = 0.0;           // rise over run (0.05 = 5 %)
   double speed_m_per_s = 0.0;   // target speed (the speed limit the driver keeps to)
+  double headwind_m_per_s = 0.0;  // the wind against the direction of travel (negative: tailwind)
+};
+
+// A place the vehicle stops: it brakes to a standstill there and stays parked for at
+// least duration_s and until not_before_s (run time; a stage's start time).
+struct RouteStop {
+  double at_m = 0.0;
+  double duration_s = 0.0;
+  double not_before_s = 0.0;
+  int stage_end = -1;  // the stage (1-based) that ends here, 0: the start line before stage 1; -1: a control stop
 };
 
 struct Route {
   std::vector<RouteSegment> segments;
+  // Ascending in at_m. With stages: first a stop at 0 m until stage 1's start time, then
+  // the control stops and the stage ends (the last stage ends at the finish line: no stop).
+  std::vector<RouteStop> stops;
+  int stages = 0;  // 0: one run from start to finish, no stage table
   int laps = 1;
   double time_limit_s = 0.0;  // the race's time limit for the route (0: none)
 

@@ -12,6 +12,7 @@
 //            drive and slows the vehicle; braking the regeneration cannot take goes to
 //            the friction brakes.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 
 #include "models/vehicle/road_load.hpp"
@@ -41,8 +42,10 @@ const char* driveLimitName(DriveLimit l);
 inline bool packLimit(DriveLimit l) { return l >= DriveLimit::ControllerCurrent; }
 
 struct VehiclePlan {
+  bool parked = false;    // standing at a stop: no drive
   double accel_m_per_s2 = 0.0;
   double grade = 0.0;
+  double headwind_m_per_s = 0.0;
   double target_m_per_s = 0.0;
   double drive_W = 0.0;   // pack-side drive power (negative: regeneration)
   double array_W = 0.0;   // solar array into the bus
@@ -50,6 +53,9 @@ struct VehiclePlan {
   double wanted_W = 0.0;  // drive power the driver wanted before any limit
   DriveLimit limit = DriveLimit::None;
 };
+
+// What happened at a stop at the start of a tick (Vehicle::serveStops).
+enum class StopEvent : uint8_t { None, Arrived, Departed };
 
 class Vehicle {
  public:
@@ -61,6 +67,13 @@ class Vehicle {
   // Moves the vehicle over dt with the pack power that flowed (average, W); returns the
   // plan's limit, or PackShortfall when the pack gave less than asked.
   DriveLimit advance(const VehiclePlan& plan, double delivered_W, double dt_s);
+
+  // At the start of the tick at t: the vehicle standing at (or past) its next stop parks
+  // there; a parked vehicle whose time is up sets off. Returns what happened.
+  StopEvent serveStops(double t_s);
+  bool parked() const { return parked_; }
+  // The stop the vehicle is at or heads for next (stops().size(): none left).
+  size_t nextStop() const { return next_; }
 
   double speed_m_per_s() const { return v_; }
   double distance_m() const { return s_; }
@@ -74,6 +87,9 @@ class Vehicle {
   DriverParams driver_;
   double v_ = 0.0;
   double s_ = 0.0;
+  size_t next_ = 0;        // index into route_.stops
+  bool parked_ = false;
+  double departAt_s_ = 0.0;
 };
 
 }  // namespace packsim

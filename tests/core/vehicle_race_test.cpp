@@ -374,3 +374,176 @@ TEST(VehicleRace, SameScenarioSameBits) {
   EXPECT_EQ(a.rec.pack_current_A, b.rec.pack_current_A);
   EXPECT_EQ(formatSummary(s, a), formatSummary(s, b));
 }
+
+namespace {
+// The two-day race cut to two 20 km stages at 90 km/h on one day: stage 1 from 12:00
+// solar time (t = 0), stage 2 sets off at 13:00, so the car stands ~33 min at the end
+// of stage 1 with its array charging the pack.
+Scenario shortStages(std::vector<std::pair<std::string, std::string>> more = {}) {
+  std::vector<std::pair<std::string, std::string>> o = {
+      {"load.route.segments", "[{length_m: 40000, speed_kmh: 90}]"},
+      {"load.route.stages", "[{end_km: 20, start_hour: 12}, {end_km: 40, start_hour: 13, day: 1}]"},
+      {"load.route.stops", "[]"},
+      {"load.sun.start_solar_hour", "12"},
+      {"expect", "{}"}};
+  o.insert(o.end(), more.begin(), more.end());
+  return loadScenarioFileWithOverrides(race("solar_car_28s15p_two_day"), o);
+}
+}  // namespace
+
+TEST(VehicleRace, ParkedBetweenStagesTheArrayChargesThePack) {
+  const Scenario s = shortStages();
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_EQ(v.stages.size(), 2u);
+  const StageRecord& a = v.stages[0];
+  const StageRecord& b = v.stages[1];
+  EXPECT_TRUE(a.complete && b.complete);
+  EXPECT_NEAR(a.distance_m, 20000.0, 0.01);  // it stands at the stage's end
+  EXPECT_NEAR(b.depart_s, 3600.0, 0.11);      // 13:00 solar time
+  EXPECT_NEAR(a.depart_s + a.time_s + a.parked_s, b.depart_s, 1e-6);
+  // Parked: the clear-sky integral over the stop through 4 m² x 24 % x 98 % went into the
+  // pack, nothing out (no aux between stages): pack energy out = -array energy.
+  double e_J = 0.0;
+  const double t0 = a.depart_s + a.time_s, t1 = b.depart_s;
+  for (double t = t0; t < t1; t += 10.0) {
+    const double u = std::min(t + 10.0, t1);
+    e_J += 0.5 * (clearSky(-12.5, 296, 12 + t / 3600) + clearSky(-12.5, 296, 12 + u / 3600)) * (u - t);
+  }
+  const double parked_Wh = 4.0 * 0.24 * 0.98 * e_J / 3600.0;
+  EXPECT_GT(parked_Wh, 400.0);
+  EXPECT_NEAR(a.parked_array_Wh, parked_Wh, 0.02 * parked_Wh);
+  EXPECT_NEAR(a.parked_pack_Wh, -a.parked_array_Wh, 1e-3 * a.parked_array_Wh);
+  // Each stage: the road load of 20 km at 90 km/h from a standstill came from the pack
+  // and the array. Stage 1 ends braking to a standstill at 1 m/s²: the wheels give back
+  // (m·b − F_res(v))·v, of which the drive returns η of it up to the 2 kW regeneration
+  // cap (integrated here over v(t) = v0 − b·t); stage 2 ends at the finish line at speed.
+  const double sp = 90.0 / 3.6;
+  const double flat_N = force_N(300, 0.005, 1.16, 0.09, sp, 0.0);
+  double regen_J = 0.0, brakeRoad_J = 0.0;
+  for (double t = 0.0; t < sp; t += 0.001) {
+    const double vm = sp - (t + 0.0005);
+    const double back_W = (300.0 * 1.0 - force_N(300, 0.005, 1.16, 0.09, vm, 0.0)) * vm;
+    regen_J += std::min(0.95 * back_W, 2000.0) * 0.001;
+    brakeRoad_J += vm * 0.001;
+  }
+  const double kinetic_J = 0.5 * 300 * sp * sp / 0.95;
+  const double stage1_J = flat_N * (20000.0 - brakeRoad_J) / 0.95 + kinetic_J - regen_J + 20.0 * a.time_s;
+  const double stage2_J = flat_N * 20000.0 / 0.95 + kinetic_J + 20.0 * b.time_s;
+  EXPECT_NEAR(a.pack_Wh + a.array_Wh, stage1_J / 3600.0, 0.02 * stage1_J / 3600.0);
+  EXPECT_NEAR(b.pack_Wh + b.array_Wh, stage2_J / 3600.0, 0.02 * stage2_J / 3600.0);
+  // The stages and the stop add up to the race's pack energy, but for the last tick (the
+  // run ends at the first tick past the finish line: at most 0.1 s of ~2 kW).
+  EXPECT_NEAR(a.pack_Wh + a.parked_pack_Wh + b.pack_Wh, v.pack_Wh, 0.06);
+  // The summary's stage table and the events.
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("day 1 13:00"), std::string::npos) << text;
+  EXPECT_NE(test::eventTime(r, "vehicle_stop", "stage 1 ended at km 20.000"), -1.0);
+}
+
+TEST(VehicleRace, TheBmsFullReadingEndsTheArraysChargeWhileParked) {
+  // From 90 % the parked array charges the pack until the BMS reads 4.15 V on its highest
+  // module: then the array charges it no more (bounded by the BMS, not by the sun).
+  const Scenario s = shortStages({{"pack.initial_soc", "0.9"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_GE(v.array_full_s, 0.0);
+  EXPECT_FALSE(r.summary.tripped);
+  const StageRecord& a = v.stages[0];
+  const double arrive_s = a.depart_s + a.time_s;
+  ASSERT_GT(v.array_full_s, arrive_s);
+  ASSERT_LT(v.array_full_s, v.stages[1].depart_s);
+  // After the full reading and until the car sets off: no charge current.
+  double maxV = 0.0;
+  for (size_t k = 0; k < r.rec.samples(); ++k) {
+    const double t = r.rec.time_s[k];
+    if (t > v.array_full_s + 0.2 && t < v.stages[1].depart_s) EXPECT_GE(r.rec.pack_current_A[k], -1e-6) << t;
+    for (size_t c = 0; c < static_cast<size_t>(r.rec.cells); ++c)
+      maxV = std::max(maxV, r.rec.cell_voltage_V[k * static_cast<size_t>(r.rec.cells) + c]);
+  }
+  EXPECT_LT(maxV, 4.20);  // the over-voltage protection never had to act
+  // The array's energy while parked is below the clear-sky integral over the stop.
+  double e_J = 0.0;
+  for (double t = arrive_s; t < v.stages[1].depart_s; t += 10.0) {
+    const double u = std::min(t + 10.0, v.stages[1].depart_s);
+    e_J += 0.5 * (clearSky(-12.5, 296, 12 + t / 3600) + clearSky(-12.5, 296, 12 + u / 3600)) * (u - t);
+  }
+  EXPECT_LT(a.parked_array_Wh, 0.9 * 4.0 * 0.24 * 0.98 * e_J / 3600.0);
+  EXPECT_NE(test::eventTime(r, "vehicle_stop", "array charge ended"), -1.0);
+}
+
+TEST(VehicleRace, ARouteCsvWithElevationAndWindGivesTheHandLapBudget) {
+  // The eco circuit as a table of elevations (+7.5 m over 250 m: 3 %) into a 10 km/h
+  // headwind: the lap costs (F_flat·1100 m + F_up·250 m)/η + aux·t with the air at v + w.
+  const auto dir = test::processTempDir("route_csv");
+  const auto csv = dir / "circuit.csv";
+  {
+    std::ofstream out(csv);
+    out << "# the eco circuit, by elevation\n"
+        << "distance_km,elevation_m,speed_kmh,headwind_kmh\n"
+        << "0,100,27,10\n0.6,100,27,10\n0.85,107.5,27,10\n1.1,100,27,10\n1.6,100,27,10\n";
+  }
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"run.solver", "fast"}, {"load.route", "{csv: " + csv.string() + ", segments: [], laps: 3}"}, {"expect", "{}"}});
+  ASSERT_EQ(s.vehicle.route.segments.size(), 4u);
+  EXPECT_NEAR(s.vehicle.route.segments[1].grade, 0.03, 1e-12);
+  EXPECT_NEAR(s.vehicle.route.segments[2].grade, -0.03, 1e-12);
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  const double w = 10.0 / 3.6, air = kEcoV + w;
+  auto f = [&](double grade) {
+    const double c = 1.0 / std::sqrt(1.0 + grade * grade);
+    return 220 * kG * (0.006 * c + grade * c) + 0.5 * 1.2 * 0.25 * air * air;
+  };
+  ASSERT_LT(f(-0.03), 0.0);  // downhill the car still brakes
+  const double lap_Wh = ((f(0.0) * 1100.0 + f(0.03) * 250.0) / 0.85 + 8.0 * 1600.0 / kEcoV) / 3600.0;
+  EXPECT_GT(lap_Wh, ecoLapPack_J() / 3600.0 * 1.1);  // the wind costs more than 10 %
+  for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.02 * lap_Wh) << "lap " << i + 1;
+}
+
+TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
+  const auto dir = test::processTempDir("route_csv_bad");
+  auto errorOf = [&](const std::string& name, const std::string& text) {
+    const auto csv = dir / name;
+    {
+      std::ofstream out(csv);
+      out << text;
+    }
+    return test::scenarioErrorOf([&] {
+      loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.route", "{csv: " + csv.string() + ", segments: []}"}});
+    });
+  };
+  const std::string grade = errorOf("grade.csv", "distance_m,grade_percent,speed_kmh\n0,0,27\n500,130,27\n1000,0,27\n");
+  EXPECT_NE(grade.find("grade.csv:3:"), std::string::npos) << grade;
+  EXPECT_NE(grade.find("grade_percent"), std::string::npos) << grade;
+  EXPECT_NE(grade.find("[-100, 100] %"), std::string::npos) << grade;
+  const std::string order = errorOf("order.csv", "distance_km,grade_percent,speed_kmh\n0,0,27\n1,0,27\n0.5,0,27\n");
+  EXPECT_NE(order.find("order.csv:4:"), std::string::npos) << order;
+  EXPECT_NE(order.find("increase strictly"), std::string::npos) << order;
+  const std::string head = errorOf("head.csv", "distance_km,grade_percent,sped_kmh\n0,0,27\n1,0,27\n");
+  EXPECT_NE(head.find("head.csv:1:"), std::string::npos) << head;
+  EXPECT_NE(head.find("speed_kmh"), std::string::npos) << head;
+  const std::string wind = errorOf("wind.csv", "distance_km,grade_percent,speed_kmh,wind_kmh\n0,0,27,5\n1,0,27,5\n");
+  EXPECT_NE(wind.find("wind_from_deg"), std::string::npos) << wind;
+  const std::string num = errorOf("num.csv", "distance_km,grade_percent,speed_kmh\n0,0,27\n1,x,27\n");
+  EXPECT_NE(num.find("num.csv:3:"), std::string::npos) << num;
+  EXPECT_NE(num.find("not a finite number"), std::string::npos) << num;
+}
+
+TEST(VehicleRace, WindByDirectionIsItsComponentAgainstTheHeading) {
+  // 20 km/h from 60° on a road heading 0°: a headwind of 20·cos 60° = 10 km/h.
+  const auto dir = test::processTempDir("route_csv_dir");
+  const auto csv = dir / "dir.csv";
+  {
+    std::ofstream out(csv);
+    out << "distance_km,grade_percent,speed_kmh,wind_kmh,wind_from_deg,heading_deg\n0,0,27,20,60,0\n1,0,27,20,60,180\n"
+        << "2,0,27,0,0,0\n";
+  }
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.route", "{csv: " + csv.string() + ", segments: []}"}});
+  EXPECT_NEAR(s.vehicle.route.segments[0].headwind_m_per_s * 3.6, 10.0, 1e-9);
+  EXPECT_NEAR(s.vehicle.route.segments[1].headwind_m_per_s * 3.6, -10.0, 1e-9);  // the way back: a tailwind
+}

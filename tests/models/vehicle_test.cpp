@@ -165,3 +165,81 @@ TEST(ClearSky, NoonIrradianceByHand) {
   SolarArray a{4.0, 0.22, 0.97, {0.0, 80}, 11.0};
   EXPECT_NEAR(a.power_W(3600.0), 4.0 * 0.22 * 0.97 * 1041.78, 0.01);
 }
+
+TEST(Vehicle, StopsAtTheLineWaitsAndSetsOff) {
+  // 20 m/s on a 5 km road with a 60 s stop at 2 km: from v²/2d = b (200 m before the
+  // line at b = 1 m/s²) it brakes at a constant v²/2d and stands at the line; it waits
+  // the stop's duration and sets off again; the aux stays on while it waits.
+  VehicleParams p = car();
+  p.aux_power_W = 12.0;
+  Route r = flat(20.0, 5000.0);
+  r.stops = {RouteStop{2000.0, 60.0, 0.0, -1}};
+  DriverParams d;
+  d.brake_m_per_s2 = 1.0;
+  Vehicle v(p, r, d);
+  const double dt = 0.1;
+  double t = 0.0, arrived = -1.0, departed = -1.0, arrivedAt_m = -1.0, peakBrake = 0.0;
+  for (int k = 0; k < 4000 && departed < 0.0; ++k, t += dt) {
+    const StopEvent e = v.serveStops(t);
+    if (e == StopEvent::Arrived) {
+      arrived = t;
+      arrivedAt_m = v.distance_m();
+    }
+    if (e == StopEvent::Departed) departed = t;
+    const VehiclePlan pl = v.plan(dt, 50.0, 0.0, true);
+    if (v.parked()) EXPECT_NEAR(pl.net_W, 12.0, 1e-12);
+    if (v.distance_m() > 1500.0) peakBrake = std::max(peakBrake, -pl.accel_m_per_s2);
+    v.advance(pl, pl.net_W, dt);
+  }
+  ASSERT_GT(arrived, 0.0);
+  EXPECT_NEAR(arrivedAt_m, 2000.0, 0.01);
+  EXPECT_LE(peakBrake, 1.0 + 0.02);  // never harder than b (to the rounding of the first tick)
+  EXPECT_NEAR(departed - arrived, 60.0, dt + 1e-9);
+  // Back to the target afterwards.
+  for (int k = 0; k < 600; ++k) {
+    const VehiclePlan pl = v.plan(dt, 50.0, 0.0, true);
+    v.advance(pl, pl.net_W, dt);
+  }
+  EXPECT_NEAR(v.speed_m_per_s(), 20.0, 1e-3);
+}
+
+TEST(Vehicle, AStageStartWaitsForItsTime) {
+  // A stop at 0 m until t = 100 s (stage 1's start time): standing, nothing drawn
+  // between stages, it sets off at the first tick at or after 100 s.
+  VehicleParams p = car();
+  p.aux_power_W = 12.0;
+  Route r = flat(10.0);
+  r.stops = {RouteStop{0.0, 0.0, 100.0, 0}};
+  Vehicle v(p, r, DriverParams{});
+  double t = 0.0, departed = -1.0;
+  for (int k = 0; k < 2000 && departed < 0.0; ++k, t += 0.5) {
+    if (v.serveStops(t) == StopEvent::Departed) departed = t;
+    const VehiclePlan pl = v.plan(0.5, 50.0, 30.0, true);
+    if (v.parked()) {
+      EXPECT_EQ(pl.net_W, -30.0);  // the array charges the pack; no aux between stages
+      EXPECT_EQ(v.distance_m(), 0.0);
+    }
+    v.advance(pl, pl.net_W, 0.5);
+  }
+  EXPECT_EQ(departed, 100.0);
+}
+
+TEST(RoadLoad, AHeadwindRaisesTheAeroPowerByTheSquareOfTheAirSpeed) {
+  // At 10 m/s against 5 m/s of headwind the air passes at 15 m/s: the aerodynamic force
+  // is ½·1.2·0.5·15² = 67.5 N, (15/10)² times the 30 N of still air; a 15 m/s tailwind
+  // pushes: ½·1.2·0.5·(10 − 15)·|10 − 15| = −7.5 N.
+  const double roll = 9.80665;
+  EXPECT_NEAR(resistanceForce_N(car(), 10.0, 0.0, 5.0) - roll, 30.0 * (15.0 / 10.0) * (15.0 / 10.0), 1e-9);
+  EXPECT_NEAR(resistanceForce_N(car(), 10.0, 0.0, -15.0) - roll, -7.5, 1e-9);
+  // Cruising at 10 m/s into the wind: pack power (roll + 67.5 N)·10 m/s / η.
+  Route r = flat(10.0, 5000.0);
+  r.segments[0].headwind_m_per_s = 5.0;
+  Vehicle v(car(), r, DriverParams{});
+  VehiclePlan pl;
+  for (int k = 0; k < 6000; ++k) {
+    pl = v.plan(0.01, 50.0, 0.0, true);
+    v.advance(pl, pl.net_W, 0.01);
+  }
+  EXPECT_NEAR(v.speed_m_per_s(), 10.0, 1e-6);
+  EXPECT_NEAR(pl.net_W, (roll + 67.5) * 10.0 / 0.8, 1e-3);
+}
