@@ -69,7 +69,7 @@ struct SimulationRun::Impl {
     if (const std::string w = balanceNoiseWarning(s); !w.empty()) tracker.event(0.0, "config_warning", w);
     scheduler.reset(faults);
     if (s.vehicle.present) {  // a vehicle decides the power load each tick (core/sim/vehicle_run.hpp)
-      vehicle = std::make_unique<VehicleRun>(s.vehicle, tick_s, s.bms.charge_full_cell_V);
+      vehicle = std::make_unique<VehicleRun>(s.vehicle, tick_s, s.bms.image.chargeFullCell_mV / 1000.0);
       tracker.setVehicle(&vehicle->sample());
       plant.evaluate(0.0, x.data(), inputs, sig);
       packV = sig.pack_voltage_V;

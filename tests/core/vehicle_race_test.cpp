@@ -387,7 +387,7 @@ Scenario shortStages(std::vector<std::pair<std::string, std::string>> more = {})
       {"load.sun.start_solar_hour", "12"},
       {"expect", "{}"}};
   o.insert(o.end(), more.begin(), more.end());
-  return loadScenarioFileWithOverrides(race("solar_car_28s15p_two_day"), o);
+  return loadScenarioFileWithOverrides(test::scenarioDir() + "/../examples/vehicle/solar_car_28s15p_two_day.yaml", o);
 }
 }  // namespace
 
