@@ -87,7 +87,14 @@ std::string YamlMap::fieldName(const std::string& key) const { return path_.empt
 ScenarioError YamlMap::errorAt(const YAML::Node& n, const std::string& field, const std::string& message) const {
   const YAML::Mark m = n.Mark();
   const bool known = m.line >= 0;
-  return ScenarioError(file_, known ? m.line + 1 : 0, known ? m.column + 1 : 0, field, message);
+  // In a scenario merged from an extends: chain a node keeps its own file's line: name
+  // the file that set the field, not the one this mapping was read from.
+  std::string file = file_;
+  if (const Provenance* p = Provenance::active()) {
+    const std::string setBy = p->fileOf(field);
+    if (setBy != Provenance::displayName(file_)) file = setBy;
+  }
+  return ScenarioError(file, known ? m.line + 1 : 0, known ? m.column + 1 : 0, field, message);
 }
 
 ScenarioError YamlMap::errorAt(const std::string& key, const std::string& message) const {

@@ -136,6 +136,23 @@ TEST(InputHardening, TypoInAScenarioThatExtendsAnotherKeepsItsLineAndColumn) {
   EXPECT_NE(e2.find("child2.yaml:2:23: run.rtoll: unknown key; did you mean 'rtol'?"), std::string::npos) << e2;
 }
 
+// A base valid alone, made invalid by its child: the error sits on the base's line, so it
+// names the base's file (it named the child's file with the base's line).
+TEST(InputHardening, AnErrorOnABaseKeyAfterMergingNamesTheBaseFile) {
+  const fs::path d = freshDir("extends_base_line");
+  write(d / "base.yaml", "name: base\npack:\n  series: 40\n  cell: {preset: lipo_5Ah}\nload: {current_A: 2}\n"
+                         "run: {duration_s: 10}\nhardware:\n  thermistors: {at_groups: [30]}\n");
+  write(d / "child.yaml", "extends: base.yaml\nname: child\npack: {series: 20}\n");
+  const std::string e = loadError(d / "child.yaml");
+  EXPECT_NE(e.find("base.yaml:8:29: hardware.thermistors.at_groups[0]: 30 is out of range; allowed [1, 20]"),
+            std::string::npos) << e;
+  EXPECT_EQ(e.find("child.yaml"), std::string::npos) << e;
+  // The child's own keys still name the child.
+  write(d / "child2.yaml", "extends: base.yaml\nname: child\npack: {series: 40, initial_soc: 2}\n");
+  const std::string e2 = loadError(d / "child2.yaml");
+  EXPECT_NE(e2.find("child2.yaml:3:"), std::string::npos) << e2;
+}
+
 TEST(InputHardening, OverrideUnderACellPresetKeepsItsValueLine) {
   const std::string y = "pack:\n  series: 2\n  cell:\n    preset: ncr18650_3p1Ah\n    capacity_Ah: -3\n" + kLoad;
   const std::string e = yamlError(y);
