@@ -129,7 +129,10 @@ void readStops(YamlMap& m, Route& r, const SolarArray* sun) {
       prev_m = at_m;
     }
   }
-  std::stable_sort(r.stops.begin(), r.stops.end(), [](const RouteStop& a, const RouteStop& b) { return a.at_m < b.at_m; });
+  // Places are distinct (stage ends increase, a control stop is never one), so a plain
+  // sort is stable here; std::stable_sort's temporary buffer trips ASan's
+  // alloc-dealloc-mismatch with GCC 12's libstdc++.
+  std::sort(r.stops.begin(), r.stops.end(), [](const RouteStop& a, const RouteStop& b) { return a.at_m < b.at_m; });
 }
 
 Route readRoute(YamlMap m, const SolarArray* sun, const std::string& baseDir) {
