@@ -29,12 +29,7 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
   char sep = 0;
   std::vector<std::string> names;
   size_t timeCol = 0, valueCol = 0;
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF line ends
-    if (lineNo == 1 && line.compare(0, 3, kUtf8Bom) == 0) line.erase(0, 3);
-    const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
+  while (nextDataLine(in, line, lineNo)) {
     if (sep == 0) {  // the header row
       sep = separatorOf(line);
       for (const Cell& c : splitRow(line, sep)) names.push_back(unquote(c.text));
@@ -47,7 +42,7 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
           if (defaults)
             throw ScenarioError(path, lineNo, 1, "",
                                 "expected the header 'time_s,current_A' or 'time_s,power_W' (or name the columns: "
-                                "csv: {file, time_column, current_column or power_column}); the header as read is '" + visible(t) + "'");
+                                "csv: {file, time_column, current_column or power_column}); the header as read is '" + visible(trim(line)) + "'");
         }
         valueCol = cur != names.size() ? cur : pow;
         p.power = cur == names.size();

@@ -59,4 +59,15 @@ std::string joined(const std::vector<std::string>& names) {
   return s;
 }
 
+bool nextDataLine(std::istream& in, std::string& line, int& lineNo) {
+  while (std::getline(in, line)) {
+    ++lineNo;
+    if (!line.empty() && line.back() == '\r') line.pop_back();  // CRLF line ends
+    if (lineNo == 1 && line.compare(0, 3, kUtf8Bom) == 0) line.erase(0, 3);
+    const std::string t = trim(line);
+    if (!t.empty() && t[0] != '#') return true;
+  }
+  return false;
+}
+
 }  // namespace packsim::csv

@@ -2,6 +2,7 @@
 // separated by commas, or by semicolons (then a decimal comma is read too) or tabs, as
 // the header row uses; each field with its 1-based column in the line for errors.
 #pragma once
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -23,5 +24,9 @@ std::string visible(const std::string& text);
 std::string joined(const std::vector<std::string>& names);
 // A UTF-8 byte-order mark, as Excel's "CSV UTF-8" starts the file.
 constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+// The next line with content into `line` (its CR line end and the first line's byte-order
+// mark removed), skipping blank and '#' comment lines; `lineNo` counts every line read.
+// False at the end of the input.
+bool nextDataLine(std::istream& in, std::string& line, int& lineNo);
 
 }  // namespace packsim::csv

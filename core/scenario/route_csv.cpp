@@ -55,12 +55,7 @@ std::vector<RouteSegment> readRouteCsv(const std::string& path) {
                          "no " + what + " column in the header (columns as read: " + joined(names) + ")" +
                              (near.empty() ? "" : "; did you mean '" + near + "'?"));
   };
-  while (std::getline(in, line)) {
-    ++lineNo;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (lineNo == 1 && line.compare(0, 3, kUtf8Bom) == 0) line.erase(0, 3);
-    const std::string t = trim(line);
-    if (t.empty() || t[0] == '#') continue;
+  while (nextDataLine(in, line, lineNo)) {
     if (sep == 0) {  // the header row
       sep = separatorOf(line);
       for (const Cell& c : splitRow(line, sep)) names.push_back(unquote(c.text));
