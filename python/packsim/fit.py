@@ -60,6 +60,26 @@ class FileFit:
     low_soc_rms_mV: float | None = None   # RMS over the samples below 10 % SOC (None: none there)
     reader: str = ""                      # a cycler export: its format, sign and units as read
 
+    def rms_over_time_mV(self, below_soc: float | None = None) -> float | None:
+        """RMS of the voltage error over time, each sample weighted by the time it stands
+        for (half of each interval beside it): for files logged unevenly (a cycler logging
+        on change, a decimated record) the figure of the evenly sampled test; rms_mV weighs
+        every sample alike. below_soc: over the samples below that SOC only (None: none there)."""
+        t = self.time_s
+        w = np.zeros(t.size)
+        if t.size > 1:
+            half = 0.5 * np.diff(t)
+            w[:-1] += half
+            w[1:] += half
+        else:
+            w[:] = 1.0
+        if below_soc is not None:
+            w = np.where(self.soc < below_soc, w, 0.0)
+            if not np.any(w > 0):
+                return None
+        err_V = self.model_V - self.voltage_V
+        return 1e3 * float(np.sqrt(np.sum(w * err_V ** 2) / np.sum(w)))
+
 
 @dataclass
 class FitAtTemperature:
@@ -93,7 +113,7 @@ class FitResult:
     warnings: list[str] = field(default_factory=list)  # what the data could not determine
     smoothing: float = SMOOTH_WEIGHT  # weight of the second-difference penalty on the tables
     validation: list[FileFit] = field(default_factory=list)  # held-out tests: the preset's error on them
-    smoothing_scores: list[tuple[float, float]] = field(default_factory=list)  # (weight, held-out RMS mV) tried
+    smoothing_scores: list[tuple[float, float]] = field(default_factory=list)  # (weight, held-out RMS mV) tried; NaN: no valid cell
     ocv_temps_C: tuple[float, float] | None = None  # with an OCV temperature coefficient: the rows of the
                                                     # preset's 2-D OCV (the training samples' coldest, hottest)
 
@@ -173,7 +193,8 @@ class FitResult:
             lines.append("  held out (not fitted):")
             lines += ["  " + _file_line(f) for f in self.validation]
         if self.smoothing_scores:
-            tried = ", ".join(f"{w:g}: {rms:.2f} mV" for w, rms in self.smoothing_scores)
+            tried = ", ".join(f"{w:g}: {rms:.2f} mV" if np.isfinite(rms) else f"{w:g}: no valid cell"
+                              for w, rms in self.smoothing_scores)
             lines.append(f"  smoothing {self.smoothing:g}, the lowest held-out RMS of those tried ({tried})")
         return "\n".join(lines)
 
@@ -436,36 +457,58 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
     best: FitResult | None = None
     best_score = np.inf
     scores: list[tuple[float, float]] = []
+    failed: FitError | None = None
     for weight in weights:
-        lay = replace(layout, smooth_weight=weight)
-        fitted, evaluations = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
-        if lay.ocv_dT and not _ocv_rows_rise(fitted[0], ocv_temps):
-            if ocv_temperature:
-                raise FitError("the OCV with its fitted temperature coefficient does not rise with SOC at "
-                               f"{ocv_temps[0]:.1f} or {ocv_temps[1]:.1f} °C: the rests do not determine it "
-                               "(fit without it: ocv_temperature False / --no-ocv-temperature)")
-            dropped = ("the OCV temperature coefficient the rests gave would make the OCV fall with SOC "
-                       "at the coldest or hottest test: left out (one OCV for every temperature)")
-            if dropped not in fit_warnings:
-                fit_warnings.append(dropped)
-            lay = replace(lay, ocv_dT=False)
-            fitted, more = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
-            evaluations += more
-        result = FitResult(float(capacity_Ah), grid, form, int(rc_pairs), fitted, [], v_min, v_max, capacity_source,
-                           law, evaluations, fit_warnings, weight,
-                           ocv_temps_C=ocv_temps if lay.ocv_dT else None)
-        result.validation = _file_errors(result, held_out, held_socs0, held_temps)
+        try:
+            result = _fit_with_smoothing(weight, layout, tests, groups, socs0, temps, sample_temps, law,
+                                         int(max_evaluations), ocv_temperature, ocv_temps, list(fit_warnings),
+                                         (float(capacity_Ah), grid, form, int(rc_pairs), v_min, v_max, capacity_source))
+            result.validation = _file_errors(result, held_out, held_socs0, held_temps)
+        except FitError as e:
+            if len(weights) == 1:
+                raise
+            # a weight too light for the data (a table left free where no test reaches): one
+            # candidate fewer, not a failed fit
+            failed = e
+            scores.append((weight, float("nan")))
+            continue
         score = _pooled_rms_mV(result.validation) if held_out else 0.0
         scores.append((weight, score))
         if best is None or score < best_score:
             best, best_score = result, score
-    assert best is not None
+    if best is None:
+        assert failed is not None
+        raise FitError(f"no smoothing weight tried gives a valid fit ({', '.join(f'{w:g}' for w in weights)}); "
+                       f"the last: {failed}")
     best.smoothing_scores = scores if held_out and len(weights) > 1 else []
-    for w in fit_warnings:
+    for w in best.warnings:   # the data's, and what the kept fit left out
         warnings.warn(w, FitWarning, stacklevel=2)
     best.files = _file_errors(best, tests, socs0, [_model_temps(law, temps[k], sample_temps[k], tests[k])
                                                    for k in range(len(tests))])
     return best
+
+
+def _fit_with_smoothing(weight: float, layout: Layout, tests, groups, socs0, temps, sample_temps, law: str,
+                        max_evaluations: int, ocv_temperature, ocv_temps, fit_warnings: list[str],
+                        common: tuple) -> FitResult:
+    """The fit with one weight of the tables' second-difference penalty."""
+    capacity_Ah, grid, form, rc_pairs, v_min, v_max, capacity_source = common
+    lay = replace(layout, smooth_weight=weight)
+    fitted, evaluations = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
+    if lay.ocv_dT and not _ocv_rows_rise(fitted[0], ocv_temps):
+        if ocv_temperature:
+            raise FitError("the OCV with its fitted temperature coefficient does not rise with SOC at "
+                           f"{ocv_temps[0]:.1f} or {ocv_temps[1]:.1f} °C: the rests do not determine it "
+                           "(fit without it: ocv_temperature False / --no-ocv-temperature)")
+        dropped = ("the OCV temperature coefficient the rests gave would make the OCV fall with SOC "
+                   "at the coldest or hottest test: left out (one OCV for every temperature)")
+        if dropped not in fit_warnings:
+            fit_warnings.append(dropped)
+        lay = replace(lay, ocv_dT=False)
+        fitted, more = _fit_groups(tests, groups, socs0, temps, sample_temps, lay, law, int(max_evaluations))
+        evaluations += more
+    return FitResult(capacity_Ah, grid, form, rc_pairs, fitted, [], v_min, v_max, capacity_source,
+                     law, evaluations, fit_warnings, weight, ocv_temps_C=ocv_temps if lay.ocv_dT else None)
 
 
 def _pooled_rms_mV(files: list[FileFit]) -> float:
