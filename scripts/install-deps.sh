@@ -18,7 +18,8 @@ APT_PACKAGES=(
 # Dask), and the build tools `pip install .` uses without build isolation.
 PIP_PACKAGES=(numpy h5py pytest matplotlib plotly selenium pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
               "dask[distributed]" scikit-build-core pybind11
-              fmpy)  # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
+              fmpy   # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
+              bpx)   # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do

@@ -28,7 +28,7 @@ from ._overrides import flatten_overrides
 from .balance import BalanceTimeResult, BalanceTimeRow, balance_time
 from .batch import BatchResult, batch, load_sweep, monte_carlo_seed
 from .check import CheckOutcome, CheckReport, FaultLatency, check
-from .fit import FitError, FitResult, FitWarning, fit
+from .fit import FitError, FitResult, FitWarning, fit, from_bpx, from_pybamm
 from .export import export
 from .report import report
 from .result import Result, load
@@ -59,7 +59,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 __all__ = ["run", "show", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
            "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "report", "list_bundled", "__version__"]
-__all__ += ["fit", "FitResult", "FitError", "FitWarning"]
+__all__ += ["fit", "from_bpx", "from_pybamm", "FitResult", "FitError", "FitWarning"]
 
 
 def __getattr__(name: str):

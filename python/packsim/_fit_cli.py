@@ -66,6 +66,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--smoothing", type=float,
                    help="weight of the tables' second-difference penalty (default 0.1, or chosen by --validate)")
     p.add_argument("--report", help="write the fit report (measured vs model, residual) as this PNG")
+    p.add_argument("--bpx", metavar="JSON", help="also write the cell as a BPX file (the Battery Parameter eXchange "
+                   "format, the equivalent circuit in its User-defined section; needs the bpx package)")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     return p
 
@@ -82,7 +84,7 @@ def main(argv: list[str]) -> int:
     from .fit import FitError, fit
     n = len(args.data)
     try:
-        for path in filter(None, (args.output, args.report)):  # fail before a long fit, not after it
+        for path in filter(None, (args.output, args.report, args.bpx)):  # fail before a long fit, not after it
             folder = os.path.dirname(os.path.abspath(path))
             if not os.path.isdir(folder):
                 raise FitError(f"{path}: no such folder {folder}")
@@ -103,7 +105,10 @@ def main(argv: list[str]) -> int:
                 f.plot(args.report)
             except ImportError as e:
                 raise FitError(str(e)) from None
+        bpx_doc = f.bpx() if args.bpx else None   # refused (a fit per temperature, R0 a polynomial) before any write
         f.save(args.output)
+        if bpx_doc is not None:
+            f.save_bpx(args.bpx)
     except FitError as e:
         print(f"packsim fit: error: {e}", file=sys.stderr)
         return 2
@@ -111,5 +116,5 @@ def main(argv: list[str]) -> int:
         print(f"packsim fit: warning: {w}", file=sys.stderr)
     if not args.quiet:
         print(f.summary())
-        print(f"wrote {args.output}" + (f" and {args.report}" if args.report else ""))
+        print("wrote " + " and ".join(filter(None, (args.output, args.report, args.bpx))))
     return 0

@@ -30,7 +30,7 @@ from ._fit_data import FitError, FitWarning, read_test, rest_mask
 from ._fit_ecm import REF_TEMP_C, SMOOTH_WEIGHT, Layout, fit_group, held_current, prepare, soc_trace
 from ._fit_preset import preset_yaml
 
-__all__ = ["fit", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FitWarning", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
+__all__ = ["fit", "from_bpx", "from_pybamm", "FitResult", "FitAtTemperature", "FileFit", "FitError", "FitWarning", "FORMS", "TEMPERATURE_LAWS", "parse_soc_grid",
            "arrhenius_factor"]
 
 FORMS = ("table", "poly")
@@ -176,6 +176,24 @@ class FitResult:
                 fig.savefig(tmp, dpi=dpi)
                 os.replace(tmp, os.fspath(path))
         return fig
+
+    def bpx(self, title: str = "packsim fit") -> dict:
+        """The cell as a BPX document (a JSON-ready dict): the equivalent circuit in its
+        User-defined section (docs/fit.md). Needs the bpx package, which validates it."""
+        from ._fit_interchange import to_bpx
+        return to_bpx(self, title)
+
+    def save_bpx(self, path: str | os.PathLike, title: str = "packsim fit") -> None:
+        """Write the BPX document as JSON (a temporary file renamed when complete)."""
+        import json
+        _write_atomic(os.fspath(path), (json.dumps(self.bpx(title), indent=1) + "\n").encode())
+
+    def pybamm_parameters(self, thermal: dict | None = None):
+        """pybamm.ParameterValues for PyBaMM's Thevenin model
+        (pybamm.equivalent_circuit.Thevenin(options={"number of rc elements": rc_pairs})).
+        Needs PyBaMM."""
+        from ._fit_interchange import to_pybamm
+        return to_pybamm(self, thermal)
 
     def summary(self) -> str:
         """The fit report as text, one line per test."""
@@ -625,3 +643,17 @@ def _temperature_law(law: str, temps: list[float | None]) -> str:
                            "have one: give every test a temperature or none")
         return "none"
     return law
+
+
+def from_bpx(source: Any) -> FitResult:
+    """A fitted cell back from a BPX file (or document) that FitResult.save_bpx wrote;
+    .yaml / .save() then give the cell preset."""
+    from ._fit_interchange import from_bpx as read
+    return read(source)
+
+
+def from_pybamm(params: Any, soc_grid: Any = None, rc_pairs: int | None = None) -> FitResult:
+    """A cell from PyBaMM Thevenin parameter values: OCV, R0, R_k and tau_k = R_k·C_k on the
+    SOC grid at 25 °C, Arrhenius constants from 15 and 35 °C. Needs PyBaMM."""
+    from ._fit_interchange import from_pybamm as read
+    return read(params, soc_grid, rc_pairs)

@@ -8,7 +8,8 @@ import os
 import pytest
 
 # Modules some tests import only when present; scripts/install-deps.sh installs them all.
-OPTIONAL = ["pandas", "xarray", "nbformat", "nbclient", "ipykernel", "distributed", "scikit_build_core", "yaml", "fmpy"]
+OPTIONAL = ["pandas", "xarray", "nbformat", "nbclient", "ipykernel", "distributed", "scikit_build_core", "yaml", "fmpy",
+            "bpx"]
 
 
 def _missing() -> list[str]:
