@@ -98,7 +98,8 @@ def _validate(doc: dict, where: str) -> None:
     try:
         bpx.parse_bpx_obj(json.loads(json.dumps(doc)))
     except Exception as e:  # pydantic's ValidationError, a ValueError or TypeError of the schema
-        raise FitError(f"{where}: not a valid BPX document: {e}") from None
+        lines = [line.strip() for line in str(e).splitlines() if line.strip() and "errors.pydantic.dev" not in line]
+        raise FitError(f"{where}: not a valid BPX document: {'; '.join(lines)}") from None
 
 
 def _number(ecm: dict, key: str, where: str, default: float | None = None) -> float:
@@ -147,9 +148,10 @@ def from_bpx(source: str | os.PathLike | dict):
     grid, ocv = _read_table(ecm, "Open-circuit voltage [V]", where, None)
     grid = parse_soc_grid(grid)
     _, r0 = _read_table(ecm, "R0 [Ohm]", where, grid)
-    pairs = int(_number(ecm, "Number of RC elements", where))
-    if not 0 <= pairs <= 4:
-        raise FitError(f"{where}: User-defined 'Number of RC elements': {pairs} is not in 0..4")
+    pairs_value = _number(ecm, "Number of RC elements", where)
+    if pairs_value not in range(5):
+        raise FitError(f"{where}: User-defined 'Number of RC elements': {pairs_value:g} is not an integer in 0..4")
+    pairs = int(pairs_value)
     ref_C = _number(ecm, "Reference temperature [K]", where) - KELVIN
     if abs(ref_C - REF_TEMP_C) > 1e-9:
         raise FitError(f"{where}: User-defined 'Reference temperature [K]' must be {REF_TEMP_C + KELVIN} "
@@ -176,9 +178,21 @@ def from_bpx(source: str | os.PathLike | dict):
     g = FitAtTemperature(temp_C, ocv, r0,
                          np.array(r_rows).reshape(pairs, -1) if pairs else np.zeros((0, 1)), np.array(taus, dtype=float),
                          r0_K, np.array(r_K, dtype=float), np.array(tau_K, dtype=float), docv)
-    return FitResult(_number(ecm, "Cell capacity [A.h]", where), grid, "table", pairs, [g], [],
-                     _number(ecm, "Lower voltage cut-off [V]", where), _number(ecm, "Upper voltage cut-off [V]", where),
-                     capacity_source=f"from {where}", temperature_law=law, ocv_temps_C=ocv_rows)
+    return _loadable(FitResult(_number(ecm, "Cell capacity [A.h]", where), grid, "table", pairs, [g], [],
+                               _number(ecm, "Lower voltage cut-off [V]", where),
+                               _number(ecm, "Upper voltage cut-off [V]", where),
+                               capacity_source=f"from {where}", temperature_law=law, ocv_temps_C=ocv_rows), where)
+
+
+def _loadable(fit, where: str):
+    """The imported cell as packsim's preset loader reads it: its refusal is the error."""
+    from ._packsim import simulate_cell
+    t = np.array([0.0, 1.0])
+    try:
+        simulate_cell(fit.yaml, t, np.zeros(2), np.zeros(2), np.full(2, REF_TEMP_C), 1.0)
+    except ValueError as e:  # packsim.ScenarioError
+        raise FitError(f"{where}: not a valid packsim cell: {e}") from None
+    return fit
 
 
 def to_pybamm(fit, thermal: dict | None = None):
@@ -294,6 +308,7 @@ def from_pybamm(params, soc_grid=None, rc_pairs: int | None = None):
                          np.array(rows).reshape(rc_pairs, -1) if rc_pairs else np.zeros((0, 1)),
                          np.array(taus, dtype=float), clean(r0_K), np.array([clean(k) for k in r_K]),
                          np.array([clean(k) for k in tau_K]))
-    return FitResult(float(p["Cell capacity [A.h]"]), grid, "table", rc_pairs, [g], [],
-                     float(p["Lower voltage cut-off [V]"]), float(p["Upper voltage cut-off [V]"]),
-                     capacity_source="from PyBaMM parameters", temperature_law="arrhenius" if temp_law else "none")
+    return _loadable(FitResult(float(p["Cell capacity [A.h]"]), grid, "table", rc_pairs, [g], [],
+                               float(p["Lower voltage cut-off [V]"]), float(p["Upper voltage cut-off [V]"]),
+                               capacity_source="from PyBaMM parameters",
+                               temperature_law="arrhenius" if temp_law else "none"), "PyBaMM parameters")

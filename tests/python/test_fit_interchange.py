@@ -66,7 +66,12 @@ def test_bpx_round_trip_of_a_one_temperature_fit_with_rc_tables(tmp_path):
     (lambda d: d["Parameterisation"]["User-defined"].pop("Tau2 [s]"), "User-defined has no 'Tau2 \\[s\\]'"),
     (lambda d: d["Parameterisation"]["User-defined"]["R0 [Ohm]"]["x"].pop(), "not a valid BPX document|its x differs"),
     (lambda d: d["Header"].pop("Model"), "not a valid BPX document"),
-    (lambda d: d["Parameterisation"]["User-defined"].__setitem__("Number of RC elements", 7), "not in 0..4"),
+    (lambda d: d["Parameterisation"]["User-defined"].__setitem__("Number of RC elements", 7), "not an integer in 0..4"),
+    (lambda d: d["Parameterisation"]["User-defined"].__setitem__("Number of RC elements", 1.5), "not an integer in 0..4"),
+    (lambda d: d["Parameterisation"]["User-defined"]["R0 [Ohm]"]["y"].__setitem__(3, -0.01),
+     "not a valid packsim cell: .*r0_ohm"),
+    (lambda d: d["Parameterisation"]["User-defined"]["Open-circuit voltage [V]"]["y"].reverse(),
+     "not a valid packsim cell: .*ocv_V"),
 ])
 def test_bad_bpx_is_one_clear_error(joint, tmp_path, change, message):
     doc = joint.bpx()
