@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/scenario/irradiance_csv.hpp"
 #include "core/scenario/route_csv.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
@@ -39,8 +40,55 @@ constexpr double kMaxAccel_m_per_s2 = 30.0;
 constexpr double kMaxLength_m = 1.0e6;
 // Wind along the road: the strongest gusts measured are ~400 km/h.
 constexpr double kMaxWind_kmh = 400.0;
+// A wheel up to 5 m across the radius (a mining truck's is ~2 m); wheel torque up to
+// 1e5 N·m (a 40 t truck on a 35 % grade needs ~1.3e5 N at ~0.5 m: 6.5e4 N·m).
+constexpr double kMaxWheelRadius_m = 5.0;
+constexpr double kMaxWheelTorque_Nm = 1.0e5;
 // A flat array up to 100 m² (a solar car carries ~4-6 m²).
 constexpr double kMaxArrayArea_m2 = 100.0;
+
+// An efficiency map (docs/vehicle.md, "Drivetrain efficiency map"): a wheel radius, the
+// speed and torque axes from 0 strictly increasing, and one row of efficiencies per speed.
+DrivetrainMap readEfficiencyMap(YamlMap m) {
+  DrivetrainMap d;
+  d.wheel_radius_m = m.number("wheel_radius_m", Range::positive(kMaxWheelRadius_m));
+  auto axis = [&](const char* key, double hi, double scale) {
+    std::vector<double> a = m.numbers(key, Range::nonNegative(hi), 2);
+    if (a.front() != 0.0) throw m.errorAt(key, "must start at 0 (the map covers the vehicle from a standstill, at no load)");
+    for (size_t i = 1; i < a.size(); ++i)
+      if (!(a[i] > a[i - 1]))
+        throw m.errorAt(key, "must increase strictly: entry " + std::to_string(i + 1) + " (" + num(a[i]) +
+                                 ") after " + num(a[i - 1]));
+    for (double& x : a) x *= scale;
+    return a;
+  };
+  d.speed_m_per_s = axis("speed_kmh", kMaxSpeed_kmh, 1.0 / 3.6);
+  d.torque_Nm = axis("torque_Nm", kMaxWheelTorque_Nm, 1.0);
+  const YAML::Node rows = m.node("efficiency");
+  const size_t nv = d.speed_m_per_s.size(), nt = d.torque_Nm.size();
+  if (!rows.IsSequence() || rows.size() != nv)
+    throw m.errorAt("efficiency", "must be a list of " + std::to_string(nv) + " rows, one per speed_kmh entry, each of " +
+                                      std::to_string(nt) + " efficiencies (one per torque_Nm entry)");
+  for (size_t i = 0; i < nv; ++i) {
+    const YAML::Node row = rows[i];
+    const std::string field = m.path() + ".efficiency[" + std::to_string(i) + "]";
+    if (!row.IsSequence() || row.size() != nt)
+      throw m.errorAt(row, field, "must be a list of " + std::to_string(nt) + " efficiencies (one per torque_Nm entry)");
+    for (size_t j = 0; j < nt; ++j) {
+      const std::string cell = field + "[" + std::to_string(j) + "]";
+      double e = 0.0;
+      try {
+        e = row[j].as<double>();
+      } catch (const YAML::Exception&) {
+        throw m.errorAt(row[j], cell, "'" + row[j].Scalar() + "' is not a number; allowed (0, 1]");
+      }
+      if (!(e > 0.0 && e <= 1.0)) throw m.errorAt(row[j], cell, num(e) + " is out of range; allowed (0, 1]");
+      d.efficiency.push_back(e);
+    }
+  }
+  m.finish();
+  return d;
+}
 
 VehicleParams readParams(YamlMap m, const PackConfig& pack) {
   VehicleParams p;
@@ -48,7 +96,10 @@ VehicleParams readParams(YamlMap m, const PackConfig& pack) {
   p.rolling_coefficient = m.number("rolling_coefficient", Range::nonNegative(kMaxRolling));
   p.drag_area_m2 = m.number("drag_area_m2", Range::nonNegative(kMaxDragArea_m2));
   p.air_density_kg_per_m3 = m.number("air_density_kg_per_m3", 1.2, Range::nonNegative(kMaxAirDensity_kg_per_m3));
-  p.drivetrain_efficiency = m.number("drivetrain_efficiency", Range::positive(1.0));
+  if (m.has("drivetrain_efficiency") && m.node("drivetrain_efficiency").IsMap())
+    p.efficiency_map = readEfficiencyMap(m.map("drivetrain_efficiency"));
+  else
+    p.drivetrain_efficiency = m.number("drivetrain_efficiency", Range::positive(1.0));
   p.max_drive_power_W = m.number("max_drive_power_W", Range::positive(limits::kMaxPower_W));
   if (const std::string why = loadCRateError(pack, p.max_drive_power_W, true); !why.empty())
     throw m.errorAt("max_drive_power_W", why);
@@ -135,6 +186,15 @@ void readStops(YamlMap& m, Route& r, const SolarArray* sun) {
   std::sort(r.stops.begin(), r.stops.end(), [](const RouteStop& a, const RouteStop& b) { return a.at_m < b.at_m; });
 }
 
+// A file named relative to the scenario's folder, which must exist.
+std::string scenarioFile(YamlMap& m, const char* key, const std::string& baseDir) {
+  const std::string rel = m.string(key);
+  const std::filesystem::path path =
+      std::filesystem::path(rel).is_relative() ? std::filesystem::path(baseDir) / rel : std::filesystem::path(rel);
+  if (!std::filesystem::exists(path)) throw m.errorAt(key, "file not found: " + path.string());
+  return path.string();
+}
+
 Route readRoute(YamlMap m, const SolarArray* sun, const std::string& baseDir) {
   Route r;
   if (m.has("csv")) {  // a route table (core/scenario/route_csv.hpp)
@@ -144,11 +204,7 @@ Route readRoute(YamlMap m, const SolarArray* sun, const std::string& baseDir) {
         throw m.errorAt("segments", "give segments or csv, not both (a scenario extending one with segments: set "
                                     "segments: [])");
     }
-    const std::string rel = m.string("csv");
-    const std::filesystem::path path =
-        std::filesystem::path(rel).is_relative() ? std::filesystem::path(baseDir) / rel : std::filesystem::path(rel);
-    if (!std::filesystem::exists(path)) throw m.errorAt("csv", "file not found: " + path.string());
-    r.segments = readRouteCsv(path.string());
+    r.segments = readRouteCsv(scenarioFile(m, "csv", baseDir));
   } else {
     for (YamlMap s : m.mapList("segments")) {
       RouteSegment g;
@@ -175,17 +231,26 @@ DriverParams readDriver(std::optional<YamlMap> m) {
   d.response_s = m->number("response_s", d.response_s, Range::positive(3600.0));
   d.power_cap_W = m->number("power_cap_W", 0.0, Range::nonNegative(limits::kMaxPower_W));
   d.max_speed_m_per_s = m->number("max_speed_kmh", 0.0, Range::nonNegative(kMaxSpeed_kmh)) / 3.6;
+  // Up to 1 MWh a lap (a long lap of a truck); 0: no such strategy.
+  d.lap_energy_J = m->number("lap_energy_Wh", 0.0, Range::nonNegative(1.0e6)) * 3600.0;
   m->finish();
   return d;
 }
 
-SolarArray readSun(YamlMap m) {
+SolarArray readSun(YamlMap m, const std::string& baseDir) {
   SolarArray a;
   a.area_m2 = m.number("array_area_m2", Range::positive(kMaxArrayArea_m2));
   a.efficiency = m.number("efficiency", Range::positive(1.0));
   a.mppt_efficiency = m.number("mppt_efficiency", 1.0, Range::positive(1.0));
-  a.where.latitude_deg = m.number("latitude_deg", Range::closed(-90.0, 90.0));
-  a.where.day_of_year = static_cast<int>(m.integer("day_of_year", 1, 366));
+  if (m.has("irradiance_csv")) {  // a measured or forecast irradiance table instead of the clear sky
+    for (const char* k : {"latitude_deg", "day_of_year"})
+      if (m.has(k))
+        throw m.errorAt(k, "not used with irradiance_csv (the table gives the irradiance): give one or the other");
+    a.table = readIrradianceCsv(scenarioFile(m, "irradiance_csv", baseDir));
+  } else {
+    a.where.latitude_deg = m.number("latitude_deg", Range::closed(-90.0, 90.0));
+    a.where.day_of_year = static_cast<int>(m.integer("day_of_year", 1, 366));
+  }
   a.start_solar_hour = m.number("start_solar_hour", Range{0.0, 24.0, false, true});
   m.finish();
   return a;
@@ -199,7 +264,7 @@ VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack, const std::stri
   c.params = readParams(load.map("vehicle"), pack);
   YamlMap route = load.map("route");
   c.driver = readDriver(load.optionalMap("driver"));
-  if (auto sun = load.optionalMap("sun")) c.array = readSun(*sun);
+  if (auto sun = load.optionalMap("sun")) c.array = readSun(*sun, baseDir);
   c.route = readRoute(route, c.array.area_m2 > 0.0 ? &c.array : nullptr, baseDir);
   c.standstill_end_s = load.number("standstill_end_s", c.standstill_end_s, Range::positive(limits::kMaxTime_s));
   return c;

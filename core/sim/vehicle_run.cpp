@@ -183,6 +183,9 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, double 
     if (ev != StopEvent::None) stageEvent(ev, t, e_J, tracker);
     ref_.serveStops(t);
   }
+  if (cfg_.array.area_m2 > 0.0 && t >= cfg_.array.table.end_s() && !car_.finished() && !sunEnded_) {
+    sunEnded_ = true;  // the irradiance is not known past the table's last row: the run ends (its end reason)
+  }
   first_ = false;
   energy_J_ = e_J;
   // The irradiance changes over minutes: the array's power is held for a second at a time
@@ -219,6 +222,9 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, double 
 std::string VehicleRun::endReason() const {
   if (car_.finished()) return "the vehicle finished its route";
   if (stood_) return "the vehicle stood still";
+  if (sunEnded_)
+    return "the irradiance table (load.sun.irradiance_csv) ended at " + fmt("%.0f", cfg_.array.table.end_s()) + " s, at km " +
+           fmt("%.3f", car_.distance_m() / 1000.0);
   return "";
 }
 
@@ -227,6 +233,7 @@ VehicleSummary VehicleRun::summary(double end_s) const {
   s.distance_m = std::min(car_.distance_m(), cfg_.route.total_m());
   s.finished = car_.finished();
   s.stood_still = stood_;
+  if (sunEnded_ && !stood_) s.sun_table_end_s = cfg_.array.table.end_s();
   s.time_s = s.finished ? finish_s_ : end_s;
   s.reference_time_s = refFinish_s_ > 0.0 ? refFinish_s_ : 0.0;
   s.pack_Wh = energy_J_ / 3600.0;

@@ -29,7 +29,8 @@ class VehicleRun {
   // Returns the pack power for [t_k, t_k+1) [W].
   double tick(double t_s, double loadEnergy_J, double pack_V, bool ready, double maxCell_V, RunTracker& tracker);
   // The route is complete, or the vehicle stood still for standstill_end_s.
-  bool done() const { return car_.finished() || stood_; }
+  // Or the irradiance table (sun.irradiance_csv by run time) ended.
+  bool done() const { return car_.finished() || stood_ || sunEnded_; }
   std::string endReason() const;
   const VehicleSample& sample() const { return sample_; }
   VehicleSummary summary(double end_s) const;
@@ -51,6 +52,7 @@ class VehicleRun {
   double array_J_ = 0.0;    // array energy taken into the bus so far
   double still_s_ = 0.0;
   bool stood_ = false;
+  bool sunEnded_ = false;
   double finish_s_ = -1.0, refFinish_s_ = -1.0;
   double lapStart_s_ = 0.0, lapStartE_J_ = 0.0, lapStartA_J_ = 0.0;
   std::vector<double> refLapEnd_s_;

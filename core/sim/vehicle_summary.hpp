@@ -55,6 +55,7 @@ struct VehicleSummary {
   double time_s = 0.0;           // at the finish line, or the run's end
   bool finished = false;
   bool stood_still = false;      // ended standing although the driver wanted to move
+  double sun_table_end_s = -1.0; // the run ended at the end of its irradiance table (-1: it did not)
   double reference_time_s = 0.0; // the reference vehicle's finishing time (0: it did not finish)
   double pack_Wh = 0.0, array_Wh = 0.0;
   // The first tick a pack limit cut the drive (controller current, fold-back, shortfall).

@@ -80,7 +80,10 @@ std::string vehicleSummaryLines(const VehicleSummary& v) {
   else if (!v.finished)
     os << (v.stood_still ? "range           " : "distance        ") << km(v.distance_m)
        << (v.stood_still ? (v.distance_m > 0.0 ? ", where the vehicle stood still" : ": it never set off")
-                         : " when the run ended (the route not finished)")
+                         : v.sun_table_end_s >= 0.0
+                             ? " when the irradiance table ended at " + fmt("%.0f", v.sun_table_end_s) +
+                                   " s (load.sun.irradiance_csv; the route not finished)"
+                             : std::string(" when the run ended (the route not finished)"))
        << (v.reference_time_s > 0.0 ? "; on a pack that never limits it the route takes " +
                                           fmt("%.1f", v.reference_time_s - v.start_s) + " s"
                                     : std::string())

@@ -25,6 +25,8 @@ double clearSkyIrradiance_W_per_m2(const SunPosition& w, double hour) {
 
 double SolarArray::power_W(double t_s) const {
   if (area_m2 <= 0.0) return 0.0;
+  if (!table.empty())
+    return area_m2 * efficiency * mppt_efficiency * table.value_W_per_m2(t_s, start_solar_hour + t_s / 3600.0);
   return area_m2 * efficiency * mppt_efficiency * clearSkyIrradiance_W_per_m2(where, start_solar_hour + t_s / 3600.0);
 }
 

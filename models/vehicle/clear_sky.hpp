@@ -10,6 +10,7 @@
 //
 // Zero when the sun is below the horizon.
 #pragma once
+#include "models/vehicle/irradiance_table.hpp"
 
 namespace packsim {
 
@@ -21,13 +22,15 @@ struct SunPosition {
 double solarCosZenith(const SunPosition& where, double solar_hour);
 double clearSkyIrradiance_W_per_m2(const SunPosition& where, double solar_hour);
 
-// A flat array: area × cell efficiency × MPPT efficiency × irradiance [W into the bus].
+// A flat array: area × cell efficiency × MPPT efficiency × irradiance [W into the bus];
+// the irradiance from the clear-sky formula, or from a table when one is given.
 struct SolarArray {
   double area_m2 = 0.0;
   double efficiency = 0.0;       // module efficiency at the irradiance (STC)
   double mppt_efficiency = 1.0;  // tracker / converter
   SunPosition where;
   double start_solar_hour = 12.0;  // solar time at t = 0
+  IrradianceTable table;           // empty: the clear-sky formula at `where`
   double power_W(double t_s) const;
 };
 

@@ -31,6 +31,11 @@ double accelerationFor(const VehicleParams& p, double v, double grade, double wh
   return (-qb + root) / (2.0 * qa);
 }
 
+double drivetrainEfficiency(const VehicleParams& p, double v, double force_N) {
+  if (p.efficiency_map.empty()) return p.drivetrain_efficiency;
+  return p.efficiency_map.at(v, std::fabs(force_N) * p.efficiency_map.wheel_radius_m);
+}
+
 double allowedCurrent_A(const VehicleParams& p, double pack_V) {
   double i = p.max_current_A > 0.0 ? p.max_current_A : std::numeric_limits<double>::infinity();
   if (p.cutoff_start_V > p.cutoff_end_V) {

@@ -9,9 +9,10 @@
 // Over one tick of length dt at a constant force the vehicle covers
 // ds = v·dt + ½·a·dt², so the wheel power that does that work is F·ds/dt [W]. The
 // drivetrain (motor, controller, gearing) turns pack power into wheel power at a
-// constant efficiency η: P_wheel = η·P_drive when driving, P_drive = η·P_wheel when
-// braking regeneratively.
+// efficiency η, constant or from a map over speed and torque: P_wheel = η·P_drive when
+// driving, P_drive = η·P_wheel when braking regeneratively.
 #pragma once
+#include "models/vehicle/drivetrain_map.hpp"
 
 namespace packsim {
 
@@ -22,7 +23,8 @@ struct VehicleParams {
   double rolling_coefficient = 0.0;     // C_rr
   double drag_area_m2 = 0.0;            // C_d·A
   double air_density_kg_per_m3 = 1.2;
-  double drivetrain_efficiency = 1.0;   // pack terminals <-> wheel, both ways
+  double drivetrain_efficiency = 1.0;   // pack terminals <-> wheel, both ways (without a map)
+  DrivetrainMap efficiency_map;         // empty: the constant drivetrain_efficiency
   double max_drive_power_W = 0.0;       // most the drive draws from the pack bus
   double max_regen_power_W = 0.0;       // most regeneration returns to the pack bus (0: none)
   double aux_power_W = 0.0;             // lights, electronics, telemetry: drawn always
@@ -44,6 +46,9 @@ double wheelPower_W(const VehicleParams& p, double speed_m_per_s, double grade, 
 // the same v, grade and wind): the root of m·a·(v + a·dt/2) + F_res·(v + a·dt/2) = P.
 double accelerationFor(const VehicleParams& p, double speed_m_per_s, double grade, double wheel_W, double dt_s,
                        double headwind_m_per_s = 0.0);
+// The drivetrain efficiency at speed v with force F at the wheels: the constant, or the
+// map at torque |F|·r_wheel.
+double drivetrainEfficiency(const VehicleParams& p, double speed_m_per_s, double wheelForce_N);
 // The pack current the controller allows at pack voltage V (infinite without a limit).
 double allowedCurrent_A(const VehicleParams& p, double pack_V);
 

@@ -1,5 +1,7 @@
 #include "models/vehicle/vehicle.hpp"
 
+#include "models/vehicle/lap_energy.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -24,6 +26,19 @@ const char* driveLimitName(DriveLimit l) {
   return "?";
 }
 
+Vehicle::Vehicle(const VehicleParams& p, const Route& r, const DriverParams& d) : p_(p), route_(r), driver_(d) {
+  paceLap();
+}
+
+// The constant-energy-per-lap driver picks the lap's cruise speed at its start.
+void Vehicle::paceLap() {
+  if (driver_.lap_energy_J <= 0.0 || route_.segments.empty()) return;
+  double umax = 0.0;
+  for (const RouteSegment& g : route_.segments) umax = std::max(umax, g.speed_m_per_s);
+  if (driver_.max_speed_m_per_s > 0.0) umax = std::min(umax, driver_.max_speed_m_per_s);
+  lapSpeed_ = lapSpeedFor(p_, route_, driver_.lap_energy_J, v_, umax);
+}
+
 VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits) const {
   VehiclePlan pl;
   if (parked_) {  // parked: no drive; the auxiliaries stay on at a control stop, off between stages
@@ -38,6 +53,7 @@ VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits)
   pl.headwind_m_per_s = route_.segments[static_cast<size_t>(seg)].headwind_m_per_s;
   pl.target_m_per_s = route_.targetSpeed_m_per_s(s_, driver_.brake_m_per_s2);
   if (driver_.max_speed_m_per_s > 0.0) pl.target_m_per_s = std::min(pl.target_m_per_s, driver_.max_speed_m_per_s);
+  if (lapSpeed_ > 0.0) pl.target_m_per_s = std::min(pl.target_m_per_s, lapSpeed_);
   // A stop ahead at distance d: never aim faster than braking at b allows, and once
   // stopping there takes b (v²/2d >= b), brake at exactly v²/2d: over ticks of constant
   // deceleration the vehicle then stands still at the line (docs/vehicle.md).
@@ -55,7 +71,8 @@ VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits)
   if (stopBrake > 0.0) a = -stopBrake;
   a = std::max(a, -v_ / dt);  // braking ends at a standstill
   const double wheel = wheelPower_W(p_, v_, pl.grade, a, dt, pl.headwind_m_per_s);
-  const double eta = p_.drivetrain_efficiency;
+  const double eta = drivetrainEfficiency(p_, v_, resistanceForce_N(p_, v_, pl.grade, pl.headwind_m_per_s) + p_.mass_kg * a);
+  pl.efficiency = eta;
   if (wheel <= 0.0) {  // coasting or braking: regeneration up to its limit, the rest friction
     pl.drive_W = std::max(wheel * eta, -p_.max_regen_power_W);
     pl.wanted_W = pl.drive_W;
@@ -106,7 +123,7 @@ DriveLimit Vehicle::advance(const VehiclePlan& pl, double delivered_W, double dt
   const double shortfall = pl.net_W - delivered_W;
   if (pl.drive_W > 0.0 && shortfall > 1e-4 * std::fabs(pl.net_W) + 1e-3) {
     const double drive = std::max(0.0, pl.drive_W - shortfall);
-    a = accelerationFor(p_, v_, pl.grade, drive * p_.drivetrain_efficiency, dt, pl.headwind_m_per_s);
+    a = accelerationFor(p_, v_, pl.grade, drive * pl.efficiency, dt, pl.headwind_m_per_s);
     limit = DriveLimit::PackShortfall;
   }
   if (v_ + a * dt <= 0.0) {  // comes to a standstill inside the tick and holds there (no rolling back)
@@ -115,6 +132,10 @@ DriveLimit Vehicle::advance(const VehiclePlan& pl, double delivered_W, double dt
   } else {
     s_ += v_ * dt + 0.5 * a * dt * dt;
     v_ += a * dt;
+  }
+  if (const int lap = route_.lapAt(s_); lap != lap_) {  // a new lap: its pace
+    lap_ = lap;
+    if (lap < route_.laps) paceLap();
   }
   return limit;
 }

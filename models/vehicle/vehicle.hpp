@@ -26,6 +26,9 @@ struct DriverParams {
   double response_s = 2.0;       // a = (v_target - v) / response_s, within the bounds
   double power_cap_W = 0.0;      // most drive power the driver asks for (0: the motor's own)
   double max_speed_m_per_s = 0.0;  // never faster than this, whatever the route allows (0: no cap)
+  // The constant-energy-per-lap strategy: each lap at the one cruise speed whose
+  // road-load energy is this (models/vehicle/lap_energy.hpp; 0: none).
+  double lap_energy_J = 0.0;
 };
 
 // What cut the drive power back (in order of precedence when several apply).
@@ -51,6 +54,7 @@ struct VehiclePlan {
   double array_W = 0.0;   // solar array into the bus
   double net_W = 0.0;     // asked of the pack: drive + aux - array
   double wanted_W = 0.0;  // drive power the driver wanted before any limit
+  double efficiency = 1.0;  // the drivetrain's at the planned speed and wheel force
   DriveLimit limit = DriveLimit::None;
 };
 
@@ -59,7 +63,7 @@ enum class StopEvent : uint8_t { None, Arrived, Departed };
 
 class Vehicle {
  public:
-  Vehicle(const VehicleParams& p, const Route& r, const DriverParams& d) : p_(p), route_(r), driver_(d) {}
+  Vehicle(const VehicleParams& p, const Route& r, const DriverParams& d);
 
   // pack_V: the pack voltage the controller measures; limits false: a vehicle whose
   // pack never limits it (the reference the lost time is measured against).
@@ -80,6 +84,8 @@ class Vehicle {
   bool finished() const { return s_ >= route_.total_m(); }
   const Route& route() const { return route_; }
   const VehicleParams& params() const { return p_; }
+  // The constant-energy-per-lap driver's cruise speed for the current lap (0: no such driver).
+  double lapSpeed_m_per_s() const { return lapSpeed_; }
 
  private:
   VehicleParams p_;
@@ -90,6 +96,9 @@ class Vehicle {
   size_t next_ = 0;        // index into route_.stops
   bool parked_ = false;
   double departAt_s_ = 0.0;
+  int lap_ = 0;            // completed laps when the lap speed was chosen
+  double lapSpeed_ = 0.0;  // the lap's cruise speed (driver_.lap_energy_J)
+  void paceLap();
 };
 
 }  // namespace packsim

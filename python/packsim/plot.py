@@ -7,6 +7,7 @@ threads and notebooks alike).
     plot.bms_timeline(r)            # state, commanded vs hardware actuators, faults, events
     plot.measured_vs_truth(r)       # what the BMS read vs the simulated truth, SOC estimate
     plot.balancing(r)               # None when the result has no balance mask
+    plot.vehicle(r)                 # a vehicle run over distance (None without load.vehicle)
     plot.balance_time(packsim.balance_time(resistor=[22, 33, 47]))   # time to balance vs R
     plot.plot_all(r, "figures/")    # all of them as PNG; what `packsim plot` writes
     plot.run_figure(r)              # interactive (Plotly): the figure of `packsim report`'s run page
@@ -29,7 +30,7 @@ import numpy as np
 from ._plot_marks import draw_limits, mark_events
 from .result import Result, load
 
-__all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "balance_time", "plot_all",
+__all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "vehicle", "balance_time", "plot_all",
            "main", "LINE_LIMIT", "timeline_rows", "run_figure"]
 
 LINE_LIMIT = 24  # more cells than this: a heatmap instead of one line per cell
@@ -448,6 +449,41 @@ def balance_time(bt):
                                title=f"{bt.scenario}: {bt.delta_Ah:.3f} Ah to remove on {bt.high_cells} cell{s}")
 
 
+def vehicle(r: Result | str | os.PathLike):
+    """A vehicle run (load.vehicle) over the distance it drove: speed, pack power, cell
+    SOC and the lowest cell voltage against km, the first pack limit marked
+    (packsim.vehicle_figure). None for a run without a vehicle."""
+    from .vehicle_figure import PANELS, distance_series, has_vehicle
+    r = _result(r)
+    if not has_vehicle(r):
+        return None
+    d = distance_series(r)
+    fig = _figure(10, 9)
+    axes = fig.subplots(4, 1, sharex=True)
+    axes[0].plot(d.km, d.speed_kmh, color="C0", lw=1.0)
+    axes[1].plot(d.km, d.pack_W, color="C3", lw=1.0, label="delivered (pack V × I)")
+    axes[1].plot(d.km, d.request_W, color="C1", lw=0.8, ls=":", label="asked by the vehicle")
+    axes[1].legend(fontsize="small", loc="best")
+    axes[2].fill_between(d.km, d.soc_min, d.soc_max, color="C2", alpha=0.3, label="min..max cell")
+    axes[2].plot(d.km, d.soc_mean, color="C2", lw=1.2, label="mean cell")
+    axes[2].legend(fontsize="small", loc="best")
+    axes[3].plot(d.km, d.min_cell_V, color="C0", lw=1.0)
+    if d.undervoltage_V is not None:
+        axes[3].axhline(d.undervoltage_V, color="C3", ls=":", lw=1.0, label=f"under-voltage limit {d.undervoltage_V:g} V")
+        axes[3].legend(fontsize="small", loc="best")
+    for ax, label in zip(axes, PANELS):
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        if d.limit_km is not None:
+            ax.axvline(d.limit_km, color="C3", ls="--", lw=0.8)
+    if d.limit_km is not None:
+        axes[0].annotate(f"first pack limit, km {d.limit_km:.3f}", (d.limit_km, 1.0), xycoords=("data", "axes fraction"),
+                         fontsize="small", color="C3", va="top")
+    axes[3].set_xlabel("distance (km)")
+    axes[0].set_title(_title(r, "over distance"))
+    return fig
+
+
 def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, dpi: int = 120) -> list[str]:
     """Every figure of the result as PNG in outdir; returns the written paths."""
     r = _result(r)
@@ -459,6 +495,7 @@ def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, 
         ("bms_timeline", bms_timeline(r)),
         ("measured_vs_truth", measured_vs_truth(r)),
         ("balancing", balancing(r)),
+        ("vehicle_distance", vehicle(r)),
     ]
     written = []
     for name, fig in figures:

@@ -225,9 +225,21 @@ def result_html(r: Result | str | os.PathLike, *, points: int | None = None) -> 
              "are thinned for display to the min and max of each time bucket; every number above uses every "
              "recorded sample.</p>",
              _figure_div(fig, "run-figure"),
+             *_distance_html(r),
              f"<h2>Events ({len(r.events)})</h2>", _events_html(r),
              "<h2>Scenario as it ran</h2>", f"<pre id=\"scenario\">{e(r.scenario_yaml)}</pre>"]
     return _page(f"packsim: {r.scenario_name}", "\n".join(parts), plotly=True)
+
+
+def _distance_html(r: Result) -> list[str]:
+    """A vehicle run's figure over the distance it drove (packsim.vehicle_figure)."""
+    from .vehicle_figure import distance_figure, has_vehicle
+    if not has_vehicle(r):
+        return []
+    return ["<h2>Over distance</h2><p class=\"note\">The vehicle's speed, the pack's power, the cells' SOC and "
+            "the lowest cell against the km it drove (a stop shows as a vertical run at one place); the dashed "
+            "line: where the pack first limited the vehicle.</p>",
+            _figure_div(distance_figure(r), "distance-figure")]
 
 
 def batch_html(folder: str | os.PathLike) -> str:

@@ -166,7 +166,7 @@ TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
     e_J += 0.5 * (g(t0) + g(t1)) * (t1 - t0);
   }
   const double array_Wh = 0.5 * 0.2 * 0.95 * e_J / 3600.0;
-  EXPECT_GT(array_Wh, 50.0);
+  EXPECT_GT(array_Wh, 30.0);
   EXPECT_NEAR(v.array_Wh, array_Wh, 0.02 * array_Wh);
   EXPECT_NEAR(a.summary.vehicle.pack_Wh - v.pack_Wh, array_Wh, 0.02 * array_Wh);
 }
@@ -546,4 +546,186 @@ TEST(VehicleRace, WindByDirectionIsItsComponentAgainstTheHeading) {
   const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.route", "{csv: " + csv.string() + ", segments: []}"}});
   EXPECT_NEAR(s.vehicle.route.segments[0].headwind_m_per_s * 3.6, 10.0, 1e-9);
   EXPECT_NEAR(s.vehicle.route.segments[1].headwind_m_per_s * 3.6, -10.0, 1e-9);  // the way back: a tailwind
+}
+
+TEST(VehicleRace, AnIrradianceTableGivesTheHandArrayIntegral) {
+  // The eco car with a 0.5 m² array at 20 % through a 95 % MPPT under a measured day
+  // (global horizontal, by the run's clock): 200 W/m² rising to 900 at 1200 s, falling
+  // to 300 at 3000 s. Its energy is A·η·η_mppt·∫G dt from set-off to the finish, the
+  // piecewise-linear integral worked here in closed form.
+  const auto dir = test::processTempDir("irradiance_csv");
+  const auto csv = dir / "sun.csv";
+  {
+    std::ofstream out(csv);
+    out << "# a cloudless morning, then haze\ntime_s,ghi_W_per_m2\n0,200\n1200,900\n3000,300\n";
+  }
+  const Scenario plain = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"run.solver", "fast"}});
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"run.solver", "fast"},
+       {"load.sun", "{array_area_m2: 0.5, efficiency: 0.2, mppt_efficiency: 0.95, start_solar_hour: 10, irradiance_csv: " +
+                        csv.string() + "}"}});
+  ASSERT_EQ(s.vehicle.array.table.at.size(), 3u);
+  const RunResult a = runScenario(plain), r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_LT(v.time_s, 3000.0);
+  // ∫ of a line from (t0, g0) to (t1, g1) over [a, b] inside it.
+  auto line = [](double t0, double g0, double t1, double g1, double a, double b) {
+    auto g = [&](double t) { return g0 + (g1 - g0) * (t - t0) / (t1 - t0); };
+    return 0.5 * (g(a) + g(b)) * (b - a);
+  };
+  const double t0 = v.start_s, t1 = v.time_s;
+  ASSERT_LT(t0, 1200.0);
+  ASSERT_GT(t1, 1200.0);
+  const double e_J = line(0, 200, 1200, 900, t0, 1200) + line(1200, 900, 3000, 300, 1200, t1);
+  const double array_Wh = 0.5 * 0.2 * 0.95 * e_J / 3600.0;
+  EXPECT_GT(array_Wh, 30.0);
+  EXPECT_NEAR(v.array_Wh, array_Wh, 0.02 * array_Wh);
+  EXPECT_NEAR(a.summary.vehicle.pack_Wh - v.pack_Wh, array_Wh, 0.02 * array_Wh);
+}
+
+TEST(VehicleRace, ARunTimeIrradianceTableEndsTheRunAtItsLastRow) {
+  const auto dir = test::processTempDir("irradiance_end");
+  const auto csv = dir / "short.csv";
+  {
+    std::ofstream out(csv);
+    out << "time_s;poa_W_per_m2\n0;500,5\n600;500,5\n";  // semicolons, decimal commas
+  }
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"run.solver", "fast"}, {"expect", "{}"},
+       {"load.sun", "{array_area_m2: 0.5, efficiency: 0.2, start_solar_hour: 10, irradiance_csv: " + csv.string() + "}"}});
+  EXPECT_TRUE(s.vehicle.array.table.plane_of_array);
+  EXPECT_DOUBLE_EQ(s.vehicle.array.table.irradiance_W_per_m2[0], 500.5);
+  const RunResult r = runScenario(s);
+  EXPECT_FALSE(r.summary.vehicle.finished);
+  EXPECT_NEAR(r.summary.duration_s, 600.0, 0.2);
+  EXPECT_DOUBLE_EQ(r.summary.vehicle.sun_table_end_s, 600.0);
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("when the irradiance table ended at 600 s"), std::string::npos) << text;
+}
+
+TEST(VehicleRace, BadIrradianceCsvRowsNameFileLineFieldAndRange) {
+  const auto dir = test::processTempDir("irradiance_bad");
+  auto errorOf = [&](const std::string& name, const std::string& text, const std::string& extra = "") {
+    const auto csv = dir / name;
+    {
+      std::ofstream out(csv);
+      out << text;
+    }
+    return test::scenarioErrorOf([&] {
+      loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"),
+                                    {{"load.sun", "{array_area_m2: 0.5, efficiency: 0.2, start_solar_hour: 10, " + extra +
+                                                      "irradiance_csv: " + csv.string() + "}"}});
+    });
+  };
+  const std::string high = errorOf("high.csv", "time_s,ghi_W_per_m2\n0,100\n60,2500\n");
+  EXPECT_NE(high.find("high.csv:3:"), std::string::npos) << high;
+  EXPECT_NE(high.find("ghi_W_per_m2"), std::string::npos) << high;
+  EXPECT_NE(high.find("[0, 2000] W/m2"), std::string::npos) << high;
+  const std::string order = errorOf("order.csv", "time_s,ghi_W_per_m2\n0,100\n60,200\n30,300\n");
+  EXPECT_NE(order.find("order.csv:4:"), std::string::npos) << order;
+  EXPECT_NE(order.find("increase strictly"), std::string::npos) << order;
+  const std::string head = errorOf("head.csv", "time_s,gh_W_per_m2\n0,100\n60,200\n");
+  EXPECT_NE(head.find("head.csv:1:"), std::string::npos) << head;
+  EXPECT_NE(head.find("ghi_W_per_m2"), std::string::npos) << head;
+  const std::string day = errorOf("day.csv", "solar_hour,ghi_W_per_m2\n0,0\n12,800\n18,0\n");
+  EXPECT_NE(day.find("day.csv:4:"), std::string::npos) << day;
+  EXPECT_NE(day.find("24 h"), std::string::npos) << day;
+  const std::string both = errorOf("both.csv", "time_s,ghi_W_per_m2\n0,100\n60,200\n", "latitude_deg: 45, ");
+  EXPECT_NE(both.find("latitude_deg"), std::string::npos) << both;
+  EXPECT_NE(both.find("irradiance_csv"), std::string::npos) << both;
+}
+
+TEST(VehicleRace, AnEnergyPerLapDriverHoldsItsBudgetEveryLap) {
+  // The eco car under a 14 Wh-a-lap rule (its 27 km/h costs 15.19 Wh): the driver picks
+  // each lap's cruise speed from the road-load equation; the pack's own energy
+  // quadrature over each lap (not the driver's plan) must come out at 14 Wh within 1 %,
+  // the first lap from a standstill included.
+  auto lapAt_Wh = [](double u) {  // the steady lap at u, by hand
+    return ((force_N(220, 0.006, 1.2, 0.25, u, 0.0) * 1100.0 + force_N(220, 0.006, 1.2, 0.25, u, 0.03) * 250.0) / 0.85 +
+            8.0 * 1600.0 / u) / 3600.0;
+  };
+  {
+    const Scenario s = loadScenarioFileWithOverrides(
+        race("eco_marathon_12s_circuit"), {{"run.solver", "fast"}, {"load.driver.lap_energy_Wh", "14"}, {"expect", "{}"}});
+    const RunResult r = runScenario(s);
+    const VehicleSummary& v = r.summary.vehicle;
+    ASSERT_TRUE(v.finished);
+    ASSERT_EQ(v.laps.size(), 10u);
+    for (const LapRecord& l : v.laps) EXPECT_NEAR(l.pack_Wh, 14.0, 0.01 * 14.0) << "lap " << l.lap;
+    // Each lap also pays for getting from its start speed to its cruise, so the speed
+    // climbs lap by lap to the steady one, where (F_flat(u)·1100 m + F_up(u)·250 m)/0.85
+    // + 8 W·1600 m/u = 14 Wh: 21.75 km/h by bisection here.
+    double lo = 1.0, hi = kEcoV;  // the lap energy rises with u over this range
+    for (int k = 0; k < 60; ++k) (lapAt_Wh(0.5 * (lo + hi)) < 14.0 ? lo : hi) = 0.5 * (lo + hi);
+    const double u = 0.5 * (lo + hi);
+    EXPECT_NEAR(u * 3.6, 21.75, 0.01);
+    for (size_t i = 7; i < v.laps.size(); ++i) EXPECT_NEAR(1600.0 / v.laps[i].time_s, u, 0.005 * u) << "lap " << i + 1;
+    EXPECT_LT(1600.0 / v.laps[0].time_s, 1600.0 / v.laps[1].time_s);
+  }
+  {
+    // 12 Wh is below the cheapest lap there is (lifting 220 kg by 7.5 m costs 5.3 Wh a lap
+    // through 0.85 with nothing regenerated): the driver drives the cheapest lap, its
+    // energy the minimum of the hand lap energy over u.
+    const Scenario s = loadScenarioFileWithOverrides(
+        race("eco_marathon_12s_circuit"),
+        {{"run.solver", "fast"}, {"load.driver.lap_energy_Wh", "12"}, {"load.route.laps", "3"}, {"expect", "{}"}});
+    const RunResult r = runScenario(s);
+    double least = 1e9;
+    for (double u = 0.5; u < kEcoV; u += 0.001) least = std::min(least, lapAt_Wh(u));
+    EXPECT_GT(least, 12.5);
+    const VehicleSummary& v = r.summary.vehicle;
+    ASSERT_EQ(v.laps.size(), 3u);
+    for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, least, 0.01 * least) << "lap " << i + 1;
+  }
+}
+
+TEST(VehicleRace, AnEfficiencyMapGivesTheHandLapBudget) {
+  // The eco car with a map over wheel speed and torque (r 0.25 m) instead of its 0.85:
+  // at 27 km/h (7/20 of the way from 20 to 40 km/h) the flat's 21.38 N is 5.35 N·m and
+  // the climb's 86.07 N is 21.5 N·m; η by hand, bilinear between the four points around.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"run.solver", "fast"}, {"expect", "{}"}, {"run.duration_s", "3000"},
+       {"load.vehicle.drivetrain_efficiency",
+        "{wheel_radius_m: 0.25, speed_kmh: [0, 20, 40], torque_Nm: [0, 10, 30], "
+        "efficiency: [[0.5, 0.6, 0.7], [0.6, 0.8, 0.85], [0.7, 0.9, 0.8]]}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  const double fFlat = force_N(220, 0.006, 1.2, 0.25, kEcoV, 0.0), fUp = force_N(220, 0.006, 1.2, 0.25, kEcoV, 0.03);
+  const double fv = (27.0 - 20.0) / 20.0;
+  auto eta = [&](double torque) {  // between torque 10 and 30 (rows at 20 and 40 km/h), or 0 and 10
+    if (torque < 10.0) {
+      const double ft = torque / 10.0;
+      return (1 - fv) * (0.6 + ft * 0.2) + fv * (0.7 + ft * 0.2);
+    }
+    const double ft = (torque - 10.0) / 20.0;
+    return (1 - fv) * (0.8 + ft * 0.05) + fv * (0.9 - ft * 0.1);
+  };
+  const double etaFlat = eta(fFlat * 0.25), etaUp = eta(fUp * 0.25);
+  EXPECT_NEAR(etaFlat, 0.7419, 1e-3);
+  EXPECT_NEAR(etaUp, 0.8336, 1e-3);
+  const double lap_Wh = (fFlat * 1100.0 / etaFlat + fUp * 250.0 / etaUp + 8.0 * 1600.0 / kEcoV) / 3600.0;
+  for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.01 * lap_Wh) << "lap " << i + 1;
+}
+
+TEST(VehicleRace, BadEfficiencyMapsNameTheFieldAndRange) {
+  auto errorOf = [&](const std::string& map) {
+    return test::scenarioErrorOf([&] {
+      loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.vehicle.drivetrain_efficiency", map}});
+    });
+  };
+  const std::string cell = errorOf("{wheel_radius_m: 0.25, speed_kmh: [0, 20], torque_Nm: [0, 10], efficiency: [[0.5, 0.6], [0.7, 1.2]]}");
+  EXPECT_NE(cell.find("efficiency[1][1]"), std::string::npos) << cell;
+  EXPECT_NE(cell.find("(0, 1]"), std::string::npos) << cell;
+  const std::string rows = errorOf("{wheel_radius_m: 0.25, speed_kmh: [0, 20, 40], torque_Nm: [0, 10], efficiency: [[0.5, 0.6], [0.7, 0.8]]}");
+  EXPECT_NE(rows.find("3 rows"), std::string::npos) << rows;
+  const std::string axis = errorOf("{wheel_radius_m: 0.25, speed_kmh: [5, 20], torque_Nm: [0, 10], efficiency: [[0.5, 0.6], [0.7, 0.8]]}");
+  EXPECT_NE(axis.find("speed_kmh"), std::string::npos) << axis;
+  EXPECT_NE(axis.find("start at 0"), std::string::npos) << axis;
+  const std::string order = errorOf("{wheel_radius_m: 0.25, speed_kmh: [0, 20], torque_Nm: [0, 10, 10], efficiency: [[0.5, 0.6, 0.6], [0.7, 0.8, 0.8]]}");
+  EXPECT_NE(order.find("increase strictly"), std::string::npos) << order;
 }

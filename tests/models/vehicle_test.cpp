@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "models/vehicle/clear_sky.hpp"
+#include "models/vehicle/lap_energy.hpp"
 #include "models/vehicle/road_load.hpp"
 #include "models/vehicle/route.hpp"
 #include "models/vehicle/vehicle.hpp"
@@ -166,6 +167,25 @@ TEST(ClearSky, NoonIrradianceByHand) {
   EXPECT_NEAR(a.power_W(3600.0), 4.0 * 0.22 * 0.97 * 1041.78, 0.01);
 }
 
+TEST(ClearSky, AnIrradianceTableIsLinearBetweenItsRows) {
+  // Time of day: 0 W/m² to 06:00, 800 at 12:00, 0 from 18:00; the same day repeated.
+  IrradianceTable day;
+  day.clock = IrradianceTable::Clock::TimeOfDay;
+  day.at = {0.0, 6.0, 12.0, 18.0, 24.0};
+  day.irradiance_W_per_m2 = {0.0, 0.0, 800.0, 0.0, 0.0};
+  EXPECT_DOUBLE_EQ(day.value_W_per_m2(0.0, 9.0), 400.0);        // halfway up
+  EXPECT_DOUBLE_EQ(day.value_W_per_m2(0.0, 24.0 + 15.0), 400.0);  // day 2, 15:00
+  EXPECT_DOUBLE_EQ(day.value_W_per_m2(0.0, 20.0), 0.0);
+  EXPECT_TRUE(std::isinf(day.end_s()));
+  // A 2 m² array at 20 % through a 95 % MPPT, the table by the run's clock.
+  SolarArray a{2.0, 0.2, 0.95, {}, 10.0};
+  a.table.at = {0.0, 100.0, 300.0};
+  a.table.irradiance_W_per_m2 = {100.0, 500.0, 300.0};
+  EXPECT_DOUBLE_EQ(a.power_W(50.0), 2.0 * 0.2 * 0.95 * 300.0);
+  EXPECT_DOUBLE_EQ(a.power_W(200.0), 2.0 * 0.2 * 0.95 * 400.0);
+  EXPECT_DOUBLE_EQ(a.table.end_s(), 300.0);
+}
+
 TEST(Vehicle, StopsAtTheLineWaitsAndSetsOff) {
   // 20 m/s on a 5 km road with a 60 s stop at 2 km: from v²/2d = b (200 m before the
   // line at b = 1 m/s²) it brakes at a constant v²/2d and stands at the line; it waits
@@ -242,4 +262,56 @@ TEST(RoadLoad, AHeadwindRaisesTheAeroPowerByTheSquareOfTheAirSpeed) {
   }
   EXPECT_NEAR(v.speed_m_per_s(), 10.0, 1e-6);
   EXPECT_NEAR(pl.net_W, (roll + 67.5) * 10.0 / 0.8, 1e-3);
+}
+
+TEST(LapEnergy, FlatSteadyLapSpeedByHand) {
+  // A flat 1 km lap entered at the cruise speed, no auxiliaries: E = L·(m·g·C_rr + ½·ρ·CdA·u²)/η,
+  // so u = √((E·η/L − m·g·C_rr)/(½·ρ·CdA)). 100 kg, C_rr 0.01, CdA 0.5, η 0.8; E = 10 Wh.
+  const VehicleParams p = car();
+  const Route r = flat(20.0);
+  const double e_J = 36000.0;
+  const double u = std::sqrt((e_J * 0.8 / 1000.0 - 100.0 * 9.80665 * 0.01) / (0.5 * 1.2 * 0.5));
+  EXPECT_NEAR(u, 7.9568, 1e-3);  // (28.8 − 9.807 N)/0.3
+  EXPECT_NEAR(lapSpeedFor(p, r, e_J, u, 20.0), u, 1e-6);
+  EXPECT_NEAR(lapEnergy_J(p, r, u, u), e_J, 1e-6);
+  // From a standstill the lap also pays ½·m·u²/η: slower.
+  EXPECT_LT(lapSpeedFor(p, r, e_J, 0.0, 20.0), u - 0.1);
+  // A budget above the route's own speed: the route's speed; below the cheapest: the cheapest.
+  EXPECT_DOUBLE_EQ(lapSpeedFor(p, r, 1.0e7, u, 20.0), 20.0);
+  VehicleParams aux = p;
+  aux.aux_power_W = 50.0;  // E(u) then has a minimum where the auxiliaries' L/u meets the drag's u²
+  const double cheapest = lapSpeedFor(aux, r, 1.0, 5.0, 20.0);
+  // dE/du = 0: ρ·CdA·u·L/η = P_aux·L/u² (from the steady lap) -> u³ = P_aux·η/(ρ·CdA).
+  EXPECT_NEAR(cheapest, std::cbrt(50.0 * 0.8 / (1.2 * 0.5)), 0.1 + 20.0 / 200);
+}
+
+TEST(DrivetrainMap, BilinearBetweenItsPointsAndHeldPastItsEdges) {
+  DrivetrainMap m;
+  m.wheel_radius_m = 0.25;
+  m.speed_m_per_s = {0.0, 10.0, 20.0};
+  m.torque_Nm = {0.0, 10.0, 30.0};
+  m.efficiency = {0.5, 0.6, 0.7, /**/ 0.6, 0.8, 0.85, /**/ 0.7, 0.9, 0.8};
+  EXPECT_DOUBLE_EQ(m.at(10.0, 10.0), 0.8);  // a grid point
+  // v 15 (halfway 10..20), T 20 (halfway 10..30): the mean of 0.8, 0.85, 0.9, 0.8.
+  EXPECT_NEAR(m.at(15.0, 20.0), 0.8375, 1e-12);
+  // v 12.5 (a quarter), T 5 (half): (0.75·(0.6+0.8)/2 + 0.25·(0.7+0.9)/2).
+  EXPECT_NEAR(m.at(12.5, 5.0), 0.75 * 0.7 + 0.25 * 0.8, 1e-12);
+  EXPECT_DOUBLE_EQ(m.at(40.0, 100.0), 0.8);  // past both edges: the corner
+  EXPECT_DOUBLE_EQ(m.at(40.0, 10.0), 0.9);
+  // Cruise at 15 m/s on the flat: the torque is F_res·r, and the pack gives F_res·v/η(v, F_res·r).
+  VehicleParams p = car();
+  p.efficiency_map = m;
+  const double f = 100.0 * 9.80665 * 0.01 + 0.5 * 1.2 * 0.5 * 15.0 * 15.0;  // 77.31 N: 19.33 N·m
+  const double ft = (f * 0.25 - 10.0) / 20.0;
+  const double eta = 0.5 * ((0.8 + ft * 0.05) + (0.9 - ft * 0.1));
+  EXPECT_NEAR(drivetrainEfficiency(p, 15.0, f), eta, 1e-12);
+  EXPECT_NEAR(drivetrainEfficiency(p, 15.0, -f), eta, 1e-12);  // braking: the same map
+  Vehicle v(p, flat(15.0, 100000.0), DriverParams{});
+  for (int k = 0; k < 600; ++k) {
+    const VehiclePlan step = v.plan(0.1, 0.0, 0.0, false);
+    v.advance(step, step.net_W, 0.1);
+  }
+  ASSERT_NEAR(v.speed_m_per_s(), 15.0, 1e-6);
+  const VehiclePlan pl = v.plan(0.1, 0.0, 0.0, false);
+  EXPECT_NEAR(pl.drive_W, f * 15.0 / eta, 1e-3 * f * 15.0 / eta);
 }
