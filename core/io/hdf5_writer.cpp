@@ -313,8 +313,9 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
   }
   // Attributes that come from the scenario rather than the recording.
   std::string therm;
-  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a series group (1-based), or the node's name
-    therm += (therm.empty() ? "" : ",") + (site.onCell() ? std::to_string(site.cell + 1) : site.node);
+  for (const ThermistorChannel& ch : s.hardware.thermistors.channels)  // a series group (1-based), or the node's name
+    if (ch.site != ThermSite::Board)
+      therm += (therm.empty() ? "" : ",") + (ch.site == ThermSite::Cell ? std::to_string(ch.group + 1) : ch.node);
   w.attrOn("/measured", "thermistor_groups", therm);
   w.attrOn("/bms", "fault_bits", faultNames());
   {  // the protection limits the plots draw (an attribute only when the protection is on)

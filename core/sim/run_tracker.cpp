@@ -23,7 +23,7 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
-  rec.thermistors = s.hardware.thermistorCount();
+  rec.thermistors = s.hardware.thermistors.count();
   rec.has_balancing = s.hardware.balancing.present;
   rec.has_active_balancer = s.hardware.active_balancer.present;
   rec.has_charger = s.charger.present;
