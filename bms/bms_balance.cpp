@@ -40,15 +40,19 @@ uint8_t boardOf(const BalanceConfig& b, uint16_t cell) {
 }
 
 // Board temperature hysteresis per board; an unreadable board thermistor pauses its board.
-void updateBoard(const BalanceConfig& b, BalanceState& s, const Telemetry& tm) {
+void updateBoard(const Config& cfg, BalanceState& s, const Telemetry& tm) {
+  const BalanceConfig& b = cfg.balance;
   const uint8_t n = boards(b);
-  const uint8_t perBoard = static_cast<uint8_t>(b.boardThermCount / n);
+  const uint8_t perBoard = cfg.therm.perBoard;
   bool all = true;
+  uint8_t ch = 0;  // the board channels in order: perBoard for each board
   for (uint8_t k = 0; k < n; ++k) {
     int16_t hottest = INT16_MIN;
     bool invalid = false;
-    for (uint8_t i = 0; i < perBoard; ++i) {
-      const int16_t t = tm.temperature_dC[b.boardThermFirst + k * perBoard + i];
+    for (uint8_t i = 0; i < perBoard; ++i, ++ch) {
+      while (ch < kMaxThermistors && !thermOn(cfg.therm.board, ch)) ++ch;
+      if (ch >= kMaxThermistors) break;
+      const int16_t t = tm.temperature_dC[ch];
       if (t == kTempInvalid_dC) invalid = true;
       else if (t > hottest) hottest = t;
     }
@@ -150,7 +154,7 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
                  uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount, const uint16_t* packRange) {
   const BalanceConfig& b = cfg.balance;
   restUpdate(s.rest, tm.packCurrent_mA, b.restCurrent_mA, now_ms);
-  updateBoard(b, s, tm);
+  updateBoard(cfg, s, tm);
 
   // Decide at the configured period (once a first block mean exists when averaging);
   // hold the mask in between. Losing permission or a hot board stops balancing at once.

@@ -34,7 +34,10 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   const uint16_t bars[kDisplayBars - 1] = {3300, 3400, 3500, 3600, 3700, 3800, 4001};
   for (uint8_t i = 0; i + 1 < kDisplayBars; ++i) c.soc.displayBars_mV[i] = bars[i];
   c.weldCurrent_mA = kDefaultWeldCurrent_mA;
-  // One balancing board without thermistors until the hardware says otherwise.
+  // Every channel a cell temperature, none nearer any group than another, one balancing
+  // board without thermistors: until the hardware says otherwise.
+  c.therm.cell = thermistorCount >= 64 ? ~uint64_t{0} : (uint64_t{1} << thermistorCount) - 1;
+  for (uint16_t g = 0; g < kMaxCells; ++g) c.therm.nearest[g] = kMaxThermistors;
   c.balance.boardCount = 1;
   c.chargeRequest_mA = 0;
   // Balancing (after open firmware and reference system C), precharge, the SOC rest,

@@ -75,8 +75,6 @@ struct EkfConfig {
   // Temperature correction of R0: r0_mOhm × exp(r0ArrheniusK · (1/T_K − 1/T_ref_K)).
   float r0ArrheniusK;       // 0: R0 does not depend on temperature (no expf per tick)
   float r0RefTemp_C;        // the temperature the r0_mOhm table is valid at
-  uint64_t cellThermistors;  // bit k: thermistor channel k sits on a cell
-  uint8_t groupThermistor[kMaxCells];  // the channel nearest each series group (a cell thermistor)
 };
 
 // SOC estimate: coulomb counting, anchored to the OCV table at start-up and again
@@ -94,6 +92,22 @@ struct SocConfig {
   uint16_t displayBars_mV[kDisplayBars - 1];  // SOC display: bars = 1 + thresholds at or below the cell mV
 };
 
+// Where each thermistor channel sits, as the hardware is wired (the simulator's loader
+// builds the table once; the image carries it). A cell channel is a cell temperature
+// (the temperature rules, the EKF's R0), a FET one is judged by fet_overtemperature
+// alone, a board one pauses balancing on its board (bms_balance). A channel in no mask
+// is unwired.
+struct ThermistorMap {
+  uint64_t cell;                  // bit k: channel k sits on a cell
+  uint64_t fet;                   // bit k: on the power FETs
+  uint64_t board;                 // bit k: on a balancing board: in channel order perBoard on
+  uint8_t perBoard;               //        the first board, perBoard on the next, ...
+  uint8_t nearest[kMaxCells];     // per series group the nearest cell channel (kMaxThermistors: none)
+};
+static_assert(kMaxThermistors <= 64, "ThermistorMap holds a channel per mask bit");
+
+inline bool thermOn(uint64_t mask, uint8_t k) { return ((mask >> k) & 1u) != 0; }
+
 // Passive balancing policy (bms_balance.hpp). Firmware units.
 enum class BalanceWhen : uint8_t { Charging = 0, Rest = 1, ChargingOrRest = 2, Always = 3 };
 struct BalanceConfig {
@@ -108,11 +122,9 @@ struct BalanceConfig {
   int32_t restCurrent_mA;    // |I| below this counts as rest
   uint32_t rest_ms;          // ... for at least this long
   uint32_t period_ms;        // the mask is re-decided at this period and held in between
-  uint8_t boardThermFirst;   // thermistor channels [first, first + count) sit on the balancing board
-  uint8_t boardThermCount;
   uint8_t averageReadings;   // decide on the mean of this many readings per cell (1 = each reading; ≤ kMaxBalanceAverage)
-  uint8_t boardCount;        // > 1: boards of cellsPerBoard cells, boardThermCount / boardCount thermistors each,
-  uint16_t cellsPerBoard;    //      each pausing only its own cells (≤ kMaxBoards)
+  uint8_t boardCount;        // > 1: boards of cellsPerBoard cells, each board's thermistors (ThermistorMap)
+  uint16_t cellsPerBoard;    //      pausing only its own cells (≤ kMaxBoards)
 };
 
 // How often the firmware reads its monitor ICs (bms_firmware.hpp schedules the tasks).
@@ -150,8 +162,7 @@ struct Config {
   BalanceConfig balance;
   int32_t chargeRequest_mA;     // charger current requested while charging (0: the charger stays off)
   uint16_t chargeFullCell_mV;   // charge ends once any cell reads this (0: leave the end to the charger)
-  uint64_t fetThermistors;      // bit k: thermistor channel k sits on the power FETs (fet_overtemperature
-                                // judges it; it is not a cell temperature)
+  ThermistorMap therm;          // where each thermistor channel sits
   ProtectionRule rules[kFaultCount];
 };
 

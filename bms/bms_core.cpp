@@ -175,7 +175,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   else if (cfg.pack.boards > 1)
     packMerge(cfg, s.pack, in.now_ms, tm, s.quantity);
   socUpdate(cfg.soc, s.soc, fresh, meanCell, tm.packCurrent_mA, in.now_ms);
-  ekfUpdate(cfg.soc, s.ekf, cfg.cellCount, fresh, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
+  ekfUpdate(cfg.soc, cfg.therm, s.ekf, cfg.cellCount, fresh, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
             in.now_ms);
   historyQuantities(cfg, s, in, tm, s.quantity);
   if (!member) protectionUpdate(cfg, s.quantity, in.now_ms, driving(s), s.protection);  // a member has no relay

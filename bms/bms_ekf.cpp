@@ -36,7 +36,7 @@ float tableSlope(const SocConfig& c, const float* y, float soc) {
 
 // Each group's R0 factor from this tick's thermistor readings: its own channel when
 // valid, else the mean of the valid cell thermistors, else the reference (1).
-void setR0Scales(const EkfConfig& k, EkfState& s, uint16_t groups, const int16_t temp_dC[]) {
+void setR0Scales(const EkfConfig& k, const ThermistorMap& therm, EkfState& s, uint16_t groups, const int16_t temp_dC[]) {
   if (k.r0ArrheniusK == 0.0f || temp_dC == nullptr) {
     for (uint16_t g = 0; g < groups; ++g) s.group[g].r0Scale = 1.0f;
     return;
@@ -46,14 +46,14 @@ void setR0Scales(const EkfConfig& k, EkfState& s, uint16_t groups, const int16_t
   uint16_t valid = 0;
   for (uint16_t ch = 0; ch < kMaxThermistors; ++ch) {
     factor[ch] = 0.0f;
-    if (((k.cellThermistors >> ch) & 1u) == 0 || temp_dC[ch] == kTempInvalid_dC) continue;
+    if (!thermOn(therm.cell, static_cast<uint8_t>(ch)) || temp_dC[ch] == kTempInvalid_dC) continue;
     factor[ch] = ekfR0Factor(k, static_cast<float>(temp_dC[ch]) * 0.1f);
     sum_dC += temp_dC[ch];
     ++valid;
   }
   const float mean = valid > 0 ? ekfR0Factor(k, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
   for (uint16_t g = 0; g < groups; ++g) {
-    const uint16_t ch = k.groupThermistor[g];
+    const uint16_t ch = therm.nearest[g];
     s.group[g].r0Scale = ch < kMaxThermistors && factor[ch] > 0.0f ? factor[ch] : mean;
   }
 }
@@ -122,12 +122,12 @@ float ekfPackSoc(const EkfState& s, uint16_t groups) {
   return clamp01(sum / static_cast<float>(groups));
 }
 
-void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
+void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
                int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms) {
   const uint32_t dt_ms = now_ms - s.last_ms;
   s.last_ms = now_ms;
   if (c.ocvPoints < 2) return;  // no table, no model
-  if (valid) setR0Scales(c.ekf, s, groups, temp_dC);
+  if (valid) setR0Scales(c.ekf, therm, s, groups, temp_dC);
   if (!s.started) {
     if (valid) start(c, s, groups, cell_mV, current_mA);
     return;

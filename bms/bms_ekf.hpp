@@ -8,8 +8,8 @@
 //           K = P·H' / (H·P·H' + R);  x += K·(v_meas - v_pred);  P = (I - K·H)·P
 //   R0      R0(soc,T) = r0_mOhm(soc) · exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)),
 //           T_K = T + 273.15, T_ref = r0RefTemp_C, T the group's *measured* temperature:
-//           its own thermistor channel (groupThermistor) if that reads valid, else the
-//           mean of the valid cell thermistors, else T_ref (factor 1); T is held
+//           its nearest cell thermistor (ThermistorMap::nearest) if that reads valid, else
+//           the mean of the valid cell thermistors, else T_ref (factor 1); T is held
 //           within -55…125 °C. Recomputed on every complete reading.
 //
 // Started at the first complete reading from the OCV of the reading plus its R0·I drop
@@ -41,8 +41,8 @@ struct EkfState {
 void ekfReset(EkfState& s);
 // One tick over `groups` series groups. `valid` = a complete cell measurement.
 // `temp_dC` = this tick's thermistor readings (kTempInvalid_dC where invalid; nullptr:
-// none, R0 at r0RefTemp_C).
-void ekfUpdate(const SocConfig& c, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
+// none, R0 at r0RefTemp_C), `therm` where each channel sits.
+void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
                int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms);
 // R0's temperature factor exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)) at temp_C (held within
 // -55…125 °C); exactly 1 when r0ArrheniusK = 0.

@@ -82,7 +82,7 @@ enum class Quantity : uint8_t {
                         // carries current or its auxiliary contact still reads closed
   PrechargeFailed,      // 1 once every precharge attempt timed out
   CellSpread_mV,        // max - min cell
-  MaxFet_dC,            // hottest FET thermistor (Config::fetThermistors)
+  MaxFet_dC,            // hottest FET thermistor (Config::therm)
   Count
 };
 constexpr uint8_t kQuantityCount = static_cast<uint8_t>(Quantity::Count);

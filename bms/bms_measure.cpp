@@ -125,9 +125,8 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
     }
     // Balancing-board thermistors are not cell temperatures (bms_balance reads them),
     // nor are the FETs' (their own limit).
-    const uint8_t boardFirst = cfg.balance.boardThermFirst;
-    if (k >= boardFirst && k < boardFirst + cfg.balance.boardThermCount) continue;
-    if ((cfg.fetThermistors >> k) & 1u) {
+    if (thermOn(cfg.therm.board, k)) continue;
+    if (thermOn(cfg.therm.fet, k)) {
       if (dC > maxFet) maxFet = dC;
       continue;
     }

@@ -19,6 +19,7 @@
 #include "core/scenario/overrides.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/stop_signal.hpp"
+#include "core/sim/summary_fields.hpp"
 #include "core/sim/summary_text.hpp"
 
 namespace packsim {
@@ -183,12 +184,8 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
 
 void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
   // The union of the summary attributes: the drawn inputs (core/batch/drawn_inputs.hpp)
-  // in their order, the race figures in reading order, then any others alphabetically.
-  static const char* const kOrder[] = {
-      "duration_s", "tripped", "trip_time_s", "trip_reason", "energy_delivered_Wh", "charge_delivered_Ah",
-      "heat_Wh", "min_cell_V", "min_cell", "min_cell_time_s", "max_temp_C", "hottest_cell", "hottest_time_s",
-      "energy_start_Wh", "energy_left_Wh", "energy_stranded_Wh", "limit_reached", "limit_cell", "limit_time_s",
-      "final_soc_min", "final_soc_max"};
+  // in their order, the summary table's leading columns (core/sim/summary_fields.hpp),
+  // then any others alphabetically.
   std::vector<std::string> seen;
   for (const CaseOutcome& o : rep.cases)
     for (const auto& kv : o.summary)
@@ -196,8 +193,8 @@ void writeSummaryCsv(const Sweep& sw, const BatchReport& rep) {
   std::vector<std::string> fields;
   for (const std::string& k : drawnInputNames())
     if (std::find(seen.begin(), seen.end(), k) != seen.end()) fields.push_back(k);
-  for (const char* k : kOrder)
-    if (std::find(seen.begin(), seen.end(), k) != seen.end()) fields.emplace_back(k);
+  for (const std::string& k : summaryCsvLeadingColumns())
+    if (std::find(seen.begin(), seen.end(), k) != seen.end()) fields.push_back(k);
   std::vector<std::string> rest;
   for (const std::string& k : seen)
     if (std::find(fields.begin(), fields.end(), k) == fields.end()) rest.push_back(k);

@@ -30,6 +30,7 @@
 
 #include "core/io/hdf5_layout.hpp"
 #include "core/sim/result_channels.hpp"
+#include "core/sim/summary_fields.hpp"
 #include "core/version.hpp"
 
 namespace packsim {
@@ -313,8 +314,9 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
   }
   // Attributes that come from the scenario rather than the recording.
   std::string therm;
-  for (const ThermistorSite& site : s.hardware.thermistor_sites)  // a series group (1-based), or the node's name
-    therm += (therm.empty() ? "" : ",") + (site.onCell() ? std::to_string(site.cell + 1) : site.node);
+  for (const ThermistorChannel& ch : s.hardware.thermistors.channels)  // a series group (1-based), or the node's name
+    if (ch.site != ThermSite::Board)
+      therm += (therm.empty() ? "" : ",") + (ch.site == ThermSite::Cell ? std::to_string(ch.group + 1) : ch.node);
   w.attrOn("/measured", "thermistor_groups", therm);
   w.attrOn("/bms", "fault_bits", faultNames());
   {  // the protection limits the plots draw (an attribute only when the protection is on)
@@ -337,56 +339,19 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
   w.group("/summary");
   Handle g(H5Oopen(file, "/summary", H5P_DEFAULT), H5Oclose, "summary");
   const Summary& sm = r.summary;
-  w.attr(g, "duration_s", sm.duration_s);
-  w.attr(g, "charge_delivered_Ah", sm.charge_delivered_Ah);
-  w.attr(g, "energy_delivered_Wh", sm.energy_delivered_Wh);
-  w.attr(g, "heat_Wh", sm.heat_Wh);
-  w.attr(g, "min_cell_V", sm.min_cell_V);
-  w.attrInt(g, "min_cell", sm.min_cell);
-  w.attr(g, "min_cell_time_s", sm.min_cell_time_s);
-  w.attr(g, "max_temp_C", sm.max_temp_C);
-  w.attrInt(g, "hottest_cell", sm.hottest_cell);
-  w.attr(g, "hottest_time_s", sm.hottest_time_s);
-  w.attrInt(g, "tripped", sm.tripped ? 1 : 0);
-  w.attr(g, "trip_time_s", sm.trip_time_s);
-  w.attr(g, "trip_reason", sm.trip_reason);
-  w.attr(g, "final_soc_min", sm.final_soc_min);
-  w.attr(g, "final_soc_max", sm.final_soc_max);
-  w.attrInt(g, "limit_reached", sm.limit_reached ? 1 : 0);
-  w.attr(g, "limit_time_s", sm.limit_time_s);
-  w.attrInt(g, "limit_cell", sm.limit_cell);
-  w.attrInt(g, "limit_by_bms_trip", sm.limit_by_bms_trip ? 1 : 0);
-  w.attr(g, "energy_start_Wh", sm.energy_start_Wh);
-  w.attr(g, "energy_left_Wh", sm.energy_left_Wh);
-  w.attr(g, "energy_stranded_Wh", sm.energy_stranded_Wh);
-  w.attr(g, "soc_estimator", sm.soc_estimator);
-  for (const auto& [name, st] : {std::pair<const char*, const SocErrorStats*>{"coulomb", &sm.soc_error_coulomb},
-                                 {"ekf", &sm.soc_error_ekf}}) {
-    const std::string p = std::string("soc_error_") + name;
-    w.attr(g, (p + "_max").c_str(), st->max);
-    w.attr(g, (p + "_rms").c_str(), st->rms);
-    w.attr(g, (p + "_end").c_str(), st->end);
+  // The summary figures (core/sim/summary_fields.hpp), then target mode's own.
+  for (const SummaryField& f : summaryFields()) {
+    if (f.present && !f.present(sm)) continue;
+    std::visit(
+        [&](auto read) {
+          const auto v = read(sm);
+          if constexpr (std::is_same_v<decltype(v), const long long>) w.attrInt(g, f.name, v);
+          else w.attr(g, f.name, v);
+        },
+        f.value);
   }
-  w.attr(g, "soc_error_ekf_group_max", sm.soc_error_ekf_group_max);
-  w.attrInt(g, "soc_error_ekf_group", sm.soc_error_ekf_group);
-  w.attr(g, "capacity_estimate_Ah", sm.capacity_estimate_Ah);
-  w.attr(g, "capacity_true_Ah", sm.capacity_true_Ah);
-  w.attrInt(g, "display_bars_hidden_max", sm.display_bars_hidden_max);
-  w.attrInt(g, "display_bars_extra_max", sm.display_bars_extra_max);
-  w.attr(g, "limit_unseen_longest_s", sm.limit_unseen_longest_s);
-  w.attr(g, "limit_unseen_longest", sm.limit_unseen_longest);
   for (const auto& [name, value] : sm.firmware_target_figures) w.attr(g, name.c_str(), value);  // target mode only
-  if (sm.vehicle.present) {  // a vehicle on its route (docs/vehicle.md): summary.csv of a sweep over its speed
-    const VehicleSummary& v = sm.vehicle;
-    w.attr(g, "vehicle_distance_km", v.distance_m / 1000.0);
-    w.attrInt(g, "vehicle_finished", v.finished ? 1 : 0);
-    w.attr(g, "vehicle_time_s", v.time_s - v.start_s);
-    w.attr(g, "vehicle_time_lost_s", v.finished && v.reference_time_s > 0.0 ? v.time_s - v.reference_time_s : 0.0);
-    w.attr(g, "vehicle_pack_Wh", v.pack_Wh);
-    w.attr(g, "vehicle_array_Wh", v.array_Wh);
-    w.attr(g, "vehicle_limit_time_s", v.limited ? v.limit_time_s : -1.0);
-    if (!v.stages.empty()) w.stages(v.stages);  // route.stages: the stage table
-  }
+  if (sm.vehicle.present && !sm.vehicle.stages.empty()) w.stages(sm.vehicle.stages);  // route.stages: the stage table
 
   if (drawn) writeDrawnInputs(w, file, *drawn);
 

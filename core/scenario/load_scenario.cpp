@@ -64,22 +64,27 @@ void deepMerge(YAML::Node base, const YAML::Node& child, const std::string& pref
 // that extends one already in it is a cycle, reported with the whole chain.
 Scenario loadScenarioChain(const std::string& text, const std::string& file, const std::string& base_dir,
                            std::vector<std::string>& chain);
+bool severalMonitorBoards(const MonitorConfig& a) { return a.devices_per_board > 0 && a.devices_per_board < a.devices; }
+
 // Several monitor boards (hardware.afe.devices_per_board): a balancing board per monitor
-// board, and every board's thermistors on its own inputs (core/scenario/monitor_boards.hpp).
-void checkMonitorBoards(YamlMap& m, Scenario& s) {
-  MonitorConfig& a = s.hardware.afe;
-  if (a.devices_per_board <= 0 || a.devices_per_board >= a.devices) return;
-  YamlMap afe = m.map("hardware").map("afe");
+// board (core/scenario/monitor_boards.hpp).
+void setBoardBalancing(YamlMap& m, Scenario& s) {
+  const MonitorConfig& a = s.hardware.afe;
   PassiveBalancerConfig& b = s.hardware.balancing;
+  if (!severalMonitorBoards(a) || !b.present) return;
   const int boardCells = a.devices_per_board * a.cells_per_device;
-  if (b.present) {
-    if (b.cells_per_board != 0 && b.cells_per_board != boardCells)
-      throw m.map("hardware").map("balancing").errorAt(
-          "cells_per_board", "with monitor boards of " + std::to_string(a.devices_per_board) + " devices the balancing "
-                             "boards are the monitor boards: " + std::to_string(boardCells) + " cells (or leave it out)");
-    b.cells_per_board = boardCells;
-    b.boards = (s.pack.series + boardCells - 1) / boardCells;
-  }
+  if (b.cells_per_board != 0 && b.cells_per_board != boardCells)
+    throw m.map("hardware").map("balancing").errorAt(
+        "cells_per_board", "with monitor boards of " + std::to_string(a.devices_per_board) + " devices the balancing "
+                           "boards are the monitor boards: " + std::to_string(boardCells) + " cells (or leave it out)");
+  b.cells_per_board = boardCells;
+  b.boards = (s.pack.series + boardCells - 1) / boardCells;
+}
+
+// Every board's thermistors on its own inputs (core/scenario/monitor_boards.hpp).
+void checkMonitorBoards(YamlMap& m, Scenario& s) {
+  if (!severalMonitorBoards(s.hardware.afe)) return;
+  YamlMap afe = m.map("hardware").map("afe");
   try {
     monitorBoards(s.hardware, s.pack.series);
   } catch (const std::invalid_argument& e) {
@@ -216,7 +221,7 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
     checkThermalNode(hwMap("discharge_fet"), "thermal_node", s.hardware.discharge_fet.thermal_node, s);
   if (!s.hardware.charge_fet.thermal_node.empty())
     checkThermalNode(hwMap("charge_fet"), "thermal_node", s.hardware.charge_fet.thermal_node, s);
-  if (s.hardware.thermistorCount() > bms::kMaxThermistors)
+  if (s.hardware.thermistors.count() > bms::kMaxThermistors)
     throw hwMap("balancing").errorAt("board_thermistors", "cell and board thermistors together exceed " +
                                                               std::to_string(bms::kMaxThermistors));
   const MonitorPart& part = monitorPart(s.hardware.afe.model);
@@ -298,6 +303,8 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
                                  " per board make " + std::to_string(b.boards) + " boards; at most " +
                                  std::to_string(bms::kMaxBoards));
   }
+  setBoardBalancing(m, s);
+  s.hardware.thermistors = thermistorTable(s.hardware.thermistor_sites, s.hardware.balancing, s.pack.series);
   checkMonitorBoards(m, s);
   s.bms = readBms(m.optionalMap("bms"));
   if (auto b = m.optionalMap("bms")) s.bms.firmware = readFirmware(b->optionalMap("firmware"), base_dir);
@@ -343,7 +350,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   }
   const MonitorConfig& afe = s.hardware.afe;
   const int boards = afe.devices_per_board > 0 ? (afe.devices + afe.devices_per_board - 1) / afe.devices_per_board : 1;
-  s.faults = readFaults(m, s.pack.series, s.pack.parallel, s.hardware.thermistorCount(), boards);
+  s.faults = readFaults(m, s.pack.series, s.pack.parallel, s.hardware.thermistors.count(), boards);
   // An over-current fault draws at most what the pack drives into a dead short: more
   // would put the cells' terminals far below 0 V (a 100 kA fault on a 12s pack: -840 V).
   for (size_t k = 0; k < s.faults.size(); ++k) {

@@ -9,15 +9,8 @@ namespace {
 
 // The board a thermistor channel sits on, by the cell (or balancing board) it measures;
 // one on a thermal node (the FETs') belongs to the pack host's board.
-int boardOfChannel(const HardwareConfig& hw, int k, const std::vector<MonitorBoard>& boards) {
-  const int sites = static_cast<int>(hw.thermistor_sites.size());
-  int cell = 0;
-  if (k < sites) {
-    cell = std::max(0, hw.thermistor_sites[static_cast<size_t>(k)].cell);
-  } else {  // a balancing board's: its first cell
-    const int board = (k - sites) / std::max(1, hw.balancing.board_thermistors);
-    cell = board * hw.balancing.cells_per_board;
-  }
+int boardOfChannel(const ThermistorChannel& ch, const std::vector<MonitorBoard>& boards) {
+  const int cell = std::max(0, ch.group);
   for (const MonitorBoard& b : boards)
     if (cell >= b.firstCell && cell < b.firstCell + b.cells) return b.index;
   return 0;
@@ -38,7 +31,7 @@ std::vector<MonitorBoard> monitorBoards(const HardwareConfig& hw, int series) {
     b.cells = std::min(b.devices * a.cells_per_device, series - b.firstCell);
     boards.push_back(b);
   }
-  const int count = hw.thermistorCount();
+  const int count = hw.thermistors.count();
   const size_t inputs = static_cast<size_t>(a.thermistors_per_device);
   if (boards.size() == 1) {
     MonitorBoard& b = boards.front();
@@ -47,7 +40,7 @@ std::vector<MonitorBoard> monitorBoards(const HardwareConfig& hw, int series) {
     return boards;
   }
   for (int k = 0; k < count; ++k) {
-    MonitorBoard& b = boards[static_cast<size_t>(boardOfChannel(hw, k, boards))];
+    MonitorBoard& b = boards[static_cast<size_t>(boardOfChannel(hw.thermistors[k], boards))];
     if (b.afeChannels.size() < inputs * static_cast<size_t>(b.devices)) {
       b.afeChannels.push_back(k);
     } else if (b.index == 0) {
@@ -89,6 +82,7 @@ Scenario boardScenario(const Scenario& s, const MonitorBoard& b) {
     hw.balancing.cells_per_board = 0;
     hw.balancing.board_thermistors = boardTherms;
   }
+  hw.thermistors = thermistorTable(hw.thermistor_sites, hw.balancing, bs.pack.series);
   return bs;
 }
 

@@ -13,6 +13,7 @@
 #include "core/scenario/expect_config.hpp"
 #include "core/scenario/faults_config.hpp"
 #include "core/scenario/protection_table.hpp"
+#include "core/scenario/thermistor_table.hpp"
 #include "core/scenario/vehicle_config.hpp"
 #include "core/scenario/firmware_config.hpp"
 #include "models/afe/monitor_config.hpp"
@@ -64,14 +65,6 @@ struct ThermalConfig {
   std::vector<ThermalNodeConfig> nodes;
 };
 
-// Where one thermistor sits: on a cell, or on a thermal node of its own (the power FETs'
-// board: hardware.discharge_fet / charge_fet `thermal_node`).
-struct ThermistorSite {
-  int cell = -1;     // 0-based series position; -1 on a node
-  std::string node;  // a thermal.nodes name; empty on a cell
-  bool onCell() const { return node.empty(); }
-};
-
 struct HardwareConfig {
   AdcChannel cell_adc;             // in volts: lsb, gain, offset, noise
   Thermistor thermistor;           // one part type for all channels
@@ -91,16 +84,10 @@ struct HardwareConfig {
   // Balancing (issue 5; docs/scenario.md `hardware.balancing`, `hardware.active_balancer`).
   PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
   ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
-  // Thermistor channels: hardware.thermistors' sites, then the balancing boards'.
   double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
-  int thermistorCount() const { return static_cast<int>(thermistor_sites.size()) + balancing.board_thermistors * balancing.boards; }
-  // Bit k: site channel k sits on a thermal node (the loader admits only the FETs').
-  uint64_t nodeThermistors() const {
-    uint64_t mask = 0;
-    for (size_t k = 0; k < thermistor_sites.size(); ++k)
-      if (!thermistor_sites[k].onCell()) mask |= uint64_t{1} << k;
-    return mask;
-  }
+  // Every thermistor channel: the sites above, then the balancing boards'. Built once by
+  // the loader from those (thermistor_table.hpp); everyone reads the channels here.
+  ThermistorTable thermistors;
 };
 
 // The host's balancing measurement (not a firmware setting: the simulated monitor ICs).

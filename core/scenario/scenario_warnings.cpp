@@ -60,27 +60,30 @@ void checkSensorRange(const Scenario& s, const Provenance& p, std::vector<std::s
                   ": the BMS reads the rail, not the current");
 }
 
-// A series group further than kThermistorReachGroups from every thermistor on a cell.
+// A cell further than kThermistorReachLinks cell-to-cell conductances from every cell a
+// thermistor sits on. The cells are linked in storage order, group by group, and a
+// thermistor sits on its group's first cell: with parallel cells a group's others are 1 ..
+// parallel-1 links from it, so the reach counts cells, not groups.
 void checkThermistorReach(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
-  std::vector<int> sites;
-  for (const ThermistorSite& t : s.hardware.thermistor_sites)
-    if (t.onCell()) sites.push_back(t.cell);
+  const ThermistorTable& therm = s.hardware.thermistors;
+  const int parallel = s.pack.parallel;
   std::string where = p.describe("hardware.thermistors.at_groups");
   if (sectionOrigin(p, "hardware.thermistors.channels") != "default")
     where = "hardware.thermistors.channels (" + sectionOrigin(p, "hardware.thermistors.channels") + ")";
-  if (sites.empty()) {
+  if (therm.nearest.empty() || therm.nearest.front() < 0) {
     out.push_back(where + ": no thermistor sits on a cell; no cell temperature is measured");
     return;
   }
-  std::vector<int> far;
-  for (int g = 0; g < s.pack.series; ++g) {
-    int d = s.pack.series;
-    for (int c : sites) d = std::min(d, std::abs(c - g));
-    if (d > kThermistorReachGroups) far.push_back(g + 1);
+  std::vector<int> far;  // 1-based cells (series groups without parallel cells)
+  for (int c = 0; c < s.pack.series * parallel; ++c) {
+    int links = s.pack.series * parallel;
+    for (const ThermistorChannel& ch : therm.channels)
+      if (ch.site == ThermSite::Cell) links = std::min(links, std::abs(ch.group * parallel - c));
+    if (links > kThermistorReachLinks) far.push_back(c + 1);
   }
   if (far.empty()) return;
   std::ostringstream os;
-  os << where << ": series group" << (far.size() > 1 ? "s " : " ");
+  os << where << ": " << (parallel > 1 ? "cell" : "series group") << (far.size() > 1 ? "s " : " ");
   for (size_t i = 0; i < far.size(); ++i) {
     size_t j = i;
     while (j + 1 < far.size() && far[j + 1] == far[j] + 1) ++j;
@@ -88,8 +91,14 @@ void checkThermistorReach(const Scenario& s, const Provenance& p, std::vector<st
     if (j > i) os << "-" << far[j];
     i = j;
   }
-  os << " (1-based) " << (far.size() > 1 ? "are" : "is") << " more than " << kThermistorReachGroups
-     << " groups from every thermistor: a hot cell there goes unseen";
+  const char* verb = far.size() > 1 ? "are" : "is";
+  if (parallel > 1)
+    os << " (1-based, " << parallel << " to a group; each thermistor sits on its group's first cell) " << verb
+       << " more than " << kThermistorReachLinks
+       << " cells from every thermistor along the cell-to-cell conductances: a hot cell there goes unseen";
+  else
+    os << " (1-based) " << verb << " more than " << kThermistorReachLinks
+       << " groups from every thermistor: a hot cell there goes unseen";
   out.push_back(os.str());
 }
 

@@ -14,11 +14,13 @@ namespace packsim {
 
 class Provenance;
 
-// Every series group should be within this many groups of a thermistor on a cell: one
-// thermistor watches up to nine neighbouring groups (4 either side), what a three-input
-// AFE gives a 16s pack (cells 1, 8, 16). Further away a hot cell reaches a thermistor
-// only through several cell-to-cell conductances, minutes late and kelvins low.
-constexpr int kThermistorReachGroups = 4;
+// Every cell should be within this many cell-to-cell conductances of a cell with a
+// thermistor: one thermistor watches up to nine neighbouring cells (4 either side), what
+// a three-input AFE gives a 16s pack (cells 1, 8, 16). Further away a hot cell reaches a
+// thermistor only through several conductances, minutes late and kelvins low. The cells
+// are linked in storage order (a group's parallel cells one after the other), and a
+// thermistor sits on its group's first cell.
+constexpr int kThermistorReachLinks = 4;
 // A load above these C-rates per cell is implausible for the pack when its cell states
 // no max_discharge_C / max_charge_C (often a unit slip: mA or W read as A).
 constexpr double kImplausibleDischargeC = 20.0;

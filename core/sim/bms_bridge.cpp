@@ -22,14 +22,14 @@ HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
     truths_.push_back(chains_.back()->makeTruth());
   }
   if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
-  // The node each thermistor reads: its site (a cell's first member, the FETs' node),
-  // then the balancing boards' channels, board by board.
-  const HardwareConfig& hw = s.hardware;
-  for (const ThermistorSite& site : hw.thermistor_sites)
-    thermNode_.push_back(static_cast<size_t>(site.onCell() ? site.cell * plant.pack().parallel : plant.thermal().find(site.node)));
-  for (int b = 0; b < hw.balancing.boards; ++b)
-    for (int i = 0; i < hw.balancing.board_thermistors; ++i)
-      thermNode_.push_back(static_cast<size_t>(plant.boardNodeOf(b)));
+  // The node each thermistor channel reads: its group's first cell, the FETs' node, its
+  // balancing board's node.
+  for (const ThermistorChannel& ch : s.hardware.thermistors.channels) {
+    const int node = ch.site == ThermSite::Cell  ? ch.group * plant.pack().parallel
+                     : ch.site == ThermSite::Fet ? plant.thermal().find(ch.node)
+                                                      : plant.boardNodeOf(ch.board);
+    thermNode_.push_back(static_cast<size_t>(node));
+  }
 }
 
 int HardwareSim::boardOfGroup(int g) const {

@@ -33,12 +33,10 @@ void setFlagRule(bms::ProtectionRule& r, const ProtectionConfig& p) {
 
 bms::ProtectionRule& rule(bms::Config& c, bms::FaultId id) { return c.rules[static_cast<int>(id)]; }
 
-// Where the balancing policy (a settings row each) meets the hardware: the board
-// thermistors are the channels after the sites', the boards' shape; and the charger request.
+// Where the balancing policy (a settings row each) meets the hardware: the boards' shape
+// (their thermistors are in Config::therm); and the charger request.
 void setBalancing(bms::Config& c, const Scenario& s) {
   bms::BalanceConfig& k = c.balance;
-  k.boardThermFirst = static_cast<uint8_t>(s.hardware.thermistor_sites.size());
-  k.boardThermCount = static_cast<uint8_t>(s.hardware.balancing.board_thermistors * s.hardware.balancing.boards);
   k.boardCount = static_cast<uint8_t>(s.hardware.balancing.boards);
   k.cellsPerBoard = static_cast<uint16_t>(s.hardware.balancing.cells_per_board);
   const double request_A = s.bms.charge_current_A > 0.0 ? s.bms.charge_current_A
@@ -78,7 +76,7 @@ std::vector<uint8_t> coreImage(const bms::Config& cfg) {
 bms::Config makeBmsConfig(const Scenario& s) {
   const HardwareConfig& hw = s.hardware;
   const BmsSettings& b = s.bms;
-  bms::Config c = bms::defaultConfig(static_cast<uint16_t>(s.pack.series), static_cast<uint8_t>(hw.thermistorCount()));
+  bms::Config c = bms::defaultConfig(static_cast<uint16_t>(s.pack.series), static_cast<uint8_t>(hw.thermistors.count()));
   c.tickPeriod_ms = static_cast<uint32_t>(std::lround(b.tick_s * 1e3));
   // The firmware knows the datasheet scaling, not the part's actual error.
   c.scaling.cellLsb_uV = static_cast<float>(hw.cell_adc.lsb * 1e6);
@@ -96,7 +94,7 @@ bms::Config makeBmsConfig(const Scenario& s) {
   bms::copySettings(c, b.image);
   setSocConfig(c.soc, s);  // core/sim/soc_config.cpp: the model from the pack's cell
   setBalancing(c, s);
-  c.fetThermistors = hw.nodeThermistors();  // every node site is on the FETs
+  setThermistorMap(c.therm, hw.thermistors);  // where each channel sits, as the loader built it
 
   // The protection table: SI settings scaled to firmware units row by row.
   using F = bms::FaultId;

@@ -118,7 +118,7 @@ void FaultScheduler::apply(HardwareFaults& f) const {
   const size_t cells = static_cast<size_t>(plant_.pack().cellCount());
   f = HardwareFaults{};
   f.cell_channel.assign(static_cast<size_t>(plant_.pack().series), ChannelError{});
-  f.thermistor.assign(static_cast<size_t>(s_.hardware.thermistorCount()), ThermistorFault::None);
+  f.thermistor.assign(static_cast<size_t>(s_.hardware.thermistors.count()), ThermistorFault::None);
   f.device.assign(64, MonitorDeviceFault{});
   f.cell_heat_W.assign(cells, 0.0);
   f.cell_leak_ohm.assign(cells, 0.0);

@@ -18,12 +18,34 @@
 
 namespace packsim {
 
+namespace {
+
+// The switching hardware's own events: one row per flag of HardwareStatus, the event it
+// raises when the flag sets and (falling: non-null) when it clears, in this order
+// within a tick.
+struct HardwareEdge {
+  bool HardwareStatus::*flag;
+  const char* kind;
+  const char* rising;
+  const char* falling;
+};
+constexpr HardwareEdge kHardwareEdges[] = {
+    {&HardwareStatus::relay_closed, "relay_contact", "closed", "opened"},
+    {&HardwareStatus::precharge_closed, "precharge_contact", "closed", "opened"},
+    {&HardwareStatus::fuse_blown, "fuse", "blown", nullptr},
+    {&HardwareStatus::fault_line, "monitor_fault_line", "asserted", "released"},
+    {&HardwareStatus::charger_cv, "charger", "constant voltage", nullptr},
+    {&HardwareStatus::charger_done, "charger", "done (taper end current)", nullptr},
+};
+
+}  // namespace
+
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
     : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel) {
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
-  rec.thermistors = s.hardware.thermistorCount();
+  rec.thermistors = s.hardware.thermistors.count();
   rec.has_balancing = s.hardware.balancing.present;
   rec.has_active_balancer = s.hardware.active_balancer.present;
   rec.has_charger = s.charger.present;
@@ -143,13 +165,11 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   if (hw_) {
     // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
     const HardwareStatus& h = hw_->status();
-    if (h.relay_closed != lastHw_.relay_closed) event(t, "relay_contact", h.relay_closed ? "closed" : "opened");
-    if (h.precharge_closed != lastHw_.precharge_closed)
-      event(t, "precharge_contact", h.precharge_closed ? "closed" : "opened");
-    if (h.fuse_blown && !lastHw_.fuse_blown) event(t, "fuse", "blown");
-    if (h.fault_line != lastHw_.fault_line) event(t, "monitor_fault_line", h.fault_line ? "asserted" : "released");
-    if (h.charger_cv && !lastHw_.charger_cv) event(t, "charger", "constant voltage");
-    if (h.charger_done && !lastHw_.charger_done) event(t, "charger", "done (taper end current)");
+    for (const HardwareEdge& e : kHardwareEdges) {
+      const bool now = h.*(e.flag), before = lastHw_.*(e.flag);
+      if (now && !before) event(t, e.kind, e.rising);
+      if (!now && before && e.falling) event(t, e.kind, e.falling);
+    }
     if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
       event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
                                   : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"

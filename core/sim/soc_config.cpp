@@ -36,21 +36,6 @@ double r0ArrheniusOfCell_K(const CellParams& cell, int points, double ref_C) {
   return sxx > 0.0 ? std::clamp(sxy / sxx, 0.0, 20000.0) : 0.0;
 }
 
-// Which cell thermistor each series group reads: the one on the nearest cell (the
-// lower channel on a tie); channels on a thermal node (the FETs') are no cell's.
-void setGroupThermistors(bms::EkfConfig& k, const Scenario& s) {
-  const std::vector<ThermistorSite>& at = s.hardware.thermistor_sites;
-  const size_t n = std::min<size_t>(at.size(), bms::kMaxThermistors);
-  k.cellThermistors = ((uint64_t{1} << n) - 1) & ~s.hardware.nodeThermistors();
-  for (int g = 0; g < s.pack.series && g < bms::kMaxCells; ++g) {
-    int best = -1;
-    for (size_t ch = 0; ch < n; ++ch)
-      if (at[ch].onCell() && (best < 0 || std::abs(at[ch].cell - g) < std::abs(at[static_cast<size_t>(best)].cell - g)))
-        best = static_cast<int>(ch);
-    k.groupThermistor[g] = static_cast<uint8_t>(best < 0 ? bms::kMaxThermistors : best);
-  }
-}
-
 }  // namespace
 
 void setSocConfig(bms::SocConfig& c, const Scenario& s) {
@@ -83,7 +68,6 @@ void setSocConfig(bms::SocConfig& c, const Scenario& s) {
   k.r0RefTemp_C = static_cast<float>(e.r0_ref_temp_C);
   k.r0ArrheniusK = static_cast<float>(e.r0_arrhenius_K >= 0.0 ? e.r0_arrhenius_K
                                                               : r0ArrheniusOfCell_K(cell, points, e.r0_ref_temp_C));
-  setGroupThermistors(k, s);
   k.r1_mOhm = static_cast<float>(r1_ohm / parallel * 1e3);
   k.tau1_s = static_cast<float>(tau1_s);
   k.initialSoc = static_cast<float>(e.initial_soc);

@@ -69,8 +69,9 @@ TEST(BalancePolicy, NeverBalancesACellBelowTheMinimumVoltage) {
 
 TEST(BalancePolicy, PausesOnBoardTemperatureAndResumesBelowTheResumeLevel) {
   Policy p(2, 3);
-  p.cfg.balance.boardThermFirst = 2;
-  p.cfg.balance.boardThermCount = 1;  // channel 2 is the board (70 C pause, 60 C resume)
+  p.cfg.therm.cell = 0b011;
+  p.cfg.therm.board = 0b100;  // channel 2 is the board (70 C pause, 60 C resume)
+  p.cfg.therm.perBoard = 1;
   p.cells({3700, 3800});
   p.tm.temperature_dC[2] = 650;
   EXPECT_EQ(p.tick(), (V{0, 1}));
@@ -171,8 +172,9 @@ TEST(BalancePolicy, OnlyNewReadOutsFillTheAveragingBlock) {
 // status is the board pause.
 TEST(BalancePolicy, EachBoardPausesOnlyItsOwnCells) {
   Policy p(4, 2);
-  p.cfg.balance.boardThermFirst = 0;
-  p.cfg.balance.boardThermCount = 2;
+  p.cfg.therm.cell = 0;
+  p.cfg.therm.board = 0b11;  // one on each board
+  p.cfg.therm.perBoard = 1;
   p.cfg.balance.boardCount = 2;
   p.cfg.balance.cellsPerBoard = 2;
   p.cells({3800, 3700, 3800, 3700});

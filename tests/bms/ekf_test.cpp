@@ -15,9 +15,12 @@ namespace {
 
 // OCV 3000 mV (empty) .. 4200 mV (full) in 3 points, 2000 mAh, r0 30 mOhm empty and
 // 20 mOhm from half full up, r1 10 mOhm, 30 s.
+// The map the tests without temperatures pass (never read: no temp_dC).
+const bms::ThermistorMap kNoMap{};
+
 bms::SocConfig config() {
   bms::SocConfig c = bms_test::socConfig(3500);
-  c.ekf = bms::EkfConfig{{30.0f, 20.0f, 20.0f}, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f, 0.0f, 25.0f, 0, 0, {}};
+  c.ekf = bms::EkfConfig{{30.0f, 20.0f, 20.0f}, 10.0f, 30.0f, 5.0f, 1.7e-4f, 1.0f, -1.0f, 0.05f, 0.0f, 25.0f};
   return c;
 }
 
@@ -54,7 +57,7 @@ TEST(Ekf, ConvergesFromAWrongInitialSocAndTracks) {
     const double i_A = (k / 300) % 2 == 0 ? 2.0 : 0.2;  // 30 s at 1C, 30 s at 0.1C
     const uint16_t v = static_cast<uint16_t>(std::lround(ocvTrue_mV(soc) - v1_mV - r0True_ohm(soc) * i_A * 1e3));
     const int32_t i_mA = static_cast<int32_t>(std::lround(i_A * 1e3));
-    bms::ekfUpdate(c, s, 1, true, &v, i_mA, nullptr, t_ms);
+    bms::ekfUpdate(c, kNoMap, s, 1, true, &v, i_mA, nullptr, t_ms);
     if (k == 0) EXPECT_EQ(s.group[0].soc, 0.5f);  // started where it was told
     if (t_ms >= 60000) worstAfter60s = std::fmax(worstAfter60s, std::fabs(s.group[0].soc - soc));
     EXPECT_GE(s.group[0].p00, 0.0f);
@@ -74,9 +77,9 @@ TEST(Ekf, PredictsByChargeWithoutReadings) {
   bms::EkfState s;
   bms::ekfReset(s);
   const uint16_t v[2] = {3500, 3500};
-  bms::ekfUpdate(c, s, 2, true, v, 0, nullptr, 0);  // starts from the OCV: 0.5
+  bms::ekfUpdate(c, kNoMap, s, 2, true, v, 0, nullptr, 0);  // starts from the OCV: 0.5
   EXPECT_NEAR(bms::ekfPackSoc(s, 2), 0.5f, 1e-4f);
-  for (uint32_t t = 100; t <= 360000; t += 100) bms::ekfUpdate(c, s, 2, false, v, 1000, nullptr, t);
+  for (uint32_t t = 100; t <= 360000; t += 100) bms::ekfUpdate(c, kNoMap, s, 2, false, v, 1000, nullptr, t);
   // 1 A for 360 s from 2000 mAh: -0.05.
   EXPECT_NEAR(bms::ekfPackSoc(s, 2), 0.45f, 1e-4f);
 }
@@ -92,53 +95,63 @@ bms::SocConfig thermalConfig() {
   bms::SocConfig c = config();
   c.ekf.r0ArrheniusK = 2000.0f;
   c.ekf.r0RefTemp_C = 25.0f;
-  c.ekf.cellThermistors = 0b11;
-  c.ekf.groupThermistor[0] = 0;
-  c.ekf.groupThermistor[1] = 1;
   return c;
+}
+
+bms::ThermistorMap thermalMap() {
+  bms::ThermistorMap m{};
+  m.cell = 0b011;
+  m.board = 0b100;
+  m.perBoard = 1;
+  for (uint8_t& ch : m.nearest) ch = bms::kMaxThermistors;
+  m.nearest[0] = 0;
+  m.nearest[1] = 1;
+  return m;
 }
 
 TEST(Ekf, R0FollowsEachGroupsMeasuredTemperature) {
   const bms::SocConfig c = thermalConfig();
+  const bms::ThermistorMap map = thermalMap();
   bms::EkfState s;
   bms::ekfReset(s);
   const uint16_t v[2] = {3500, 3500};
   int16_t t_dC[3] = {0, 450, 900};  // group 0 at 0 °C, group 1 at 45 °C, board at 90 °C
-  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 0);
+  bms::ekfUpdate(c, map, s, 2, true, v, 1000, t_dC, 0);
   EXPECT_NEAR(s.group[0].r0Scale, arrhenius(2000.0, 0.0, 25.0), 1e-4);   // 1.85
   EXPECT_NEAR(s.group[1].r0Scale, arrhenius(2000.0, 45.0, 25.0), 1e-4);  // 0.66
   EXPECT_NEAR(bms::ekfR0Factor(c.ekf, 25.0f), 1.0f, 1e-6f);
   // Group 0's thermistor opens: it takes the mean of the valid cell thermistors (45 °C
   // alone, never the board's 90 °C).
   t_dC[0] = bms::kTempInvalid_dC;
-  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 100);
+  bms::ekfUpdate(c, map, s, 2, true, v, 1000, t_dC, 100);
   EXPECT_NEAR(s.group[0].r0Scale, arrhenius(2000.0, 45.0, 25.0), 1e-4);
   // Both valid again, group 0 at 10 °C: the mean fallback is not used.
   t_dC[0] = 100;
-  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 200);
+  bms::ekfUpdate(c, map, s, 2, true, v, 1000, t_dC, 200);
   EXPECT_NEAR(s.group[0].r0Scale, arrhenius(2000.0, 10.0, 25.0), 1e-4);
   // No valid cell thermistor: the reference (the flashed table as it is).
   t_dC[0] = t_dC[1] = bms::kTempInvalid_dC;
-  bms::ekfUpdate(c, s, 2, true, v, 1000, t_dC, 300);
+  bms::ekfUpdate(c, map, s, 2, true, v, 1000, t_dC, 300);
   EXPECT_EQ(s.group[0].r0Scale, 1.0f);
   EXPECT_EQ(s.group[1].r0Scale, 1.0f);
   // Without a factor (K = 0) the temperature is not read at all.
   bms::SocConfig flat = c;
   flat.ekf.r0ArrheniusK = 0.0f;
   t_dC[0] = -200;
-  bms::ekfUpdate(flat, s, 2, true, v, 1000, t_dC, 400);
+  bms::ekfUpdate(flat, map, s, 2, true, v, 1000, t_dC, 400);
   EXPECT_EQ(s.group[0].r0Scale, 1.0f);
 }
 
 // The mean fallback is the factor of the mean temperature (10 °C and 40 °C: 25 °C, 1.0).
 TEST(Ekf, R0FallbackIsTheFactorOfTheMeanCellTemperature) {
   bms::SocConfig c = thermalConfig();
-  c.ekf.groupThermistor[0] = 7;  // a channel that is no cell thermistor
+  bms::ThermistorMap map = thermalMap();
+  map.nearest[0] = 7;  // a channel that is no cell thermistor
   bms::EkfState s;
   bms::ekfReset(s);
   const uint16_t v[2] = {3500, 3500};
   const int16_t t_dC[2] = {100, 400};
-  bms::ekfUpdate(c, s, 2, true, v, 0, t_dC, 0);
+  bms::ekfUpdate(c, map, s, 2, true, v, 0, t_dC, 0);
   EXPECT_NEAR(s.group[0].r0Scale, 1.0f, 1e-5f);
   EXPECT_NEAR(s.group[1].r0Scale, arrhenius(2000.0, 40.0, 25.0), 1e-4);
 }
@@ -160,7 +173,7 @@ double worstErrorOnAColdCell(int16_t measured_dC) {
     const double i_A = (k / 300) % 2 == 0 ? 2.0 : 0.2;
     const uint16_t v = static_cast<uint16_t>(
         std::lround(ocvTrue_mV(soc) - v1_mV - r0True_ohm(soc) * factor * i_A * 1e3));
-    bms::ekfUpdate(c, s, 1, true, &v, static_cast<int32_t>(std::lround(i_A * 1e3)), t_dC, t_ms);
+    bms::ekfUpdate(c, thermalMap(), s, 1, true, &v, static_cast<int32_t>(std::lround(i_A * 1e3)), t_dC, t_ms);
     worst = std::fmax(worst, std::fabs(s.group[0].soc - soc));
     const double a = std::exp(-dt / tau);
     v1_mV = a * v1_mV + r1 * i_A * 1e3 * (1.0 - a);

@@ -32,8 +32,7 @@ TEST(Core, TickAllocatesNothing) {
   for (float& r0 : cfg.soc.ekf.r0_mOhm) r0 = 10.0f;
   cfg.soc.ekf.r1_mOhm = 5.0f;
   cfg.soc.ekf.r0ArrheniusK = 2000.0f;  // R0 follows the two thermistors
-  cfg.soc.ekf.cellThermistors = 0b11;
-  for (uint16_t g = 0; g < 12; ++g) cfg.soc.ekf.groupThermistor[g] = static_cast<uint8_t>(g / 6);
+  for (uint16_t g = 0; g < 12; ++g) cfg.therm.nearest[g] = static_cast<uint8_t>(g / 6);  // channels 0, 1: cells
   bms_test::Rig rig;
   auto& [s, in, out] = rig;
   bms_test::FakeStack st(12, 2);

@@ -247,14 +247,33 @@ TEST(ScenarioWarnings, LimitNearOrBeyondTheSensor) {
             std::string::npos);
 }
 
+// userPack's 24 groups with one cell each.
+std::string userString(const std::string& extra) {
+  std::string y = userPack(extra);
+  y.replace(y.find("parallel: 4"), 11, "parallel: 1");
+  return y;
+}
+
 TEST(ScenarioWarnings, SeriesGroupFarFromEveryThermistor) {
   // 24 groups, the default four thermistors at groups 1, 7, 13, 19: group 24 is 5 away.
-  const Scenario far = test::scenarioFromYaml(userPack("load: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  const Scenario far = test::scenarioFromYaml(userString("load: {current_A: 10}\nrun: {duration_s: 1}\n"));
   EXPECT_EQ(warningsWith(far, "hardware.thermistors.at_groups = [1, 7, 13, 19] (default (up to 4 spread over the "
                               "string)): series group 24 (1-based) is more than 4 groups"), 1u) << allWarnings(far);
   const Scenario covered = test::scenarioFromYaml(
-      userPack("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+      userString("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
   EXPECT_EQ(warningsWith(covered, "thermistor"), 0u) << allWarnings(covered);
+}
+
+// With parallel cells the reach counts cells: a thermistor sits on its group's first
+// cell and the cells are linked one after the other (24s4p: cells 1, 29, 61 and 93 carry
+// the four thermistors; a cell more than 4 links from all of them is unseen, although
+// every group is within 4 groups of one).
+TEST(ScenarioWarnings, ParallelCellsFarFromEveryThermistorsCell) {
+  const Scenario s = test::scenarioFromYaml(
+      userPack("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(warningsWith(s, ": cells 6-24, 34-56, 66-88 (1-based, 4 to a group; each thermistor sits on its group's "
+                            "first cell) are more than 4 cells from every thermistor"), 1u) << allWarnings(s);
+  EXPECT_EQ(warningsWith(s, "thermistor"), 1u) << allWarnings(s);
 }
 
 TEST(ScenarioWarnings, ImplausibleMagnitudesForThePack) {
@@ -289,6 +308,11 @@ TEST(ScenarioWarnings, BalancingWithoutABoardNode) {
 // Every bundled scenario loads without a spurious warning: system B's three replace the
 // NCR18650 preset's R0 curve by a curve of their own ({poly: [0.030], arrhenius_K: 0}),
 // deliberately, and are not warned about (OverrideThatDropsADependence: a plain number is).
+// Two packs with parallel cells have the one true warning of thermistor reach: system B
+// (28 modules of 15 cells, seven thermistors, each on its module's first cell: cells 1,
+// 61, 121, 196, 256, 331, 406) leaves most cells more than four cells from every thermistor; the Formula-Student pack
+// (96s3p, a thermistor on every second group from group 1) leaves its last cell, 288,
+// five cells from the one on group 95.
 TEST(ScenarioWarnings, BundledScenarios) {
   for (const auto& e : fs::recursive_directory_iterator(test::scenarioDir())) {
     const fs::path p = e.path();
@@ -296,7 +320,15 @@ TEST(ScenarioWarnings, BundledScenarios) {
     if (p.extension() != ".yaml" || rel.rfind("cells/", 0) == 0 || rel.rfind("profiles/", 0) == 0) continue;
     if (rel.rfind("firmware/", 0) == 0) continue;  // needs the example firmware library
     const Scenario s = loadScenarioFile(p.string());
-    EXPECT_EQ(s.warnings.size(), 0u) << rel << "\n" << allWarnings(s);
+    const bool systemB = s.pack.series == 28 && s.pack.parallel == 15;
+    const bool fs96 = s.pack.series == 96 && s.pack.parallel == 3;
+    const size_t reach = warningsWith(s, "each thermistor sits on its group's first cell) ");
+    EXPECT_EQ(reach, systemB || fs96 ? 1u : 0u) << rel << "\n" << allWarnings(s);
+    if (systemB)
+      EXPECT_EQ(warningsWith(s, ": cells 6-56, 66-116, 126-191, 201-251, 261-326, 336-401, 411-420 (1-based, 15 to a group; "), 1u)
+          << rel << "\n" << allWarnings(s);
+    if (fs96) EXPECT_EQ(warningsWith(s, ": cell 288 (1-based, 3 to a group; "), 1u) << rel << "\n" << allWarnings(s);
+    EXPECT_EQ(s.warnings.size(), reach) << rel << "\n" << allWarnings(s);
   }
 }
 

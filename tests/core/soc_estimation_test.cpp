@@ -96,9 +96,12 @@ TEST(SocEstimation, FirmwareR0TemperatureCorrectionComesFromTheCellDatasheet) {
   setSocConfig(c, loadScenarioFileWithOverrides(eco(), {}));
   EXPECT_EQ(c.ekf.r0ArrheniusK, 2000.0f);
   EXPECT_EQ(c.ekf.r0RefTemp_C, 25.0f);
-  EXPECT_EQ(c.ekf.cellThermistors, 0b1111u);
+  const bms::Config image = makeBmsConfig(loadScenarioFileWithOverrides(eco(), {}));
+  EXPECT_EQ(image.therm.cell, 0b1111u);
+  EXPECT_EQ(image.therm.board, 0b10000u);  // the balancing board's thermistor: no cell's
+  EXPECT_EQ(image.therm.fet, 0u);
   const uint8_t nearest[12] = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3};
-  for (int g = 0; g < 12; ++g) EXPECT_EQ(c.ekf.groupThermistor[g], nearest[g]) << "group " << g;
+  for (int g = 0; g < 12; ++g) EXPECT_EQ(image.therm.nearest[g], nearest[g]) << "group " << g;
   // The table is R0 at the reference temperature: at 35 °C it is the 25 °C table × the
   // factor (the LiPo's R0 is flat at 8 mOhm from half full up).
   setSocConfig(c, loadScenarioFileWithOverrides(eco(), {{"bms.soc.r0_ref_temp_C", "35"}}));
