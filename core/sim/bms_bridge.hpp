@@ -65,6 +65,8 @@ class HardwareSim {
   int monitorDevices() const { return s_.hardware.afe.devices; }
   // Series group g's balancing switch as its board's monitor ICs hold it.
   bool balancing(int g) const;
+  // The writes board b's monitor ICs ignored so far (models/afe/register_misuse.hpp).
+  const RegisterMisuseLog& registerMisuse(int board) const { return chains_[static_cast<size_t>(board)]->misuse(); }
   // Any board's FAULT line (the lines are wired together).
   bool faultLine() const;
   // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the

@@ -29,6 +29,7 @@ class MonitorChainPath {
   int devices() const { return bus_.chain->deviceCount(); }
   bool dischargeAllowed() const { return bus_.chain->dischargeFetOn(); }
   bool chargeAllowed() const { return bus_.chain->chargeFetOn(); }
+  const RegisterMisuseLog& misuse() const { return bus_.chain->misuse(); }  // writes the part ignored
   std::vector<MonitorBus*> buses() { return {&bus_}; }
 
  private:

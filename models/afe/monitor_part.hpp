@@ -22,6 +22,7 @@
 
 #include "models/afe/device_faults.hpp"
 #include "models/afe/monitor_config.hpp"
+#include "models/afe/register_misuse.hpp"
 
 namespace packsim {
 
@@ -65,6 +66,12 @@ class MonitorChain {
   // the device's top cell: MonitorConfig::thermistor_bias_A); parts without a switch
   // for it bias them whenever they have thermistors.
   virtual bool thermistorBias(int d) const { return cellsOf(d) > 0; }
+
+  // The writes the part ignored so far (register_misuse.hpp), for the run's events.
+  const RegisterMisuseLog& misuse() const { return misuse_; }
+
+ protected:
+  RegisterMisuseLog misuse_;
 };
 
 // Each part's factory is declared in its own header (models/afe/<part>.hpp) and
