@@ -644,6 +644,24 @@ BusTransfer Bq76952Chain::transfer(double t, const uint8_t* tx, size_t txLen, ui
   return r;
 }
 
+std::string Bq76952Chain::describe(const uint8_t* tx, size_t txLen, size_t rxLen) const {
+  if (txLen < 2) return "no command";
+  if (tx[0] != kAddrW) return "address " + hexByte(tx[0] >> 1u) + " (not this part's)";
+  const uint8_t cmd = tx[1];
+  const size_t step = cfg_.crc ? 2 : 1;  // a data byte and, with CRC, its CRC
+  const size_t n = (txLen - 2) / step;
+  auto data = [&](size_t k) { return tx[2 + k * step]; };
+  if (n == 0 && cmd == BQ952_SUBCMD_LOW && rxLen > 2) return "read subcommand reply";
+  if (n == 0) return rxLen > 0 ? "read " + directName(cmd) : "address " + directName(cmd);
+  if (cmd == BQ952_SUBCMD_LOW && n >= 2) {
+    const uint16_t code = static_cast<uint16_t>(data(0) | (data(1) << 8));
+    return n > 2 ? "write " + subcommandName(code) + " data (" + std::to_string(n - 2) + " bytes)" : "subcommand " + subcommandName(code);
+  }
+  if (cmd == BQ952_RESP_CHECKSUM && n >= 2)
+    return "transfer checksum and length " + std::to_string(data(1)) + " (apply)";
+  return "write " + directName(cmd) + (n > 1 ? " (" + std::to_string(n) + " bytes)" : " = " + hexByte(data(0)));
+}
+
 void Bq76952Chain::writeRegister(double t, uint8_t reg, uint8_t v) {
   if (reg == BQ952_SUBCMD_LOW) {
     subLo_ = v;

@@ -495,6 +495,36 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   return r;
 }
 
+// Each command frame of the transaction: its request type, address and register.
+std::string Bq76pl455aChain::describe(const uint8_t* tx, size_t txLen, size_t) const {
+  std::string out;
+  size_t pos = 0;
+  while (pos < txLen && (tx[pos] & PL455_INIT_COMMAND) != 0) {
+    const uint8_t init = tx[pos];
+    const uint8_t req = init & PL455_REQ_MASK;
+    const bool addressed = (req & ~0x10u) != PL455_REQ_BROADCAST_R;
+    const size_t regBytes = (init & PL455_INIT_ADDR16) ? 2 : 1;
+    const size_t size = PL455_SIZE_BYTES(init & PL455_INIT_SIZE_MASK);
+    const size_t len = 1 + (addressed ? 1 : 0) + regBytes + size + 2;
+    if (pos + len > txLen) break;
+    const uint8_t* p = tx + pos + 1;
+    const int address = addressed ? *p++ : -1;
+    const unsigned reg = regBytes == 2 ? static_cast<unsigned>((p[0] << 8) | p[1]) : p[0];
+    const bool reply = (req & 0x10u) == 0;
+    const std::string to = (req & ~0x10u) == PL455_REQ_SINGLE_R  ? " to device address " + std::to_string(address)
+                           : (req & ~0x10u) == PL455_REQ_GROUP_R ? " to group " + std::to_string(address)
+                                                                 : " (broadcast)";
+    if (!out.empty()) out += "; ";
+    const unsigned count = (size > 0 ? p[regBytes] & 0x7Fu : 0u) + 1u;
+    out += (reply && reg == PL455_REG_CMD ? std::string("sample and read the channels")
+            : reply                       ? "read " + registerName(reg) + " (" + std::to_string(count) + " bytes)"
+                  : "write " + registerName(reg) + (size > 1 ? " (" + std::to_string(size) + " bytes)" : " = " + hexByte(p[regBytes]))) +
+           to;
+    pos += len;
+  }
+  return out.empty() ? "no command frame" : out;
+}
+
 int pl455CommTimeoutCode(double timeout_s) {
   for (unsigned k = 0; k < PL455_CTO_FAULT_CODES; ++k)
     if (std::fabs(timeout_s * 1e3 - kCommTimeout_ms[k]) < 1e-6) return static_cast<int>(k);

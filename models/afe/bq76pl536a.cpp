@@ -390,6 +390,14 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   return r;
 }
 
+std::string Bq76pl536aChain::describe(const uint8_t* tx, size_t txLen, size_t) const {
+  if (txLen < BQ536_READ_REQUEST_LEN) return "short frame";
+  const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);
+  const std::string at = addr == BQ536_ADDR_BROADCAST ? " (broadcast)" : " at address " + std::to_string(addr);
+  if (tx[0] & 1u) return "write " + registerName(tx[1]) + " = " + hexByte(tx[2]) + at;
+  return "read " + registerName(tx[1]) + (tx[2] > 1 ? " +" + std::to_string(tx[2] - 1) : std::string()) + at;
+}
+
 bool Bq76pl536aChain::faultLine() const {
   for (const Device& dv : dev_)
     if ((dv.reg[BQ536_FAULT_STATUS] & (BQ536_FS_COV | BQ536_FS_CUV)) ||

@@ -545,6 +545,11 @@ BusTransfer Ltc681xChain::transfer(double t, const uint8_t* tx, size_t txLen, ui
   return r;
 }
 
+std::string Ltc681xChain::describe(const uint8_t* tx, size_t txLen, size_t) const {
+  if (tx == nullptr || txLen < LTC681X_CMD_LEN) return "wake-up pulse";
+  return commandName(static_cast<uint16_t>(((tx[0] & 0x07u) << 8) | tx[1]));
+}
+
 // --- outputs -----------------------------------------------------------------------
 
 bool Ltc681xChain::balancing(int d, int cell) const {

@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "models/afe/device_faults.hpp"
@@ -66,6 +67,12 @@ class MonitorChain {
   // the device's top cell: MonitorConfig::thermistor_bias_A); parts without a switch
   // for it bias them whenever they have thermistors.
   virtual bool thermistorBias(int d) const { return cellsOf(d) > 0; }
+
+  // What a transaction the MCU starts is, by the part's own names ("read Cell 1
+  // Voltage", "WRCFGA", "write CB_CTRL = 0x05 at address 2"): the bus trace's
+  // decoding (output.bus_trace). Reads nothing of the device's state; every part
+  // names its own (a test's fake chain may leave it empty).
+  virtual std::string describe(const uint8_t*, size_t, size_t) const { return ""; }
 
   // The writes the part ignored so far (register_misuse.hpp), for the run's events.
   const RegisterMisuseLog& misuse() const { return misuse_; }
