@@ -253,6 +253,36 @@ class Writer {
     if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "events");
   }
 
+  // output.bus_trace: one row per direction of every monitor-bus transaction.
+  void busTrace(const std::vector<BusTraceRow>& trace) {
+    struct Row {
+      double time_s;
+      int32_t bus;
+      const char* direction;
+      int32_t count;
+      const char* bytes;
+      const char* what;
+    };
+    std::vector<Row> rows;
+    rows.reserve(trace.size());
+    for (const BusTraceRow& e : trace)
+      rows.push_back({e.time_s, e.bus, e.out ? "out" : "in", e.count, e.bytes.c_str(), e.what.c_str()});
+    Handle str(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+    H5Tset_size(str, H5T_VARIABLE);
+    H5Tset_cset(str, H5T_CSET_UTF8);
+    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "bus_trace type");
+    H5Tinsert(type, "time_s", HOFFSET(Row, time_s), H5T_NATIVE_DOUBLE);
+    H5Tinsert(type, "bus", HOFFSET(Row, bus), H5T_NATIVE_INT32);
+    H5Tinsert(type, "direction", HOFFSET(Row, direction), str);
+    H5Tinsert(type, "count", HOFFSET(Row, count), H5T_NATIVE_INT32);
+    H5Tinsert(type, "bytes", HOFFSET(Row, bytes), str);
+    H5Tinsert(type, "what", HOFFSET(Row, what), str);
+    hsize_t dims[1] = {rows.size()};
+    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "bus_trace");
+    Handle ds(H5Dcreate2(file_, "/bus_trace", type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose, "bus_trace");
+    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "bus_trace");
+  }
+
  private:
   hid_t file_;
   bool compress_;
@@ -335,6 +365,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
   }
   w.attrOn("/bms/soc_estimate_permille", "estimator", settingChoice("soc.estimator", s.bms.image));
   w.events(r.events);
+  if (s.output.bus_trace) w.busTrace(r.bus_trace);
 
   w.group("/summary");
   Handle g(H5Oopen(file, "/summary", H5P_DEFAULT), H5Oclose, "summary");

@@ -7,6 +7,7 @@
 //   /measured/…       what the BMS core saw, in its units (mV, deci-degC, mA)
 //   /bms/…            state, fault bits, relay and FET commands [n]
 //   /events           table (time_s, kind, detail)
+//   /bus_trace        table (time_s, bus, direction, count, bytes, what); output.bus_trace only
 //   /summary          attrs: the run summary
 //   /inputs           a batch case only (drawn != nullptr): the random inputs as drawn,
 //                     per-cell datasets and their figures as attrs (core/batch/drawn_inputs.hpp)

@@ -346,6 +346,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   s.run = readRun(m.optionalMap("run"), seed);
   if (auto o = m.optionalMap("output")) {
     s.output.interval_s = o->number("interval_s", 1.0, Range::positive(limits::kMaxTime_s));
+    s.output.bus_trace = o->boolean("bus_trace", false);
     o->finish();
   }
   const MonitorConfig& afe = s.hardware.afe;

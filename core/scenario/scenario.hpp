@@ -156,6 +156,7 @@ struct RunConfig {
 
 struct OutputConfig {
   double interval_s = 1.0;
+  bool bus_trace = false;  // every monitor-bus transaction to the result file's /bus_trace
 };
 
 struct Scenario {

@@ -20,6 +20,7 @@ HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
     const uint64_t seed = b.index == 0 ? s.run.seed : deriveSeed(s.run.seed, static_cast<uint64_t>(RngStream::MonitorBoard) + static_cast<uint64_t>(b.index));
     chains_.push_back(std::make_unique<MonitorChainPath>(a, b.cells, seed));
     truths_.push_back(chains_.back()->makeTruth());
+    if (s.output.bus_trace) chains_.back()->traceInto(busTrace_, b.index);
   }
   if (s.hardware.active_balancer.present) moduleV_.assign(static_cast<size_t>(s.pack.series), 0.0);
   // The node each thermistor channel reads: its group's first cell, the FETs' node, its

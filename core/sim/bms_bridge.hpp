@@ -65,6 +65,10 @@ class HardwareSim {
   int monitorDevices() const { return s_.hardware.afe.devices; }
   // Series group g's balancing switch as its board's monitor ICs hold it.
   bool balancing(int g) const;
+  // The writes board b's monitor ICs ignored so far (models/afe/register_misuse.hpp).
+  const RegisterMisuseLog& registerMisuse(int board) const { return chains_[static_cast<size_t>(board)]->misuse(); }
+  // output.bus_trace: every monitor-bus transaction so far (core/sim/bus_trace.hpp).
+  std::vector<BusTraceRow> takeBusTrace() { return std::move(busTrace_); }
   // Any board's FAULT line (the lines are wired together).
   bool faultLine() const;
   // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the
@@ -94,6 +98,7 @@ class HardwareSim {
   RelayState relay_, precharge_;
   FuseState fuse_;
   HardwareStatus st_;
+  std::vector<BusTraceRow> busTrace_;  // the chains' TracedChain write here (output.bus_trace)
 };
 
 }  // namespace packsim

@@ -4,12 +4,14 @@
 #include <stdexcept>
 
 #include "core/parts/monitor_parts.hpp"
+#include "core/sim/bus_trace.hpp"
 
 namespace packsim {
 
 MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint64_t seed)
     : cfg_(cfg), cells_(cellCount) {
   bus_.chain = monitorPart(cfg.model).make_chain(cfg, cellCount, seed);  // its register-level model
+  part_ = bus_.chain.get();
   int first = 0;
   for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
     firstCell_.push_back(first);
@@ -47,6 +49,10 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   }
   c.setBrokenLinkAbove(truth.broken_link_above);
   bus_.advanceTo(t);
+}
+
+void MonitorChainPath::traceInto(std::vector<BusTraceRow>& sink, int bus) {
+  bus_.chain = std::make_unique<TracedChain>(std::move(bus_.chain), bus, sink);
 }
 
 double MonitorChainPath::thermistorBias_A(int d) const {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/firmware/monitor_bus.hpp"
+#include "core/sim/result.hpp"
 #include "models/afe/monitor_truth.hpp"
 
 namespace packsim {
@@ -29,12 +30,16 @@ class MonitorChainPath {
   int devices() const { return bus_.chain->deviceCount(); }
   bool dischargeAllowed() const { return bus_.chain->dischargeFetOn(); }
   bool chargeAllowed() const { return bus_.chain->chargeFetOn(); }
+  const RegisterMisuseLog& misuse() const { return part_->misuse(); }  // writes the part ignored
+  // output.bus_trace: every transaction from now on as rows of `sink`, on bus `bus`.
+  void traceInto(std::vector<BusTraceRow>& sink, int bus);
   std::vector<MonitorBus*> buses() { return {&bus_}; }
 
  private:
   MonitorConfig cfg_;
   int cells_;
   MonitorBus bus_;
+  const MonitorChain* part_;  // the part's chain (bus_.chain, or what a trace wraps)
   std::vector<int> firstCell_;  // per device: its bottom cell's series position
 };
 

@@ -18,6 +18,16 @@ struct Event {
   std::string detail;
 };
 
+// One direction of a monitor-bus transaction (output.bus_trace; core/sim/bus_trace.hpp).
+struct BusTraceRow {
+  double time_s = 0.0;     // out: when the MCU started it; in: when the reply ended
+  int bus = 0;             // the monitor board whose bus it is (its host's monitor bus 0)
+  bool out = true;         // true: MCU -> part; false: part -> MCU
+  int count = 0;           // bytes; in: -1 when nothing answered (a time-out)
+  std::string bytes;       // hex, space-separated
+  std::string what;        // the part's decoding (MonitorChain::describe)
+};
+
 // Per-sample arrays are row-major [sample][channel]. Each vector is one row of the
 // result-channel table (core/sim/result_channels.hpp), which fills and writes it.
 struct Recording {
@@ -140,6 +150,7 @@ struct Summary {
 struct RunResult {
   Recording rec;
   std::vector<Event> events;
+  std::vector<BusTraceRow> bus_trace;  // empty unless output.bus_trace
   Summary summary;
   CvodeStats solver;
   double quad[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // Plant Quadrature order (kQuadCount)

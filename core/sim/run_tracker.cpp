@@ -100,6 +100,31 @@ void RunTracker::event(double t, const std::string& kind, const std::string& det
   r_.events.push_back({t, kind, detail});
 }
 
+// A write a monitor IC ignored (read-only or reserved register, bad CRC/PEC, protected
+// write): one register_misuse event per distinct (device, register, reason) at its
+// first occurrence; finish() fills in how often it happened.
+void RunTracker::noteMisuse() {
+  const std::vector<MonitorBoard>& boards = hw_->boards();
+  misuseSeen_.resize(boards.size(), 0);
+  for (size_t b = 0; b < boards.size(); ++b) {
+    const std::vector<RegisterMisuse>& log = hw_->registerMisuse(static_cast<int>(b)).entries();
+    for (; misuseSeen_[b] < log.size(); ++misuseSeen_[b]) {
+      misuseEvents_.push_back({static_cast<int>(b), misuseSeen_[b], r_.events.size()});
+      event(log[misuseSeen_[b]].first_s, "register_misuse", misuseDetail(static_cast<int>(b), log[misuseSeen_[b]]));
+    }
+  }
+}
+
+std::string RunTracker::misuseDetail(int board, const RegisterMisuse& m) const {
+  const MonitorBoard& b = hw_->boards()[static_cast<size_t>(board)];
+  std::string who = s_.hardware.afe.model + (m.device < 0 ? " every device" : " device " + std::to_string(b.firstDevice + m.device + 1));
+  if (hw_->boards().size() > 1) who += " (board " + std::to_string(board + 1) + ")";
+  char times[96];
+  if (m.count > 1) std::snprintf(times, sizeof times, "; %ld times, the last at %.4f s", m.count, m.last_s);
+  else std::snprintf(times, sizeof times, "; once");
+  return who + ": " + m.what + ": " + m.why + times;
+}
+
 std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) const {
   const bms::ProtectionRule& rule = cfg_.rules[static_cast<int>(id)];
   std::string d = protectionDetail(id, rule.threshold, rule.delay_ms, out.telemetry);
@@ -180,6 +205,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       event(t, "precharge", std::string(bms::prechargePhaseName(static_cast<bms::PrechargePhase>(phase))) + " (attempt " +
                                 std::to_string(out.telemetry.prechargeAttempts) + ")");
     lastPrechargePhase_ = phase;
+    noteMisuse();
     if (out.telemetry.devicesLost != lastLost_) {
       for (int d = 0; d < 64; ++d)
         if (((out.telemetry.devicesLost >> d) & 1u) && !((lastLost_ >> d) & 1u))
@@ -254,6 +280,11 @@ RunResult RunTracker::finish(const double* q) {
     }
     sm.limit_cell = lowest + 1;
     sm.limit_time_s = lastT_;
+  }
+  if (hw_) {  // writes a monitor IC ignored: each distinct one's count and last time
+    noteMisuse();
+    for (const MisuseReported& m : misuseEvents_)
+      r_.events[m.event].detail = misuseDetail(m.board, hw_->registerMisuse(m.board).entries()[m.entry]);
   }
   sm.soc_error_coulomb = socErrorCoulomb_.stats();
   sm.soc_error_ekf = socErrorEkf_.stats();

@@ -60,6 +60,16 @@ class RunTracker {
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
   LimitWatch limits_;            // cells past a protection limit the BMS has not seen
+  // register_misuse: per board, the misuse entries already reported, and each one's
+  // event (its count is filled in at the end)
+  struct MisuseReported {
+    int board;
+    size_t entry, event;
+  };
+  std::vector<size_t> misuseSeen_;
+  std::vector<MisuseReported> misuseEvents_;
+  void noteMisuse();
+  std::string misuseDetail(int board, const RegisterMisuse& m) const;
   std::vector<double> cellTemp_C_;
 };
 

@@ -172,6 +172,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
          << "); " << contactFrom(r, e.time_s) << "\n";
     if (e.kind == "fuse") os << "hardware        " << fmt("%.2f", e.time_s) << " s  fuse " << e.detail << "\n";
     if (e.kind == "config_warning") os << "warning         " << e.detail << "\n";
+    if (e.kind == "register_misuse") os << "bus misuse      " << fmt("%.4f", e.time_s) << " s  " << e.detail << "\n";
   }
   // A contact closed at the end although the relay has been commanded open for longer
   // than it takes to release: the contact is stuck (welded).

@@ -53,6 +53,67 @@ uint16_t thermistor_dK(const Thermistor& th, int64_t code) {
   return u16(T_K * 10.0);
 }
 
+// A direct command's name (the data sheet's, for the ones the part has).
+std::string directName(uint8_t reg) {
+  switch (reg) {
+    case BQ952_CONTROL_STATUS: return "Control Status";
+    case BQ952_SAFETY_ALERT_A: return "Safety Alert A";
+    case BQ952_SAFETY_STATUS_A: return "Safety Status A";
+    case BQ952_SAFETY_ALERT_B: return "Safety Alert B";
+    case BQ952_SAFETY_STATUS_B: return "Safety Status B";
+    case BQ952_SAFETY_ALERT_C: return "Safety Alert C";
+    case BQ952_SAFETY_STATUS_C: return "Safety Status C";
+    case BQ952_BATTERY_STATUS: return "Battery Status";
+    case BQ952_STACK_VOLTAGE: return "Stack Voltage";
+    case BQ952_PACK_VOLTAGE: return "PACK Pin Voltage";
+    case BQ952_LD_VOLTAGE: return "LD Pin Voltage";
+    case BQ952_CC2_CURRENT: return "CC2 Current";
+    case BQ952_SUBCMD_LOW: return "subcommand (low byte)";
+    case BQ952_SUBCMD_HIGH: return "subcommand (high byte)";
+    case BQ952_RESP_CHECKSUM: return "transfer buffer checksum";
+    case BQ952_RESP_LENGTH: return "transfer buffer length";
+    case BQ952_ALARM_STATUS: return "Alarm Status";
+    case BQ952_ALARM_RAW_STATUS: return "Alarm Raw Status";
+    case BQ952_ALARM_ENABLE: return "Alarm Enable";
+    case BQ952_INT_TEMPERATURE: return "Int Temperature";
+    case BQ952_FET_STATUS: return "FET Status";
+    default: break;
+  }
+  const uint8_t word = static_cast<uint8_t>(reg & ~1u);  // the low byte names a 2-byte command
+  if (word >= BQ952_CELL_VOLTAGE(1) && word <= BQ952_CELL_VOLTAGE(BQ952_MAX_CELLS))
+    return "Cell " + std::to_string((word - BQ952_CELL_VOLTAGE(1)) / 2 + 1) + " Voltage";
+  if (word >= BQ952_TS_TEMPERATURE(0) && word <= BQ952_TS_TEMPERATURE(BQ952_MAX_TS - 1))
+    return "TS" + std::to_string((word - BQ952_TS_TEMPERATURE(0)) / 2 + 1) + " Temperature";
+  if (reg >= BQ952_TRANSFER_BUFFER && reg < BQ952_TRANSFER_BUFFER + BQ952_TRANSFER_BUFFER_LEN) return "transfer buffer";
+  if (reg != word && (reg == BQ952_BATTERY_STATUS + 1 || reg == BQ952_ALARM_STATUS + 1 || reg == BQ952_ALARM_ENABLE + 1 ||
+                      reg == BQ952_STACK_VOLTAGE + 1 || reg == BQ952_PACK_VOLTAGE + 1 || reg == BQ952_LD_VOLTAGE + 1 ||
+                      reg == BQ952_CC2_CURRENT + 1 || reg == BQ952_ALARM_RAW_STATUS + 1 || reg == BQ952_INT_TEMPERATURE + 1))
+    return directName(word) + " (high byte)";
+  return "direct command " + hexByte(reg);
+}
+
+// A subcommand's or data-memory address's name, by its code.
+std::string subcommandName(uint16_t code) {
+  switch (code) {
+    case BQ952_SUB_DEVICE_NUMBER: return "DEVICE_NUMBER";
+    case BQ952_SUB_RESET: return "RESET";
+    case BQ952_SUB_FET_ENABLE: return "FET_ENABLE";
+    case BQ952_SUB_MANUFACTURING_STATUS: return "MANUFACTURINGSTATUS";
+    case BQ952_SUB_DASTATUS6: return "DASTATUS6";
+    case BQ952_SUB_RESET_PASSQ: return "RESET_PASSQ";
+    case BQ952_SUB_CB_ACTIVE_CELLS: return "CB_ACTIVE_CELLS";
+    case BQ952_SUB_CBSTATUS1: return "CBSTATUS1";
+    case BQ952_SUB_SET_CFGUPDATE: return "SET_CFGUPDATE";
+    case BQ952_SUB_EXIT_CFGUPDATE: return "EXIT_CFGUPDATE";
+    case BQ952_SUB_DSG_PDSG_OFF: return "DSG_PDSG_OFF";
+    case BQ952_SUB_CHG_PCHG_OFF: return "CHG_PCHG_OFF";
+    case BQ952_SUB_ALL_FETS_OFF: return "ALL_FETS_OFF";
+    case BQ952_SUB_ALL_FETS_ON: return "ALL_FETS_ON";
+    default: break;
+  }
+  return (isDataMemory(code) ? "data memory " : "subcommand ") + hexByte(code, 4);
+}
+
 }  // namespace
 
 std::unique_ptr<MonitorChain> makeBq76952Chain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {
@@ -550,6 +611,7 @@ BusTransfer Bq76952Chain::transfer(double t, const uint8_t* tx, size_t txLen, ui
     for (size_t k = 0; ok && k < n; ++k) values[count++] = data[k];
   }
   if (!ok) {
+    if (receives()) misuse_.note(t, 0, directName(cmd), cfg_.crc ? "write with a bad or missing CRC (dropped)" : "write too long");
     r.received = 0;
     return r;
   }
@@ -582,6 +644,24 @@ BusTransfer Bq76952Chain::transfer(double t, const uint8_t* tx, size_t txLen, ui
   return r;
 }
 
+std::string Bq76952Chain::describe(const uint8_t* tx, size_t txLen, size_t rxLen) const {
+  if (txLen < 2) return "no command";
+  if (tx[0] != kAddrW) return "address " + hexByte(tx[0] >> 1u) + " (not this part's)";
+  const uint8_t cmd = tx[1];
+  const size_t step = cfg_.crc ? 2 : 1;  // a data byte and, with CRC, its CRC
+  const size_t n = (txLen - 2) / step;
+  auto data = [&](size_t k) { return tx[2 + k * step]; };
+  if (n == 0 && cmd == BQ952_SUBCMD_LOW && rxLen > 2) return "read subcommand reply";
+  if (n == 0) return rxLen > 0 ? "read " + directName(cmd) : "address " + directName(cmd);
+  if (cmd == BQ952_SUBCMD_LOW && n >= 2) {
+    const uint16_t code = static_cast<uint16_t>(data(0) | (data(1) << 8));
+    return n > 2 ? "write " + subcommandName(code) + " data (" + std::to_string(n - 2) + " bytes)" : "subcommand " + subcommandName(code);
+  }
+  if (cmd == BQ952_RESP_CHECKSUM && n >= 2)
+    return "transfer checksum and length " + std::to_string(data(1)) + " (apply)";
+  return "write " + directName(cmd) + (n > 1 ? " (" + std::to_string(n) + " bytes)" : " = " + hexByte(data(0)));
+}
+
 void Bq76952Chain::writeRegister(double t, uint8_t reg, uint8_t v) {
   if (reg == BQ952_SUBCMD_LOW) {
     subLo_ = v;
@@ -603,8 +683,10 @@ void Bq76952Chain::writeRegister(double t, uint8_t reg, uint8_t v) {
     alarmEnable_ = static_cast<uint16_t>((alarmEnable_ & 0xFF00) | v);
   } else if (reg == BQ952_ALARM_ENABLE + 1) {
     alarmEnable_ = static_cast<uint16_t>((alarmEnable_ & 0x00FF) | (v << 8));
+  } else {
+    // Other direct commands are read-only: writes are ignored.
+    misuse_.note(t, 0, directName(reg), "read-only direct command written");
   }
-  // Other direct commands are read-only: writes are ignored.
 }
 
 void Bq76952Chain::setResponse(const uint8_t* data, int len) {
@@ -690,18 +772,33 @@ void Bq76952Chain::subcommandAddressed(double t) {
 
 void Bq76952Chain::commitTransfer(double t) {
   const int dataLen = static_cast<int>(length_) - 4;
-  if (dataLen < 1 || dataLen > static_cast<int>(BQ952_TRANSFER_BUFFER_LEN)) return;
+  const uint16_t code = static_cast<uint16_t>(subLo_ | (subHi_ << 8));
+  if (dataLen < 1 || dataLen > static_cast<int>(BQ952_TRANSFER_BUFFER_LEN)) {
+    misuse_.note(t, 0, subcommandName(code), "transfer length " + std::to_string(length_) + " outside 5..36");
+    return;
+  }
   int sum = subLo_ + subHi_;
   for (int i = 0; i < dataLen; ++i) sum += buffer_[static_cast<size_t>(i)];
-  if (static_cast<uint8_t>(~sum & 0xFF) != checksum_) return;  // a corrupted write is not applied
-  const uint16_t code = static_cast<uint16_t>(subLo_ | (subHi_ << 8));
+  if (static_cast<uint8_t>(~sum & 0xFF) != checksum_) {  // a corrupted write is not applied
+    misuse_.note(t, 0, subcommandName(code), "transfer checksum wrong (write not applied)");
+    return;
+  }
   if (isDataMemory(code)) {
     // Protected: data memory takes writes only in CONFIG_UPDATE mode.
-    if (!cfgUpdate_ || code + dataLen - 1 > static_cast<int>(BQ952_DM_LAST)) return;
+    if (!cfgUpdate_) return misuse_.note(t, 0, subcommandName(code), "data-memory write outside CONFIG_UPDATE");
+    if (code + dataLen - 1 > static_cast<int>(BQ952_DM_LAST))
+      return misuse_.note(t, 0, subcommandName(code), "data-memory write past its end");
     for (int i = 0; i < dataLen; ++i) putDm(static_cast<uint16_t>(code + i), buffer_[static_cast<size_t>(i)]);
     return;
   }
-  if (code == BQ952_SUB_CB_ACTIVE_CELLS && dataLen == 2 && !cfgUpdate_ && !(s_.cbConfig & BQ952_CB_NO_CMD)) {
+  if (code == BQ952_SUB_CB_ACTIVE_CELLS && (dataLen != 2 || cfgUpdate_ || (s_.cbConfig & BQ952_CB_NO_CMD))) {
+    misuse_.note(t, 0, subcommandName(code),
+                 dataLen != 2 ? "takes 2 bytes, got " + std::to_string(dataLen)
+                 : cfgUpdate_ ? "written in CONFIG_UPDATE mode"
+                              : "host balancing commands disabled (Balancing Configuration CB_NO_CMD)");
+    return;
+  }
+  if (code == BQ952_SUB_CB_ACTIVE_CELLS) {
     autoMask_ = 0;  // host-controlled balancing takes over
     const uint16_t all = static_cast<uint16_t>((1u << cells_) - 1u);
     const uint16_t mask = static_cast<uint16_t>((buffer_[0] | (buffer_[1] << 8)) & all);

@@ -59,6 +59,7 @@ class Bq76952Chain : public MonitorChain {
   void advance(double t) override;
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
 
+  std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
   bool dischargeFetOn() const override;

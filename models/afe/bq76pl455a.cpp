@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <bms/afe/bq76pl455a_regs.h>
 #include <bms/bms_crc.hpp>
@@ -59,6 +60,32 @@ double thermCodeIdeal(const Thermistor& th, double temp_C, ThermistorFault f) {
   if (f == ThermistorFault::Short) return 0.0;
   const double r = th.resistance_ohm(temp_C);
   return static_cast<double>(th.fullScaleCode()) * r / (th.pullup_ohm + r);
+}
+
+// A register's data-sheet name (multi-byte registers by their first byte).
+std::string registerName(unsigned a) {
+  struct Span { unsigned at, len; const char* name; };
+  static const Span kNames[] = {
+      {PL455_REG_SREV, 1, "SREV"}, {PL455_REG_CMD, 1, "CMD"}, {PL455_REG_CHANNELS, 4, "CHANNELS"},
+      {PL455_REG_OVERSMPL, 1, "OVERSMPL"}, {PL455_REG_ADDR, 1, "ADDR"}, {PL455_REG_GROUP_ID, 1, "GROUP_ID"},
+      {PL455_REG_DEV_CTRL, 1, "DEV_CTRL"}, {PL455_REG_NCHAN, 1, "NCHAN"}, {PL455_REG_DEVCONFIG, 1, "DEVCONFIG"},
+      {PL455_REG_PWRCONFIG, 1, "PWRCONFIG"}, {PL455_REG_COMCONFIG, 2, "COMCONFIG"}, {PL455_REG_TXHOLDOFF, 1, "TXHOLDOFF"},
+      {PL455_REG_CBCONFIG, 1, "CBCONFIG"}, {PL455_REG_CBENBL, 2, "CBENBL"}, {PL455_REG_CTO, 1, "CTO"},
+      {PL455_REG_STATUS, 1, "STATUS"}, {PL455_REG_FAULT_SUM, 2, "FAULT_SUM"}, {PL455_REG_FAULT_UV, 2, "FAULT_UV"},
+      {PL455_REG_FAULT_OV, 2, "FAULT_OV"}, {PL455_REG_FAULT_AUX, 2, "FAULT_AUX"}, {PL455_REG_FAULT_2UV, 2, "FAULT_2UV"},
+      {PL455_REG_FAULT_2OV, 2, "FAULT_2OV"}, {PL455_REG_FAULT_COM, 2, "FAULT_COM"}, {PL455_REG_FAULT_SYS, 1, "FAULT_SYS"},
+      {PL455_REG_FAULT_DEV, 2, "FAULT_DEV"}, {PL455_REG_FAULT_GPI, 1, "FAULT_GPI"}, {PL455_REG_FO_CTRL, 2, "FO_CTRL"},
+      {PL455_REG_MAGIC1, 4, "MAGIC1"}, {PL455_REG_COMP_UV, 1, "COMP_UV"}, {PL455_REG_COMP_OV, 1, "COMP_OV"},
+      {PL455_REG_CELL_UV, 2, "CELL_UV"}, {PL455_REG_CELL_OV, 2, "CELL_OV"}, {PL455_REG_EE_BURN, 1, "EE_BURN"},
+      {PL455_REG_MAGIC2, 4, "MAGIC2"},
+  };
+  for (const Span& n : kNames)
+    if (a >= n.at && a < n.at + n.len) return n.name;
+  for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k) {
+    if (a >= PL455_REG_AUX_UV(k) && a < PL455_REG_AUX_UV(k) + 2u) return "AUX" + std::to_string(k) + "_UV";
+    if (a >= PL455_REG_AUX_OV(k) && a < PL455_REG_AUX_OV(k) + 2u) return "AUX" + std::to_string(k) + "_OV";
+  }
+  return "register " + hexByte(a, a > 0xFF ? 4 : 2);
 }
 
 }  // namespace
@@ -309,14 +336,17 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
 void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool takesAddress) {
   for (unsigned i = 0; i < f.size; ++i) {
     const unsigned a = f.reg + i;
-    if (a >= PL455_REG_COUNT) break;
+    if (a >= PL455_REG_COUNT) {
+      misuse_.note(t, d, registerName(a), "write past the register map (0x00..0xFF)");
+      break;
+    }
     const uint8_t v = f.data[i];
     if (a == PL455_REG_ADDR) {  // only auto-addressing assigns an address
       if (takesAddress) dv.reg[a] = v, dv.addressed = true, dv.autoAddress = false;
       continue;
     }
     switch (access(a)) {
-      case Access::ReadOnly: break;
+      case Access::ReadOnly: misuse_.note(t, d, registerName(a), "read-only register written"); break;
       case Access::ClearOnOne: clearWritten(dv, static_cast<uint8_t>(a), v); break;
       case Access::Stored: dv.reg[a] = v; break;
     }
@@ -338,6 +368,7 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
   if (touched(PL455_REG_EE_BURN, 1) && dv.reg[PL455_REG_EE_BURN] == PL455_EE_BURN_GO) {
     dv.reg[PL455_REG_EE_BURN] = 0;
     const bool unlocked = get32(dv.reg, PL455_REG_MAGIC1) == PL455_MAGIC1_KEY && get32(dv.reg, PL455_REG_MAGIC2) == PL455_MAGIC2_KEY;
+    if (!unlocked) misuse_.note(t, d, registerName(PL455_REG_EE_BURN), "EEPROM burn without the MAGIC1/MAGIC2 keys (refused)");
     if (unlocked)
       for (unsigned a = 0; a < PL455_REG_COUNT; ++a)
         if (inEeprom(a)) dv.eeprom[a] = dv.reg[a];
@@ -426,7 +457,9 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
     if (!crcOk) {  // dropped by every device that heard it, and flagged
       for (int d = 0; d < cfg_.devices; ++d) {
         Device& dv = dev_[static_cast<size_t>(d)];
-        if (acceptsWrites(d)) set16(dv.reg, PL455_REG_FAULT_COM, get16(dv.reg, PL455_REG_FAULT_COM) | PL455_FAULT_COM_UART_CRC);
+        if (!acceptsWrites(d)) continue;
+        misuse_.note(now, d, registerName(f.reg), "frame with a bad CRC (dropped, FAULT_COM UART_CRC set)");
+        set16(dv.reg, PL455_REG_FAULT_COM, get16(dv.reg, PL455_REG_FAULT_COM) | PL455_FAULT_COM_UART_CRC);
       }
       expectReply = expectReply || withReply;
       continue;
@@ -460,6 +493,36 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   r.received = expectReply && received == 0 && rxLen > 0 ? -1 : static_cast<int>(received);
   r.duration_s = now - t;
   return r;
+}
+
+// Each command frame of the transaction: its request type, address and register.
+std::string Bq76pl455aChain::describe(const uint8_t* tx, size_t txLen, size_t) const {
+  std::string out;
+  size_t pos = 0;
+  while (pos < txLen && (tx[pos] & PL455_INIT_COMMAND) != 0) {
+    const uint8_t init = tx[pos];
+    const uint8_t req = init & PL455_REQ_MASK;
+    const bool addressed = (req & ~0x10u) != PL455_REQ_BROADCAST_R;
+    const size_t regBytes = (init & PL455_INIT_ADDR16) ? 2 : 1;
+    const size_t size = PL455_SIZE_BYTES(init & PL455_INIT_SIZE_MASK);
+    const size_t len = 1 + (addressed ? 1 : 0) + regBytes + size + 2;
+    if (pos + len > txLen) break;
+    const uint8_t* p = tx + pos + 1;
+    const int address = addressed ? *p++ : -1;
+    const unsigned reg = regBytes == 2 ? static_cast<unsigned>((p[0] << 8) | p[1]) : p[0];
+    const bool reply = (req & 0x10u) == 0;
+    const std::string to = (req & ~0x10u) == PL455_REQ_SINGLE_R  ? " to device address " + std::to_string(address)
+                           : (req & ~0x10u) == PL455_REQ_GROUP_R ? " to group " + std::to_string(address)
+                                                                 : " (broadcast)";
+    if (!out.empty()) out += "; ";
+    const unsigned count = (size > 0 ? p[regBytes] & 0x7Fu : 0u) + 1u;
+    out += (reply && reg == PL455_REG_CMD ? std::string("sample and read the channels")
+            : reply                       ? "read " + registerName(reg) + " (" + std::to_string(count) + " bytes)"
+                  : "write " + registerName(reg) + (size > 1 ? " (" + std::to_string(size) + " bytes)" : " = " + hexByte(p[regBytes]))) +
+           to;
+    pos += len;
+  }
+  return out.empty() ? "no command frame" : out;
 }
 
 int pl455CommTimeoutCode(double timeout_s) {

@@ -52,6 +52,7 @@ class Bq76pl455aChain final : public MonitorChain {
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
 
   // The part's own channel errors drawn from the seed (tests use them).
   double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }

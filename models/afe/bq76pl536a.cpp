@@ -41,6 +41,39 @@ std::array<uint8_t, 8> programmedConfig(const MonitorConfig& cfg) {
   return e;
 }
 
+// A register's data-sheet name (2-byte results by their first byte).
+std::string registerName(uint8_t reg) {
+  switch (reg) {
+    case BQ536_DEVICE_STATUS: return "DEVICE_STATUS";
+    case BQ536_GPAI: case BQ536_GPAI + 1: return "GPAI";
+    case BQ536_TEMPERATURE1: case BQ536_TEMPERATURE1 + 1: return "TEMPERATURE1";
+    case BQ536_TEMPERATURE2: case BQ536_TEMPERATURE2 + 1: return "TEMPERATURE2";
+    case BQ536_ALERT_STATUS: return "ALERT_STATUS";
+    case BQ536_FAULT_STATUS: return "FAULT_STATUS";
+    case BQ536_COV_FAULT: return "COV_FAULT";
+    case BQ536_CUV_FAULT: return "CUV_FAULT";
+    case BQ536_ADC_CONTROL: return "ADC_CONTROL";
+    case BQ536_IO_CONTROL: return "IO_CONTROL";
+    case BQ536_CB_CTRL: return "CB_CTRL";
+    case BQ536_CB_TIME: return "CB_TIME";
+    case BQ536_ADC_CONVERT: return "ADC_CONVERT";
+    case BQ536_SHDW_CTRL: return "SHDW_CTRL";
+    case BQ536_ADDRESS_CONTROL: return "ADDRESS_CONTROL";
+    case BQ536_RESET: return "RESET";
+    case BQ536_FUNCTION_CONFIG: return "FUNCTION_CONFIG";
+    case BQ536_IO_CONFIG: return "IO_CONFIG";
+    case BQ536_CONFIG_COV: return "CONFIG_COV";
+    case BQ536_CONFIG_COVT: return "CONFIG_COVT";
+    case BQ536_CONFIG_CUV: return "CONFIG_CUV";
+    case BQ536_CONFIG_CUVT: return "CONFIG_CUVT";
+    case BQ536_CONFIG_OT: return "CONFIG_OT";
+    case BQ536_CONFIG_OTT: return "CONFIG_OTT";
+    default: break;
+  }
+  if (reg >= BQ536_VCELL1 && reg < BQ536_VCELL1 + 12) return "VCELL" + std::to_string((reg - BQ536_VCELL1) / 2 + 1);
+  return "register " + hexByte(reg);
+}
+
 }  // namespace
 
 Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed)
@@ -235,6 +268,7 @@ void Bq76pl536aChain::clearLatches(Device& dv, uint8_t reg, uint8_t falling) {
 }
 
 void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
+  const int device = static_cast<int>(&dv - dev_.data());
   const bool unlocked = dv.shadowOpen;
   dv.shadowOpen = false;  // the key opens exactly one write
   dv.compared = false;    // a threshold may change
@@ -276,10 +310,15 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
     }
     case BQ536_RESET:
       if (value == BQ536_RESET_KEY) reset(dv);
+      else misuse_.note(t, device, registerName(reg), "written without its key (" + hexByte(BQ536_RESET_KEY) + ")");
       break;
     default:
       // Protected configuration: only right after the shadow key. Others are read-only.
       if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) dv.reg[reg] = value;
+      else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
+        misuse_.note(t, device, registerName(reg), "protected register written without the SHDW_CTRL key just before");
+      else
+        misuse_.note(t, device, registerName(reg), "read-only or reserved register written");
       break;
   }
   settle(dv, t);
@@ -315,6 +354,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
       if (addr != BQ536_ADDR_BROADCAST && addressOf(dv) != addr) continue;
       if (dv.comm.silent || dv.comm.stuck_byte >= 0) continue;  // its link does not take writes
       if (!crcOk) {
+        misuse_.note(t, static_cast<int>(&dv - dev_.data()), registerName(tx[1]), "write with a bad CRC (rejected, FAULT_STATUS CRC set)");
         dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_CRC;  // rejected, and flagged
         refreshStatus(dv);
         continue;
@@ -348,6 +388,14 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   std::copy(reply, reply + got, rx);
   r.received = static_cast<int>(got);
   return r;
+}
+
+std::string Bq76pl536aChain::describe(const uint8_t* tx, size_t txLen, size_t) const {
+  if (txLen < BQ536_READ_REQUEST_LEN) return "short frame";
+  const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);
+  const std::string at = addr == BQ536_ADDR_BROADCAST ? " (broadcast)" : " at address " + std::to_string(addr);
+  if (tx[0] & 1u) return "write " + registerName(tx[1]) + " = " + hexByte(tx[2]) + at;
+  return "read " + registerName(tx[1]) + (tx[2] > 1 ? " +" + std::to_string(tx[2] - 1) : std::string()) + at;
 }
 
 bool Bq76pl536aChain::faultLine() const {

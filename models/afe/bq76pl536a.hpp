@@ -55,6 +55,7 @@ class Bq76pl536aChain final : public MonitorChain {
 
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool thermistorBias(int d) const override;  // IO_CONTROL TS1 / TS2
 
   // The part's own drawn channel errors (series cell index), for tests.

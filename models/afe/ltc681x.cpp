@@ -28,6 +28,45 @@ void put16(uint8_t* p, uint16_t v) {  // result registers: low byte first
   p[1] = static_cast<uint8_t>(v >> 8);
 }
 
+// A command's data-sheet name; conversions with their mode fields (MD, DCP, PUP, CH).
+std::string commandName(uint16_t cc) {
+  switch (cc) {
+    case LTC681X_WRCFGA: return "WRCFGA";
+    case LTC681X_RDCFGA: return "RDCFGA";
+    case LTC681X_WRCFGB: return "WRCFGB";
+    case LTC681X_RDCFGB: return "RDCFGB";
+    case LTC681X_RDCVA: return "RDCVA";
+    case LTC681X_RDCVB: return "RDCVB";
+    case LTC681X_RDCVC: return "RDCVC";
+    case LTC681X_RDCVD: return "RDCVD";
+    case LTC681X_RDCVE: return "RDCVE";
+    case LTC681X_RDCVF: return "RDCVF";
+    case LTC681X_RDAUXA: return "RDAUXA";
+    case LTC681X_RDAUXB: return "RDAUXB";
+    case LTC681X_RDAUXC: return "RDAUXC";
+    case LTC681X_RDAUXD: return "RDAUXD";
+    case LTC681X_RDSTATA: return "RDSTATA";
+    case LTC681X_RDSTATB: return "RDSTATB";
+    case LTC681X_MUTE: return "MUTE";
+    case LTC681X_UNMUTE: return "UNMUTE";
+    case LTC681X_CLRCELL: return "CLRCELL";
+    case LTC681X_CLRAUX: return "CLRAUX";
+    case LTC681X_CLRSTAT: return "CLRSTAT";
+    default: break;
+  }
+  const unsigned md = (cc >> LTC681X_MD_SHIFT) & 3u, ch = cc & LTC681X_CH_MASK;
+  const uint16_t fields = static_cast<uint16_t>(cc & ~(3u << LTC681X_MD_SHIFT));
+  const std::string mode = " MD=" + std::to_string(md);
+  const std::string dcp = " DCP=" + std::to_string((cc & LTC681X_DCP_BIT) ? 1 : 0);
+  if ((fields & ~(LTC681X_DCP_BIT | LTC681X_CH_MASK)) == LTC681X_ADCV_BASE)
+    return "ADCV" + mode + dcp + " CH=" + std::to_string(ch);
+  if ((fields & ~(LTC681X_PUP_BIT | LTC681X_DCP_BIT | LTC681X_CH_MASK)) == LTC681X_ADOW_BASE)
+    return "ADOW" + mode + " PUP=" + std::to_string((cc & LTC681X_PUP_BIT) ? 1 : 0) + dcp + " CH=" + std::to_string(ch);
+  if ((fields & ~LTC681X_CH_MASK) == LTC681X_ADAX_BASE) return "ADAX" + mode + " CHG=" + std::to_string(ch);
+  if ((fields & ~LTC681X_CH_MASK) == LTC681X_ADSTAT_BASE) return "ADSTAT" + mode + " CHST=" + std::to_string(ch);
+  return "command " + hexByte(cc, 3);
+}
+
 uint16_t vuvOf(const std::array<uint8_t, 6>& a) { return static_cast<uint16_t>(a[1] | ((a[2] & 0x0F) << 8)); }
 uint16_t vovOf(const std::array<uint8_t, 6>& a) { return static_cast<uint16_t>((a[2] >> 4) | (a[3] << 4)); }
 
@@ -432,19 +471,28 @@ BusTransfer Ltc681xChain::transfer(double t, const uint8_t* tx, size_t txLen, ui
     ++n;
   }
   if (txLen < LTC681X_CMD_LEN || n == 0) return r;  // a wake-up pulse, or nobody ready
-  if (!bms::ltcPecOk(tx, 2)) return r;                // bad command PEC: ignored by all
   const uint16_t cc = static_cast<uint16_t>(((tx[0] & 0x07u) << 8) | tx[1]);
+  if (!bms::ltcPecOk(tx, 2)) {  // bad command PEC: ignored by all
+    misuse_.note(t, -1, commandName(cc), "bad command PEC (frame ignored)");
+    return r;
+  }
   const double tEnd = t + r.duration_s;
 
   if (cc == LTC681X_WRCFGA || (cc == LTC681X_WRCFGB && is6813())) {
     // Data blocks: the farthest device's first, device 0's last.
     const size_t blocks = (txLen - LTC681X_CMD_LEN) / LTC681X_SLOT_BYTES;
     for (int d = 0; d < n; ++d) {
-      if (static_cast<size_t>(d) >= blocks) break;
       Device& dv = dev_[static_cast<size_t>(d)];
       if (dv.comm.stuck_byte >= 0) continue;  // its link takes no writes
+      if (static_cast<size_t>(d) >= blocks) {  // the frame ended before its block
+        misuse_.note(t, d, commandName(cc), "no data block for this device (" + std::to_string(blocks) + " in the frame)");
+        continue;
+      }
       const uint8_t* block = tx + LTC681X_CMD_LEN + (blocks - 1 - static_cast<size_t>(d)) * LTC681X_SLOT_BYTES;
-      if (!bms::ltcPecOk(block, LTC681X_GROUP_BYTES)) continue;
+      if (!bms::ltcPecOk(block, LTC681X_GROUP_BYTES)) {
+        misuse_.note(t, d, commandName(cc), "data block with a bad PEC (write ignored)");
+        continue;
+      }
       settle(dv, tEnd);
       if (cc == LTC681X_WRCFGA) writeCfga(dv, tEnd, block);
       else writeCfgb(dv, block);
@@ -452,6 +500,7 @@ BusTransfer Ltc681xChain::transfer(double t, const uint8_t* tx, size_t txLen, ui
     return r;
   }
   if (cc == LTC681X_MUTE || cc == LTC681X_UNMUTE) {
+    if (!is6813()) misuse_.note(t, -1, commandName(cc), "the LTC6811 has no such command");
     if (is6813())
       for (int d = 0; d < n; ++d) dev_[static_cast<size_t>(d)].muted = cc == LTC681X_MUTE;
     return r;
@@ -479,7 +528,10 @@ BusTransfer Ltc681xChain::transfer(double t, const uint8_t* tx, size_t txLen, ui
     uint8_t slot[LTC681X_SLOT_BYTES];
     bool known = false;
     readGroup(dv, cc, t, slot, known);
-    if (!known) return r;  // a command the part does not have: nothing driven
+    if (!known) {  // a command the part does not have: nothing driven
+      misuse_.note(t, -1, commandName(cc), std::string("the ") + (is6813() ? "LTC6813" : "LTC6811") + " has no such command");
+      return r;
+    }
     bms::ltcPutPec(slot, LTC681X_GROUP_BYTES);
     if (stuck >= 0) {
       std::fill(std::begin(slot), std::end(slot), static_cast<uint8_t>(stuck));
@@ -491,6 +543,11 @@ BusTransfer Ltc681xChain::transfer(double t, const uint8_t* tx, size_t txLen, ui
   if (stuck >= 0)  // what the stuck device relays from beyond the ready devices reads stuck too
     for (size_t at = static_cast<size_t>(n) * LTC681X_SLOT_BYTES; at < rxLen; ++at) rx[at] = static_cast<uint8_t>(stuck);
   return r;
+}
+
+std::string Ltc681xChain::describe(const uint8_t* tx, size_t txLen, size_t) const {
+  if (tx == nullptr || txLen < LTC681X_CMD_LEN) return "wake-up pulse";
+  return commandName(static_cast<uint16_t>(((tx[0] & 0x07u) << 8) | tx[1]));
 }
 
 // --- outputs -----------------------------------------------------------------------

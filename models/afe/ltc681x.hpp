@@ -103,6 +103,7 @@ class Ltc681xChain final : public MonitorChain {
 
   bool faultLine() const override { return false; }
   bool balancing(int d, int cell) const override;
+  std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool thermistorBias(int d) const override;
 
   // An open sense wire on C pin `pin` (0 = C0 .. cells) of device d; closing it

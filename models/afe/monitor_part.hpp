@@ -18,10 +18,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "models/afe/device_faults.hpp"
 #include "models/afe/monitor_config.hpp"
+#include "models/afe/register_misuse.hpp"
 
 namespace packsim {
 
@@ -65,6 +67,18 @@ class MonitorChain {
   // the device's top cell: MonitorConfig::thermistor_bias_A); parts without a switch
   // for it bias them whenever they have thermistors.
   virtual bool thermistorBias(int d) const { return cellsOf(d) > 0; }
+
+  // What a transaction the MCU starts is, by the part's own names ("read Cell 1
+  // Voltage", "WRCFGA", "write CB_CTRL = 0x05 at address 2"): the bus trace's
+  // decoding (output.bus_trace). Reads nothing of the device's state; every part
+  // names its own (a test's fake chain may leave it empty).
+  virtual std::string describe(const uint8_t*, size_t, size_t) const { return ""; }
+
+  // The writes the part ignored so far (register_misuse.hpp), for the run's events.
+  const RegisterMisuseLog& misuse() const { return misuse_; }
+
+ protected:
+  RegisterMisuseLog misuse_;
 };
 
 // Each part's factory is declared in its own header (models/afe/<part>.hpp) and

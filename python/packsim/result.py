@@ -20,6 +20,7 @@ __all__ = ["Result", "load"]
 
 EVENTS = "events"
 _EVENT_DTYPE = np.dtype([("time_s", "<f8"), ("kind", object), ("detail", object)])
+BUS_TRACE = "bus_trace"
 
 
 def _text(v: Any) -> Any:
@@ -275,6 +276,17 @@ class Result:
         return ev if ev is not None else np.empty(0, dtype=_EVENT_DTYPE)
 
     @property
+    def bus_trace(self) -> np.ndarray:
+        """The monitor-bus transactions (scenario ``output.bus_trace: true``) as a
+        structured array: ``time_s``, ``bus``, ``direction`` ("out" MCU -> part, "in"),
+        ``count``, ``bytes`` (hex), ``what`` (the part's decoding); docs/results.md.
+        Raises KeyError when the run did not trace its buses."""
+        tr = self._datasets.get(BUS_TRACE)
+        if tr is None:
+            raise KeyError("no bus trace in this result: run the scenario with output.bus_trace: true")
+        return tr
+
+    @property
     def events(self) -> list[dict[str, Any]]:
         ev = self.events_array
         return [{name: (float(row[name]) if name == "time_s" else row[name]) for name in ev.dtype.names}
@@ -337,11 +349,15 @@ class Result:
         kind="cells": tidy, one row per (time_s, cell) with a column per per-cell
         dataset of ``truth/`` (``cell_voltage_V``, ``cell_soc``, ...).
         kind="events": the events table.
+        kind="bus_trace": the monitor-bus transactions (``output.bus_trace: true``).
         """
         pd = _need("pandas")
         if kind == "events":
             ev = self.events_array
             return pd.DataFrame({n: ev[n] for n in ev.dtype.names})
+        if kind == "bus_trace":
+            tr = self.bus_trace
+            return pd.DataFrame({n: tr[n] for n in tr.dtype.names})
         t = self.time_s
         n = t.shape[0]
         if kind == "samples":
@@ -362,7 +378,7 @@ class Result:
                 if a.ndim == 2 and a.shape == (n, cells):
                     cols[name] = a.reshape(-1)
             return pd.DataFrame(cols)
-        raise ValueError(f"kind must be 'samples', 'cells' or 'events', not {kind!r}")
+        raise ValueError(f"kind must be 'samples', 'cells', 'events' or 'bus_trace', not {kind!r}")
 
     def _file_dims(self, path: str) -> tuple[str, ...]:
         if self._complete is not None:

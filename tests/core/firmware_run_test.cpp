@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -103,6 +104,37 @@ TEST(FirmwareRun, TheExampleFirmwarePassesItsScenariosUnderPacksimCheck) {
   // Host mode's; target mode's (firmware/target/, the ELFs) are target_mode_test's and the bundled scenarios'.
   const std::string cmd = std::string(PACKSIM_BINARY) + " check " + test::scenarioDir() + "/firmware/*.yaml > /dev/null";
   EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+// A firmware whose bus writes the part ignores (the probe's BUS mode sends the bytes
+// 1 2 3 4 every 10 ms: on a BQ76PL536A stack a write of 0x03 to register 0x02 at
+// address 0 with a CRC byte that is not the frame's): the part rejects it, as before,
+// and the run says so -- one register_misuse event naming the part, device, register
+// and reason, with the count of frames, which is the count of the firmware's own
+// "bus ..." reports of its transfers.
+TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW ", config: {mode: 1, at_ms: 50}}}\n"
+      "load: {current_A: 1.0}\nrun: {duration_s: 2}\n");
+  const RunResult r = runScenario(s);
+  long transfers = 0;
+  double firstTransfer_s = -1.0;
+  std::vector<const Event*> misuse;
+  for (const Event& e : r.events) {
+    if (e.detail.rfind("bus ", 0) == 0) {
+      ++transfers;
+      if (firstTransfer_s < 0.0) firstTransfer_s = e.time_s;
+    }
+    if (e.kind == "register_misuse") misuse.push_back(&e);
+  }
+  ASSERT_GT(transfers, 100);
+  ASSERT_EQ(misuse.size(), 1u);
+  EXPECT_EQ(misuse[0]->detail.rfind("bq76pl536a device 1: GPAI: write with a bad CRC", 0), 0u) << misuse[0]->detail;
+  EXPECT_NE(misuse[0]->detail.find("; " + std::to_string(transfers) + " times"), std::string::npos) << misuse[0]->detail;
+  EXPECT_NEAR(misuse[0]->time_s, firstTransfer_s, 0.01);
+  // The summary shows it.
+  EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
 }
 
 }  // namespace

@@ -598,5 +598,55 @@ TEST(Bq76952, ProgrammedSettingsAreThePartsDefaultsAndOutOfRangeIsAnError) {
   EXPECT_THROW(Bq76952Chain(config(false), 17, 1), std::invalid_argument);
 }
 
+// Writes the part ignores stay ignored, and each distinct (register, reason) is noted
+// once with its count (the run turns these into register_misuse events).
+TEST(Bq76952, IgnoredWritesAreNotedOncePerRegisterAndReasonWithACount) {
+  Bq76952Chain dev(config(true), 4, 1);
+  setCells(dev, 3.7);
+  Host h{dev, true};
+  // Legal traffic leaves nothing: reads, a subcommand, a data-memory read, an alarm clear.
+  h.read(BQ952_CELL_VOLTAGE(1), 8);
+  h.sub(BQ952_SUB_FET_ENABLE);
+  h.subRead(BQ952_DM_COV_THRESHOLD, 1);
+  h.write(BQ952_ALARM_STATUS, {0xFF, 0xFF});
+  EXPECT_TRUE(dev.misuse().entries().empty());
+
+  // A read-only direct command, written twice, and a cell voltage's high byte once.
+  const int before = h.read16(BQ952_STACK_VOLTAGE);
+  h.write(BQ952_STACK_VOLTAGE, {0x00, 0x00});
+  h.write(BQ952_STACK_VOLTAGE, {0x12, 0x34});
+  EXPECT_EQ(h.read16(BQ952_STACK_VOLTAGE), before);  // still ignored
+  h.write(static_cast<uint8_t>(BQ952_CELL_VOLTAGE(2) + 1), {0x00});
+  // A write with a wrong CRC: dropped.
+  h.write(BQ952_SUBCMD_LOW, {0x90, 0x00}, /*corrupt=*/true);
+  EXPECT_EQ(h.read16(BQ952_BATTERY_STATUS) & BQ952_BS_CFGUPDATE, 0);
+  // A data-memory write outside CONFIG_UPDATE, then one with a wrong checksum inside it.
+  const uint8_t cov = dev.dataMemory(BQ952_DM_COV_THRESHOLD);
+  h.subWrite(BQ952_DM_COV_THRESHOLD, {76});
+  h.sub(BQ952_SUB_SET_CFGUPDATE);
+  h.subWrite(BQ952_DM_COV_THRESHOLD, {76}, /*checksumError=*/1);
+  EXPECT_EQ(dev.dataMemory(BQ952_DM_COV_THRESHOLD), cov);
+  // Balancing commanded in CONFIG_UPDATE mode.
+  h.subWrite(BQ952_SUB_CB_ACTIVE_CELLS, {0x01, 0x00});
+  EXPECT_FALSE(dev.balancing(0, 0));
+
+  const std::vector<RegisterMisuse>& m = dev.misuse().entries();
+  ASSERT_EQ(m.size(), 7u);
+  auto expect = [&](size_t i, const std::string& what, const std::string& why, long count) {
+    EXPECT_EQ(m[i].device, 0);
+    EXPECT_EQ(m[i].what, what);
+    EXPECT_NE(m[i].why.find(why), std::string::npos) << m[i].why;
+    EXPECT_EQ(m[i].count, count) << what;
+  };
+  expect(0, "Stack Voltage", "read-only", 2);
+  expect(1, "Stack Voltage (high byte)", "read-only", 2);
+  expect(2, "Cell 2 Voltage", "read-only", 1);
+  expect(3, "subcommand (low byte)", "CRC", 1);
+  expect(4, "data memory 0x9278", "outside CONFIG_UPDATE", 1);
+  expect(5, "data memory 0x9278", "checksum", 1);
+  expect(6, "CB_ACTIVE_CELLS", "CONFIG_UPDATE", 1);
+  EXPECT_LT(m[0].first_s, m[0].last_s);
+}
+
 }  // namespace
 }  // namespace packsim

@@ -175,6 +175,33 @@ TEST(Bq76pl455a, AFrameWithAWrongCrcIsDroppedAndFlagged) {
   EXPECT_EQ(r.last.received, -1);
 }
 
+TEST(Bq76pl455a, IgnoredWritesAreNotedOncePerDeviceRegisterAndReason) {
+  Rig r;  // two devices
+  r.autoAddress();
+  r.write(1, PL455_REG_COMP_UV, {0x40, 0x80});
+  r.writeAll(PL455_REG_FAULT_SUM, {0xFF, 0xC0});  // clear-on-one: legal
+  EXPECT_TRUE(r.chain.misuse().entries().empty());
+  r.write(0, PL455_REG_SREV, {0x55});
+  r.write(0, PL455_REG_SREV, {0x56});
+  r.write(1, PL455_REG_EE_BURN, {PL455_EE_BURN_GO});  // no keys
+  auto bad = frame(PL455_REQ_SINGLE_NR, 0, PL455_REG_CELL_OV, {0x12, 0x34});
+  bad.back() ^= 0x01;
+  r.send(bad);  // every device that heard it drops it
+  const std::vector<RegisterMisuse>& m = r.chain.misuse().entries();
+  ASSERT_EQ(m.size(), 4u);
+  EXPECT_EQ(m[0].device, 0);
+  EXPECT_EQ(m[0].what, "SREV");
+  EXPECT_EQ(m[0].count, 2);
+  EXPECT_EQ(m[1].device, 1);
+  EXPECT_EQ(m[1].what, "EE_BURN");
+  EXPECT_NE(m[1].why.find("MAGIC"), std::string::npos);
+  EXPECT_EQ(m[2].device, 0);
+  EXPECT_EQ(m[2].what, "CELL_OV");
+  EXPECT_NE(m[2].why.find("bad CRC"), std::string::npos);
+  EXPECT_EQ(m[3].device, 1);
+  EXPECT_EQ(m[3].what, "CELL_OV");
+}
+
 TEST(Bq76pl455a, EepromBurnIsRefusedWithoutTheKeysAndKeptWithThem) {
   Rig r(1, 16);
   r.autoAddress();

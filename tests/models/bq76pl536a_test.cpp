@@ -173,6 +173,41 @@ TEST(Bq76pl536a, ProtectedRegistersTakeOneWriteAfterTheShadowKey) {
   EXPECT_EQ(bus.reg(1, BQ536_VCELL1), 0);
 }
 
+TEST(Bq76pl536a, IgnoredWritesAreNotedOncePerDeviceRegisterAndReason) {
+  Bq76pl536aChain chain(config(2), 12, 1);
+  Bus bus{chain};
+  bus.addressAll(2);
+  bus.protectedWrite(1, BQ536_CONFIG_COV, 0x30);  // legal: key, then the write
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_CB_CTRL, 0x00);
+  EXPECT_TRUE(chain.misuse().entries().empty());
+  // Device 2: a read-only register twice, a protected one without the key, a reset
+  // without its key; device 1: a write with a bad CRC; both: a reserved register.
+  const uint8_t cov = bus.reg(2, BQ536_CONFIG_COV);
+  bus.write(2, BQ536_VCELL1 + 2, 0x00);
+  bus.write(2, BQ536_VCELL1 + 2, 0x01);
+  bus.write(2, BQ536_CONFIG_COV, 0x10);
+  EXPECT_EQ(bus.reg(2, BQ536_CONFIG_COV), cov);  // still refused
+  bus.write(2, BQ536_RESET, 0x00);
+  bus.write(1, BQ536_CB_CTRL, 0x01, /*goodCrc=*/false);
+  EXPECT_EQ(bus.reg(1, BQ536_CB_CTRL), 0);
+  bus.write(BQ536_ADDR_BROADCAST, 0x2A, 0x55);
+  const std::vector<RegisterMisuse>& m = chain.misuse().entries();
+  ASSERT_EQ(m.size(), 6u);
+  EXPECT_EQ(m[0].device, 1);
+  EXPECT_EQ(m[0].what, "VCELL2");
+  EXPECT_EQ(m[0].count, 2);
+  EXPECT_EQ(m[1].what, "CONFIG_COV");
+  EXPECT_NE(m[1].why.find("SHDW_CTRL"), std::string::npos);
+  EXPECT_EQ(m[2].what, "RESET");
+  EXPECT_EQ(m[3].device, 0);
+  EXPECT_EQ(m[3].what, "CB_CTRL");
+  EXPECT_NE(m[3].why.find("bad CRC"), std::string::npos);
+  EXPECT_EQ(m[4].device, 0);
+  EXPECT_EQ(m[4].what, "register 0x2A");
+  EXPECT_EQ(m[5].device, 1);
+  EXPECT_EQ(m[5].what, "register 0x2A");
+}
+
 TEST(Bq76pl536a, ConversionTakesItsTimeAndDataReadyFollows) {
   MonitorConfig cfg = config(1);
   Bq76pl536aChain chain(cfg, 5, 1);  // 5 cells on a 6-cell part

@@ -308,6 +308,38 @@ TEST(Ltc681xComm, BadCommandPecIsIgnoredAndBadDataPecOnlyByItsDevice) {
   EXPECT_EQ(chain.cfga(1, 1), 0x00);
 }
 
+TEST(Ltc681xComm, IgnoredFramesAreNotedOncePerDeviceCommandAndReason) {
+  Ltc681xChain chain(config(Ltc681xPart::Ltc6811, 2), 24, 1);
+  Host h{chain};
+  h.wake();
+  h.write(LTC681X_WRCFGA, {{0xF8, 0, 0, 0, 0, 0}, {0xF8, 0, 0, 0, 0, 0}});
+  h.send(cmd(ltc681x_adcv(2, 0, 0)));
+  h.read(LTC681X_RDCVA, 2);
+  EXPECT_TRUE(chain.misuse().entries().empty());
+  // A bad command PEC, twice; a write with device 1's block corrupted; a write one
+  // block short; an LTC6813 command on the LTC6811.
+  std::vector<uint8_t> bad = cmd(LTC681X_WRCFGA);
+  bad[3] ^= 0x01;
+  h.send(bad);
+  h.send(bad);
+  h.write(LTC681X_WRCFGA, {{0xF8, 0x11, 0, 0, 0, 0}, {0xF8, 0x22, 0, 0, 0, 0}}, /*corruptDevice=*/1);
+  EXPECT_EQ(chain.cfga(1, 1), 0x00);  // still ignored
+  h.write(LTC681X_WRCFGA, {{0xF8, 0x33, 0, 0, 0, 0}});
+  h.send(cmd(LTC681X_MUTE));
+  const std::vector<RegisterMisuse>& m = chain.misuse().entries();
+  ASSERT_EQ(m.size(), 4u);
+  EXPECT_EQ(m[0].device, -1);
+  EXPECT_EQ(m[0].what, "WRCFGA");
+  EXPECT_NE(m[0].why.find("command PEC"), std::string::npos);
+  EXPECT_EQ(m[0].count, 2);
+  EXPECT_EQ(m[1].device, 1);
+  EXPECT_NE(m[1].why.find("bad PEC"), std::string::npos);
+  EXPECT_EQ(m[2].device, 1);
+  EXPECT_NE(m[2].why.find("no data block"), std::string::npos);
+  EXPECT_EQ(m[3].what, "MUTE");
+  EXPECT_NE(m[3].why.find("LTC6811"), std::string::npos);
+}
+
 TEST(Ltc681xComm, BrokenLinkAndSilentDeviceSilenceEverythingBeyond) {
   Ltc681xChain chain(config(Ltc681xPart::Ltc6813, 4), 72, 1);
   Host h{chain};
