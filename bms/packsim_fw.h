@@ -1,4 +1,4 @@
-/* packsim firmware contract, version 2: the board as a BMS firmware sees it.
+/* packsim firmware contract, version 3: the board as a BMS firmware sees it.
  *
  * A firmware is code that runs on the BMS microcontroller. On the bench it is
  * linked with a board-support layer that implements the services below on real
@@ -14,6 +14,7 @@
  *              and CRCs (SPI for the BQ76PL536A class, UART for the BQ76PL455A
  *              class, I2C for the BQ76952 class)
  *   CAN:       classic frames to the other boards' MCUs of the pack (version 2)
+ *   results:   distinct codes for "no such channel" and "nothing answered" (version 3)
  *   ADC:       current sense, load-bus voltage, thermistors on the MCU's own ADC
  *   GPIO:      E-switches, relay auxiliary contact, monitor FAULT line, charger
  *              present, run and reset requests in; relay, precharge, FETs, charger
@@ -36,9 +37,10 @@
 extern "C" {
 #endif
 
-#define PSFW_ABI_VERSION 2u
+#define PSFW_ABI_VERSION 3u
 /* The oldest contract version this header's hosts still run: a version-1 firmware
- * never calls what version 2 added (set_task_period). */
+ * never calls what version 2 added (set_task_period), a version-2 firmware is given
+ * the codes it was built with (PSFW_NO_CHANNEL_V2 below). */
 #define PSFW_ABI_VERSION_MIN 1u
 #define PSFW_MAX_TASKS 8u
 
@@ -55,8 +57,13 @@ typedef struct psfw_board psfw_board; /* opaque: the firmware passes it back, ne
  * stops the firmware (firmware_fault). */
 #define PSFW_BUS_MAX_FRAME 1024u
 
-/* adc_read / gpio_read of a channel or pin the board does not have */
-#define PSFW_NO_CHANNEL (-1)
+/* A channel, pin, task or bus the board does not have (adc_read, gpio_read,
+ * set_task_period, can_send, can_receive). Version 3: its own code, so a firmware tells
+ * "this board has no CAN" from "nothing arrived" (PSFW_BUS_TIMEOUT). A firmware whose
+ * descriptor declares version 1 or 2 is given PSFW_NO_CHANNEL_V2 instead, the value
+ * those versions shared with PSFW_BUS_TIMEOUT, so it runs unchanged. */
+#define PSFW_NO_CHANNEL (-3)
+#define PSFW_NO_CHANNEL_V2 (-1)
 
 /* ADC channels */
 enum psfw_adc_channel {

@@ -372,6 +372,10 @@ bool FirmwareHost::bootAfterReset(uint64_t windowEnd_ns, bms::Outputs& out) {
   out.chargerEnable = false;
   out.chargerCurrentRequest_mA = 0;
   resetPending_ = false;
+  if (lastPins_ != PinLevels{}) {  // the pins drop at the reset's instant
+    lastPins_ = PinLevels{};
+    pinChanges_.push_back({static_cast<double>(resetAt_ns_) * 1e-9, lastPins_});
+  }
   return true;
 }
 
@@ -430,11 +434,11 @@ int32_t FirmwareHost::adcRead(uint8_t channel) const {
   if (board_.pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
   const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
   if (n >= 0 && n < board_.mcuThermistors) return in_->mcuThermistorCode[n];
-  return PSFW_NO_CHANNEL;
+  return noChannel();
 }
 
 int32_t FirmwareHost::gpioRead(uint8_t pin) const {
-  if (!board_.pins) return PSFW_NO_CHANNEL;
+  if (!board_.pins) return noChannel();
   switch (pin) {
     case PSFW_IN_ESWITCH_INTERNAL: return in_->eSwitchInternal;
     case PSFW_IN_ESWITCH_EXTERNAL: return in_->eSwitchExternal;
@@ -443,7 +447,7 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
     case PSFW_IN_CHARGER_PRESENT: return in_->chargerPresent;
     case PSFW_IN_RUN_REQUEST: return in_->runRequest;
     case PSFW_IN_RESET_REQUEST: return in_->resetRequest;
-    default: return PSFW_NO_CHANNEL;
+    default: return noChannel();
   }
 }
 
@@ -458,21 +462,30 @@ void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
     case PSFW_OUT_CHARGER_ENABLE: out_->chargerEnable = on; break;
     default: break;  // an unconnected port pin
   }
+  notePins();
+}
+
+void FirmwareHost::notePins() {
+  const PinLevels p = pinsOf(*out_);
+  if (p == lastPins_) return;
+  lastPins_ = p;
+  pinChanges_.push_back({clock_s(), p});
 }
 
 void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
   if (channel == PSFW_DAC_CHARGER_CURRENT_MA) out_->chargerCurrentRequest_mA = std::max<int32_t>(0, value);
+  notePins();
 }
 
 int32_t FirmwareHost::setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us) {
-  if (!inInit_ || task >= fw_.task_count) return PSFW_NO_CHANNEL;
+  if (!inInit_ || task >= fw_.task_count) return noChannel();
   fw_.tasks[task].period_ms = period_ms;
   fw_.tasks[task].budget_us = budget_us;
   return 0;
 }
 
 int32_t FirmwareHost::canSend(uint8_t can, uint32_t id, const uint8_t* data, uint8_t len) {
-  if (can != 0 || board_.can == nullptr) return PSFW_NO_CHANNEL;
+  if (can != 0 || board_.can == nullptr) return noChannel();
   if (id > 0x7FFu || len > 8) {
     breakContract("can_send of id 0x%X with %u bytes: a classic frame has an 11-bit id and at most 8 bytes", id, len);
     return PSFW_BUS_ERROR;
@@ -487,7 +500,7 @@ int32_t FirmwareHost::canSend(uint8_t can, uint32_t id, const uint8_t* data, uin
 }
 
 int32_t FirmwareHost::canReceive(uint8_t can, uint32_t* id, uint8_t* data) {
-  if (can != 0 || board_.can == nullptr) return PSFW_NO_CHANNEL;
+  if (can != 0 || board_.can == nullptr) return noChannel();
   if (id == nullptr || data == nullptr) {
     breakContract("can_receive with a null id or data buffer");
     return PSFW_BUS_ERROR;

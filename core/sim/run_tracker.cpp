@@ -141,20 +141,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     }
   }
   if (hw_) {
-    // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
-    const HardwareStatus& h = hw_->status();
-    if (h.relay_closed != lastHw_.relay_closed) event(t, "relay_contact", h.relay_closed ? "closed" : "opened");
-    if (h.precharge_closed != lastHw_.precharge_closed)
-      event(t, "precharge_contact", h.precharge_closed ? "closed" : "opened");
-    if (h.fuse_blown && !lastHw_.fuse_blown) event(t, "fuse", "blown");
-    if (h.fault_line != lastHw_.fault_line) event(t, "monitor_fault_line", h.fault_line ? "asserted" : "released");
-    if (h.charger_cv && !lastHw_.charger_cv) event(t, "charger", "constant voltage");
-    if (h.charger_done && !lastHw_.charger_done) event(t, "charger", "done (taper end current)");
-    if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
-      event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
-                                  : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
-                                                      : "safe state: converters off");
-    lastHw_ = h;
+    hardwareChanged(t);
     const uint8_t phase = out.telemetry.prechargePhase;
     if (phase != lastPrechargePhase_ && phase < bms::kPrechargePhaseCount)
       event(t, "precharge", std::string(bms::prechargePhaseName(static_cast<bms::PrechargePhase>(phase))) + " (attempt " +
@@ -182,6 +169,24 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   lastRelay_ = out.relayClose;
   lastT_ = t;
   lastX_ = x;
+}
+
+void RunTracker::hardwareChanged(double t) {
+  if (!hw_) return;
+  // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
+  const HardwareStatus& h = hw_->status();
+  if (h.relay_closed != lastHw_.relay_closed) event(t, "relay_contact", h.relay_closed ? "closed" : "opened");
+  if (h.precharge_closed != lastHw_.precharge_closed)
+    event(t, "precharge_contact", h.precharge_closed ? "closed" : "opened");
+  if (h.fuse_blown && !lastHw_.fuse_blown) event(t, "fuse", "blown");
+  if (h.fault_line != lastHw_.fault_line) event(t, "monitor_fault_line", h.fault_line ? "asserted" : "released");
+  if (h.charger_cv && !lastHw_.charger_cv) event(t, "charger", "constant voltage");
+  if (h.charger_done && !lastHw_.charger_done) event(t, "charger", "done (taper end current)");
+  if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
+    event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
+                                : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
+                                                    : "safe state: converters off");
+  lastHw_ = h;
 }
 
 void RunTracker::firmwareTrip(double t, const std::string& reason) {
