@@ -62,6 +62,12 @@ psfw_board_api makeApi() {
   a.can_receive = [](psfw_board* b, uint8_t can, uint32_t* id, uint8_t* data) {
     return service<int32_t>([&] { return host(b).canReceive(can, id, data); });
   };
+  a.nvm_read = [](psfw_board* b, uint32_t offset, uint8_t* data, uint32_t len) {
+    return service<int32_t>([&] { return host(b).nvmRead(offset, data, len); });
+  };
+  a.nvm_write = [](psfw_board* b, uint32_t offset, const uint8_t* data, uint32_t len) {
+    return service<int32_t>([&] { return host(b).nvmWrite(offset, data, len); });
+  };
   return a;
 }
 
@@ -100,6 +106,7 @@ FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, doubl
       guard_(s.isTarget() ? nullptr : std::make_unique<FaultGuard>(s.watchdog_s)),
       api_(makeApi()),
       name_(s.library_path) {
+  nvm_.fill(0xFF);
   if (s.isTarget())
     target_ = std::make_unique<TargetFirmware>(*this, s.library_path, static_cast<uint32_t>(std::llround(s.clock_hz)));
 }
@@ -113,7 +120,9 @@ FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> con
       sink_(sink),
       linked_(linked),
       api_(makeApi()),
-      name_(linked && linked->name ? linked->name : "(linked firmware)") {}
+      name_(linked && linked->name ? linked->name : "(linked firmware)") {
+  nvm_.fill(0xFF);
+}
 
 FirmwareHost::~FirmwareHost() = default;
 
@@ -512,6 +521,32 @@ int32_t FirmwareHost::canReceive(uint8_t can, uint32_t* id, uint8_t* data) {
   *id = got;
   if (len > 0) std::memcpy(data, bytes, static_cast<size_t>(len));
   return len;
+}
+
+int32_t FirmwareHost::nvmRead(uint32_t offset, uint8_t* data, uint32_t len) {
+  if (uint64_t{offset} + len > PSFW_NVM_BYTES) return noChannel();
+  if (len > 0 && data == nullptr) {
+    breakContract("nvm_read with a null buffer and a non-zero length");
+    return PSFW_BUS_ERROR;
+  }
+  if (len > 0) std::memcpy(data, nvm_.data() + offset, len);
+  return static_cast<int32_t>(len);
+}
+
+int32_t FirmwareHost::nvmWrite(uint32_t offset, const uint8_t* data, uint32_t len) {
+  if (uint64_t{offset} + len > PSFW_NVM_BYTES) return noChannel();
+  if (len > 0 && data == nullptr) {
+    breakContract("nvm_write with a null buffer and a non-zero length");
+    return PSFW_BUS_ERROR;
+  }
+  if (len == 0) return 0;
+  uint8_t copy[PSFW_NVM_BYTES];  // copied first: a bad pointer faults before the page changes
+  std::memcpy(copy, data, len);
+  std::memcpy(nvm_.data() + offset, copy, len);
+  const uint32_t pages = (offset + len - 1) / PSFW_NVM_WRITE_PAGE_BYTES - offset / PSFW_NVM_WRITE_PAGE_BYTES + 1;
+  clock_ns_ += uint64_t{pages} * PSFW_NVM_WRITE_US * 1000u;
+  checkBudget();
+  return static_cast<int32_t>(len);
 }
 
 void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {

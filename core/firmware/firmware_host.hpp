@@ -24,6 +24,7 @@
 #include <bms/bms_hal.hpp>
 #include <bms/packsim_fw.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -120,6 +121,10 @@ class FirmwareHost {
   int32_t setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us);
   int32_t canSend(uint8_t can, uint32_t id, const uint8_t* data, uint8_t len);
   int32_t canReceive(uint8_t can, uint32_t* id, uint8_t* data);
+  int32_t nvmRead(uint32_t offset, uint8_t* data, uint32_t len);
+  int32_t nvmWrite(uint32_t offset, const uint8_t* data, uint32_t len);
+  // The NVM page as it is now (erased 0xFF at the run's start; kept across resets).
+  const std::array<uint8_t, PSFW_NVM_BYTES>& nvm() const { return nvm_; }
   // "No such channel" in the firmware's contract version: its own code from version 3,
   // the code versions 1 and 2 shared with PSFW_BUS_TIMEOUT before (packsim_fw.h).
   int32_t noChannel() const { return fw_.abi_version >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2; }
@@ -169,6 +174,7 @@ class FirmwareHost {
   bms::Outputs* out_ = nullptr;
   uint64_t telemetryFrames_ = 0;
   std::vector<uint8_t> lastTelemetry_;
+  std::array<uint8_t, PSFW_NVM_BYTES> nvm_;  // the board's NVM page: outside the MCU, kept across its resets
   PinLevels lastPins_;                  // the levels of the last recorded change (all off at power-up)
   std::vector<PinChange> pinChanges_;   // since the last takePinChanges()
 };

@@ -56,7 +56,7 @@ struct Log : FirmwareSink {
   }
 };
 
-enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING };
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM };
 
 FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
   FirmwareSettings s;
@@ -136,6 +136,19 @@ TEST(FirmwareHost, AVersion3FirmwareTellsAMissingChannelFromABusTimeout) {
   v2.run(2);
   EXPECT_EQ(v2.log.of("firmware"), std::vector<std::string>{"codes -1 -1 -1 -1 -1"});
   EXPECT_FALSE(v2.host.dead());
+}
+
+// Contract v3 NVM: erased (0xFF) at the start; a 12-byte write at offset 4 touches the
+// 8-byte pages 0 and 1, so it takes 2 x 5 ms of the clock; a read past the 256 bytes is
+// PSFW_NO_CHANNEL. The page is the host's: what init wrote is there after the run.
+TEST(FirmwareHost, TheNvmPageIsErasedAtTheStartAndAWriteTakesItsPageCycles) {
+  Bench b(probe(NVM));
+  b.run(1);
+  EXPECT_EQ(b.log.of("firmware"), std::vector<std::string>{"nvm 4294967295 0 10000 12 -3"});
+  EXPECT_EQ(b.host.nvm()[3], 0xFF);
+  EXPECT_EQ(b.host.nvm()[4], 1);
+  EXPECT_EQ(b.host.nvm()[15], 12);
+  EXPECT_EQ(b.host.nvm()[16], 0xFF);
 }
 
 TEST(FirmwareHost, AnAbiMismatchIsAFirmwareFault) {

@@ -180,6 +180,9 @@ TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
   const double hang_s = test::eventTime(r, "firmware", "hanging");
   const double reset_s = test::eventTime(r, "mcu_reset", "watchdog: not kicked for 30.000 ms");
   const double boot1_s = test::eventTime(r, "firmware", "boot 1 after 1 watchdog resets");
+  // The NVM page (contract v3) kept the first boot's count across the reset.
+  EXPECT_GE(test::eventTime(r, "firmware", "boot 0 after 0 watchdog resets; NVM counts 0 boots before"), 0.0);
+  EXPECT_NEAR(test::eventTime(r, "firmware", "boot 1 after 1 watchdog resets; NVM counts 1 boots before"), boot1_s, 1e-12);
   ASSERT_NEAR(hang_s, 5.0, 1e-6);
   // The last kick: the end of the task at 4.99 s (its code's few microseconds after it).
   EXPECT_GT(reset_s, 4.99 + 0.030);

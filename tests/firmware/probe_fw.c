@@ -18,6 +18,8 @@
  *              task 0 reports "retime <now_us> <result of set_task_period now>"
  *   CODES      task 0 reports once what a missing channel and a silent bus return:
  *              "codes <adc_read 99> <gpio_read 99> <can_receive> <can_send> <bus_transfer>"
+ *   NVM        init reads the page's first word, writes 12 bytes at offset 4 and reports
+ *              "nvm <word> <us before the write> <us after> <write result> <read past the end>"
  *   PIN_TIMING init transfers 4 + 8 bytes, then closes the relay and the FETs; task 0
  *              at at_ms transfers 4 + 8 bytes twice, then opens them (the outputs' instants)
  * Built as probe_fw (contract version 3) and probe_fw_v2 (PROBE_ABI=2: the same code
@@ -37,7 +39,7 @@
 #endif
 #define PROBE_NO_CHANNEL (PROBE_ABI >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2)
 
-enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING };
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM };
 
 typedef struct probe_ram {
   int32_t mode, at_ms;
@@ -126,6 +128,20 @@ static int32_t probe_init(void* ram, psfw_board* b, const psfw_board_api* api, c
   if (r->mode == RETIME && (api->set_task_period(b, 0, 30, 0) != 0 || api->set_task_period(b, 2, 0, 0) != 0 ||
                             api->set_task_period(b, 5, 10, 0) != PROBE_NO_CHANNEL))
     return 9;
+  if (r->mode == NVM) {
+    char text[96];
+    uint8_t word[4], rec[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+    uint32_t w;
+    api->nvm_read(b, 0, word, 4);
+    memcpy(&w, word, 4);
+    const uint32_t before = api->now_us(b);
+    const long wrote = api->nvm_write(b, 4, rec, sizeof rec);
+    const uint32_t after = api->now_us(b);
+    const long past = api->nvm_read(b, 250, word, 8);
+    snprintf(text, sizeof text, "nvm %lu %lu %lu %ld %ld", (unsigned long)w, (unsigned long)before, (unsigned long)after,
+             wrote, past);
+    api->event(b, text);
+  }
   if (r->mode == PIN_TIMING) {
     uint8_t tx[4] = {1, 2, 3, 4}, rx[8];
     api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
