@@ -1,4 +1,4 @@
-/* packsim firmware contract, version 2: the board as a BMS firmware sees it.
+/* packsim firmware contract, version 3: the board as a BMS firmware sees it.
  *
  * A firmware is code that runs on the BMS microcontroller. On the bench it is
  * linked with a board-support layer that implements the services below on real
@@ -14,6 +14,8 @@
  *              and CRCs (SPI for the BQ76PL536A class, UART for the BQ76PL455A
  *              class, I2C for the BQ76952 class)
  *   CAN:       classic frames to the other boards' MCUs of the pack (version 2)
+ *   results:   distinct codes for "no such channel" and "nothing answered" (version 3)
+ *   NVM:       a 256-byte page that keeps its bytes across MCU resets (version 3)
  *   ADC:       current sense, load-bus voltage, thermistors on the MCU's own ADC
  *   GPIO:      E-switches, relay auxiliary contact, monitor FAULT line, charger
  *              present, run and reset requests in; relay, precharge, FETs, charger
@@ -36,9 +38,10 @@
 extern "C" {
 #endif
 
-#define PSFW_ABI_VERSION 2u
+#define PSFW_ABI_VERSION 3u
 /* The oldest contract version this header's hosts still run: a version-1 firmware
- * never calls what version 2 added (set_task_period). */
+ * never calls what version 2 added (set_task_period), a version-2 firmware is given
+ * the codes it was built with (PSFW_NO_CHANNEL_V2 below). */
 #define PSFW_ABI_VERSION_MIN 1u
 #define PSFW_MAX_TASKS 8u
 
@@ -55,8 +58,22 @@ typedef struct psfw_board psfw_board; /* opaque: the firmware passes it back, ne
  * stops the firmware (firmware_fault). */
 #define PSFW_BUS_MAX_FRAME 1024u
 
-/* adc_read / gpio_read of a channel or pin the board does not have */
-#define PSFW_NO_CHANNEL (-1)
+/* A channel, pin, task or bus the board does not have (adc_read, gpio_read,
+ * set_task_period, can_send, can_receive). Version 3: its own code, so a firmware tells
+ * "this board has no CAN" from "nothing arrived" (PSFW_BUS_TIMEOUT). A firmware whose
+ * descriptor declares version 1 or 2 is given PSFW_NO_CHANNEL_V2 instead, the value
+ * those versions shared with PSFW_BUS_TIMEOUT, so it runs unchanged. */
+#define PSFW_NO_CHANNEL (-3)
+#define PSFW_NO_CHANNEL_V2 (-1)
+
+/* NVM (version 3): one page of PSFW_NVM_BYTES, erased (0xFF) when the run starts, kept
+ * across every MCU reset (watchdog, brown-out); an external I2C EEPROM of the 24LC02
+ * class: a write programs PSFW_NVM_WRITE_PAGE_BYTES-byte pages, each taking
+ * PSFW_NVM_WRITE_US of the write cycle (the datasheet's maximum), during which the
+ * call does not return. */
+#define PSFW_NVM_BYTES 256u
+#define PSFW_NVM_WRITE_PAGE_BYTES 8u
+#define PSFW_NVM_WRITE_US 5000u
 
 /* ADC channels */
 enum psfw_adc_channel {
@@ -122,6 +139,13 @@ typedef struct psfw_board_api {
    * data (8 bytes of room), or PSFW_BUS_TIMEOUT when none is waiting, PSFW_NO_CHANNEL
    * when the board has no such bus. */
   int32_t (*can_receive)(psfw_board* b, uint8_t can, uint32_t* id, uint8_t* data);
+  /* Version 3. NVM: copies len bytes of the page from offset into data; returns len, or
+   * PSFW_NO_CHANNEL when [offset, offset + len) leaves the page. Takes no time. */
+  int32_t (*nvm_read)(psfw_board* b, uint32_t offset, uint8_t* data, uint32_t len);
+  /* Version 3. NVM: programs len bytes at offset; the clock advances by PSFW_NVM_WRITE_US
+   * for every PSFW_NVM_WRITE_PAGE_BYTES-byte page the bytes touch (counted in a task's
+   * budget). Returns len, or PSFW_NO_CHANNEL when the range leaves the page. */
+  int32_t (*nvm_write)(psfw_board* b, uint32_t offset, const uint8_t* data, uint32_t len);
 } psfw_board_api;
 
 typedef struct psfw_task {

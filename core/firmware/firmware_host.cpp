@@ -62,6 +62,12 @@ psfw_board_api makeApi() {
   a.can_receive = [](psfw_board* b, uint8_t can, uint32_t* id, uint8_t* data) {
     return service<int32_t>([&] { return host(b).canReceive(can, id, data); });
   };
+  a.nvm_read = [](psfw_board* b, uint32_t offset, uint8_t* data, uint32_t len) {
+    return service<int32_t>([&] { return host(b).nvmRead(offset, data, len); });
+  };
+  a.nvm_write = [](psfw_board* b, uint32_t offset, const uint8_t* data, uint32_t len) {
+    return service<int32_t>([&] { return host(b).nvmWrite(offset, data, len); });
+  };
   return a;
 }
 
@@ -100,6 +106,7 @@ FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, doubl
       guard_(s.isTarget() ? nullptr : std::make_unique<FaultGuard>(s.watchdog_s)),
       api_(makeApi()),
       name_(s.library_path) {
+  nvm_.fill(0xFF);
   if (s.isTarget())
     target_ = std::make_unique<TargetFirmware>(*this, s.library_path, static_cast<uint32_t>(std::llround(s.clock_hz)));
 }
@@ -113,7 +120,9 @@ FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> con
       sink_(sink),
       linked_(linked),
       api_(makeApi()),
-      name_(linked && linked->name ? linked->name : "(linked firmware)") {}
+      name_(linked && linked->name ? linked->name : "(linked firmware)") {
+  nvm_.fill(0xFF);
+}
 
 FirmwareHost::~FirmwareHost() = default;
 
@@ -372,6 +381,10 @@ bool FirmwareHost::bootAfterReset(uint64_t windowEnd_ns, bms::Outputs& out) {
   out.chargerEnable = false;
   out.chargerCurrentRequest_mA = 0;
   resetPending_ = false;
+  if (lastPins_ != PinLevels{}) {  // the pins drop at the reset's instant
+    lastPins_ = PinLevels{};
+    pinChanges_.push_back({static_cast<double>(resetAt_ns_) * 1e-9, lastPins_});
+  }
   return true;
 }
 
@@ -430,11 +443,11 @@ int32_t FirmwareHost::adcRead(uint8_t channel) const {
   if (board_.pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
   const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
   if (n >= 0 && n < board_.mcuThermistors) return in_->mcuThermistorCode[n];
-  return PSFW_NO_CHANNEL;
+  return noChannel();
 }
 
 int32_t FirmwareHost::gpioRead(uint8_t pin) const {
-  if (!board_.pins) return PSFW_NO_CHANNEL;
+  if (!board_.pins) return noChannel();
   switch (pin) {
     case PSFW_IN_ESWITCH_INTERNAL: return in_->eSwitchInternal;
     case PSFW_IN_ESWITCH_EXTERNAL: return in_->eSwitchExternal;
@@ -443,7 +456,7 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
     case PSFW_IN_CHARGER_PRESENT: return in_->chargerPresent;
     case PSFW_IN_RUN_REQUEST: return in_->runRequest;
     case PSFW_IN_RESET_REQUEST: return in_->resetRequest;
-    default: return PSFW_NO_CHANNEL;
+    default: return noChannel();
   }
 }
 
@@ -458,21 +471,30 @@ void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
     case PSFW_OUT_CHARGER_ENABLE: out_->chargerEnable = on; break;
     default: break;  // an unconnected port pin
   }
+  notePins();
+}
+
+void FirmwareHost::notePins() {
+  const PinLevels p = pinsOf(*out_);
+  if (p == lastPins_) return;
+  lastPins_ = p;
+  pinChanges_.push_back({clock_s(), p});
 }
 
 void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
   if (channel == PSFW_DAC_CHARGER_CURRENT_MA) out_->chargerCurrentRequest_mA = std::max<int32_t>(0, value);
+  notePins();
 }
 
 int32_t FirmwareHost::setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us) {
-  if (!inInit_ || task >= fw_.task_count) return PSFW_NO_CHANNEL;
+  if (!inInit_ || task >= fw_.task_count) return noChannel();
   fw_.tasks[task].period_ms = period_ms;
   fw_.tasks[task].budget_us = budget_us;
   return 0;
 }
 
 int32_t FirmwareHost::canSend(uint8_t can, uint32_t id, const uint8_t* data, uint8_t len) {
-  if (can != 0 || board_.can == nullptr) return PSFW_NO_CHANNEL;
+  if (can != 0 || board_.can == nullptr) return noChannel();
   if (id > 0x7FFu || len > 8) {
     breakContract("can_send of id 0x%X with %u bytes: a classic frame has an 11-bit id and at most 8 bytes", id, len);
     return PSFW_BUS_ERROR;
@@ -487,7 +509,7 @@ int32_t FirmwareHost::canSend(uint8_t can, uint32_t id, const uint8_t* data, uin
 }
 
 int32_t FirmwareHost::canReceive(uint8_t can, uint32_t* id, uint8_t* data) {
-  if (can != 0 || board_.can == nullptr) return PSFW_NO_CHANNEL;
+  if (can != 0 || board_.can == nullptr) return noChannel();
   if (id == nullptr || data == nullptr) {
     breakContract("can_receive with a null id or data buffer");
     return PSFW_BUS_ERROR;
@@ -499,6 +521,32 @@ int32_t FirmwareHost::canReceive(uint8_t can, uint32_t* id, uint8_t* data) {
   *id = got;
   if (len > 0) std::memcpy(data, bytes, static_cast<size_t>(len));
   return len;
+}
+
+int32_t FirmwareHost::nvmRead(uint32_t offset, uint8_t* data, uint32_t len) {
+  if (uint64_t{offset} + len > PSFW_NVM_BYTES) return noChannel();
+  if (len > 0 && data == nullptr) {
+    breakContract("nvm_read with a null buffer and a non-zero length");
+    return PSFW_BUS_ERROR;
+  }
+  if (len > 0) std::memcpy(data, nvm_.data() + offset, len);
+  return static_cast<int32_t>(len);
+}
+
+int32_t FirmwareHost::nvmWrite(uint32_t offset, const uint8_t* data, uint32_t len) {
+  if (uint64_t{offset} + len > PSFW_NVM_BYTES) return noChannel();
+  if (len > 0 && data == nullptr) {
+    breakContract("nvm_write with a null buffer and a non-zero length");
+    return PSFW_BUS_ERROR;
+  }
+  if (len == 0) return 0;
+  uint8_t copy[PSFW_NVM_BYTES];  // copied first: a bad pointer faults before the page changes
+  std::memcpy(copy, data, len);
+  std::memcpy(nvm_.data() + offset, copy, len);
+  const uint32_t pages = (offset + len - 1) / PSFW_NVM_WRITE_PAGE_BYTES - offset / PSFW_NVM_WRITE_PAGE_BYTES + 1;
+  clock_ns_ += uint64_t{pages} * PSFW_NVM_WRITE_US * 1000u;
+  checkBudget();
+  return static_cast<int32_t>(len);
 }
 
 void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {

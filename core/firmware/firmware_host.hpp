@@ -24,6 +24,7 @@
 #include <bms/bms_hal.hpp>
 #include <bms/packsim_fw.h>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -33,6 +34,7 @@
 #include "core/firmware/fault_guard.hpp"
 #include "core/firmware/firmware_library.hpp"
 #include "core/firmware/monitor_bus.hpp"
+#include "core/firmware/pin_timeline.hpp"
 #include "core/firmware/target_firmware.hpp"
 #include "core/scenario/firmware_config.hpp"
 
@@ -73,6 +75,9 @@ class FirmwareHost {
   // [t_s, t_s + tick). `in` holds the pins and codes sampled at t_s; `out` receives the
   // GPIO and DAC writes (left as they are once the firmware is dead).
   void step(double t_s, const bms::Inputs& in, bms::Outputs& out);
+  // The output changes since the last call, each at the MCU clock's instant of the
+  // write (a watchdog reset's drop at the reset's instant), in time order.
+  std::vector<PinChange> takePinChanges() { return std::move(pinChanges_); }
 
   bool dead() const { return dead_; }
   const std::string& name() const { return name_; }
@@ -116,6 +121,13 @@ class FirmwareHost {
   int32_t setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us);
   int32_t canSend(uint8_t can, uint32_t id, const uint8_t* data, uint8_t len);
   int32_t canReceive(uint8_t can, uint32_t* id, uint8_t* data);
+  int32_t nvmRead(uint32_t offset, uint8_t* data, uint32_t len);
+  int32_t nvmWrite(uint32_t offset, const uint8_t* data, uint32_t len);
+  // The NVM page as it is now (erased 0xFF at the run's start; kept across resets).
+  const std::array<uint8_t, PSFW_NVM_BYTES>& nvm() const { return nvm_; }
+  // "No such channel" in the firmware's contract version: its own code from version 3,
+  // the code versions 1 and 2 shared with PSFW_BUS_TIMEOUT before (packsim_fw.h).
+  int32_t noChannel() const { return fw_.abi_version >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2; }
 
  private:
   friend class TargetFirmware;  // runs the calls of target mode and serves its supervisor calls
@@ -130,6 +142,7 @@ class FirmwareHost {
   // returns and the firmware is stopped when its call returns.
   void breakContract(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
   bool checkBudget();
+  void notePins();  // after a GPIO or DAC write: a change of the levels, at the MCU clock
 
   std::vector<uint8_t> config_;
   double watchdog_s_;
@@ -161,6 +174,9 @@ class FirmwareHost {
   bms::Outputs* out_ = nullptr;
   uint64_t telemetryFrames_ = 0;
   std::vector<uint8_t> lastTelemetry_;
+  std::array<uint8_t, PSFW_NVM_BYTES> nvm_;  // the board's NVM page: outside the MCU, kept across its resets
+  PinLevels lastPins_;                  // the levels of the last recorded change (all off at power-up)
+  std::vector<PinChange> pinChanges_;   // since the last takePinChanges()
 };
 
 }  // namespace packsim

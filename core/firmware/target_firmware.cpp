@@ -304,9 +304,24 @@ uint32_t TargetFirmware::supervisorCall(TargetMcu& m, unsigned number) {
       r = static_cast<uint32_t>(n);
       break;
     }
+    case kSvcNvmRead:
+    case kSvcNvmWrite: {
+      const uint32_t offset = m.arg(1), data = m.arg(2), len = m.arg(3);
+      uint8_t b[PSFW_NVM_BYTES];
+      const bool fits = uint64_t{offset} + len <= PSFW_NVM_BYTES;
+      if (number == kSvcNvmRead) {
+        const int32_t n = h.nvmRead(offset, data ? b : nullptr, fits ? len : 0xFFFFFFFFu);
+        if (n > 0 && !copyOut(data, b, static_cast<size_t>(n), "nvm_read's buffer")) return 0;
+        r = static_cast<uint32_t>(n);
+      } else {
+        if (data && fits && !copyIn(data, b, len, "nvm_write's buffer")) return 0;
+        r = static_cast<uint32_t>(h.nvmWrite(offset, data ? b : nullptr, fits ? len : 0xFFFFFFFFu));
+      }
+      break;
+    }
     default: {
       char why[120];
-      std::snprintf(why, sizeof why, "supervisor call #%u, which the board does not offer (1-13), PC 0x%08x", number,
+      std::snprintf(why, sizeof why, "supervisor call #%u, which the board does not offer (1-15), PC 0x%08x", number,
                     m.pc());
       m.raiseFault(why);
       return 0;

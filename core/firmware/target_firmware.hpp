@@ -26,7 +26,7 @@ class FirmwareHost;
 // The supervisor calls of psbsp_board.c.
 enum TargetService : unsigned {
   kSvcNowMs = 1, kSvcNowUs, kSvcDelayUs, kSvcBusTransfer, kSvcAdcRead, kSvcGpioRead, kSvcGpioWrite, kSvcDacWrite,
-  kSvcTelemetrySend, kSvcEvent, kSvcSetTaskPeriod, kSvcCanSend, kSvcCanReceive
+  kSvcTelemetrySend, kSvcEvent, kSvcSetTaskPeriod, kSvcCanSend, kSvcCanReceive, kSvcNvmRead, kSvcNvmWrite
 };
 
 // What the code of one task cost, over the run.

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+
+#include "core/sim/same_instant.hpp"
 
 #include "models/hw/charger.hpp"
 #include "models/random/random.hpp"
@@ -111,25 +114,35 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
 }
 
+HardwareSim::Paths HardwareSim::switchPaths(double t, const bms::Outputs& out, const HardwareFaults& f) {
+  const HardwareConfig& hw = s_.hardware;
+  // The monitor FAULT line sits in series with the relay drive: it opens the relay
+  // whatever the MCU commands.
+  const bool drive = !(hw.fault_line_opens_relay && st_.fault_line);
+  relayWelded_ = f.relay_welded;
+  relayStep(hw.relay, relay_, out.relayClose && drive, f.relay_welded, t);
+  relayStep(hw.precharge_relay, precharge_, out.prechargeClose && drive, false, t);
+  Paths p;
+  p.dsg = out.dischargeFetOn && chains_.front()->dischargeAllowed();  // a part with FETs: one board
+  p.chg = out.chargeFetOn && chains_.front()->chargeAllowed();
+  p.dischargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, p.dsg, hw.charge_fet, p.chg, 1.0);
+  p.chargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, p.dsg, hw.charge_fet, p.chg, -1.0);
+  p.mainClosed = relay_.closed && !fuse_.blown;
+  return p;
+}
+
 bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
                           PlantInputs& pin) {
   const HardwareConfig& hw = s_.hardware;
   const double dt = s_.bms.tick_s;
-  // The monitor FAULT line sits in series with the relay drive: it opens the relay
-  // whatever the MCU commands.
   st_.fault_line = faultLine();
-  const bool drive = !(hw.fault_line_opens_relay && st_.fault_line);
-  relayStep(hw.relay, relay_, out.relayClose && drive, f.relay_welded, t);
-  relayStep(hw.precharge_relay, precharge_, out.prechargeClose && drive, false, t);
 
-  // The current of the tick that just ended heats the fuse.
+  // The current of the tick that just ended heats the fuse (before the paths are
+  // judged: a fuse that blew opens them now).
   fuseStep(hw.fuse, fuse_, sig.pack_current_A, dt);
-
-  const bool dsg = out.dischargeFetOn && chains_.front()->dischargeAllowed();  // a part with FETs: one board
-  const bool chg = out.chargeFetOn && chains_.front()->chargeAllowed();
-  const bool dischargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg, hw.charge_fet, chg, 1.0);
-  const bool chargeBlocked = fuse_.blown || !fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg, hw.charge_fet, chg, -1.0);
-  const bool mainClosed = relay_.closed && !fuse_.blown;
+  const Paths p = switchPaths(t, out, f);
+  const bool dsg = p.dsg, chg = p.chg, dischargeBlocked = p.dischargeBlocked, chargeBlocked = p.chargeBlocked;
+  const bool mainClosed = p.mainClosed;
 
   double prechargeA = 0.0;
   if (mainClosed) {
@@ -161,6 +174,59 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   pin.discharge_fet_on = dsg;
   pin.charge_fet_on = chg;
   return changed || balancingChanged || biasChanged;
+}
+
+bool HardwareSim::actuatePins(double t, double tEnd, const bms::Outputs& out, const PlantSignals& sig,
+                              const HardwareFaults& f, PlantInputs& pin) {
+  const HardwareConfig& hw = s_.hardware;
+  const bool prechargeWas = !pin.relay_closed && precharge_.closed && !pin.discharge_blocked;  // the RC already runs
+  const Paths p = switchPaths(t, out, f);
+  double prechargeA = pin.precharge_A;
+  if (p.mainClosed) {
+    st_.bus_V = sig.pack_voltage_V;
+    prechargeA = 0.0;
+  } else if (precharge_.closed && !p.dischargeBlocked) {
+    if (!prechargeWas && tEnd > t) prechargeA = prechargeStep(hw.precharge, sig.pack_voltage_V, st_.bus_V, tEnd - t);
+  } else {
+    prechargeA = 0.0;
+  }
+  st_.relay_closed = relay_.closed;
+  st_.precharge_closed = precharge_.closed;
+  st_.discharge_fet_on = p.dsg;
+  st_.charge_fet_on = p.chg;
+  st_.precharge_A = prechargeA;
+  st_.fet_loss_W = mosfetLoss_W(hw.discharge_fet, p.dsg, fetCurrent_A(hw.fet_paths, true, sig.pack_current_A)) +
+                   mosfetLoss_W(hw.charge_fet, p.chg, fetCurrent_A(hw.fet_paths, false, sig.pack_current_A));
+  bool changed = pin.relay_closed != p.mainClosed || pin.precharge_A != prechargeA ||
+                 pin.discharge_blocked != p.dischargeBlocked || pin.charge_blocked != p.chargeBlocked ||
+                 (plant_.fetNode() >= 0 && (pin.discharge_fet_on != p.dsg || pin.charge_fet_on != p.chg));
+  pin.relay_closed = p.mainClosed;
+  pin.precharge_A = prechargeA;
+  pin.discharge_blocked = p.dischargeBlocked;
+  pin.charge_blocked = p.chargeBlocked;
+  pin.discharge_fet_on = p.dsg;
+  pin.charge_fet_on = p.chg;
+  // The charger stops at once when its enable drops; it starts (and follows a new
+  // current request) at its controller's next step, the tick's.
+  if (s_.charger.present && !out.chargerEnable && pin.charger_limit_A != 0.0) {
+    pin.charger_limit_A = 0.0;
+    changed = true;
+  }
+  return changed;
+}
+
+double HardwareSim::nextSwitch_s(double t) const {
+  const HardwareConfig& hw = s_.hardware;
+  double next = std::numeric_limits<double>::infinity();
+  const auto pending = [&](const RelayConfig& c, const RelayState& r, bool welded) {
+    double at = std::numeric_limits<double>::infinity();
+    if (r.coil && !r.closed) at = r.coilChanged_s + c.close_delay_s;
+    if (!r.coil && r.closed && !welded) at = r.coilChanged_s + c.open_delay_s;
+    if (at > t + sameInstantTol_s(at)) next = std::min(next, at);
+  };
+  pending(hw.relay, relay_, relayWelded_);
+  pending(hw.precharge_relay, precharge_, false);
+  return next;
 }
 
 // The monitor ICs' thermistor bias, from each device's top cell while it is switched on.

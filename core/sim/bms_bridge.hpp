@@ -55,6 +55,16 @@ class HardwareSim {
   void sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in);
   // Returns true when an input of the plant changed (the integrator restarts).
   bool actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f, PlantInputs& pin);
+  // Inside a tick, at the instant t the MCU changed a pin (or a relay's delay ran out):
+  // the relay and precharge coils, the FET gates and the charger enable act from t on;
+  // the precharge RC, if its path starts conducting, is solved over [t, tEnd) (the tick's
+  // end). The fuse, the charger's CC-CV controller, balancing and the bus ADC stay on the
+  // tick's step. Returns true when an input of the plant changed.
+  bool actuatePins(double t, double tEnd, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
+                   PlantInputs& pin);
+  // The next instant after t at which a relay contact moves on its own (its operate or
+  // release delay running out after the coil changed); +inf when none is pending.
+  double nextSwitch_s(double t) const;
 
   const HardwareStatus& status() const { return st_; }
   // The monitor boards (one unless hardware.afe.devices_per_board), board b's host's
@@ -81,6 +91,12 @@ class HardwareSim {
  private:
   bool actuateBalancing(const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
                         PlantInputs& pin);
+  // The relays at t under the coil commands, the FET gates, and what conducts.
+  struct Paths {
+    bool dsg, chg, dischargeBlocked, chargeBlocked, mainClosed;
+  };
+  Paths switchPaths(double t, const bms::Outputs& out, const HardwareFaults& f);
+  bool relayWelded_ = false;  // the weld fault as the last actuation saw it
 
   const Scenario& s_;
   const Plant& plant_;

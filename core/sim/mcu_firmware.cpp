@@ -32,8 +32,10 @@ McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim&
 
 void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f) {
   if (!f.host_dead) hosts_.front()->step(t_s, in, out);
-  for (size_t b = 1; b < hosts_.size(); ++b)
+  for (size_t b = 1; b < hosts_.size(); ++b) {
     if (!(f.dead_boards & (1u << b))) hosts_[b]->step(t_s, in, memberPins_[b]);
+    hosts_[b]->takePinChanges();  // a member's port pins are not wired to the pack
+  }
   if (!library_ && !f.host_dead) mergeProbes(out);
 }
 

@@ -36,6 +36,9 @@ class McuFirmware : public FirmwareSink {
   // (and, for packsim's core, the rest of its outputs through the probe). A hung MCU
   // (host_dead) runs nothing: its pins hold their last level.
   void decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f);
+  // The pack host's output changes of the last decide(), each at the instant its
+  // firmware wrote it (core/firmware/pin_timeline.hpp); the members' pins drive nothing.
+  std::vector<PinChange> takePinChanges() { return hosts_.front()->takePinChanges(); }
   // "" while every MCU runs, else the first stopped one's line; a library's always.
   std::string status() const;
   const FirmwareHost& host(int board = 0) const { return *hosts_[static_cast<size_t>(board)]; }

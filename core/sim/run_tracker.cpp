@@ -188,18 +188,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     }
   }
   if (hw_) {
-    // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
-    const HardwareStatus& h = hw_->status();
-    for (const HardwareEdge& e : kHardwareEdges) {
-      const bool now = h.*(e.flag), before = lastHw_.*(e.flag);
-      if (now && !before) event(t, e.kind, e.rising);
-      if (!now && before && e.falling) event(t, e.kind, e.falling);
-    }
-    if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
-      event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
-                                  : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
-                                                      : "safe state: converters off");
-    lastHw_ = h;
+    hardwareChanged(t);
     const uint8_t phase = out.telemetry.prechargePhase;
     if (phase != lastPrechargePhase_ && phase < bms::kPrechargePhaseCount)
       event(t, "precharge", std::string(bms::prechargePhaseName(static_cast<bms::PrechargePhase>(phase))) + " (attempt " +
@@ -228,6 +217,22 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   lastRelay_ = out.relayClose;
   lastT_ = t;
   lastX_ = x;
+}
+
+void RunTracker::hardwareChanged(double t) {
+  if (!hw_) return;
+  // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
+  const HardwareStatus& h = hw_->status();
+  for (const HardwareEdge& e : kHardwareEdges) {
+    const bool now = h.*(e.flag), before = lastHw_.*(e.flag);
+    if (now && !before) event(t, e.kind, e.rising);
+    if (!now && before && e.falling) event(t, e.kind, e.falling);
+  }
+  if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
+    event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
+                                : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
+                                                    : "safe state: converters off");
+  lastHw_ = h;
 }
 
 void RunTracker::firmwareTrip(double t, const std::string& reason) {

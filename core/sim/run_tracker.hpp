@@ -28,6 +28,10 @@ class RunTracker {
   // A library firmware reported a trip (its event "trip: <reason>"); the first one is
   // the summary's trip (packsim's core trips through its latched faults instead).
   void firmwareTrip(double t, const std::string& reason);
+  // Events for what the switching hardware did since the last call (contacts, fuse,
+  // FAULT line, charger, active balancer), at t: each tick, and inside a tick at the
+  // instant an MCU output or a relay's delay moved a contact.
+  void hardwareChanged(double t);
   // The switching hardware and monitors whose actual state is recorded (bms_bridge).
   void setHardware(const HardwareSim* hw);
   // A vehicle run's state, recorded with every sample (/vehicle channels).

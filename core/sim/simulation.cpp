@@ -95,6 +95,7 @@ struct SimulationRun::Impl {
   RunTracker tracker;
   FaultScheduler scheduler;
   McuFirmware firmware{s, cfg, hw, tracker};  // packsim's core, or the scenario's library
+  PinTimeline pins;  // the MCU's output changes not yet in effect (core/firmware/pin_timeline.hpp)
   const double tick_s;
   const long recordEvery;
   const double end_s;
@@ -139,10 +140,14 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   //    their last level, and only the monitor ICs' own FAULT line can still open the
   //    relay)
   firmware.decide(t, in, out, faults);
+  for (const PinChange& c : firmware.takePinChanges()) pins.push(c);
 
-  // 3. actuators: the commands drive the switching hardware (delays, weld, fuse,
-  //    FETs, precharge) whose state the plant sees from t_k
-  const bool relayChanged = hw.actuate(t, out, sg, faults, inputs);
+  // 3. actuators: the commands in effect at t_k (those the firmware wrote at or before
+  //    it; later ones act inside the tick, step 5) drive the switching hardware
+  //    (delays, weld, fuse, FETs, precharge) whose state the plant sees from t_k
+  bms::Outputs act = out;
+  applyPins(act, pins.at(t));
+  const bool relayChanged = hw.actuate(t, act, sg, faults, inputs);
   sampled = &sg;
   restartNext = relayChanged || faultChanged;
 
@@ -172,6 +177,7 @@ void SimulationRun::Impl::advance() {
   const double t = static_cast<double>(k) * tick_s;
   const double t_next = static_cast<double>(k + 1) * tick_s;
   bool restart = restartNext;
+  const bms::Outputs decided = out;  // the tick's decisions; their pins applied at their instants
   if (ext.applyToPlant(t, inputs)) restart = true;  // set since the tick at t_k
   sampled = nullptr;
   double tc = t;
@@ -181,11 +187,15 @@ void SimulationRun::Impl::advance() {
     const double loadBreak_s = inputs.load.t1_s;
     const double faultBreak_s = scheduler.nextChange_s(tc);
     const bool faultInside = !reached(faultBreak_s, t_next);
+    // An MCU output written inside the tick, or a relay contact whose delay runs out
+    const double pinBreak_s = std::min(pins.next_s(), hw.nextSwitch_s(tc));
+    const bool pinInside = !reached(pinBreak_s, t_next);
     double t_to = reached(loadBreak_s, t_next) ? t_next : loadBreak_s;
     // CVODE never steps past the next load breakpoint (nor past the run's end); a fault
     // at the tick needs no stop of its own: the tick restarts the integrator there.
     double t_stop = std::min(loadBreak_s, end_s + tick_s);
     if (faultInside && faultBreak_s < t_to) t_to = t_stop = faultBreak_s;
+    if (pinInside && pinBreak_s < t_to) t_to = t_stop = pinBreak_s;
     integ.advance(t_to, std::max(t_stop, t_to));
     tc = t_to;
     if (reached(tc, inputs.load.t1_s)) {  // the load's next piece (past any sliver-short one)
@@ -199,6 +209,13 @@ void SimulationRun::Impl::advance() {
     if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here
       plant.evaluate(tc, integ.state(), inputs, sig);
       if (scheduler.update(tc, integ.state(), sig, faults, tracker)) restart = true;
+    }
+    if (pinInside && reached(tc, pinBreak_s)) {  // the outputs act at the instant they were written
+      plant.evaluate(tc, integ.state(), inputs, sig);
+      bms::Outputs act = decided;
+      applyPins(act, pins.at(tc));
+      if (hw.actuatePins(tc, t_next, act, sig, faults, inputs)) restart = true;
+      tracker.hardwareChanged(tc);
     }
   }
   if (restart) integ.reset(tc, integ.state());

@@ -5,17 +5,21 @@
 //   2. decide   the firmware's tasks due in [t_k, t_k+1) run on the MCU clock: packsim's
 //               core (bms/bms_firmware.hpp) or the scenario's library, each talking to
 //               the register-level monitor ICs over the bus at its own read-out rate
-//   3. actuate  relay/FET commands take effect at t_k
+//   3. actuate  the commands the firmware wrote at or before t_k take effect at t_k;
+//               each later one is kept with the MCU clock's instant of its write
+//               (core/firmware/pin_timeline.hpp)
 //   4. record   truth, measurements and decisions of t_k (every output interval)
 //   5. advance  the plant integrates t_k -> t_k+1 under the held commands and the load,
-//               stopping exactly at every load breakpoint and timed fault inside the
-//               tick (one within a rounding sliver of t_k+1 is taken at t_k+1),
-//               re-initialising CVODE only where an input jumps (command change, load
-//               breakpoint, a fault that changes the plant's inputs). Faults on a
-//               condition (`when:`) are judged at the ticks
+//               stopping exactly at every load breakpoint, timed fault, MCU output
+//               change and relay contact whose delay runs out inside the tick (one
+//               within a rounding sliver of t_k+1 is taken at t_k+1), re-initialising
+//               CVODE only where an input jumps (command change, load breakpoint, a
+//               fault that changes the plant's inputs). Faults on a condition
+//               (`when:`) are judged at the ticks
 //
-// Latency: a reading taken at t_k acts on the plant from t_k, so its effect (e.g. zero
-// current after a trip) is first seen by the sample at t_k+1 -- one tick.
+// Latency: a reading taken at t_k acts on the plant from the instant the firmware wrote
+// its decision (t_k plus the bus time and code before the write), so its effect (e.g.
+// zero current after a trip) is first seen by the sample at t_k+1 -- one tick.
 #pragma once
 #include <bms/bms_hal.hpp>
 

@@ -209,8 +209,11 @@ Cell runCell(const Preset& p, const FaultKindRow& row) {
     EXPECT_GE(c.latency_s, lo - 1e-9);
   }
   EXPECT_LE(c.latency_s, hi + 1e-9);
-  // Physical outcome: no current from detection + one tick + the relay's release on.
-  const double zeroFrom = det->time_s + s.bms.tick_s + s.hardware.relay.open_delay_s;
+  // Physical outcome: no current once the control step of the detection's tick has
+  // written its outputs -- at its tick plus the bus time spent before the write (on a
+  // tick that also holds a read-out, the read-out first: at most system D's 19 devices,
+  // 23.4 ms) -- and the relay has released.
+  const double zeroFrom = det->time_s + s.bms.tick_s + 0.025 + s.hardware.relay.open_delay_s;
   const Recording& rec = r.rec;
   int checked = 0;
   for (size_t i = 0; i < rec.time_s.size(); ++i) {

@@ -24,6 +24,7 @@ class FakeChain : public MonitorChain {
   void advance(double t) override { advancedTo.push_back(t); }
   BusTransfer transfer(double t, const uint8_t*, size_t, uint8_t* rx, size_t rxLen) override {
     transfersAt.push_back(t);
+    if (silent) return {-1, 250e-6};  // nothing answered
     for (size_t i = 0; i < rxLen; ++i) rx[i] = 0xA5;
     return {static_cast<int>(rxLen), 250e-6};
   }
@@ -31,6 +32,7 @@ class FakeChain : public MonitorChain {
   bool balancing(int, int) const override { return false; }
 
   std::vector<double> advancedTo, transfersAt;
+  bool silent = false;
 
  private:
   DeviceAnalog analog_;
@@ -54,7 +56,7 @@ struct Log : FirmwareSink {
   }
 };
 
-enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME };
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM };
 
 FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
   FirmwareSettings s;
@@ -103,7 +105,7 @@ TEST(FirmwareHost, RunsEachTaskAtItsPeriodInDeclarationOrder) {
 TEST(FirmwareHost, InitSetsTaskPeriodsOnlyDuringInit) {
   Bench b(probe(RETIME));
   b.run(10);  // instances due in [0, 100) ms
-  const std::vector<std::string> expected = {"retime 30000 -1", "retime 60000 -1", "retime 90000 -1"};
+  const std::vector<std::string> expected = {"retime 30000 -3", "retime 60000 -3", "retime 90000 -3"};
   EXPECT_EQ(b.log.of("firmware"), expected);
   EXPECT_FALSE(b.host.dead());
   EXPECT_EQ(b.host.taskRuns(2), 0u) << "switched off at init";
@@ -118,6 +120,35 @@ TEST(FirmwareHost, BusTransfersAdvanceTheClockByTheirDuration) {
   ASSERT_EQ(b.chain().transfersAt.size(), 1u);
   EXPECT_DOUBLE_EQ(b.chain().transfersAt[0], 0.010);
   EXPECT_DOUBLE_EQ(b.chain().advancedTo.back(), 0.010);  // the chain caught up with the MCU clock first
+}
+
+// Contract v3: a channel the board does not have (an ADC channel, a pin, CAN on a board
+// alone) is PSFW_NO_CHANNEL (-3), a bus nobody answers PSFW_BUS_TIMEOUT (-1); the same
+// code declaring version 2 still gets -1 for both, as it was built to expect.
+TEST(FirmwareHost, AVersion3FirmwareTellsAMissingChannelFromABusTimeout) {
+  static_assert(PSFW_NO_CHANNEL != PSFW_BUS_TIMEOUT && PSFW_NO_CHANNEL != PSFW_BUS_ERROR, "distinct codes");
+  Bench v3(probe(CODES));
+  v3.chain().silent = true;
+  v3.run(2);
+  EXPECT_EQ(v3.log.of("firmware"), std::vector<std::string>{"codes -3 -3 -3 -3 -1"});
+  Bench v2(probe(CODES, 0, PACKSIM_PROBE_FW_V2));
+  v2.chain().silent = true;
+  v2.run(2);
+  EXPECT_EQ(v2.log.of("firmware"), std::vector<std::string>{"codes -1 -1 -1 -1 -1"});
+  EXPECT_FALSE(v2.host.dead());
+}
+
+// Contract v3 NVM: erased (0xFF) at the start; a 12-byte write at offset 4 touches the
+// 8-byte pages 0 and 1, so it takes 2 x 5 ms of the clock; a read past the 256 bytes is
+// PSFW_NO_CHANNEL. The page is the host's: what init wrote is there after the run.
+TEST(FirmwareHost, TheNvmPageIsErasedAtTheStartAndAWriteTakesItsPageCycles) {
+  Bench b(probe(NVM));
+  b.run(1);
+  EXPECT_EQ(b.log.of("firmware"), std::vector<std::string>{"nvm 4294967295 0 10000 12 -3"});
+  EXPECT_EQ(b.host.nvm()[3], 0xFF);
+  EXPECT_EQ(b.host.nvm()[4], 1);
+  EXPECT_EQ(b.host.nvm()[15], 12);
+  EXPECT_EQ(b.host.nvm()[16], 0xFF);
 }
 
 TEST(FirmwareHost, AnAbiMismatchIsAFirmwareFault) {

@@ -56,6 +56,24 @@ TEST(FirmwareRun, AHungFirmwareLeavesTheHardwareProtectionActing) {
   expectHardwareStillProtects(3, "hang in task 0 (period 10 ms)");
 }
 
+// The outputs act at the instant the firmware wrote them, not at the tick: the probe
+// (PIN_TIMING) closes the relay at init after one 12-byte SPI transaction and opens it in
+// its 50 ms task after two. At 250 kHz a transaction is 12 · 8 / 250e3 = 384 us, so the
+// contact closes at 0.384 ms and opens at 50.768 ms; the 5.9 A load flows for 50.384 ms
+// between them (at the ticks it would have flowed 50 ms: 0 to 50 ms).
+TEST(FirmwareRun, OutputsActAtTheInstantTheFirmwareWroteThem) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "hardware: {afe: {baud: 250000}}\n"
+      "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW ", config: {mode: 13, at_ms: 50}}}\n"
+      "run: {duration_s: 0.2}\n");
+  const RunResult r = runScenario(s);
+  const double transfer_s = 12 * 8 / 250e3;
+  EXPECT_NEAR(test::eventTime(r, "relay_contact", "closed"), transfer_s, 1e-9);
+  EXPECT_NEAR(test::eventTime(r, "relay_contact", "opened"), 0.050 + 2 * transfer_s, 1e-9);
+  EXPECT_NEAR(r.summary.charge_delivered_Ah, 5.9 * (0.050 + transfer_s) / 3600.0, 1e-6 * 5.9 * 0.05 / 3600.0);
+}
+
 TEST(FirmwareRun, TheConfigMapBecomesLittleEndianInt32InFileOrder) {
   const Scenario s = test::scenarioFromYaml(
       "extends: bench_6s_ncr18650_2C.yaml\n"

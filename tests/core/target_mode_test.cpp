@@ -73,6 +73,26 @@ TEST(TargetMode, TheExampleFirmwareTripsAsInHostModeOnTheESwitch) {
   expectSameDecisions("c_example_firmware_estop");
 }
 
+// Outputs act at the MCU clock's instant of the write. The example's 10 ms task reads
+// the current, finds it over the limit, opens the relay and then sends its trip event:
+// in host mode its code takes no time and no bus transaction comes first, so the
+// contact opens at the task's due time, the trip's instant; in target mode it opens
+// after the cycles the code ran before the write: later than in host mode, no later
+// than the trip event sent after it, and within microseconds at 168 MHz.
+TEST(TargetMode, TheRelayOpensAtTheCycleTheCodeWroteIt) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const RunResult host = runScenario(bundled("c_example_firmware_overcurrent"));
+  const RunResult target = runScenario(bundled("target/c_example_firmware_overcurrent_cm4"));
+  const double hostOpen_s = test::eventTime(host, "relay_contact", "opened");
+  const double targetOpen_s = test::eventTime(target, "relay_contact", "opened");
+  ASSERT_TRUE(host.summary.tripped && target.summary.tripped);
+  EXPECT_NEAR(hostOpen_s, host.summary.trip_time_s, 1e-9);
+  EXPECT_NEAR(hostOpen_s, 60.2, 1e-9);  // on the 10 ms task's due time
+  EXPECT_GT(targetOpen_s, hostOpen_s + 1e-8) << "at least a couple of cycles";
+  EXPECT_LE(targetOpen_s, target.summary.trip_time_s + 1e-12);
+  EXPECT_LT(targetOpen_s, hostOpen_s + 20e-6);
+}
+
 // The counts are the emulator's, block by block: the same run gives the same numbers.
 TEST(TargetMode, InstructionAndCycleCountsAreDeterministic) {
   REQUIRE_ARM_TOOLCHAIN();
@@ -160,6 +180,9 @@ TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
   const double hang_s = test::eventTime(r, "firmware", "hanging");
   const double reset_s = test::eventTime(r, "mcu_reset", "watchdog: not kicked for 30.000 ms");
   const double boot1_s = test::eventTime(r, "firmware", "boot 1 after 1 watchdog resets");
+  // The NVM page (contract v3) kept the first boot's count across the reset.
+  EXPECT_GE(test::eventTime(r, "firmware", "boot 0 after 0 watchdog resets; NVM counts 0 boots before"), 0.0);
+  EXPECT_NEAR(test::eventTime(r, "firmware", "boot 1 after 1 watchdog resets; NVM counts 1 boots before"), boot1_s, 1e-12);
   ASSERT_NEAR(hang_s, 5.0, 1e-6);
   // The last kick: the end of the task at 4.99 s (its code's few microseconds after it).
   EXPECT_GT(reset_s, 4.99 + 0.030);
@@ -169,10 +192,9 @@ TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
   EXPECT_EQ(test::eventTime(r, "firmware_fault"), -1.0);
   EXPECT_EQ(firmwareFailure(s, r), "");
   // The relay dropped at the reset and closed again after the second boot.
-  // It opens at the actuation of the tick that holds the reset (5.02 s), not before.
+  // It opens at the reset's instant (the outputs drop there), inside the 5.02 s tick.
   const double opened_s = test::eventTime(r, "relay_contact", "opened");
-  EXPECT_GE(opened_s, 5.02 - 1e-9);
-  EXPECT_LT(opened_s, boot1_s + 0.010);
+  EXPECT_NEAR(opened_s, reset_s, 1e-9);
   bool reclosed = false;
   for (const Event& e : r.events)
     if (e.kind == "relay_contact" && e.detail.rfind("closed", 0) == 0 && e.time_s > opened_s) reclosed = true;

@@ -16,6 +16,14 @@
  *   TRIP       task 0 reports "trip: overcurrent_discharge" once
  *   RETIME     init sets task 0 to 30 ms and switches task 2 off (set_task_period);
  *              task 0 reports "retime <now_us> <result of set_task_period now>"
+ *   CODES      task 0 reports once what a missing channel and a silent bus return:
+ *              "codes <adc_read 99> <gpio_read 99> <can_receive> <can_send> <bus_transfer>"
+ *   NVM        init reads the page's first word, writes 12 bytes at offset 4 and reports
+ *              "nvm <word> <us before the write> <us after> <write result> <read past the end>"
+ *   PIN_TIMING init transfers 4 + 8 bytes, then closes the relay and the FETs; task 0
+ *              at at_ms transfers 4 + 8 bytes twice, then opens them (the outputs' instants)
+ * Built as probe_fw (contract version 3) and probe_fw_v2 (PROBE_ABI=2: the same code
+ * declaring version 2).
  * Every mode but PROBE closes the relay and the FETs at init, so a dead MCU leaves
  * them closed.
  */
@@ -26,7 +34,12 @@
 
 #include "packsim_fw.h"
 
-enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME };
+#ifndef PROBE_ABI
+#define PROBE_ABI PSFW_ABI_VERSION
+#endif
+#define PROBE_NO_CHANNEL (PROBE_ABI >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2)
+
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM };
 
 typedef struct probe_ram {
   int32_t mode, at_ms;
@@ -73,6 +86,26 @@ static void task0(void* ram, psfw_board* b, const psfw_board_api* api) {
       if (!r->tripped) api->event(b, "trip: overcurrent_discharge");
       r->tripped = 1;
       break;
+    case CODES: {
+      char text[80];
+      uint32_t id = 0;
+      if (r->tripped) break;
+      r->tripped = 1;
+      const long adc = api->adc_read(b, 99), pin = api->gpio_read(b, 99), rcv = api->can_receive(b, 0, &id, rx);
+      const long snd = api->can_send(b, 0, 0x100, tx, 4), bus = api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
+      snprintf(text, sizeof text, "codes %ld %ld %ld %ld %ld", adc, pin, rcv, snd, bus);
+      api->event(b, text);
+      break;
+    }
+    case PIN_TIMING:
+      if (r->tripped) break;
+      r->tripped = 1;
+      api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
+      api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
+      api->gpio_write(b, PSFW_OUT_RELAY, 0);
+      api->gpio_write(b, PSFW_OUT_DISCHARGE_FET, 0);
+      api->gpio_write(b, PSFW_OUT_CHARGE_FET, 0);
+      break;
     default: break;
   }
 }
@@ -93,8 +126,26 @@ static int32_t probe_init(void* ram, psfw_board* b, const psfw_board_api* api, c
   if (r->mode == ABORT) abort();
   if (r->mode == INIT_FAIL) return 7;
   if (r->mode == RETIME && (api->set_task_period(b, 0, 30, 0) != 0 || api->set_task_period(b, 2, 0, 0) != 0 ||
-                            api->set_task_period(b, 5, 10, 0) != PSFW_NO_CHANNEL))
+                            api->set_task_period(b, 5, 10, 0) != PROBE_NO_CHANNEL))
     return 9;
+  if (r->mode == NVM) {
+    char text[96];
+    uint8_t word[4], rec[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+    uint32_t w;
+    api->nvm_read(b, 0, word, 4);
+    memcpy(&w, word, 4);
+    const uint32_t before = api->now_us(b);
+    const long wrote = api->nvm_write(b, 4, rec, sizeof rec);
+    const uint32_t after = api->now_us(b);
+    const long past = api->nvm_read(b, 250, word, 8);
+    snprintf(text, sizeof text, "nvm %lu %lu %lu %ld %ld", (unsigned long)w, (unsigned long)before, (unsigned long)after,
+             wrote, past);
+    api->event(b, text);
+  }
+  if (r->mode == PIN_TIMING) {
+    uint8_t tx[4] = {1, 2, 3, 4}, rx[8];
+    api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
+  }
   if (r->mode != PROBE) {
     api->gpio_write(b, PSFW_OUT_RELAY, 1);
     api->gpio_write(b, PSFW_OUT_DISCHARGE_FET, 1);
@@ -104,7 +155,7 @@ static int32_t probe_init(void* ram, psfw_board* b, const psfw_board_api* api, c
 }
 
 static const psfw_firmware probe_firmware = {
-    PSFW_ABI_VERSION, "probe", sizeof(probe_ram), probe_init, 3,
+    PROBE_ABI, "probe", sizeof(probe_ram), probe_init, 3,
     {{10, 0, task0}, {20, 0, task1}, {15, 0, task2}},
 };
 

@@ -57,7 +57,11 @@ def test_latencies_are_the_runs_events_and_respect_the_debounce(scenario_dir):
     ev = r.events
     inj = next(e for e in ev if e["kind"] == "fault_injected")
     det = next(e for e in ev if e["kind"] == "fault_active" and e["time_s"] >= inj["time_s"])
-    opened = next(e for e in ev if e["kind"] == "relay" and e["detail"] == "open" and e["time_s"] >= inj["time_s"])
+    # The contact opens where the firmware wrote the pin: after the command's tick, by the
+    # control step's bus time (docs/firmware.md, Scheduling).
+    command = next(e for e in ev if e["kind"] == "relay" and e["detail"] == "open" and e["time_s"] >= inj["time_s"])
+    opened = next(e for e in ev if e["kind"] == "relay_contact" and e["detail"] == "opened" and e["time_s"] >= inj["time_s"])
+    assert command["time_s"] <= opened["time_s"] < command["time_s"] + TICK_S
     assert lat.injected == inj["detail"] and lat.injected_at_s == inj["time_s"] == 100.0
     assert lat.detected_fault == det["detail"].split(":")[0] == "overcurrent_discharge"
     assert lat.detection_latency_s == det["time_s"] - inj["time_s"]

@@ -12,12 +12,12 @@ def _final_soc(r: packsim.Result) -> np.ndarray:
 
 
 def test_capacity_override_changes_final_soc_as_coulomb_counting_says(simple_yaml):
-    # Constant 2 A from the relay closing to the end, no trip:
-    # SOC_end = SOC_0 - I (t_end - t_close) / (3600 C).
+    # Constant 2 A from the relay contact closing (where the firmware wrote the pin, after
+    # its tick's bus time) to the end, no trip: SOC_end = SOC_0 - I (t_end - t_close) / (3600 C).
     for cap in (2.0, 3.0, 4.5):
         r = packsim.run(simple_yaml, {"pack.cell.capacity_Ah": cap})
         assert not r.summary["tripped"]
-        t_close = next(e["time_s"] for e in r.events if e["kind"] == "relay" and e["detail"] == "close")
+        t_close = next(e["time_s"] for e in r.events if e["kind"] == "relay_contact" and e["detail"] == "closed")
         t_end = r.time_s[-1]
         assert t_close < 1.0 and t_end == pytest.approx(600.0, abs=1.0)
         expected = 0.9 - 2.0 * (t_end - t_close) / (3600.0 * cap)

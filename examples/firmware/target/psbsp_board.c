@@ -11,7 +11,7 @@
 #include "packsim_fw.h"
 #include "psbsp.h"
 
-/* The service numbers packsim decodes from the SVC instruction (core/firmware/target_services.hpp). */
+/* The service numbers packsim decodes from the SVC instruction (core/firmware/target_firmware.hpp: TargetService). */
 #define SVC_STUB(name, n)                                                          \
   __attribute__((naked, noinline)) static void name(void) {                        \
     __asm volatile("svc #" #n "\n\tbx lr");                                      \
@@ -29,6 +29,8 @@ SVC_STUB(svc_event, 10)
 SVC_STUB(svc_set_task_period, 11)
 SVC_STUB(svc_can_send, 12)
 SVC_STUB(svc_can_receive, 13)
+SVC_STUB(svc_nvm_read, 14)
+SVC_STUB(svc_nvm_write, 15)
 
 /* Cast through a generic function pointer: each stub has the table entry's signature
  * at the ABI level (the arguments stay in r0-r3 and on the stack, the result in r0). */
@@ -50,6 +52,8 @@ const psfw_board_api psbsp_api = {
     ENTRY(int32_t(*)(psfw_board*, uint32_t, uint32_t, uint32_t), svc_set_task_period),
     ENTRY(int32_t(*)(psfw_board*, uint8_t, uint32_t, const uint8_t*, uint8_t), svc_can_send),
     ENTRY(int32_t(*)(psfw_board*, uint8_t, uint32_t*, uint8_t*), svc_can_receive),
+    ENTRY(int32_t(*)(psfw_board*, uint32_t, uint8_t*, uint32_t), svc_nvm_read),
+    ENTRY(int32_t(*)(psfw_board*, uint32_t, const uint8_t*, uint32_t), svc_nvm_write),
 };
 
 const psfw_firmware* psfw_firmware_entry(void);

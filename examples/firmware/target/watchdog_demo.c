@@ -4,6 +4,8 @@
  * boot only it hangs in its task at hang_at_ms (a bug: a loop that never ends). The
  * watchdog, no longer kicked, resets the MCU; the boot counter in .noinit survives the
  * reset, so the second boot reports itself and runs normally: the relay closes again.
+ * Each boot also counts itself in the board's NVM page (contract v3), which keeps its
+ * bytes across every reset (and starts erased, 0xFF).
  *
  * Configuration (int32, this order): hang_at_ms, watchdog_timeout_us.
  */
@@ -57,8 +59,15 @@ static int32_t wd_init(void* ram, psfw_board* b, const psfw_board_api* api, cons
     wd_persist.boots = 0;
   }
   r->boot = wd_persist.boots++;
-  snprintf(text, sizeof text, "boot %lu after %lu watchdog resets", (unsigned long)r->boot,
-           (unsigned long)PSBSP_WDG_RESETS);
+  uint8_t nvm[4];
+  uint32_t nvmBoots = 0;
+  if (api->nvm_read(b, 0, nvm, 4) == 4) memcpy(&nvmBoots, nvm, 4);
+  if (nvmBoots == 0xFFFFFFFFu) nvmBoots = 0; /* erased: the first boot */
+  snprintf(text, sizeof text, "boot %lu after %lu watchdog resets; NVM counts %lu boots before", (unsigned long)r->boot,
+           (unsigned long)PSBSP_WDG_RESETS, (unsigned long)nvmBoots);
+  ++nvmBoots;
+  memcpy(nvm, &nvmBoots, 4);
+  api->nvm_write(b, 0, nvm, 4);
   api->event(b, text);
   psbsp_watchdog_start((uint32_t)r->cfg.watchdog_timeout_us);
   return 0;
