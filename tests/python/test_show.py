@@ -33,7 +33,11 @@ def test_user_pack_sensor_range_is_derived_and_said(tmp_path):
     assert gain["origin"] == "default (a +/-75 A range: 1.25 x the load's peak 60 A, on the 5 mOhm shunt)"
     assert not gain["stated"]
     assert any("overcurrent_discharge.threshold_A = 30 (default)" in w for w in shown["warnings"])
-    assert any("series group 24" in w for w in shown["warnings"])
+    # The default thermistors sit on groups 1, 7, 13, 19, each on its group's first cell:
+    # cells 1, 25, 49, 73 of 96. Cells more than 4 from all of them go unseen: the last
+    # thermistor (cell 73) reaches to 77, so cells 78-96 (series group 24 among them).
+    reach = [w for w in shown["warnings"] if w.startswith("hardware.thermistors.at_groups")]
+    assert len(reach) == 1 and "cells 6-20, 30-44, 54-68, 78-96" in reach[0]
 
 
 def test_show_yaml_runs_to_the_same_results(default_scenario):
