@@ -198,6 +198,34 @@ class Writer {
     attr(o, name, value);
   }
 
+  // A vehicle run's lap table: one row per lap started (the last one may be incomplete).
+  void laps(const std::vector<LapRecord>& lp) {
+    struct Row {
+      int32_t lap;
+      uint8_t complete;
+      double start_s, time_s, distance_m, pack_Wh, array_Wh, reference_time_s;
+    };
+    std::vector<Row> rows;
+    for (const LapRecord& l : lp) {
+      for (double v : {l.start_s, l.time_s, l.distance_m, l.pack_Wh, l.array_Wh, l.reference_time_s})
+        if (!std::isfinite(v)) throw NonFiniteValue("/vehicle/laps: lap " + std::to_string(l.lap) + " holds a non-finite value");
+      rows.push_back({l.lap, static_cast<uint8_t>(l.complete ? 1 : 0), l.start_s, l.time_s, l.distance_m, l.pack_Wh,
+                      l.array_Wh, l.reference_time_s});
+    }
+    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "laps type");
+    H5Tinsert(type, "lap", HOFFSET(Row, lap), H5T_NATIVE_INT32);
+    H5Tinsert(type, "complete", HOFFSET(Row, complete), H5T_NATIVE_UINT8);
+#define PACKSIM_LAP_FIELD(f) H5Tinsert(type, #f, HOFFSET(Row, f), H5T_NATIVE_DOUBLE)
+    PACKSIM_LAP_FIELD(start_s);
+    PACKSIM_LAP_FIELD(time_s);
+    PACKSIM_LAP_FIELD(distance_m);
+    PACKSIM_LAP_FIELD(pack_Wh);
+    PACKSIM_LAP_FIELD(array_Wh);
+    PACKSIM_LAP_FIELD(reference_time_s);
+#undef PACKSIM_LAP_FIELD
+    table("/vehicle/laps", type, rows);
+  }
+
   // A multi-day route's stage table (route.stages): one row per stage.
   void stages(const std::vector<StageRecord>& st) {
     struct Row {
@@ -225,11 +253,7 @@ class Writer {
     PACKSIM_STAGE_FIELD(parked_pack_Wh);
     PACKSIM_STAGE_FIELD(parked_array_Wh);
 #undef PACKSIM_STAGE_FIELD
-    hsize_t dims[1] = {rows.size()};
-    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "stages");
-    Handle ds(H5Dcreate2(file_, "/vehicle/stages", type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose,
-              "/vehicle/stages");
-    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "/vehicle/stages");
+    table("/vehicle/stages", type, rows);
   }
 
   void events(const std::vector<Event>& ev) {
@@ -240,17 +264,12 @@ class Writer {
     };
     std::vector<Row> rows;
     for (const Event& e : ev) rows.push_back({e.time_s, e.kind.c_str(), e.detail.c_str()});
-    Handle str(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-    H5Tset_size(str, H5T_VARIABLE);
-    H5Tset_cset(str, H5T_CSET_UTF8);
+    const Handle str(newTextType(), H5Tclose, "string type");
     Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "events type");
     H5Tinsert(type, "time_s", HOFFSET(Row, time_s), H5T_NATIVE_DOUBLE);
     H5Tinsert(type, "kind", HOFFSET(Row, kind), str);
     H5Tinsert(type, "detail", HOFFSET(Row, detail), str);
-    hsize_t dims[1] = {rows.size()};
-    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "events");
-    Handle ds(H5Dcreate2(file_, "/events", type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose, "events");
-    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "events");
+    table("/events", type, rows);
   }
 
   // output.bus_trace: one row per direction of every monitor-bus transaction.
@@ -267,9 +286,7 @@ class Writer {
     rows.reserve(trace.size());
     for (const BusTraceRow& e : trace)
       rows.push_back({e.time_s, e.bus, e.out ? "out" : "in", e.count, e.bytes.c_str(), e.what.c_str()});
-    Handle str(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
-    H5Tset_size(str, H5T_VARIABLE);
-    H5Tset_cset(str, H5T_CSET_UTF8);
+    const Handle str(newTextType(), H5Tclose, "string type");
     Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "bus_trace type");
     H5Tinsert(type, "time_s", HOFFSET(Row, time_s), H5T_NATIVE_DOUBLE);
     H5Tinsert(type, "bus", HOFFSET(Row, bus), H5T_NATIVE_INT32);
@@ -277,13 +294,28 @@ class Writer {
     H5Tinsert(type, "count", HOFFSET(Row, count), H5T_NATIVE_INT32);
     H5Tinsert(type, "bytes", HOFFSET(Row, bytes), str);
     H5Tinsert(type, "what", HOFFSET(Row, what), str);
-    hsize_t dims[1] = {rows.size()};
-    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, "bus_trace");
-    Handle ds(H5Dcreate2(file_, "/bus_trace", type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose, "bus_trace");
-    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), "bus_trace");
+    table("/bus_trace", type, rows);
   }
 
  private:
+  // A variable-length UTF-8 string: the text fields of the tables below.
+  static hid_t newTextType() {
+    const hid_t t = H5Tcopy(H5T_C_S1);
+    if (t >= 0 && (H5Tset_size(t, H5T_VARIABLE) < 0 || H5Tset_cset(t, H5T_CSET_UTF8) < 0)) {
+      H5Tclose(t);
+      return -1;
+    }
+    return t;
+  }
+  // A one-dimensional table of compound `type` at `path`, compressed like the channels.
+  template <typename Row>
+  void table(const char* path, hid_t type, const std::vector<Row>& rows) {
+    hsize_t dims[1] = {rows.size()};
+    Handle space(H5Screate_simple(1, dims, nullptr), H5Sclose, path);
+    Handle ds(H5Dcreate2(file_, path, type, space, H5P_DEFAULT, dcpl_, H5P_DEFAULT), H5Dclose, path);
+    if (!rows.empty()) checked(H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, rows.data()), path);
+  }
+
   hid_t file_;
   bool compress_;
   const std::vector<double>* time_s_;
@@ -382,6 +414,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
         f.value);
   }
   for (const auto& [name, value] : sm.firmware_target_figures) w.attr(g, name.c_str(), value);  // target mode only
+  if (sm.vehicle.present && !sm.vehicle.laps.empty()) w.laps(sm.vehicle.laps);  // the lap table
   if (sm.vehicle.present && !sm.vehicle.stages.empty()) w.stages(sm.vehicle.stages);  // route.stages: the stage table
 
   if (drawn) writeDrawnInputs(w, file, *drawn);

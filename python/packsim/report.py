@@ -239,7 +239,32 @@ def _distance_html(r: Result) -> list[str]:
     return ["<h2>Over distance</h2><p class=\"note\">The vehicle's speed, the pack's power, the cells' SOC and "
             "the lowest cell against the km it drove (a stop shows as a vertical run at one place); the dashed "
             "line: where the pack first limited the vehicle.</p>",
-            _figure_div(distance_figure(r), "distance-figure")]
+            _figure_div(distance_figure(r), "distance-figure"),
+            *_vehicle_tables_html(r)]
+
+
+def _vehicle_tables_html(r: Result) -> list[str]:
+    """The lap and stage tables of the result file (/vehicle/laps, /vehicle/stages), as the
+    summary prints them: per lap its time, distance, the pack's and the array's energy."""
+    parts: list[str] = []
+    if "vehicle/laps" in r:
+        laps = r["vehicle/laps"]
+        rows = [[int(l["lap"]), "yes" if l["complete"] else "no (the run ended in it)", float(l["start_s"]),
+                 float(l["time_s"]), float(l["distance_m"]) / 1000.0, float(l["pack_Wh"]), float(l["array_Wh"]),
+                 float(l["pack_Wh"]) / (float(l["distance_m"]) / 1000.0) if l["distance_m"] > 0 else float("nan")]
+                for l in laps]
+        parts += [f"<h3>Laps ({len(rows)})</h3>",
+                  _table(["lap", "complete", "start_s", "time_s", "distance_km", "pack_Wh", "array_Wh", "pack_Wh_per_km"],
+                         rows, sortable=True, table_id="laps")]
+    if "vehicle/stages" in r:
+        st = r["vehicle/stages"]
+        rows = [[int(g["stage"]), "yes" if g["complete"] else "no (the run ended in it)", float(g["depart_s"]),
+                 float(g["time_s"]), float(g["distance_m"]) / 1000.0, float(g["pack_Wh"]), float(g["array_Wh"]),
+                 float(g["parked_s"]), float(g["parked_pack_Wh"]), float(g["parked_array_Wh"])] for g in st]
+        parts += [f"<h3>Stages ({len(rows)})</h3>",
+                  _table(["stage", "complete", "depart_s", "time_s", "distance_km", "pack_Wh", "array_Wh", "parked_s",
+                          "parked_pack_Wh", "parked_array_Wh"], rows, sortable=True, table_id="stages")]
+    return parts
 
 
 def batch_html(folder: str | os.PathLike) -> str:
