@@ -1,5 +1,6 @@
 #include "core/sim/vehicle_text.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -63,10 +64,15 @@ std::string vehicleSummaryLines(const VehicleSummary& v) {
      << fmt("%.2f", v.array_Wh) << " Wh from the array\n";
   if (v.time_limit_s > 0.0) {
     const double left_s = v.time_limit_s - driven_s;
+    // Unfinished before the limit, the run decided nothing about it (it may have ended by
+    // its duration while the vehicle drove on): the line says what is known.
     os << "time limit      " << fmt("%.0f", v.time_limit_s) << " s: "
        << (v.finished && left_s >= 0.0 ? "met with " + fmt("%.1f", left_s) + " s to spare"
            : v.finished               ? "missed by " + fmt("%.1f", -left_s) + " s"
-                                      : std::string("not met (the route was not finished)"))
+           : left_s <= 0.0            ? std::string("not met (the route was not finished)")
+                                      : "not reached: the run ended " + fmt("%.1f", driven_s) + " s after setting off, " +
+                                            fmt("%.1f", left_s) + " s before the limit, " +
+                                            km(std::max(0.0, v.route_m - v.distance_m)) + " of the route left")
        << "\n";
   }
   if (v.limited)

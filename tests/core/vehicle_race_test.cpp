@@ -729,3 +729,24 @@ TEST(VehicleRace, BadEfficiencyMapsNameTheFieldAndRange) {
   const std::string order = errorOf("{wheel_radius_m: 0.25, speed_kmh: [0, 20], torque_Nm: [0, 10, 10], efficiency: [[0.5, 0.6, 0.6], [0.7, 0.8, 0.8]]}");
   EXPECT_NE(order.find("increase strictly"), std::string::npos) << order;
 }
+
+// A run that ends by its duration before the route's time limit decides nothing about
+// the limit: the line says how long the run drove, how far from the limit and the finish
+// it was, not "not met".
+TEST(VehicleRace, ARunEndedBeforeTheTimeLimitDoesNotJudgeIt) {
+  const Scenario s = loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"run.duration_s", "300"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_FALSE(v.finished);
+  ASSERT_FALSE(r.summary.tripped);
+  const double driven_s = v.time_s - v.start_s;
+  EXPECT_NEAR(driven_s, 300.0 - v.start_s, 0.02);
+  char expected[200];
+  std::snprintf(expected, sizeof expected,
+                "time limit      2400 s: not reached: the run ended %.1f s after setting off, %.1f s before the limit, "
+                "%.3f km of the route left",
+                driven_s, 2400.0 - driven_s, (16000.0 - v.distance_m) / 1000.0);
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find(expected), std::string::npos) << text;
+  EXPECT_EQ(text.find("not met"), std::string::npos) << text;
+}
