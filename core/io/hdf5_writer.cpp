@@ -200,60 +200,24 @@ class Writer {
 
   // A vehicle run's lap table: one row per lap started (the last one may be incomplete).
   void laps(const std::vector<LapRecord>& lp) {
-    struct Row {
-      int32_t lap;
-      uint8_t complete;
-      double start_s, time_s, distance_m, pack_Wh, array_Wh, reference_time_s;
-    };
-    std::vector<Row> rows;
-    for (const LapRecord& l : lp) {
-      for (double v : {l.start_s, l.time_s, l.distance_m, l.pack_Wh, l.array_Wh, l.reference_time_s})
-        if (!std::isfinite(v)) throw NonFiniteValue("/vehicle/laps: lap " + std::to_string(l.lap) + " holds a non-finite value");
-      rows.push_back({l.lap, static_cast<uint8_t>(l.complete ? 1 : 0), l.start_s, l.time_s, l.distance_m, l.pack_Wh,
-                      l.array_Wh, l.reference_time_s});
-    }
-    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "laps type");
-    H5Tinsert(type, "lap", HOFFSET(Row, lap), H5T_NATIVE_INT32);
-    H5Tinsert(type, "complete", HOFFSET(Row, complete), H5T_NATIVE_UINT8);
-#define PACKSIM_LAP_FIELD(f) H5Tinsert(type, #f, HOFFSET(Row, f), H5T_NATIVE_DOUBLE)
-    PACKSIM_LAP_FIELD(start_s);
-    PACKSIM_LAP_FIELD(time_s);
-    PACKSIM_LAP_FIELD(distance_m);
-    PACKSIM_LAP_FIELD(pack_Wh);
-    PACKSIM_LAP_FIELD(array_Wh);
-    PACKSIM_LAP_FIELD(reference_time_s);
-#undef PACKSIM_LAP_FIELD
-    table("/vehicle/laps", type, rows);
+    static const char* const kFigures[] = {"start_s", "time_s", "distance_m", "pack_Wh", "array_Wh", "reference_time_s"};
+    std::vector<NumberedRow<6>> rows;
+    for (const LapRecord& l : lp)
+      rows.push_back({l.lap, static_cast<uint8_t>(l.complete ? 1 : 0),
+                      {l.start_s, l.time_s, l.distance_m, l.pack_Wh, l.array_Wh, l.reference_time_s}});
+    numberedTable("/vehicle/laps", "lap", kFigures, rows);
   }
 
   // A multi-day route's stage table (route.stages): one row per stage.
   void stages(const std::vector<StageRecord>& st) {
-    struct Row {
-      int32_t stage;
-      uint8_t complete;
-      double depart_s, time_s, distance_m, pack_Wh, array_Wh, parked_s, parked_pack_Wh, parked_array_Wh;
-    };
-    std::vector<Row> rows;
-    for (const StageRecord& g : st) {
-      for (double v : {g.depart_s, g.time_s, g.distance_m, g.pack_Wh, g.array_Wh, g.parked_s, g.parked_pack_Wh, g.parked_array_Wh})
-        if (!std::isfinite(v)) throw NonFiniteValue("/vehicle/stages: stage " + std::to_string(g.stage) + " holds a non-finite value");
-      rows.push_back({g.stage, static_cast<uint8_t>(g.complete ? 1 : 0), g.depart_s, g.time_s, g.distance_m, g.pack_Wh,
-                      g.array_Wh, g.parked_s, g.parked_pack_Wh, g.parked_array_Wh});
-    }
-    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "stages type");
-    H5Tinsert(type, "stage", HOFFSET(Row, stage), H5T_NATIVE_INT32);
-    H5Tinsert(type, "complete", HOFFSET(Row, complete), H5T_NATIVE_UINT8);
-#define PACKSIM_STAGE_FIELD(f) H5Tinsert(type, #f, HOFFSET(Row, f), H5T_NATIVE_DOUBLE)
-    PACKSIM_STAGE_FIELD(depart_s);
-    PACKSIM_STAGE_FIELD(time_s);
-    PACKSIM_STAGE_FIELD(distance_m);
-    PACKSIM_STAGE_FIELD(pack_Wh);
-    PACKSIM_STAGE_FIELD(array_Wh);
-    PACKSIM_STAGE_FIELD(parked_s);
-    PACKSIM_STAGE_FIELD(parked_pack_Wh);
-    PACKSIM_STAGE_FIELD(parked_array_Wh);
-#undef PACKSIM_STAGE_FIELD
-    table("/vehicle/stages", type, rows);
+    static const char* const kFigures[] = {"depart_s", "time_s",   "distance_m",     "pack_Wh",
+                                           "array_Wh", "parked_s", "parked_pack_Wh", "parked_array_Wh"};
+    std::vector<NumberedRow<8>> rows;
+    for (const StageRecord& g : st)
+      rows.push_back({g.stage, static_cast<uint8_t>(g.complete ? 1 : 0),
+                      {g.depart_s, g.time_s, g.distance_m, g.pack_Wh, g.array_Wh, g.parked_s, g.parked_pack_Wh,
+                       g.parked_array_Wh}});
+    numberedTable("/vehicle/stages", "stage", kFigures, rows);
   }
 
   void events(const std::vector<Event>& ev) {
@@ -298,6 +262,32 @@ class Writer {
   }
 
  private:
+  // A row of a vehicle table (laps, stages): its 1-based number, whether it was complete
+  // (0: the run ended in it), then N figures.
+  template <size_t N>
+  struct NumberedRow {
+    int32_t number;
+    uint8_t complete;
+    double figure[N];
+  };
+  // Such a table at `path`: the number's column named `numberName`, the figures' `figures`;
+  // every figure finite.
+  template <size_t N>
+  void numberedTable(const char* path, const char* numberName, const char* const (&figures)[N],
+                     const std::vector<NumberedRow<N>>& rows) {
+    for (const NumberedRow<N>& r : rows)
+      for (double v : r.figure)
+        if (!std::isfinite(v))
+          throw NonFiniteValue(std::string(path) + ": " + numberName + " " + std::to_string(r.number) +
+                               " holds a non-finite value");
+    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(NumberedRow<N>)), H5Tclose, path);
+    H5Tinsert(type, numberName, HOFFSET(NumberedRow<N>, number), H5T_NATIVE_INT32);
+    H5Tinsert(type, "complete", HOFFSET(NumberedRow<N>, complete), H5T_NATIVE_UINT8);
+    for (size_t i = 0; i < N; ++i)
+      H5Tinsert(type, figures[i], HOFFSET(NumberedRow<N>, figure) + i * sizeof(double), H5T_NATIVE_DOUBLE);
+    table(path, type, rows);
+  }
+
   // A variable-length UTF-8 string: the text fields of the tables below.
   static hid_t newTextType() {
     const hid_t t = H5Tcopy(H5T_C_S1);
