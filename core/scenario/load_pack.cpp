@@ -223,8 +223,14 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
     std::string list;
     for (const auto& k : known) list += (list.empty() ? "" : ", ") + k;
     const std::string near = closestMatch(name, known);
+    // A file name given as the preset (`packsim fit -o my_cell.yaml`): say how presets are found.
+    const bool fileName = name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0;
     throw m.errorAt("preset", "unknown cell preset '" + name + "'" +
-                                  (near.empty() ? "" : "; did you mean '" + near + "'?") + " (available: " + list + ")");
+                                  (fileName ? "; a preset is named without '.yaml' and found as cells/" +
+                                                  name.substr(0, name.size() - 5) + ".yaml next to the scenario"
+                                   : near.empty() ? ""
+                                                  : "; did you mean '" + near + "'?") +
+                                  " (available: " + list + ")");
   }
   const std::string presetText = readScenarioText(path, "cell preset");
   const YAML::Node preset = parseYaml(presetText, path);

@@ -232,6 +232,11 @@ TEST(FuzzRegressions, OverlongFileNamesAreNotFoundErrors) {
   EXPECT_NE(yamlError(y).find("load.csv: file not found"), std::string::npos) << yamlError(y);
   y = "pack:\n  series: 1\n  cell: {preset: " + longName + "}\n" + kLoad;
   EXPECT_NE(yamlError(y).find("unknown cell preset"), std::string::npos) << yamlError(y);
+  // A preset given as a file name (as `packsim fit -o` writes it) is told how presets are found.
+  y = "pack:\n  series: 1\n  cell: {preset: my_cell.yaml}\n" + kLoad;
+  EXPECT_NE(yamlError(y).find("a preset is named without '.yaml' and found as cells/my_cell.yaml next to the scenario"),
+            std::string::npos)
+      << yamlError(y);
   write(d / "sweep.yaml", "base: " + longName + ".yaml\ngrid: {seed: [1, 2]}\n");
   try {
     loadSweepFile((d / "sweep.yaml").string());
