@@ -5,13 +5,15 @@
     packsim.export(r, "parquet")                    # -> <name>.parquet (pyarrow, via pandas)
 
 csv      a folder: samples.csv (one row per sample, column per 1-D dataset and per
-         channel of 2-D ones, ``truth/cell_voltage_V[3]`` 1-based), events.csv and
-         summary.csv (name, value)
+         channel of 2-D ones, ``truth/cell_voltage_V[3]`` 1-based), events.csv,
+         summary.csv (name, value) and one file per other table of the result
+         (``bus_trace.csv``, ``vehicle_laps.csv``, ``vehicle_stages.csv``, ...)
 mat      one variable per dataset, named by path with "/" -> "_"
-         (``truth_cell_voltage_V``, [samples, channels]); ``events`` and ``summary`` as
-         structs, ``attrs`` with the file's attributes (scenario_yaml, seed, ...)
-parquet  the samples table (columns as in csv); the file's attributes, the summary and
-         the events as JSON in the schema's key-value metadata
+         (``truth_cell_voltage_V``, [samples, channels]); ``events``, ``summary`` and
+         every other table as structs of columns, ``attrs`` with the file's attributes
+         (scenario_yaml, seed, ...)
+parquet  the samples table (columns as in csv); the file's attributes, the summary,
+         the events and the other tables as JSON in the schema's key-value metadata
 
 Values are exported as stored (firmware units stay mV, 0.1 degC, ... as in their names).
 """
@@ -45,6 +47,21 @@ def _json_default(v: Any) -> Any:
     return str(v)
 
 
+def _tables(r: Result) -> dict[str, np.ndarray]:
+    """The result's tables other than the events (compound datasets: the bus trace, the
+    vehicle's laps and stages, ...) by their path in the file."""
+    return {path: a for path, a in r.datasets.items() if a.dtype.names and path != "events"}
+
+
+def _table_name(path: str) -> str:
+    return path.replace("/", "_")
+
+
+def _columns(a: np.ndarray) -> dict[str, np.ndarray]:
+    return {n: (np.array([str(x) for x in a[n]], dtype=object) if a.dtype[n].kind == "O" else np.asarray(a[n]))
+            for n in a.dtype.names}
+
+
 def _to_csv(r: Result, out: str) -> list[str]:
     pd = _need("pandas")
     os.makedirs(out, exist_ok=True)
@@ -52,6 +69,9 @@ def _to_csv(r: Result, out: str) -> list[str]:
     r.to_dataframe("samples").to_csv(files[0])
     r.to_dataframe("events").to_csv(files[1], index=False)
     pd.DataFrame({"name": list(r.summary), "value": list(r.summary.values())}).to_csv(files[2], index=False)
+    for path, a in _tables(r).items():
+        files.append(os.path.join(out, _table_name(path) + ".csv"))
+        pd.DataFrame(_columns(a)).to_csv(files[-1], index=False)
     return files
 
 
@@ -61,10 +81,13 @@ def _to_mat(r: Result, out: str) -> list[str]:
     except ImportError as e:
         raise ImportError("exporting to .mat needs scipy (pip install scipy)") from e
     data: dict[str, Any] = {}
+    tables = _tables(r)
     for path, a in r.datasets.items():
-        if path == "events":
+        if path == "events" or path in tables:
             continue
         data[path.replace("/", "_")] = np.asarray(a)
+    for path, a in tables.items():
+        data[_table_name(path)] = _columns(a)
     ev = r.events_array
     data["events"] = {"time_s": np.asarray(ev["time_s"], dtype=float),
                       "kind": np.array([str(x) for x in ev["kind"]], dtype=object),
@@ -84,6 +107,8 @@ def _to_parquet(r: Result, out: str) -> list[str]:
     meta[b"packsim.attrs"] = json.dumps(r.attrs.get("", {}), default=_json_default).encode()
     meta[b"packsim.summary"] = json.dumps(r.summary, default=_json_default).encode()
     meta[b"packsim.events"] = json.dumps(r.events, default=_json_default).encode()
+    tables = {path: [dict(zip(a.dtype.names, row)) for row in a.tolist()] for path, a in _tables(r).items()}
+    meta[b"packsim.tables"] = json.dumps(tables, default=_json_default).encode()
     pq.write_table(table.replace_schema_metadata(meta), out)
     return [out]
 

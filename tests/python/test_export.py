@@ -81,3 +81,46 @@ def test_bad_format_and_missing_file_are_clear_errors(cli, stored, tmp_path):
     with pytest.raises(ValueError, match="csv, mat, parquet"):
         packsim.export(stored, "xlsx")
     assert not [p for p in tmp_path.iterdir()]
+
+
+@pytest.fixture(scope="module")
+def with_tables(tmp_path_factory):
+    """Results with tables besides the events: the vehicle's laps (two, one complete) and
+    the monitor-bus trace (2 s of it)."""
+    d = tmp_path_factory.mktemp("export_tables")
+    packsim.run("vehicle/eco_marathon_12s_circuit", {"run.duration_s": 260}).save(d / "laps.h5")
+    packsim.run("bench_6s_ncr18650_2C", {"run.duration_s": 2, "output.bus_trace": True}).save(d / "trace.h5")
+    return {"vehicle/laps": d / "laps.h5", "bus_trace": d / "trace.h5"}
+
+
+def _same_table(got: dict, want: np.ndarray, where: str) -> None:
+    assert sorted(got) == sorted(want.dtype.names), where
+    for n in want.dtype.names:
+        if want.dtype[n].kind == "O":
+            assert [str(x) for x in got[n]] == [str(x) for x in want[n]], (where, n)
+        else:
+            np.testing.assert_array_equal(np.asarray(got[n], dtype=want.dtype[n]), want[n], err_msg=f"{where} {n}")
+
+
+@pytest.mark.parametrize("path", ["vehicle/laps", "bus_trace"])
+def test_every_table_is_exported_in_each_format(with_tables, path, tmp_path):
+    stored = with_tables[path]
+    r = packsim.load(stored)
+    want = r.datasets[path]
+    assert len(want) >= 2 and want.dtype.names  # the case: a table the samples do not hold
+    name = path.replace("/", "_")
+    files = packsim.export(stored, "csv", tmp_path / "csv")
+    assert sorted(os.path.basename(f) for f in files) == sorted(["samples.csv", "events.csv", "summary.csv", name + ".csv"])
+    df = pd.read_csv(tmp_path / "csv" / f"{name}.csv", keep_default_na=False)
+    _same_table({n: df[n].to_numpy() for n in df.columns}, want, "csv")
+
+    sio = pytest.importorskip("scipy.io")
+    packsim.export(stored, "mat", tmp_path / "t.mat")
+    m = sio.loadmat(tmp_path / "t.mat", squeeze_me=True, simplify_cells=True)
+    _same_table({n: np.atleast_1d(v) for n, v in m[name].items()}, want, "mat")
+
+    pq = pytest.importorskip("pyarrow.parquet")
+    packsim.export(stored, "parquet", tmp_path / "t.parquet")
+    tables = json.loads(pq.read_schema(tmp_path / "t.parquet").metadata[b"packsim.tables"])
+    assert list(tables) == [path]
+    _same_table({n: [row[n] for row in tables[path]] for n in want.dtype.names}, want, "parquet")
