@@ -207,7 +207,19 @@ Curve withPresetTemperatureLaw(const Curve& preset, const Curve& given) {
 // to the scenario, or bundled) is validated on its own, then the scenario's fields
 // replace the preset's one by one.
 CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
-  if (!m.has("preset")) return readCell(m);
+  if (!m.has("preset")) {
+    // Neither a preset nor an inline cell's curves: a misspelt key (`prest:`, `fle:`) is
+    // the likelier cause than a missing curve, so the keys given are named.
+    if (!m.has("ocv_V") && !m.has("r0_ohm")) {
+      std::string given;
+      for (auto it = m.raw().begin(); it != m.raw().end(); ++it)
+        given += (given.empty() ? "'" : ", '") + it->first.Scalar() + "'";
+      throw m.error("a cell is a preset ('preset: NAME', with overrides) or inline (capacity_Ah, ocv_V, r0_ohm, "
+                    "...); this one has neither 'preset' nor 'ocv_V' and 'r0_ohm'" +
+                    (given.empty() ? std::string() : " (keys given: " + given + ")"));
+    }
+    return readCell(m);
+  }
   const std::string name = m.string("preset");
   std::string path;
   std::vector<std::string> known;

@@ -67,6 +67,20 @@ TEST(ScenarioErrors, MissingRequiredField) {
   EXPECT_NE(e.find("test.yaml:8:5"), std::string::npos) << e;
 }
 
+// A cell with a key far from every valid one (`fle:` for a file) and no curves is not an
+// inline cell missing its OCV: the error names the keys given and the two ways to give a cell.
+TEST(ScenarioErrors, CellNeitherPresetNorInlineNamesTheKeysGiven) {
+  const std::string e = errorOf("pack: {series: 1, parallel: 1, initial_soc: 0.8,\n"
+                                "       cell: {fle: my_cell.yaml, capacity_Ah: 2.0}}\n" + kLoad);
+  EXPECT_NE(e.find("pack.cell: a cell is a preset ('preset: NAME', with overrides) or inline"), std::string::npos) << e;
+  EXPECT_NE(e.find("(keys given: 'fle', 'capacity_Ah')"), std::string::npos) << e;
+  EXPECT_EQ(e.find("missing required key"), std::string::npos) << e;
+  // An inline cell with its curves but one missing still says which.
+  const std::string o = errorOf("pack: {series: 1, parallel: 1, initial_soc: 0.8,\n"
+                                "       cell: {capacity_Ah: 2.0, r0_ohm: 0.02}}\n" + kLoad);
+  EXPECT_NE(o.find("pack.cell: missing required key 'ocv_V'"), std::string::npos) << o;
+}
+
 TEST(ScenarioErrors, OutOfRangeNamesAllowedRange) {
   std::string y = test::simpleCellYaml() + kLoad;
   y.replace(y.find("initial_soc: 0.8"), 16, "initial_soc: 1.3");
