@@ -62,17 +62,10 @@ std::vector<CatalogEntry> bundledCatalog() {
 }
 
 std::string presetPath(const std::string& name) {
-  const fs::path dir = bundledScenarioDir();
   const std::string stem = name.size() > 5 && name.compare(name.size() - 5, 5, ".yaml") == 0
                                ? name.substr(0, name.size() - 5) : name;
-  if (stem.find('/') != std::string::npos && fs::is_regular_file(dir / (stem + ".yaml")))
-    return (dir / (stem + ".yaml")).string();
-  std::vector<std::string> names;
-  for (const CatalogEntry& e : bundledCatalog()) {
-    if (e.kind != "scenario") continue;
-    if (e.name == stem) return e.path;
-    names.push_back(e.name);
-  }
+  if (std::string path = bundledScenarioFile(stem); !path.empty()) return path;
+  const std::vector<std::string> names = bundledScenarioNames();
   std::string known;
   for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
   const std::string near = closestMatch(stem, names);

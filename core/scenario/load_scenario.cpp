@@ -143,9 +143,24 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
   if (Provenance* p = Provenance::active(); p && chain.size() == 1)
     p->recordDefault("extends", yamlFlowText(root["extends"]),
                      nodePlace(Provenance::displayName(file), root["extends"]) + " (merged in)");
-  const fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
+  fs::path path = fs::path(rel).is_relative() ? fs::path(base_dir) / rel : fs::path(rel);
   std::error_code ec;  // a name too long for the file system is "not found", not an exception
-  if (!fs::exists(path, ec)) throw m.errorAt("extends", "file not found: " + path.string());
+  if (!fs::exists(path, ec)) {
+    // Not a file next to this one: a bundled scenario's name (`extends: formula_student_96s`,
+    // as `packsim run NAME` takes it), when it has no file extension.
+    const bool bareName = fs::path(rel).extension().empty() && fs::path(rel).is_relative();
+    const std::string bundled = bareName ? bundledScenarioFile(rel) : "";
+    if (bundled.empty()) {
+      std::string hint;
+      if (bareName) {
+        const std::string near = closestMatch(fs::path(rel).filename().string(), bundledScenarioNames());
+        hint = ", nor a bundled scenario of that name" + (near.empty() ? std::string() : " (did you mean '" + near + "'?)") +
+               "; `packsim list` lists them";
+      }
+      throw m.errorAt("extends", "file not found: " + path.string() + hint);
+    }
+    path = bundled;
+  }
   const std::string key = chainKey(path.string());
   if (std::find(chain.begin(), chain.end(), key) != chain.end()) {
     std::string names;

@@ -13,6 +13,11 @@ namespace packsim {
 
 // Folder of the bundled scenarios; a ScenarioError if there is none.
 std::string bundledScenarioDir();
+// The bundled scenario named `name` (its file's stem, e.g. "formula_student_96s", or
+// "faults/a_estop" by its folder), "" if there is none.
+std::string bundledScenarioFile(const std::string& name);
+// The bundled scenarios' names (file stems), sorted: for "did you mean" in errors.
+std::vector<std::string> bundledScenarioNames();
 // The folders a cell preset is searched in, in order, for a scenario in `scenarioDir`.
 std::vector<std::string> cellPresetDirs(const std::string& scenarioDir);
 

@@ -99,6 +99,36 @@ TEST(InputHardening, ExtendsOfAScenarioWithACsvLoadRunsAsTheBase) {
   expectSameRun(runScenario(s), plain);
 }
 
+// `extends:` takes a bundled scenario's name as `packsim run NAME` does (found as a new
+// user would write it: `extends: formula_student_96s` was "file not found"); a file next
+// to the scenario comes first, and a name that is neither says so with the closest name.
+TEST(InputHardening, ExtendsTakesABundledScenarioByName) {
+  const fs::path d = freshDir("extends_bundled");
+  const std::string bundled = bundledScenarioDir() + "/bench_6s_ncr18650_2C.yaml";
+  write(d / "by_name.yaml", "extends: bench_6s_ncr18650_2C\nrun: {duration_s: 30}\n");
+  write(d / "by_path.yaml", "extends: " + bundled + "\nrun: {duration_s: 30}\n");
+  write(d / "by_folder.yaml", "extends: faults/a_estop\nrun: {duration_s: 30}\n");
+  Scenario byName, byPath;
+  ASSERT_NO_THROW(byName = loadScenarioFile((d / "by_name.yaml").string())) << loadError(d / "by_name.yaml");
+  ASSERT_NO_THROW(byPath = loadScenarioFile((d / "by_path.yaml").string())) << loadError(d / "by_path.yaml");
+  EXPECT_EQ(byName.pack.series, 6);
+  EXPECT_EQ(byName.run.duration_s, 30.0);
+  expectSameRun(runScenario(byName), runScenario(byPath));
+  EXPECT_EQ(loadError(d / "by_folder.yaml"), "<no error>");
+
+  write(d / "bench_6s_ncr18650_2C", "");  // a file of that name next to the scenario wins (empty: an error)
+  EXPECT_NE(loadError(d / "by_name.yaml"), "<no error>");
+
+  write(d / "typo.yaml", "extends: formula_student_69s\n");
+  const std::string e = loadError(d / "typo.yaml");
+  EXPECT_NE(e.find("typo.yaml:1:10: extends: file not found: "), std::string::npos) << e;
+  EXPECT_NE(e.find("nor a bundled scenario of that name (did you mean 'formula_student_96s'?)"), std::string::npos) << e;
+  write(d / "typo_file.yaml", "extends: formula_student_69s.yaml\n");  // a file name: no bundled lookup
+  const std::string f = loadError(d / "typo_file.yaml");
+  EXPECT_NE(f.find("file not found: "), std::string::npos) << f;
+  EXPECT_EQ(f.find("nor a bundled scenario"), std::string::npos) << f;
+}
+
 TEST(InputHardening, DuplicateKeyNamesBothPlaces) {
   const std::string e = yamlError("seed: 1\n" + test::simpleCellYaml() + kLoad + "seed: 2\n");
   EXPECT_NE(e.find(": seed: duplicate key (first given at line 1, column 1)"), std::string::npos) << e;
