@@ -1,6 +1,7 @@
 #include "core/scenario/yaml_map.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -89,12 +90,22 @@ ScenarioError YamlMap::errorAt(const YAML::Node& n, const std::string& field, co
   const bool known = m.line >= 0;
   // In a scenario merged from an extends: chain a node keeps its own file's line: name
   // the file that set the field, not the one this mapping was read from.
+  // The message then says where to change it: in the scenario being loaded, whose keys
+  // replace its base's (extends:) or its preset's.
   std::string file = file_;
+  std::string where;
   if (const Provenance* p = Provenance::active()) {
     const std::string setBy = p->fileOf(field);
-    if (setBy != Provenance::displayName(file_)) file = setBy;
+    const std::string self = Provenance::displayName(file_);
+    if (!setBy.empty() && setBy != self) {
+      file = setBy;
+      const std::string base = std::filesystem::path(setBy).filename().string();
+      const std::string child = std::filesystem::path(self).filename().string();
+      const std::string key = field.substr(0, field.find('['));  // a list is given whole
+      where = " (the value comes from " + base + "; " + key + " given in " + child + " replaces it)";
+    }
   }
-  return ScenarioError(file, known ? m.line + 1 : 0, known ? m.column + 1 : 0, field, message);
+  return ScenarioError(file, known ? m.line + 1 : 0, known ? m.column + 1 : 0, field, message + where);
 }
 
 ScenarioError YamlMap::errorAt(const std::string& key, const std::string& message) const {
