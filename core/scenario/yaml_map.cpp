@@ -133,7 +133,10 @@ YAML::Node YamlMap::required(const std::string& key) {
                           "unknown key; did you mean '" + key + "'?");
     }
   }
-  throw error("missing required key '" + key + "'");
+  // The keys given instead (a `value:` where the kind takes `current_A:`) are named.
+  std::string given;
+  for (auto it = node_.begin(); it != node_.end(); ++it) given += (given.empty() ? "" : ", ") + it->first.Scalar();
+  throw error("missing required key '" + key + "'" + (given.empty() ? std::string() : " (given: " + given + ")"));
 }
 
 YAML::Node YamlMap::node(const std::string& key) {

@@ -65,6 +65,11 @@ TEST(ScenarioErrors, MissingRequiredField) {
   const std::string e = errorOf(y);
   EXPECT_NE(e.find("pack.cell: missing required key 'capacity_Ah'"), std::string::npos) << e;
   EXPECT_NE(e.find("test.yaml:8:5"), std::string::npos) << e;
+  // The keys given instead are named: `value:` where an over-current fault takes `current_A:`.
+  const std::string f = errorOf(test::simpleCellYaml() + kLoad +
+                                "faults:\n  - {kind: overcurrent, at_s: 1, duration_s: 1, value: 200}\n");
+  EXPECT_NE(f.find("faults[0]: missing required key 'current_A' (given: kind, at_s, duration_s, value)"),
+            std::string::npos) << f;
 }
 
 // A cell with a key far from every valid one (`fle:` for a file) and no curves is not an
