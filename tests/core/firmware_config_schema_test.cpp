@@ -125,6 +125,34 @@ TEST(FirmwareConfigSchema, EachBadKeyOrValueIsOneErrorAtItsLine) {
   EXPECT_TRUE(has(file, "8 bytes; the firmware's configuration schema (19 fields) takes 76")) << file;
 }
 
+// A float field is IEEE-754 single precision, a list exactly its count of numbers
+// (tests/firmware/schema_fw.c: gain float in [-2.5, 2.5], limits_mV int32[3], delay_ms).
+TEST(FirmwareConfigSchema, FloatAndListFieldsAreEncodedAndChecked) {
+  const std::string base = "extends: bench_6s_ncr18650_2C.yaml\nbms:\n  firmware:\n    library: " PACKSIM_SCHEMA_FW "\n";
+  const Scenario s = test::scenarioFromYaml(base + "    config: {limits_mV: [1, 2, 3], gain: -0.5}\n");
+  EXPECT_EQ(s.bms.firmware.config, (std::vector<uint8_t>{0, 0, 0, 0xBF, 1, 0, 0, 0, 2, 0, 0, 0, 3, 0, 0, 0, 50, 0, 0, 0}));
+  const Scenario d = test::scenarioFromYaml(base);  // gain 1.25 = 0x3FA00000, limits 3300 = 0x0CE4
+  EXPECT_EQ(d.bms.firmware.config,
+            (std::vector<uint8_t>{0, 0, 0xA0, 0x3F, 0xE4, 0x0C, 0, 0, 0xE4, 0x0C, 0, 0, 0xE4, 0x0C, 0, 0, 50, 0, 0, 0}));
+  const std::string shortList = test::yamlErrorOf(base + "    config: {limits_mV: [1, 2]}\n");
+  EXPECT_TRUE(has(shortList, "test.yaml:5:")) << shortList;
+  EXPECT_TRUE(has(shortList, "expected a list of exactly 3 numbers, each an integer in [0, 5000] mV (three limits), got 2"))
+      << shortList;
+  const std::string element = test::yamlErrorOf(base + "    config: {limits_mV: [1, 2, 6000]}\n");
+  EXPECT_TRUE(has(element, "bms.firmware.config.limits_mV[2]: expected an integer in [0, 5000] mV")) << element;
+  const std::string real = test::yamlErrorOf(base + "    config: {gain: 3}\n");
+  EXPECT_TRUE(has(real, "expected a number in [-2.5, 2.5] (current-sense gain), got 3")) << real;
+}
+
+// A schema that breaks its own rules is the firmware's error, at library: with the field.
+TEST(FirmwareConfigSchema, ABrokenSchemaIsAnErrorNamingItsField) {
+  const std::string e = test::yamlErrorOf("extends: bench_6s_ncr18650_2C.yaml\n"
+                                          "bms: {firmware: {library: " PACKSIM_BAD_SCHEMA_FW ", config: {gain: 1}}}\n");
+  EXPECT_TRUE(has(e, "test.yaml:2:")) << e;
+  EXPECT_TRUE(has(e, "bms.firmware.library")) << e;
+  EXPECT_TRUE(has(e, "its configuration schema (psfw_firmware_config_schema): field 2 'delay_ms': min 100 > max 10")) << e;
+}
+
 // Issue 29's case: a scenario extending the bundled one with a misspelt key. Without a
 // schema the merged map appended it (80 bytes for 76, read by nobody); now it is an error
 // at the extending file's line.
