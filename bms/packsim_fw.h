@@ -23,6 +23,7 @@
  *   DAC:       the charger current request
  *   telemetry: bytes out to the data-acquisition unit
  *   events:    a short text the firmware wants in the run's event log
+ *   config:    the blob init receives, optionally described by an exported schema
  *
  * No allocation: the host hands the firmware `instance_bytes` of zeroed RAM
  * (8-byte aligned) at init, as a linker would place its static RAM. Plain C99 so a
@@ -165,6 +166,39 @@ typedef struct psfw_firmware {
   uint32_t task_count;
   psfw_task tasks[PSFW_MAX_TASKS];
 } psfw_firmware;
+
+/* Configuration schema (optional, any contract version): the fields of the blob init
+ * receives, as a const table the firmware exports under PSFW_CONFIG_SCHEMA_SYMBOL. The
+ * loader reads it without running firmware code (from the library in host mode, from
+ * the ELF's flash in target mode), checks `bms.firmware.config` against it (an unknown
+ * key, a number of the wrong type or out of [min, max] is an error at its file:line)
+ * and builds the blob in the table's order, each field as a little-endian int32 or
+ * IEEE-754 float (count of them for a list), an omitted key taking its default. A
+ * firmware without the symbol gets the blob as written (docs/firmware.md). */
+#define PSFW_CONFIG_SCHEMA_VERSION 1u
+#define PSFW_CONFIG_SCHEMA_SYMBOL "psfw_firmware_config_schema"
+#define PSFW_CONFIG_MAX_FIELDS 256u
+enum psfw_config_type { PSFW_CONFIG_INT32 = 0, PSFW_CONFIG_FLOAT32 = 1 };
+
+typedef struct psfw_config_field {
+  double min, max;   /* allowed values, both included (an INT32 field's: whole numbers) */
+  double def;        /* the value of an omitted key */
+  const char* name;  /* its key under bms.firmware.config: letters, digits, '_' */
+  const char* unit;  /* shown with the range ("" or NULL: none) */
+  const char* doc;   /* one line, shown with the range ("" or NULL: none) */
+  uint32_t type;     /* enum psfw_config_type */
+  uint32_t count;    /* 1: one number; n > 1: a list of exactly n numbers */
+} psfw_config_field;
+
+/* One row: PSFW_CONFIG_FIELD("cov_mV", PSFW_CONFIG_INT32, 1, 3000, 5000, 4250, "mV", "cell over-voltage trip") */
+#define PSFW_CONFIG_FIELD(name, type, count, min, max, def, unit, doc) \
+  { (min), (max), (def), (name), (unit), (doc), (type), (count) }
+
+typedef struct psfw_config_schema {
+  uint32_t version; /* PSFW_CONFIG_SCHEMA_VERSION */
+  uint32_t field_count; /* at most PSFW_CONFIG_MAX_FIELDS */
+  const psfw_config_field* fields;
+} psfw_config_schema;
 
 /* The one symbol a firmware library exports. */
 typedef const psfw_firmware* (*psfw_entry_fn)(void);

@@ -38,6 +38,68 @@ constexpr HardwareEdge kHardwareEdges[] = {
     {&HardwareStatus::charger_done, "charger", "done (taper end current)", nullptr},
 };
 
+// The firmware's own events: one row per field of bms::Outputs that raises events, the
+// field read as a number. A value row raises `kind` when the number changes (and, with
+// on_first, at the first tick, the number before it then being 0); a mask row raises
+// `kind` for each bit that sets and `falling` (non-null) for each that clears. Rows are
+// taken in table order, except that consecutive mask rows go bit by bit together, so a
+// fault's fault_active and fault_latched stand side by side. The detail is the value's
+// (or bit's) name, after "before -> " with shows_before, followed by `more` when the
+// row has one (not for a falling bit); a value at or past `names` (0: no bound) is no
+// event. Rows marked `report` state what the hardware did: they follow the hardware's
+// own events (kHardwareEdges) in a tick; the others are the firmware's decisions and
+// precede them.
+struct OutputEdge {
+  enum Needs : uint8_t { kAlways, kHardware, kBalancing };
+  const char* kind;
+  const char* falling;  // mask rows: the kind when a bit clears (nullptr: none)
+  uint64_t (*read)(const bms::Outputs&);
+  bool mask;            // one event per bit (bits: `names` of them)
+  Needs needs;          // a run with a hardware simulation / balancing hardware only
+  bool report;
+  bool on_first;
+  bool shows_before;
+  unsigned names;
+  std::string (*name)(uint64_t value);  // a value's or a bit's name
+  std::string (*more)(const bms::Config& cfg, const bms::Outputs& out, uint64_t value) = nullptr;
+};
+
+std::string stateText(uint64_t v) { return bms::stateName(static_cast<bms::State>(v)); }
+std::string faultText(uint64_t bit) { return bms::faultName(static_cast<bms::FaultId>(bit)); }
+std::string relayText(uint64_t v) { return v ? "close" : "open"; }
+std::string prechargeText(uint64_t v) { return bms::prechargePhaseName(static_cast<bms::PrechargePhase>(v)); }
+std::string deviceText(uint64_t bit) { return "device " + std::to_string(bit + 1); }
+std::string balancingText(uint64_t v) { return bms::balanceStatusName(static_cast<bms::BalanceStatus>(v)); }
+
+// fault_active: the protection's threshold, delay and reading, and how its action applies.
+std::string faultMore(const bms::Config& cfg, const bms::Outputs& out, uint64_t bit) {
+  const auto id = static_cast<bms::FaultId>(bit);
+  const bms::ProtectionRule& rule = cfg.rules[static_cast<int>(id)];
+  std::string d = ": " + protectionDetail(id, rule.threshold, rule.delay_ms, out.telemetry);
+  if (rule.severity == bms::Severity::Fatal && rule.action == bms::FaultAction::Monitor) d += " (monitor only)";
+  if (rule.severity == bms::Severity::Fatal && rule.action == bms::FaultAction::MonitorWhileDriving)
+    d += out.state == bms::State::Normal ? " (monitored while driving)" : " (isolates off track)";
+  return d;
+}
+std::string prechargeMore(const bms::Config&, const bms::Outputs& out, uint64_t) {
+  return " (attempt " + std::to_string(out.telemetry.prechargeAttempts) + ")";
+}
+
+using O = bms::Outputs;
+// clang-format off
+const OutputEdge kOutputEdges[] = {
+  // kind           falling          read                                                       mask   needs                   report on_first before names                 name
+  {"bms_state",     nullptr,         [](const O& o) -> uint64_t { return static_cast<uint64_t>(o.state); },   false, OutputEdge::kAlways,    false, true,  true,  0,                     stateText},
+  {"fault_active",  "fault_cleared", [](const O& o) -> uint64_t { return o.faultActive; },                    true,  OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText, faultMore},
+  {"fault_latched", nullptr,         [](const O& o) -> uint64_t { return o.faultLatched; },                   true,  OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText},
+  {"relay",         nullptr,         [](const O& o) -> uint64_t { return o.relayClose; },                     false, OutputEdge::kAlways,    false, false, false, 0,                     relayText},
+  {"precharge",     nullptr,         [](const O& o) -> uint64_t { return o.telemetry.prechargePhase; },       false, OutputEdge::kHardware,  true,  false, false, bms::kPrechargePhaseCount, prechargeText, prechargeMore},
+  {"comm_lost",     nullptr,         [](const O& o) -> uint64_t { return o.telemetry.devicesLost; },          true,  OutputEdge::kHardware,  true,  false, false, 64,                    deviceText},
+  {"balancing",     nullptr,         [](const O& o) -> uint64_t { return o.balanceStatus; },                  false, OutputEdge::kBalancing, true,  true,  false, bms::kBalanceStatusCount, balancingText},
+};
+// clang-format on
+constexpr size_t kOutputEdgeCount = sizeof kOutputEdges / sizeof kOutputEdges[0];
+
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
@@ -125,13 +187,33 @@ std::string RunTracker::misuseDetail(int board, const RegisterMisuse& m) const {
   return who + ": " + m.what + ": " + m.why + times;
 }
 
-std::string RunTracker::faultDetail(bms::FaultId id, const bms::Outputs& out) const {
-  const bms::ProtectionRule& rule = cfg_.rules[static_cast<int>(id)];
-  std::string d = protectionDetail(id, rule.threshold, rule.delay_ms, out.telemetry);
-  if (rule.severity == bms::Severity::Fatal && rule.action == bms::FaultAction::Monitor) d += " (monitor only)";
-  if (rule.severity == bms::Severity::Fatal && rule.action == bms::FaultAction::MonitorWhileDriving)
-    d += out.state == bms::State::Normal ? " (monitored while driving)" : " (isolates off track)";
-  return d;
+void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
+  static_assert(kOutputEdgeCount <= sizeof lastOutput_ / sizeof lastOutput_[0], "RunTracker::lastOutput_ holds every row");
+  for (size_t i = 0, end; i < kOutputEdgeCount; i = end) {
+    const OutputEdge& e = kOutputEdges[i];
+    end = i + 1;  // [i, end): this row, or the run of mask rows going bit by bit together
+    while (e.mask && end < kOutputEdgeCount && kOutputEdges[end].mask && kOutputEdges[end].names == e.names &&
+           kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs)
+      ++end;
+    if (e.report != report || (e.needs == OutputEdge::kHardware && !hw_) ||
+        (e.needs == OutputEdge::kBalancing && !r_.rec.has_balancing))
+      continue;
+    if (!e.mask) {
+      const uint64_t now = e.read(out), before = lastOutput_[i];
+      if ((now != before || (first_ && e.on_first)) && (e.names == 0 || now < e.names))
+        event(t, e.kind, (e.shows_before && !first_ ? e.name(before) + " -> " : std::string()) + e.name(now) +
+                             (e.more ? e.more(cfg_, out, now) : std::string()));
+    } else {
+      for (unsigned bit = 0; bit < e.names; ++bit)
+        for (size_t r = i; r < end; ++r) {
+          const OutputEdge& m = kOutputEdges[r];
+          const uint64_t b = uint64_t{1} << bit, now = m.read(out) & b, before = lastOutput_[r] & b;
+          if (now && !before) event(t, m.kind, m.name(bit) + (m.more ? m.more(cfg_, out, bit) : std::string()));
+          if (!now && before && m.falling) event(t, m.falling, m.name(bit));
+        }
+    }
+    for (size_t r = i; r < end; ++r) lastOutput_[r] = kOutputEdges[r].read(out);
+  }
 }
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
@@ -156,20 +238,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     }
   }
 
-  if (first_ || out.state != lastState_) {
-    event(t, "bms_state", std::string(first_ ? "" : std::string(bms::stateName(lastState_)) + " -> ") +
-                              bms::stateName(out.state));
-  }
-  for (uint8_t i = 0; i < bms::kFaultCount; ++i) {
-    const uint32_t bit = 1u << i;
-    const auto id = static_cast<bms::FaultId>(i);
-    if ((out.faultActive & bit) && !(lastActive_ & bit)) event(t, "fault_active", std::string(bms::faultName(id)) + ": " + faultDetail(id, out));
-    if (!(out.faultActive & bit) && (lastActive_ & bit)) event(t, "fault_cleared", bms::faultName(id));
-    if ((out.faultLatched & bit) && !(lastLatched_ & bit)) event(t, "fault_latched", bms::faultName(id));
-  }
-  if (first_ ? out.relayClose : out.relayClose != lastRelay_) {
-    event(t, "relay", out.relayClose ? "close" : "open");
-  }
+  outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
   // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
   // had closed it before or, as after a failed precharge, never got that far).
   if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {
@@ -189,32 +258,13 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   if (hw_) {
     hardwareChanged(t);
-    const uint8_t phase = out.telemetry.prechargePhase;
-    if (phase != lastPrechargePhase_ && phase < bms::kPrechargePhaseCount)
-      event(t, "precharge", std::string(bms::prechargePhaseName(static_cast<bms::PrechargePhase>(phase))) + " (attempt " +
-                                std::to_string(out.telemetry.prechargeAttempts) + ")");
-    lastPrechargePhase_ = phase;
     noteMisuse();
-    if (out.telemetry.devicesLost != lastLost_) {
-      for (int d = 0; d < 64; ++d)
-        if (((out.telemetry.devicesLost >> d) & 1u) && !((lastLost_ >> d) & 1u))
-          event(t, "comm_lost", "device " + std::to_string(d + 1));
-      lastLost_ = out.telemetry.devicesLost;
-    }
   }
-  if ((r_.rec.has_balancing) && (first_ || out.balanceStatus != lastBalanceStatus_)) {
-    if (out.balanceStatus < bms::kBalanceStatusCount)
-      event(t, "balancing", bms::balanceStatusName(static_cast<bms::BalanceStatus>(out.balanceStatus)));
-  }
-  lastBalanceStatus_ = out.balanceStatus;
+  outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
   limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive,
                [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
   first_ = false;
-  lastState_ = out.state;
-  lastActive_ = out.faultActive;
-  lastLatched_ = out.faultLatched;
-  lastRelay_ = out.relayClose;
   lastT_ = t;
   lastX_ = x;
 }

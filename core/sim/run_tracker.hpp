@@ -38,7 +38,9 @@ class RunTracker {
   void setVehicle(const VehicleSample* v);
 
  private:
-  std::string faultDetail(bms::FaultId id, const bms::Outputs& out) const;
+  // The events of the rows of the firmware's outputs (run_tracker.cpp kOutputEdges)
+  // that report what the hardware did (report) or the firmware's decisions (!report).
+  void outputEvents(double t, const bms::Outputs& out, bool report);
   void noteLimit(double t, const double* x, int cell, bool byTrip = false);
   void noteSocRange(double t, const double* x, int cell);
   // State estimation against the truth (issue 17).
@@ -49,18 +51,13 @@ class RunTracker {
   const bms::Config& cfg_;
   RunResult r_;
   bool first_ = true;
-  bms::State lastState_ = bms::State::Init;
-  uint32_t lastActive_ = 0, lastLatched_ = 0;
-  bool lastRelay_ = false;
+  uint64_t lastOutput_[8] = {};  // per row of kOutputEdges: its field at the last tick
   std::vector<double> limitSoc_;  // SOC of every cell when the first one hit its limit
   double lastT_ = 0.0;
   const double* lastX_ = nullptr;
   const HardwareSim* hw_ = nullptr;
   const VehicleSample* vehicle_ = nullptr;
   HardwareStatus lastHw_;
-  uint8_t lastPrechargePhase_ = 0;
-  uint64_t lastLost_ = 0;
-  uint8_t lastBalanceStatus_ = 0;
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
   LimitWatch limits_;            // cells past a protection limit the BMS has not seen

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <vector>
 #include <cstdio>
-#include <sstream>
 
+#include "core/sim/summary_lines.hpp"
 #include "core/sim/vehicle_text.hpp"
 
 namespace packsim {
@@ -24,28 +24,6 @@ std::string fmt(const char* f, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
-}
-
-// SOC error of each estimator against the truth, the capacity estimate, the display.
-std::string socErrorLines(const Summary& m) {
-  std::string out;
-  for (const auto& [name, st] : {std::pair<std::string, const SocErrorStats*>{"coulomb", &m.soc_error_coulomb},
-                                 {"ekf", &m.soc_error_ekf}}) {
-    if (st->ticks == 0) continue;
-    out += (name == "coulomb" ? "SOC error       " : "                ") + name + (name == m.soc_estimator ? "*" : " ") +
-           std::string(8 - name.size(), ' ') + "max " + fmt("%.2f", 100.0 * st->max) + " %  rms " +
-           fmt("%.2f", 100.0 * st->rms) + " %  end " + fmt("%+.2f", 100.0 * st->end) + " %\n";
-  }
-  if (m.soc_error_ekf.ticks > 0)
-    out += "                ekf per group: worst " + fmt("%.2f", 100.0 * m.soc_error_ekf_group_max) + " % (group " +
-           std::to_string(m.soc_error_ekf_group) + ")\n";
-  if (!out.empty()) out += "                (* reported; error = estimate - mean cell SOC)\n";
-  out += "capacity (SOH)  " + (m.capacity_estimate_Ah > 0.0
-                                   ? fmt("%.3f", m.capacity_estimate_Ah) + " Ah estimated, " + fmt("%.3f", m.capacity_true_Ah) + " Ah true"
-                                   : "no estimate (needs two rests " + std::string("far enough apart in SOC)")) + "\n";
-  out += "SOC display     up to " + std::to_string(m.display_bars_hidden_max) + " bars below and " +
-         std::to_string(m.display_bars_extra_max) + " above what the true OCV would show\n";
-  return out;
 }
 
 // The relay contact as the events record it: open until a relay_contact event says otherwise.
@@ -74,8 +52,7 @@ std::string contactFrom(const RunResult& r, double t) {
 
 // Cells past a protection limit before the BMS saw it (the limit_unseen events): per
 // limit the longest episode, and how many cells had one.
-std::string unseenLimitLines(const RunResult& r) {
-  std::string out;
+void unseenLimitLines(LineWriter& w, const RunResult& r) {
   std::vector<std::string> names;
   for (const Event& e : r.events)
     if (e.kind == "limit_unseen") {
@@ -98,10 +75,8 @@ std::string unseenLimitLines(const RunResult& r) {
         worst = &e;
       }
     }
-    out += "unseen limit    " + worst->detail +
-           (subjects.size() > 1 ? "; " + std::to_string(subjects.size()) + " cells in all" : std::string()) + "\n";
+    w.line(worst->detail + (subjects.size() > 1 ? "; " + std::to_string(subjects.size()) + " cells in all" : std::string()));
   }
-  return out;
 }
 
 }  // namespace
@@ -111,92 +86,165 @@ std::string cellName(int cell, int parallel) {
   return "cell " + std::to_string(cell) + " (group " + std::to_string((cell - 1) / parallel + 1) + ")";
 }
 
-std::string formatSummary(const Scenario& s, const RunResult& r) {
+namespace {
+
+using S = Scenario;
+using R = RunResult;
+
+// The relay_contact events' word on the trip and the welded contact (never the command's).
+void weldedLine(LineWriter& w, const S& s, const R& r) {
+  // A contact closed at the end although the relay has been commanded open for longer
+  // than it takes to release: the contact is stuck (welded).
   const Summary& m = r.summary;
-  std::ostringstream os;
-  os << "scenario        " << s.name << "  (" << s.pack.series << "s" << s.pack.parallel << "p, "
-     << fmt("%.2f", s.pack.cell.capacity_Ah) << " Ah cells)\n";
-  os << "duration        " << fmt("%.1f", m.duration_s) << " s  (" << clockText(m.duration_s) << ")\n";
-  os << "energy out      " << fmt("%.2f", m.energy_delivered_Wh) << " Wh  (" << fmt("%.3f", m.charge_delivered_Ah)
-     << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
-  if (!m.firmware_status.empty()) os << "firmware        " << m.firmware_status << "\n";
-  for (const std::string& line : m.firmware_target) os << "target          " << line << "\n";
-  const int P = s.pack.parallel;
-  os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  " << cellName(m.min_cell, P) << " at "
-     << fmt("%.2f", m.min_cell_time_s) << " s\n";
-  os << "hottest cell    " << fmt("%.2f", m.max_temp_C) << " C  " << cellName(m.hottest_cell, P) << " at "
-     << fmt("%.2f", m.hottest_time_s) << " s\n";
-  os << "energy left     " << fmt("%.2f", m.energy_left_Wh) << " Wh "
-     << (m.limit_reached && m.limit_by_bms_trip
-             ? "when the BMS tripped on under-voltage at " + fmt("%.2f", m.limit_time_s) + " s (lowest " +
-                   cellName(m.limit_cell, P) + ", no cell at its v_min)"
-         : m.limit_reached ? "when " + cellName(m.limit_cell, P) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
-                         : std::string("at the end (no cell reached its limit)"))
-     << "; " << fmt("%.2f", m.energy_stranded_Wh) << " Wh (" << fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh)
-     << " % of the start) stranded by imbalance\n";
-  os << "final SOC       " << fmt("%.3f", m.final_soc_min) << " .. " << fmt("%.3f", m.final_soc_max) << "\n";
-  os << socErrorLines(m);
-  if (m.tripped) {
-    // What the contact did is the relay_contact events' word, not the command's.
-    os << "BMS             TRIP at " << fmt("%.2f", m.trip_time_s) << " s  (" << m.trip_reason << "): "
-       << contactFrom(r, m.trip_time_s) << "\n";
-    for (const Event& e : r.events)
-      if (e.kind == "fault_active") os << "                  " << fmt("%.2f", e.time_s) << " s  " << e.detail << "\n";
-  } else {
-    os << "BMS             no trip\n";
+  const Event* lastCommand = nullptr;
+  for (const Event& e : r.events)
+    if (e.kind == "relay") lastCommand = &e;
+  const double release_s = s.hardware.relay.open_delay_s + s.bms.image.weldSettle_ms * 1e-3;
+  if (!lastCommand || lastCommand->detail != "open" || !contactClosedBefore(r, m.duration_s + 1.0) ||
+      m.duration_s - lastCommand->time_s <= release_s)
+    return;
+  const Event* welded = nullptr;
+  for (const Event& e : r.events)
+    if (e.kind == "fault_injected" && e.detail.rfind("welded_relay", 0) == 0) welded = &e;
+  w.line("relay contact still closed at the end, " + fmt("%.2f", m.duration_s - lastCommand->time_s) +
+         " s after the open command at " + fmt("%.2f", lastCommand->time_s) + " s" +
+         (welded ? " (welded_relay injected at " + fmt("%.2f", welded->time_s) + " s)" : std::string(" (welded?)")));
+}
+
+// SOC error of each estimator against the truth; the first printed takes the label.
+void socErrorLines(LineWriter& w, const S&, const R& r) {
+  const Summary& m = r.summary;
+  bool any = false;
+  for (const auto& [name, st] : {std::pair<std::string, const SocErrorStats*>{"coulomb", &m.soc_error_coulomb},
+                                 {"ekf", &m.soc_error_ekf}}) {
+    if (st->ticks == 0) continue;
+    const std::string body = name + (name == m.soc_estimator ? "*" : " ") + std::string(8 - name.size(), ' ') + "max " +
+                             fmt("%.2f", 100.0 * st->max) + " %  rms " + fmt("%.2f", 100.0 * st->rms) + " %  end " +
+                             fmt("%+.2f", 100.0 * st->end) + " %";
+    any ? w.more(body) : w.line(body);
+    any = true;
   }
-  os << unseenLimitLines(r);
-  if (m.compare.present) {
-    const Comparison& c = m.compare;
-    const double lost = c.lostWh();
-    os << "compared with   " << c.name << ": " << fmt("%.2f", c.energy_delivered_Wh) << " Wh out, "
-       << fmt("%.2f", c.losses_Wh) << " Wh lost in the cells there; " << fmt("%.2f", c.this_losses_Wh) << " Wh here: "
-       << fmt("%.2f", std::fabs(lost)) << " Wh " << (lost >= 0.0 ? "more" : "less") << " energy lost; lowest cell "
-       << fmt("%.3f", c.min_cell_V) << " V there\n";
-  }
-  // Cells driven past empty or full (never silent): the first of each direction and a count.
+  if (m.soc_error_ekf.ticks > 0)
+    w.more("ekf per group: worst " + fmt("%.2f", 100.0 * m.soc_error_ekf_group_max) + " % (group " +
+           std::to_string(m.soc_error_ekf_group) + ")");
+  if (any) w.more("(* reported; error = estimate - mean cell SOC)");
+}
+
+// Cells driven past empty or full (never silent): the first of each direction and a count.
+void socRangeLines(LineWriter& w, const S&, const R& r) {
   for (const char* dir : {"below SOC 0", "above SOC 1"}) {
     int count = 0;
     const Event* first = nullptr;
     for (const Event& e : r.events)
       if (e.kind == "soc_out_of_range" && e.detail.find(dir) != std::string::npos && count++ == 0) first = &e;
     if (first)
-      os << "SOC range       " << first->detail << " at " << fmt("%.2f", first->time_s) << " s"
-         << (count > 1 ? "; " + std::to_string(count) + " cells in all" : std::string()) << "\n";
+      w.line(first->detail + " at " + fmt("%.2f", first->time_s) + " s" +
+             (count > 1 ? "; " + std::to_string(count) + " cells in all" : std::string()));
   }
-  // What the switching hardware did on its own, and configuration warnings.
+}
+
+// What the switching hardware did on its own, and configuration warnings, in event order.
+void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
   for (const Event& e : r.events) {
     if (e.kind == "monitor_fault_line" && e.detail == "asserted")
-      os << "hardware        " << fmt("%.2f", e.time_s) << " s  monitor FAULT line asserted ("
-         << (s.hardware.fault_line_opens_relay ? "it opens the relay without the MCU" : "it does not drive the relay here")
-         << "); " << contactFrom(r, e.time_s) << "\n";
-    if (e.kind == "fuse") os << "hardware        " << fmt("%.2f", e.time_s) << " s  fuse " << e.detail << "\n";
-    if (e.kind == "config_warning") os << "warning         " << e.detail << "\n";
-    if (e.kind == "register_misuse") os << "bus misuse      " << fmt("%.4f", e.time_s) << " s  " << e.detail << "\n";
+      w.line("hardware", fmt("%.2f", e.time_s) + " s  monitor FAULT line asserted (" +
+                             (s.hardware.fault_line_opens_relay ? "it opens the relay without the MCU"
+                                                                : "it does not drive the relay here") +
+                             "); " + contactFrom(r, e.time_s));
+    if (e.kind == "fuse") w.line("hardware", fmt("%.2f", e.time_s) + " s  fuse " + e.detail);
+    if (e.kind == "config_warning") w.line("warning", e.detail);
+    if (e.kind == "register_misuse") w.line("bus misuse", fmt("%.4f", e.time_s) + " s  " + e.detail);
   }
-  // A contact closed at the end although the relay has been commanded open for longer
-  // than it takes to release: the contact is stuck (welded).
-  {
-    const Event* lastCommand = nullptr;
-    for (const Event& e : r.events)
-      if (e.kind == "relay") lastCommand = &e;
-    const double release_s = s.hardware.relay.open_delay_s + s.bms.image.weldSettle_ms * 1e-3;
-    if (lastCommand && lastCommand->detail == "open" && contactClosedBefore(r, m.duration_s + 1.0) &&
-        m.duration_s - lastCommand->time_s > release_s) {
-      const Event* welded = nullptr;
-      for (const Event& e : r.events)
-        if (e.kind == "fault_injected" && e.detail.rfind("welded_relay", 0) == 0) welded = &e;
-      os << "hardware        relay contact still closed at the end, " << fmt("%.2f", m.duration_s - lastCommand->time_s)
-         << " s after the open command at " << fmt("%.2f", lastCommand->time_s) << " s"
-         << (welded ? " (welded_relay injected at " + fmt("%.2f", welded->time_s) + " s)" : std::string(" (welded?)"))
-         << "\n";
-    }
+}
+
+// Each row: its label, the /summary figures it prints (summaryFields() names; the test
+// checks every figure is on a line), how it writes. In the order printed.
+// clang-format off
+const std::vector<SummaryLine> kLines = {
+    {"scenario", "", [](LineWriter& w, const S& s, const R&) {
+       w.line(s.name + "  (" + std::to_string(s.pack.series) + "s" + std::to_string(s.pack.parallel) + "p, " +
+              fmt("%.2f", s.pack.cell.capacity_Ah) + " Ah cells)"); }},
+    {"duration", "duration_s", [](LineWriter& w, const S&, const R& r) {
+       w.line(fmt("%.1f", r.summary.duration_s) + " s  (" + clockText(r.summary.duration_s) + ")"); }},
+    {"energy out", "energy_delivered_Wh charge_delivered_Ah heat_Wh", [](LineWriter& w, const S&, const R& r) {
+       const Summary& m = r.summary;
+       w.line(fmt("%.2f", m.energy_delivered_Wh) + " Wh  (" + fmt("%.3f", m.charge_delivered_Ah) + " Ah, " +
+              fmt("%.2f", m.heat_Wh) + " Wh heat in cells)"); }},
+    {"firmware", "", [](LineWriter& w, const S&, const R& r) {
+       if (!r.summary.firmware_status.empty()) w.line(r.summary.firmware_status); }},
+    {"target", "", [](LineWriter& w, const S&, const R& r) {
+       for (const std::string& line : r.summary.firmware_target) w.line(line); }},
+    {"lowest cell", "min_cell_V min_cell min_cell_time_s", [](LineWriter& w, const S& s, const R& r) {
+       const Summary& m = r.summary;
+       w.line(fmt("%.3f", m.min_cell_V) + " V  " + cellName(m.min_cell, s.pack.parallel) + " at " +
+              fmt("%.2f", m.min_cell_time_s) + " s"); }},
+    {"hottest cell", "max_temp_C hottest_cell hottest_time_s", [](LineWriter& w, const S& s, const R& r) {
+       const Summary& m = r.summary;
+       w.line(fmt("%.2f", m.max_temp_C) + " C  " + cellName(m.hottest_cell, s.pack.parallel) + " at " +
+              fmt("%.2f", m.hottest_time_s) + " s"); }},
+    {"energy left", "energy_left_Wh limit_reached limit_by_bms_trip limit_time_s limit_cell energy_stranded_Wh energy_start_Wh",
+     [](LineWriter& w, const S& s, const R& r) {
+       const Summary& m = r.summary;
+       const int P = s.pack.parallel;
+       w.line(fmt("%.2f", m.energy_left_Wh) + " Wh " +
+              (m.limit_reached && m.limit_by_bms_trip
+                   ? "when the BMS tripped on under-voltage at " + fmt("%.2f", m.limit_time_s) + " s (lowest " +
+                         cellName(m.limit_cell, P) + ", no cell at its v_min)"
+               : m.limit_reached ? "when " + cellName(m.limit_cell, P) + " hit its limit at " + fmt("%.2f", m.limit_time_s) + " s"
+                                 : std::string("at the end (no cell reached its limit)")) +
+              "; " + fmt("%.2f", m.energy_stranded_Wh) + " Wh (" + fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh) +
+              " % of the start) stranded by imbalance"); }},
+    {"final SOC", "final_soc_min final_soc_max", [](LineWriter& w, const S&, const R& r) {
+       w.line(fmt("%.3f", r.summary.final_soc_min) + " .. " + fmt("%.3f", r.summary.final_soc_max)); }},
+    {"SOC error", "soc_estimator soc_error_coulomb_max soc_error_coulomb_rms soc_error_coulomb_end soc_error_ekf_max "
+                  "soc_error_ekf_rms soc_error_ekf_end soc_error_ekf_group_max soc_error_ekf_group", socErrorLines},
+    {"capacity (SOH)", "capacity_estimate_Ah capacity_true_Ah", [](LineWriter& w, const S&, const R& r) {
+       const Summary& m = r.summary;
+       w.line(m.capacity_estimate_Ah > 0.0
+                  ? fmt("%.3f", m.capacity_estimate_Ah) + " Ah estimated, " + fmt("%.3f", m.capacity_true_Ah) + " Ah true"
+                  : std::string("no estimate (needs two rests far enough apart in SOC)")); }},
+    {"SOC display", "display_bars_hidden_max display_bars_extra_max", [](LineWriter& w, const S&, const R& r) {
+       w.line("up to " + std::to_string(r.summary.display_bars_hidden_max) + " bars below and " +
+              std::to_string(r.summary.display_bars_extra_max) + " above what the true OCV would show"); }},
+    {"BMS", "tripped trip_time_s trip_reason", [](LineWriter& w, const S&, const R& r) {
+       const Summary& m = r.summary;
+       if (!m.tripped) return w.line("no trip");
+       // What the contact did is the relay_contact events' word, not the command's.
+       w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
+       for (const Event& e : r.events)
+         if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail); }},
+    {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {
+       unseenLimitLines(w, r); }},
+    {"compared with", "", [](LineWriter& w, const S&, const R& r) {
+       const Comparison& c = r.summary.compare;
+       if (!c.present) return;
+       const double lost = c.lostWh();
+       w.line(c.name + ": " + fmt("%.2f", c.energy_delivered_Wh) + " Wh out, " + fmt("%.2f", c.losses_Wh) +
+              " Wh lost in the cells there; " + fmt("%.2f", c.this_losses_Wh) + " Wh here: " + fmt("%.2f", std::fabs(lost)) +
+              " Wh " + (lost >= 0.0 ? "more" : "less") + " energy lost; lowest cell " + fmt("%.3f", c.min_cell_V) + " V there"); }},
+    {"SOC range", "", socRangeLines},
+    {"hardware", "", hardwareEventLines},
+    {"hardware", "", weldedLine},
+    {"vehicle", "", [](LineWriter& w, const S&, const R& r) {  // a vehicle on its route (docs/vehicle.md)
+       writeVehicleLines(w, r.summary.vehicle); }},
+    {"fault script", "", [](LineWriter& w, const S&, const R& r) {  // scripted faults the run ended before
+       for (const Event& e : r.events)
+         if (e.kind == "fault_not_reached") w.line("not reached: " + e.detail); }},
+};
+// clang-format on
+
+}  // namespace
+
+const std::vector<SummaryLine>& summaryLines() { return kLines; }
+
+std::string formatSummary(const Scenario& s, const RunResult& r) {
+  std::string out;
+  LineWriter w(out);
+  for (const SummaryLine& l : kLines) {
+    w.row(l.label);
+    l.write(w, s, r);
   }
-  os << vehicleSummaryLines(m.vehicle);  // a vehicle on its route (docs/vehicle.md)
-  // Scripted faults the run never reached: it ended first.
-  for (const Event& e : r.events)
-    if (e.kind == "fault_not_reached") os << "fault script    not reached: " << e.detail << "\n";
-  return os.str();
+  return out;
 }
 
 }  // namespace packsim

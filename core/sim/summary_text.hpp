@@ -1,11 +1,23 @@
 // The run summary as the few lines a battery engineer reads first.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "core/scenario/scenario.hpp"
 #include "core/sim/result.hpp"
 
 namespace packsim {
+
+class LineWriter;
+
+// The summary is a table of lines: one row per line (or lines under one label), in the
+// order printed; formatSummary writes each row.
+struct SummaryLine {
+  const char* label;   // its first 16 columns (a row may give some lines a label of their own)
+  const char* fields;  // the /summary figures it prints: summaryFields() names, space-separated
+  void (*write)(LineWriter& w, const Scenario& s, const RunResult& r);  // none, one or more lines
+};
+const std::vector<SummaryLine>& summaryLines();
 
 std::string formatSummary(const Scenario& s, const RunResult& r);
 // "cell N" (1-based over every cell), with its series group in a pack of parallel cells:

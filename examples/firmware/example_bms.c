@@ -16,7 +16,8 @@
  *                so a scenario's expect: blocks judge them
  *
  * Configuration blob (bms.firmware.config in the scenario): int32 fields in the order
- * of struct ex_config, little-endian.
+ * of struct ex_config, little-endian, as the exported schema (ex_config_fields) declares
+ * them: packsim checks the scenario's keys and ranges against it and builds the blob.
  */
 #include <math.h>
 #include <stdint.h>
@@ -298,6 +299,43 @@ static int32_t ex_init(void* ram, psfw_board* b, const psfw_board_api* api, cons
   r->state = EX_STANDBY;
   return 0;
 }
+
+/* The configuration schema: one row per field of struct ex_config, in its order. The
+ * loader checks bms.firmware.config against it (names, ranges) and fills an omitted
+ * key with its default; the ranges are those ex_init accepts and its types can hold. */
+#define EX_FIELD(name, min, max, def, unit, doc) PSFW_CONFIG_FIELD(name, PSFW_CONFIG_INT32, 1u, min, max, def, unit, doc)
+static const psfw_config_field ex_config_fields[] = {
+    EX_FIELD("cell_count", 1, EX_MAX_CELLS, 6, "", "series cells"),
+    EX_FIELD("cells_per_device", 1, BQ536_CELLS_MAX, 6, "", "cells on each monitor device"),
+    EX_FIELD("therm_per_device", 0, 2, 2, "", "thermistors biased and read per device"),
+    EX_FIELD("cov_mV", 1000, 5000, 4250, "mV", "cell over-voltage trip"),
+    EX_FIELD("cuv_mV", 500, 4500, 2500, "mV", "cell under-voltage trip"),
+    EX_FIELD("voltage_delay_ms", 0, 60000, 500, "ms", "cell voltage debounce"),
+    EX_FIELD("ocd_mA", 0, 2000000, 10000, "mA", "discharge over-current trip"),
+    EX_FIELD("occ_mA", 0, 2000000, 2000, "mA", "charge over-current trip"),
+    EX_FIELD("current_delay_ms", 0, 60000, 200, "ms", "over-current debounce"),
+    EX_FIELD("ot_dC", -400, 1500, 600, "0.1 degC", "over-temperature trip"),
+    EX_FIELD("temp_delay_ms", 0, 60000, 1000, "ms", "over-temperature debounce"),
+    EX_FIELD("comm_loss_count", 1, 255, 5, "", "consecutive bad replies of one device that trip"),
+    EX_FIELD("current_zero_code", 0, 65535, 32768, "", "current-sense ADC code at 0 A"),
+    EX_FIELD("current_lsb_nA", 1, 2147483647, 503540, "nA", "current per ADC code"),
+    EX_FIELD("ntc_r25_ohm", 100, 1000000, 10000, "ohm", "thermistor resistance at 25 degC"),
+    EX_FIELD("ntc_beta_K", 1000, 10000, 3435, "K", "thermistor beta"),
+    EX_FIELD("ntc_pullup_ohm", 100, 1000000, 10000, "ohm", "thermistor pull-up"),
+    EX_FIELD("ntc_bits", 8, 16, 12, "", "thermistor ADC resolution"),
+    EX_FIELD("precharge_ms", 0, 60000, 300, "ms", "precharge time before the main relay closes"),
+};
+/* every field of struct ex_config has its row (C99: a negative array size fails the build) */
+typedef char ex_schema_covers_config[sizeof ex_config_fields / sizeof ex_config_fields[0] * 4 == sizeof(ex_config) ? 1 : -1];
+
+#if defined(__GNUC__)
+__attribute__((visibility("default")))
+#endif
+const psfw_config_schema psfw_firmware_config_schema = {
+    PSFW_CONFIG_SCHEMA_VERSION,
+    sizeof ex_config_fields / sizeof ex_config_fields[0],
+    ex_config_fields,
+};
 
 static const psfw_firmware ex_firmware = {
     PSFW_ABI_VERSION,

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
@@ -14,6 +15,9 @@
 #include "core/io/hdf5_writer.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/sim/summary_lines.hpp"
+#include "core/sim/summary_text.hpp"
+#include "core/sim/vehicle_text.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -94,6 +98,29 @@ TEST(SummaryFields, DocsResultsNamesEveryRow) {
     }
     EXPECT_NE(summaryRow.find("`" + name + "`"), std::string::npos) << name << " is not in docs/results.md's /summary row";
   }
+}
+
+// The printed summary is a table of lines too (summary_text.cpp, vehicle_text.cpp): each
+// line names the figures it prints. Every /summary figure is printed by exactly one
+// line, and a line names only figures of the table -- so a new figure fails here until
+// a line prints it.
+TEST(SummaryFields, EveryFigureIsPrintedByOneSummaryLine) {
+  std::set<std::string> table;
+  for (const SummaryField& f : summaryFields()) table.insert(f.name);
+  std::map<std::string, std::string> printedBy;  // figure -> the line's label
+  auto take = [&](const char* label, const char* fields) {
+    EXPECT_LT(std::string(label).size(), LineWriter::kLabelColumns) << label;
+    std::istringstream names(fields);
+    for (std::string n; names >> n;) {
+      EXPECT_EQ(table.count(n), 1u) << "the '" << label << "' line names " << n << ", no /summary figure";
+      EXPECT_TRUE(printedBy.emplace(n, label).second) << n << " on the '" << label << "' and the '" << printedBy[n] << "' line";
+    }
+  };
+  for (const SummaryLine& l : summaryLines()) take(l.label, l.fields);
+  for (const VehicleLine& l : vehicleLines()) take(l.label, l.fields);
+  for (const std::string& n : table) EXPECT_EQ(printedBy.count(n), 1u) << n << " is on no summary line";
+  EXPECT_EQ(printedBy.at("energy_stranded_Wh"), "energy left");
+  EXPECT_EQ(printedBy.at("vehicle_time_lost_s"), "time lost");
 }
 
 }  // namespace

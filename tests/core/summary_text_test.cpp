@@ -201,5 +201,23 @@ TEST(SummaryText, CellsOfParallelGroupsNameTheirGroup) {
   EXPECT_TRUE(has(text, "unseen limit    overtemperature: cell 4 (group 2) above the 60 C limit")) << text;
 }
 
+// The SOC-error lines stand under one "SOC error" label whichever estimators ran: a
+// firmware that reports the EKF alone gets the label on its one line (the summary's
+// lines are rows of a table, summary_text.cpp; the label once belonged to coulomb's).
+TEST(SummaryText, SocErrorLabelIsOnTheFirstEstimatorsLine) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 2}\n");
+  RunResult r = runScenario(s);
+  ASSERT_GT(r.summary.soc_error_coulomb.ticks, 0);
+  ASSERT_GT(r.summary.soc_error_ekf.ticks, 0);
+  const std::string both = formatSummary(s, r);
+  EXPECT_TRUE(has(both, "\nSOC error       coulomb")) << both;
+  EXPECT_TRUE(has(both, "\n                ekf")) << both;
+  r.summary.soc_error_coulomb.ticks = 0;  // as from a firmware that reports no coulomb count
+  const std::string ekfOnly = formatSummary(s, r);
+  EXPECT_FALSE(has(ekfOnly, "coulomb")) << ekfOnly;
+  EXPECT_TRUE(has(ekfOnly, "\nSOC error       ekf")) << ekfOnly;
+  EXPECT_TRUE(has(ekfOnly, "\n                ekf per group: worst ")) << ekfOnly;
+}
+
 }  // namespace
 }  // namespace packsim

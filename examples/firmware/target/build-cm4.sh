@@ -6,6 +6,8 @@
 # e.g. examples/firmware/target/build-cm4.sh build/example_bms_cm4.elf examples/firmware/example_bms.c
 # The include path has packsim's bms/ folder (packsim_fw.h, afe/*.h; $PACKSIM_INCLUDE_DIR, default
 # ../../../bms from here) and this folder (psbsp.h).
+# -u psfw_firmware_config_schema keeps a firmware's configuration schema (packsim_fw.h), which
+# nothing in the code references, through --gc-sections; a firmware without one links as before.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 [ $# -ge 2 ] || { echo "usage: $0 OUT.elf SOURCE.c... [-I DIR]..." >&2; exit 2; }
@@ -17,6 +19,6 @@ flags=(-std=c99 -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -
        -I "${PACKSIM_INCLUDE_DIR:-$here/../../../bms}" -I "$here"
        --specs=nano.specs --specs=nosys.specs -nostartfiles
        -Wl,--gc-sections -Wl,-T,"$here/psbsp_cm4.ld"
-       -Wl,-u,psbsp_entry,-u,psbsp_init,-u,psbsp_task,-u,psbsp_api)
+       -Wl,-u,psbsp_entry,-u,psbsp_init,-u,psbsp_task,-u,psbsp_api,-u,psfw_firmware_config_schema)
 mkdir -p "$(dirname "$out")"
 "$CC" "${flags[@]}" "$@" "$here/psbsp_board.c" -lm -o "$out"
