@@ -5,29 +5,50 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Wall time per stage, printed at the end (and so in CI's log), also after a failure.
+# Wall and CPU time (user + sys of every process the stage ran) per stage, printed at the
+# end (and so in CI's log), also after a failure. On a shared machine the wall time says
+# little; the CPU time divided by the cores is what the stage costs an idle machine.
 STAGES=""
 stage_name=""
 stage_start=$SECONDS
+TIMES_FILE=$(mktemp)
+CPU=0
+cpu_now() {  # CPU=seconds of this shell and of every child it has waited for (bash's `times`,
+  times > "$TIMES_FILE"  # run here: in a subshell or a pipe it reports the subshell's own, empty, times)
+  CPU=$(awk '{ for (i = 1; i <= 2; i++) { split($i, a, "m"); s += a[1] * 60 + a[2] } } END { printf "%.0f", s }' "$TIMES_FILE")
+}
+stage_cpu=0
 close_stage() {
-  [ -n "$stage_name" ] && STAGES+=$(printf '  %-50s %5d s' "$stage_name" $((SECONDS - stage_start)))$'\n'
+  cpu_now
+  [ -n "$stage_name" ] && STAGES+=$(printf '  %-50s %5d s wall %6d s CPU' "$stage_name" $((SECONDS - stage_start)) \
+                                      $((CPU - stage_cpu)))$'\n'
   stage_name=""
 }
 stage() {  # stage NAME: closes the previous stage, opens NAME
   close_stage
   stage_name=$1
   stage_start=$SECONDS
+  stage_cpu=$CPU
   echo "== $1"
 }
 print_stages() {
   close_stage
-  printf '== time per stage\n%s  %-50s %5d s\n' "$STAGES" total "$SECONDS"
+  printf '== time per stage\n%s  %-50s %5d s wall %6d s CPU\n' "$STAGES" total "$SECONDS" "$CPU"
+  rm -f "$TIMES_FILE"
 }
 trap print_stages EXIT
+slowest_tests() {  # slowest_tests BUILD_DIR: the ten longest tests of its last ctest run
+  local log=$1/Testing/Temporary/LastTest.log
+  [ -f "$log" ] || return 0
+  echo "   slowest tests (wall s, two at a time):"
+  awk '/^[0-9]+\/[0-9]+ Test: /{ name = $3 } /^Test time = /{ printf "   %8.1f  %s\n", $4, name }' "$log" |
+    sort -rn | awk 'NR <= 10'  # (awk reads to the end: `head` could stop sort with SIGPIPE)
+}
 
 stage "build and C++ tests"
 BUILD_DIR=build scripts/build.sh -DPACKSIM_BUILD_TESTS=ON
 ctest --test-dir build -j2 --output-on-failure --timeout 600
+slowest_tests build
 
 echo "   (includes the firmware property tests, FirmwareProperties.*, the fault matrix, FaultMatrix.*, and"
 echo "    every bundled scenario against its expect: block, Every/BundledScenario.*)"
@@ -49,15 +70,21 @@ if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
   # Optimised (-O2 -g) so the sanitizers cost ~2-3x rather than the ~10x of -O0. The
   # `sanitize` label is every test but the solver-agreement sweep, which re-runs every
   # bundled scenario on CVODE: that plant code runs here under the fast-integrator tests,
-  # and the sweep runs in the pass above (tests/CMakeLists.txt).
-  BUILD_DIR=build-asan scripts/build.sh -DPACKSIM_BUILD_TESTS=ON -DPACKSIM_SANITIZE=ON -DPACKSIM_BUILD_BENCH=OFF \
-    -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  # and the sweep runs in the pass above (tests/CMakeLists.txt). The `quick` set alone is
+  # not enough: by gcov it misses code only the `physics` tests reach (the time-to-balance
+  # simulation, the active balancer's isolated safe state, ...: docs/hardening.md), so the
+  # `physics` tests stay in this pass until a subset is shown to reach the same lines.
+  # Only the executables the `sanitize` tests run (and what core_tests starts: the packsim
+  # program and the firmware libraries), not the FMU library, target_tests or the bench.
+  TARGETS="bms_tests model_tests core_tests ltc681x_tests" BUILD_DIR=build-asan scripts/build.sh \
+    -DPACKSIM_BUILD_TESTS=ON -DPACKSIM_SANITIZE=ON -DPACKSIM_BUILD_BENCH=OFF -DCMAKE_BUILD_TYPE=RelWithDebInfo
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build-asan -j2 --output-on-failure --timeout 1200 -L sanitize
+  slowest_tests build-asan
 
 fi
 
 if [ -d tests/python ]; then
   stage "Python tests"
-  PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}" python3 -m pytest -q tests/python
+  PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}" python3 -m pytest -q --durations=10 tests/python
 fi
