@@ -41,6 +41,7 @@
 #include <bms/afe/bq76952_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -66,8 +67,8 @@ class Bq76952Chain : public MonitorChain {
   bool chargeFetOn() const override;
 
   // Inspection for tests (not part of the bus).
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   bool configUpdateMode() const { return cfgUpdate_; }
   uint8_t dataMemory(uint16_t address) const;
 
@@ -120,7 +121,7 @@ class Bq76952Chain : public MonitorChain {
   int cells_;
   DeviceAnalog analog_;
   MonitorDeviceFault fault_;
-  std::vector<double> gain_, offset_;  // per channel, drawn once from the seed
+  CellChannelErrors errors_;           // per channel, drawn once from the seed
   Rng noise_;                          // ADC noise, drawn in loop order
   Rng comm_;                           // reply corruption
 

@@ -22,7 +22,7 @@
 //
 // Faults are latched until the host writes 1 to their FAULT_SUM bit (or detail bit)
 // and the condition is gone. Per-channel gain/offset errors are drawn once from the
-// seed (in cell order, the same stream for every part); conversion noise and CRC
+// seed (cell_conversion.hpp, the same for every part); conversion noise and CRC
 // corruption draw from two more seed streams in a fixed order, so the same seed and
 // the same transactions give the same bytes.
 #pragma once
@@ -34,6 +34,7 @@
 #include <bms/afe/bq76pl455a_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -55,8 +56,8 @@ class Bq76pl455aChain final : public MonitorChain {
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
 
   // The part's own channel errors drawn from the seed (tests use them).
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
 
   // Seconds a device waits after the last byte it expected before the MCU gives up.
   static constexpr double kResponseTimeout_s = 1e-3;
@@ -105,7 +106,7 @@ class Bq76pl455aChain final : public MonitorChain {
   int cells_;
   int brokenAbove_ = -1;
   std::vector<Device> dev_;
-  std::vector<double> gain_, offset_;
+  CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, comm_;
 };
 

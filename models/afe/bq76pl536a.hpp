@@ -14,8 +14,8 @@
 //                6 cell LSBs; TEMPERATUREx = Thermistor code (0 without the IO_CONTROL
 //                bias; open = full scale, short = 0). The comparators see the true pin
 //                voltages and thermistor temperatures (they are not the ADC).
-//   random:      per-channel gain/offset drawn once from deriveSeed(seed, 0xAFE) in
-//                cell order (the same stream for every part); conversion noise from its own stream in
+//   random:      per-channel gain/offset drawn once (cell_conversion.hpp, the same
+//                for every part); conversion noise from its own stream in
 //                the fixed order GPAI, VCELL1..n, TS1, TS2 per conversion; CRC bit flips
 //                from a third stream.
 //   link time:   (tx + rx bytes) · 8 / MonitorConfig::baud (the SPI clock, Hz). A write
@@ -31,6 +31,7 @@
 #include <bms/afe/bq76pl536a_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -59,8 +60,8 @@ class Bq76pl536aChain final : public MonitorChain {
   bool thermistorBias(int d) const override;  // IO_CONTROL TS1 / TS2
 
   // The part's own drawn channel errors (series cell index), for tests.
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   // A register as the device holds it (tests; the firmware reads through transfer()).
   uint8_t peek(int d, uint8_t reg) const { return dev_[static_cast<size_t>(d)].reg[reg]; }
 
@@ -103,7 +104,7 @@ class Bq76pl536aChain final : public MonitorChain {
 
   MonitorConfig cfg_;
   std::vector<Device> dev_;
-  std::vector<double> gain_, offset_;
+  CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed

@@ -92,6 +92,7 @@ Ltc681xChain::Ltc681xChain(const Ltc681xConfig& cfg, int cellCount, uint64_t see
     : cfg_(cfg),
       partCells_(cfg.part == Ltc681xPart::Ltc6813 ? static_cast<int>(LTC6813_CELLS) : static_cast<int>(LTC6811_CELLS)),
       partGpios_(cfg.part == Ltc681xPart::Ltc6813 ? static_cast<int>(LTC6813_GPIOS) : static_cast<int>(LTC6811_GPIOS)),
+      errors_(cellCount, cfg.channel_gain_sd, cfg.channel_offset_sd_V, seed),
       noise_(deriveSeed(seed, 0x681A)),
       commRng_(deriveSeed(seed, 0x681C)) {
   const std::string name = is6813() ? "ltc6813" : "ltc6811";
@@ -103,26 +104,12 @@ Ltc681xChain::Ltc681xChain(const Ltc681xConfig& cfg, int cellCount, uint64_t see
                                 " outside 0.." + std::to_string(partGpios_));
   if (cfg.devices < 1) throw std::invalid_argument(name + ": devices must be >= 1");
   if (!(cfg.spi_clock_Hz > 0.0)) throw std::invalid_argument(name + ": spi_clock_Hz must be > 0");
-  // Per-channel errors are a property of the part: drawn once, in cell order, from their
-  // own stream (the same for every part: same seed -> same channel errors).
-  Rng rng(deriveSeed(seed, RngStream::MonitorChannelErrors));
-  gain_.assign(static_cast<size_t>(cellCount), 0.0);
-  offset_.assign(static_cast<size_t>(cellCount), 0.0);
-  for (int c = 0; c < cellCount; ++c) {
-    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
-    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
-  }
   dev_.resize(static_cast<size_t>(cfg.devices));
   for (size_t d = 0; d < dev_.size(); ++d) {
     Device& dv = dev_[d];
     dv.firstCell = static_cast<int>(d) * cfg.cells_per_device;
     dv.cells = std::max(0, std::min(cfg.cells_per_device, cellCount - dv.firstCell));
-    const size_t n = static_cast<size_t>(dv.cells), k = static_cast<size_t>(cfg.thermistors_per_device);
-    dv.analog.cell_V.assign(n, 0.0);
-    dv.analog.cell_gain_error.assign(n, 0.0);
-    dv.analog.cell_offset_V.assign(n, 0.0);
-    dv.analog.therm_C.assign(k, 25.0);
-    dv.analog.therm_fault.assign(k, ThermistorFault::None);
+    dv.analog.size(dv.cells, cfg.thermistors_per_device);
     dv.cell.fill(LTC681X_CLEARED);
     dv.gpio.fill(LTC681X_CLEARED);
     sleep(dv);  // power-up: the core sleeps with its registers at their defaults
@@ -340,15 +327,12 @@ void Ltc681xChain::convertCells(Device& dv, uint8_t ch, bool openWire, bool pull
   dv.pendMask = 0;
   for (int i = 0; i < partCells_; ++i) {  // ADC k measures cells 6k+1..6k+6: CH = j converts j, j+6 (, j+12)
     if (ch != LTC681X_CH_ALL && (i % 6) + 1 != ch) continue;
-    double v = 0.0;
-    AdcChannel adc = cfg_.cell_adc;
-    if (i < dv.cells) {
-      const size_t cell = static_cast<size_t>(dv.firstCell + i), k = static_cast<size_t>(i);
-      adc.gain_error += gain_[cell] + dv.analog.cell_gain_error[k];
-      adc.offset += offset_[cell] + dv.analog.cell_offset_V[k];
-      v = pinVoltage(dv, i + 1) - pinVoltage(dv, i);
-    }  // unused inputs are shorted: 0 V
-    dv.pendCell[static_cast<size_t>(i)] = static_cast<uint16_t>(std::clamp<int64_t>(adc.convert(v, noise_), 0, 65535));
+    // unused inputs are shorted: 0 V through the part's converter alone
+    const int64_t code = i < dv.cells ? errors_.convert(cfg_.cell_adc, static_cast<size_t>(dv.firstCell + i), dv.analog,
+                                                        static_cast<size_t>(i), pinVoltage(dv, i + 1) - pinVoltage(dv, i),
+                                                        noise_)
+                                      : cfg_.cell_adc.convert(0.0, noise_);
+    dv.pendCell[static_cast<size_t>(i)] = static_cast<uint16_t>(std::clamp<int64_t>(code, 0, 65535));
     dv.pendMask |= 1u << i;
   }
 }

@@ -29,8 +29,8 @@
 //                pull-up) (open: VREF2, short: 0, pull-down on or no thermistor: 0); SC =
 //                sum of cells / 20 (6811) or / 30 (6813); ITMP from the die temperature;
 //                VA 5 V, VD 3 V, REF 3 V (nominal)
-//   random:      per-channel gain/offset drawn once from deriveSeed(seed, 0xAFE) in cell
-//                order (the same stream as the other parts); conversion noise from its own
+//   random:      per-channel gain/offset drawn once (cell_conversion.hpp, the same for
+//                every part); conversion noise from its own
 //                stream, per command in chain order then channel order; PEC bit flips from
 //                a third stream
 //   comm faults: a device beyond a broken link, or from a silent device on (it relays the
@@ -52,6 +52,7 @@
 
 #include <bms/afe/ltc681x_regs.h>
 
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 #include "models/sensors/thermistor.hpp"
@@ -111,8 +112,8 @@ class Ltc681xChain final : public MonitorChain {
   void setOpenWire(int d, int pin, bool open);
 
   // Tests: the part's own channel errors, the registers as held, the core state.
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   uint8_t cfga(int d, int byte) const { return dev_[static_cast<size_t>(d)].cfga[static_cast<size_t>(byte)]; }
   uint8_t cfgb(int d, int byte) const { return dev_[static_cast<size_t>(d)].cfgb[static_cast<size_t>(byte)]; }
   uint16_t cellCode(int d, int cell) const { return dev_[static_cast<size_t>(d)].cell[static_cast<size_t>(cell)]; }
@@ -170,7 +171,7 @@ class Ltc681xChain final : public MonitorChain {
   Ltc681xConfig cfg_;
   int partCells_, partGpios_;
   std::vector<Device> dev_;
-  std::vector<double> gain_, offset_;
+  CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
 };

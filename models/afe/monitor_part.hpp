@@ -15,6 +15,7 @@
 // reply byte to 0x00 or 0xFF; a CRC error rate flips one bit of a reply with that
 // probability. The FAULT line is its own wire and works without the link.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -36,6 +37,17 @@ struct DeviceAnalog {
   std::vector<ThermistorFault> therm_fault;
   double die_C = 25.0;
   double current_A = 0.0;               // through the shunt (BQ76952), positive discharges
+
+  // Sized for `cells` inputs and `thermistors` thermistor inputs: 0 V, no injected
+  // error, 25 °C, no thermistor fault.
+  void size(int cells, int thermistors) {
+    const size_t n = static_cast<size_t>(std::max(cells, 0)), k = static_cast<size_t>(std::max(thermistors, 0));
+    cell_V.assign(n, 0.0);
+    cell_gain_error.assign(n, 0.0);
+    cell_offset_V.assign(n, 0.0);
+    therm_C.assign(k, 25.0);
+    therm_fault.assign(k, ThermistorFault::None);
+  }
 };
 
 struct BusTransfer {
