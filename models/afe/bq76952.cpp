@@ -333,14 +333,19 @@ void Bq76952Chain::powerOn(double t) {
 
 void Bq76952Chain::measure(double t) {
   const double lsb = cfg_.cell_adc.lsb;
+  // The loop pauses a cell's balancing while it converts that cell (TRM 10.2): each cell
+  // reads without its I_bal·R drop; the stack slot pauses only the top cell.
+  const std::vector<double>& unloaded = analog_.cellsSeen(true);
   // Noise is drawn in a fixed order: cells, stack, thermistors.
   for (int c = 0; c < cells_; ++c) {
     const size_t i = static_cast<size_t>(c);
-    const double v = analog_.cell_V[i];
+    const double v = unloaded[i];
     heldPin_V[i] = v * (1.0 + analog_.cell_gain_error[i]) + analog_.cell_offset_V[i];
     cell_mV[i] = i16(static_cast<double>(errors_.convert(cfg_.cell_adc, i, analog_, i, v, noise_)) * lsb * 1e3);
   }
-  const double stack_V = moduleVoltage(analog_, cfg_.module_noise_V, noise_);
+  stackCells_V_ = analog_.cell_V;
+  stackCells_V_.back() = unloaded.back();
+  const double stack_V = moduleVoltage(stackCells_V_, cfg_.module_noise_V, noise_);
   stack_userV = u16(stack_V * 1e3 / BQ952_USERV_MV);
   pack_userV = ld_userV = stack_userV;
   for (int k = 0; k < static_cast<int>(BQ952_MAX_TS); ++k) {
@@ -509,6 +514,19 @@ bool Bq76952Chain::faultLine() const { return (alarmStatus_ & alarmEnable_) != 0
 
 bool Bq76952Chain::balancing(int d, int cell) const {
   return d == 0 && cell >= 0 && cell < cells_ && !cfgUpdate_ && ((balanceMask_ | autoMask_) & (1u << cell)) != 0;
+}
+
+// Each loop the cell's switch is open for the slots of the cell and its neighbours, the
+// top cell's also for the stack slot (one loop in three: VC16, PACK and LD take turns).
+// The loop is 18 slots + one per thermistor (up to 3) of 3 ms, or measurement_period_s
+// when that is longer (the part's idle slots).
+double Bq76952Chain::balancingDuty(int, int cell, double, double) const {
+  const int therms = std::min(cfg_.thermistors_per_device, static_cast<int>(BQ952_MAX_TS));
+  const double slot_s = BQ952_LOOP_SLOT_US * 1e-6;
+  const double loop_s = std::max(cfg_.measurement_period_s, (BQ952_LOOP_BASE_SLOTS + therms) * slot_s);
+  double open = 1.0 + (cell > 0 ? 1.0 : 0.0) + (cell < cells_ - 1 ? 1.0 : 0.0);
+  if (cell == cells_ - 1) open += 1.0 / 3.0;
+  return 1.0 - open * slot_s / loop_s;
 }
 
 bool Bq76952Chain::chargeFetOn() const {

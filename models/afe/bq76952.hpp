@@ -8,6 +8,10 @@
 //                      errors, noise, 1 mV), stack (10 mV), TS1..TS3 through the
 //                      thermistor divider (0.1 K), die, CC2 current; FULLSCAN and
 //                      ADSCAN set in Alarm Status. Registers hold the last loop.
+//                      The loop opens a cell's balancing switch while it converts the
+//                      cell or a neighbour (the top cell's also for the stack slot):
+//                      cells read without their I_bal·R drop, and a switch held on
+//                      conducts for the rest of the loop (balancingDuty).
 //   protections:       an alert bit at
 //                      once, the status bit after its delay; recovery by hysteresis
 //                      (voltage, temperature) or time with the current gone; the
@@ -63,6 +67,7 @@ class Bq76952Chain : public MonitorChain {
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override;
   bool dischargeFetOn() const override;
   bool chargeFetOn() const override;
 
@@ -120,6 +125,7 @@ class Bq76952Chain : public MonitorChain {
   MonitorConfig cfg_;
   int cells_;
   DeviceAnalog analog_;
+  std::vector<double> stackCells_V_;   // what the stack slot sees (only the top cell paused)
   MonitorDeviceFault fault_;
   CellChannelErrors errors_;           // per channel, drawn once from the seed
   Rng noise_;                          // ADC noise, drawn in loop order

@@ -292,14 +292,17 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   base.noise_rms *= std::sqrt(static_cast<double>(std::max(1, cfg_.oversampling)) / samples);
   dv.pending.fill(0);
   const int n = cellsOf(d), first = d * cfg_.cells_per_device;
+  // The part samples with its balancing switches as they are; a host that opens them
+  // around its conversions (measure_paused) has them read without their I_bal·R drop.
+  const std::vector<double>& cell_V = dv.analog.cellsSeen(dv.analog.host_opens_balancing);
   for (int c = 0; c < n; ++c) {
     if ((ch & PL455_CH_CELL(static_cast<unsigned>(c + 1))) == 0) continue;
     const size_t cell = static_cast<size_t>(first + c), cs = static_cast<size_t>(c);
     dv.pending[static_cast<size_t>(16 + c)] =
-        static_cast<uint16_t>(errors_.convert(base, cell, dv.analog, cs, dv.analog.cell_V[cs], noise_));
+        static_cast<uint16_t>(errors_.convert(base, cell, dv.analog, cs, cell_V[cs], noise_));
   }
   if (ch & PL455_CH_MODULE) {
-    const double module_V = moduleVoltage(dv.analog, cfg_.module_noise_V, noise_);
+    const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
     dv.pending[6] = clampU16(module_V / (PL455_MODULE_FULL_SCALE_MV * 1e-3 / PL455_CODE_FULL_SCALE));
   }
   for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k) {
@@ -312,6 +315,7 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
     dv.pending[7] = static_cast<uint16_t>(static_cast<int16_t>(std::clamp(std::nearbyint(dv.analog.die_C * 10.0), -32768.0, 32767.0)));
   dv.pendingChannels = ch;
   dv.ready_s = t + selected * samples * cfg_.conversion_s_per_channel;
+  if (dv.analog.host_opens_balancing) dv.pauses.add(t, dv.ready_s, (1u << n) - 1u);
   dv.reg[PL455_REG_STATUS] = static_cast<uint8_t>(dv.reg[PL455_REG_STATUS] & ~PL455_STATUS_DRDY);
 }
 

@@ -34,6 +34,7 @@
 #include <bms/afe/bq76pl455a_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
@@ -53,6 +54,9 @@ class Bq76pl455aChain final : public MonitorChain {
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override {
+    return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
+  }
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
 
   // The part's own channel errors drawn from the seed (tests use them).
@@ -73,6 +77,7 @@ class Bq76pl455aChain final : public MonitorChain {
     // value until the host writes AUXn_UV, then the written code.
     double hotCode[PL455_AUX_INPUTS] = {}, eepromHotCode[PL455_AUX_INPUTS] = {};
     double balanceUntil_s = 0.0;
+    BalancePauses pauses;  // the host's, around its conversions
     double heard_s = 0.0;  // the last valid frame it heard (the link supervision's clock)
     // sample results: held (readable) and pending (converting until ready_s)
     std::array<uint16_t, kResultSlots> held{}, pending{};

@@ -198,9 +198,12 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
   };
   int channels = 0;
   const DeviceAnalog& a = dv.analog;
+  // The part converts with its balancing switches as they are; a host that opens them
+  // around its conversions (measure_paused) has them read without their I_bal·R drop.
+  const std::vector<double>& cell_V = a.cellsSeen(a.host_opens_balancing);
   // Fixed order: GPAI, VCELL1..n, TS1, TS2 (the noise stream depends on it).
   if (sel & BQ536_AC_GPAI) {
-    const double module_V = moduleVoltage(a, cfg_.module_noise_V, noise_);
+    const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
     const double lsb = BQ536_GPAI_CELL_LSBS * cfg_.cell_adc.lsb;
     put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(std::nearbyint(module_V / lsb)), 0,
                                                cfg_.cell_adc.code_max)));
@@ -212,7 +215,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
       continue;
     }
     const size_t i = static_cast<size_t>(c), cell = static_cast<size_t>(dv.firstCell + c);
-    put(BQ536_VCELL(c), code16(errors_.convert(cfg_.cell_adc, cell, a, i, a.cell_V[i], noise_)));
+    put(BQ536_VCELL(c), code16(errors_.convert(cfg_.cell_adc, cell, a, i, cell_V[i], noise_)));
   }
   const uint8_t tsSel[BQ536_TEMPS_MAX] = {BQ536_AC_TS1, BQ536_AC_TS2};
   const uint8_t tsBias[BQ536_TEMPS_MAX] = {BQ536_IO_TS1, BQ536_IO_TS2};
@@ -227,6 +230,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
   }
   dv.converting = true;
   dv.readyAt_s = t + channels * cfg_.conversion_s_per_channel;
+  if (a.host_opens_balancing) dv.pauses.add(t, dv.readyAt_s, (1u << dv.cells) - 1u);
   settle(dv, t);  // a zero conversion time lands at once
 }
 

@@ -31,6 +31,7 @@
 #include <bms/afe/bq76pl536a_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
@@ -56,6 +57,9 @@ class Bq76pl536aChain final : public MonitorChain {
 
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override {
+    return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
+  }
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool thermistorBias(int d) const override;  // IO_CONTROL TS1 / TS2
 
@@ -78,6 +82,7 @@ class Bq76pl536aChain final : public MonitorChain {
     std::array<uint8_t, BQ536_RESULTS_LEN> pending{};  // registers 0x00.. of the conversion in flight
     uint8_t pendingMask[BQ536_RESULTS_LEN] = {};      // which of them it converts
     double balanceUntil_s = 0.0;
+    BalancePauses pauses;  // the host's, around its conversions
     DeviceAnalog analog;
     MonitorDeviceFault comm;
     // What the comparators see (cells over / under, thermistors hot) for the present

@@ -21,9 +21,9 @@ int64_t CellChannelErrors::convert(const AdcChannel& adc, size_t cell, const Dev
   return a.convert(v_V, noise);
 }
 
-double moduleVoltage(const DeviceAnalog& pins, double noise_V, Rng& noise) {
+double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise) {
   double v = 0.0;
-  for (double c : pins.cell_V) v += c;
+  for (double c : cell_V) v += c;
   if (noise_V > 0.0) v += noise_V * standardNormal(noise);
   return v;
 }

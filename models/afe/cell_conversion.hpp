@@ -40,8 +40,9 @@ class CellChannelErrors {
   std::vector<double> gain_, offset_;
 };
 
-// The device's module (stack) voltage as its own channel reads it.
-double moduleVoltage(const DeviceAnalog& pins, double noise_V, Rng& noise);
+// The device's module (stack) voltage as its own channel reads it, from its cells as
+// the conversion sees them (DeviceAnalog::cellsSeen).
+double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise);
 
 // A thermistor input's code: open reads full scale, shorted reads 0.
 int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, Rng& noise);
