@@ -224,6 +224,7 @@ static inline uint8_t bq952_user_amps_field(uint32_t tenths_mA) {
 
 /* --- timing --- */
 #define BQ952_LOOP_SLOT_US 3000u            /* one ADC slot of the measurement loop */
+#define BQ952_LOOP_BASE_SLOTS 18u           /* a loop's slots: 16 cells, VC16/PACK/LD, die/VREF/VSS; + 1 per TS (up to 3) */
 #define BQ952_CC_CONVERSION_US 250000u      /* coulomb counter (CC1) conversion */
 #define BQ952_SUBCMD_US 500u                /* a subcommand's result is ready in the buffer (approximate) */
 

@@ -47,13 +47,19 @@ bool HardwareSim::balancing(int g) const {
   return chains_[static_cast<size_t>(b.index)]->balancing(g - b.firstCell);
 }
 
+double HardwareSim::balancingDuty(int g, double t0, double t1) const {
+  const MonitorBoard& b = boards_[static_cast<size_t>(boardOfGroup(g))];
+  return chains_[static_cast<size_t>(b.index)]->balancingDuty(g - b.firstCell, t0, t1);
+}
+
 bool HardwareSim::faultLine() const {
   for (const auto& c : chains_)
     if (c->faultLine()) return true;
   return false;
 }
 
-void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in) {
+void HardwareSim::sample(double t, const PlantSignals& sig, const PlantSignals& unloaded, const HardwareFaults& f,
+                         Rng& rng, bms::Inputs& in) {
   const HardwareConfig& hw = s_.hardware;
   auto thermFault = [&](size_t k) {
     return k < f.thermistor.size() ? f.thermistor[k] : ThermistorFault::None;
@@ -64,9 +70,12 @@ void HardwareSim::sample(double t, const PlantSignals& sig, const HardwareFaults
   // devices' comm faults; a broken link cuts off the devices above it on that board.
   for (const MonitorBoard& b : boards_) {
     MonitorTruth& tr = truths_[static_cast<size_t>(b.index)];
+    tr.cell_unloaded_V.resize(tr.cell_V.size());
+    tr.host_opens_balancing = s_.bms.balancing.measure_paused;
     for (int i = 0; i < b.cells; ++i) {
       const size_t gi = static_cast<size_t>(b.firstCell + i), li = static_cast<size_t>(i);
       tr.cell_V[li] = sig.group_voltage_V[gi];
+      tr.cell_unloaded_V[li] = unloaded.group_voltage_V[gi];
       tr.cell_gain_error[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
       tr.cell_offset_V[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
     }
@@ -165,7 +174,7 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
   const bool changed = pin.relay_closed != mainClosed || pin.precharge_A != prechargeA ||
                        pin.discharge_blocked != dischargeBlocked || pin.charge_blocked != chargeBlocked ||
                        (plant_.fetNode() >= 0 && (pin.discharge_fet_on != dsg || pin.charge_fet_on != chg));
-  const bool balancingChanged = actuateBalancing(out, sig, f, pin);
+  const bool balancingChanged = actuateBalancing(t, out, sig, f, pin);
   const bool biasChanged = thermistorBias(pin);
   pin.relay_closed = mainClosed;
   pin.precharge_A = prechargeA;
@@ -248,8 +257,7 @@ bool HardwareSim::thermistorBias(PlantInputs& pin) const {
 
 const PlantSignals& HardwareSim::measurementView(double t, const double* x, const PlantInputs& pin,
                                                  const PlantSignals& sig) {
-  if (!s_.bms.balancing.measure_paused || std::none_of(pin.balancing.begin(), pin.balancing.end(), [](uint8_t b) { return b != 0; }))
-    return sig;
+  if (std::none_of(pin.balancing.begin(), pin.balancing.end(), [](uint8_t b) { return b != 0; })) return sig;
   if (pausedSig_.cell_current_A.empty()) pausedSig_ = plant_.makeSignals();
   pausedInputs_ = pin;
   std::fill(pausedInputs_.balancing.begin(), pausedInputs_.balancing.end(), 0);
@@ -259,16 +267,21 @@ const PlantSignals& HardwareSim::measurementView(double t, const double* x, cons
 
 // Balancing switches as the monitor ICs hold them (mask and timer), the charger's
 // CC-CV state under the BMS enable, and the active balancer's controller.
-bool HardwareSim::actuateBalancing(const bms::Outputs& out, const PlantSignals& sig,
+bool HardwareSim::actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig,
                                    const HardwareFaults& f, PlantInputs& pin) {
   bool changed = false;
   const int series = s_.pack.series;
   if (s_.hardware.balancing.present) {
     if (pin.balancing.size() != static_cast<size_t>(series)) pin.balancing.assign(static_cast<size_t>(series), 0);
+    if (pin.balance_duty.size() != static_cast<size_t>(series)) pin.balance_duty.assign(static_cast<size_t>(series), 1.0);
     for (int g = 0; g < series; ++g) {
       const uint8_t on = balancing(g) ? 1 : 0;
-      changed = changed || pin.balancing[static_cast<size_t>(g)] != on;
+      // The share of the coming tick the switch conducts: the monitor IC (or the host)
+      // holds it open for conversions (models/afe, balancingDuty).
+      const double duty = on ? balancingDuty(g, t, t + s_.bms.tick_s) : 1.0;
+      changed = changed || pin.balancing[static_cast<size_t>(g)] != on || pin.balance_duty[static_cast<size_t>(g)] != duty;
       pin.balancing[static_cast<size_t>(g)] = on;
+      pin.balance_duty[static_cast<size_t>(g)] = duty;
     }
   }
   if (s_.charger.present) {

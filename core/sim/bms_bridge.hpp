@@ -52,7 +52,10 @@ class HardwareSim {
  public:
   HardwareSim(const Scenario& s, const Plant& plant);
 
-  void sample(double t, const PlantSignals& sig, const HardwareFaults& f, Rng& rng, bms::Inputs& in);
+  // `unloaded`: the same instant with every balancing switch open (measurementView), what
+  // a conversion sees of a cell whose switch the part or the host holds open for it.
+  void sample(double t, const PlantSignals& sig, const PlantSignals& unloaded, const HardwareFaults& f, Rng& rng,
+              bms::Inputs& in);
   // Returns true when an input of the plant changed (the integrator restarts).
   bool actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f, PlantInputs& pin);
   // Inside a tick, at the instant t the MCU changed a pin (or a relay's delay ran out):
@@ -75,21 +78,24 @@ class HardwareSim {
   int monitorDevices() const { return s_.hardware.afe.devices; }
   // Series group g's balancing switch as its board's monitor ICs hold it.
   bool balancing(int g) const;
+  // The share of [t0, t1) that switch, held on, conducts.
+  double balancingDuty(int g, double t0, double t1) const;
   // The writes board b's monitor ICs ignored so far (models/afe/register_misuse.hpp).
   const RegisterMisuseLog& registerMisuse(int board) const { return chains_[static_cast<size_t>(board)]->misuse(); }
   // output.bus_trace: every monitor-bus transaction so far (core/sim/bus_trace.hpp).
   std::vector<BusTraceRow> takeBusTrace() { return std::move(busTrace_); }
   // Any board's FAULT line (the lines are wired together).
   bool faultLine() const;
-  // What the monitor ICs convert: with bms.balancing.measure_paused the host opens the
-  // balancing switches for the conversion, so the cells read without their I_bal·R0
-  // drop (the state does not change in those milliseconds); otherwise `sig` itself.
+  // The plant at t with every balancing switch open: what a conversion sees of a cell
+  // whose switch is held open for it (the part's own pause, or the host's with
+  // bms.balancing.measure_paused), without its I_bal·R0 drop (the state does not change
+  // in those milliseconds); `sig` itself while no switch is on.
   const PlantSignals& measurementView(double t, const double* x, const PlantInputs& pin, const PlantSignals& sig);
   // The run may end: the charger finished and the scenario asks to stop then.
   bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done; }
 
  private:
-  bool actuateBalancing(const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
+  bool actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
                         PlantInputs& pin);
   // The relays at t under the coil commands, the FET gates, and what conducts.
   struct Paths {

@@ -26,6 +26,9 @@ class TracedChain final : public MonitorChain {
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override { return part_->faultLine(); }
   bool balancing(int d, int cell) const override { return part_->balancing(d, cell); }
+  double balancingDuty(int d, int cell, double t0, double t1) const override {
+    return part_->balancingDuty(d, cell, t0, t1);
+  }
   bool dischargeFetOn() const override { return part_->dischargeFetOn(); }
   bool chargeFetOn() const override { return part_->chargeFetOn(); }
   bool thermistorBias(int d) const override { return part_->thermistorBias(d); }

@@ -29,8 +29,11 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   for (int d = 0; d < c.deviceCount(); ++d) {
     DeviceAnalog& a = c.analog(d);
     const size_t first = static_cast<size_t>(firstCell_[static_cast<size_t>(d)]);
+    const bool unloaded = truth.cell_unloaded_V.size() == truth.cell_V.size();
+    a.cell_unloaded_V.resize(unloaded ? a.cell_V.size() : 0);
     for (size_t k = 0; k < a.cell_V.size() && first + k < truth.cell_V.size(); ++k) {
       a.cell_V[k] = truth.cell_V[first + k];
+      if (unloaded) a.cell_unloaded_V[k] = truth.cell_unloaded_V[first + k];
       if (k < a.cell_gain_error.size()) a.cell_gain_error[k] = truth.cell_gain_error[first + k];
       if (k < a.cell_offset_V.size()) a.cell_offset_V[k] = truth.cell_offset_V[first + k];
     }
@@ -44,6 +47,7 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
     a.die_C = (static_cast<size_t>(d) < truth.board_C.size() ? truth.board_C[static_cast<size_t>(d)] : 25.0) +
               cfg_.die_rise_C;
     a.current_A = truth.current_A;
+    a.host_opens_balancing = truth.host_opens_balancing;
     c.setCommFault(d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)]
                                                                 : MonitorDeviceFault{});
   }
@@ -63,6 +67,12 @@ bool MonitorChainPath::balancing(int cell) const {
   const auto it = std::upper_bound(firstCell_.begin(), firstCell_.end(), cell);
   const int d = static_cast<int>(it - firstCell_.begin()) - 1;
   return d >= 0 && bus_.chain->balancing(d, cell - firstCell_[static_cast<size_t>(d)]);
+}
+
+double MonitorChainPath::balancingDuty(int cell, double t0, double t1) const {
+  const auto it = std::upper_bound(firstCell_.begin(), firstCell_.end(), cell);
+  const int d = static_cast<int>(it - firstCell_.begin()) - 1;
+  return d >= 0 ? bus_.chain->balancingDuty(d, cell - firstCell_[static_cast<size_t>(d)], t0, t1) : 1.0;
 }
 
 }  // namespace packsim

@@ -24,6 +24,8 @@ class MonitorChainPath {
   void update(double t, const MonitorTruth& truth);
   bool faultLine() const { return bus_.chain->faultLine(); }
   bool balancing(int cell) const;  // series position
+  // The share of [t0, t1) its switch, held on, conducts (the part's pauses for conversions).
+  double balancingDuty(int cell, double t0, double t1) const;
   // Device d's thermistor bias current (A) and the cell it draws from (its top one).
   double thermistorBias_A(int d) const;
   int topCell(int d) const { return firstCell_[static_cast<size_t>(d)] + bus_.chain->cellsOf(d) - 1; }

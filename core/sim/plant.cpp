@@ -108,8 +108,15 @@ bool Plant::balancingOn(const PlantInputs& in, size_t gi) const {
   return balancer_.present && gi < in.balancing.size() && in.balancing[gi] != 0;
 }
 
+double Plant::balancingDuty(const PlantInputs& in, size_t gi) const {
+  return gi < in.balance_duty.size() ? in.balance_duty[gi] : 1.0;
+}
+
+// A switch that conducts a share d of the time carries d·V/R on average: the branch's
+// conductance times d (d = 1: the switch always on).
 double Plant::balancingFactor(const PlantInputs& in, int g, double r_g) const {
-  return balancingOn(in, static_cast<size_t>(g)) ? balancer_.loadedFactor(r_g) : 1.0;
+  const size_t gi = static_cast<size_t>(g);
+  return balancingOn(in, gi) ? 1.0 / (1.0 + r_g * balancingDuty(in, gi) / balancer_.branch_ohm()) : 1.0;
 }
 
 // V_pack = Σ_g k_g·(E_g - R_g·(I + I_x,g)) - R_ic·I = E - R·I, with the converter
@@ -264,8 +271,8 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
     if (balancingOn(in, gi)) {
       double eg = 0.0, rg = 0.0;
       pack_.groupThevenin(g, cellX, eg, rg, iString);
-      v = balancer_.loadedFactor(rg) * (eg - rg * iString);
-      iBal = balancer_.current_A(v);
+      v = balancingFactor(in, g, rg) * (eg - rg * iString);
+      iBal = balancingDuty(in, gi) * balancer_.current_A(v);
       v = pack_.splitGroup(g, iString + iBal, cellX, sig.cell_current_A.data(), sig.cell_ocv_V.data(),
                            sig.cell_r0_ohm.data());
       sig.balance_heat_W += v * iBal;

@@ -49,6 +49,8 @@ struct PlantInputs {
   bool charge_fet_on = false;
   // Balancing and charging (issue 5), per series group where a vector.
   std::vector<uint8_t> balancing;   // passive balancing switch actually on
+  std::vector<double> balance_duty; // share of the time a switch that is on conducts (the monitor IC opens
+                                    // it for conversions): its average current; empty = 1
   std::vector<double> bias_A;       // monitor ICs' thermistor bias drawn from a group (A; empty: none)
   std::vector<double> converter_A;  // active balancer module-side current (+ into the bus)
   bool bus_precharge = false;       // active balancer bus charging from the stack
@@ -152,6 +154,7 @@ class Plant {
   template <typename CellX>
   void packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double& r_ohm) const;
   bool balancingOn(const PlantInputs& in, size_t gi) const;  // group gi's passive switch is on
+  double balancingDuty(const PlantInputs& in, size_t gi) const;  // PlantInputs::balance_duty (1 if unset)
   double balancingFactor(const PlantInputs& in, int g, double r_g) const;
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;

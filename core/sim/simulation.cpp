@@ -131,7 +131,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   if (faultChanged) plant.evaluate(t, xs, inputs, sig);
   if (!reuse || faultChanged) now = &sig;
   const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
-  hw.sample(t, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
+  hw.sample(t, sg, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
   ext.applyToPins(in);
   packV = sg.pack_voltage_V;
 

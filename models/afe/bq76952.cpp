@@ -121,27 +121,17 @@ std::unique_ptr<MonitorChain> makeBq76952Chain(const MonitorConfig& cfg, int cel
 }
 
 Bq76952Chain::Bq76952Chain(const MonitorConfig& cfg, int cellCount, uint64_t seed)
-    : cfg_(cfg), cells_(cellCount), noise_(deriveSeed(seed, 0x952)), comm_(deriveSeed(seed, 0x952C)) {
+    : cfg_(cfg),
+      cells_(cellCount),
+      errors_(cellCount, cfg.channel_gain_sd, cfg.channel_offset_sd_V, seed),
+      noise_(deriveSeed(seed, 0x952)),
+      comm_(deriveSeed(seed, 0x952C)) {
   if (cellCount < 1 || cellCount > static_cast<int>(BQ952_MAX_CELLS))
     throw std::invalid_argument("bq76952: one device holds 1.." + std::to_string(BQ952_MAX_CELLS) + " cells, got " +
                                 std::to_string(cellCount));
   if (cfg.thermistors_per_device < 0 || cfg.thermistors_per_device > static_cast<int>(BQ952_MAX_TS))
     throw std::invalid_argument("bq76952: thermistors_per_device must be 0..3");
-  // Per-channel errors are a property of the part: drawn once, in cell order, from their
-  // own stream (the same for every part).
-  Rng rng(deriveSeed(seed, 0xAFE));
-  gain_.assign(static_cast<size_t>(cellCount), 0.0);
-  offset_.assign(static_cast<size_t>(cellCount), 0.0);
-  for (int c = 0; c < cellCount; ++c) {
-    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
-    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
-  }
-  const size_t n = static_cast<size_t>(cellCount);
-  analog_.cell_V.assign(n, 0.0);
-  analog_.cell_gain_error.assign(n, 0.0);
-  analog_.cell_offset_V.assign(n, 0.0);
-  analog_.therm_C.assign(static_cast<size_t>(cfg.thermistors_per_device), 25.0);
-  analog_.therm_fault.assign(static_cast<size_t>(cfg.thermistors_per_device), ThermistorFault::None);
+  analog_.size(cellCount, cfg.thermistors_per_device);
   powerOn(0.0);
 }
 
@@ -343,19 +333,19 @@ void Bq76952Chain::powerOn(double t) {
 
 void Bq76952Chain::measure(double t) {
   const double lsb = cfg_.cell_adc.lsb;
-  double stack_V = 0.0;
+  // The loop pauses a cell's balancing while it converts that cell (TRM 10.2): each cell
+  // reads without its I_bal·R drop; the stack slot pauses only the top cell.
+  const std::vector<double>& unloaded = analog_.cellsSeen(true);
   // Noise is drawn in a fixed order: cells, stack, thermistors.
   for (int c = 0; c < cells_; ++c) {
     const size_t i = static_cast<size_t>(c);
-    const double v = analog_.cell_V[i];
+    const double v = unloaded[i];
     heldPin_V[i] = v * (1.0 + analog_.cell_gain_error[i]) + analog_.cell_offset_V[i];
-    AdcChannel a = cfg_.cell_adc;
-    a.gain_error += gain_[i] + analog_.cell_gain_error[i];
-    a.offset += offset_[i] + analog_.cell_offset_V[i];
-    cell_mV[i] = i16(static_cast<double>(a.convert(v, noise_)) * lsb * 1e3);
-    stack_V += v;
+    cell_mV[i] = i16(static_cast<double>(errors_.convert(cfg_.cell_adc, i, analog_, i, v, noise_)) * lsb * 1e3);
   }
-  if (cfg_.module_noise_V > 0.0) stack_V += cfg_.module_noise_V * standardNormal(noise_);
+  stackCells_V_ = analog_.cell_V;
+  stackCells_V_.back() = unloaded.back();
+  const double stack_V = moduleVoltage(stackCells_V_, cfg_.module_noise_V, noise_);
   stack_userV = u16(stack_V * 1e3 / BQ952_USERV_MV);
   pack_userV = ld_userV = stack_userV;
   for (int k = 0; k < static_cast<int>(BQ952_MAX_TS); ++k) {
@@ -369,10 +359,7 @@ void Bq76952Chain::measure(double t) {
     // The protections compare the device's own reading: a shorted NTC looks
     // infinitely hot, an open one infinitely cold.
     heldTs_C[i] = f == ThermistorFault::Open ? -273.0 : f == ThermistorFault::Short ? 1000.0 : analog_.therm_C[i];
-    const int64_t code = f == ThermistorFault::Open    ? cfg_.thermistor.fullScaleCode()
-                         : f == ThermistorFault::Short ? 0
-                                                       : cfg_.thermistor.code(analog_.therm_C[i], noise_);
-    ts_dK[i] = thermistor_dK(cfg_.thermistor, code);
+    ts_dK[i] = thermistor_dK(cfg_.thermistor, thermistorCode(cfg_.thermistor, f, analog_.therm_C[i], noise_));
   }
   intTemp_dK = u16((analog_.die_C + 273.15) * 10.0);
   heldCurrent_A = analog_.current_A;
@@ -527,6 +514,19 @@ bool Bq76952Chain::faultLine() const { return (alarmStatus_ & alarmEnable_) != 0
 
 bool Bq76952Chain::balancing(int d, int cell) const {
   return d == 0 && cell >= 0 && cell < cells_ && !cfgUpdate_ && ((balanceMask_ | autoMask_) & (1u << cell)) != 0;
+}
+
+// Each loop the cell's switch is open for the slots of the cell and its neighbours, the
+// top cell's also for the stack slot (one loop in three: VC16, PACK and LD take turns).
+// The loop is 18 slots + one per thermistor (up to 3) of 3 ms, or measurement_period_s
+// when that is longer (the part's idle slots).
+double Bq76952Chain::balancingDuty(int, int cell, double, double) const {
+  const int therms = std::min(cfg_.thermistors_per_device, static_cast<int>(BQ952_MAX_TS));
+  const double slot_s = BQ952_LOOP_SLOT_US * 1e-6;
+  const double loop_s = std::max(cfg_.measurement_period_s, (BQ952_LOOP_BASE_SLOTS + therms) * slot_s);
+  double open = 1.0 + (cell > 0 ? 1.0 : 0.0) + (cell < cells_ - 1 ? 1.0 : 0.0);
+  if (cell == cells_ - 1) open += 1.0 / 3.0;
+  return 1.0 - open * slot_s / loop_s;
 }
 
 bool Bq76952Chain::chargeFetOn() const {

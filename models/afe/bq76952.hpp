@@ -8,6 +8,10 @@
 //                      errors, noise, 1 mV), stack (10 mV), TS1..TS3 through the
 //                      thermistor divider (0.1 K), die, CC2 current; FULLSCAN and
 //                      ADSCAN set in Alarm Status. Registers hold the last loop.
+//                      The loop opens a cell's balancing switch while it converts the
+//                      cell or a neighbour (the top cell's also for the stack slot):
+//                      cells read without their I_bal·R drop, and a switch held on
+//                      conducts for the rest of the loop (balancingDuty).
 //   protections:       an alert bit at
 //                      once, the status bit after its delay; recovery by hysteresis
 //                      (voltage, temperature) or time with the current gone; the
@@ -41,6 +45,7 @@
 #include <bms/afe/bq76952_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -62,12 +67,13 @@ class Bq76952Chain : public MonitorChain {
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override;
   bool dischargeFetOn() const override;
   bool chargeFetOn() const override;
 
   // Inspection for tests (not part of the bus).
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   bool configUpdateMode() const { return cfgUpdate_; }
   uint8_t dataMemory(uint16_t address) const;
 
@@ -119,8 +125,9 @@ class Bq76952Chain : public MonitorChain {
   MonitorConfig cfg_;
   int cells_;
   DeviceAnalog analog_;
+  std::vector<double> stackCells_V_;   // what the stack slot sees (only the top cell paused)
   MonitorDeviceFault fault_;
-  std::vector<double> gain_, offset_;  // per channel, drawn once from the seed
+  CellChannelErrors errors_;           // per channel, drawn once from the seed
   Rng noise_;                          // ADC noise, drawn in loop order
   Rng comm_;                           // reply corruption
 

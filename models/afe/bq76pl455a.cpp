@@ -94,16 +94,9 @@ Bq76pl455aChain::Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64
     : cfg_(cfg),
       cells_(cellCount),
       dev_(static_cast<size_t>(cfg.devices)),
+      errors_(cellCount, cfg.channel_gain_sd, cfg.channel_offset_sd_V, seed),
       noise_(deriveSeed(seed, 0x455)),
       comm_(deriveSeed(seed, 0x455C)) {
-  // Per-channel errors: drawn once, in cell order, from their own stream (the same for every part).
-  Rng rng(deriveSeed(seed, 0xAFE));
-  gain_.assign(static_cast<size_t>(cellCount), 0.0);
-  offset_.assign(static_cast<size_t>(cellCount), 0.0);
-  for (int c = 0; c < cellCount; ++c) {
-    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
-    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
-  }
   const SecondaryProtection& p = cfg.secondary;
   const double lsb = cfg.cell_adc.lsb;
   int log2os = 0;
@@ -111,11 +104,7 @@ Bq76pl455aChain::Bq76pl455aChain(const MonitorConfig& cfg, int cellCount, uint64
   for (int d = 0; d < cfg.devices; ++d) {
     Device& dv = dev_[static_cast<size_t>(d)];
     const size_t n = static_cast<size_t>(cellsOf(d)), nt = static_cast<size_t>(cfg.thermistors_per_device);
-    dv.analog.cell_V.assign(n, 0.0);
-    dv.analog.cell_gain_error.assign(n, 0.0);
-    dv.analog.cell_offset_V.assign(n, 0.0);
-    dv.analog.therm_C.assign(nt, 25.0);
-    dv.analog.therm_fault.assign(nt, ThermistorFault::None);
+    dv.analog.size(cellsOf(d), cfg.thermistors_per_device);
     // The EEPROM as the scenario programmed it: today's secondary protection.
     auto& e = dv.eeprom;
     e[PL455_REG_SREV] = 0x0C;
@@ -303,33 +292,30 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   base.noise_rms *= std::sqrt(static_cast<double>(std::max(1, cfg_.oversampling)) / samples);
   dv.pending.fill(0);
   const int n = cellsOf(d), first = d * cfg_.cells_per_device;
+  // The part samples with its balancing switches as they are; a host that opens them
+  // around its conversions (measure_paused) has them read without their I_bal·R drop.
+  const std::vector<double>& cell_V = dv.analog.cellsSeen(dv.analog.host_opens_balancing);
   for (int c = 0; c < n; ++c) {
     if ((ch & PL455_CH_CELL(static_cast<unsigned>(c + 1))) == 0) continue;
     const size_t cell = static_cast<size_t>(first + c), cs = static_cast<size_t>(c);
-    AdcChannel a = base;
-    a.gain_error += gain_[cell] + dv.analog.cell_gain_error[cs];
-    a.offset += offset_[cell] + dv.analog.cell_offset_V[cs];
-    dv.pending[static_cast<size_t>(16 + c)] = static_cast<uint16_t>(a.convert(dv.analog.cell_V[cs], noise_));
+    dv.pending[static_cast<size_t>(16 + c)] =
+        static_cast<uint16_t>(errors_.convert(base, cell, dv.analog, cs, cell_V[cs], noise_));
   }
   if (ch & PL455_CH_MODULE) {
-    double module_V = 0.0;
-    for (double v : dv.analog.cell_V) module_V += v;
-    if (cfg_.module_noise_V > 0.0) module_V += cfg_.module_noise_V * standardNormal(noise_);
+    const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
     dv.pending[6] = clampU16(module_V / (PL455_MODULE_FULL_SCALE_MV * 1e-3 / PL455_CODE_FULL_SCALE));
   }
   for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k) {
     if ((ch & PL455_CH_AUX(k)) == 0 || static_cast<int>(k) >= cfg_.thermistors_per_device) continue;
     const size_t ks = static_cast<size_t>(k);
-    const ThermistorFault f = dv.analog.therm_fault[ks];
-    const int64_t code = f == ThermistorFault::Open    ? cfg_.thermistor.fullScaleCode()
-                         : f == ThermistorFault::Short ? 0
-                                                       : cfg_.thermistor.code(dv.analog.therm_C[ks], noise_);
+    const int64_t code = thermistorCode(cfg_.thermistor, dv.analog.therm_fault[ks], dv.analog.therm_C[ks], noise_);
     dv.pending[static_cast<size_t>(8 + k)] = static_cast<uint16_t>(code);
   }
   if (ch & PL455_CH_DIE_TEMP)
     dv.pending[7] = static_cast<uint16_t>(static_cast<int16_t>(std::clamp(std::nearbyint(dv.analog.die_C * 10.0), -32768.0, 32767.0)));
   dv.pendingChannels = ch;
   dv.ready_s = t + selected * samples * cfg_.conversion_s_per_channel;
+  if (dv.analog.host_opens_balancing) dv.pauses.add(t, dv.ready_s, (1u << n) - 1u);
   dv.reg[PL455_REG_STATUS] = static_cast<uint8_t>(dv.reg[PL455_REG_STATUS] & ~PL455_STATUS_DRDY);
 }
 

@@ -22,7 +22,7 @@
 //
 // Faults are latched until the host writes 1 to their FAULT_SUM bit (or detail bit)
 // and the condition is gone. Per-channel gain/offset errors are drawn once from the
-// seed (in cell order, the same stream for every part); conversion noise and CRC
+// seed (cell_conversion.hpp, the same for every part); conversion noise and CRC
 // corruption draw from two more seed streams in a fixed order, so the same seed and
 // the same transactions give the same bytes.
 #pragma once
@@ -34,6 +34,8 @@
 #include <bms/afe/bq76pl455a_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/balance_pause.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -52,11 +54,14 @@ class Bq76pl455aChain final : public MonitorChain {
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override {
+    return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
+  }
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
 
   // The part's own channel errors drawn from the seed (tests use them).
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
 
   // Seconds a device waits after the last byte it expected before the MCU gives up.
   static constexpr double kResponseTimeout_s = 1e-3;
@@ -72,6 +77,7 @@ class Bq76pl455aChain final : public MonitorChain {
     // value until the host writes AUXn_UV, then the written code.
     double hotCode[PL455_AUX_INPUTS] = {}, eepromHotCode[PL455_AUX_INPUTS] = {};
     double balanceUntil_s = 0.0;
+    BalancePauses pauses;  // the host's, around its conversions
     double heard_s = 0.0;  // the last valid frame it heard (the link supervision's clock)
     // sample results: held (readable) and pending (converting until ready_s)
     std::array<uint16_t, kResultSlots> held{}, pending{};
@@ -105,7 +111,7 @@ class Bq76pl455aChain final : public MonitorChain {
   int cells_;
   int brokenAbove_ = -1;
   std::vector<Device> dev_;
-  std::vector<double> gain_, offset_;
+  CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, comm_;
 };
 

@@ -79,6 +79,7 @@ std::string registerName(uint8_t reg) {
 Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed)
     : cfg_(cfg),
       dev_(static_cast<size_t>(std::max(cfg.devices, 0))),
+      errors_(cellCount, cfg.channel_gain_sd, cfg.channel_offset_sd_V, seed),
       noise_(deriveSeed(seed, 0x536A)),
       commRng_(deriveSeed(seed, 0x536C)),
       eeprom_(programmedConfig(cfg)) {
@@ -88,26 +89,12 @@ Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64
   if (cfg.devices < 1 || cfg.devices > static_cast<int>(BQ536_ADDR_MAX))
     throw std::invalid_argument("bq76pl536a: devices " + std::to_string(cfg.devices) + " outside 1..62");
   if (!(cfg.baud > 0.0)) throw std::invalid_argument("bq76pl536a: baud (SPI clock) must be > 0");
-  // Per-channel errors are a property of the part: drawn once, in cell order, from their
-  // own stream (the same for every part: same seed -> same channel errors).
-  Rng rng(deriveSeed(seed, 0xAFE));
-  gain_.assign(static_cast<size_t>(cellCount), 0.0);
-  offset_.assign(static_cast<size_t>(cellCount), 0.0);
-  for (int c = 0; c < cellCount; ++c) {
-    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
-    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
-  }
   const size_t therms = static_cast<size_t>(std::clamp(cfg.thermistors_per_device, 0, static_cast<int>(BQ536_TEMPS_MAX)));
   for (size_t d = 0; d < dev_.size(); ++d) {
     Device& dv = dev_[d];
     dv.firstCell = static_cast<int>(d) * cfg.cells_per_device;
     dv.cells = std::max(0, std::min(cfg.cells_per_device, cellCount - dv.firstCell));
-    const size_t n = static_cast<size_t>(dv.cells);
-    dv.analog.cell_V.assign(n, 0.0);
-    dv.analog.cell_gain_error.assign(n, 0.0);
-    dv.analog.cell_offset_V.assign(n, 0.0);
-    dv.analog.therm_C.assign(therms, 25.0);
-    dv.analog.therm_fault.assign(therms, ThermistorFault::None);
+    dv.analog.size(dv.cells, static_cast<int>(therms));
     reset(dv);
   }
   reached_.reserve(dev_.size());
@@ -211,11 +198,12 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
   };
   int channels = 0;
   const DeviceAnalog& a = dv.analog;
+  // The part converts with its balancing switches as they are; a host that opens them
+  // around its conversions (measure_paused) has them read without their I_bal·R drop.
+  const std::vector<double>& cell_V = a.cellsSeen(a.host_opens_balancing);
   // Fixed order: GPAI, VCELL1..n, TS1, TS2 (the noise stream depends on it).
   if (sel & BQ536_AC_GPAI) {
-    double module_V = 0.0;
-    for (double v : a.cell_V) module_V += v;
-    if (cfg_.module_noise_V > 0.0) module_V += cfg_.module_noise_V * standardNormal(noise_);
+    const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
     const double lsb = BQ536_GPAI_CELL_LSBS * cfg_.cell_adc.lsb;
     put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(std::nearbyint(module_V / lsb)), 0,
                                                cfg_.cell_adc.code_max)));
@@ -227,10 +215,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
       continue;
     }
     const size_t i = static_cast<size_t>(c), cell = static_cast<size_t>(dv.firstCell + c);
-    AdcChannel adc = cfg_.cell_adc;
-    adc.gain_error += gain_[cell] + a.cell_gain_error[i];
-    adc.offset += offset_[cell] + a.cell_offset_V[i];
-    put(BQ536_VCELL(c), code16(adc.convert(a.cell_V[i], noise_)));
+    put(BQ536_VCELL(c), code16(errors_.convert(cfg_.cell_adc, cell, a, i, cell_V[i], noise_)));
   }
   const uint8_t tsSel[BQ536_TEMPS_MAX] = {BQ536_AC_TS1, BQ536_AC_TS2};
   const uint8_t tsBias[BQ536_TEMPS_MAX] = {BQ536_IO_TS1, BQ536_IO_TS2};
@@ -239,15 +224,13 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
     if (!(sel & tsSel[k])) continue;
     ++channels;
     uint16_t code = 0;  // no divider bias (or no thermistor): the input sits at 0
-    if (k < a.therm_C.size() && (dv.reg[BQ536_IO_CONTROL] & tsBias[k])) {
-      const ThermistorFault f = a.therm_fault[k];
-      if (f == ThermistorFault::Open) code = code16(cfg_.thermistor.fullScaleCode());
-      else if (f == ThermistorFault::None) code = code16(cfg_.thermistor.code(a.therm_C[k], noise_));
-    }
+    if (k < a.therm_C.size() && (dv.reg[BQ536_IO_CONTROL] & tsBias[k]))
+      code = code16(thermistorCode(cfg_.thermistor, a.therm_fault[k], a.therm_C[k], noise_));
     put(tsReg[k], code);
   }
   dv.converting = true;
   dv.readyAt_s = t + channels * cfg_.conversion_s_per_channel;
+  if (a.host_opens_balancing) dv.pauses.add(t, dv.readyAt_s, (1u << dv.cells) - 1u);
   settle(dv, t);  // a zero conversion time lands at once
 }
 

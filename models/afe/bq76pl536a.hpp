@@ -14,8 +14,8 @@
 //                6 cell LSBs; TEMPERATUREx = Thermistor code (0 without the IO_CONTROL
 //                bias; open = full scale, short = 0). The comparators see the true pin
 //                voltages and thermistor temperatures (they are not the ADC).
-//   random:      per-channel gain/offset drawn once from deriveSeed(seed, 0xAFE) in
-//                cell order (the same stream for every part); conversion noise from its own stream in
+//   random:      per-channel gain/offset drawn once (cell_conversion.hpp, the same
+//                for every part); conversion noise from its own stream in
 //                the fixed order GPAI, VCELL1..n, TS1, TS2 per conversion; CRC bit flips
 //                from a third stream.
 //   link time:   (tx + rx bytes) · 8 / MonitorConfig::baud (the SPI clock, Hz). A write
@@ -31,6 +31,8 @@
 #include <bms/afe/bq76pl536a_regs.h>
 
 #include "models/afe/debounce_timer.hpp"
+#include "models/afe/balance_pause.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -55,12 +57,15 @@ class Bq76pl536aChain final : public MonitorChain {
 
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override {
+    return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
+  }
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool thermistorBias(int d) const override;  // IO_CONTROL TS1 / TS2
 
   // The part's own drawn channel errors (series cell index), for tests.
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   // A register as the device holds it (tests; the firmware reads through transfer()).
   uint8_t peek(int d, uint8_t reg) const { return dev_[static_cast<size_t>(d)].reg[reg]; }
 
@@ -77,6 +82,7 @@ class Bq76pl536aChain final : public MonitorChain {
     std::array<uint8_t, BQ536_RESULTS_LEN> pending{};  // registers 0x00.. of the conversion in flight
     uint8_t pendingMask[BQ536_RESULTS_LEN] = {};      // which of them it converts
     double balanceUntil_s = 0.0;
+    BalancePauses pauses;  // the host's, around its conversions
     DeviceAnalog analog;
     MonitorDeviceFault comm;
     // What the comparators see (cells over / under, thermistors hot) for the present
@@ -103,7 +109,7 @@ class Bq76pl536aChain final : public MonitorChain {
 
   MonitorConfig cfg_;
   std::vector<Device> dev_;
-  std::vector<double> gain_, offset_;
+  CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed

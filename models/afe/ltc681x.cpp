@@ -92,6 +92,7 @@ Ltc681xChain::Ltc681xChain(const Ltc681xConfig& cfg, int cellCount, uint64_t see
     : cfg_(cfg),
       partCells_(cfg.part == Ltc681xPart::Ltc6813 ? static_cast<int>(LTC6813_CELLS) : static_cast<int>(LTC6811_CELLS)),
       partGpios_(cfg.part == Ltc681xPart::Ltc6813 ? static_cast<int>(LTC6813_GPIOS) : static_cast<int>(LTC6811_GPIOS)),
+      errors_(cellCount, cfg.channel_gain_sd, cfg.channel_offset_sd_V, seed),
       noise_(deriveSeed(seed, 0x681A)),
       commRng_(deriveSeed(seed, 0x681C)) {
   const std::string name = is6813() ? "ltc6813" : "ltc6811";
@@ -103,26 +104,12 @@ Ltc681xChain::Ltc681xChain(const Ltc681xConfig& cfg, int cellCount, uint64_t see
                                 " outside 0.." + std::to_string(partGpios_));
   if (cfg.devices < 1) throw std::invalid_argument(name + ": devices must be >= 1");
   if (!(cfg.spi_clock_Hz > 0.0)) throw std::invalid_argument(name + ": spi_clock_Hz must be > 0");
-  // Per-channel errors are a property of the part: drawn once, in cell order, from their
-  // own stream (the same for every part: same seed -> same channel errors).
-  Rng rng(deriveSeed(seed, RngStream::MonitorChannelErrors));
-  gain_.assign(static_cast<size_t>(cellCount), 0.0);
-  offset_.assign(static_cast<size_t>(cellCount), 0.0);
-  for (int c = 0; c < cellCount; ++c) {
-    if (cfg.channel_gain_sd > 0.0) gain_[static_cast<size_t>(c)] = cfg.channel_gain_sd * standardNormal(rng);
-    if (cfg.channel_offset_sd_V > 0.0) offset_[static_cast<size_t>(c)] = cfg.channel_offset_sd_V * standardNormal(rng);
-  }
   dev_.resize(static_cast<size_t>(cfg.devices));
   for (size_t d = 0; d < dev_.size(); ++d) {
     Device& dv = dev_[d];
     dv.firstCell = static_cast<int>(d) * cfg.cells_per_device;
     dv.cells = std::max(0, std::min(cfg.cells_per_device, cellCount - dv.firstCell));
-    const size_t n = static_cast<size_t>(dv.cells), k = static_cast<size_t>(cfg.thermistors_per_device);
-    dv.analog.cell_V.assign(n, 0.0);
-    dv.analog.cell_gain_error.assign(n, 0.0);
-    dv.analog.cell_offset_V.assign(n, 0.0);
-    dv.analog.therm_C.assign(k, 25.0);
-    dv.analog.therm_fault.assign(k, ThermistorFault::None);
+    dv.analog.size(dv.cells, cfg.thermistors_per_device);
     dv.cell.fill(LTC681X_CLEARED);
     dv.gpio.fill(LTC681X_CLEARED);
     sleep(dv);  // power-up: the core sleeps with its registers at their defaults
@@ -315,18 +302,34 @@ void Ltc681xChain::clear(Device& dv, uint16_t cc) {
 
 // --- conversions ----------------------------------------------------------------
 
-double Ltc681xChain::truePin(const Device& dv, int pin) const {
+double Ltc681xChain::truePin(const Device& dv, int pin, bool paused) const {
+  const std::vector<double>& cell_V = dv.analog.cellsSeen(paused);
   double v = 0.0;
-  for (int c = 0; c < std::min(pin, dv.cells); ++c) v += dv.analog.cell_V[static_cast<size_t>(c)];
+  for (int c = 0; c < std::min(pin, dv.cells); ++c) v += cell_V[static_cast<size_t>(c)];
   return v;
 }
 
-double Ltc681xChain::pinVoltage(const Device& dv, int pin) const {
+double Ltc681xChain::pinVoltage(const Device& dv, int pin, bool paused) const {
   const double h = dv.held[static_cast<size_t>(pin)];
-  return dv.open[static_cast<size_t>(pin)] && !std::isnan(h) ? h : truePin(dv, pin);
+  return dv.open[static_cast<size_t>(pin)] && !std::isnan(h) ? h : truePin(dv, pin, paused);
 }
 
-void Ltc681xChain::convertCells(Device& dv, uint8_t ch, bool openWire, bool pullUp, double conv_s) {
+// DCP = 0: the part opens a cell's discharge switch while it converts the cell or a
+// neighbour. CH = all converts in six equal steps (step j: cells j, j+6, j+12); one
+// pair / triple is one step of the whole conversion time.
+void Ltc681xChain::pauseDischarge(Device& dv, uint8_t ch, double start_s, double conv_s) {
+  const int steps = ch == LTC681X_CH_ALL ? 6 : 1;
+  const double step_s = conv_s / steps;
+  const uint32_t part = (1u << partCells_) - 1u;
+  for (int s = 0; s < steps; ++s) {
+    const int first = ch == LTC681X_CH_ALL ? s : ch - 1;
+    uint32_t open = 0;
+    for (int i = first; i < partCells_; i += 6) open |= (7u << i) >> 1;  // cells i-1, i, i+1
+    dv.pauses.add(start_s + s * step_s, start_s + (s + 1) * step_s, open & part);
+  }
+}
+
+void Ltc681xChain::convertCells(Device& dv, uint8_t ch, bool openWire, bool pullUp, double conv_s, bool paused) {
   if (openWire) {  // the 100 uA sources move every open pin towards a neighbour
     const double step_V = LTC681X_ADOW_CURRENT_UA * 1e-6 * conv_s / cfg_.sense_filter_F;
     for (int p = 0; p <= partCells_; ++p) {
@@ -340,15 +343,12 @@ void Ltc681xChain::convertCells(Device& dv, uint8_t ch, bool openWire, bool pull
   dv.pendMask = 0;
   for (int i = 0; i < partCells_; ++i) {  // ADC k measures cells 6k+1..6k+6: CH = j converts j, j+6 (, j+12)
     if (ch != LTC681X_CH_ALL && (i % 6) + 1 != ch) continue;
-    double v = 0.0;
-    AdcChannel adc = cfg_.cell_adc;
-    if (i < dv.cells) {
-      const size_t cell = static_cast<size_t>(dv.firstCell + i), k = static_cast<size_t>(i);
-      adc.gain_error += gain_[cell] + dv.analog.cell_gain_error[k];
-      adc.offset += offset_[cell] + dv.analog.cell_offset_V[k];
-      v = pinVoltage(dv, i + 1) - pinVoltage(dv, i);
-    }  // unused inputs are shorted: 0 V
-    dv.pendCell[static_cast<size_t>(i)] = static_cast<uint16_t>(std::clamp<int64_t>(adc.convert(v, noise_), 0, 65535));
+    // unused inputs are shorted: 0 V through the part's converter alone
+    const int64_t code = i < dv.cells ? errors_.convert(cfg_.cell_adc, static_cast<size_t>(dv.firstCell + i), dv.analog,
+                                                        static_cast<size_t>(i), pinVoltage(dv, i + 1, paused) - pinVoltage(dv, i, paused),
+                                                        noise_)
+                                      : cfg_.cell_adc.convert(0.0, noise_);
+    dv.pendCell[static_cast<size_t>(i)] = static_cast<uint16_t>(std::clamp<int64_t>(code, 0, 65535));
     dv.pendMask |= 1u << i;
   }
 }
@@ -429,20 +429,22 @@ void Ltc681xChain::convert(Device& dv, double t, uint16_t cc) {
   }
   const uint32_t conv_us = ltc681x_conversion_us(md, adcopt, table, ch == LTC681X_CH_ALL);
   if (conv_us == 0) return;  // MD = 00 (422 Hz / 1 kHz): not modelled, the model ignores it
-  // A new conversion replaces one still in flight (the model's choice: its results never land).
-  if (kind == Conv::Cells) {
-    const bool adow = (fields & ~(LTC681X_PUP_BIT | LTC681X_DCP_BIT | LTC681X_CH_MASK)) == LTC681X_ADOW_BASE;
-    convertCells(dv, ch, adow, (fields & LTC681X_PUP_BIT) != 0, conv_us * 1e-6);
-  } else if (kind == Conv::Gpios) {
-    convertGpios(dv, ch);
-  } else {
-    convertStatus(dv, ch);
-  }
   // With REFON = 0 the reference powers up first (REFUP); with REFON = 1 it is up once
   // tREFUP has passed since it was switched on.
   double start = t;
   if (!(dv.cfga[0] & LTC681X_CFGR0_REFON)) start = t + cfg_.refup_s;
   else if (dv.refUpAt_s > t) start = std::isfinite(dv.refUpAt_s) ? dv.refUpAt_s : t + cfg_.refup_s;
+  // A new conversion replaces one still in flight (the model's choice: its results never land).
+  if (kind == Conv::Cells) {
+    const bool adow = (fields & ~(LTC681X_PUP_BIT | LTC681X_DCP_BIT | LTC681X_CH_MASK)) == LTC681X_ADOW_BASE;
+    const bool dischargePermitted = (fields & LTC681X_DCP_BIT) != 0;
+    convertCells(dv, ch, adow, (fields & LTC681X_PUP_BIT) != 0, conv_us * 1e-6, !dischargePermitted);
+    if (!dischargePermitted) pauseDischarge(dv, ch, start, conv_us * 1e-6);
+  } else if (kind == Conv::Gpios) {
+    convertGpios(dv, ch);
+  } else {
+    convertStatus(dv, ch);
+  }
   dv.conv = kind;
   dv.readyAt_s = start + conv_us * 1e-6;
 }

@@ -18,6 +18,9 @@
 //                to their defaults -- except the DCC bits and DCTO while the discharge timer
 //                runs (DTEN pin high, DCTO != 0), which keep balancing until it expires
 //   discharge:   DCC bits switch the cells' balancing switches unless the LTC6813 is MUTEd;
+//                an ADCV / ADOW with DCP = 0 opens each cell's switch while the cell or a
+//                neighbour converts (the cell reads without its I_bal·R drop; the switch
+//                conducts for the rest of the time: balancingDuty); DCP = 1 leaves them;
 //                a WRCFGA with DCTO != 0 (re)starts the timer, which clears every DCC bit
 //                when it runs out; DCTO reads back the bucket of the time left
 //   analog:      cell code = AdcChannel(cell_adc + this channel's drawn gain/offset + the
@@ -29,8 +32,8 @@
 //                pull-up) (open: VREF2, short: 0, pull-down on or no thermistor: 0); SC =
 //                sum of cells / 20 (6811) or / 30 (6813); ITMP from the die temperature;
 //                VA 5 V, VD 3 V, REF 3 V (nominal)
-//   random:      per-channel gain/offset drawn once from deriveSeed(seed, 0xAFE) in cell
-//                order (the same stream as the other parts); conversion noise from its own
+//   random:      per-channel gain/offset drawn once (cell_conversion.hpp, the same for
+//                every part); conversion noise from its own
 //                stream, per command in chain order then channel order; PEC bit flips from
 //                a third stream
 //   comm faults: a device beyond a broken link, or from a silent device on (it relays the
@@ -52,6 +55,8 @@
 
 #include <bms/afe/ltc681x_regs.h>
 
+#include "models/afe/balance_pause.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 #include "models/sensors/thermistor.hpp"
@@ -103,6 +108,9 @@ class Ltc681xChain final : public MonitorChain {
 
   bool faultLine() const override { return false; }
   bool balancing(int d, int cell) const override;
+  double balancingDuty(int d, int cell, double t0, double t1) const override {
+    return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
+  }
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool thermistorBias(int d) const override;
 
@@ -111,8 +119,8 @@ class Ltc681xChain final : public MonitorChain {
   void setOpenWire(int d, int pin, bool open);
 
   // Tests: the part's own channel errors, the registers as held, the core state.
-  double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
-  double channelOffset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+  double channelGain(int cell) const { return errors_.gain(cell); }
+  double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   uint8_t cfga(int d, int byte) const { return dev_[static_cast<size_t>(d)].cfga[static_cast<size_t>(byte)]; }
   uint8_t cfgb(int d, int byte) const { return dev_[static_cast<size_t>(d)].cfgb[static_cast<size_t>(byte)]; }
   uint16_t cellCode(int d, int cell) const { return dev_[static_cast<size_t>(d)].cell[static_cast<size_t>(cell)]; }
@@ -143,6 +151,7 @@ class Ltc681xChain final : public MonitorChain {
     bool dischargeTimer = false;
     double dischargeUntil_s = 0.0;
     bool muted = false;
+    BalancePauses pauses;  // DCP = 0 conversions: discharge switches held open
     std::array<bool, LTC681X_CELLS_MAX + 1> open{};
     std::array<double, LTC681X_CELLS_MAX + 1> held{};  // open pin: the voltage its capacitor holds (NaN: not yet moved)
     DeviceAnalog analog;
@@ -158,11 +167,12 @@ class Ltc681xChain final : public MonitorChain {
   void writeCfgb(Device& dv, const uint8_t* data);
   void readGroup(const Device& dv, uint16_t cc, double t, uint8_t* out, bool& known) const;
   void convert(Device& dv, double t, uint16_t cc);
-  void convertCells(Device& dv, uint8_t ch, bool openWire, bool pullUp, double conv_s);
-  double truePin(const Device& dv, int pin) const;
+  void convertCells(Device& dv, uint8_t ch, bool openWire, bool pullUp, double conv_s, bool paused);
+  void pauseDischarge(Device& dv, uint8_t ch, double start_s, double conv_s);
+  double truePin(const Device& dv, int pin, bool paused = false) const;
   void convertGpios(Device& dv, uint8_t chg);
   void convertStatus(Device& dv, uint8_t chst);
-  double pinVoltage(const Device& dv, int pin) const;
+  double pinVoltage(const Device& dv, int pin, bool paused = false) const;
   void clear(Device& dv, uint16_t cc);
   double linkTime_s(size_t bytes) const { return static_cast<double>(bytes) * 8.0 / cfg_.spi_clock_Hz; }
   bool is6813() const { return cfg_.part == Ltc681xPart::Ltc6813; }
@@ -170,7 +180,7 @@ class Ltc681xChain final : public MonitorChain {
   Ltc681xConfig cfg_;
   int partCells_, partGpios_;
   std::vector<Device> dev_;
-  std::vector<double> gain_, offset_;
+  CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
 };

@@ -15,6 +15,7 @@
 // reply byte to 0x00 or 0xFF; a CRC error rate flips one bit of a reply with that
 // probability. The FAULT line is its own wire and works without the link.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -30,12 +31,34 @@ namespace packsim {
 // What one device's pins see at t.
 struct DeviceAnalog {
   std::vector<double> cell_V;           // its cells, bottom first (truth at the pins)
+  // The same with every balancing switch open: what a conversion sees while the switch of
+  // the cell is held open for it (no I_bal·R drop). Empty: as cell_V (no switch is on).
+  std::vector<double> cell_unloaded_V;
   std::vector<double> cell_gain_error;  // injected per channel (added to the part's own)
   std::vector<double> cell_offset_V;    // injected per channel
   std::vector<double> therm_C;          // its thermistor inputs
   std::vector<ThermistorFault> therm_fault;
   double die_C = 25.0;
   double current_A = 0.0;               // through the shunt (BQ76952), positive discharges
+  // The host opens the balancing switches around each conversion it starts
+  // (bms.balancing.measure_paused): used by the parts that do not pause on their own.
+  bool host_opens_balancing = false;
+
+  // The cells a conversion sees: with the switches open (paused) or as they are.
+  const std::vector<double>& cellsSeen(bool paused) const {
+    return paused && cell_unloaded_V.size() == cell_V.size() ? cell_unloaded_V : cell_V;
+  }
+
+  // Sized for `cells` inputs and `thermistors` thermistor inputs: 0 V, no injected
+  // error, 25 °C, no thermistor fault.
+  void size(int cells, int thermistors) {
+    const size_t n = static_cast<size_t>(std::max(cells, 0)), k = static_cast<size_t>(std::max(thermistors, 0));
+    cell_V.assign(n, 0.0);
+    cell_gain_error.assign(n, 0.0);
+    cell_offset_V.assign(n, 0.0);
+    therm_C.assign(k, 25.0);
+    therm_fault.assign(k, ThermistorFault::None);
+  }
 };
 
 struct BusTransfer {
@@ -61,6 +84,10 @@ class MonitorChain {
   // Pins and switches the rest of the hardware sees.
   virtual bool faultLine() const = 0;
   virtual bool balancing(int d, int cell) const = 0;  // cell index within device d
+  // The share of [t0, t1) the balancing switch of device d's `cell`, held on, conducts:
+  // below 1 where the part (or the host, DeviceAnalog::host_opens_balancing) opens it
+  // for conversions. The plant scales the branch's current by it.
+  virtual double balancingDuty(int /*d*/, int /*cell*/, double /*t0*/, double /*t1*/) const { return 1.0; }
   virtual bool dischargeFetOn() const { return true; }  // BQ76952 FETs; others: not in the path
   virtual bool chargeFetOn() const { return true; }
   // Whether device d's thermistor inputs are biased (their divider draws current from

@@ -10,6 +10,7 @@ namespace packsim {
 
 struct MonitorTruth {
   std::vector<double> cell_V;            // per series position
+  std::vector<double> cell_unloaded_V;   // the same with every balancing switch open (empty: as cell_V)
   std::vector<double> cell_gain_error;   // injected per channel (added to the part's)
   std::vector<double> cell_offset_V;
   std::vector<double> board_C;           // per device: the board it sits on (its die = this + die_rise_C)
@@ -18,6 +19,7 @@ struct MonitorTruth {
   std::vector<MonitorDeviceFault> comm;  // per device
   int broken_link_above = -1;            // >= 0: devices above this index are silent
   double current_A = 0.0;                // positive discharges
+  bool host_opens_balancing = false;     // around each conversion it starts (bms.balancing.measure_paused)
 
   // Sized for `cells` series positions, `devices` devices and `thermistors` AFE channels.
   MonitorTruth(int cells, int devices, int thermistors)

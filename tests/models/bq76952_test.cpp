@@ -648,5 +648,31 @@ TEST(Bq76952, IgnoredWritesAreNotedOncePerRegisterAndReasonWithACount) {
   EXPECT_LT(m[0].first_s, m[0].last_s);
 }
 
+// The loop opens a cell's balancing switch while it converts the cell or a neighbour
+// (BQ76952 TRM, "Cell Balancing": balancing is disabled on the cell being measured and
+// its neighbours, on the top cell during the stack measurement): a balanced cell reads
+// 3.700 V unloaded, not the 3.698 V at its pins (80 mA through 25 mΩ), and its switch
+// conducts the rest of the loop. 4 cells, 3 thermistors: 18 + 3 slots of 3 ms = 63 ms;
+// an inner cell is open 3 slots (duty 6/7), the bottom 2 (19/21), the top 2 + 1/3 (8/9).
+TEST(Bq76952, ABalancedCellReadsUnloadedAndItsSwitchConductsOutsideItsSlots) {
+  Bq76952Chain dev(config(false), 4, 1);
+  DeviceAnalog& a = dev.analog(0);
+  a.cell_unloaded_V.assign(4, 3.7);
+  a.cell_V = {3.7, 3.7 - 0.080 * 0.025, 3.7, 3.7};
+  Host h{dev, false};
+  h.subWrite(BQ952_SUB_CB_ACTIVE_CELLS, {0x02, 0x00});
+  ASSERT_TRUE(dev.balancing(0, 1));
+  h.settle(0.1);
+  EXPECT_EQ(h.read16(BQ952_CELL_VOLTAGE(2)), 3700);
+  EXPECT_NEAR(dev.balancingDuty(0, 1, 0.0, 1.0), 6.0 / 7.0, 1e-12);
+  EXPECT_NEAR(dev.balancingDuty(0, 0, 0.0, 1.0), 19.0 / 21.0, 1e-12);
+  EXPECT_NEAR(dev.balancingDuty(0, 3, 0.0, 1.0), 8.0 / 9.0, 1e-12);
+  // A slower loop (idle slots up to measurement_period_s) opens it for less of the time.
+  MonitorConfig slow = config(false);
+  slow.measurement_period_s = 0.252;
+  Bq76952Chain quarter(slow, 4, 1);
+  EXPECT_NEAR(quarter.balancingDuty(0, 1, 0.0, 1.0), 1.0 - 9e-3 / 0.252, 1e-12);
+}
+
 }  // namespace
 }  // namespace packsim

@@ -499,5 +499,39 @@ TEST(Bq76pl536a, SecondaryProtectionTripsOneDelayAfterItsThreshold) {
   }
 }
 
+// The part converts with its balancing switches as they are (the data sheet has the
+// host clear CB_CTRL to measure without them): a balanced cell reads the I_bal·R drop at
+// its pins -- 3.7 V unloaded, 80 mA through 25 mΩ: 3.698 V -- unless the host opens the
+// switches around its conversion (measure_paused), when it reads 3.7 V and the switch is
+// open for the conversion's 7 channels × 6 µs.
+TEST(Bq76pl536a, ABalancedCellReadsItsDropUnlessTheHostOpensTheSwitchForTheConversion) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  DeviceAnalog& a = chain.analog(0);
+  a.cell_unloaded_V.assign(6, 3.7);
+  a.cell_V.assign(6, 3.7);
+  a.cell_V[2] = 3.7 - 0.080 * 0.025;
+  Bus bus{chain};
+  bus.addressAll(1);
+  bus.write(1, BQ536_CB_TIME, 60);
+  bus.write(1, BQ536_CB_CTRL, 0x04);
+  ASSERT_TRUE(chain.balancing(0, 2));
+  bus.write(1, BQ536_ADC_CONTROL, BQ536_AC_ADC_ON | BQ536_AC_GPAI | 5);  // GPAI + 6 cells
+  for (bool hostPauses : {false, true}) {
+    a.host_opens_balancing = hostPauses;
+    bus.t += 1.0;
+    chain.advance(bus.t);
+    bus.write(1, BQ536_ADC_CONVERT, BQ536_CONV_START);
+    const double start = bus.t + bus.last.duration_s;
+    bus.t = start + 1e-3;
+    const std::vector<uint8_t> v = bus.read(1, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+    const double read_V = be16(v, BQ536_VCELL(2)) * kLsb_V;
+    EXPECT_NEAR(read_V, hostPauses ? 3.7 : 3.698, 0.5 * kLsb_V) << hostPauses;
+    EXPECT_NEAR(be16(v, BQ536_VCELL(1)) * kLsb_V, 3.7, 0.5 * kLsb_V);
+    // Over the second after the command: open for 42 µs while the host pauses, else never.
+    const double duty = chain.balancingDuty(0, 2, start, start + 1.0);
+    EXPECT_NEAR(duty, hostPauses ? 1.0 - 7 * 6e-6 : 1.0, 1e-12) << hostPauses;
+  }
+}
+
 }  // namespace
 }  // namespace packsim

@@ -488,5 +488,37 @@ TEST(Ltc681xConfigFrom, TakesTheSharedSettingsAndKeepsThePartsOwnAdc) {
   }
 }
 
+// ADCV's DCP bit (LTC6811/LTC6813 data sheets, command bit table: 0 = discharge not
+// permitted): with DCP = 0 the part opens a cell's discharge switch while it converts the
+// cell or a neighbour, so the balanced cell 5 reads 3.04 V unloaded, not the 3.0385 V at
+// its pins (75 mA through 20 mΩ); with DCP = 1 the switch stays on and the reading shows
+// the drop. The all-cell conversion runs in six steps (cells j, j+6): cell 5 (index 4) is
+// open during steps 3, 4, 5 -- half the conversion time -- and cell 1 during steps 0, 1.
+TEST(Ltc681xDischarge, DcpZeroOpensTheSwitchForItsCellsConversionAndTheCellReadsUnloaded) {
+  Ltc681xChain chain(config(Ltc681xPart::Ltc6811, 1), 12, 1);
+  fillCells(chain, 3.0);
+  DeviceAnalog& a = chain.analog(0);
+  a.cell_unloaded_V = a.cell_V;
+  a.cell_V[4] -= 0.075 * 0.020;
+  Host h{chain};
+  h.wake();
+  h.write(LTC681X_WRCFGA, {{0xFC, 0, 0, 0, 0x11, 0}});  // REFON; DCC1, DCC5
+  ASSERT_TRUE(chain.balancing(0, 4));
+  h.wait(5e-3);
+  h.wake(10e-6);
+  const double conv_s = ltc681x_conversion_us(LTC681X_MD_NORMAL, 0, LTC681X_CONV_CELLS, true) * 1e-6;
+  for (uint8_t dcp : {1, 0}) {
+    h.wake(10e-6);  // the port idles after 4.3 ms
+    const double t0 = h.t;
+    h.send(cmd(ltc681x_adcv(LTC681X_MD_NORMAL, dcp, LTC681X_CH_ALL)));
+    h.wait(3e-3);
+    EXPECT_EQ(word(h.read(LTC681X_RDCVB, 1), 0, 1), dcp ? 30385 : 30400) << "DCP " << int(dcp);  // cell 5
+    const double cell5 = chain.balancingDuty(0, 4, t0, t0 + 1.0), cell1 = chain.balancingDuty(0, 0, t0, t0 + 1.0);
+    EXPECT_NEAR(cell5, dcp ? 1.0 : 1.0 - conv_s / 2.0, 1e-12) << "DCP " << int(dcp);
+    EXPECT_NEAR(cell1, dcp ? 1.0 : 1.0 - conv_s / 3.0, 1e-12) << "DCP " << int(dcp);
+    h.wait(1.0);
+  }
+}
+
 }  // namespace
 }  // namespace packsim

@@ -1,0 +1,37 @@
+#include "models/afe/cell_conversion.hpp"
+
+#include <algorithm>
+
+namespace packsim {
+
+CellChannelErrors::CellChannelErrors(int cells, double gain_sd, double offset_sd_V, uint64_t seed)
+    : gain_(static_cast<size_t>(std::max(cells, 0)), 0.0), offset_(gain_.size(), 0.0) {
+  Rng rng(deriveSeed(seed, RngStream::MonitorChannelErrors));
+  for (size_t c = 0; c < gain_.size(); ++c) {
+    if (gain_sd > 0.0) gain_[c] = gain_sd * standardNormal(rng);
+    if (offset_sd_V > 0.0) offset_[c] = offset_sd_V * standardNormal(rng);
+  }
+}
+
+int64_t CellChannelErrors::convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k,
+                                   double v_V, Rng& noise) const {
+  AdcChannel a = adc;
+  a.gain_error += gain_[cell] + pins.cell_gain_error[k];
+  a.offset += offset_[cell] + pins.cell_offset_V[k];
+  return a.convert(v_V, noise);
+}
+
+double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise) {
+  double v = 0.0;
+  for (double c : cell_V) v += c;
+  if (noise_V > 0.0) v += noise_V * standardNormal(noise);
+  return v;
+}
+
+int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, Rng& noise) {
+  if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
+  if (fault == ThermistorFault::Short) return 0;
+  return ntc.code(temp_C, noise);
+}
+
+}  // namespace packsim

@@ -1,0 +1,50 @@
+// The conversion every monitor-IC model shares: its cell inputs' own gain and offset
+// errors (drawn once per run), a cell reading, the module/stack sum and a thermistor
+// input. The parts differ in which channels a command converts, in what order and
+// into which register; what one channel reads is this.
+//
+//   channel errors:  gain[c] = channel_gain_sd · N(0,1), offset[c] = channel_offset_sd_V ·
+//                    N(0,1), drawn in cell order (gain then offset of each cell, a draw
+//                    only where its sd > 0) from deriveSeed(seed, MonitorChannelErrors):
+//                    the same stream for every part, so a seed gives the same errors
+//   cell reading:    AdcChannel(part's cell_adc, gain_error += gain[c] + injected gain,
+//                    offset += offset[c] + injected offset)(V at the input), its noise
+//                    from the part's conversion stream
+//   module reading:  sum of the device's cells (bottom up) + module_noise_V · N(0,1)
+//   thermistor:      open: full scale, short: 0, else the divider's code (its noise)
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "models/afe/device_faults.hpp"
+#include "models/afe/monitor_part.hpp"
+#include "models/sensors/adc.hpp"
+#include "models/sensors/thermistor.hpp"
+
+namespace packsim {
+
+class CellChannelErrors {
+ public:
+  CellChannelErrors(int cells, double gain_sd, double offset_sd_V, uint64_t seed);
+
+  double gain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
+  double offset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
+
+  // The code of stack cell `cell`, input `k` of the device whose pins `pins` are, for
+  // v_V across the input.
+  int64_t convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k, double v_V,
+                  Rng& noise) const;
+
+ private:
+  std::vector<double> gain_, offset_;
+};
+
+// The device's module (stack) voltage as its own channel reads it, from its cells as
+// the conversion sees them (DeviceAnalog::cellsSeen).
+double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise);
+
+// A thermistor input's code: open reads full scale, shorted reads 0.
+int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, Rng& noise);
+
+}  // namespace packsim
