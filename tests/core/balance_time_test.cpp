@@ -222,7 +222,7 @@ TEST(BalanceAccounting, ChargeAndHeatMatchTheClosedFormTo1e6) {
       "  thermistors: {at_groups: [1]}\n"
       "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
       "  balancing: {resistor_ohm: 9.5, rds_on_ohm: 0.5, board_node: board}\n"
-      "bms: {tick_ms: 1000, balance_time_s: 60, balancing: {when: always, min_cell_V: 2.0}}\n"
+      "bms: {tick_ms: 1000, balance_time_s: 60, balancing: {when: always, min_cell_V: 2.0, measure_paused: false}}\n"
       "load: {current_A: 0}\n"
       "run: {duration_s: 3600, rtol: 1e-10}\n"
       "output: {interval_s: 1}\n";

@@ -135,7 +135,11 @@ TEST(ReferenceSystemA, OffTrackChargeBleedsTheHighCellsAndEndsAtTheFullCellVolta
     for (size_t c = 0; c < n; ++c) {
       const double I = rec.balance_current_A[i * n + c], V = rec.cell_voltage_V[i * n + c];
       bleed_As[c] += I * dt;
-      if (rec.hw_balancing[i * n + c]) EXPECT_NEAR(I, V / R, 2e-3 * V / R) << "t " << rec.time_s[i] << " cell " << c + 1;
+      // The host opens the switches while the BQ76PL455A converts (bms.balancing.
+      // measure_paused): 19 channels (12 cells, module, die, AUX0-4) at 100 us each, 1.9 ms
+      // of every 10 ms read-out, so the mean current is 81 % of V/R.
+      if (rec.hw_balancing[i * n + c])
+        EXPECT_NEAR(I, 0.81 * V / R, 2e-3 * V / R) << "t " << rec.time_s[i] << " cell " << c + 1;
       else EXPECT_EQ(I, 0.0);
       maxCell_V = std::max(maxCell_V, V);
     }

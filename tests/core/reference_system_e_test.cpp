@@ -74,8 +74,13 @@ TEST(ReferenceSystemE, TheAfeBalancesOnItsOwnAtHalfAnAmpWhileCharging) {
       // The switch state is recorded after the tick, the current from the step before:
       // compare where the AFE's 20 s evaluation did not just switch this cell.
       if (!rec.hw_balancing[(i - 1) * n + c]) continue;
-      EXPECT_NEAR(I, V / R, 2e-3 * V / R) << "t " << rec.time_s[i] << " cell " << c + 1;
-      EXPECT_GE(I, 0.5) << "the external FETs' >= 500 mA";
+      // The BQ76952 opens a balanced cell's switch for its own and its neighbours' 3 ms
+      // measurement slots of its 63 ms loop (18 slots + TS1-TS3), the top cell's also
+      // for the stack slot one loop in three (docs/firmware-bq76952.md): the mean current
+      // is V/R for 19/21 of the time on cell 1, 6/7 on the inner cells, 8/9 on cell 16.
+      const double duty = c == 0 ? 19.0 / 21.0 : c + 1 == n ? 8.0 / 9.0 : 6.0 / 7.0;
+      EXPECT_NEAR(I, duty * V / R, 2e-3 * V / R) << "t " << rec.time_s[i] << " cell " << c + 1;
+      EXPECT_GE(V / R, 0.5) << "the external FETs' >= 500 mA while the switch conducts";
       // Only while charging: the part decides every 20 s and holds its choice in between.
       EXPECT_LE(rec.time_s[i] - lastCharging_s, 20.0 + 1.0) << "t " << rec.time_s[i];
       if (c + 1 < n) EXPECT_FALSE(rec.hw_balancing[i * n + c + 1]) << "never two neighbours";
