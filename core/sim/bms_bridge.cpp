@@ -30,10 +30,24 @@ void HardwareSim::report(const SwitchState& sw, const PlantSignals& sig) {
   st_.charger_done = charger_.done();
 }
 
+void HardwareSim::watchFets(double t, const SwitchDrive& d, const SwitchState& sw) {
+  // The part's reason is asked for only where it tells something: the pin on, the driver off.
+  fets_.hold(t, d, sw, d.dischargePin && !d.afeDischarge ? sensors_.afeFetOffCause(true) : std::string(),
+             d.chargePin && !d.afeCharge ? sensors_.afeFetOffCause(false) : std::string());
+}
+
+std::vector<std::string> HardwareSim::fetNotes(double end_s) const {
+  const HardwareConfig& hw = s_.hardware;
+  if (!hw.discharge_fet.present) return {};
+  return fets_.notes(end_s, hw.fet_control, hw.afe.model, hw.charge_fet.present);
+}
+
 bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
                           PlantInputs& pin) {
   st_.fault_line = sensors_.faultLine();
-  const SwitchState sw = switchgear_.tick(t, s_.bms.tick_s, switchDrive(out), f, sig);
+  const SwitchDrive d = switchDrive(out);
+  const SwitchState sw = switchgear_.tick(t, s_.bms.tick_s, d, f, sig);
+  watchFets(t, d, sw);
   bool changed = HwSwitchgear::apply(sw, plant_.fetNode() >= 0, pin);
   changed = balancing_.tick(sensors_, out, sig, pin) || changed;
   if (charger_.present())
@@ -45,7 +59,9 @@ bool HardwareSim::actuate(double t, const bms::Outputs& out, const PlantSignals&
 
 bool HardwareSim::actuatePins(double t, double tEnd, const bms::Outputs& out, const PlantSignals& sig,
                               const HardwareFaults& f, PlantInputs& pin) {
-  const SwitchState sw = switchgear_.atPin(t, tEnd, switchDrive(out), f, sig, pin);
+  const SwitchDrive d = switchDrive(out);
+  const SwitchState sw = switchgear_.atPin(t, tEnd, d, f, sig, pin);
+  watchFets(t, d, sw);
   bool changed = HwSwitchgear::apply(sw, plant_.fetNode() >= 0, pin);
   // The charger stops at once when its enable drops; it starts (and follows a new
   // current request) at its controller's next step, the tick's.

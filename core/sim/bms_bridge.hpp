@@ -28,6 +28,7 @@
 #include "core/sim/hw_balancing.hpp"
 #include "core/sim/hw_status.hpp"
 #include "core/sim/hw_charger.hpp"
+#include "core/sim/hw_fet_watch.hpp"
 #include "core/sim/hw_sensors.hpp"
 #include "core/sim/hw_switchgear.hpp"
 #include "core/sim/plant.hpp"
@@ -71,6 +72,9 @@ class HardwareSim {
   // balancing switches for the conversion, so the cells read without their I_bal·R0
   // drop (the state does not change in those milliseconds); otherwise `sig` itself.
   const PlantSignals& measurementView(double t, const double* x, const PlantInputs& pin, const PlantSignals& sig);
+  // The summary's FETs lines for a run that ended at end_s: a FET that never conducted
+  // although the MCU's pin or the monitor part's driver asked for it (hw_fet_watch.hpp).
+  std::vector<std::string> fetNotes(double end_s) const;
   // The run may end: the charger finished and the scenario asks to stop then.
   bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done(); }
 
@@ -79,6 +83,7 @@ class HardwareSim {
   // the FAULT line as the tick began.
   SwitchDrive switchDrive(const bms::Outputs& out) const;
   void report(const SwitchState& sw, const PlantSignals& sig);
+  void watchFets(double t, const SwitchDrive& d, const SwitchState& sw);
 
   const Scenario& s_;
   const Plant& plant_;
@@ -86,6 +91,7 @@ class HardwareSim {
   HwSwitchgear switchgear_;
   HwBalancing balancing_;
   HwCharger charger_;
+  FetWatch fets_;
   PlantInputs pausedInputs_;      // the held inputs with every balancing switch open
   PlantSignals pausedSig_;
   HardwareStatus st_;

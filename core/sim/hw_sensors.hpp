@@ -45,6 +45,7 @@ class HwSensors {
   // The monitor part's own FET drivers (a part with FETs: one board; others: always on).
   bool afeDischargeOn() const { return chains_.front()->dischargeAllowed(); }
   bool afeChargeOn() const { return chains_.front()->chargeAllowed(); }
+  std::string afeFetOffCause(bool discharge) const { return chains_.front()->fetOffCause(discharge); }
   const RegisterMisuseLog& registerMisuse(int board) const { return chains_[static_cast<size_t>(board)]->misuse(); }
   std::vector<BusTraceRow> takeBusTrace() { return std::move(busTrace_); }
 

@@ -18,8 +18,8 @@ SwitchState HwSwitchgear::gates(double t, const SwitchDrive& d, const HardwareFa
   relayStep(hw_.relay, relay_, d.relayPin && drive, f.relay_welded, t);
   relayStep(hw_.precharge_relay, precharge_, d.prechargePin && drive, false, t);
   SwitchState s;
-  s.dsg = d.dischargePin && d.afeDischarge;
-  s.chg = d.chargePin && d.afeCharge;
+  s.dsg = fetGateOn(hw_.fet_control, d.dischargePin, d.afeDischarge);
+  s.chg = fetGateOn(hw_.fet_control, d.chargePin, d.afeCharge);
   s.dischargeBlocked = fuse_.blown || !fetPairConducts(hw_.fet_paths, hw_.discharge_fet, s.dsg, hw_.charge_fet, s.chg, 1.0);
   s.chargeBlocked = fuse_.blown || !fetPairConducts(hw_.fet_paths, hw_.discharge_fet, s.dsg, hw_.charge_fet, s.chg, -1.0);
   s.mainClosed = relay_.closed && !fuse_.blown;

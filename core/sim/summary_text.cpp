@@ -145,6 +145,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
   } else {
     os << "BMS             no trip\n";
   }
+  for (const std::string& line : m.fet_notes) os << "FETs            " << line << "\n";
   os << unseenLimitLines(r);
   if (m.compare.present) {
     const Comparison& c = m.compare;

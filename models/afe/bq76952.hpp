@@ -64,6 +64,7 @@ class Bq76952Chain : public MonitorChain {
   bool balancing(int d, int cell) const override;
   bool dischargeFetOn() const override;
   bool chargeFetOn() const override;
+  std::string fetOffCause(bool discharge) const override;
 
   // Inspection for tests (not part of the bus).
   double channelGain(int cell) const { return gain_[static_cast<size_t>(cell)]; }
