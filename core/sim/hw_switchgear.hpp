@@ -2,6 +2,8 @@
 // delays, weld), the FET pair, the fuse (I²t) and the load bus behind them (precharge RC,
 // bleed-down). The MCU's pins and the monitor part's own FET drivers come in as a
 // SwitchDrive; what conducts goes out into the plant's inputs (PlantInputs).
+// The FET gates take the MCU's pin, the part's driver, or both, as hardware.fet_control
+// wires them (models/hw/mosfet.hpp, fetGateOn).
 //
 //   tick(t, dt)        the fuse heats with the tick's current, the relays and gates move,
 //                      the bus follows the pack, charges through the precharge path, or
