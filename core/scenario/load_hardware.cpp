@@ -174,6 +174,18 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       if (!h.charge_fet.present) throw hw->errorAt("fet_paths", "separate paths need a charge_fet as well");
       h.fet_paths = FetPaths::Separate;
     }
+    // Who switches the gates: a part with FET drivers of its own drives them itself.
+    const bool partFets = afe && part->driver->api->writeFets != nullptr;
+    const std::string control = hw->choice("fet_control", partFets ? "afe" : "mcu", {"afe", "mcu", "afe_and_mcu"});
+    if (control != "mcu" && !partFets) {
+      std::string owners;
+      for (const MonitorPart* p : monitorParts())
+        if (p->driver->api->writeFets != nullptr) owners += std::string(owners.empty() ? "" : " or ") + p->name;
+      throw hw->errorAt("fet_control", "`" + control + "` needs a monitor part that drives FETs of its own (" + owners +
+                                           "; this board's is " + (afe ? "a " + std::string(part->name) : std::string("none")) +
+                                           "); allowed here: mcu");
+    }
+    h.fet_control = control == "afe" ? FetControl::Afe : control == "afe_and_mcu" ? FetControl::AfeAndMcu : FetControl::Mcu;
     if (auto f = hw->optionalMap("fuse")) {
       h.fuse.present = f->boolean("present", true);
       h.fuse.rated_A = f->number("rated_A", h.fuse.rated_A, Range::positive(limits::kMaxCurrent_A));

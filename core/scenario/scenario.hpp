@@ -78,6 +78,7 @@ struct HardwareConfig {
   MosfetConfig discharge_fet;         // with the diode that carries charge current
   MosfetConfig charge_fet;            // absent unless configured
   FetPaths fet_paths = FetPaths::Series;  // hardware.fet_paths
+  FetControl fet_control = FetControl::Mcu;  // hardware.fet_control (the loader: Afe with a part with FETs)
   FuseConfig fuse;                    // absent unless configured
   AdcChannel bus_adc;                 // load-bus voltage divider into an ADC (volts)
   bool fault_line_opens_relay = true; // monitor FAULT line in series with the relay coil drive

@@ -1,19 +1,21 @@
 // The simulator side of the BMS boundary: the firmware image (makeBmsConfig, coreImage:
 // core/sim/bms_image.hpp) and the hardware around the MCU.
 //
-// HardwareSim: everything between the plant and the MCU pins, as discrete models
-// advanced once per tick:
-//   sample(t)   truth -> the register-level monitor chain's analog inputs (the
-//               firmware reads it over the bus, monitor_chain_path.hpp); MCU
-//               thermistor and current-sense codes, load-bus voltage code, GPIO
-//               (E-switches, relay aux contact, monitor FAULT line, charger present,
-//               run and reset requests)
-//   actuate(t)  the firmware's pins at t -> relay coils (the monitor FAULT line is wired
-//               in series with the coil drive, so it opens the relay without the MCU),
-//               relay delays and weld, FETs (a monitor part with FETs: its own control),
-//               fuse I²t, precharge RC, balancing switches (as the monitor ICs hold
-//               them), charger CC-CV, active balancer controller; fills the plant's
-//               inputs for [t, t + tick).
+// HardwareSim: everything between the plant and the MCU pins, composed of small parts,
+// each a state with a step (core/sim/hw_*.hpp):
+//   HwSensors     the monitor boards' register-level chains, the MCU's ADCs and GPIO
+//   HwSwitchgear  relays, precharge, FETs, fuse, load bus
+//   HwBalancing   the balancing switches as the monitor ICs hold them; active balancer
+//   HwCharger     the CC-CV charger under the BMS enable
+// Per tick:
+//   sample(t)   truth -> the sensors (the firmware reads the monitor chain over the bus,
+//               monitor_chain_path.hpp; the MCU's own ADC codes and GPIO into bms::Inputs)
+//   actuate(t)  the firmware's pins at t (bms::Outputs) -> the switchgear (the monitor FAULT
+//               line is wired in series with the coil drive, so it opens the relay without
+//               the MCU; a monitor part with FETs adds its own control), balancing, charger;
+//               fills the plant's inputs for [t, t + tick).
+// The pins reach the hardware in one place, switchDrive(out): MCU pins + the monitor part's
+// FET drivers + the FAULT line -> SwitchDrive.
 // Noise, quantisation and hardware faults live here and in models/, never in bms/.
 #pragma once
 #include <bms/bms_config.hpp>
@@ -23,30 +25,15 @@
 #include "core/scenario/scenario.hpp"
 #include "core/sim/bms_image.hpp"
 #include "core/sim/hardware_faults.hpp"
-#include "core/sim/monitor_chain_path.hpp"
+#include "core/sim/hw_balancing.hpp"
+#include "core/sim/hw_status.hpp"
+#include "core/sim/hw_charger.hpp"
+#include "core/sim/hw_fet_watch.hpp"
+#include "core/sim/hw_sensors.hpp"
+#include "core/sim/hw_switchgear.hpp"
 #include "core/sim/plant.hpp"
-#include "models/hw/fuse.hpp"
-#include "models/hw/relay.hpp"
-#include "models/sensors/adc.hpp"
 
 namespace packsim {
-
-// What the switching hardware is actually doing (for records and events).
-struct HardwareStatus {
-  bool relay_closed = false;      // main contact
-  bool precharge_closed = false;  // precharge contact
-  bool fuse_blown = false;
-  bool discharge_fet_on = false;  // gate actually on (after the monitor part's own control)
-  bool charge_fet_on = false;
-  bool fault_line = false;        // monitor FAULT / ALERT line asserted
-  double bus_V = 0.0;
-  double precharge_A = 0.0;
-  double fet_loss_W = 0.0;
-  bool charger_cv = false;        // charger in its constant-voltage phase
-  bool charger_done = false;      // charger ended on its taper current
-  bool active_safe_state = false; // active balancer: a module out of range, converters off
-  bool active_isolated = false;   // ... because the BMS isolated the pack
-};
 
 class HardwareSim {
  public:
@@ -67,60 +54,53 @@ class HardwareSim {
                    PlantInputs& pin);
   // The next instant after t at which a relay contact moves on its own (its operate or
   // release delay running out after the coil changed); +inf when none is pending.
-  double nextSwitch_s(double t) const;
+  double nextSwitch_s(double t) const { return switchgear_.nextSwitch_s(t); }
 
   const HardwareStatus& status() const { return st_; }
   // The monitor boards (one unless hardware.afe.devices_per_board), board b's host's
   // buses (its register-level monitor chain) and the thermistors on the pack host's ADC.
-  const std::vector<MonitorBoard>& boards() const { return boards_; }
-  std::vector<MonitorBus*> monitorBuses(int board = 0) { return chains_[static_cast<size_t>(board)]->buses(); }
-  int mcuThermistorCount() const { return static_cast<int>(boards_.front().mcuChannels.size()); }
+  const std::vector<MonitorBoard>& boards() const { return sensors_.boards(); }
+  std::vector<MonitorBus*> monitorBuses(int board = 0) { return sensors_.buses(board); }
+  int mcuThermistorCount() const { return sensors_.mcuThermistorCount(); }
   int monitorDevices() const { return s_.hardware.afe.devices; }
   // Series group g's balancing switch as its board's monitor ICs hold it.
-  bool balancing(int g) const;
+  bool balancing(int g) const { return sensors_.balancing(g); }
   // The share of [t0, t1) that switch, held on, conducts.
-  double balancingDuty(int g, double t0, double t1) const;
+  double balancingDuty(int g, double t0, double t1) const { return sensors_.balancingDuty(g, t0, t1); }
   // The writes board b's monitor ICs ignored so far (models/afe/register_misuse.hpp).
-  const RegisterMisuseLog& registerMisuse(int board) const { return chains_[static_cast<size_t>(board)]->misuse(); }
+  const RegisterMisuseLog& registerMisuse(int board) const { return sensors_.registerMisuse(board); }
   // output.bus_trace: every monitor-bus transaction so far (core/sim/bus_trace.hpp).
-  std::vector<BusTraceRow> takeBusTrace() { return std::move(busTrace_); }
+  std::vector<BusTraceRow> takeBusTrace() { return sensors_.takeBusTrace(); }
   // Any board's FAULT line (the lines are wired together).
-  bool faultLine() const;
+  bool faultLine() const { return sensors_.faultLine(); }
   // The plant at t with every balancing switch open: what a conversion sees of a cell
   // whose switch is held open for it (the part's own pause, or the host's with
   // bms.balancing.measure_paused), without its I_bal·R0 drop (the state does not change
   // in those milliseconds); `sig` itself while no switch is on.
   const PlantSignals& measurementView(double t, const double* x, const PlantInputs& pin, const PlantSignals& sig);
+  // The summary's FETs lines for a run that ended at end_s: a FET that never conducted
+  // although the MCU's pin or the monitor part's driver asked for it (hw_fet_watch.hpp).
+  std::vector<std::string> fetNotes(double end_s) const;
   // The run may end: the charger finished and the scenario asks to stop then.
-  bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done; }
+  bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done(); }
 
  private:
-  bool actuateBalancing(double t, const bms::Outputs& out, const PlantSignals& sig, const HardwareFaults& f,
-                        PlantInputs& pin);
-  // The relays at t under the coil commands, the FET gates, and what conducts.
-  struct Paths {
-    bool dsg, chg, dischargeBlocked, chargeBlocked, mainClosed;
-  };
-  Paths switchPaths(double t, const bms::Outputs& out, const HardwareFaults& f);
-  bool relayWelded_ = false;  // the weld fault as the last actuation saw it
+  // The pins into the switchgear: the MCU's outputs, the monitor part's FET drivers and
+  // the FAULT line as the tick began.
+  SwitchDrive switchDrive(const bms::Outputs& out) const;
+  void report(const SwitchState& sw, const PlantSignals& sig);
+  void watchFets(double t, const SwitchDrive& d, const SwitchState& sw);
 
   const Scenario& s_;
   const Plant& plant_;
-  ChargerState charger_;
+  HwSensors sensors_;
+  HwSwitchgear switchgear_;
+  HwBalancing balancing_;
+  HwCharger charger_;
+  FetWatch fets_;
   PlantInputs pausedInputs_;      // the held inputs with every balancing switch open
   PlantSignals pausedSig_;
-  std::vector<double> moduleV_;  // active balancer: module voltages received from the BMS
-  int boardOfGroup(int g) const;
-  bool thermistorBias(PlantInputs& pin) const;
-
-  std::vector<MonitorBoard> boards_;
-  std::vector<std::unique_ptr<MonitorChainPath>> chains_;  // per board
-  std::vector<MonitorTruth> truths_;                       // per board, filled each tick
-  std::vector<size_t> thermNode_;  // per thermistor channel: the thermal node it reads
-  RelayState relay_, precharge_;
-  FuseState fuse_;
   HardwareStatus st_;
-  std::vector<BusTraceRow> busTrace_;  // the chains' TracedChain write here (output.bus_trace)
 };
 
 }  // namespace packsim

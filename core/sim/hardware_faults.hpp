@@ -2,6 +2,7 @@
 // at the current tick. The fault scheduler writes it; the sensor, monitor-IC, switching
 // hardware and load models read it every tick. All fields default to "healthy".
 #pragma once
+#include <cstdint>
 #include <vector>
 
 #include "models/afe/device_faults.hpp"

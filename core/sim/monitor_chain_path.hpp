@@ -32,6 +32,7 @@ class MonitorChainPath {
   int devices() const { return bus_.chain->deviceCount(); }
   bool dischargeAllowed() const { return bus_.chain->dischargeFetOn(); }
   bool chargeAllowed() const { return bus_.chain->chargeFetOn(); }
+  std::string fetOffCause(bool discharge) const { return bus_.chain->fetOffCause(discharge); }
   const RegisterMisuseLog& misuse() const { return part_->misuse(); }  // writes the part ignored
   // output.bus_trace: every transaction from now on as rows of `sink`, on bus `bus`.
   void traceInto(std::vector<BusTraceRow>& sink, int bus);

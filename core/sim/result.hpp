@@ -140,6 +140,7 @@ struct Summary {
   // against the protection table; core/sim/limit_watch.hpp), and its event's text.
   double limit_unseen_longest_s = 0.0;
   std::string limit_unseen_longest;
+  std::vector<std::string> fet_notes;  // a FET that never conducted although asked for (core/sim/hw_fet_watch.hpp)
   std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
   std::vector<std::string> firmware_target;  // target mode: per task instructions and cycles, CPU load, stack, resets
   // target mode: the same figures by name, the result file's /summary attributes target_*

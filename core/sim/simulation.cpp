@@ -254,6 +254,7 @@ RunResult SimulationRun::finish() {
   r.bus_trace = m.hw.takeBusTrace();
   r.solver = m.solver->stats();
   r.summary.firmware_status = m.firmware.status();
+  r.summary.fet_notes = m.hw.fetNotes(static_cast<double>(m.k) * m.tick_s);
   r.summary.firmware_target = m.firmware.host().targetSummary(static_cast<double>(m.k) * m.tick_s);
   r.summary.firmware_target_figures = m.firmware.host().targetFigures(static_cast<double>(m.k) * m.tick_s);
   if (m.vehicle) r.summary.vehicle = m.vehicle->summary(static_cast<double>(m.k) * m.tick_s);

@@ -213,6 +213,8 @@ const std::vector<SummaryLine> kLines = {
        w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
        for (const Event& e : r.events)
          if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail); }},
+    {"FETs", "", [](LineWriter& w, const S&, const R& r) {  // a FET asked for that never conducted
+       for (const std::string& line : r.summary.fet_notes) w.line(line); }},
     {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {
        unseenLimitLines(w, r); }},
     {"compared with", "", [](LineWriter& w, const S&, const R& r) {

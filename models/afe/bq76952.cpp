@@ -538,6 +538,15 @@ bool Bq76952Chain::dischargeFetOn() const {
          !(statusC_ & s_.dsgFetC);
 }
 
+std::string Bq76952Chain::fetOffCause(bool discharge) const {
+  if (discharge ? dischargeFetOn() : chargeFetOn()) return "";
+  if (!fetEnabled_) return "FET_EN clear: FET test mode, no FET_ENABLE since power-up or RESET";
+  if (cfgUpdate_) return "in CONFIG_UPDATE mode";
+  if (discharge ? hostDsgOff_ : hostChgOff_)
+    return discharge ? "turned off by the host: DSG_PDSG_OFF or ALL_FETS_OFF" : "turned off by the host: CHG_PCHG_OFF or ALL_FETS_OFF";
+  return "a protection in Safety Status A/B/C";
+}
+
 uint8_t Bq76952Chain::fetStatus() const {
   return static_cast<uint8_t>((chargeFetOn() ? BQ952_FET_CHG : 0) | (dischargeFetOn() ? BQ952_FET_DSG : 0) |
                               (faultLine() ? BQ952_FET_ALRT_PIN : 0));

@@ -29,6 +29,18 @@ double mosfetLoss_W(const MosfetConfig& c, bool gateOn, double current_A);
 //             discharge FET alone, the charger feeds through the charge FET alone
 enum class FetPaths { Series, Separate };
 
+// Who switches the FET gates (hardware.fet_control):
+//   Mcu        the MCU's FET pins alone (a monitor part without FET drivers of its own)
+//   Afe        the monitor part's own CHG / DSG drivers alone (a BQ76952 board as built:
+//              the part drives the gates; the MCU reaches them over the bus)
+//   AfeAndMcu  the part's drivers with the MCU's pins on its DFETOFF / CFETOFF inputs: a
+//              gate is on while the driver is on and the pin is high
+enum class FetControl { Mcu, Afe, AfeAndMcu };
+// The gate of one FET from the MCU's pin and the part's driver.
+inline bool fetGateOn(FetControl c, bool mcuPin, bool partDriver) {
+  return c == FetControl::Mcu ? mcuPin : c == FetControl::Afe ? partDriver : mcuPin && partDriver;
+}
+
 // The current through one FET of the pair for a pack current (positive = discharge).
 double fetCurrent_A(FetPaths paths, bool dischargeFet, double pack_A);
 // Can pack current of this sign flow through the pair?

@@ -1,0 +1,135 @@
+#include "core/sim/hw_sensors.hpp"
+
+#include <cmath>
+
+#include "models/random/random.hpp"
+
+namespace packsim {
+
+HwSensors::HwSensors(const Scenario& s, const Plant& plant)
+    : s_(s), plant_(plant), boards_(monitorBoards(s.hardware, s.pack.series)) {
+  // One register-level stack per monitor board; board 0 draws from the run's seed (a
+  // single-board pack as ever), the others from their own streams.
+  for (const MonitorBoard& b : boards_) {
+    MonitorConfig a = s.hardware.afe;
+    a.devices = b.devices;
+    const uint64_t seed = b.index == 0 ? s.run.seed : deriveSeed(s.run.seed, static_cast<uint64_t>(RngStream::MonitorBoard) + static_cast<uint64_t>(b.index));
+    chains_.push_back(std::make_unique<MonitorChainPath>(a, b.cells, seed));
+    truths_.push_back(chains_.back()->makeTruth());
+    if (s.output.bus_trace) chains_.back()->traceInto(busTrace_, b.index);
+  }
+  // The node each thermistor channel reads: its group's first cell, the FETs' node, its
+  // balancing board's node.
+  for (const ThermistorChannel& ch : s.hardware.thermistors.channels) {
+    const int node = ch.site == ThermSite::Cell  ? ch.group * plant.pack().parallel
+                     : ch.site == ThermSite::Fet ? plant.thermal().find(ch.node)
+                                                      : plant.boardNodeOf(ch.board);
+    thermNode_.push_back(static_cast<size_t>(node));
+  }
+}
+
+int HwSensors::boardOfGroup(int g) const {
+  for (const MonitorBoard& b : boards_)
+    if (g < b.firstCell + b.cells) return b.index;
+  return static_cast<int>(boards_.size()) - 1;
+}
+
+bool HwSensors::balancing(int g) const {
+  const MonitorBoard& b = boards_[static_cast<size_t>(boardOfGroup(g))];
+  return chains_[static_cast<size_t>(b.index)]->balancing(g - b.firstCell);
+}
+
+double HwSensors::balancingDuty(int g, double t0, double t1) const {
+  const MonitorBoard& b = boards_[static_cast<size_t>(boardOfGroup(g))];
+  return chains_[static_cast<size_t>(b.index)]->balancingDuty(g - b.firstCell, t0, t1);
+}
+
+bool HwSensors::faultLine() const {
+  for (const auto& c : chains_)
+    if (c->faultLine()) return true;
+  return false;
+}
+
+void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& unloaded, const HardwareFaults& f,
+                       double bus_V, bool relayAux, Rng& rng, bms::Inputs& in) {
+  const HardwareConfig& hw = s_.hardware;
+  auto thermFault = [&](size_t k) {
+    return k < f.thermistor.size() ? f.thermistor[k] : ThermistorFault::None;
+  };
+  auto thermTemp = [&](size_t k) { return sig.node_temp_C[thermNode_[k]]; };
+  // Each board's stack: its cells at the pins, each device's die on the balancing board
+  // of its first cell (or the ambient air without one), its thermistor inputs, its
+  // devices' comm faults; a broken link cuts off the devices above it on that board.
+  for (const MonitorBoard& b : boards_) {
+    MonitorTruth& tr = truths_[static_cast<size_t>(b.index)];
+    tr.cell_unloaded_V.resize(tr.cell_V.size());
+    tr.host_opens_balancing = s_.bms.balancing.measure_paused;
+    for (int i = 0; i < b.cells; ++i) {
+      const size_t gi = static_cast<size_t>(b.firstCell + i), li = static_cast<size_t>(i);
+      tr.cell_V[li] = sig.group_voltage_V[gi];
+      tr.cell_unloaded_V[li] = unloaded.group_voltage_V[gi];
+      tr.cell_gain_error[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
+      tr.cell_offset_V[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
+    }
+    for (size_t d = 0; d < tr.board_C.size(); ++d) {
+      const int node = plant_.boardNodeOfGroup(b.firstCell + static_cast<int>(d) * hw.afe.cells_per_device);
+      tr.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;
+    }
+    for (size_t j = 0; j < tr.therm_C.size(); ++j) {
+      const bool used = j < b.afeChannels.size();
+      tr.therm_C[j] = used ? thermTemp(static_cast<size_t>(b.afeChannels[j])) : 25.0;
+      tr.therm_fault[j] = used ? thermFault(static_cast<size_t>(b.afeChannels[j])) : ThermistorFault::None;
+    }
+    const int cut = f.broken_link_above - b.firstDevice;  // local index of the last device still linked
+    const bool cutHere = f.broken_link_above >= 0 && cut >= 0 && cut < b.devices;
+    for (size_t d = 0; d < tr.comm.size(); ++d) {
+      const size_t gd = static_cast<size_t>(b.firstDevice) + d;
+      tr.comm[d] = gd < f.device.size() ? f.device[gd] : MonitorDeviceFault{};
+      if (cutHere && static_cast<int>(d) > cut && f.broken_link_byte >= 0) tr.comm[d].stuck_byte = f.broken_link_byte;
+    }
+    tr.broken_link_above = cutHere && f.broken_link_byte < 0 ? cut : -1;
+    tr.current_A = sig.pack_current_A;
+    chains_[static_cast<size_t>(b.index)]->update(t, tr);  // the board's host reads it over its bus
+  }
+
+  // Thermistors beyond the monitor inputs sit on the pack host's own ADC.
+  const std::vector<int>& mcu = boards_.front().mcuChannels;
+  for (size_t j = 0; j < mcu.size(); ++j) {
+    const size_t k = static_cast<size_t>(mcu[j]);
+    const ThermistorFault sf = thermFault(k);
+    const int64_t code = sf == ThermistorFault::Open    ? hw.thermistor.fullScaleCode()
+                         : sf == ThermistorFault::Short ? 0
+                                                    : hw.thermistor.code(thermTemp(k), rng);
+    in.mcuThermistorCode[j] = static_cast<uint16_t>(code);
+  }
+  const double senseOffset_A = f.current_sensor_offset_A + f.current_sensor_drift_A_per_s * t;
+  in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A + senseOffset_A, rng));
+  in.busVoltageCode = static_cast<uint16_t>(hw.bus_adc.convert(bus_V, rng));
+  in.eSwitchInternal = f.estop_internal_pulled;
+  in.eSwitchExternal = f.estop_external_pulled;
+  in.relayAux = relayAux;
+  in.monitorFaultPin = faultLine();
+  in.chargerPresent = s_.bms.charger_present;
+  in.runRequest = s_.bms.run_request && !f.key_off;
+  in.resetRequest = f.reset_requested;
+  in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
+}
+
+// The monitor ICs' thermistor bias, from each device's top cell while it is switched on.
+bool HwSensors::applyBias(PlantInputs& pin) const {
+  if (!(s_.hardware.afe.thermistor_bias_A > 0.0)) return false;
+  bool changed = pin.bias_A.size() != static_cast<size_t>(s_.pack.series);
+  if (changed) pin.bias_A.assign(static_cast<size_t>(s_.pack.series), 0.0);
+  for (const MonitorBoard& b : boards_) {
+    const MonitorChainPath& c = *chains_[static_cast<size_t>(b.index)];
+    for (int d = 0; d < c.devices(); ++d) {
+      const size_t g = static_cast<size_t>(b.firstCell + c.topCell(d));
+      const double i = c.thermistorBias_A(d);
+      changed = changed || pin.bias_A[g] != i;
+      pin.bias_A[g] = i;
+    }
+  }
+  return changed;
+}
+
+}  // namespace packsim
