@@ -30,8 +30,8 @@
 //                  in the same state (same decision, same physics: 2 mV), the SOC to
 //                  1e-3 (where the charge went, ten ticks of one converter), over the
 //                  first 20 minutes. CVODE restarts at nearly every tick there (a
-//                  converter switches); on the scenario's diagonal Newton matrix
-//                  (run.jacobian) a restart costs no factorisation, but at this test's
+//                  converter switches); on the diagonal Newton matrix (run.jacobian,
+//                  set here) a restart costs no factorisation, but at this test's
 //                  rtol 1e-7 the whole 85-minute race still costs CVODE ~52 s of CPU
 //                  (6.1 s per 10 minutes, 2026-11-26), past a test's 30 s. The first 20
 //                  minutes hold the same switching as the rest (the bus fills and empties
@@ -141,6 +141,8 @@ TEST_P(SolverAgreement, FastMatchesCvode) {
   if (s.vehicle.present && s.pack.series * s.pack.parallel >= 100) s.run.duration_s = std::min(s.endTime_s(), kVehicleCompare_s);
   s.compare_scenario.clear();  // the `compare:` reference race is not what this test compares
   s.run.solver = RunConfig::Solver::Cvode;
+  // Restarts ~10 times a second: the Newton matrix such runs take (core/sim/cvode_integrator.hpp).
+  if (bangBang) s.run.jacobian = RunConfig::Jacobian::Diagonal;
   const double scenarioRtol = s.run.rtol;
   s.run.rtol = std::min(scenarioRtol, 1e-7);
   const RunResult ref = runScenario(s);
