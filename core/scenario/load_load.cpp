@@ -189,6 +189,10 @@ RunConfig readRun(std::optional<YamlMap> m, uint64_t seed) {
   if (r.solver == RunConfig::Solver::Fast && m->has("rtol"))
     throw m->errorAt("rtol", "applies to solver: cvode only (this run uses solver: fast)");
   r.rtol = m->number("rtol", r.rtol, Range::closed(1e-12, 1e-2));
+  if (r.solver == RunConfig::Solver::Fast && m->has("jacobian"))
+    throw m->errorAt("jacobian", "applies to solver: cvode only (this run uses solver: fast)");
+  r.jacobian = m->choice("jacobian", "sparse", {"sparse", "diagonal"}) == "diagonal" ? RunConfig::Jacobian::Diagonal
+                                                                                   : RunConfig::Jacobian::Sparse;
   if (auto f = m->optionalMap("fast")) {
     if (r.solver != RunConfig::Solver::Fast)
       throw m->errorAt("fast", "settings for solver: fast, but this run uses solver: cvode (set run.solver: fast)");

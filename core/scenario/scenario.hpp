@@ -151,6 +151,10 @@ struct RunConfig {
   // sub-steps per tick (core/sim/fast_integrator.hpp).
   enum class Solver { Cvode, Fast };
   Solver solver = Solver::Cvode;
+  // CVODE's Newton matrix (core/sim/cvode_integrator.hpp): the sparse Jacobian through
+  // KLU, or only its diagonal (CVDiag) for runs whose inputs switch every few steps.
+  enum class Jacobian { Sparse, Diagonal };
+  Jacobian jacobian = Jacobian::Sparse;  // run.jacobian (solver cvode only)
   double fast_max_substep_s = 0.0;      // run.fast.max_substep_s; 0: no cap beyond the rule
   double fast_substep_fraction = 0.1;   // run.fast.substep_fraction of the smallest time constant
 };

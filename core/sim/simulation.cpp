@@ -56,7 +56,10 @@ struct SimulationRun::Impl {
       solver = std::make_unique<FastIntegrator>(plant, inputs,
                                                 FastSettings{s.run.fast_max_substep_s, s.run.fast_substep_fraction});
     else
-      solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol);
+      solver = std::make_unique<CvodeIntegrator>(ode, s.run.rtol,
+                                                 s.run.jacobian == RunConfig::Jacobian::Diagonal
+                                                     ? CvodeIntegrator::Newton::Diagonal
+                                                     : CvodeIntegrator::Newton::Sparse);
 
     std::vector<double> x(static_cast<size_t>(ode.size()), 0.0);
     plant.initialState(x.data());

@@ -99,6 +99,19 @@ TEST(ScenarioErrors, BadChoiceSuggests) {
   EXPECT_NE(e.find("load.interpolation: 'linaer' is not one of: step, linear (did you mean 'linear'?)"), std::string::npos) << e;
 }
 
+// run.jacobian picks CVODE's Newton matrix: a setting the fast integrator would ignore is
+// refused, and a value not among the two choices is named with them.
+TEST(ScenarioErrors, JacobianIsACvodeSettingWithTwoChoices) {
+  const std::string fast = errorOf(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10, solver: fast, jacobian: diagonal}\n");
+  EXPECT_NE(fast.find("run.jacobian: applies to solver: cvode only (this run uses solver: fast)"), std::string::npos)
+      << fast;
+  const std::string bad = errorOf(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10, jacobian: diagonl}\n");
+  EXPECT_NE(bad.find("run.jacobian: 'diagonl' is not one of: sparse, diagonal (did you mean 'diagonal'?)"),
+            std::string::npos)
+      << bad;
+  EXPECT_EQ(errorOf(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10, jacobian: diagonal}\n"), "<no error>");
+}
+
 TEST(ScenarioErrors, YamlSyntaxError) {
   const std::string e = errorOf("name: x\npack: {series: 2\n");
   EXPECT_NE(e.find("test.yaml:3:1: YAML syntax error"), std::string::npos) << e;
