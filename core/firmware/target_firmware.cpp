@@ -1,6 +1,7 @@
 #include "core/firmware/target_firmware.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -20,6 +21,9 @@ constexpr uint32_t kDescriptorBytes = 20 + 12 * PSFW_MAX_TASKS;  // psfw_firmwar
 constexpr size_t kNameChars = 65;
 
 uint32_t align8(uint32_t a) { return (a + 7u) & ~7u; }
+
+// An instant on the CAN bus (s) as the MCU clock's ns at or just after it.
+uint64_t toNsCeil(double t_s) { return static_cast<uint64_t>(std::llround(t_s * 1e9)) + 1u; }
 
 uint32_t word(const uint8_t* p) {
   uint32_t v;
@@ -61,6 +65,11 @@ void TargetFirmware::pend(int irq, uint64_t t_ns) {
 
 void TargetFirmware::pendSources(uint64_t t_ns) {
   if (!mcu_) return;
+  CanBus* can = host_.board_.can;
+  if (canIe_ && can && !mcu_->nvic().active(kTargetIrqCanRx)) {  // a level: while a frame waits
+    const double at = can->oldestArrived(host_.board_.canNode, static_cast<double>(t_ns) * 1e-9);
+    if (std::isfinite(at)) pend(kTargetIrqCanRx, toNsCeil(at));
+  }
   while (timerOn_ && timerNext_ns_ <= t_ns) {  // expiries while pending merge into one (the NVIC has one bit)
     pend(kTargetIrqTimer, timerNext_ns_);
     ++timerCount_;
@@ -68,7 +77,16 @@ void TargetFirmware::pendSources(uint64_t t_ns) {
   }
 }
 
-uint64_t TargetFirmware::nextSourceInstant() const { return timerOn_ ? timerNext_ns_ : UINT64_MAX; }
+uint64_t TargetFirmware::nextSourceInstant() const {
+  uint64_t next = timerOn_ ? timerNext_ns_ : UINT64_MAX;
+  CanBus* can = host_.board_.can;
+  if (canIe_ && can && mcu_ && !mcu_->nvic().active(kTargetIrqCanRx)) {
+    // The next frame's arrival (1 ns after it, so that the bus has it at that instant).
+    const double at = can->nextArrival(host_.board_.canNode, static_cast<double>(host_.clock_ns_) * 1e-9);
+    if (std::isfinite(at)) next = std::min(next, toNsCeil(at));
+  }
+  return next;
+}
 
 void TargetFirmware::monitorLine(bool asserted, uint64_t t_ns) {
   if (mcu_ && lineKnown_ && asserted && !lineLevel_) pend(kTargetIrqAlert, t_ns);
@@ -238,6 +256,7 @@ bool TargetFirmware::call(const char* what, int task) {
         }
         returned(done);
         syncClock();
+        pendSources(h.clock_ns_);  // a level still up (a frame left in the FIFO) pends again
         if (mcu_->atReturnPage()) break;  // an interrupt taken from the idle loop has returned
       }
       const uint64_t c0 = mcu_->cycles(), n0 = mcu_->instructions();
@@ -370,6 +389,7 @@ void TargetFirmware::reset() {
   wdgTimeoutUs_ = 0;
   timerOn_ = false;
   timerPeriodUs_ = 0;
+  canIe_ = false;
   pendAt_ns_.fill(UINT64_MAX);
   handlers_.clear();
   mcu_->loadRam(true);  // the NVIC's reset state too
@@ -508,6 +528,7 @@ uint32_t TargetFirmware::peripheralRead(TargetMcu&, uint32_t offset) {
     case kTimerCtrl: return timerOn_ ? 1u : 0u;
     case kTimerPeriodUs: return timerPeriodUs_;
     case kTimerCount: return static_cast<uint32_t>(timerCount_);
+    case kCanIer: return canIe_ ? 1u : 0u;
     case kInstanceRam: return ram_;
     default: return 0;
   }
@@ -519,6 +540,10 @@ void TargetFirmware::peripheralWrite(TargetMcu& m, uint32_t offset, uint32_t val
   syncClock();
   pendSources(host_.clock_ns_);
   if (offset == kTimerPeriodUs && !timerOn_) timerPeriodUs_ = value;
+  if (offset == kCanIer) {
+    canIe_ = (value & 1u) != 0;
+    pendSources(host_.clock_ns_);  // a frame already waiting pends at once
+  }
   if (offset == kTimerCtrl) {
     const bool on = (value & 1u) != 0 && timerPeriodUs_ > 0;
     if (on && !timerOn_) {

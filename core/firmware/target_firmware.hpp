@@ -54,6 +54,7 @@ struct TargetIrqStats {
 
 // The board's peripheral page (psbsp.h): the timer's registers.
 constexpr uint32_t kTimerCtrl = 0x000, kTimerPeriodUs = 0x004, kTimerCount = 0x008;
+constexpr uint32_t kCanIer = 0x400;       // bit 0: the CAN receive interrupt while a frame waits
 constexpr uint32_t kInstanceRam = 0xFF0;  // the firmware's RAM (psbsp_ram(), for handlers)
 
 class TargetFirmware : public TargetPeripherals {
@@ -150,6 +151,7 @@ class TargetFirmware : public TargetPeripherals {
   bool timerOn_ = false;
   uint32_t timerPeriodUs_ = 0;
   uint64_t timerNext_ns_ = 0, timerCount_ = 0;
+  bool canIe_ = false;
 };
 
 }  // namespace packsim

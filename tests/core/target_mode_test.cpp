@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -38,8 +39,10 @@ const std::string kElfDir;
 #endif
 #ifdef PACKSIM_TARGET_IRQ_FW
 #define PACKSIM_TARGET_IRQ_FW_OR_EMPTY PACKSIM_TARGET_IRQ_FW
+#define PACKSIM_TARGET_CAN_FW_OR_EMPTY PACKSIM_TARGET_CAN_FW
 #else
 #define PACKSIM_TARGET_IRQ_FW_OR_EMPTY ""
+#define PACKSIM_TARGET_CAN_FW_OR_EMPTY ""
 #endif
 
 std::string exampleElf() { return kElfDir + "/packsim_example_bms_cm4.elf"; }
@@ -436,6 +439,137 @@ TEST(TargetNvic, PrioritiesAndMasksDecideWhichInterruptIsTaken) {
   EXPECT_EQ(n.read(0x300, 0), 0x2u);  // IABR: CAN active
   n.write(0x180, 0x7u, 4);            // ICER
   EXPECT_EQ(n.read(0x100, 0), 0u);
+}
+
+// --- CAN for a board alone (hardware.can; tests/firmware/can_fw.c) --------------------
+
+// The vehicle sends 0x200 (no data) at 0.25, 0.35, 0.45 s and 0x123 [11 22] at 0.5005 s;
+// the firmware echoes each with id + 1 and sends 0x180 [counter] every 100 ms.
+Scenario canScenario(const std::string& firmware, int useIrq) {
+  return test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "hardware:\n"
+      "  can:\n"
+      "    bitrate_kbps: 500\n"
+      "    frames:\n"
+      "      - {at_s: 0.5005, id: 0x123, data: [0x11, 0x22]}\n"
+      "      - {at_s: 0.25, id: 0x200, data: [], period_s: 0.1, until_s: 0.45}\n"
+      "bms: {tick_ms: 10, firmware: {" + firmware + ", config: {use_irq: " + std::to_string(useIrq) + "}}}\n"
+      "run: {duration_s: 0.8}\n");
+}
+
+RunResult canRun(const std::string& firmware, int useIrq) { return runScenario(canScenario(firmware, useIrq)); }
+
+// When the firmware read 0x123 (its "rx" event's "at N us").
+long rxAt_us(const RunResult& r, const std::string& what) {
+  for (const Event& e : r.events)
+    if (e.kind == "firmware" && e.detail.rfind("rx " + what, 0) == 0)
+      return std::stol(e.detail.substr(e.detail.find(" at ") + 4));
+  return -1;
+}
+
+// The scripted frames go on the idle bus at their instant and take their stuffed bit
+// count at 500 kbit/s (0 bytes: 47 bits + at most 8 stuff bits; 2 bytes: 63 + at most
+// 12); what the firmware sent is in the trace, frame for frame, as its own "tx" events
+// list it.
+void expectTraceOf(const RunResult& r) {
+  std::vector<std::string> sent, traced;
+  for (const Event& e : r.events)
+    if (e.kind == "firmware" && e.detail.rfind("tx ", 0) == 0) sent.push_back(e.detail);
+  int in = 0;
+  for (const CanTraceRow& row : r.can_trace) {
+    char head[40];
+    std::snprintf(head, sizeof head, "tx 0x%03X [%d]", row.id, row.dlc);
+    if (row.out) {
+      traced.push_back(std::string(head) + (row.data.empty() ? "" : " " + row.data));
+      continue;
+    }
+    ++in;
+    const double bits = (row.end_s - row.time_s) * 500e3;
+    if (row.id == 0x123) {
+      EXPECT_NEAR(row.time_s, 0.5005, 1e-12);
+      EXPECT_EQ(row.data, "11 22");
+      EXPECT_GE(bits, 63 - 1e-6);
+      EXPECT_LE(bits, 75 + 1e-6);
+    } else {
+      EXPECT_EQ(row.id, 0x200);
+      EXPECT_GE(bits, 47 - 1e-6);
+      EXPECT_LE(bits, 55 + 1e-6);
+    }
+    EXPECT_FALSE(row.lost);
+  }
+  EXPECT_EQ(in, 4);
+  EXPECT_GE(sent.size(), 10u);  // 7 status frames by 0.7 s, 4 echoes
+  EXPECT_EQ(traced, sent);
+}
+
+double frameEnd(const RunResult& r, int id) {
+  for (const CanTraceRow& row : r.can_trace)
+    if (!row.out && row.id == id) return row.end_s;
+  return -1.0;
+}
+
+// Host mode: the 1 ms task reads 0x123 at its first run after the frame's end.
+TEST(CanAlone, AFirmwareReceivesTheScriptedFramesAndItsFramesAreRecorded) {
+  const RunResult r = canRun("library: " PACKSIM_CAN_FW, 0);
+  const double end = frameEnd(r, 0x123);
+  ASSERT_GT(end, 0.5005);
+  EXPECT_EQ(rxAt_us(r, "0x123 [2] 11 22"), static_cast<long>(std::ceil(end * 1e3)) * 1000);
+  expectTraceOf(r);
+  // The result file's /can_trace holds the same rows.
+  const std::string file = (test::processTempDir("target_mode") / "can.h5").string();
+  writeResultHdf5(file, canScenario("library: " PACKSIM_CAN_FW, 0), r);
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t ds = H5Dopen2(f, "/can_trace", H5P_DEFAULT);
+  const hid_t space = H5Dget_space(ds);
+  hsize_t rows = 0;
+  H5Sget_simple_extent_dims(space, &rows, nullptr);
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Fclose(f);
+  EXPECT_EQ(rows, r.can_trace.size());
+}
+
+// Target mode: the same, polled (a few microseconds of code later), and by the CAN
+// receive interrupt: its handler reads the frame microseconds after its end, before the
+// poll would have, entered 12 cycles after it arrived.
+TEST(CanAlone, TargetModeReceivesByPollingAndByTheReceiveInterrupt) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const RunResult polled = canRun("target: cortex-m4, elf: " PACKSIM_TARGET_CAN_FW_OR_EMPTY, 0);
+  const double end = frameEnd(polled, 0x123);
+  const long poll_us = static_cast<long>(std::ceil(end * 1e3)) * 1000;
+  EXPECT_GE(rxAt_us(polled, "0x123 [2] 11 22"), poll_us);
+  EXPECT_LT(rxAt_us(polled, "0x123 [2] 11 22"), poll_us + 100);
+  expectTraceOf(polled);
+  const RunResult irq = canRun("target: cortex-m4, elf: " PACKSIM_TARGET_CAN_FW_OR_EMPTY, 1);
+  EXPECT_NEAR(frameEnd(irq, 0x123), end, 1e-12);
+  const long at = rxAt_us(irq, "0x123 [2] 11 22");
+  EXPECT_GE(at, static_cast<long>(end * 1e6));
+  EXPECT_LT(at, static_cast<long>(end * 1e6) + 100);
+  EXPECT_LT(at, poll_us);
+  expectTraceOf(irq);
+  const std::string line = irqLine(irq, "IRQ 1 CAN receive: ");
+  EXPECT_EQ(line.rfind("IRQ 1 CAN receive: 4 calls", 0), 0u) << line;
+  EXPECT_NE(line.find("worst latency 12 cycles"), std::string::npos) << line;
+}
+
+// Bad frames are errors at their line, naming the field and the allowed range.
+TEST(CanAlone, BadScriptedFramesAreLoadErrors) {
+  const std::string base = "extends: bench_6s_ncr18650_2C.yaml\nhardware:\n  can:\n    frames:\n";
+  const std::string id = test::yamlErrorOf(base + "      - {at_s: 1, id: 0x800}\n");
+  EXPECT_NE(id.find("test.yaml:5:"), std::string::npos) << id;
+  EXPECT_NE(id.find("hardware.can.frames[0].id: 0x800 is out of range; allowed [0, 2047] (0x7FF)"), std::string::npos) << id;
+  const std::string nine = test::yamlErrorOf(base + "      - {at_s: 1, id: 1, data: [1,2,3,4,5,6,7,8,9]}\n");
+  EXPECT_NE(nine.find("9 bytes: a classic CAN data frame carries at most 8"), std::string::npos) << nine;
+  const std::string byte = test::yamlErrorOf(base + "      - {at_s: 1, id: 1, data: [256]}\n");
+  EXPECT_NE(byte.find("hardware.can.frames[0].data[0]: 256 is out of range; allowed [0, 255]"), std::string::npos) << byte;
+  const std::string word = test::yamlErrorOf(base + "      - {at_s: 1, id: one}\n");
+  EXPECT_NE(word.find("expected a whole number (decimal or 0x hex), got 'one'"), std::string::npos) << word;
+  const std::string period = test::yamlErrorOf(base + "      - {at_s: 1, id: 1, until_s: 2}\n");
+  EXPECT_NE(period.find("until_s needs a period_s"), std::string::npos) << period;
+  const std::string boards = test::yamlErrorOf(
+      "extends: motorcycle_110s.yaml\nhardware:\n  afe: {devices_per_board: 5}\n  can:\n    frames: [{at_s: 1, id: 1}]\n");
+  EXPECT_NE(boards.find("scripted frames need a board alone"), std::string::npos) << boards;
 }
 
 }  // namespace

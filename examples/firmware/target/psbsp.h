@@ -19,6 +19,9 @@
  *             BASEPRI mask as on the chip.
  *   timer     PSBSP_TIMER_PERIOD_US, then PSBSP_TIMER_CTRL = 1 starts it: an interrupt
  *             every period from the instant of the write.
+ *   CAN       PSBSP_CAN_IER = 1: the CAN receive interrupt pends while a frame waits in
+ *             the receive FIFO (a level, as a bxCAN's FMP): the handler reads with
+ *             can_receive until PSFW_BUS_TIMEOUT.
  */
 #ifndef PSBSP_H
 #define PSBSP_H
@@ -69,6 +72,7 @@ static inline void psbsp_irq_unlock(void) { __asm volatile("cpsie i" ::: "memory
 #define PSBSP_TIMER_CTRL (*(volatile uint32_t*)(PSBSP_PERIPH_BASE + 0x000u))      /* bit 0: run */
 #define PSBSP_TIMER_PERIOD_US (*(volatile uint32_t*)(PSBSP_PERIPH_BASE + 0x004u)) /* written while stopped */
 #define PSBSP_TIMER_COUNT (*(volatile const uint32_t*)(PSBSP_PERIPH_BASE + 0x008u)) /* periods since the start */
+#define PSBSP_CAN_IER (*(volatile uint32_t*)(PSBSP_PERIPH_BASE + 0x400u)) /* bit 0: CAN receive interrupt while a frame waits */
 #define PSBSP_INSTANCE_RAM (*(volatile const uint32_t*)(PSBSP_PERIPH_BASE + 0xFF0u)) /* psbsp_ram()'s address */
 
 /* What a handler reaches: the board's services and the firmware's RAM (the pointer
