@@ -132,7 +132,7 @@ typedef struct psfw_board_api {
   int32_t (*set_task_period)(psfw_board* b, uint32_t task, uint32_t period_ms, uint32_t budget_us);
   /* Version 2. CAN: one classic data frame (11-bit id, 0..8 bytes) queued on CAN bus
    * `can`: returns 0, PSFW_BUS_TIMEOUT when the transmit queue is full, PSFW_NO_CHANNEL
-   * when the board has no such bus (a board alone has none). The frame reaches every
+   * when the board has no such bus (a board alone has one with hardware.can only). The frame reaches every
    * other node after arbitration (lowest id first) and its transmission time at the
    * bus's bit rate. */
   int32_t (*can_send)(psfw_board* b, uint8_t can, uint32_t id, const uint8_t* data, uint8_t len);

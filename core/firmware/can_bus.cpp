@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 namespace packsim {
@@ -69,6 +70,43 @@ bool CanBus::send(int node, double t_s, uint32_t id, const uint8_t* data, uint8_
   return true;
 }
 
+void CanBus::inject(int node, double t_s, uint32_t id, const uint8_t* data, uint8_t len) {
+  Frame f{t_s, seq_++, id & 0x7FFu, len, {}, node};
+  if (len > 0) std::memcpy(f.data, data, len);
+  pending_.push_back(f);
+  ++queued_[static_cast<size_t>(node)];
+}
+
+double CanBus::oldestArrived(int node, double t_s) {
+  runUntil(t_s);
+  const std::deque<Arrived>& q = rx_[static_cast<size_t>(node)];
+  return !q.empty() && q.front().at_s <= t_s ? q.front().at_s : std::numeric_limits<double>::infinity();
+}
+
+double CanBus::nextArrival(int node, double t_s) {
+  runUntil(t_s);
+  for (const Arrived& a : rx_[static_cast<size_t>(node)])
+    if (a.at_s > t_s) return a.at_s;  // on the wire now
+  // The frames not yet started, in the order arbitration would send them.
+  std::vector<Frame> left = pending_;
+  double busFree = busFree_s_;
+  while (!left.empty()) {
+    double earliest = left.front().ready_s;
+    for (const Frame& f : left) earliest = std::min(earliest, f.ready_s);
+    const double start = std::max(busFree, earliest);
+    size_t win = left.size();
+    for (size_t i = 0; i < left.size(); ++i) {
+      const Frame& f = left[i];
+      if (f.ready_s > start) continue;
+      if (win == left.size() || f.id < left[win].id || (f.id == left[win].id && f.seq < left[win].seq)) win = i;
+    }
+    busFree = start + frameTime_s(left[win].id, left[win].data, left[win].len);
+    if (left[win].from != node) return busFree;
+    left.erase(left.begin() + static_cast<long>(win));
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
 void CanBus::runUntil(double t_s) {
   while (!pending_.empty()) {
     double earliest = pending_.front().ready_s;
@@ -90,15 +128,22 @@ void CanBus::runUntil(double t_s) {
     busFree_s_ = start + dur;
     busy_s_ += dur;
     ++sent_;
+    bool lost = false;
     for (size_t n = 0; n < rx_.size(); ++n) {
       if (static_cast<int>(n) == f.from) continue;
       if (rx_[n].size() >= rxFifo_) {
         ++lost_;
+        lost = true;
         continue;
       }
       Arrived a{busFree_s_, f.id, f.len, {}};
       std::memcpy(a.data, f.data, f.len);
       rx_[n].push_back(a);
+    }
+    if (tracing_) {
+      TraceRow row{start, busFree_s_, f.from, f.id, f.len, {}, lost};
+      std::memcpy(row.data, f.data, f.len);
+      trace_.push_back(row);
     }
   }
 }

@@ -34,6 +34,27 @@ class CanBus {
   // Everything that starts before t_s goes on the wire.
   void runUntil(double t_s);
 
+  // A frame of a scripted node (a board alone's vehicle / charger, hardware.can.frames)
+  // ready at t_s: no transmit queue limits it.
+  void inject(int node, double t_s, uint32_t id, const uint8_t* data, uint8_t len);
+  // When the oldest frame in node's receive FIFO arrived, if one has by t_s (+inf: empty).
+  double oldestArrived(int node, double t_s);
+  // The instant the next frame for node will arrive, as far as the frames queued by t_s
+  // decide (+inf: none): the one on the wire, or the next to win arbitration.
+  double nextArrival(int node, double t_s);
+
+  // Every frame's transmission from now on (result file /can_trace).
+  struct TraceRow {
+    double start_s, end_s;  // on the wire: start of frame .. end (delivery)
+    int from;
+    uint32_t id;
+    uint8_t len;
+    uint8_t data[8];
+    bool lost;              // a receiver's FIFO was full
+  };
+  void trace(bool on) { tracing_ = on; }
+  std::vector<TraceRow> takeTrace() { return std::move(trace_); }
+
   // Bits one data frame occupies on the wire (stuff bits included, intermission too).
   static int frameBits(uint32_t id, const uint8_t* data, uint8_t len);
   double frameTime_s(uint32_t id, const uint8_t* data, uint8_t len) const { return frameBits(id, data, len) / bitrate_; }
@@ -65,6 +86,8 @@ class CanBus {
   double busFree_s_ = 0.0;
   uint64_t seq_ = 0, sent_ = 0, lost_ = 0;
   double busy_s_ = 0.0;
+  bool tracing_ = false;
+  std::vector<TraceRow> trace_;
 };
 
 }  // namespace packsim

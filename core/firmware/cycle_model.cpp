@@ -2,6 +2,7 @@
 
 #include <capstone/capstone.h>
 
+#include <cstring>
 #include <stdexcept>
 
 namespace packsim {
@@ -89,6 +90,26 @@ BlockCost CycleModel::cost(const uint8_t* code, size_t n, uint64_t address) cons
     }
   }
   return c;
+}
+
+size_t CycleModel::boundary(const uint8_t* code, size_t n, uint64_t address, uint64_t cycles) const {
+  cs_insn* insn = nullptr;
+  const size_t got = cs_disasm(handle_, code, n, address, 0, &insn);
+  uint64_t spent = 0;
+  size_t pos = 0, itLeft = 0;
+  size_t result = n;
+  for (size_t i = 0; i < got; ++i) {
+    if (spent >= cycles && itLeft == 0) {
+      result = pos;
+      break;
+    }
+    if (itLeft > 0) --itLeft;
+    if (insn[i].id == ARM_INS_IT) itLeft = std::strlen(insn[i].mnemonic) - 1;  // it, itt, ite, ittt...: 1-4 instructions
+    spent += 1 + extraCycles(insn[i]).model;
+    pos += insn[i].size;
+  }
+  if (got) cs_free(insn, got);
+  return result;
 }
 
 }  // namespace packsim

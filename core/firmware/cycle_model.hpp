@@ -44,6 +44,10 @@ class CycleModel {
   // The cost of the Thumb-2 code at `address` (`n` bytes). An undecodable instruction
   // counts as one instruction of one cycle (the emulator faults on it anyway).
   BlockCost cost(const uint8_t* code, size_t n, uint64_t address) const;
+  // The byte offset of the first instruction boundary in the block at which at least
+  // `cycles` of its cost have run, not inside an IT block (an interrupt taken there
+  // waits for the IT block's end); n when that is the block's end.
+  size_t boundary(const uint8_t* code, size_t n, uint64_t address, uint64_t cycles) const;
 
  private:
   size_t handle_ = 0;  // Capstone's csh

@@ -235,9 +235,11 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     watchdogReset();
   }
   if (!bootAfterReset(windowEnd_ns, out)) return;
+  if (target_) target_->monitorLine(in.monitorFaultPin, toNs(t_s));  // its edge pends the ALERT interrupt
   bool due = !started_;
   for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
-  if (!due) return;
+  uint64_t irqAt_ns = 0;
+  if (!due && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
   // A library's calls run under the guard, its handlers installed only around ticks
   // that call into it.
   std::optional<FaultGuard::Scope> handlers;
@@ -248,6 +250,10 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     for (uint32_t i = 0; i < fw_.task_count; ++i)
       if (nextDue_ns_[i] < windowEnd_ns && (next < 0 || nextDue_ns_[i] < nextDue_ns_[static_cast<size_t>(next)]))
         next = static_cast<int>(i);
+    // Interrupts due before the task starts (at its instant too) pre-empt the idle loop first.
+    if (target_ && !runInterrupts(next < 0 ? windowEnd_ns : std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]) + 1))
+      return watchdogReset();
+    if (dead_ || !started_) break;
     if (next < 0) break;
     const psfw_task& task = fw_.tasks[next];
     clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
@@ -259,6 +265,17 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
   }
   callBudget_ns_ = 0;
+}
+
+bool FirmwareHost::runInterrupts(uint64_t before_ns) {
+  uint64_t at_ns = 0;
+  while (!dead_ && started_ && target_->nextIdleInterrupt(clock_ns_, before_ns, at_ns)) {
+    clock_ns_ = std::max(clock_ns_, at_ns);
+    callStart_ns_ = clock_ns_;
+    callBudget_ns_ = 0;
+    if (!call("interrupt", TargetFirmware::kInterruptCall)) return false;
+  }
+  return true;
 }
 
 std::vector<std::string> FirmwareHost::targetSummary(double elapsed_s) const {
@@ -280,6 +297,17 @@ std::vector<std::string> FirmwareHost::targetSummary(double elapsed_s) const {
                   static_cast<double>(s.cyclesMax) / static_cast<double>(s.calls),
                   static_cast<unsigned long long>(s.worstInstructions), static_cast<unsigned long long>(s.worstCycles),
                   static_cast<double>(s.worstCycles) / mhz, mhz, s.stack_bytes);
+    lines.push_back(line);
+  }
+  for (int i = 0; i < kTargetIrqLines; ++i) {
+    const TargetIrqStats& s = t.irqStats()[static_cast<size_t>(i)];
+    if (s.calls == 0) continue;
+    std::snprintf(line, sizeof line,
+                  "IRQ %d %s: %llu calls, mean %.0f cycles, worst %llu cycles = %.2f us, worst latency %.0f cycles = %.3f us",
+                  i, TargetFirmware::irqName(i), static_cast<unsigned long long>(s.calls),
+                  static_cast<double>(s.cycles) / static_cast<double>(s.calls),
+                  static_cast<unsigned long long>(s.worstCycles), static_cast<double>(s.worstCycles) / mhz,
+                  static_cast<double>(s.worstLatency_ns) * 1e-3 * mhz, static_cast<double>(s.worstLatency_ns) * 1e-3);
     lines.push_back(line);
   }
   const double load = elapsed_s > 0 ? static_cast<double>(t.totalCycles()) / (t.clock_hz() * elapsed_s) : 0.0;
@@ -318,6 +346,15 @@ std::vector<std::pair<std::string, double>> FirmwareHost::targetFigures(double e
     f.emplace_back(p + "worst_instructions", d(s.worstInstructions));
     f.emplace_back(p + "worst_cycles", d(s.worstCycles));
     f.emplace_back(p + "stack_bytes", s.stack_bytes);
+  }
+  for (int i = 0; i < kTargetIrqLines; ++i) {
+    const TargetIrqStats& s = t.irqStats()[static_cast<size_t>(i)];
+    if (s.calls == 0) continue;
+    const std::string p = "target_irq" + std::to_string(i) + "_";
+    f.emplace_back(p + "calls", d(s.calls));
+    f.emplace_back(p + "mean_cycles", d(s.cycles) / d(s.calls));
+    f.emplace_back(p + "worst_cycles", d(s.worstCycles));
+    f.emplace_back(p + "worst_latency_s", d(s.worstLatency_ns) * 1e-9);
   }
   return f;
 }

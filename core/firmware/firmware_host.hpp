@@ -134,6 +134,8 @@ class FirmwareHost {
   struct Call;  // one call into the firmware (guarded for a library)
   void watchdogReset();
   bool bootAfterReset(uint64_t windowEnd_ns, bms::Outputs& out);
+  // Target mode: the interrupts taken before before_ns while the MCU idles between calls.
+  bool runInterrupts(uint64_t before_ns);
   bool call(const char* what, int task);
   void failed(double start_s, const std::string& where, const GuardResult& r);
   void start(double t_s);

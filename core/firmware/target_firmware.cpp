@@ -1,6 +1,7 @@
 #include "core/firmware/target_firmware.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 
@@ -21,6 +22,9 @@ constexpr size_t kNameChars = 65;
 
 uint32_t align8(uint32_t a) { return (a + 7u) & ~7u; }
 
+// An instant on the CAN bus (s) as the MCU clock's ns at or just after it.
+uint64_t toNsCeil(double t_s) { return static_cast<uint64_t>(std::llround(t_s * 1e9)) + 1u; }
+
 uint32_t word(const uint8_t* p) {
   uint32_t v;
   std::memcpy(&v, p, 4);
@@ -31,6 +35,7 @@ uint32_t word(const uint8_t* p) {
 
 TargetFirmware::TargetFirmware(FirmwareHost& host, const std::string& elfPath, uint32_t clock_hz)
     : host_(host), clock_hz_(clock_hz), runawayCycles_(UINT64_MAX) {
+  pendAt_ns_.fill(UINT64_MAX);
   try {
     elf_ = std::make_unique<ElfImage>(readTargetElf(elfPath));
     mcu_ = std::make_unique<TargetMcu>(*elf_);
@@ -42,6 +47,112 @@ TargetFirmware::TargetFirmware(FirmwareHost& host, const std::string& elfPath, u
 }
 
 TargetFirmware::~TargetFirmware() = default;
+
+uint64_t TargetFirmware::cyclesUntil(uint64_t t_ns) const {
+  // The smallest n with clock + floor((n·1e9 + fraction) / f) >= t.
+  if (t_ns <= host_.clock_ns_) return 0;
+  const unsigned __int128 need = static_cast<unsigned __int128>(t_ns - host_.clock_ns_) * clock_hz_;
+  if (need <= cycleFraction_) return 0;
+  const unsigned __int128 n = (need - cycleFraction_ + 999999999u) / 1000000000u;
+  return n > UINT64_MAX / 2 ? UINT64_MAX / 2 : static_cast<uint64_t>(n);
+}
+
+void TargetFirmware::pend(int irq, uint64_t t_ns) {
+  TargetNvic& n = mcu_->nvic();
+  if (!n.pending(irq)) pendAt_ns_[static_cast<size_t>(irq)] = t_ns;
+  n.pend(irq);
+}
+
+void TargetFirmware::pendSources(uint64_t t_ns) {
+  if (!mcu_) return;
+  CanBus* can = host_.board_.can;
+  if (canIe_ && can && !mcu_->nvic().active(kTargetIrqCanRx)) {  // a level: while a frame waits
+    const double at = can->oldestArrived(host_.board_.canNode, static_cast<double>(t_ns) * 1e-9);
+    if (std::isfinite(at)) pend(kTargetIrqCanRx, toNsCeil(at));
+  }
+  while (timerOn_ && timerNext_ns_ <= t_ns) {  // expiries while pending merge into one (the NVIC has one bit)
+    pend(kTargetIrqTimer, timerNext_ns_);
+    ++timerCount_;
+    timerNext_ns_ += uint64_t{timerPeriodUs_} * 1000u;
+  }
+}
+
+uint64_t TargetFirmware::nextSourceInstant() const {
+  uint64_t next = timerOn_ ? timerNext_ns_ : UINT64_MAX;
+  CanBus* can = host_.board_.can;
+  if (canIe_ && can && mcu_ && !mcu_->nvic().active(kTargetIrqCanRx)) {
+    // The next frame's arrival (1 ns after it, so that the bus has it at that instant).
+    const double at = can->nextArrival(host_.board_.canNode, static_cast<double>(host_.clock_ns_) * 1e-9);
+    if (std::isfinite(at)) next = std::min(next, toNsCeil(at));
+  }
+  return next;
+}
+
+void TargetFirmware::monitorLine(bool asserted, uint64_t t_ns) {
+  if (mcu_ && lineKnown_ && asserted && !lineLevel_) pend(kTargetIrqAlert, t_ns);
+  lineKnown_ = true;
+  lineLevel_ = asserted;
+}
+
+bool TargetFirmware::nextIdleInterrupt(uint64_t now_ns, uint64_t before_ns, uint64_t& at_ns) {
+  if (!mcu_) return false;
+  pendSources(now_ns);
+  const int prio = mcu_->executionPriority();  // thread mode: the masks the code left set
+  if (mcu_->nvic().next(prio) >= 0) {
+    at_ns = now_ns;
+    return now_ns < before_ns;
+  }
+  for (uint64_t s = nextSourceInstant(); s < before_ns; s = nextSourceInstant()) {
+    pendSources(s);
+    if (mcu_->nvic().next(prio) >= 0) {
+      at_ns = s;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* TargetFirmware::irqName(int irq) {
+  switch (irq) {
+    case kTargetIrqAlert: return "ALERT";
+    case kTargetIrqCanRx: return "CAN receive";
+    default: return "timer";
+  }
+}
+
+void TargetFirmware::entered(int irq, uint64_t cyclesBefore, uint64_t instructionsBefore) {
+  Handler hd{irq, cyclesBefore, instructionsBefore, 0, 0};
+  hd.min = mcu_->cyclesMin() - (mcu_->cycles() - cyclesBefore);
+  hd.max = mcu_->cyclesMax() - (mcu_->cycles() - cyclesBefore);
+  handlers_.push_back(hd);
+  uint64_t& at = pendAt_ns_[static_cast<size_t>(irq)];
+  if (at != UINT64_MAX) {
+    const uint64_t first_ns = host_.clock_ns_;  // synced after the entry: its first instruction's instant
+    TargetIrqStats& s = irqStats_[static_cast<size_t>(irq)];
+    s.worstLatency_ns = std::max(s.worstLatency_ns, first_ns > at ? first_ns - at : 0);
+    at = UINT64_MAX;
+  }
+}
+
+void TargetFirmware::returned(int irq) {
+  if (handlers_.empty() || handlers_.back().irq != irq) return;
+  const Handler hd = handlers_.back();
+  handlers_.pop_back();
+  const uint64_t total = mcu_->cycles() - hd.cycles;
+  const uint64_t own = total - hd.nested;
+  TargetIrqStats& s = irqStats_[static_cast<size_t>(irq)];
+  ++s.calls;
+  s.cycles += own;
+  s.worstCycles = std::max(s.worstCycles, own);
+  if (!handlers_.empty()) {
+    handlers_.back().nested += total;
+  } else {
+    handlerCycles_ += total;
+    handlerInstructions_ += mcu_->instructions() - hd.instructions;
+    handlerMin_ += mcu_->cyclesMin() - hd.min;
+    handlerMax_ += mcu_->cyclesMax() - hd.max;
+  }
+}
 
 void TargetFirmware::syncClock() {
   const uint64_t n = mcu_->cycles() - syncedCycles_;
@@ -69,6 +180,8 @@ void TargetFirmware::setDeadline() {
     limit = std::min(limit, syncedCycles_ + cyclesPast(d > h.clock_ns_ ? d - h.clock_ns_ : 0));
   }
   mcu_->setCycleDeadline(limit);
+  const uint64_t src = nextSourceInstant();
+  mcu_->setInterruptDueCycles(src == UINT64_MAX ? UINT64_MAX : syncedCycles_ + cyclesUntil(src));
 }
 
 bool TargetFirmware::call(const char* what, int task) {
@@ -78,6 +191,7 @@ bool TargetFirmware::call(const char* what, int task) {
   const double start_s = h.clock_s();
   std::string where = what;
   if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(h.fw_.tasks[task].period_ms) + " ms)";
+  if (task == kInterruptCall) where = "an interrupt handler";
   if (!mcu_) {
     h.fault(start_s, error_);
     return false;
@@ -94,7 +208,7 @@ bool TargetFirmware::call(const char* what, int task) {
   } else if (task == -1) {
     fn = elf_->symbol("psbsp_init");
     args = {desc_, ram_, config_, static_cast<uint32_t>(h.config_.size())};
-  } else {
+  } else if (task >= 0) {
     fn = elf_->symbol("psbsp_task");
     args = {desc_, static_cast<uint32_t>(task), ram_};
   }
@@ -103,14 +217,68 @@ bool TargetFirmware::call(const char* what, int task) {
   callStartMin_ = mcu_->cyclesMin();
   callStartMax_ = mcu_->cyclesMax();
   const uint64_t startInstructions = mcu_->instructions();
-  setDeadline();
-  TargetCallResult r = mcu_->call(fn, args, *this);
+  handlerCycles_ = handlerInstructions_ = handlerMin_ = handlerMax_ = 0;
+  handlers_.clear();
+  std::string why;
+  TargetCallResult r;
+  if (task == kInterruptCall) {  // the MCU leaves its idle loop: the exception's entry, then its handler
+    pendSources(h.clock_ns_);
+    const uint64_t c0 = mcu_->cycles(), n0 = mcu_->instructions();
+    const int irq = mcu_->enterFromIdle(why);
+    if (irq == -2) {
+      h.fault(start_s, "fault in " + where + ": " + why);
+      return false;
+    }
+    if (irq < 0) return true;  // nothing to take after all
+    syncClock();
+    entered(irq, c0, n0);
+    where = "the handler of interrupt " + std::to_string(irq) + " (" + irqName(irq) + ")";
+    setDeadline();
+    r = mcu_->resume(*this);
+  } else {
+    setDeadline();
+    r = mcu_->call(fn, args, *this);
+  }
   for (;;) {
     syncClock();
     if (r.stop == TargetStop::Returned) break;
     if (r.stop == TargetStop::Fault) {
       h.fault(start_s, "fault in " + where + ": " + r.fault);
       return false;
+    }
+    if (r.stop == TargetStop::Interrupt || r.stop == TargetStop::ExceptionReturn) {
+      pendSources(h.clock_ns_);
+      if (r.stop == TargetStop::ExceptionReturn) {
+        const int done = mcu_->exceptionReturn(why);
+        if (done == -2) {
+          h.fault(start_s, "fault in " + where + ": " + why);
+          return false;
+        }
+        returned(done);
+        syncClock();
+        pendSources(h.clock_ns_);  // a level still up (a frame left in the FIFO) pends again
+        if (mcu_->atReturnPage()) break;  // an interrupt taken from the idle loop has returned
+      }
+      const uint64_t c0 = mcu_->cycles(), n0 = mcu_->instructions();
+      const int irq = mcu_->takeInterrupt(why);
+      if (irq == -2) {
+        h.fault(start_s, "fault in " + where + ": " + why);
+        return false;
+      }
+      if (irq >= 0) {
+        syncClock();
+        entered(irq, c0, n0);
+      }
+      if (h.breakCause_[0] == '\0') h.checkBudget();  // the handlers' time counts to the task's
+      if (h.breakCause_[0] != '\0') {
+        char pc[32];
+        std::snprintf(pc, sizeof pc, " (stopped at PC 0x%08x)", mcu_->pc());
+        h.fault(start_s, "contract break in " + where + ": " + h.breakCause_ + pc);
+        return false;
+      }
+      setDeadline();
+      r = mcu_->resume(*this);
+      continue;
     }
     if (h.breakCause_[0] == '\0') h.checkBudget();  // a deadline: the budget, the watchdog or a runaway
     if (h.breakCause_[0] != '\0') {
@@ -142,14 +310,15 @@ bool TargetFirmware::call(const char* what, int task) {
                          " bytes of the stack (PSBSP_STACK_BYTES) and wrote below it, into the RAM under it");
     return false;
   }
-  if (task >= 0) {
+  if (task >= 0) {  // the task's own code: the handlers that pre-empted it are theirs
     TargetTaskStats& s = stats_[static_cast<size_t>(task)];
-    const uint64_t n = mcu_->instructions() - startInstructions, c = mcu_->cycles() - callStartCycles_;
+    const uint64_t n = mcu_->instructions() - startInstructions - handlerInstructions_,
+                   c = mcu_->cycles() - callStartCycles_ - handlerCycles_;
     ++s.calls;
     s.instructions += n;
     s.cycles += c;
-    s.cyclesMin += mcu_->cyclesMin() - callStartMin_;
-    s.cyclesMax += mcu_->cyclesMax() - callStartMax_;
+    s.cyclesMin += mcu_->cyclesMin() - callStartMin_ - handlerMin_;
+    s.cyclesMax += mcu_->cyclesMax() - callStartMax_ - handlerMax_;
     s.worstInstructions = std::max(s.worstInstructions, n);
     s.worstCycles = std::max(s.worstCycles, c);
     s.stack_bytes = std::max(s.stack_bytes, stack);
@@ -218,7 +387,12 @@ void TargetFirmware::reset() {
   wdgRunning_ = false;
   resetPending_ = false;
   wdgTimeoutUs_ = 0;
-  mcu_->loadRam(true);
+  timerOn_ = false;
+  timerPeriodUs_ = 0;
+  canIe_ = false;
+  pendAt_ns_.fill(UINT64_MAX);
+  handlers_.clear();
+  mcu_->loadRam(true);  // the NVIC's reset state too
 }
 
 bool TargetFirmware::copyIn(uint32_t addr, void* out, size_t n, const char* what) {
@@ -260,6 +434,11 @@ uint32_t TargetFirmware::supervisorCall(TargetMcu& m, unsigned number) {
           !copyOut(rx, rxb, rxLen, "bus_transfer's rx buffer"))
         return 0;
       r = static_cast<uint32_t>(got);
+      if (h.board_.pins) {  // the ALERT / FAULT line as the transfer left the chain
+        bool line = false;
+        for (const MonitorBus* b : h.board_.buses) line = line || b->chain->faultLine();
+        monitorLine(line, h.clock_ns_);
+      }
       break;
     }
     case kSvcAdcRead: r = static_cast<uint32_t>(h.adcRead(static_cast<uint8_t>(m.arg(1)))); break;
@@ -340,6 +519,41 @@ uint32_t TargetFirmware::watchdogRead(uint32_t offset) {
     case 8: return resets_;
     default: return 0;
   }
+}
+
+uint32_t TargetFirmware::peripheralRead(TargetMcu&, uint32_t offset) {
+  syncClock();
+  pendSources(host_.clock_ns_);
+  switch (offset) {
+    case kTimerCtrl: return timerOn_ ? 1u : 0u;
+    case kTimerPeriodUs: return timerPeriodUs_;
+    case kTimerCount: return static_cast<uint32_t>(timerCount_);
+    case kCanIer: return canIe_ ? 1u : 0u;
+    case kInstanceRam: return ram_;
+    default: return 0;
+  }
+}
+
+// The timer: PERIOD_US, then CTRL bit 0 starts it at the MCU clock's instant (its first
+// update one period later) or stops it; COUNT counts its updates since the start.
+void TargetFirmware::peripheralWrite(TargetMcu& m, uint32_t offset, uint32_t value) {
+  syncClock();
+  pendSources(host_.clock_ns_);
+  if (offset == kTimerPeriodUs && !timerOn_) timerPeriodUs_ = value;
+  if (offset == kCanIer) {
+    canIe_ = (value & 1u) != 0;
+    pendSources(host_.clock_ns_);  // a frame already waiting pends at once
+  }
+  if (offset == kTimerCtrl) {
+    const bool on = (value & 1u) != 0 && timerPeriodUs_ > 0;
+    if (on && !timerOn_) {
+      timerNext_ns_ = host_.clock_ns_ + uint64_t{timerPeriodUs_} * 1000u;
+      timerCount_ = 0;
+    }
+    timerOn_ = on;
+  }
+  setDeadline();
+  m.checkInterrupts();
 }
 
 void TargetFirmware::watchdogWrite(TargetMcu&, uint32_t offset, uint32_t value) {

@@ -10,7 +10,14 @@
 // (and by the firmware at will); a missed kick resets the MCU: its outputs drop to their
 // reset level, RAM is reloaded from the ELF except .noinit, and the entry and init run
 // again in the BMS tick that holds the reset's instant.
+//
+// Interrupts (target_mcu.hpp, target_nvic.hpp): the monitor ALERT / FAULT line (an edge
+// at a tick's sample or after a bus transfer), the board's timer (psbsp.h) pend their
+// NVIC lines at their instants; a running call stops at the instruction boundary its
+// cycle count reaches there and enters the handler; between calls the MCU leaves its
+// idle loop for it (FirmwareHost::step). Per interrupt: calls, handler cycles, latency.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -38,6 +45,18 @@ struct TargetTaskStats {
   uint32_t stack_bytes = 0;                         // the deepest stack of any call
 };
 
+// What one interrupt's handler cost, over the run.
+struct TargetIrqStats {
+  uint64_t calls = 0;
+  uint64_t cycles = 0, worstCycles = 0;  // its own (entry and return included, nested handlers not)
+  uint64_t worstLatency_ns = 0;          // from the instant it was pended to its first instruction
+};
+
+// The board's peripheral page (psbsp.h): the timer's registers.
+constexpr uint32_t kTimerCtrl = 0x000, kTimerPeriodUs = 0x004, kTimerCount = 0x008;
+constexpr uint32_t kCanIer = 0x400;       // bit 0: the CAN receive interrupt while a frame waits
+constexpr uint32_t kInstanceRam = 0xFF0;  // the firmware's RAM (psbsp_ram(), for handlers)
+
 class TargetFirmware : public TargetPeripherals {
  public:
   TargetFirmware(FirmwareHost& host, const std::string& elfPath, uint32_t clock_hz);
@@ -45,11 +64,21 @@ class TargetFirmware : public TargetPeripherals {
   // Why the MCU could not be set up ("" if it was): a firmware_fault at power-up.
   const std::string& error() const { return error_; }
 
-  // One call (the host's task numbering: -2 entry, -1 init, n task n). False when it
+  // One call (the host's task numbering: -2 entry, -1 init, n task n, kInterruptCall an
+  // interrupt taken from the idle loop). False when it
   // did not return: the host's MCU is then dead (a fault or contract break, recorded),
   // or it was reset by the watchdog (resetPending()).
   bool call(const char* what, int task);
   bool resetPending() const { return resetPending_; }
+  static constexpr int kInterruptCall = -3;
+  // The monitor ALERT / FAULT line's level at t_ns (the tick's sample, or after a bus
+  // transfer): its assertion pends PSBSP_ALERT_IRQn (an EXTI line on its rising edge).
+  void monitorLine(bool asserted, uint64_t t_ns);
+  // While the MCU idles from now_ns: the first instant before before_ns at which an
+  // interrupt is taken (the sources pended up to there); false if none.
+  bool nextIdleInterrupt(uint64_t now_ns, uint64_t before_ns, uint64_t& at_ns);
+  const std::array<TargetIrqStats, kTargetIrqLines>& irqStats() const { return irqStats_; }
+  static const char* irqName(int irq);
   // The reset: RAM reloaded except .noinit, the watchdog stopped; the host runs the
   // entry and init again.
   void reset();
@@ -70,11 +99,22 @@ class TargetFirmware : public TargetPeripherals {
   uint32_t resets() const { return resets_; }
 
   uint32_t supervisorCall(TargetMcu& mcu, unsigned number) override;
+  uint32_t peripheralRead(TargetMcu& mcu, uint32_t offset) override;
+  void peripheralWrite(TargetMcu& mcu, uint32_t offset, uint32_t value) override;
   uint32_t watchdogRead(uint32_t offset) override;
   void watchdogWrite(TargetMcu& mcu, uint32_t offset, uint32_t value) override;
 
  private:
   void syncClock();
+  // Cycles from now until the MCU clock reaches t_ns (0 if it has).
+  uint64_t cyclesUntil(uint64_t t_ns) const;
+  // The interrupt sources (the timer) pend what is due by t_ns; the next instant one will.
+  void pendSources(uint64_t t_ns);
+  uint64_t nextSourceInstant() const;
+  void pend(int irq, uint64_t t_ns);
+  // Handler bookkeeping: entry (the MCU's counts before it; the clock synced after it) and return.
+  void entered(int irq, uint64_t cyclesBefore, uint64_t instructionsBefore);
+  void returned(int irq);
   void setDeadline();
   bool copyIn(uint32_t addr, void* out, size_t n, const char* what);
   bool copyOut(uint32_t addr, const void* in, size_t n, const char* what);
@@ -96,6 +136,22 @@ class TargetFirmware : public TargetPeripherals {
   uint32_t wdgTimeoutUs_ = 0;
   uint64_t wdgTimeout_ns_ = 0, wdgLastKick_ns_ = 0;
   uint32_t resets_ = 0;
+
+  std::array<TargetIrqStats, kTargetIrqLines> irqStats_{};
+  std::array<uint64_t, kTargetIrqLines> pendAt_ns_;  // UINT64_MAX: not pended by a source
+  struct Handler {
+    int irq;
+    uint64_t cycles, instructions, min, max;  // the MCU's counts before its entry
+    uint64_t nested = 0;                      // cycles of handlers that pre-empted it
+  };
+  std::vector<Handler> handlers_;  // running, innermost last
+  // The top-level handlers' totals in the running call (a task's own counts exclude them).
+  uint64_t handlerCycles_ = 0, handlerInstructions_ = 0, handlerMin_ = 0, handlerMax_ = 0;
+  bool lineKnown_ = false, lineLevel_ = false;
+  bool timerOn_ = false;
+  uint32_t timerPeriodUs_ = 0;
+  uint64_t timerNext_ns_ = 0, timerCount_ = 0;
+  bool canIe_ = false;
 };
 
 }  // namespace packsim

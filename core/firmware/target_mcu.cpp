@@ -14,6 +14,7 @@ namespace packsim {
 namespace {
 
 constexpr uint32_t kExcpSwi = 2;  // QEMU's EXCP_SWI: the SVC instruction
+constexpr uint32_t kExcpExceptionExit = 8;  // QEMU's EXCP_EXCEPTION_EXIT: a branch to an EXC_RETURN value
 
 void check(uc_err e, const char* what) {
   if (e != UC_ERR_OK) throw std::runtime_error(std::string("Unicorn: ") + what + ": " + uc_strerror(e));
@@ -57,6 +58,11 @@ TargetMcu::TargetMcu(const ElfImage& elf) : elf_(elf) {
   check(uc_mmio_map(uc_, target::kWatchdogBase, target::kWatchdogBytes, &TargetMcu::onWatchdogRead, this,
                     &TargetMcu::onWatchdogWrite, this),
         "map the watchdog");
+  check(uc_mmio_map(uc_, target::kPeripheralBase, target::kPeripheralBytes, &TargetMcu::onPeripheralRead, this,
+                    &TargetMcu::onPeripheralWrite, this),
+        "map the peripherals");
+  check(uc_mmio_map(uc_, target::kScsBase, target::kScsBytes, &TargetMcu::onScsRead, this, &TargetMcu::onScsWrite, this),
+        "map the NVIC");
   for (const ElfSegment& s : elf.segments)
     if (s.vaddr >= target::kFlashBase && s.vaddr < target::kFlashBase + target::kFlashBytes && !s.bytes.empty())
       check(uc_mem_write(uc_, s.vaddr, s.bytes.data(), s.bytes.size()), "load flash");
@@ -74,6 +80,12 @@ TargetMcu::TargetMcu(const ElfImage& elf) : elf_(elf) {
   noinitStart_ = elf.symbol("__psbsp_noinit_start");
   noinitEnd_ = elf.symbol("__psbsp_noinit_end");
   paintedFrom_ = stackTop_;
+  // VTOR at reset: the board's vector table at the start of flash (an ELF built before
+  // the board had one: no vectors, an interrupt taken is a fault).
+  const auto vec = elf.symbols.find("psbsp_vectors");
+  const auto dflt = elf.symbols.find("psbsp_default_handler");
+  nvic_ = TargetNvic(vec != elf.symbols.end() ? vec->second : 0);
+  defaultHandler_ = dflt != elf.symbols.end() ? (dflt->second & ~1u) : 0;
 }
 
 TargetMcu::~TargetMcu() {
@@ -91,7 +103,26 @@ void TargetMcu::loadRam(bool keepNoInit) {
   check(uc_mem_write(uc_, target::kRamBase, ram.data(), ram.size()), "load RAM");
   paintedFrom_ = stackTop_;
   paintStack();
+  // The core's reset state: thread mode, no interrupt pending or enabled, masks clear.
+  nvic_.reset();
+  irqCheck_ = false;
+  irqDue_ = UINT64_MAX;
+  setReg(UC_ARM_REG_IPSR, 0);
+  setReg(UC_ARM_REG_PRIMASK, 0);
+  setReg(UC_ARM_REG_BASEPRI, 0);
+  setReg(UC_ARM_REG_FAULTMASK, 0);
+  setReg(UC_ARM_REG_CONTROL, 0);
 }
+
+uint32_t TargetMcu::reg(int id) {
+  uint32_t v = 0;
+  uc_reg_read(uc_, id, &v);
+  return v;
+}
+
+void TargetMcu::setReg(int id, uint32_t v) { uc_reg_write(uc_, id, &v); }
+
+bool TargetMcu::atReturnPage() { return pc() == target::kReturnPage; }
 
 void TargetMcu::paintStack() {
   if (paintedFrom_ >= stackTop_) paintedFrom_ = stackLimit_;
@@ -137,7 +168,40 @@ TargetCallResult TargetMcu::run(uint32_t start, TargetPeripherals& p) {
   stop_ = TargetStop::Returned;
   stopping_ = false;
   fault_.clear();
-  const uc_err e = uc_emu_start(uc_, start | 1u, target::kReturnPage, 0, 0);
+  uc_err e = uc_emu_start(uc_, start | 1u, target::kReturnPage, 0, 0);
+  if (stopping_ && stop_ == TargetStop::Split) {
+    // The interrupt falls inside the block the emulator was entering (it has not run):
+    // re-translate it with a hook on its instructions from the boundary on, and run it
+    // again; the hook stops the emulator before the first of them.
+    uc_hook h = 0;
+    check(uc_hook_add(uc_, &h, UC_HOOK_CODE, reinterpret_cast<void*>(&TargetMcu::onSplit), this, splitAt_, splitEnd_ - 1),
+          "hook the interrupt's boundary");
+    splitHook_ = h;
+    check(uc_ctl_remove_cache(uc_, splitStart_, splitEnd_), "re-translate a block");
+    splitArmed_ = true;
+    stop_ = TargetStop::Returned;
+    stopping_ = false;
+    e = uc_emu_start(uc_, pc() | 1u, target::kReturnPage, 0, 0);
+  }
+  if (splitArmed_) {
+    splitArmed_ = false;
+    uc_hook_del(uc_, splitHook_);
+    check(uc_ctl_remove_cache(uc_, splitStart_, splitEnd_), "re-translate a block");
+    const uint32_t at = pc();
+    if (stopping_ && stop_ == TargetStop::Interrupt && at >= splitStart_ && at < splitEnd_) {
+      // The block was counted whole when it started: its instructions from the
+      // boundary on have not run (they run, and count, after the handler).
+      std::vector<uint8_t> code(splitEnd_ - at);
+      if (uc_mem_read(uc_, at, code.data(), code.size()) == UC_ERR_OK) {
+        const BlockCost rest = model_.cost(code.data(), code.size(), at);
+        instructions_ -= rest.instructions;
+        cycles_ -= rest.cycles;
+        cyclesMin_ -= rest.cyclesMin;
+        cyclesMax_ -= rest.cyclesMax;
+      }
+      lastBlockEnd_ = 0;
+    }
+  }
   peripherals_ = nullptr;
   TargetCallResult r;
   uc_reg_read(uc_, UC_ARM_REG_R0, &r.r0);
@@ -217,12 +281,12 @@ bool TargetMcu::readString(uint32_t addr, char* out, size_t max) {
 
 void TargetMcu::onBlock(uc_struct* uc, uint64_t address, uint32_t size, void* self) {
   auto& m = *static_cast<TargetMcu*>(self);
+  uint32_t penalty[3] = {0, 0, 0};
   if (m.lastBlockEnd_ != 0 && address != m.lastBlockEnd_) {
-    m.cycles_ += kTakenBranchCycles;
-    m.cyclesMin_ += kTakenBranchCyclesMin;
-    m.cyclesMax_ += kTakenBranchCyclesMax;
+    penalty[0] = kTakenBranchCycles;
+    penalty[1] = kTakenBranchCyclesMin;
+    penalty[2] = kTakenBranchCyclesMax;
   }
-  m.lastBlockEnd_ = address + size;
   const uint64_t key = address | (uint64_t{size} << 32);
   auto it = m.costs_.find(key);
   if (it == m.costs_.end()) {
@@ -231,11 +295,207 @@ void TargetMcu::onBlock(uc_struct* uc, uint64_t address, uint32_t size, void* se
     if (size > 0 && uc_mem_read(uc, address, code.data(), size) == UC_ERR_OK) c = m.model_.cost(code.data(), size, address);
     it = m.costs_.emplace(key, c).first;
   }
+  const bool splitting = m.splitArmed_;  // the split block again: counted whole, its hook stops it
+  if (!splitting && (m.irqCheck_ || m.irqDue_ != UINT64_MAX || m.nvic_.anyPendingEnabled()) &&
+      m.interruptBoundary(address, size, it->second, penalty))
+    return;
+  m.cycles_ += penalty[0];
+  m.cyclesMin_ += penalty[1];
+  m.cyclesMax_ += penalty[2];
+  m.lastBlockEnd_ = address + size;
   m.instructions_ += it->second.instructions;
   m.cycles_ += it->second.cycles;
   m.cyclesMin_ += it->second.cyclesMin;
   m.cyclesMax_ += it->second.cyclesMax;
-  if (m.cycles_ >= m.deadline_) m.stopWith(TargetStop::Deadline, "");
+  if (!splitting && m.cycles_ >= m.deadline_) m.stopWith(TargetStop::Deadline, "");
+}
+
+// The emulator is about to run a block: stop before it when an interrupt is to be
+// looked at (an NVIC write, a service, a mask that may have lifted) or falls due at its
+// start; when it falls due inside it, split it at the instruction boundary.
+bool TargetMcu::interruptBoundary(uint64_t address, uint32_t size, const BlockCost& c, uint32_t penalty[3]) {
+  const uint64_t c0 = cycles_ + penalty[0];
+  bool stopHere = irqCheck_ || irqDue_ <= c0;
+  if (!stopHere && nvic_.anyPendingEnabled()) stopHere = nvic_.next(executionPriority()) >= 0;  // a mask lifted
+  const auto stopBefore = [&](TargetStop why) {
+    cycles_ = c0;  // the branch into the block has run; the block has not
+    cyclesMin_ += penalty[1];
+    cyclesMax_ += penalty[2];
+    lastBlockEnd_ = 0;
+    stopWith(why, "");
+  };
+  if (stopHere) {
+    stopBefore(TargetStop::Interrupt);
+    return true;
+  }
+  if (irqDue_ >= c0 + c.cycles) return false;
+  std::vector<uint8_t> code(size);
+  if (uc_mem_read(uc_, address, code.data(), size) != UC_ERR_OK) return false;
+  const size_t at = model_.boundary(code.data(), size, address, irqDue_ - c0);
+  if (at >= size) return false;  // at the block's end: the next block stops
+  splitStart_ = address;
+  splitEnd_ = address + size;
+  splitAt_ = address + at;
+  stopBefore(TargetStop::Split);
+  return true;
+}
+
+void TargetMcu::onSplit(uc_struct*, uint64_t, uint32_t, void* self) {
+  static_cast<TargetMcu*>(self)->stopWith(TargetStop::Interrupt, "");
+}
+
+int TargetMcu::executionPriority() {
+  return nvic_.executionPriority(reg(UC_ARM_REG_PRIMASK), reg(UC_ARM_REG_FAULTMASK), reg(UC_ARM_REG_BASEPRI));
+}
+
+namespace {
+constexpr uint32_t kFpca = 1u << 2;           // CONTROL.FPCA: the running code has an FP context
+constexpr uint32_t kExcReturnBasic = 1u << 4;  // EXC_RETURN bit 4: a basic (no FP) frame
+constexpr uint32_t kExcReturnThread = 1u << 3; // bit 3: back to thread mode
+constexpr uint32_t kEntryCycles = 12, kReturnCycles = 10;  // Cortex-M4 TRM, zero wait states
+}  // namespace
+
+int TargetMcu::takeInterrupt(std::string& fault) {
+  irqCheck_ = false;
+  const int irq = nvic_.next(executionPriority());
+  if (irq < 0) return -1;
+  uint32_t vector = 0;
+  const uint32_t exc = 16u + static_cast<uint32_t>(irq);
+  char why[240];
+  if (nvic_.vtor() == 0 || !read(nvic_.vtor() + 4 * exc, &vector, 4)) {
+    std::snprintf(why, sizeof why,
+                  "interrupt %d taken, but the firmware has no vector table (VTOR 0x%08x; psbsp_board.c's psbsp_vectors "
+                  "is missing: an ELF built before the board had interrupts?), PC 0x%08x",
+                  irq, nvic_.vtor(), pc());
+    fault = why;
+    return -2;
+  }
+  if ((vector & ~1u) == defaultHandler_) {
+    std::snprintf(why, sizeof why,
+                  "interrupt %d (%s) enabled and taken, but the firmware defines no handler for it (its vector is "
+                  "psbsp_default_handler), PC 0x%08x",
+                  irq, irq == kTargetIrqAlert ? "PSBSP_ALERT_IRQHandler" : irq == kTargetIrqCanRx ? "PSBSP_CAN_RX_IRQHandler" : "PSBSP_TIMER_IRQHandler", pc());
+    fault = why;
+    return -2;
+  }
+  if (!(vector & 1u)) {
+    std::snprintf(why, sizeof why, "interrupt %d's vector 0x%08x has no Thumb bit (UsageFault: INVSTATE)", irq, vector);
+    fault = why;
+    return -2;
+  }
+  // PushStack (ARMv7-M ARM B1.5.6): the frame on the main stack, 8-byte aligned.
+  const uint32_t control = reg(UC_ARM_REG_CONTROL);
+  const bool fp = (control & kFpca) != 0;
+  const uint32_t frameBytes = fp ? 0x68u : 0x20u;
+  const uint32_t sp = reg(UC_ARM_REG_SP);
+  const uint32_t align = (sp >> 2) & 1u;
+  const uint32_t frame = (sp - frameBytes) & ~(align << 2);
+  uint32_t words[26] = {reg(UC_ARM_REG_R0), reg(UC_ARM_REG_R1), reg(UC_ARM_REG_R2),   reg(UC_ARM_REG_R3),
+                        reg(UC_ARM_REG_R12), reg(UC_ARM_REG_LR), pc() & ~1u,          (reg(UC_ARM_REG_XPSR) & ~(1u << 9)) | (align << 9)};
+  if (fp) {  // written at once (the chip's lazy stacking writes the same values at the handler's first FP instruction)
+    for (int i = 0; i < 16; ++i) words[8 + i] = reg(UC_ARM_REG_S0 + i);
+    words[24] = reg(UC_ARM_REG_FPSCR);
+    words[25] = 0;
+  }
+  if (!write(frame, words, frameBytes)) {
+    std::snprintf(why, sizeof why, "interrupt %d: its exception frame at 0x%08x is outside RAM (stack overflow), PC 0x%08x", irq,
+                  frame, pc());
+    fault = why;
+    return -2;
+  }
+  const bool fromThread = (reg(UC_ARM_REG_IPSR) & 0x1FFu) == 0;
+  const uint32_t excReturn = 0xFFFFFFE1u | (fp ? 0u : kExcReturnBasic) | (fromThread ? kExcReturnThread : 0u);
+  setReg(UC_ARM_REG_SP, frame);
+  setReg(UC_ARM_REG_LR, excReturn);
+  setReg(UC_ARM_REG_CONTROL, control & ~kFpca);
+  setReg(UC_ARM_REG_XPSR_NZCVQG, (1u << 24) | exc);  // Thumb, the exception number, no IT state
+  setReg(UC_ARM_REG_PC, vector);
+  nvic_.activate(irq);
+  cycles_ += kEntryCycles;
+  cyclesMin_ += kEntryCycles;
+  cyclesMax_ += kEntryCycles;
+  lastBlockEnd_ = 0;  // the entry's cycles hold the pipeline's refill
+  return irq;
+}
+
+int TargetMcu::enterFromIdle(std::string& fault) {
+  lastBlockEnd_ = 0;
+  setReg(UC_ARM_REG_SP, stackTop_);
+  setReg(UC_ARM_REG_LR, target::kReturnPage | 1u);
+  setReg(UC_ARM_REG_XPSR_NZCVQG, 1u << 24);
+  setReg(UC_ARM_REG_PC, target::kReturnPage | 1u);
+  return takeInterrupt(fault);
+}
+
+int TargetMcu::exceptionReturn(std::string& fault) {
+  const uint32_t excReturn = pc() | 1u;
+  const uint32_t ipsr = reg(UC_ARM_REG_IPSR) & 0x1FFu;
+  const int irq = static_cast<int>(ipsr) - 16;
+  char why[200];
+  const bool known = excReturn == 0xFFFFFFE1u || excReturn == 0xFFFFFFE9u || excReturn == 0xFFFFFFF1u ||
+                     excReturn == 0xFFFFFFF9u;
+  if (irq < 0 || irq >= kTargetIrqLines || !nvic_.active(irq) || !known) {
+    std::snprintf(why, sizeof why,
+                  "invalid exception return (UsageFault: INVPC): EXC_RETURN 0x%08x in %s%s", excReturn,
+                  irq >= 0 ? "interrupt " : "thread mode", irq >= 0 ? std::to_string(irq).c_str() : "");
+    if (excReturn == 0xFFFFFFFDu || excReturn == 0xFFFFFFEDu)
+      std::strncat(why, " (the process stack, PSP, is not modelled: thread mode runs on the main stack)", sizeof why - std::strlen(why) - 1);
+    fault = why;
+    return -2;
+  }
+  nvic_.deactivate(irq);
+  // PopStack: the frame back into the registers; SP past it (and its aligner).
+  const bool fp = (excReturn & kExcReturnBasic) == 0;
+  const uint32_t frameBytes = fp ? 0x68u : 0x20u;
+  const uint32_t frame = reg(UC_ARM_REG_SP);
+  uint32_t w[26] = {0};
+  if (!read(frame, w, frameBytes)) {
+    std::snprintf(why, sizeof why, "exception return: its frame at 0x%08x is not in memory", frame);
+    fault = why;
+    return -2;
+  }
+  const int regs[6] = {UC_ARM_REG_R0, UC_ARM_REG_R1, UC_ARM_REG_R2, UC_ARM_REG_R3, UC_ARM_REG_R12, UC_ARM_REG_LR};
+  for (int i = 0; i < 6; ++i) setReg(regs[i], w[i]);
+  if (fp) {
+    for (int i = 0; i < 16; ++i) setReg(UC_ARM_REG_S0 + i, w[8 + i]);
+    setReg(UC_ARM_REG_FPSCR, w[24]);
+  }
+  setReg(UC_ARM_REG_SP, frame + frameBytes + (((w[7] >> 9) & 1u) << 2));
+  const uint32_t control = reg(UC_ARM_REG_CONTROL);
+  setReg(UC_ARM_REG_CONTROL, fp ? (control | kFpca) : (control & ~kFpca));
+  const uint32_t back = (excReturn & kExcReturnThread) ? 0u : (w[7] & 0x1FFu);
+  setReg(UC_ARM_REG_XPSR_NZCVQG, (w[7] & ~0x3FFu) | back);
+  setReg(UC_ARM_REG_PC, w[6] | 1u);
+  cycles_ += kReturnCycles;
+  cyclesMin_ += kReturnCycles;
+  cyclesMax_ += kReturnCycles;
+  lastBlockEnd_ = 0;
+  if (nvic_.anyPendingEnabled()) irqCheck_ = true;  // one waiting for this handler's priority to drop
+  return irq;
+}
+
+uint64_t TargetMcu::onScsRead(uc_struct*, uint64_t offset, unsigned size, void* self) {
+  auto& m = *static_cast<TargetMcu*>(self);
+  const uint32_t aligned = static_cast<uint32_t>(offset) & ~3u;
+  const uint32_t v = m.nvic_.read(aligned, m.reg(UC_ARM_REG_IPSR));
+  const uint32_t shift = 8u * (static_cast<uint32_t>(offset) & 3u);
+  return size >= 4 ? v : (v >> shift) & ((1u << (8 * size)) - 1u);
+}
+
+void TargetMcu::onScsWrite(uc_struct*, uint64_t offset, unsigned size, uint64_t value, void* self) {
+  auto& m = *static_cast<TargetMcu*>(self);
+  m.nvic_.write(static_cast<uint32_t>(offset), static_cast<uint32_t>(value), size);
+  m.irqCheck_ = true;  // an interrupt may be takeable now: at the next block
+}
+
+uint64_t TargetMcu::onPeripheralRead(uc_struct*, uint64_t offset, unsigned, void* self) {
+  auto& m = *static_cast<TargetMcu*>(self);
+  return m.peripherals_ ? m.peripherals_->peripheralRead(m, static_cast<uint32_t>(offset)) : 0;
+}
+
+void TargetMcu::onPeripheralWrite(uc_struct*, uint64_t offset, unsigned, uint64_t value, void* self) {
+  auto& m = *static_cast<TargetMcu*>(self);
+  if (m.peripherals_) m.peripherals_->peripheralWrite(m, static_cast<uint32_t>(offset), static_cast<uint32_t>(value));
 }
 
 void TargetMcu::onInterrupt(uc_struct* uc, uint32_t intno, void* self) {
@@ -246,6 +506,11 @@ void TargetMcu::onInterrupt(uc_struct* uc, uint32_t intno, void* self) {
     uc_mem_read(uc, pc - 2, &insn, 2);
     const uint32_t r0 = m.peripherals_->supervisorCall(m, insn & 0xFFu);
     uc_reg_write(uc, UC_ARM_REG_R0, &r0);
+    if (m.nvic_.anyPendingEnabled()) m.irqCheck_ = true;  // a service pended one (an edge seen on the bus)
+    return;
+  }
+  if (intno == kExcpExceptionExit) {  // a branch to EXC_RETURN: the host unstacks
+    m.stopWith(TargetStop::ExceptionReturn, "");
     return;
   }
   char why[200];

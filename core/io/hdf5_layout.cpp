@@ -56,6 +56,7 @@ std::string longNameOf(const std::string& path) {
   if (const ResultChannel* c = findResultChannel(path)) return c->long_name;
   if (path == "/events") return "events: time_s, kind, detail";
   if (path == "/bus_trace") return "monitor-bus transactions: time_s, bus, direction, count, bytes, what";
+  if (path == "/can_trace") return "CAN frames of a board alone: time_s, end_s, direction, id, dlc, data, lost";
   // truth/cell_voltage_V -> "cell voltage (truth)"
   std::string name = baseName(path);
   const size_t unit = name.rfind('_');
@@ -117,7 +118,7 @@ class Layout {
     const std::string group = parentOf(path);
     if (group == "/inputs") {  // a batch case's drawn values: one per cell
       attach(ds, 0, indexScale(group, "cell", dims[0]));
-    } else if (dims[0] == z_.samples && path != "/events" && path != "/bus_trace") {
+    } else if (dims[0] == z_.samples && path != "/events" && path != "/bus_trace" && path != "/can_trace") {
       attach(ds, 0, timeScale(group));
     } else {
       attach(ds, 0, indexScale(group, path == "/events" ? "event" : baseName(path) + "_index", dims[0]));

@@ -261,6 +261,31 @@ class Writer {
     table("/bus_trace", type, rows);
   }
 
+  // A board alone's CAN bus (hardware.can): every frame, in the order it went on the wire.
+  void canTrace(const std::vector<CanTraceRow>& trace) {
+    struct Row {
+      double time_s, end_s;
+      const char* direction;
+      int32_t id, dlc;
+      const char* data;
+      uint8_t lost;
+    };
+    std::vector<Row> rows;
+    rows.reserve(trace.size());
+    for (const CanTraceRow& e : trace)
+      rows.push_back({e.time_s, e.end_s, e.out ? "out" : "in", e.id, e.dlc, e.data.c_str(), static_cast<uint8_t>(e.lost)});
+    const Handle str(newTextType(), H5Tclose, "string type");
+    Handle type(H5Tcreate(H5T_COMPOUND, sizeof(Row)), H5Tclose, "can_trace type");
+    H5Tinsert(type, "time_s", HOFFSET(Row, time_s), H5T_NATIVE_DOUBLE);
+    H5Tinsert(type, "end_s", HOFFSET(Row, end_s), H5T_NATIVE_DOUBLE);
+    H5Tinsert(type, "direction", HOFFSET(Row, direction), str);
+    H5Tinsert(type, "id", HOFFSET(Row, id), H5T_NATIVE_INT32);
+    H5Tinsert(type, "dlc", HOFFSET(Row, dlc), H5T_NATIVE_INT32);
+    H5Tinsert(type, "data", HOFFSET(Row, data), str);
+    H5Tinsert(type, "lost", HOFFSET(Row, lost), H5T_NATIVE_UINT8);
+    table("/can_trace", type, rows);
+  }
+
  private:
   // A row of a vehicle table (laps, stages): its 1-based number, whether it was complete
   // (0: the run ended in it), then N figures.
@@ -388,6 +413,7 @@ void writeAll(hid_t file, const Scenario& s, const RunResult& r, bool compress, 
   w.attrOn("/bms/soc_estimate_permille", "estimator", settingChoice("soc.estimator", s.bms.image));
   w.events(r.events);
   if (s.output.bus_trace) w.busTrace(r.bus_trace);
+  if (s.hardware.can_alone) w.canTrace(r.can_trace);
 
   w.group("/summary");
   Handle g(H5Oopen(file, "/summary", H5P_DEFAULT), H5Oclose, "summary");

@@ -1,6 +1,9 @@
 #include <bms/bms_limits.hpp>
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <sstream>
 
@@ -54,8 +57,54 @@ void refuseOtherPartsKeys(YamlMap& afe, const MonitorPart& part) {
 
 }  // namespace
 
+// A CAN identifier or data byte: a whole number, decimal or 0x-hex, in [lo, hi].
+uint32_t canInteger(const YamlMap& m, const YAML::Node& n, const std::string& field, unsigned long hi) {
+  const std::string text = n.IsScalar() ? n.Scalar() : "";
+  const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long v = text.empty() ? 0 : std::strtoul(text.c_str() + (hex ? 2 : 0), &end, hex ? 16 : 10);
+  if (text.empty() || text[0] == '-' || errno != 0 || end == nullptr || *end != '\0' || (hex && text.size() == 2))
+    throw m.errorAt(n, field, "expected a whole number (decimal or 0x hex), got '" + text + "'");
+  if (v > hi) {
+    char range[64];
+    std::snprintf(range, sizeof range, "allowed [0, %lu] (0x%lX)", hi, hi);
+    throw m.errorAt(n, field, text + " is out of range; " + range);
+  }
+  return static_cast<uint32_t>(v);
+}
+
+std::vector<ScriptedCanFrame> readCanFrames(YamlMap& can) {
+  std::vector<ScriptedCanFrame> frames;
+  std::vector<YamlMap> list = can.mapList("frames");
+  for (size_t i = 0; i < list.size(); ++i) {
+    YamlMap& f = list[i];
+    ScriptedCanFrame fr;
+    fr.at_s = f.number("at_s", Range::closed(0.0, limits::kMaxTime_s));
+    fr.id = canInteger(f, f.node("id"), f.path() + ".id", 0x7FFu);
+    const bool hasData = f.has("data");
+    const YAML::Node data = hasData ? f.node("data") : YAML::Node();
+    if (hasData && !data.IsSequence())
+      throw f.errorAt(data, f.path() + ".data", "expected a list of 0 to 8 bytes like [0x01, 2, 255]");
+    if (hasData && data.size() > 8)
+      throw f.errorAt(data, f.path() + ".data",
+                      std::to_string(data.size()) + " bytes: a classic CAN data frame carries at most 8");
+    for (size_t k = 0; hasData && k < data.size(); ++k)
+      fr.data.push_back(static_cast<uint8_t>(canInteger(f, data[k], f.path() + ".data" + "[" + std::to_string(k) + "]", 0xFFu)));
+    fr.period_s = f.number("period_s", 0.0, Range::closed(0.0, limits::kMaxTime_s));
+    if (f.has("period_s") && !(fr.period_s > 0.0))
+      throw f.errorAt("period_s", "a period must be positive (leave it out for a single frame)");
+    fr.until_s = f.number("until_s", limits::kMaxTime_s, Range::closed(fr.at_s, limits::kMaxTime_s));
+    if (f.has("until_s") && !f.has("period_s")) throw f.errorAt("until_s", "until_s needs a period_s (a repeated frame)");
+    f.finish();
+    frames.push_back(fr);
+  }
+  return frames;
+}
+
 HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
   HardwareConfig h;
+  YAML::Node canFramesNode;  // hardware.can.frames, for an error once the boards are known
   // Defaults: a stack of the registry's first part (core/parts/monitor_parts.hpp),
   // 4 thermistors spread over the string, a 5 mΩ shunt into a gain-10 amplifier on a
   // 16-bit converter, an ideal relay, a discharge FET with its diode, no fuse.
@@ -194,8 +243,13 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       f->finish();
     }
     if (auto b = hw->optionalMap("balancing")) h.balancing = readPassiveBalancer(*b);
-    if (auto c = hw->optionalMap("can")) {  // between the monitor boards' MCUs
+    if (auto c = hw->optionalMap("can")) {  // between the monitor boards' MCUs, or a board alone's to the vehicle
       h.can_bitrate_bps = c->number("bitrate_kbps", h.can_bitrate_bps * 1e-3, Range::closed(10.0, 1000.0)) * 1e3;
+      h.can_alone = true;  // judged against the boards below
+      if (c->has("frames")) {
+        canFramesNode = c->node("frames");
+        h.can_frames = readCanFrames(*c);
+      }
       c->finish();
     }
     if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
@@ -278,6 +332,13 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
   const size_t onInputs = std::min(h.thermistor_sites.size(), static_cast<size_t>(a.devices * a.thermistors_per_device));
   for (size_t k = 0; k < onInputs; ++k)
     if (!h.thermistor_sites[k].onCell()) a.fet_inputs |= 1u << (k % static_cast<size_t>(a.thermistors_per_device));
+  if (h.afe.devices_per_board > 0) {
+    h.can_alone = false;  // the bus links the boards' MCUs (packsim's core on each)
+    if (!h.can_frames.empty())
+      throw hw->errorAt(canFramesNode, "hardware.can.frames",
+                        "scripted frames need a board alone: with hardware.afe.devices_per_board the bus carries "
+                        "packsim's core's own frames between the boards");
+  }
   if (hw) hw->finish();
   return h;
 }

@@ -65,6 +65,16 @@ struct ThermalConfig {
   std::vector<ThermalNodeConfig> nodes;
 };
 
+// A data frame the vehicle / charger sends on a board alone's CAN bus (hardware.can.frames):
+// ready at at_s, and again every period_s (> 0) up to until_s.
+struct ScriptedCanFrame {
+  double at_s = 0.0;
+  uint32_t id = 0;            // 11-bit identifier
+  std::vector<uint8_t> data;  // 0-8 bytes
+  double period_s = 0.0;
+  double until_s = 0.0;       // with a period: the last instant a copy may be ready
+};
+
 struct HardwareConfig {
   AdcChannel cell_adc;             // in volts: lsb, gain, offset, noise
   Thermistor thermistor;           // one part type for all channels
@@ -86,6 +96,8 @@ struct HardwareConfig {
   PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
   ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
   double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
+  bool can_alone = false;             // hardware.can on a board alone: a bus to the vehicle / charger
+  std::vector<ScriptedCanFrame> can_frames;  // hardware.can.frames: what the vehicle / charger sends
   // Every thermistor channel: the sites above, then the balancing boards'. Built once by
   // the loader from those (thermistor_table.hpp); everyone reads the channels here.
   ThermistorTable thermistors;

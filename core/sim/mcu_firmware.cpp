@@ -1,16 +1,27 @@
 #include "core/sim/mcu_firmware.hpp"
 
 #include <algorithm>
+#include <cstdio>
+#include <limits>
 
 #include <bms/bms_firmware.hpp>
 
 namespace packsim {
 
 McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker)
-    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library) {
+    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library), tickFor_s_(s.bms.tick_s) {
   const std::vector<MonitorBoard>& boards = hw.boards();
   if (boards.size() == 1) {
     FirmwareBoard board{hw.monitorBuses(), hw.mcuThermistorCount()};
+    if (s.hardware.can_alone) {  // a bus to the vehicle / charger
+      can_ = std::make_unique<CanBus>(2, s.hardware.can_bitrate_bps);
+      can_->trace(true);
+      board.can = can_.get();
+      board.canNode = 0;
+      aloneCan_ = true;
+      scripted_ = s.hardware.can_frames;
+      for (const ScriptedCanFrame& f : scripted_) nextScripted_s_.push_back(f.at_s);
+    }
     if (library_)
       hosts_.push_back(std::make_unique<FirmwareHost>(s.bms.firmware, board, s.bms.tick_s, *this));
     else
@@ -30,7 +41,46 @@ McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim&
   }
 }
 
+void McuFirmware::injectScripted(double before_s) {
+  for (size_t i = 0; i < scripted_.size(); ++i) {
+    const ScriptedCanFrame& fr = scripted_[i];
+    double& next = nextScripted_s_[i];
+    while (next < before_s && next <= fr.until_s + 1e-12) {
+      can_->inject(1, next, fr.id, fr.data.data(), static_cast<uint8_t>(fr.data.size()));
+      if (!(fr.period_s > 0.0)) {
+        next = std::numeric_limits<double>::infinity();
+        break;
+      }
+      next += fr.period_s;
+    }
+  }
+}
+
+std::vector<CanTraceRow> McuFirmware::takeCanTrace(double end_s) {
+  std::vector<CanTraceRow> rows;
+  if (!aloneCan_) return rows;
+  (void)end_s;
+  can_->runUntil(std::numeric_limits<double>::infinity());  // every frame queued in the run's ticks
+  for (const CanBus::TraceRow& t : can_->takeTrace()) {
+    CanTraceRow r;
+    r.time_s = t.start_s;
+    r.end_s = t.end_s;
+    r.out = t.from == 0;
+    r.id = static_cast<int>(t.id);
+    r.dlc = t.len;
+    r.lost = t.lost;
+    char hex[4];
+    for (uint8_t k = 0; k < t.len; ++k) {
+      std::snprintf(hex, sizeof hex, k ? " %02X" : "%02X", t.data[k]);
+      r.data += hex;
+    }
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f) {
+  if (aloneCan_) injectScripted(t_s + tickFor_s_);
   if (!f.host_dead) hosts_.front()->step(t_s, in, out);
   for (size_t b = 1; b < hosts_.size(); ++b) {
     if (!(f.dead_boards & (1u << b))) hosts_[b]->step(t_s, in, memberPins_[b]);

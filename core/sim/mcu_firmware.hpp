@@ -25,6 +25,7 @@
 #include "core/firmware/firmware_host.hpp"
 #include "core/scenario/scenario.hpp"
 #include "core/sim/bms_bridge.hpp"
+#include "core/sim/result.hpp"
 #include "core/sim/run_tracker.hpp"
 
 namespace packsim {
@@ -48,6 +49,9 @@ class McuFirmware : public FirmwareSink {
   double worstTaskTime_s(int task) const;
   void enforceBudgets(bool on);
   const CanBus* can() const { return can_.get(); }
+  // A board alone with hardware.can: every frame on its bus up to end_s (the firmware's
+  // and the scenario's), in the order they went on the wire.
+  std::vector<CanTraceRow> takeCanTrace(double end_s);
 
   void event(double t_s, const std::string& kind, const std::string& detail) override {
     tracker_.event(t_s, kind, detail);
@@ -60,7 +64,14 @@ class McuFirmware : public FirmwareSink {
   RunTracker& tracker_;
   const HardwareSim& hw_;
   bool library_;
-  std::unique_ptr<CanBus> can_;                     // several boards only
+  std::unique_ptr<CanBus> can_;                     // several boards, or a board alone with hardware.can
+  // A board alone's bus: node 0 the MCU, node 1 the vehicle / charger sending the
+  // scenario's frames, each copy queued in the tick before it is ready.
+  std::vector<ScriptedCanFrame> scripted_;
+  std::vector<double> nextScripted_s_;
+  bool aloneCan_ = false;
+  double tickFor_s_;
+  void injectScripted(double before_s);
   std::vector<std::unique_ptr<FirmwareHost>> hosts_;  // per board, the pack host first
   std::vector<bms::Outputs> memberPins_;            // what the members' unconnected pins got
 };

@@ -28,6 +28,18 @@ struct BusTraceRow {
   std::string what;        // the part's decoding (MonitorChain::describe)
 };
 
+// One frame on a board alone's CAN bus to the vehicle / charger (hardware.can;
+// core/firmware/can_bus.hpp), as it went on the wire.
+struct CanTraceRow {
+  double time_s = 0.0;  // its start of frame
+  double end_s = 0.0;   // its end: the receivers have it
+  bool out = true;      // true: the firmware sent it; false: the scenario's (hardware.can.frames)
+  int id = 0;
+  int dlc = 0;
+  std::string data;     // hex, space-separated
+  bool lost = false;    // in: the MCU's receive FIFO was full
+};
+
 // Per-sample arrays are row-major [sample][channel]. Each vector is one row of the
 // result-channel table (core/sim/result_channels.hpp), which fills and writes it.
 struct Recording {
@@ -152,6 +164,7 @@ struct RunResult {
   Recording rec;
   std::vector<Event> events;
   std::vector<BusTraceRow> bus_trace;  // empty unless output.bus_trace
+  std::vector<CanTraceRow> can_trace;  // a board alone with hardware.can: every frame on its bus
   Summary summary;
   CvodeStats solver;
   double quad[8] = {0, 0, 0, 0, 0, 0, 0, 0};  // Plant Quadrature order (kQuadCount)

@@ -6,12 +6,14 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include "core/firmware/cycle_model.hpp"
 #include "core/firmware/elf_image.hpp"
+#include "core/firmware/target_nvic.hpp"
 #include "core/io/hdf5_writer.hpp"
 #include "core/sim/firmware_failure.hpp"
 #include "core/sim/simulation.hpp"
@@ -34,6 +36,13 @@ const std::string kElfDir;
 #define PACKSIM_TARGET_FAULT_FW_OR_EMPTY PACKSIM_TARGET_FAULT_FW
 #else
 #define PACKSIM_TARGET_FAULT_FW_OR_EMPTY ""
+#endif
+#ifdef PACKSIM_TARGET_IRQ_FW
+#define PACKSIM_TARGET_IRQ_FW_OR_EMPTY PACKSIM_TARGET_IRQ_FW
+#define PACKSIM_TARGET_CAN_FW_OR_EMPTY PACKSIM_TARGET_CAN_FW
+#else
+#define PACKSIM_TARGET_IRQ_FW_OR_EMPTY ""
+#define PACKSIM_TARGET_CAN_FW_OR_EMPTY ""
 #endif
 
 std::string exampleElf() { return kElfDir + "/packsim_example_bms_cm4.elf"; }
@@ -296,6 +305,271 @@ TEST(TargetMode, AnElfForAnotherArchitectureOrWithoutTheBoardIsALoadError) {
       "extends: bench_6s_ncr18650_2C.yaml\nbms: {firmware: {target: cortex-m7, elf: " + exampleElf() + "}}\n");
   EXPECT_NE(wrongTarget.find("unknown target 'cortex-m7'; allowed: cortex-m4"), std::string::npos) << wrongTarget;
   EXPECT_THROW(readTargetElf(PACKSIM_PROBE_FW), ElfError);
+}
+
+// --- interrupts (tests/firmware/target_irq_fw.c) -----------------------------------
+
+// System C's bench pack with the FAULT line out of the relay drive (only the firmware
+// opens it), thermistor 1 shorted at 2.05 s: the BQ76PL536A's 65 degC comparator holds
+// its 1 s delay and asserts FAULT at the 3.05 s tick.
+RunResult irqRun(int alertIrq, int timerPeriodUs, int raceLoops, int raceProtect, double duration_s = 3.5) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "hardware: {afe: {fault_line_opens_relay: false}}\n"
+      "bms: {tick_ms: 10, firmware: {target: cortex-m4, elf: " PACKSIM_TARGET_IRQ_FW_OR_EMPTY ", config: {alert_irq: " +
+      std::to_string(alertIrq) + ", timer_period_us: " + std::to_string(timerPeriodUs) +
+      ", report_at_ms: 500, race_at_ms: 700, race_loops: " + std::to_string(raceLoops) +
+      ", race_protect: " + std::to_string(raceProtect) + "}}}\n"
+      "faults: [{kind: thermistor_short, thermistor: 1, at_s: 2.05}]\n"
+      "run: {duration_s: " + std::to_string(duration_s) + "}\n");
+  return runScenario(s);
+}
+
+std::string irqLine(const RunResult& r, const std::string& start) {
+  for (const std::string& l : r.summary.firmware_target)
+    if (l.rfind(start, 0) == 0) return l;
+  return "";
+}
+
+// The ALERT handler opens the relay at the line's edge plus its own cycles, counted by
+// hand from the cycle model's table (the handler is assembly: target_irq_fw.c): 12 to
+// enter, 8 for its block, 2 for the branch into the service stub and 1 for its SVC:
+// 23 cycles = 136.9 ns at 168 MHz. Polling the same line in a 100 ms task opens it at
+// the task's next run, 3.1 s: 50 ms later.
+TEST(TargetInterrupts, TheAlertHandlerOpensTheRelayAtTheEdgePlusItsCycles) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const RunResult irq = irqRun(1, 0, 0, 0);
+  const double edge_s = test::eventTime(irq, "monitor_fault_line", "asserted");
+  ASSERT_NEAR(edge_s, 3.05, 1e-9);
+  EXPECT_NEAR(test::eventTime(irq, "relay_contact", "opened"), edge_s + 23 / 168e6, 1.5e-9);
+  // Its summary line: one call; 34 cycles = the 23 above, the stub's bx lr (1) and the
+  // 10-cycle return; entered 12 cycles after the edge (the MCU idled).
+  const std::string line = irqLine(irq, "IRQ 0 ALERT: ");
+  EXPECT_EQ(line.rfind("IRQ 0 ALERT: 1 calls, mean 34 cycles, worst 34 cycles", 0), 0u) << line;
+  EXPECT_NE(line.find("worst latency 12 cycles = 0.07"), std::string::npos) << line;
+  const RunResult poll = irqRun(0, 0, 0, 0);
+  EXPECT_NEAR(test::eventTime(poll, "monitor_fault_line", "asserted"), edge_s, 1e-12);
+  const double polled_s = test::eventTime(poll, "relay_contact", "opened");
+  EXPECT_GT(polled_s, 3.1);
+  EXPECT_LT(polled_s, 3.1 + 1e-6);
+  EXPECT_EQ(irqLine(poll, "IRQ 0"), "");  // never enabled: no handler ran
+}
+
+// The board timer interrupts every period from the instant init started it (a few
+// microseconds after 0): by 500 ms, floor((500 ms - start) / period) calls: 1666 at
+// 300 us (not a multiple of the 10 ms tick: its instants fall inside ticks), 499 at 1 ms.
+TEST(TargetInterrupts, ATimerInterruptCountsItsPeriodsExactly) {
+  REQUIRE_ARM_TOOLCHAIN();
+  EXPECT_GE(test::eventTime(irqRun(1, 300, 0, 0, 0.6), "firmware", "timer 1666 calls, count 1666"), 0.5);
+  EXPECT_GE(test::eventTime(irqRun(1, 1000, 0, 0, 0.6), "firmware", "timer 499 calls, count 499"), 0.5);
+}
+
+// A 300 us timer pre-empts a task that runs a read-modify-write loop for milliseconds on
+// a variable the handler increments too: the handler runs while the task is mid-loop,
+// and every call that lands between the task's load and store loses an update. The
+// loop's 48-nop block holds the window: the interrupt is taken inside it, at the
+// instruction boundary its instant reaches (latency 12 cycles + at most one
+// instruction), not at the block's end. With the read-modify-write in a critical section
+// (PRIMASK) no update is lost; the timer waits for the section's end.
+TEST(TargetInterrupts, AHandlerPreemptsALongTaskMidLoopAndRacesIt) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const auto race = [](const RunResult& r, unsigned& calls, unsigned& first, unsigned& lost) {
+    for (const Event& e : r.events)
+      if (e.kind == "firmware" && e.detail.rfind("race: ", 0) == 0)
+        return std::sscanf(e.detail.c_str(), "race: 10000 loops, %u handler calls during them, the first at loop %u, %u updates lost",
+                           &calls, &first, &lost) == 3;
+    return false;
+  };
+  unsigned calls = 0, first = 0, lost = 0;
+  const RunResult open = irqRun(1, 300, 10000, 0, 0.8);
+  ASSERT_TRUE(race(open, calls, first, lost));
+  EXPECT_GE(calls, 5u);  // the loop runs milliseconds
+  EXPECT_GT(first, 0u);
+  EXPECT_LT(first, 10000u);
+  EXPECT_GT(lost, 0u);
+  EXPECT_LE(lost, calls);
+  const std::string timer = irqLine(open, "IRQ 2 timer: ");
+  unsigned latency = 999;
+  ASSERT_NE(timer.find("worst latency "), std::string::npos) << timer;
+  std::sscanf(timer.c_str() + timer.find("worst latency "), "worst latency %u cycles", &latency);
+  EXPECT_GE(latency, 12u) << timer;
+  EXPECT_LE(latency, 12u + 10u) << timer;  // the firmware's longest instruction: a 9-register push or pop
+  const RunResult locked = irqRun(1, 300, 10000, 1, 0.8);
+  ASSERT_TRUE(race(locked, calls, first, lost));
+  EXPECT_GE(calls, 5u);
+  EXPECT_EQ(lost, 0u);
+}
+
+// An interrupt enabled without a handler (its vector the board's default) is a fault
+// naming the handler the firmware lacks.
+TEST(TargetInterrupts, AnInterruptWithoutAHandlerIsAFault) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const RunResult r = irqRun(2, 0, 0, 0, 0.1);
+  bool found = false;
+  for (const Event& e : r.events)
+    found = found || (e.kind == "firmware_fault" &&
+                      e.detail.find("interrupt 1 (PSBSP_CAN_RX_IRQHandler) enabled and taken, but the firmware defines "
+                                    "no handler for it") != std::string::npos);
+  EXPECT_TRUE(found);
+}
+
+// The NVIC's choice (no toolchain needed): priorities, masks, PRIGROUP.
+TEST(TargetNvic, PrioritiesAndMasksDecideWhichInterruptIsTaken) {
+  TargetNvic n(0x08000000);
+  n.write(0x400, 0x00402000u, 4);  // IPR: ALERT 0x00, CAN 0x20, timer 0x40
+  n.pend(kTargetIrqTimer);
+  n.pend(kTargetIrqCanRx);
+  EXPECT_EQ(n.next(kThreadPriority), -1);  // pending, not enabled
+  n.write(0x100, 0x6u, 4);                 // ISER: CAN, timer
+  EXPECT_EQ(n.next(kThreadPriority), kTargetIrqCanRx);  // the higher priority first
+  EXPECT_EQ(n.next(n.executionPriority(1, 0, 0)), -1);  // PRIMASK
+  EXPECT_EQ(n.next(n.executionPriority(0, 0, 0x20)), -1);  // BASEPRI 0x20 masks 0x20 and 0x40
+  EXPECT_EQ(n.next(n.executionPriority(0, 0, 0x30)), kTargetIrqCanRx);
+  n.activate(kTargetIrqCanRx);
+  EXPECT_EQ(n.next(n.executionPriority(0, 0, 0)), -1);  // the timer (0x40) waits for the CAN handler (0x20)
+  n.pend(kTargetIrqAlert);
+  n.write(0x100, 0x1u, 4);
+  EXPECT_EQ(n.next(n.executionPriority(0, 0, 0)), kTargetIrqAlert);  // 0x00 pre-empts it (nesting)
+  n.deactivate(kTargetIrqCanRx);
+  // PRIGROUP 5: bits [7:6] group, [5:0] sub: 0x20 and 0x00 are one group, no pre-emption.
+  n.write(0xD0C, 0x05FA0500u, 4);
+  n.activate(kTargetIrqCanRx);
+  EXPECT_EQ(n.next(n.executionPriority(0, 0, 0)), -1);
+  EXPECT_EQ(n.read(0xD0C, 0) & 0x700u, 0x500u);
+  EXPECT_EQ(n.read(0x300, 0), 0x2u);  // IABR: CAN active
+  n.write(0x180, 0x7u, 4);            // ICER
+  EXPECT_EQ(n.read(0x100, 0), 0u);
+}
+
+// --- CAN for a board alone (hardware.can; tests/firmware/can_fw.c) --------------------
+
+// The vehicle sends 0x200 (no data) at 0.25, 0.35, 0.45 s and 0x123 [11 22] at 0.5005 s;
+// the firmware echoes each with id + 1 and sends 0x180 [counter] every 100 ms.
+Scenario canScenario(const std::string& firmware, int useIrq) {
+  return test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "hardware:\n"
+      "  can:\n"
+      "    bitrate_kbps: 500\n"
+      "    frames:\n"
+      "      - {at_s: 0.5005, id: 0x123, data: [0x11, 0x22]}\n"
+      "      - {at_s: 0.25, id: 0x200, data: [], period_s: 0.1, until_s: 0.45}\n"
+      "bms: {tick_ms: 10, firmware: {" + firmware + ", config: {use_irq: " + std::to_string(useIrq) + "}}}\n"
+      "run: {duration_s: 0.8}\n");
+}
+
+RunResult canRun(const std::string& firmware, int useIrq) { return runScenario(canScenario(firmware, useIrq)); }
+
+// When the firmware read 0x123 (its "rx" event's "at N us").
+long rxAt_us(const RunResult& r, const std::string& what) {
+  for (const Event& e : r.events)
+    if (e.kind == "firmware" && e.detail.rfind("rx " + what, 0) == 0)
+      return std::stol(e.detail.substr(e.detail.find(" at ") + 4));
+  return -1;
+}
+
+// The scripted frames go on the idle bus at their instant and take their stuffed bit
+// count at 500 kbit/s (0 bytes: 47 bits + at most 8 stuff bits; 2 bytes: 63 + at most
+// 12); what the firmware sent is in the trace, frame for frame, as its own "tx" events
+// list it.
+void expectTraceOf(const RunResult& r) {
+  std::vector<std::string> sent, traced;
+  for (const Event& e : r.events)
+    if (e.kind == "firmware" && e.detail.rfind("tx ", 0) == 0) sent.push_back(e.detail);
+  int in = 0;
+  for (const CanTraceRow& row : r.can_trace) {
+    char head[40];
+    std::snprintf(head, sizeof head, "tx 0x%03X [%d]", row.id, row.dlc);
+    if (row.out) {
+      traced.push_back(std::string(head) + (row.data.empty() ? "" : " " + row.data));
+      continue;
+    }
+    ++in;
+    const double bits = (row.end_s - row.time_s) * 500e3;
+    if (row.id == 0x123) {
+      EXPECT_NEAR(row.time_s, 0.5005, 1e-12);
+      EXPECT_EQ(row.data, "11 22");
+      EXPECT_GE(bits, 63 - 1e-6);
+      EXPECT_LE(bits, 75 + 1e-6);
+    } else {
+      EXPECT_EQ(row.id, 0x200);
+      EXPECT_GE(bits, 47 - 1e-6);
+      EXPECT_LE(bits, 55 + 1e-6);
+    }
+    EXPECT_FALSE(row.lost);
+  }
+  EXPECT_EQ(in, 4);
+  EXPECT_GE(sent.size(), 10u);  // 7 status frames by 0.7 s, 4 echoes
+  EXPECT_EQ(traced, sent);
+}
+
+double frameEnd(const RunResult& r, int id) {
+  for (const CanTraceRow& row : r.can_trace)
+    if (!row.out && row.id == id) return row.end_s;
+  return -1.0;
+}
+
+// Host mode: the 1 ms task reads 0x123 at its first run after the frame's end.
+TEST(CanAlone, AFirmwareReceivesTheScriptedFramesAndItsFramesAreRecorded) {
+  const RunResult r = canRun("library: " PACKSIM_CAN_FW, 0);
+  const double end = frameEnd(r, 0x123);
+  ASSERT_GT(end, 0.5005);
+  EXPECT_EQ(rxAt_us(r, "0x123 [2] 11 22"), static_cast<long>(std::ceil(end * 1e3)) * 1000);
+  expectTraceOf(r);
+  // The result file's /can_trace holds the same rows.
+  const std::string file = (test::processTempDir("target_mode") / "can.h5").string();
+  writeResultHdf5(file, canScenario("library: " PACKSIM_CAN_FW, 0), r);
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t ds = H5Dopen2(f, "/can_trace", H5P_DEFAULT);
+  const hid_t space = H5Dget_space(ds);
+  hsize_t rows = 0;
+  H5Sget_simple_extent_dims(space, &rows, nullptr);
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Fclose(f);
+  EXPECT_EQ(rows, r.can_trace.size());
+}
+
+// Target mode: the same, polled (a few microseconds of code later), and by the CAN
+// receive interrupt: its handler reads the frame microseconds after its end, before the
+// poll would have, entered 12 cycles after it arrived.
+TEST(CanAlone, TargetModeReceivesByPollingAndByTheReceiveInterrupt) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const RunResult polled = canRun("target: cortex-m4, elf: " PACKSIM_TARGET_CAN_FW_OR_EMPTY, 0);
+  const double end = frameEnd(polled, 0x123);
+  const long poll_us = static_cast<long>(std::ceil(end * 1e3)) * 1000;
+  EXPECT_GE(rxAt_us(polled, "0x123 [2] 11 22"), poll_us);
+  EXPECT_LT(rxAt_us(polled, "0x123 [2] 11 22"), poll_us + 100);
+  expectTraceOf(polled);
+  const RunResult irq = canRun("target: cortex-m4, elf: " PACKSIM_TARGET_CAN_FW_OR_EMPTY, 1);
+  EXPECT_NEAR(frameEnd(irq, 0x123), end, 1e-12);
+  const long at = rxAt_us(irq, "0x123 [2] 11 22");
+  EXPECT_GE(at, static_cast<long>(end * 1e6));
+  EXPECT_LT(at, static_cast<long>(end * 1e6) + 100);
+  EXPECT_LT(at, poll_us);
+  expectTraceOf(irq);
+  const std::string line = irqLine(irq, "IRQ 1 CAN receive: ");
+  EXPECT_EQ(line.rfind("IRQ 1 CAN receive: 4 calls", 0), 0u) << line;
+  EXPECT_NE(line.find("worst latency 12 cycles"), std::string::npos) << line;
+}
+
+// Bad frames are errors at their line, naming the field and the allowed range.
+TEST(CanAlone, BadScriptedFramesAreLoadErrors) {
+  const std::string base = "extends: bench_6s_ncr18650_2C.yaml\nhardware:\n  can:\n    frames:\n";
+  const std::string id = test::yamlErrorOf(base + "      - {at_s: 1, id: 0x800}\n");
+  EXPECT_NE(id.find("test.yaml:5:"), std::string::npos) << id;
+  EXPECT_NE(id.find("hardware.can.frames[0].id: 0x800 is out of range; allowed [0, 2047] (0x7FF)"), std::string::npos) << id;
+  const std::string nine = test::yamlErrorOf(base + "      - {at_s: 1, id: 1, data: [1,2,3,4,5,6,7,8,9]}\n");
+  EXPECT_NE(nine.find("9 bytes: a classic CAN data frame carries at most 8"), std::string::npos) << nine;
+  const std::string byte = test::yamlErrorOf(base + "      - {at_s: 1, id: 1, data: [256]}\n");
+  EXPECT_NE(byte.find("hardware.can.frames[0].data[0]: 256 is out of range; allowed [0, 255]"), std::string::npos) << byte;
+  const std::string word = test::yamlErrorOf(base + "      - {at_s: 1, id: one}\n");
+  EXPECT_NE(word.find("expected a whole number (decimal or 0x hex), got 'one'"), std::string::npos) << word;
+  const std::string period = test::yamlErrorOf(base + "      - {at_s: 1, id: 1, until_s: 2}\n");
+  EXPECT_NE(period.find("until_s needs a period_s"), std::string::npos) << period;
+  const std::string boards = test::yamlErrorOf(
+      "extends: motorcycle_110s.yaml\nhardware:\n  afe: {devices_per_board: 5}\n  can:\n    frames: [{at_s: 1, id: 1}]\n");
+  EXPECT_NE(boards.find("scripted frames need a board alone"), std::string::npos) << boards;
 }
 
 }  // namespace

@@ -58,8 +58,10 @@ const psfw_board_api psbsp_api = {
 
 const psfw_firmware* psfw_firmware_entry(void);
 
-/* packsim's calls. The board handle is a token the stubs pass back unread. */
-#define PSBSP_BOARD ((psfw_board*)0)
+/* packsim's calls. The board handle (PSBSP_BOARD, psbsp.h) is a token the stubs pass back
+ * unread; the firmware's RAM, which init and the tasks are given, is also a register of
+ * the board (for handlers). */
+void* psbsp_ram(void) { return (void*)PSBSP_INSTANCE_RAM; }
 
 const psfw_firmware* psbsp_entry(void) { return psfw_firmware_entry(); }
 
@@ -72,6 +74,30 @@ void psbsp_task(const psfw_firmware* fw, uint32_t task, void* ram) {
   fw->tasks[task].run(ram, PSBSP_BOARD, &psbsp_api);
   psbsp_watchdog_kick();
 }
+
+/* The vector table (ARMv7-M: the initial stack pointer, then a handler per exception
+ * number; the external interrupts from 16), where VTOR points at reset: the start of
+ * flash (.isr_vector first in psbsp_cm4.ld). An interrupt line without a handler of the
+ * firmware's keeps the default one, which packsim reports as a fault if it is ever
+ * taken. The system exceptions' entries are unused: packsim ends the run with a
+ * firmware_fault where the chip would enter a fault handler. */
+void psbsp_default_handler(void);
+void psbsp_default_handler(void) {
+  for (;;) {
+  }
+}
+void PSBSP_ALERT_IRQHandler(void) __attribute__((weak, alias("psbsp_default_handler")));
+void PSBSP_CAN_RX_IRQHandler(void) __attribute__((weak, alias("psbsp_default_handler")));
+void PSBSP_TIMER_IRQHandler(void) __attribute__((weak, alias("psbsp_default_handler")));
+extern uint32_t __psbsp_stack_top;
+typedef void (*psbsp_vector)(void);
+__attribute__((section(".isr_vector"), used)) const psbsp_vector psbsp_vectors[16 + 3] = {
+    (psbsp_vector)(uintptr_t)&__psbsp_stack_top,
+    psbsp_default_handler, psbsp_default_handler, psbsp_default_handler, psbsp_default_handler,  /* reset, NMI, HardFault, MemManage */
+    psbsp_default_handler, psbsp_default_handler, 0, 0, 0, 0,                                    /* BusFault, UsageFault, reserved */
+    psbsp_default_handler, psbsp_default_handler, 0, psbsp_default_handler, psbsp_default_handler, /* SVCall, DebugMon, -, PendSV, SysTick */
+    PSBSP_ALERT_IRQHandler, PSBSP_CAN_RX_IRQHandler, PSBSP_TIMER_IRQHandler,
+};
 
 /* No heap (the contract allocates nothing): the C library's allocator, should
  * anything call it (newlib's stdio on a first use), gets none. */
