@@ -68,6 +68,10 @@ class TargetFirmware : public TargetPeripherals {
   uint32_t stackHighWater_bytes() const { return stackHighWater_; }
   uint32_t stackSize_bytes() const { return mcu_ ? mcu_->stackBytes() : 0; }
   uint32_t resets() const { return resets_; }
+  // The firmware's instance RAM as the descriptor sized it, and a copy of it out of the
+  // MCU's memory (a debug probe of packsim's core); false before the entry ran.
+  uint32_t instanceBytes() const { return instanceBytes_; }
+  bool readInstanceRam(void* out, size_t n) const { return mcu_ && ram_ != 0 && mcu_->read(ram_, out, n); }
 
   uint32_t supervisorCall(TargetMcu& mcu, unsigned number) override;
   uint32_t watchdogRead(uint32_t offset) override;
@@ -96,6 +100,7 @@ class TargetFirmware : public TargetPeripherals {
   uint32_t wdgTimeoutUs_ = 0;
   uint64_t wdgTimeout_ns_ = 0, wdgLastKick_ns_ = 0;
   uint32_t resets_ = 0;
+  uint32_t instanceBytes_ = 0;
 };
 
 }  // namespace packsim
