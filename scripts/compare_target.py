@@ -20,10 +20,10 @@ import argparse
 import concurrent.futures as cf
 import os
 import re
-import resource
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import h5py
@@ -48,11 +48,31 @@ def run(packsim, scenario, target, h5, timeout):
     args = [packsim, "run", str(scenario), "-o", h5]
     if target:
         args += ["--target", "cortex-m4"]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    p = subprocess.run(args, capture_output=True, text=True, timeout=timeout)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return p, cpu
+    # This child's own CPU time (os.wait4), not RUSAGE_CHILDREN, which --jobs > 1 shares.
+    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+        p = subprocess.Popen(args, stdout=out, stderr=err, text=True)
+        try:
+            _, status, usage = wait4(p.pid, timeout)
+        except subprocess.TimeoutExpired:
+            p.kill()
+            p.wait()
+            raise
+        out.seek(0)
+        err.seek(0)
+        done = subprocess.CompletedProcess(args, os.waitstatus_to_exitcode(status), out.read(), err.read())
+    return done, usage.ru_utime + usage.ru_stime
+
+
+def wait4(pid, timeout):
+    """os.wait4 with a wall-time limit (None: none)."""
+    start = time.monotonic()
+    while True:
+        got, status, usage = os.wait4(pid, os.WNOHANG if timeout else 0)
+        if got == pid:
+            return got, status, usage
+        if time.monotonic() - start > timeout:
+            raise subprocess.TimeoutExpired(str(pid), timeout)
+        time.sleep(0.2)
 
 
 def events(h5):
