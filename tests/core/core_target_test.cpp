@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cstdlib>
 
+#include "core/cli/commands.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/target_switch.hpp"
 #include "core/sim/simulation.hpp"
@@ -109,6 +110,21 @@ TEST(CoreOnTargetSwitch, RefusesAHostModeLibraryByName) {
     EXPECT_NE(std::string(e.what()).find("runs the firmware library"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("elf:"), std::string::npos) << e.what();
   }
+}
+
+// `packsim check --target`: a library scenario is a SKIP line with its reason and
+// counted as skipped, not a failure (exit 0 when the rest passed).
+TEST(CoreOnTargetSwitch, CheckSkipsALibraryScenario) {
+  REQUIRE_ARM_TOOLCHAIN();
+  CheckOptions o;
+  o.paths = {scenarioPath("firmware/c_example_firmware")};
+  o.target = "cortex-m4";
+  testing::internal::CaptureStdout();
+  const int rc = cmdCheck(o);
+  const std::string out = testing::internal::GetCapturedStdout();
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_EQ(out.rfind("SKIP  ", 0), 0u) << out;
+  EXPECT_NE(out.find("0 passed, 0 failed, 1 skipped"), std::string::npos) << out;
 }
 
 // A scenario already on the target runs as it is (its own ELF, not the core).
