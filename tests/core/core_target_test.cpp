@@ -94,7 +94,7 @@ std::string testName(const ::testing::TestParamInfo<std::string>& info) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Bundled, CoreOnTarget,
-                         ::testing::Values("faults/a_overcurrent",     // system A, BQ76PL455A daisy chain
+                         ::testing::Values("faults/a_thermistor_open", // system A, BQ76PL455A daisy chain
                                            "bench_6s_ncr18650_2C",     // system C, BQ76PL536A stack
                                            "faults/e_channel_gain",    // system E, BQ76952 (its own FETs)
                                            "faults/fs_isospi_break"),  // formula student, LTC6813-1 isoSPI
