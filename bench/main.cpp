@@ -1,7 +1,8 @@
 // packsim_bench: runs the benchmarks and prints their figures as one table.
 //
 //   packsim_bench [--quick] [floor|plant|macro|presets|scaling|batch|restarts|target ...]   (default: all)
-//   (target: the example firmware in host mode and on the virtual Cortex-M4, same scenarios)
+//   (target: the example firmware and packsim's core in host mode and on the virtual
+//    Cortex-M4, same scenarios)
 //   (plant: system D's fast integrator alone, for profiling the plant with perf;
 //    restarts: system B's balancer race, CVODE against the fast integrator)
 //
@@ -189,6 +190,28 @@ int main(int argc, char** argv) {
     }
     std::printf("Target mode (Unicorn, 168 MHz Cortex-M4) against host mode (the same C as an x86-64 library):\n%s\n",
                 t.str().c_str());
+    // packsim's own core (bms/, C++): linked in (host mode) and packsim_core_cm4.elf on
+    // the virtual MCU (--target cortex-m4), the same scenario and image.
+    Table c({"packsim's core", "sim s", "host CPU s", "target CPU s", "target / host", "instructions", "RTF target"});
+    const char* coreNames[] = {"scooter_16s_lto_cold_charge", "faults/e_channel_gain", "faults/a_overcurrent"};
+    for (const char* n : coreNames) {
+      const std::string file = std::string(n) + ".yaml";
+      const Scenario host = bundledScenario(file);
+      const Scenario target = bundledScenario(file, {{"bms.firmware.target", "cortex-m4"}});
+      const RunFigures h = timeScenario(n, host, 1, quick ? 1 : 3);
+      const RunFigures g = timeScenario(n, target, 1, quick ? 1 : 3);
+      const std::vector<std::string> lines = runScenario(target).summary.firmware_target;
+      std::string instr = "-";
+      if (!lines.empty()) {
+        const std::string& last = lines.back();
+        const size_t colon = last.find(": ");
+        instr = last.substr(colon + 2, last.find(" instructions") - colon - 2);
+      }
+      c.add({n, fmt(g.sim_s, 0), fmt(h.time.cpu_s, 3), fmt(g.time.cpu_s, 3), fmt(g.time.cpu_s / h.time.cpu_s, 1), instr,
+             fmt(g.sim_s / g.time.cpu_s, 0)});
+    }
+    std::printf("packsim's core in target mode (packsim_core_cm4.elf) against host mode (linked in):\n%s\n",
+                c.str().c_str());
   }
 
   if (on("batch")) {

@@ -10,6 +10,7 @@
 #include "core/sim/firmware_failure.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/scenario/target_switch.hpp"
 #include "core/sim/simulation.hpp"
 
 namespace packsim {
@@ -253,13 +254,17 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   return o;
 }
 
-CheckOutcome checkScenarioFile(const std::string& path) {
+CheckOutcome checkScenarioFile(const std::string& path, const std::string& target) {
   CheckOutcome o;
   o.name = path;
   try {
-    const Scenario s = loadScenarioFile(path);
+    const Scenario s = target.empty() ? loadScenarioFile(path) : loadScenarioOnTarget(path, {}, target);
     o = judge(s, runScenario(s));
     o.name = path;
+  } catch (const NotOnTarget& e) {
+    o.skipped = true;
+    o.passed = true;
+    o.error_message = e.what();
   } catch (const std::exception& e) {
     o.error = true;
     o.passed = false;

@@ -31,11 +31,13 @@ struct CheckOutcome {
   bool nothing_to_check = false;       // no expect: block (reported "RAN", not "PASS")
   std::vector<std::string> warnings;   // the run's config_warning events, as `run` prints them
   std::vector<std::string> target;     // target mode: the summary's target lines (cycles, CPU load, stack, resets)
+  bool skipped = false;                // --target on a scenario that runs a host-mode library: not run (error_message says why)
 };
 
 CheckOutcome judge(const Scenario& s, const RunResult& r);
-// Loads, runs and judges one file; never throws (errors become error outcomes).
-CheckOutcome checkScenarioFile(const std::string& path);
+// Loads, runs and judges one file; never throws (errors become error outcomes). With a
+// target (--target), packsim's core runs on it (core/scenario/target_switch.hpp).
+CheckOutcome checkScenarioFile(const std::string& path, const std::string& target = "");
 // Scenario files under the given files/directories (directories recursively, except
 // `cells/` and `profiles/` folders, which hold cell presets and load tables).
 std::vector<std::string> collectScenarioFiles(const std::vector<std::string>& paths);

@@ -12,9 +12,14 @@ int cmdCheck(const CheckOptions& o) {
     std::cerr << "packsim: error: no scenario files found\n";
     return 2;
   }
-  int passed = 0, failed = 0, unchecked = 0;
+  int passed = 0, failed = 0, unchecked = 0, skipped = 0;
   for (const std::string& f : files) {
-    const CheckOutcome c = checkScenarioFile(f);
+    const CheckOutcome c = checkScenarioFile(f, o.target);
+    if (c.skipped) {  // --target on a host-mode library: not run
+      ++skipped;
+      std::cout << "SKIP  " << c.error_message << "\n";
+      continue;
+    }
     if (!c.passed) ++failed; else if (c.nothing_to_check) ++unchecked; else ++passed;
     std::cout << (c.error ? "ERROR " : !c.passed ? "FAIL  " : c.nothing_to_check ? "RAN   " : "PASS  ") << f;
     if (c.error) {
@@ -29,6 +34,7 @@ int cmdCheck(const CheckOptions& o) {
   }
   std::cout << passed << " passed, " << failed << " failed";
   if (unchecked > 0) std::cout << ", " << unchecked << " ran with nothing to check";
+  if (skipped > 0) std::cout << ", " << skipped << " skipped (a firmware library: not on --target)";
   std::cout << "\n";
   return failed == 0 ? 0 : 1;
 }

@@ -11,6 +11,7 @@
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_inputs.hpp"
+#include "core/scenario/target_switch.hpp"
 #include "core/sim/firmware_failure.hpp"
 #include "core/sim/run_progress.hpp"
 #include "core/sim/simulation.hpp"
@@ -44,7 +45,7 @@ Overrides parseSetOptions(const std::vector<std::string>& sets) {
 
 int cmdRun(const RunOptions& o) {
   const std::string path = scenarioArgPath(o.scenario);
-  Scenario s = loadScenarioFileWithOverrides(path, parseSetOptions(o.set));
+  Scenario s = loadScenarioOnTarget(path, parseSetOptions(o.set), o.target);
   if (o.seed) s.run.seed = *o.seed;
   const std::string out = o.output.empty() ? "packsim-results/" + s.name + ".h5" : o.output;
   checkResultIsNotAnInput(out, s);  // -o naming the scenario, its extends: chain or its CSV: exit 2

@@ -18,6 +18,7 @@ struct RunOptions {
   std::string output;    // empty: packsim-results/<name>.h5
   std::optional<uint64_t> seed;
   bool quiet = false;
+  std::string target;    // --target cortex-m4: packsim's core as ARM code (core/scenario/target_switch.hpp)
 };
 
 // `packsim show`: the scenario's values with their origins, and its warnings.
@@ -29,6 +30,7 @@ struct ShowOptions {
 
 struct CheckOptions {
   std::vector<std::string> paths;  // files or directories; empty: the bundled scenarios
+  std::string target;              // --target cortex-m4: every scenario with packsim's core on the target
 };
 
 // `packsim plot`: runs `python3 -m packsim.plot` ($PACKSIM_PYTHON overrides python3).

@@ -29,6 +29,8 @@ int main(int argc, char** argv) {
   runCmd->add_option("-o,--output", run.output, "result HDF5 file (default: packsim-results/<name>.h5)");
   runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(packsim::nonNegativeNumber());
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
+  runCmd->add_option("--target", run.target, "run packsim's core as ARM code on a virtual MCU (target mode)")
+      ->check(CLI::IsMember({"cortex-m4"}));
 
   packsim::ShowOptions show;
   CLI::App* showCmd = app.add_subcommand("show", "print a scenario's values, where each came from, and its warnings");
@@ -40,6 +42,9 @@ int main(int argc, char** argv) {
   packsim::CheckOptions check;
   CLI::App* checkCmd = app.add_subcommand("check", "run scenarios and judge their expect: blocks (exit 1 on any failure)");
   checkCmd->add_option("paths", check.paths, "scenario files or folders (default: the bundled scenarios)");
+  checkCmd->add_option("--target", check.target, "run each scenario's packsim core as ARM code on a virtual MCU "
+                                                 "(target mode; scenarios with a host-mode firmware library are skipped)")
+      ->check(CLI::IsMember({"cortex-m4"}));
 
   packsim::PlotOptions plot;
   CLI::App* plotCmd = app.add_subcommand("plot", "write the figures of a result file as PNG (needs Python 3 with matplotlib)");

@@ -377,6 +377,7 @@ bool TargetFirmware::readDescriptor(uint32_t addr, std::string& why) {
           " bytes of RAM between .bss and the stack";
     return false;
   }
+  instanceBytes_ = fw.instance_bytes;
   config_ = align8(ram_ + fw.instance_bytes);
   mcu_->write(config_, h.config_.data(), h.config_.size());
   return true;

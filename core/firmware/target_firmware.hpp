@@ -97,6 +97,10 @@ class TargetFirmware : public TargetPeripherals {
   uint32_t stackHighWater_bytes() const { return stackHighWater_; }
   uint32_t stackSize_bytes() const { return mcu_ ? mcu_->stackBytes() : 0; }
   uint32_t resets() const { return resets_; }
+  // The firmware's instance RAM as the descriptor sized it, and a copy of it out of the
+  // MCU's memory (a debug probe of packsim's core); false before the entry ran.
+  uint32_t instanceBytes() const { return instanceBytes_; }
+  bool readInstanceRam(void* out, size_t n) const { return mcu_ && ram_ != 0 && mcu_->read(ram_, out, n); }
 
   uint32_t supervisorCall(TargetMcu& mcu, unsigned number) override;
   uint32_t peripheralRead(TargetMcu& mcu, uint32_t offset) override;
@@ -152,6 +156,7 @@ class TargetFirmware : public TargetPeripherals {
   uint32_t timerPeriodUs_ = 0;
   uint64_t timerNext_ns_ = 0, timerCount_ = 0;
   bool canIe_ = false;
+  uint32_t instanceBytes_ = 0;
 };
 
 }  // namespace packsim

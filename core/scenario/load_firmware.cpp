@@ -14,7 +14,9 @@
 //   watchdog_ms: CPU time one init or task call may take before it counts as hung
 //                (target mode: the MCU's simulated time)
 //   target:      cortex-m4: instead of a library, an ELF (`elf:`, looked up as a library
-//                is, bare names as <name>.elf) runs on the virtual MCU at clock_mhz
+//                is, bare names as <name>.elf) runs on the virtual MCU at clock_mhz;
+//                without `elf:`, packsim's own core (packsim_core_cm4.elf, built next to
+//                packsim) with the image host mode flashes from the bms settings
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
@@ -41,6 +43,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kMaxConfigBytes = 65536;
+constexpr const char* kCoreElf = "packsim_core_cm4";  // bms/CMakeLists.txt builds it
 
 std::vector<std::string> libraryCandidates(const std::string& name, const std::string& baseDir, bool elf) {
   const fs::path given(name);
@@ -191,6 +194,37 @@ std::vector<uint8_t> configFileBytes(YamlMap& fw, const std::string& baseDir) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// `target:` without `elf:`: packsim's own core on the virtual MCU. Its configuration is
+// the scenario's bms settings (the image host mode flashes), not a blob.
+FirmwareSettings coreOnTarget(YamlMap& m, FirmwareSettings f, const std::string& baseDir) {
+  f.library = false;
+  for (const char* key : {"config", "config_file"})
+    if (m.has(key))
+      throw m.errorAt(key, "packsim's core (target without elf:) is configured by the scenario's bms settings, as in "
+                           "host mode; a blob is for your own firmware's elf:");
+  std::string tried;
+  for (const std::string& c : libraryCandidates(kCoreElf, baseDir, true)) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) {
+      f.library_path = fs::absolute(c, ec).string();
+      break;
+    }
+    tried += "\n  " + c;
+  }
+  if (f.library_path.empty())
+    throw m.errorAt("target", std::string("packsim's core for the target, ") + kCoreElf + ".elf, not found; tried:" +
+                                  tried + "\n(packsim's build makes it next to packsim when arm-none-eabi-gcc is "
+                                          "installed: scripts/install-deps.sh; or give elf: for your own firmware)");
+  try {
+    (void)readTargetElf(f.library_path);
+  } catch (const ElfError& e) {
+    throw m.errorAt("target", e.what());
+  }
+  f.watchdog_s = m.number("watchdog_ms", f.watchdog_s * 1e3, Range::closed(1.0, 60000.0)) * 1e-3;
+  m.finish();
+  return f;
+}
+
 }  // namespace
 
 FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseDir) {
@@ -205,6 +239,7 @@ FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseD
       throw m->errorAt("library", "a cortex-m4 target runs an ELF: give elf:, not library: (a host-mode shared library; "
                                   "`library: null` clears one an extended scenario names)");
     f.clock_hz = m->number("clock_mhz", f.clock_hz * 1e-6, Range::closed(1.0, 1000.0)) * 1e6;
+    if (!m->has("elf")) return coreOnTarget(*m, f, baseDir);
   }
   const char* key = f.isTarget() ? "elf" : "library";
   const std::string name = m->string(key);

@@ -328,6 +328,11 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     throw m.map("hardware").map("afe").errorAt(
         "devices_per_board", "a pack of several monitor boards runs packsim's core on each board's MCU; a firmware "
                              "library (bms.firmware) runs on a single board");
+  if (s.bms.firmware.isTarget() && s.hardware.afe.devices_per_board > 0 &&
+      s.hardware.afe.devices_per_board < s.hardware.afe.devices)
+    throw m.map("hardware").map("afe").errorAt(
+        "devices_per_board", "a pack of several monitor boards has one MCU per board on a CAN bus; target mode "
+                             "(bms.firmware.target) emulates one MCU: run this pack in host mode");
   {
     YamlMap load = m.map("load");
     if (load.has("charger")) {  // the pack sits on a CC-CV charger (no other load)

@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include <bms/bms_firmware.hpp>
 
 namespace packsim {
 
 McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker)
-    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library), tickFor_s_(s.bms.tick_s) {
+    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library), tickFor_s_(s.bms.tick_s),
+      coreElf_(s.bms.firmware.library_path) {
   const std::vector<MonitorBoard>& boards = hw.boards();
   if (boards.size() == 1) {
     FirmwareBoard board{hw.monitorBuses(), hw.mcuThermistorCount()};
@@ -22,10 +24,16 @@ McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim&
       scripted_ = s.hardware.can_frames;
       for (const ScriptedCanFrame& f : scripted_) nextScripted_s_.push_back(f.at_s);
     }
-    if (library_)
+    if (library_) {
       hosts_.push_back(std::make_unique<FirmwareHost>(s.bms.firmware, board, s.bms.tick_s, *this));
-    else
+    } else if (s.bms.firmware.isTarget()) {  // packsim's core as ARM code (packsim_core_cm4.elf), the same image
+      FirmwareSettings core = s.bms.firmware;
+      core.config = coreImage(cfg);
+      hosts_.push_back(std::make_unique<FirmwareHost>(core, board, s.bms.tick_s, *this));
+      targetRam_ = std::make_unique<bms::CoreFirmwareRam>();
+    } else {
       hosts_.push_back(std::make_unique<FirmwareHost>(bms::coreFirmware(), coreImage(cfg), board, s.bms.tick_s, *this));
+    }
     return;
   }
   // One MCU per board on the shared CAN bus, each flashed for its board.
@@ -90,8 +98,21 @@ void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, c
 }
 
 // The pack host's outputs with each board's own arrays at their pack positions.
-void McuFirmware::mergeProbes(bms::Outputs& out) const {
+void McuFirmware::mergeProbes(bms::Outputs& out) {
   if (!hosts_.front()->ram()) return;
+  if (const TargetFirmware* t = hosts_.front()->target()) {
+    // The core's RAM on the virtual MCU, read as a debugger reads it. Its layout is the
+    // host build's (the same sources; ILP32 and LP64 lay these structs out alike, no
+    // pointers in them): checked by size, the image's own tag and size at init.
+    if (t->instanceBytes() != sizeof(bms::CoreFirmwareRam))
+      throw std::runtime_error(coreElf_ + " was built from other sources than this packsim: its core's RAM is " +
+                               std::to_string(t->instanceBytes()) + " bytes, this packsim's " +
+                               std::to_string(sizeof(bms::CoreFirmwareRam)) +
+                               " (rebuild it: cmake --build build --target packsim_core_cm4)");
+    if (!t->readInstanceRam(targetRam_.get(), sizeof(bms::CoreFirmwareRam))) return;
+    out = targetRam_->out;
+    return;  // one board only in target mode (the loader refuses several)
+  }
   out = bms::coreFirmwareOutputs(hosts_.front()->ram());
   if (hosts_.size() == 1) return;
   bms::Telemetry& tm = out.telemetry;

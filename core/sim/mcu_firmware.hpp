@@ -8,6 +8,10 @@
 // all on one CAN bus (core/firmware/can_bus.hpp); board 0's is the pack host, wired to
 // the pack's pins. They run one after another in each tick.
 //
+// packsim's core runs as linked-in code (host mode) or, with bms.firmware.target and no
+// elf, as packsim_core_cm4.elf on the virtual MCU (target mode, one board), flashed with
+// the same image.
+//
 // For packsim's core a debug probe reads each MCU's outputs of the tick from its RAM
 // for the record (state, faults, telemetry, balancing decision): the pack host's, with
 // every board's cells, temperatures, devices and balancing bits at their pack positions.
@@ -15,6 +19,7 @@
 // into the summary's trip.
 #pragma once
 #include <bms/bms_config.hpp>
+#include <bms/bms_firmware.hpp>
 #include <bms/bms_hal.hpp>
 
 #include <memory>
@@ -59,7 +64,7 @@ class McuFirmware : public FirmwareSink {
   void trip(double t_s, const std::string& reason) override { tracker_.firmwareTrip(t_s, reason); }
 
  private:
-  void mergeProbes(bms::Outputs& out) const;
+  void mergeProbes(bms::Outputs& out);
 
   RunTracker& tracker_;
   const HardwareSim& hw_;
@@ -74,6 +79,8 @@ class McuFirmware : public FirmwareSink {
   void injectScripted(double before_s);
   std::vector<std::unique_ptr<FirmwareHost>> hosts_;  // per board, the pack host first
   std::vector<bms::Outputs> memberPins_;            // what the members' unconnected pins got
+  std::string coreElf_;                               // target mode: the core's ELF
+  std::unique_ptr<bms::CoreFirmwareRam> targetRam_;  // target mode: the probe's copy of the MCU's RAM
 };
 
 }  // namespace packsim
