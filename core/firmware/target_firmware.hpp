@@ -50,9 +50,9 @@ class TargetFirmware : public TargetPeripherals {
   // or it was reset by the watchdog (resetPending()).
   bool call(const char* what, int task);
   bool resetPending() const { return resetPending_; }
-  // The reset: RAM reloaded except .noinit, the watchdog stopped; the host runs the
-  // entry and init again.
-  void reset();
+  // The reset (the watchdog's, or a brown-out's): RAM reloaded except .noinit, the
+  // watchdog stopped; the host runs the entry and init again.
+  void reset(bool watchdog);
   // The watchdog's deadline on the MCU clock (ns), if it runs.
   bool watchdogExpired(uint64_t clock_ns) const { return wdgRunning_ && clock_ns > wdgLastKick_ns_ + wdgTimeout_ns_; }
   uint64_t watchdogDeadline_ns() const { return wdgLastKick_ns_ + wdgTimeout_ns_; }
@@ -67,7 +67,7 @@ class TargetFirmware : public TargetPeripherals {
   uint64_t totalInstructions() const { return mcu_ ? mcu_->instructions() : 0; }
   uint32_t stackHighWater_bytes() const { return stackHighWater_; }
   uint32_t stackSize_bytes() const { return mcu_ ? mcu_->stackBytes() : 0; }
-  uint32_t resets() const { return resets_; }
+  uint32_t resets() const { return resets_; }  // the watchdog's (PSBSP_WDG_RESETS)
 
   uint32_t supervisorCall(TargetMcu& mcu, unsigned number) override;
   uint32_t watchdogRead(uint32_t offset) override;
@@ -95,7 +95,8 @@ class TargetFirmware : public TargetPeripherals {
   bool wdgRunning_ = false, resetPending_ = false;
   uint32_t wdgTimeoutUs_ = 0;
   uint64_t wdgTimeout_ns_ = 0, wdgLastKick_ns_ = 0;
-  uint32_t resets_ = 0;
+  uint32_t resets_ = 0;     // watchdog resets
+  uint32_t brownouts_ = 0;  // brown-out resets
 };
 
 }  // namespace packsim

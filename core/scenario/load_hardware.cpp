@@ -1,6 +1,7 @@
 #include <bms/bms_limits.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <sstream>
 
@@ -185,6 +186,17 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
     if (auto c = hw->optionalMap("can")) {  // between the monitor boards' MCUs
       h.can_bitrate_bps = c->number("bitrate_kbps", h.can_bitrate_bps * 1e-3, Range::closed(10.0, 1000.0)) * 1e3;
       c->finish();
+    }
+    if (auto m = hw->optionalMap("mcu_supply")) {  // the BMS board's rail and the MCU's brown-out level on it
+      h.supply_nominal_V = m->number("nominal_V", h.supply_nominal_V, Range::closed(3.0, 60.0));
+      h.supply_brownout_V = m->number("brownout_V", h.supply_brownout_V, Range::closed(0.5, 60.0));
+      if (!(h.supply_brownout_V < h.supply_nominal_V)) {
+        char why[120];
+        std::snprintf(why, sizeof why, "the brown-out threshold must lie below nominal_V (%g V); allowed [0.5, %g)",
+                      h.supply_nominal_V, h.supply_nominal_V);
+        throw m->errorAt("brownout_V", why);
+      }
+      m->finish();
     }
     if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
     {

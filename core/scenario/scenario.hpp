@@ -85,6 +85,10 @@ struct HardwareConfig {
   PassiveBalancerConfig balancing;     // resistor + FET per cell, heat into a board node
   ActiveBalancerConfig active_balancer;  // converters per module to a supercap bus
   double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
+  // The BMS board's supply (hardware.mcu_supply): its 12 V rail, and the rail voltage
+  // below which the MCU is held in brown-out reset (a supply_brownout fault).
+  double supply_nominal_V = 12.0;
+  double supply_brownout_V = 4.0;
   // Every thermistor channel: the sites above, then the balancing boards'. Built once by
   // the loader from those (thermistor_table.hpp); everyone reads the channels here.
   ThermistorTable thermistors;

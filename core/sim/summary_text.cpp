@@ -104,6 +104,25 @@ std::string unseenLimitLines(const RunResult& r) {
   return out;
 }
 
+// Each MCU reset (mcu_reset events: the watchdog's or a brown-out's) with its cause and
+// when the MCU booted again (the next firmware_loaded event): the first five, then a count.
+std::string mcuResetLines(const RunResult& r) {
+  std::string out;
+  int n = 0;
+  for (size_t i = 0; i < r.events.size(); ++i) {
+    const Event& e = r.events[i];
+    if (e.kind != "mcu_reset" || ++n > 5) continue;
+    const Event* boot = nullptr;
+    for (size_t j = i + 1; j < r.events.size() && !boot; ++j)
+      if (r.events[j].kind == "firmware_loaded") boot = &r.events[j];
+    out += "MCU reset       " + fmt("%.3f", e.time_s) + " s  " + e.detail.substr(0, e.detail.find(';')) +
+           (boot ? "; booted again at " + fmt("%.3f", boot->time_s) + " s" : std::string("; not booted again before the end")) +
+           "\n";
+  }
+  if (n > 5) out += "MCU reset       " + std::to_string(n - 5) + " more (" + std::to_string(n) + " in all)\n";
+  return out;
+}
+
 }  // namespace
 
 std::string cellName(int cell, int parallel) {
@@ -121,6 +140,7 @@ std::string formatSummary(const Scenario& s, const RunResult& r) {
      << " Ah, " << fmt("%.2f", m.heat_Wh) << " Wh heat in cells)\n";
   if (!m.firmware_status.empty()) os << "firmware        " << m.firmware_status << "\n";
   for (const std::string& line : m.firmware_target) os << "target          " << line << "\n";
+  os << mcuResetLines(r);
   const int P = s.pack.parallel;
   os << "lowest cell     " << fmt("%.3f", m.min_cell_V) << " V  " << cellName(m.min_cell, P) << " at "
      << fmt("%.2f", m.min_cell_time_s) << " s\n";
