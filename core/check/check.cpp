@@ -153,6 +153,11 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   const std::string fwFailure = firmwareFailure(s, r);
   if (!fwFailure.empty() && !e.firmware_fault) fail(fwFailure);
   if (fwFailure.empty() && e.firmware_fault) fail("expected a firmware_fault, but the firmware ran to the end");
+  if (e.mcu_resets) {
+    const auto n = std::count_if(r.events.begin(), r.events.end(), [](const Event& ev) { return ev.kind == "mcu_reset"; });
+    if (n != *e.mcu_resets)
+      fail("expected " + std::to_string(*e.mcu_resets) + " MCU resets, got " + std::to_string(n));
+  }
   if (e.energy_lost_vs_compare_Wh_above || e.min_cell_V_below_compare) {
     const Comparison& c = sm.compare;
     if (!c.present) {
@@ -179,6 +184,17 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     FaultLatency fl;
     fl.injected = inj.detail;
     fl.injected_at_s = inj.time_s;
+    if (known && kind == FaultKind::SupplyBrownout) {  // what the MCU did: reset, or rode it through
+      const Event* reset = firstAfter(r, inj.time_s, "mcu_reset", "brown-out");
+      const Event* removed = firstAfter(r, inj.time_s, "fault_removed", inj.detail);
+      if (reset && (!removed || reset->time_s <= removed->time_s + 1e-9))
+        line += fmt("the MCU reset at %.3f s (no BMS fault expected)", reset->time_s);
+      else
+        line += "above the brown-out threshold, the MCU rode it through (no BMS fault expected)";
+      o.fault_latencies.push_back(fl);
+      o.latencies.push_back(line);
+      continue;
+    }
     if (causes.empty()) {
       line += "an operator input, not a fault (no BMS fault expected)";
       o.fault_latencies.push_back(fl);

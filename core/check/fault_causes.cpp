@@ -47,14 +47,15 @@ const std::vector<std::string>& faultsCausedBy(FaultKind kind) {
     case FaultKind::ChargerOvervoltage: return kCharger;
     case FaultKind::HostDead: return kHostDead;
     case FaultKind::ResetRequest:
-    case FaultKind::KeyOff: return kNone;
+    case FaultKind::KeyOff:
+    case FaultKind::SupplyBrownout: return kNone;  // the MCU resets; its reboot is no BMS fault
   }
   return kNone;
 }
 
 bool faultKindOfDetail(const std::string& detail, FaultKind& kind) {
   const std::string word = detail.substr(0, detail.find(' '));
-  for (int k = 0; k <= static_cast<int>(FaultKind::KeyOff); ++k)
+  for (int k = 0; k <= static_cast<int>(FaultKind::SupplyBrownout); ++k)
     if (word == faultKindName(static_cast<FaultKind>(k))) {
       kind = static_cast<FaultKind>(k);
       return true;

@@ -213,7 +213,7 @@ void FirmwareHost::start(double t_s) {
     const uint64_t p_ns = uint64_t{fw_.tasks[i].period_ms} * 1000000u;
     if (p_ns == 0) continue;  // switched off at init
     nextDue_ns_[i] = toNs(t_s) + p_ns;
-    if ((p_ns % tick_ns_ != 0 || p_ns < tick_ns_) && !(target_ && target_->resets() > 0)) {
+    if ((p_ns % tick_ns_ != 0 || p_ns < tick_ns_) && resets_ == 0) {  // said once, not at every boot
       char note[200];
       std::snprintf(note, sizeof note,
                     "firmware task %u: its %u ms period is not a multiple of the %.0f ms BMS tick; it runs at its "
@@ -226,6 +226,7 @@ void FirmwareHost::start(double t_s) {
 
 void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   if (dead_) return;
+  heldInReset_ = false;  // the supply is back (a brown-out left started_ false: the MCU boots now)
   in_ = &in;
   out_ = &out;
   clock_ns_ = std::max(clock_ns_, toNs(t_s));
@@ -401,12 +402,40 @@ void FirmwareHost::watchdogReset() {
                 static_cast<double>(target_->watchdogTimeout_ns()) * 1e-6,
                 target_->resets() + 1);
   sink_.event(static_cast<double>(at_ns) * 1e-9, "mcu_reset", detail);
-  target_->reset();
+  target_->reset(true);
+  ++resets_;
   started_ = false;
   resetPending_ = true;
   resetAt_ns_ = at_ns;
   nextDue_ns_.clear();
   callBudget_ns_ = 0;
+}
+
+void FirmwareHost::holdInReset(double t_s, const std::string& why, bms::Outputs& out) {
+  if (dead_ || heldInReset_) return;
+  heldInReset_ = true;
+  ++resets_;
+  const std::string clears = target_ ? "RAM reloaded from the ELF except .noinit"
+                                     : "the instance RAM zeroed (the library's static variables are not reloaded)";
+  sink_.event(t_s, "mcu_reset",
+              why + "; held in reset with its outputs off until the supply recovers, then " + clears +
+                  ", the entry and init run again; the NVM page is kept (reset " + std::to_string(resets_) + ")");
+  out.relayClose = out.prechargeClose = out.dischargeFetOn = out.chargeFetOn = false;
+  out.chargerEnable = false;
+  out.chargerCurrentRequest_mA = 0;
+  if (lastPins_ != PinLevels{}) {  // the pins drop at the tick that finds the supply low
+    lastPins_ = PinLevels{};
+    pinChanges_.push_back({t_s, lastPins_});
+  }
+  if (target_)
+    target_->reset(false);
+  else if (ram_)  // the RAM's content is lost (a probe of packsim's core reads zeros until it boots)
+    std::memset(ram_.get(), 0, fw_.instance_bytes);
+  started_ = false;
+  resetPending_ = false;
+  nextDue_ns_.clear();
+  callBudget_ns_ = 0;
+  clock_ns_ = std::max(clock_ns_, toNs(t_s));
 }
 
 // At the tick whose window holds the reset's instant: the outputs drop to their reset

@@ -78,6 +78,16 @@ class FirmwareHost {
   // The output changes since the last call, each at the MCU clock's instant of the
   // write (a watchdog reset's drop at the reset's instant), in time order.
   std::vector<PinChange> takePinChanges() { return std::move(pinChanges_); }
+  // Brown-out: the MCU's supply is below its threshold at the tick t_s (instead of
+  // step()). On the first such tick the MCU resets: one mcu_reset event (`why` and what
+  // the reset clears), the outputs drop to their reset level at t_s, no call runs; its
+  // RAM is lost. The next step() boots it: entry and init again on zeroed instance RAM
+  // (target mode: RAM reloaded from the ELF except .noinit). The NVM page is kept. A
+  // firmware that has failed (dead()) stays stopped.
+  void holdInReset(double t_s, const std::string& why, bms::Outputs& out);
+  bool heldInReset() const { return heldInReset_; }
+  // MCU resets so far (watchdog and brown-out).
+  uint32_t resets() const { return resets_; }
 
   bool dead() const { return dead_; }
   const std::string& name() const { return name_; }
@@ -156,6 +166,8 @@ class FirmwareHost {
   std::unique_ptr<FaultGuard> guard_;     // libraries only
   std::unique_ptr<TargetFirmware> target_;  // target mode only
   bool resetPending_ = false;                // a watchdog reset whose tick has not come yet
+  bool heldInReset_ = false;                 // brown-out: the supply is below the threshold
+  uint32_t resets_ = 0;                      // MCU resets so far, either cause
   uint64_t resetAt_ns_ = 0;
   psfw_firmware fw_{};
   psfw_board_api api_{};

@@ -365,7 +365,7 @@ bool TargetFirmware::readDescriptor(uint32_t addr, std::string& why) {
   h.fw_ = fw;
   h.name_ = name[0] ? name : "(unnamed)";
   desc_ = addr;
-  if (resets_ == 0) stats_.assign(std::min<uint32_t>(fw.task_count, PSFW_MAX_TASKS), TargetTaskStats{});  // over the run
+  if (resets_ + brownouts_ == 0) stats_.assign(std::min<uint32_t>(fw.task_count, PSFW_MAX_TASKS), TargetTaskStats{});  // over the run
   // Instance RAM, then the configuration blob, between .bss / .noinit and the stack.
   ram_ = align8(mcu_->freeStart());
   const uint64_t end = uint64_t{align8(static_cast<uint32_t>(std::min<uint64_t>(uint64_t{ram_} + fw.instance_bytes,
@@ -383,8 +383,8 @@ bool TargetFirmware::readDescriptor(uint32_t addr, std::string& why) {
   return true;
 }
 
-void TargetFirmware::reset() {
-  ++resets_;
+void TargetFirmware::reset(bool watchdog) {
+  ++(watchdog ? resets_ : brownouts_);
   wdgRunning_ = false;
   resetPending_ = false;
   wdgTimeoutUs_ = 0;
@@ -393,7 +393,7 @@ void TargetFirmware::reset() {
   canIe_ = false;
   pendAt_ns_.fill(UINT64_MAX);
   handlers_.clear();
-  mcu_->loadRam(true);  // the NVIC's reset state too
+  if (mcu_) mcu_->loadRam(true);  // the NVIC's reset state too; none: the ELF did not load (a brown-out before the first boot)
 }
 
 bool TargetFirmware::copyIn(uint32_t addr, void* out, size_t n, const char* what) {

@@ -79,9 +79,9 @@ class TargetFirmware : public TargetPeripherals {
   bool nextIdleInterrupt(uint64_t now_ns, uint64_t before_ns, uint64_t& at_ns);
   const std::array<TargetIrqStats, kTargetIrqLines>& irqStats() const { return irqStats_; }
   static const char* irqName(int irq);
-  // The reset: RAM reloaded except .noinit, the watchdog stopped; the host runs the
-  // entry and init again.
-  void reset();
+  // The reset (the watchdog's, or a brown-out's): RAM reloaded except .noinit, the
+  // watchdog stopped; the host runs the entry and init again.
+  void reset(bool watchdog);
   // The watchdog's deadline on the MCU clock (ns), if it runs.
   bool watchdogExpired(uint64_t clock_ns) const { return wdgRunning_ && clock_ns > wdgLastKick_ns_ + wdgTimeout_ns_; }
   uint64_t watchdogDeadline_ns() const { return wdgLastKick_ns_ + wdgTimeout_ns_; }
@@ -96,7 +96,7 @@ class TargetFirmware : public TargetPeripherals {
   uint64_t totalInstructions() const { return mcu_ ? mcu_->instructions() : 0; }
   uint32_t stackHighWater_bytes() const { return stackHighWater_; }
   uint32_t stackSize_bytes() const { return mcu_ ? mcu_->stackBytes() : 0; }
-  uint32_t resets() const { return resets_; }
+  uint32_t resets() const { return resets_; }  // the watchdog's (PSBSP_WDG_RESETS)
   // The firmware's instance RAM as the descriptor sized it, and a copy of it out of the
   // MCU's memory (a debug probe of packsim's core); false before the entry ran.
   uint32_t instanceBytes() const { return instanceBytes_; }
@@ -139,7 +139,8 @@ class TargetFirmware : public TargetPeripherals {
   bool wdgRunning_ = false, resetPending_ = false;
   uint32_t wdgTimeoutUs_ = 0;
   uint64_t wdgTimeout_ns_ = 0, wdgLastKick_ns_ = 0;
-  uint32_t resets_ = 0;
+  uint32_t resets_ = 0;     // watchdog resets
+  uint32_t brownouts_ = 0;  // brown-out resets
 
   std::array<TargetIrqStats, kTargetIrqLines> irqStats_{};
   std::array<uint64_t, kTargetIrqLines> pendAt_ns_;  // UINT64_MAX: not pended by a source

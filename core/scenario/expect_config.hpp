@@ -43,6 +43,8 @@ struct Expectations {
   // The firmware is meant to fail (load, init, crash, hang, contract break: a
   // firmware_fault event); without it such a failure fails `run` (exit 1) and `check`.
   bool firmware_fault = false;
+  // How often the MCU reset (mcu_reset events: the watchdog's or a brown-out's).
+  std::optional<int> mcu_resets;
 };
 
 }  // namespace packsim

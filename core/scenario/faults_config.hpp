@@ -28,6 +28,7 @@ enum class FaultKind {
   HostDead,           // the MCU hangs: no more BMS ticks, its outputs hold their last level
   ResetRequest,       // operator reset GPIO asserted (one BMS tick unless duration_s)
   KeyOff,             // the run request (key / drive enable) released: the race is over
+  SupplyBrownout,     // the BMS board's 12 V rail dips (V); below the MCU's brown-out threshold it is held in reset
 };
 
 const char* faultKindName(FaultKind k);

@@ -35,6 +35,7 @@ constexpr KindInfo kKinds[] = {
     {"host_dead", FaultKind::HostDead},
     {"reset_request", FaultKind::ResetRequest},
     {"key_off", FaultKind::KeyOff},
+    {"supply_brownout", FaultKind::SupplyBrownout},
 };
 
 struct QuantityInfo {
@@ -179,6 +180,9 @@ FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistor
       break;
     case FaultKind::ResetRequest: break;
     case FaultKind::KeyOff: break;
+    case FaultKind::SupplyBrownout:  // the rail's level during the dip; 0: the supply is lost
+      inj.value = f.number("supply_V", 0.0, Range::closed(0.0, 100.0));
+      break;
   }
   f.finish();
   return inj;
@@ -260,6 +264,7 @@ std::string FaultInjection::describe() const {
       break;
     case FaultKind::ResetRequest: std::snprintf(buf, sizeof buf, "reset_request"); break;
     case FaultKind::KeyOff: std::snprintf(buf, sizeof buf, "key_off"); break;
+    case FaultKind::SupplyBrownout: std::snprintf(buf, sizeof buf, "supply_brownout to %.3g V", value); break;
   }
   return buf;
 }
@@ -309,6 +314,7 @@ Expectations readExpect(std::optional<YamlMap> m) {
     e.energy_lost_vs_compare_Wh_above = m->number("energy_lost_vs_compare_Wh_above", Range::symmetric(limits::kMaxEnergy_Wh));
   if (m->has("min_cell_V_below_compare")) e.min_cell_V_below_compare = m->boolean("min_cell_V_below_compare", true);
   e.firmware_fault = m->boolean("firmware_fault", false);
+  if (m->has("mcu_resets")) e.mcu_resets = static_cast<int>(m->integer("mcu_resets", 0, 100000));
   if (e.no_trip && *e.no_trip && (e.trip_reason || e.trip_within_s))
     throw m->error("no_trip: true contradicts trip_reason / trip_within_s");
   m->finish();

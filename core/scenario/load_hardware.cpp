@@ -252,6 +252,17 @@ HardwareConfig readHardware(std::optional<YamlMap> hw, const PackConfig& pack) {
       }
       c->finish();
     }
+    if (auto m = hw->optionalMap("mcu_supply")) {  // the BMS board's rail and the MCU's brown-out level on it
+      h.supply_nominal_V = m->number("nominal_V", h.supply_nominal_V, Range::closed(3.0, 60.0));
+      h.supply_brownout_V = m->number("brownout_V", h.supply_brownout_V, Range::closed(0.5, 60.0));
+      if (!(h.supply_brownout_V < h.supply_nominal_V)) {
+        char why[120];
+        std::snprintf(why, sizeof why, "the brown-out threshold must lie below nominal_V (%g V); allowed [0.5, %g)",
+                      h.supply_nominal_V, h.supply_nominal_V);
+        throw m->errorAt("brownout_V", why);
+      }
+      m->finish();
+    }
     if (auto b = hw->optionalMap("active_balancer")) h.active_balancer = readActiveBalancer(*b);
     {
       YamlMap b = hw->mapOrEmpty("bus_adc");

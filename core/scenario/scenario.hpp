@@ -98,6 +98,10 @@ struct HardwareConfig {
   double can_bitrate_bps = 500000.0;  // the CAN bus between the monitor boards' MCUs (hardware.can)
   bool can_alone = false;             // hardware.can on a board alone: a bus to the vehicle / charger
   std::vector<ScriptedCanFrame> can_frames;  // hardware.can.frames: what the vehicle / charger sends
+  // The BMS board's supply (hardware.mcu_supply): its 12 V rail, and the rail voltage
+  // below which the MCU is held in brown-out reset (a supply_brownout fault).
+  double supply_nominal_V = 12.0;
+  double supply_brownout_V = 4.0;
   // Every thermistor channel: the sites above, then the balancing boards'. Built once by
   // the loader from those (thermistor_table.hpp); everyone reads the channels here.
   ThermistorTable thermistors;

@@ -156,6 +156,9 @@ void FaultScheduler::apply(HardwareFaults& f) const {
         break;
       case FaultKind::ResetRequest: f.reset_requested = true; break;
       case FaultKind::KeyOff: f.key_off = true; break;
+      case FaultKind::SupplyBrownout:  // overlapping dips: the deepest
+        f.supply_V = f.supply_V < 0.0 ? inj.value : std::min(f.supply_V, inj.value);
+        break;
     }
   }
 }

@@ -31,6 +31,7 @@ struct HardwareFaults {
   uint32_t dead_boards = 0;                  // bit b: monitor board b's MCU hung (b >= 1)
   bool reset_requested = false;              // operator reset GPIO asserted
   bool key_off = false;                      // the run request released (bms.run_request overridden)
+  double supply_V = -1.0;                    // the BMS board's 12 V rail during a supply_brownout (-1: nominal)
   std::vector<double> cell_heat_W;           // extra heat per cell (hot cell)
   std::vector<double> cell_leak_ohm;         // internal short per cell; 0 = none
 };

@@ -10,8 +10,8 @@
 namespace packsim {
 
 McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker)
-    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library), tickFor_s_(s.bms.tick_s),
-      coreElf_(s.bms.firmware.library_path) {
+    : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library), nominal_V_(s.hardware.supply_nominal_V),
+      brownout_V_(s.hardware.supply_brownout_V), tickFor_s_(s.bms.tick_s), coreElf_(s.bms.firmware.library_path) {
   const std::vector<MonitorBoard>& boards = hw.boards();
   if (boards.size() == 1) {
     FirmwareBoard board{hw.monitorBuses(), hw.mcuThermistorCount()};
@@ -89,6 +89,20 @@ std::vector<CanTraceRow> McuFirmware::takeCanTrace(double end_s) {
 
 void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f) {
   if (aloneCan_) injectScripted(t_s + tickFor_s_);
+  // Every MCU of the pack is on the BMS's 12 V rail: below the brown-out threshold each
+  // is held in reset, and boots at the first tick the rail is back.
+  if (f.supply_V >= 0.0 && f.supply_V < brownout_V_) {
+    char why[160];
+    std::snprintf(why, sizeof why, "brown-out: the %g V supply at %.2f V, below the MCU's %.2f V brown-out threshold",
+                  nominal_V_, f.supply_V, brownout_V_);
+    hosts_.front()->holdInReset(t_s, why, out);
+    for (size_t b = 1; b < hosts_.size(); ++b) {
+      hosts_[b]->holdInReset(t_s, std::string(why) + " (board " + std::to_string(b + 1) + ")", memberPins_[b]);
+      hosts_[b]->takePinChanges();
+    }
+    if (!library_) mergeProbes(out);
+    return;
+  }
   if (!f.host_dead) hosts_.front()->step(t_s, in, out);
   for (size_t b = 1; b < hosts_.size(); ++b) {
     if (!(f.dead_boards & (1u << b))) hosts_[b]->step(t_s, in, memberPins_[b]);

@@ -40,7 +40,9 @@ class McuFirmware : public FirmwareSink {
   McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker);
   // The tasks due in [t, t + tick) with the pins sampled at t; out receives the pins
   // (and, for packsim's core, the rest of its outputs through the probe). A hung MCU
-  // (host_dead) runs nothing: its pins hold their last level.
+  // (host_dead) runs nothing: its pins hold their last level. A supply below the
+  // brown-out threshold (supply_brownout) holds every MCU in reset, outputs off; they
+  // boot at the first tick it is back (FirmwareHost::holdInReset).
   void decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f);
   // The pack host's output changes of the last decide(), each at the instant its
   // firmware wrote it (core/firmware/pin_timeline.hpp); the members' pins drive nothing.
@@ -69,6 +71,7 @@ class McuFirmware : public FirmwareSink {
   RunTracker& tracker_;
   const HardwareSim& hw_;
   bool library_;
+  double nominal_V_, brownout_V_;  // hardware.mcu_supply
   std::unique_ptr<CanBus> can_;                     // several boards, or a board alone with hardware.can
   // A board alone's bus: node 0 the MCU, node 1 the vehicle / charger sending the
   // scenario's frames, each copy queued in the tick before it is ready.

@@ -130,6 +130,22 @@ void socErrorLines(LineWriter& w, const S&, const R& r) {
   if (any) w.more("(* reported; error = estimate - mean cell SOC)");
 }
 
+// Each MCU reset (mcu_reset events: the watchdog's or a brown-out's) with its cause and
+// when the MCU booted again (the next firmware_loaded event): the first five, then a count.
+void mcuResetLines(LineWriter& w, const S&, const R& r) {
+  int n = 0;
+  for (size_t i = 0; i < r.events.size(); ++i) {
+    const Event& e = r.events[i];
+    if (e.kind != "mcu_reset" || ++n > 5) continue;
+    const Event* boot = nullptr;
+    for (size_t j = i + 1; j < r.events.size() && !boot; ++j)
+      if (r.events[j].kind == "firmware_loaded") boot = &r.events[j];
+    w.line(fmt("%.3f", e.time_s) + " s  " + e.detail.substr(0, e.detail.find(';')) +
+           (boot ? "; booted again at " + fmt("%.3f", boot->time_s) + " s" : std::string("; not booted again before the end")));
+  }
+  if (n > 5) w.line(std::to_string(n - 5) + " more (" + std::to_string(n) + " in all)");
+}
+
 // Cells driven past empty or full (never silent): the first of each direction and a count.
 void socRangeLines(LineWriter& w, const S&, const R& r) {
   for (const char* dir : {"below SOC 0", "above SOC 1"}) {
@@ -174,6 +190,7 @@ const std::vector<SummaryLine> kLines = {
        if (!r.summary.firmware_status.empty()) w.line(r.summary.firmware_status); }},
     {"target", "", [](LineWriter& w, const S&, const R& r) {
        for (const std::string& line : r.summary.firmware_target) w.line(line); }},
+    {"MCU reset", "", mcuResetLines},
     {"lowest cell", "min_cell_V min_cell min_cell_time_s", [](LineWriter& w, const S& s, const R& r) {
        const Summary& m = r.summary;
        w.line(fmt("%.3f", m.min_cell_V) + " V  " + cellName(m.min_cell, s.pack.parallel) + " at " +

@@ -14,12 +14,20 @@
  *                100 ms: stack read-out, voltage and temperature protections, telemetry
  *   trips        reported as the event "trip: <reason>" with packsim's fault names,
  *                so a scenario's expect: blocks judge them
+ *   SOC          coulomb counting on the 10 ms current reading; at power-up from the
+ *                NVM record (contract v3) when it holds a valid one, else from the
+ *                open-circuit voltage of the first read-out (before the relay closes)
+ *   NVM          one 8-byte record (one EEPROM page, 5 ms to write): a boot counter and
+ *                the SOC, written at every boot, every soc_save_period_ms while the SOC
+ *                moves, and after a trip; checked by magic, version and CRC-8, so an
+ *                erased page (0xFF) or a torn write is refused
  *
  * Configuration blob (bms.firmware.config in the scenario): int32 fields in the order
  * of struct ex_config, little-endian, as the exported schema (ex_config_fields) declares
  * them: packsim checks the scenario's keys and ranges against it and builds the blob.
  */
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -43,7 +51,16 @@ typedef struct ex_config {
   int32_t current_zero_code, current_lsb_nA; /* current-sense ADC: mA = (code - zero) * lsb / 1e6 */
   int32_t ntc_r25_ohm, ntc_beta_K, ntc_pullup_ohm, ntc_bits;
   int32_t precharge_ms;
+  int32_t capacity_mAh;       /* for the coulomb count */
+  int32_t soc_save_period_ms; /* the NVM record at most this often while the SOC moves (and after a trip); 0: never */
+  int32_t ocv_mV[11];         /* open-circuit cell voltage at SOC 0, 10, ..., 100 %: the SOC without an NVM record */
 } ex_config;
+
+/* The NVM record: one 8-byte page at offset 0. */
+#define EX_NVM_MAGIC 0xB5u
+#define EX_NVM_VERSION 1u
+#define EX_NVM_NO_SOC 0xFFFFu /* a record written before the SOC was known */
+#define EX_SOC_FULL 65000.0   /* the record's SOC: 0..65000 = 0..1 */
 
 enum ex_state { EX_STANDBY = 0, EX_PRECHARGE = 1, EX_NORMAL = 2, EX_FAULT = 3 };
 
@@ -66,6 +83,13 @@ typedef struct ex_ram {
   uint8_t state;
   uint32_t state_since_ms;
   uint32_t readouts;
+  double soc0;             /* the SOC (0..1) where the count started, valid once soc_known */
+  int64_t used_mAms;       /* charge out since then (mA x ms; integer: cheap in the 10 ms task) */
+  uint8_t soc_known;       /* from NVM at init, or from OCV at the first read-out */
+  uint8_t save_pending;    /* a trip: save at the next read-out (the 10 ms task has no time for 5 ms) */
+  uint16_t boots;          /* this boot's number, from the NVM record (0: no valid record) */
+  uint16_t saved_soc;      /* the SOC in the last record written */
+  uint32_t soc_last_ms, saved_ms;
 } ex_ram;
 
 /* ---- BQ76PL536A-class driver ---------------------------------------------- */
@@ -190,8 +214,108 @@ static void ex_trip(ex_ram* r, psfw_board* b, const psfw_board_api* api, const c
   ex_outputs(b, api, 0, 0);
   r->state = EX_FAULT;
   r->state_since_ms = api->now_ms(b);
+  r->save_pending = 1;
   snprintf(text, sizeof text, "trip: %s", reason);
   api->event(b, text);
+}
+
+/* ---- SOC and its NVM record ------------------------------------------------ */
+
+static uint16_t ex_soc16(double soc) {
+  return (uint16_t)(soc <= 0.0 ? 0.0 : soc >= 1.0 ? EX_SOC_FULL : soc * EX_SOC_FULL + 0.5);
+}
+
+/* "71.23" (no floating-point printf in a small C library) */
+static void ex_percent(char* text, size_t n, double soc) {
+  const uint32_t c = (uint32_t)(soc * 10000.0 + 0.5);
+  snprintf(text, n, "%lu.%02lu", (unsigned long)(c / 100u), (unsigned long)(c % 100u));
+}
+
+/* The SOC now: where the count started less the charge out since, within 0..1. */
+static double ex_soc(const ex_ram* r) {
+  const double soc = r->soc0 - (double)r->used_mAms / (3600000.0 * r->cfg.capacity_mAh);
+  return soc < 0.0 ? 0.0 : soc > 1.0 ? 1.0 : soc;
+}
+
+/* Writes the record (boot counter, SOC or EX_NVM_NO_SOC): one page, 5 ms of the clock. */
+static void ex_nvm_save(ex_ram* r, psfw_board* b, const psfw_board_api* api) {
+  uint8_t rec[8];
+  const uint16_t soc = r->soc_known ? ex_soc16(ex_soc(r)) : (uint16_t)EX_NVM_NO_SOC;
+  rec[0] = EX_NVM_MAGIC;
+  rec[1] = EX_NVM_VERSION;
+  rec[2] = (uint8_t)r->boots;
+  rec[3] = (uint8_t)(r->boots >> 8);
+  rec[4] = (uint8_t)soc;
+  rec[5] = (uint8_t)(soc >> 8);
+  rec[6] = 0;
+  rec[7] = ex_crc8(rec, 7);
+  api->nvm_write(b, 0, rec, sizeof rec);
+  r->saved_soc = soc;
+  r->saved_ms = api->now_ms(b);
+  r->save_pending = 0;
+}
+
+/* At init: the record's boot counter and SOC when it is valid. */
+static void ex_nvm_resume(ex_ram* r, psfw_board* b, const psfw_board_api* api) {
+  uint8_t rec[8];
+  char text[96], pct[16];
+  const int valid = api->nvm_read(b, 0, rec, sizeof rec) == (int32_t)sizeof rec && rec[0] == EX_NVM_MAGIC &&
+                    rec[1] == EX_NVM_VERSION && ex_crc8(rec, 7) == rec[7];
+  if (!valid) {
+    r->boots = 0;
+    api->event(b, "boot 0: no valid NVM record; SOC from the first reading's OCV");
+  } else {
+    const uint16_t soc = (uint16_t)(rec[4] | (rec[5] << 8));
+    r->boots = (uint16_t)((rec[2] | (rec[3] << 8)) + 1u);
+    if (soc == EX_NVM_NO_SOC) {
+      snprintf(text, sizeof text, "boot %u: the NVM record holds no SOC; SOC from the first reading's OCV", r->boots);
+    } else {
+      r->soc0 = soc / EX_SOC_FULL;
+      r->used_mAms = 0;
+      r->soc_known = 1;
+      ex_percent(pct, sizeof pct, ex_soc(r));
+      snprintf(text, sizeof text, "boot %u: SOC %s %% resumed from NVM", r->boots, pct);
+    }
+    api->event(b, text);
+  }
+  ex_nvm_save(r, b, api); /* counts this boot */
+}
+
+/* The SOC at the OCV table's mean cell voltage (linear between its 10 % points). */
+static double ex_soc_from_ocv(const ex_ram* r, uint32_t mean_mV) {
+  const int32_t* v = r->cfg.ocv_mV;
+  if ((int32_t)mean_mV <= v[0]) return 0.0;
+  for (int i = 1; i < 11; ++i)
+    if ((int32_t)mean_mV < v[i]) return 0.1 * (i - 1) + 0.1 * (double)((int32_t)mean_mV - v[i - 1]) / (v[i] - v[i - 1]);
+  return 1.0;
+}
+
+/* Coulomb count over the 10 ms task's current (mA, + discharging): integer only. */
+static void ex_soc_count(ex_ram* r, uint32_t now_ms) {
+  const uint32_t dt_ms = now_ms - r->soc_last_ms;
+  r->soc_last_ms = now_ms;
+  if (!r->soc_known) return;
+  r->used_mAms += (int64_t)r->current_mA * dt_ms;
+}
+
+/* After a read-out: the SOC from OCV if it is not known yet; the record when due. */
+static void ex_soc_readout(ex_ram* r, psfw_board* b, const psfw_board_api* api, uint32_t now_ms) {
+  if (!r->soc_known) {
+    uint32_t sum = 0;
+    char text[96], pct[16];
+    for (int c = 0; c < r->cfg.cell_count; ++c) sum += r->cell_mV[c];
+    const uint32_t mean = (sum + (uint32_t)r->cfg.cell_count / 2u) / (uint32_t)r->cfg.cell_count;
+    r->soc0 = ex_soc_from_ocv(r, mean);
+    r->used_mAms = 0;
+    r->soc_known = 1;
+    ex_percent(pct, sizeof pct, ex_soc(r));
+    snprintf(text, sizeof text, "SOC %s %% from OCV (mean cell %lu mV)", pct, (unsigned long)mean);
+    api->event(b, text);
+    r->save_pending = 1;
+  }
+  if (r->cfg.soc_save_period_ms <= 0) return;
+  if (r->save_pending || ((int32_t)(now_ms - r->saved_ms) >= r->cfg.soc_save_period_ms && ex_soc16(ex_soc(r)) != r->saved_soc))
+    ex_nvm_save(r, b, api);
 }
 
 /* 10 ms: current, E-switch, FAULT line, contactor sequencing. */
@@ -241,6 +365,7 @@ static void ex_task_fast(void* ram, psfw_board* b, const psfw_board_api* api) {
       }
       break;
   }
+  ex_soc_count(r, now); /* last: its cycles delay no output (target mode) */
 }
 
 /* 100 ms: read-out, voltage and temperature protections, comm loss, telemetry. */
@@ -271,6 +396,7 @@ static void ex_task_measure(void* ram, psfw_board* b, const psfw_board_api* api)
   frame[4] = (uint8_t)(hi >> 8);
   for (int i = 0; i < 4; ++i) frame[5 + i] = (uint8_t)((uint32_t)r->current_mA >> (8 * i));
   api->telemetry_send(b, frame, sizeof frame);
+  ex_soc_readout(r, b, api, now); /* last: a 5 ms NVM write delays nothing above */
 }
 
 static int32_t ex_init(void* ram, psfw_board* b, const psfw_board_api* api, const uint8_t* config, uint32_t len) {
@@ -282,8 +408,10 @@ static int32_t ex_init(void* ram, psfw_board* b, const psfw_board_api* api, cons
   memcpy(&r->cfg, config, sizeof r->cfg); /* little-endian int32 fields, as the host packs them */
   if (r->cfg.cells_per_device < 1 || r->cfg.cells_per_device > (int32_t)BQ536_CELLS_MAX || r->cfg.cell_count < 1 ||
       r->cfg.cell_count > (int32_t)EX_MAX_CELLS || r->cfg.therm_per_device < 0 || r->cfg.therm_per_device > 2 ||
-      r->cfg.ntc_bits < 8 || r->cfg.ntc_bits > 16)
+      r->cfg.ntc_bits < 8 || r->cfg.ntc_bits > 16 || r->cfg.capacity_mAh < 1)
     return 2;
+  for (int i = 1; i < 11; ++i)
+    if (r->cfg.ocv_mV[i] <= r->cfg.ocv_mV[i - 1]) return 4; /* the OCV table must rise */
   r->devices = (r->cfg.cell_count + r->cfg.cells_per_device - 1) / r->cfg.cells_per_device;
   if (r->devices > EX_MAX_DEVICES) return 3;
   /* The over-temperature threshold as a ratiometric code: R(T) = R25 exp(B (1/T - 1/T25)). */
@@ -297,6 +425,8 @@ static int32_t ex_init(void* ram, psfw_board* b, const psfw_board_api* api, cons
     api->event(b, text);
   }
   r->state = EX_STANDBY;
+  r->soc_last_ms = api->now_ms(b);
+  ex_nvm_resume(r, b, api);
   return 0;
 }
 
@@ -324,9 +454,20 @@ static const psfw_config_field ex_config_fields[] = {
     EX_FIELD("ntc_pullup_ohm", 100, 1000000, 10000, "ohm", "thermistor pull-up"),
     EX_FIELD("ntc_bits", 8, 16, 12, "", "thermistor ADC resolution"),
     EX_FIELD("precharge_ms", 0, 60000, 300, "ms", "precharge time before the main relay closes"),
+    EX_FIELD("capacity_mAh", 1, 10000000, 3100, "mAh", "cell capacity, for the coulomb count"),
+    EX_FIELD("soc_save_period_ms", 0, 86400000, 30000, "ms",
+             "the SOC to NVM at most this often while it moves, and after a trip; 0: never"),
+    PSFW_CONFIG_FIELD("ocv_mV", PSFW_CONFIG_INT32, 11u, 0, 5000, 0, "mV",
+                      "open-circuit cell voltage at SOC 0, 10, ..., 100 % (11 values, rising: required, "
+                      "init refuses a table that does not rise)"),
 };
-/* every field of struct ex_config has its row (C99: a negative array size fails the build) */
-typedef char ex_schema_covers_config[sizeof ex_config_fields / sizeof ex_config_fields[0] * 4 == sizeof(ex_config) ? 1 : -1];
+/* every field of struct ex_config has its row, the one-number fields before the OCV
+ * table (C99: a negative array size fails the build) */
+typedef char ex_schema_covers_config[(sizeof ex_config_fields / sizeof ex_config_fields[0] - 1) * 4 ==
+                                             offsetof(ex_config, ocv_mV) &&
+                                         sizeof(ex_config) == offsetof(ex_config, ocv_mV) + 11 * sizeof(int32_t)
+                                     ? 1
+                                     : -1];
 
 #if defined(__GNUC__)
 __attribute__((visibility("default")))

@@ -44,12 +44,13 @@ std::string exampleYaml(const std::string& config) {
 }
 
 // The example's table as examples/firmware/example_bms.c declares it: struct ex_config's
-// 19 int32 fields (76 bytes), in its order, with the ranges ex_init accepts.
+// 21 int32 fields and its 11-value OCV table (128 bytes), in its order, with the ranges
+// ex_init accepts.
 TEST(FirmwareConfigSchema, TheExampleLibraryExportsItsStructsFields) {
   const std::optional<ConfigSchema> s = readLibraryConfigSchema(kExampleLib);
   ASSERT_TRUE(s);
-  ASSERT_EQ(s->fields.size(), 19u);
-  EXPECT_EQ(s->blobBytes(), 76u);
+  ASSERT_EQ(s->fields.size(), 22u);
+  EXPECT_EQ(s->blobBytes(), 128u);
   EXPECT_EQ(s->fields[0].name, "cell_count");
   EXPECT_EQ(s->fields[3].name, "cov_mV");
   EXPECT_EQ(s->fields[3].unit, "mV");
@@ -59,9 +60,11 @@ TEST(FirmwareConfigSchema, TheExampleLibraryExportsItsStructsFields) {
   EXPECT_EQ(s->fields[17].name, "ntc_bits");
   EXPECT_EQ(s->fields[17].min, 8.0);  // ex_init refuses fewer than 8 bits
   EXPECT_EQ(s->fields[18].name, "precharge_ms");
+  EXPECT_EQ(s->fields[19].name, "capacity_mAh");
+  EXPECT_EQ(s->fields[21].name, "ocv_mV");
   for (const ConfigField& f : s->fields) {
     EXPECT_FALSE(f.real) << f.name;
-    EXPECT_EQ(f.count, 1u) << f.name;
+    EXPECT_EQ(f.count, f.name == "ocv_mV" ? 11u : 1u) << f.name;
   }
 }
 
@@ -78,7 +81,7 @@ TEST(FirmwareConfigSchema, AFirmwareWithoutASchemaKeepsThePositionalBlob) {
 TEST(FirmwareConfigSchema, TheBlobFollowsTheSchemaOrderWithDefaults) {
   const Scenario s = test::scenarioFromYaml(exampleYaml("    config: {precharge_ms: 120, cuv_mV: 2800, cell_count: 12}\n"));
   const std::vector<uint8_t>& blob = s.bms.firmware.config;
-  ASSERT_EQ(blob.size(), 76u);
+  ASSERT_EQ(blob.size(), 128u);
   EXPECT_EQ(int32At(blob, 0), 12);    // cell_count
   EXPECT_EQ(int32At(blob, 1), 6);     // cells_per_device: default
   EXPECT_EQ(int32At(blob, 3), 4250);  // cov_mV: default
@@ -87,18 +90,19 @@ TEST(FirmwareConfigSchema, TheBlobFollowsTheSchemaOrderWithDefaults) {
   EXPECT_EQ(int32At(blob, 18), 120);  // precharge_ms
   // No config at all: every default.
   const Scenario d = test::scenarioFromYaml(exampleYaml(""));
-  ASSERT_EQ(d.bms.firmware.config.size(), 76u);
+  ASSERT_EQ(d.bms.firmware.config.size(), 128u);
   EXPECT_EQ(int32At(d.bms.firmware.config, 0), 6);
   EXPECT_EQ(int32At(d.bms.firmware.config, 18), 300);
 }
 
-// The bundled scenario lists all 19 keys in the struct's order: the schema's blob is
+// The bundled scenario lists all 22 keys in the struct's order: the schema's blob is
 // byte for byte the positional one it was before (so its results are unchanged).
 TEST(FirmwareConfigSchema, TheBundledExampleScenarioGetsTheSameBytesAsBefore) {
   setenv("PACKSIM_FIRMWARE_PATH", fs::path(PACKSIM_BINARY).parent_path().c_str(), 1);
   const Scenario s = loadScenarioFile(test::scenarioDir() + "/firmware/c_example_firmware.yaml");
   EXPECT_EQ(s.bms.firmware.config, int32s({6, 6, 2, 4250, 2500, 500, 10000, 2000, 200, 600, 1000, 5, 32768, 503540,
-                                           10000, 3435, 10000, 12, 300}));
+                                           10000, 3435, 10000, 12, 300, 3100, 30000, 2600, 3240, 3435, 3515, 3569, 3622,
+                                           3702, 3846, 3953, 4057, 4180}));
 }
 
 TEST(FirmwareConfigSchema, EachBadKeyOrValueIsOneErrorAtItsLine) {
@@ -122,7 +126,7 @@ TEST(FirmwareConfigSchema, EachBadKeyOrValueIsOneErrorAtItsLine) {
   fs::create_directories(dir);
   std::ofstream((dir / "short.bin").string(), std::ios::binary) << "12345678";
   const std::string file = test::yamlErrorOf(exampleYaml("    config_file: " + (dir / "short.bin").string() + "\n"));
-  EXPECT_TRUE(has(file, "8 bytes; the firmware's configuration schema (19 fields) takes 76")) << file;
+  EXPECT_TRUE(has(file, "8 bytes; the firmware's configuration schema (22 fields) takes 128")) << file;
 }
 
 // A float field is IEEE-754 single precision, a list exactly its count of numbers
@@ -166,7 +170,7 @@ TEST(FirmwareConfigSchema, AMisspeltKeyInAnExtendingScenarioIsAnError) {
   // The same key spelt right overrides the base's value in place.
   const Scenario s = test::scenarioFromYaml("extends: firmware/c_example_firmware.yaml\n"
                                             "bms:\n  firmware:\n    config:\n      precharge_ms: 500\n");
-  ASSERT_EQ(s.bms.firmware.config.size(), 76u);
+  ASSERT_EQ(s.bms.firmware.config.size(), 128u);
   EXPECT_EQ(int32At(s.bms.firmware.config, 18), 500);
   EXPECT_EQ(int32At(s.bms.firmware.config, 3), 4250);
 }

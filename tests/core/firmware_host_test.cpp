@@ -56,7 +56,7 @@ struct Log : FirmwareSink {
   }
 };
 
-enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM };
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS };
 
 FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
   FirmwareSettings s;
@@ -149,6 +149,49 @@ TEST(FirmwareHost, TheNvmPageIsErasedAtTheStartAndAWriteTakesItsPageCycles) {
   EXPECT_EQ(b.host.nvm()[4], 1);
   EXPECT_EQ(b.host.nvm()[15], 12);
   EXPECT_EQ(b.host.nvm()[16], 0xFF);
+}
+
+// A brown-out in host mode (holdInReset for the ticks the supply is low): the outputs
+// drop to their reset level at the first low tick, nothing runs while it is held,
+// and the next step() boots the firmware: init again on zeroed instance RAM (its task
+// counter starts over), the NVM page kept (its boot count goes on). The library's
+// static variables are not reloaded: its static count goes on too (docs/firmware.md).
+TEST(FirmwareHost, ABrownOutResetsTheMcuWhichBootsOnZeroedRamWithItsNvmKept) {
+  Bench b(probe(BOOTS));
+  b.run(3);  // init at 0, task 0 at 10 and 20 ms
+  ASSERT_EQ(b.log.of("firmware").size(), 3u);
+  const std::string first = b.log.of("firmware")[0];
+  ASSERT_EQ(first.rfind("boot 0 static ", 0), 0u) << first;
+  EXPECT_EQ(b.log.of("firmware")[2], "ram 2");
+  EXPECT_TRUE(b.out.relayClose && b.out.dischargeFetOn && b.out.chargeFetOn);
+  b.host.takePinChanges();
+
+  b.host.holdInReset(0.030, "brown-out: test", b.out);
+  b.host.holdInReset(0.040, "brown-out: test", b.out);  // still low: no second reset
+  EXPECT_FALSE(b.out.relayClose || b.out.prechargeClose || b.out.dischargeFetOn || b.out.chargeFetOn ||
+               b.out.chargerEnable);
+  EXPECT_EQ(b.out.chargerCurrentRequest_mA, 0);
+  const std::vector<PinChange> drop = b.host.takePinChanges();
+  ASSERT_EQ(drop.size(), 1u);
+  EXPECT_DOUBLE_EQ(drop[0].t_s, 0.030);
+  EXPECT_TRUE(drop[0].pins == PinLevels{});
+  ASSERT_EQ(b.log.of("mcu_reset").size(), 1u);
+  EXPECT_EQ(b.log.of("mcu_reset")[0].rfind("brown-out: test; held in reset", 0), 0u) << b.log.of("mcu_reset")[0];
+  EXPECT_NE(b.log.of("mcu_reset")[0].find("the instance RAM zeroed"), std::string::npos);
+  EXPECT_EQ(b.log.of("firmware").size(), 3u) << "no call while held in reset";
+  EXPECT_TRUE(b.host.heldInReset());
+  EXPECT_EQ(b.host.resets(), 1u);
+
+  for (int k = 5; k < 7; ++k) b.host.step(k * 0.01, b.in, b.out);  // the supply is back at 50 ms
+  const std::vector<std::string> fw = b.log.of("firmware");
+  ASSERT_EQ(fw.size(), 5u);
+  const unsigned long static0 = std::stoul(first.substr(first.find("static ") + 7));
+  EXPECT_EQ(fw[3], "boot 1 static " + std::to_string(static0 + 1) + " ram 0");  // NVM kept, RAM zeroed, statics kept
+  EXPECT_EQ(fw[4], "ram 1");                    // task 0 at 60 ms: one period after the boot at 50 ms
+  EXPECT_EQ(b.log.of("firmware_loaded").size(), 2u);
+  EXPECT_EQ(b.host.nvm()[0], 2);
+  EXPECT_TRUE(b.out.relayClose) << "init closed it again";
+  EXPECT_FALSE(b.host.dead());
 }
 
 TEST(FirmwareHost, AnAbiMismatchIsAFirmwareFault) {

@@ -4,8 +4,10 @@
 // and the example firmware judged by `packsim check` on its fault subset.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 
+#include "core/check/check.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
 #include "test_support.hpp"
@@ -153,6 +155,137 @@ TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount
   EXPECT_NEAR(misuse[0]->time_s, firstTransfer_s, 0.01);
   // The summary shows it.
   EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace packsim
+
+namespace packsim {
+namespace {
+
+// The recorded truth's mean cell SOC at the last sample at or before t_s.
+double truthSocAt(const RunResult& r, double t_s) {
+  double soc = -1.0;
+  for (size_t i = 0; i < r.rec.time_s.size() && r.rec.time_s[i] <= t_s + 1e-9; ++i) soc = r.rec.soc_truth_mean[i];
+  return soc;
+}
+
+// The number after `prefix` in the first firmware event starting with it (a percentage).
+double firmwarePercent(const RunResult& r, const std::string& prefix, double& t_s) {
+  for (const Event& e : r.events)
+    if (e.kind == "firmware" && e.detail.rfind(prefix, 0) == 0) {
+      t_s = e.time_s;
+      const size_t at = e.detail.find("SOC ") + 4;
+      return std::stod(e.detail.substr(at)) / 100.0;
+    }
+  t_s = -1.0;
+  return -1.0;
+}
+
+// The bundled brown-out (scenarios/firmware/c_example_firmware_brownout.yaml), event by
+// event, with its instants worked out by hand: the 7 V dip at 200 s stays above the
+// 4 V threshold (no reset); the 0 V dip at 300 s is seen by the MCU at the 300 s tick:
+// the reset, the outputs off at 300.000 s and the relay contact open after its open
+// delay; the rail is back at 300.5 s: the boot (init at 300.5 s), the first read-out
+// at 300.6 s, precharge at the 10 ms task of 300.61 s, the relay 300 ms later at
+// 300.91 s (precharge_ms). The SOC the firmware resumes from NVM is within 1 % of the
+// plant's mean cell SOC there (the record lags by at most its 5 s period: 0.26 % at
+// 5.9 A), as its SOC from OCV at power-up was.
+TEST(FirmwareRun, ABrownOutResetsTheExampleFirmwareWhichResumesItsSocFromNvm) {
+  const Scenario s = loadScenarioFile(test::scenarioDir() + "/firmware/c_example_firmware_brownout.yaml");
+  const RunResult r = runScenario(s);
+  EXPECT_EQ(r.summary.firmware_status.rfind("example_bms 1.0: ran to the end", 0), 0u) << r.summary.firmware_status;
+  EXPECT_FALSE(r.summary.tripped);
+  EXPECT_NEAR(test::eventTime(r, "fault_injected", "supply_brownout to 7 V"), 200.0, 1e-9);
+  int resets = 0;
+  for (const Event& e : r.events) resets += e.kind == "mcu_reset";
+  EXPECT_EQ(resets, 1) << "the 7 V dip rides through";
+  EXPECT_NEAR(test::eventTime(r, "mcu_reset",
+                              "brown-out: the 12 V supply at 0.00 V, below the MCU's 4.00 V brown-out threshold; held in "
+                              "reset with its outputs off"),
+              300.0, 1e-9);
+  EXPECT_NEAR(test::eventTime(r, "relay_contact", "opened"), 300.0 + s.hardware.relay.open_delay_s, 1e-9);
+  double loaded = -1.0;  // the second firmware_loaded: the boot after the reset
+  for (const Event& e : r.events)
+    if (e.kind == "firmware_loaded" && e.time_s > 0.0) loaded = e.time_s;
+  EXPECT_NEAR(loaded, 300.5, 1e-9);
+  EXPECT_NEAR(test::eventTime(r, "firmware", "precharge"), 0.11, 1e-9);  // power-up: read-out 0.1 s, task 0.11 s
+  double precharge2 = -1.0, relay2 = -1.0, closed2 = -1.0;
+  for (const Event& e : r.events) {
+    if (e.time_s < 300.0) continue;
+    if (e.kind == "firmware" && e.detail == "precharge" && precharge2 < 0) precharge2 = e.time_s;
+    if (e.kind == "firmware" && e.detail == "relay closed" && relay2 < 0) relay2 = e.time_s;
+    if (e.kind == "relay_contact" && e.detail.rfind("closed", 0) == 0 && closed2 < 0) closed2 = e.time_s;
+  }
+  EXPECT_NEAR(precharge2, 300.61, 1e-9);
+  EXPECT_NEAR(relay2, 300.91, 1e-9);
+  EXPECT_NEAR(closed2, 300.91 + s.hardware.relay.close_delay_s, 1e-9);
+
+  double ocv_s = 0.0, boot_s = 0.0;
+  const double fromOcv = firmwarePercent(r, "SOC ", ocv_s);
+  const double resumed = firmwarePercent(r, "boot 1: SOC ", boot_s);
+  ASSERT_GE(fromOcv, 0.0);
+  ASSERT_GE(resumed, 0.0);
+  EXPECT_NEAR(ocv_s, 0.1, 0.001);  // the first read-out
+  EXPECT_NEAR(fromOcv, truthSocAt(r, ocv_s), 0.01);
+  EXPECT_GT(boot_s, 300.5);
+  EXPECT_LT(boot_s, 300.51);
+  // The truth at the 300 s sample holds until the relay closes again at 300.91 s (no
+  // current in between); the record the firmware resumes from was saved before 300 s.
+  EXPECT_NEAR(resumed, truthSocAt(r, 300.0), 0.01);
+  EXPECT_GE(resumed, truthSocAt(r, 300.0)) << "a record saved before the reset: no discharge after it counted";
+
+  // The summary's line says what the events say.
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("MCU reset       300.000 s  brown-out: the 12 V supply at 0.00 V, below the MCU's 4.00 V "
+                      "brown-out threshold; booted again at 300.500 s\n"),
+            std::string::npos)
+      << text;
+  // packsim check: the expect block holds (one reset, no trip, the energy of a relay
+  // closed again), and each dip's line says what the MCU did.
+  const CheckOutcome o = judge(s, r);
+  EXPECT_TRUE(o.failures.empty()) << (o.failures.empty() ? "" : o.failures[0]);
+  const auto has = [&](const std::string& line) {
+    return std::find(o.latencies.begin(), o.latencies.end(), line) != o.latencies.end();
+  };
+  EXPECT_TRUE(has("supply_brownout to 7 V @200.000 s: above the brown-out threshold, the MCU rode it through (no BMS "
+                  "fault expected)"));
+  EXPECT_TRUE(has("supply_brownout to 0 V @300.000 s: the MCU reset at 300.000 s (no BMS fault expected)"));
+}
+
+// The cases that contradict each printed line: without the deep dip there is no reset
+// and no "MCU reset" line, and the relay stays closed; with the threshold above the
+// 7 V dip (brownout_V: 8) that dip resets the MCU at 200 s, and the line says so.
+TEST(FirmwareRun, ADipAboveTheBrownOutThresholdRidesThroughAndOneBelowResets) {
+  const std::string base = "extends: firmware/c_example_firmware_brownout.yaml\n"
+                           "faults: [{kind: supply_brownout, at_s: 200, duration_s: 1.0, supply_V: 7.0}]\n"
+                           "run: {duration_s: 205}\n"
+                           "expect: {mcu_resets: 1}\n";  // the bundled expect block's reset (its energy needs 360 s)
+  const Scenario ride = test::scenarioFromYaml(base);
+  const RunResult a = runScenario(ride);
+  EXPECT_EQ(test::eventTime(a, "mcu_reset"), -1.0);
+  EXPECT_EQ(test::eventTime(a, "relay_contact", "opened"), -1.0);
+  EXPECT_EQ(formatSummary(ride, a).find("MCU reset"), std::string::npos);
+  const CheckOutcome ridden = judge(ride, a);
+  ASSERT_EQ(ridden.failures.size(), 1u);
+  EXPECT_EQ(ridden.failures[0], "expected 1 MCU resets, got 0");
+
+  const Scenario low = test::scenarioFromYaml(base + "hardware: {mcu_supply: {brownout_V: 8}}\n");
+  const RunResult b = runScenario(low);
+  EXPECT_NEAR(test::eventTime(b, "mcu_reset", "brown-out: the 12 V supply at 7.00 V, below the MCU's 8.00 V"), 200.0,
+              1e-9);
+  EXPECT_NE(formatSummary(low, b).find("MCU reset       200.000 s  brown-out: the 12 V supply at 7.00 V, below the "
+                                        "MCU's 8.00 V brown-out threshold; booted again at 201.000 s\n"),
+            std::string::npos)
+      << formatSummary(low, b);
+  const CheckOutcome reset = judge(low, b);
+  EXPECT_TRUE(reset.failures.empty()) << (reset.failures.empty() ? "" : reset.failures[0]);
+  EXPECT_NE(std::find(reset.latencies.begin(), reset.latencies.end(),
+                      "supply_brownout to 7 V @200.000 s: the MCU reset at 200.000 s (no BMS fault expected)"),
+            reset.latencies.end());
+  const std::string bad = test::yamlErrorOf(base + "hardware: {mcu_supply: {brownout_V: 13}}\n");
+  EXPECT_NE(bad.find("hardware.mcu_supply.brownout_V"), std::string::npos) << bad;
+  EXPECT_NE(bad.find("below nominal_V (12 V)"), std::string::npos) << bad;
 }
 
 }  // namespace

@@ -212,6 +212,37 @@ TEST(TargetMode, AMissedWatchdogKickResetsTheMcuWhichRecovers) {
       << r.summary.firmware_target.back();
 }
 
+// A brown-out in target mode: the same reset and boot as host mode (the 300 s tick,
+// the boot at 300.5 s, the relay again at 300.91 s), RAM reloaded from the ELF, and the
+// same SOC resumed from the NVM page: the same code on the same readings (IEEE double
+// arithmetic on both; the code's cycles move no 10 ms task across a millisecond).
+// Not a watchdog reset: the target line counts none.
+TEST(TargetMode, ABrownOutResetsTheMcuAsInHostModeAndTheNvmKeepsTheSoc) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const RunResult host = runScenario(bundled("c_example_firmware_brownout"));
+  const RunResult target = runScenario(bundled("target/c_example_firmware_brownout_cm4"));
+  const std::string cause = "brown-out: the 12 V supply at 0.00 V, below the MCU's 4.00 V brown-out threshold";
+  EXPECT_NEAR(test::eventTime(target, "mcu_reset", cause), 300.0, 1e-9);
+  EXPECT_NE(test::eventTime(target, "mcu_reset", cause + "; held in reset with its outputs off until the supply "
+                                                         "recovers, then RAM reloaded from the ELF except .noinit"),
+            -1.0);
+  std::string hostBoot, targetBoot;
+  for (const Event& e : host.events)
+    if (e.kind == "firmware" && e.detail.rfind("boot 1:", 0) == 0) hostBoot = e.detail;
+  for (const Event& e : target.events)
+    if (e.kind == "firmware" && e.detail.rfind("boot 1:", 0) == 0) targetBoot = e.detail;
+  ASSERT_EQ(hostBoot.rfind("boot 1: SOC ", 0), 0u) << hostBoot;
+  EXPECT_EQ(targetBoot, hostBoot);
+  double relay = -1.0;
+  for (const Event& e : target.events)
+    if (e.kind == "firmware" && e.detail == "relay closed" && e.time_s > 300.0 && relay < 0) relay = e.time_s;
+  EXPECT_GT(relay, 300.91);
+  EXPECT_LT(relay, 300.91 + 20e-6);  // the code's microseconds at 168 MHz
+  EXPECT_FALSE(target.summary.tripped);
+  EXPECT_NE(target.summary.firmware_target.back().find(" 0 watchdog resets"), std::string::npos)
+      << target.summary.firmware_target.back();
+}
+
 // A fault on the MCU ends the call: a firmware_fault with the reason and the PC (in
 // the task's code, in flash), and a failed run, as a crash in host mode.
 std::string faultOf(int mode) {

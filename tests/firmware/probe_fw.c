@@ -22,6 +22,10 @@
  *              "nvm <word> <us before the write> <us after> <write result> <read past the end>"
  *   PIN_TIMING init transfers 4 + 8 bytes, then closes the relay and the FETs; task 0
  *              at at_ms transfers 4 + 8 bytes twice, then opens them (the outputs' instants)
+ *   BOOTS      init counts its boots in the NVM page's first word and in a static
+ *              variable, and reports "boot <NVM count before> static <static count before>
+ *              ram <task runs in RAM>"; task 0 counts its runs in the instance RAM and
+ *              reports "ram <runs>" (what an MCU reset clears and what it keeps)
  * Built as probe_fw (contract version 3) and probe_fw_v2 (PROBE_ABI=2: the same code
  * declaring version 2).
  * Every mode but PROBE closes the relay and the FETs at init, so a dead MCU leaves
@@ -39,7 +43,7 @@
 #endif
 #define PROBE_NO_CHANNEL (PROBE_ABI >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2)
 
-enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM };
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS };
 
 typedef struct probe_ram {
   int32_t mode, at_ms;
@@ -47,6 +51,7 @@ typedef struct probe_ram {
 } probe_ram;
 
 static volatile int32_t probe_zero = 0;
+static uint32_t probe_static_boots = 0; /* BOOTS: a writable global, which the contract asks firmwares not to keep */
 
 static void report(psfw_board* b, const psfw_board_api* api, int task) {
   char text[48];
@@ -97,6 +102,12 @@ static void task0(void* ram, psfw_board* b, const psfw_board_api* api) {
       api->event(b, text);
       break;
     }
+    case BOOTS: {
+      char text[32];
+      snprintf(text, sizeof text, "ram %ld", (long)++r->tripped);
+      api->event(b, text);
+      break;
+    }
     case PIN_TIMING:
       if (r->tripped) break;
       r->tripped = 1;
@@ -140,6 +151,20 @@ static int32_t probe_init(void* ram, psfw_board* b, const psfw_board_api* api, c
     const long past = api->nvm_read(b, 250, word, 8);
     snprintf(text, sizeof text, "nvm %lu %lu %lu %ld %ld", (unsigned long)w, (unsigned long)before, (unsigned long)after,
              wrote, past);
+    api->event(b, text);
+  }
+  if (r->mode == BOOTS) {
+    char text[64];
+    uint8_t word[4];
+    uint32_t boots;
+    api->nvm_read(b, 0, word, 4);
+    memcpy(&boots, word, 4);
+    if (boots == 0xFFFFFFFFu) boots = 0; /* erased */
+    snprintf(text, sizeof text, "boot %lu static %lu ram %ld", (unsigned long)boots, (unsigned long)probe_static_boots++,
+             (long)r->tripped);
+    ++boots;
+    memcpy(word, &boots, 4);
+    api->nvm_write(b, 0, word, 4);
     api->event(b, text);
   }
   if (r->mode == PIN_TIMING) {
