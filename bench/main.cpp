@@ -23,6 +23,15 @@ using namespace packsim::bench;
 
 namespace {
 
+// The instructions the emulator ran, from the last of a run's summary `target` lines
+// ("cortex-m4 at 168 MHz: N instructions, ..."); "-" without one.
+std::string emulatedInstructions(const std::vector<std::string>& targetLines) {
+  if (targetLines.empty()) return "-";
+  const std::string& last = targetLines.back();
+  const size_t colon = last.find(": ");
+  return last.substr(colon + 2, last.find(" instructions") - colon - 2);
+}
+
 void addRun(Table& t, const RunFigures& f, double floor_ns) {
   t.add({f.label, std::to_string(f.cells), fmt(f.sim_s, 0), std::to_string(f.ticks), fmt(f.time.cpu_s, 2),
          fmt(f.time.wall_s, 2), fmt(f.sim_s / f.time.cpu_s, 0), fmt(f.cpuNsPerCellStep(), 1),
@@ -178,13 +187,7 @@ int main(int argc, char** argv) {
       const Scenario target = bundledScenario("firmware/target/" + name + "_cm4.yaml");
       const RunFigures h = timeScenario(name, host, 1, quick ? 1 : 3);
       const RunFigures g = timeScenario(name, target, 1, quick ? 1 : 3);
-      const std::vector<std::string> lines = runScenario(target).summary.firmware_target;
-      std::string instr = "-";
-      if (!lines.empty()) {
-        const std::string& last = lines.back();
-        const size_t colon = last.find(": ");
-        instr = last.substr(colon + 2, last.find(" instructions") - colon - 2);
-      }
+      const std::string instr = emulatedInstructions(runScenario(target).summary.firmware_target);
       t.add({name, fmt(g.sim_s, 0), fmt(h.time.cpu_s, 3), fmt(g.time.cpu_s, 3), fmt(g.time.cpu_s / h.time.cpu_s, 2),
              instr, fmt(g.sim_s / g.time.cpu_s, 0)});
     }
@@ -200,13 +203,7 @@ int main(int argc, char** argv) {
       const Scenario target = bundledScenario(file, {{"bms.firmware.target", "cortex-m4"}});
       const RunFigures h = timeScenario(n, host, 1, quick ? 1 : 3);
       const RunFigures g = timeScenario(n, target, 1, quick ? 1 : 3);
-      const std::vector<std::string> lines = runScenario(target).summary.firmware_target;
-      std::string instr = "-";
-      if (!lines.empty()) {
-        const std::string& last = lines.back();
-        const size_t colon = last.find(": ");
-        instr = last.substr(colon + 2, last.find(" instructions") - colon - 2);
-      }
+      const std::string instr = emulatedInstructions(runScenario(target).summary.firmware_target);
       c.add({n, fmt(g.sim_s, 0), fmt(h.time.cpu_s, 3), fmt(g.time.cpu_s, 3), fmt(g.time.cpu_s / h.time.cpu_s, 1), instr,
              fmt(g.sim_s / g.time.cpu_s, 0)});
     }

@@ -194,6 +194,17 @@ std::vector<uint8_t> configFileBytes(YamlMap& fw, const std::string& baseDir) {
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
+// The first candidate that is a file, as an absolute path ("" if none); `tried` lists
+// the others for the error.
+std::string firstExisting(const std::vector<std::string>& candidates, std::string& tried) {
+  for (const std::string& c : candidates) {
+    std::error_code ec;
+    if (fs::is_regular_file(c, ec)) return fs::absolute(c, ec).string();
+    tried += "\n  " + c;
+  }
+  return "";
+}
+
 // `target:` without `elf:`: packsim's own core on the virtual MCU. Its configuration is
 // the scenario's bms settings (the image host mode flashes), not a blob.
 FirmwareSettings coreOnTarget(YamlMap& m, FirmwareSettings f, const std::string& baseDir) {
@@ -203,14 +214,7 @@ FirmwareSettings coreOnTarget(YamlMap& m, FirmwareSettings f, const std::string&
       throw m.errorAt(key, "packsim's core (target without elf:) is configured by the scenario's bms settings, as in "
                            "host mode; a blob is for your own firmware's elf:");
   std::string tried;
-  for (const std::string& c : libraryCandidates(kCoreElf, baseDir, true)) {
-    std::error_code ec;
-    if (fs::is_regular_file(c, ec)) {
-      f.library_path = fs::absolute(c, ec).string();
-      break;
-    }
-    tried += "\n  " + c;
-  }
+  f.library_path = firstExisting(libraryCandidates(kCoreElf, baseDir, true), tried);
   if (f.library_path.empty())
     throw m.errorAt("target", std::string("packsim's core for the target, ") + kCoreElf + ".elf, not found; tried:" +
                                   tried + "\n(packsim's build makes it next to packsim when arm-none-eabi-gcc is "
@@ -244,14 +248,7 @@ FirmwareSettings readFirmware(std::optional<YamlMap> m, const std::string& baseD
   const char* key = f.isTarget() ? "elf" : "library";
   const std::string name = m->string(key);
   std::string tried;
-  for (const std::string& c : libraryCandidates(name, baseDir, f.isTarget())) {
-    std::error_code ec;
-    if (fs::is_regular_file(c, ec)) {
-      f.library_path = fs::absolute(c, ec).string();
-      break;
-    }
-    tried += "\n  " + c;
-  }
+  f.library_path = firstExisting(libraryCandidates(name, baseDir, f.isTarget()), tried);
   if (f.library_path.empty())
     throw m->errorAt(key, std::string(f.isTarget() ? "firmware ELF '" : "firmware library '") + name +
                               "' not found; tried:" + tried +
