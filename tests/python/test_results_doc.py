@@ -110,7 +110,7 @@ def test_every_channel_is_documented_with_shape_type_and_unit(channel):
 
 
 def test_every_documented_dataset_is_a_channel():
-    tables = {"/events", "/bus_trace", "/summary", "/vehicle/stages", "/vehicle/laps"}  # tables and attributes, not time series
+    tables = {"/events", "/bus_trace", "/can_trace", "/summary", "/vehicle/stages", "/vehicle/laps"}  # tables and attributes, not time series
     known = {c["path"] for c in CHANNELS} | tables
     table = DOC.split("## Datasets", 1)[1].split("\n## ", 1)[0]  # not the dimension scales' table
     documented = {row.split("|")[1].strip().strip("`") for row in table.splitlines() if row.startswith("| `/")}
