@@ -34,6 +34,7 @@
 #include "core/firmware/config_schema.hpp"
 #include "core/firmware/elf_image.hpp"
 #include "core/io/install_paths.hpp"
+#include "core/scenario/provenance.hpp"  // numberText
 #include "core/scenario/scenario_sections.hpp"
 
 namespace packsim {
@@ -104,12 +105,6 @@ std::vector<uint8_t> configBlob(YamlMap& fw) {
 }
 
 // ---- with the firmware's schema ----
-
-std::string numberText(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
 
 // "an integer in [3000, 5000] mV (cell over-voltage trip)": what a field takes.
 std::string allowed(const ConfigField& f) {

@@ -64,10 +64,9 @@ void McuFirmware::injectScripted(double before_s) {
   }
 }
 
-std::vector<CanTraceRow> McuFirmware::takeCanTrace(double end_s) {
+std::vector<CanTraceRow> McuFirmware::takeCanTrace() {
   std::vector<CanTraceRow> rows;
   if (!aloneCan_) return rows;
-  (void)end_s;
   can_->runUntil(std::numeric_limits<double>::infinity());  // every frame queued in the run's ticks
   for (const CanBus::TraceRow& t : can_->takeTrace()) {
     CanTraceRow r;

@@ -56,9 +56,9 @@ class McuFirmware : public FirmwareSink {
   double worstTaskTime_s(int task) const;
   void enforceBudgets(bool on);
   const CanBus* can() const { return can_.get(); }
-  // A board alone with hardware.can: every frame on its bus up to end_s (the firmware's
-  // and the scenario's), in the order they went on the wire.
-  std::vector<CanTraceRow> takeCanTrace(double end_s);
+  // A board alone with hardware.can: every frame on its bus (the firmware's, queued in
+  // the run's ticks, and the scenario's), in the order they went on the wire.
+  std::vector<CanTraceRow> takeCanTrace();
 
   void event(double t_s, const std::string& kind, const std::string& detail) override {
     tracker_.event(t_s, kind, detail);

@@ -255,7 +255,7 @@ RunResult SimulationRun::finish() {
   m.scheduler.reportUnreached(static_cast<double>(m.k) * m.tick_s, m.endReason, m.tracker);  // before the run's end event
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
   r.bus_trace = m.hw.takeBusTrace();
-  r.can_trace = m.firmware.takeCanTrace(static_cast<double>(m.k) * m.tick_s);
+  r.can_trace = m.firmware.takeCanTrace();
   r.solver = m.solver->stats();
   r.summary.firmware_status = m.firmware.status();
   r.summary.fet_notes = m.hw.fetNotes(static_cast<double>(m.k) * m.tick_s);
