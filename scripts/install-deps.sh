@@ -1,25 +1,75 @@
 #!/usr/bin/env bash
-# Installs what a fresh Debian machine lacks to build and test packsim.
+# Installs what a fresh Debian machine lacks to build, run and test packsim.
 # Idempotent: packages already present are skipped, so running it twice is cheap.
+#
+#   scripts/install-deps.sh            everything the test command (scripts/test.sh) needs (CI)
+#   scripts/install-deps.sh --run      only what building the packsim program and `packsim run` need
+#                                      (README command 1: TARGETS=packsim scripts/build.sh)
+#   scripts/install-deps.sh --python   --run, plus what the Python module and `pip install .` need
+#   scripts/install-deps.sh --list [--run|--python]   print the packages of that set, install nothing
 set -euo pipefail
 
-APT_PACKAGES=(
+usage() {
+  sed -n '5,9s/^#   /  /p' "$0"
+}
+
+mode=test
+list=0
+for arg in "$@"; do
+  case $arg in
+    --run) mode=run ;;
+    --python) mode=python ;;
+    --test) mode=test ;;
+    --list) list=1 ;;
+    -h | --help) echo "usage:"; usage; exit 0 ;;
+    *) echo "install-deps: unknown argument '$arg'; expected one of --run, --python, --test, --list, --help" >&2
+       echo "usage:" >&2; usage >&2; exit 2 ;;
+  esac
+done
+
+# The packsim program (CMakeLists.txt: every REQUIRED find_package / pkg_check_modules).
+# libsundials-dev is most of this set's download: Debian's package depends on PETSc, hypre,
+# MPI and gfortran, which packsim does not use (README, "Quick start").
+APT_RUN=(
   build-essential cmake ninja-build pkg-config ccache
-  libsundials-dev libsuitesparse-dev libyaml-cpp-dev libhdf5-dev libeigen3-dev libgtest-dev libgmock-dev
-  pybind11-dev libcli11-dev
+  libsundials-dev libsuitesparse-dev libyaml-cpp-dev libhdf5-dev libeigen3-dev libcli11-dev
   libzip-dev                  # packsim fmu: writes the FMU archive
   libunicorn-dev libcapstone-dev  # bms.firmware.target: cortex-m4: the ARM emulator and the disassembler of its cycle model
-  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
+)
+# The Python module packsim._packsim (pybind11, the interpreter's headers).
+APT_PYTHON=(pybind11-dev python3-dev)
+# What only the tests need.
+APT_TEST=(
+  libgtest-dev libgmock-dev
+  gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib  # the Cortex-M4 builds of the core and the example firmware
   # scripts/fuzz.sh: clang with libFuzzer (compiler-rt) and the OpenMP that SUNDIALS' CMake config asks for
   clang libclang-rt-14-dev libomp-14-dev
   chromium chromium-driver    # tests/python/test_report_browser.py: the report pages in headless Chromium
 )
-# Python: the package's needs, the optional ones its tests exercise (tables, notebooks,
-# Dask), and the build tools `pip install .` uses without build isolation.
-PIP_PACKAGES=(numpy h5py pytest matplotlib plotly selenium pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
-              "dask[distributed]" scikit-build-core pybind11
-              fmpy   # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
-              bpx)   # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
+# Python: the package's needs and the build tools `pip install --no-build-isolation .` uses.
+PIP_PYTHON=(numpy h5py pyyaml scikit-build-core pybind11)
+# The optional ones the tests exercise (plots, tables, notebooks, Dask, the FMU, BPX).
+PIP_TEST=(pytest matplotlib plotly selenium pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
+          "dask[distributed]"
+          fmpy   # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
+          bpx)   # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
+
+APT_PACKAGES=("${APT_RUN[@]}")
+PIP_PACKAGES=()
+if [ "$mode" != run ]; then
+  APT_PACKAGES+=("${APT_PYTHON[@]}")
+  PIP_PACKAGES+=("${PIP_PYTHON[@]}")
+fi
+if [ "$mode" = test ]; then
+  APT_PACKAGES+=("${APT_TEST[@]}")
+  PIP_PACKAGES+=("${PIP_TEST[@]}")
+fi
+
+if [ "$list" = 1 ]; then
+  echo "apt: ${APT_PACKAGES[*]}"
+  echo "pip: ${PIP_PACKAGES[*]}"
+  exit 0
+fi
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
@@ -46,4 +96,4 @@ if [ ${#need_pip[@]} -gt 0 ]; then
   echo "install-deps: pip install ${need_pip[*]}"
   "$PY" -m pip install -q "${need_pip[@]}"
 fi
-echo "install-deps: all dependencies present"
+echo "install-deps: all dependencies of the '$mode' set present"

@@ -1,0 +1,98 @@
+"""scripts/install-deps.sh: its argument handling, and that its `--run` set (README command 1)
+holds what the packsim program needs and none of what only the tests need. Runs the
+script's --help / --list paths only: nothing is installed."""
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+SCRIPT = REPO / "scripts" / "install-deps.sh"
+
+
+def deps(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(["bash", str(SCRIPT), *args], capture_output=True, text=True, timeout=30)
+
+
+def listed(*mode: str) -> tuple[set[str], set[str]]:
+    done = deps("--list", *mode)
+    assert done.returncode == 0, done.stderr
+    lines = dict(line.split(":", 1) for line in done.stdout.splitlines())
+    assert set(lines) == {"apt", "pip"}, done.stdout
+    return set(lines["apt"].split()), set(lines["pip"].split())
+
+
+def test_help_names_every_mode_and_installs_nothing():
+    done = deps("--help")
+    assert done.returncode == 0, done.stderr
+    for mode in ("--run", "--python", "--list"):
+        assert mode in done.stdout
+    assert "install-deps:" not in done.stdout + done.stderr  # what it says when it installs or checks
+
+
+def test_an_unknown_argument_is_refused_with_exit_2_and_the_allowed_ones():
+    done = deps("--runn")
+    assert done.returncode == 2
+    assert "unknown argument '--runn'" in done.stderr and "--run" in done.stderr
+    assert "install-deps: apt-get install" not in done.stdout + done.stderr
+
+
+def test_the_sets_nest_and_the_run_set_leaves_out_what_only_the_tests_need():
+    run_apt, run_pip = listed("--run")
+    py_apt, py_pip = listed("--python")
+    test_apt, test_pip = listed()
+    assert (test_apt, test_pip) == listed("--test")  # no argument: everything the test command needs
+    assert run_apt < py_apt < test_apt and set() == run_pip < py_pip < test_pip
+    for only_tests in ("libgtest-dev", "gcc-arm-none-eabi", "clang", "chromium"):
+        assert only_tests in test_apt and only_tests not in py_apt
+    assert {"pybind11-dev", "python3-dev"} <= py_apt - run_apt
+    assert {"pytest", "fmpy"} <= test_pip - py_pip and {"numpy", "scikit-build-core"} <= py_pip
+
+
+# What each REQUIRED dependency of the program's configuration is found by: a file its
+# Debian package installs. The packaging test of record is dpkg: who owns that file.
+FOUND_BY = {
+    "SUNDIALS": "/SUNDIALSConfig.cmake",
+    "yaml-cpp": "/yaml-cpp-config.cmake",
+    "HDF5": "/hdf5_hl.h",
+    "Eigen3": "/Eigen3Config.cmake",
+    "CLI11": "/CLI11Config.cmake",
+    "unicorn": "/unicorn.pc",
+    "capstone": "/capstone.pc",
+    "libzip": "/libzip.pc",
+}
+
+
+def required_dependencies() -> set[str]:
+    """Every find_package(X REQUIRED) and pkg_check_modules(... REQUIRED ... module) that
+    configuring the program runs (the tests' GoogleTest is under PACKSIM_BUILD_TESTS)."""
+    names = set()
+    for cmake in (REPO / "CMakeLists.txt", *REPO.glob("core/**/CMakeLists.txt"), *REPO.glob("models/**/CMakeLists.txt"),
+                  *REPO.glob("bms/**/CMakeLists.txt")):
+        text = cmake.read_text()
+        names |= {m for m in re.findall(r"find_package\((\S+)[^)]*\bREQUIRED\b", text) if m != "PkgConfig"}
+        names |= {m.split()[-1] for m in re.findall(r"pkg_check_modules\(\w+ REQUIRED ([^)]*)\)", text)}
+    return names
+
+
+def test_the_run_set_holds_the_package_of_every_required_dependency():
+    assert required_dependencies() == set(FOUND_BY), "a new required dependency: add it to install-deps' --run set"
+    if not shutil.which("dpkg"):
+        pytest.skip("not a Debian system: no dpkg to say which package owns a file")
+    done = subprocess.run(["dpkg", "-S", *(f"*{file}" for file in FOUND_BY.values())], capture_output=True, text=True, timeout=30)
+    owners = {}
+    for line in done.stdout.splitlines():
+        pkgs, _, path = line.partition(": ")
+        for name, file in FOUND_BY.items():
+            if path.endswith(file):
+                owners.setdefault(name, set()).update(p.split(":")[0] for p in pkgs.split(", "))
+    missing = set(FOUND_BY) - set(owners)
+    if missing:
+        pytest.skip(f"not installed here: {', '.join(sorted(missing))}")
+    run_apt, _ = listed("--run")
+    for name, pkgs in owners.items():
+        assert pkgs & run_apt, f"{name} ({FOUND_BY[name]}) comes from {pkgs}, not in install-deps --run"
