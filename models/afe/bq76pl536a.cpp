@@ -254,7 +254,6 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
   const int device = static_cast<int>(&dv - dev_.data());
   const bool unlocked = dv.shadowOpen;
   dv.shadowOpen = false;  // the key opens exactly one write
-  dv.compared = false;    // a threshold may change
   switch (reg) {
     case BQ536_ALERT_STATUS:
     case BQ536_FAULT_STATUS: {
@@ -297,7 +296,8 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
     default:
       // Protected configuration: only right after the shadow key. Others are read-only.
-      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) dv.reg[reg] = value;
+      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked)
+        dv.reg[reg] = value, dv.compared = false;  // a threshold may change
       else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
         misuse_.note(t, device, registerName(reg), "protected register written without the SHDW_CTRL key just before");
       else
