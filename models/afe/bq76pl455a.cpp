@@ -58,8 +58,12 @@ bool inEeprom(unsigned a) {
 double thermCodeIdeal(const Thermistor& th, double temp_C, ThermistorFault f) {
   if (f == ThermistorFault::Open) return static_cast<double>(th.fullScaleCode());
   if (f == ThermistorFault::Short) return 0.0;
-  const double r = th.resistance_ohm(temp_C);
-  return static_cast<double>(th.fullScaleCode()) * r / (th.pullup_ohm + r);
+  return th.idealCode(temp_C);
+}
+double thermCodeIdeal(const Thermistor& th, double temp_C, ThermistorFault f, ThermistorCodeCache& kept) {
+  if (f == ThermistorFault::Open) return static_cast<double>(th.fullScaleCode());
+  if (f == ThermistorFault::Short) return 0.0;
+  return kept.ideal(th, temp_C);
 }
 
 // A register's data-sheet name (multi-byte registers by their first byte).
@@ -149,6 +153,7 @@ void Bq76pl455aChain::powerUp(Device& dv) {
   dv.pending.fill(0);
   dv.heldChannels = dv.pendingChannels = 0;
   dv.ready_s = -1.0;
+  dv.compared = false;
 }
 
 bool Bq76pl455aChain::hears(int d) const {
@@ -179,30 +184,43 @@ void Bq76pl455aChain::settle(Device& dv, double t) {
 
 // The secondary comparators, independent of the ADC: true pin voltages against
 // COMP_UV / COMP_OV, the AUX inputs' code against AUXn_UV (an NTC reads low when
-// hot, 0 when shorted), each latching after its delay.
-void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
-  if ((dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) == 0) return;
-  const SecondaryProtection& p = cfg_.secondary;
+// hot, 0 when shorted), each latching after its delay. The conditions are evaluated
+// again only after the pins or a register changed (compare); the debounce timers run
+// at every call.
+void Bq76pl455aChain::compare(Device& dv, int d) {
   const double ov_V = compVolts(dv.reg[PL455_REG_COMP_OV], PL455_COMP_OV_BASE_MV);
   const double uv_V = compVolts(dv.reg[PL455_REG_COMP_UV], PL455_COMP_UV_BASE_MV);
-  uint16_t over = 0, under = 0;
-  for (int c = 0; c < cellsOf(d); ++c) {
+  uint16_t over = 0, under = 0, hot = 0;
+  const int n = cellsOf(d);
+  for (int c = 0; c < n; ++c) {
     const double v = dv.analog.cell_V[static_cast<size_t>(c)];
     if (v > ov_V) over = static_cast<uint16_t>(over | (1u << c));
     if (v < uv_V) under = static_cast<uint16_t>(under | (1u << c));
   }
-  if (dv.cov.held(t, over != 0, p.cov_delay_s))
-    set16(dv.reg, PL455_REG_FAULT_2OV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2OV) | over));
-  if (dv.cuv.held(t, under != 0, p.cuv_delay_s))
-    set16(dv.reg, PL455_REG_FAULT_2UV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2UV) | under));
   const int nt = std::min(cfg_.thermistors_per_device, static_cast<int>(PL455_AUX_INPUTS));
   for (int k = 0; k < nt; ++k) {
     const size_t ks = static_cast<size_t>(k);
-    const double code = thermCodeIdeal(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks]);
-    const bool hot = code < dv.hotCode[k];
-    if (dv.hot[k].held(t, hot, p.ot_delay_s))
-      set16(dv.reg, PL455_REG_FAULT_AUX, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_AUX) | PL455_FAULT_AUX_UV(k)));
+    const double code = thermCodeIdeal(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks], dv.thermCode[k]);
+    if (code < dv.hotCode[k]) hot = static_cast<uint16_t>(hot | (1u << k));
   }
+  dv.over = over;
+  dv.under = under;
+  dv.hotMask = hot;
+  dv.compared = true;
+}
+
+void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
+  if ((dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) == 0) return;
+  if (!dv.compared) compare(dv, d);
+  const SecondaryProtection& p = cfg_.secondary;
+  if (dv.cov.held(t, dv.over != 0, p.cov_delay_s))
+    set16(dv.reg, PL455_REG_FAULT_2OV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2OV) | dv.over));
+  if (dv.cuv.held(t, dv.under != 0, p.cuv_delay_s))
+    set16(dv.reg, PL455_REG_FAULT_2UV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2UV) | dv.under));
+  const int nt = std::min(cfg_.thermistors_per_device, static_cast<int>(PL455_AUX_INPUTS));
+  for (int k = 0; k < nt; ++k)
+    if (dv.hot[k].held(t, (dv.hotMask >> k) & 1u, p.ot_delay_s))
+      set16(dv.reg, PL455_REG_FAULT_AUX, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_AUX) | PL455_FAULT_AUX_UV(k)));
 }
 
 // The communication timeout: no valid frame heard for the CTO fault time.
@@ -308,7 +326,8 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k) {
     if ((ch & PL455_CH_AUX(k)) == 0 || static_cast<int>(k) >= cfg_.thermistors_per_device) continue;
     const size_t ks = static_cast<size_t>(k);
-    const int64_t code = thermistorCode(cfg_.thermistor, dv.analog.therm_fault[ks], dv.analog.therm_C[ks], noise_);
+    const int64_t code =
+        thermistorCode(cfg_.thermistor, dv.analog.therm_fault[ks], dv.analog.therm_C[ks], dv.thermCode[k], noise_);
     dv.pending[static_cast<size_t>(8 + k)] = static_cast<uint16_t>(code);
   }
   if (ch & PL455_CH_DIE_TEMP)
@@ -339,7 +358,8 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
   }
   auto touched = [&](unsigned a, unsigned size) { return f.reg < a + size && a < f.reg + f.size; };
   for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k)
-    if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k));
+    if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k)), dv.compared = false;
+  if (touched(PL455_REG_COMP_UV, 1) || touched(PL455_REG_COMP_OV, 1)) dv.compared = false;  // a threshold changed
   if (touched(PL455_REG_DEV_CTRL, 1)) {
     const uint8_t c = dv.reg[PL455_REG_DEV_CTRL];
     if (c & PL455_DEV_CTRL_RESET) return powerUp(dv);
@@ -373,8 +393,9 @@ bool Bq76pl455aChain::addressedBy(const Frame& f, int d) const {
   }
 }
 
-std::vector<uint8_t> Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double& ready_s) {
-  std::vector<uint8_t> out(1, 0);
+void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double& ready_s, Reply& out) {
+  out.size = 0;
+  out.push(0);
   ready_s = t;
   if (f.reg == PL455_REG_CMD) {
     // A sample request with response: the results once converted; SEND_HELD: as held now.
@@ -389,28 +410,30 @@ std::vector<uint8_t> Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, d
     const uint32_t ch = fresh ? dv.pendingChannels : dv.heldChannels;
     for (int b = kResultSlots - 1; b >= 0; --b) {
       if (((ch >> b) & 1u) == 0) continue;
-      out.push_back(static_cast<uint8_t>(values[static_cast<size_t>(b)] >> 8));
-      out.push_back(static_cast<uint8_t>(values[static_cast<size_t>(b)] & 0xFF));
+      out.push(static_cast<uint8_t>(values[static_cast<size_t>(b)] >> 8));
+      out.push(static_cast<uint8_t>(values[static_cast<size_t>(b)] & 0xFF));
     }
   } else {
     settle(dv, t);
     set16(dv.reg, PL455_REG_FAULT_SUM, faultSummary(dv));
     const unsigned count = (f.size > 0 ? f.data[0] & 0x7Fu : 0u) + 1u;
-    for (unsigned i = 0; i < count; ++i) out.push_back(f.reg + i < PL455_REG_COUNT ? dv.reg[f.reg + i] : 0);
+    for (unsigned i = 0; i < count; ++i) out.push(f.reg + i < PL455_REG_COUNT ? dv.reg[f.reg + i] : 0);
   }
-  if (out.size() == 1) return {};  // nothing selected: no reply
-  out[0] = static_cast<uint8_t>(out.size() - 2);
-  const uint16_t crc = bms::crcCrc16(out.data(), out.size());
-  out.push_back(static_cast<uint8_t>(crc & 0xFF));
-  out.push_back(static_cast<uint8_t>(crc >> 8));
+  if (out.size == 1) {  // nothing selected: no reply
+    out.size = 0;
+    return;
+  }
+  out.bytes[0] = static_cast<uint8_t>(out.size - 2);
+  const uint16_t crc = bms::crcCrc16(out.bytes.data(), out.size);
+  out.push(static_cast<uint8_t>(crc & 0xFF));
+  out.push(static_cast<uint8_t>(crc >> 8));
   corrupt(dv, out);
-  return out;
 }
 
 // Comm faults act on the reply bytes: stuck drives every byte; a CRC error rate
 // flips one bit with that probability (draws only where the rate is set).
-void Bq76pl455aChain::corrupt(const Device& dv, std::vector<uint8_t>& bytes) {
-  corruptReply(dv.comm, comm_, bytes.data(), bytes.size());
+void Bq76pl455aChain::corrupt(const Device& dv, Reply& out) {
+  corruptReply(dv.comm, comm_, out.bytes.data(), out.size);
 }
 
 BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) {
@@ -420,6 +443,7 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   size_t received = 0;
   bool expectReply = false;
   size_t pos = 0;
+  Reply out;
   while (pos < txLen && (tx[pos] & PL455_INIT_COMMAND) != 0) {
     Frame f;
     const uint8_t init = tx[pos];
@@ -467,11 +491,11 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
     for (int d = cfg_.devices - 1; d >= 0; --d) {
       if (!hears(d) || !addressedBy(f, d)) continue;
       double ready_s = arrived_s;
-      const std::vector<uint8_t> bytes = reply(dev_[static_cast<size_t>(d)], d, f, arrived_s, ready_s);
-      if (bytes.empty()) continue;
-      now = std::max(now, ready_s) + static_cast<double>(bytes.size()) * byte_s;
-      for (uint8_t b : bytes)
-        if (received < rxLen) rx[received++] = b;
+      reply(dev_[static_cast<size_t>(d)], d, f, arrived_s, ready_s, out);
+      if (out.size == 0) continue;
+      now = std::max(now, ready_s) + static_cast<double>(out.size) * byte_s;
+      for (size_t i = 0; i < out.size; ++i)
+        if (received < rxLen) rx[received++] = out.bytes[i];
     }
   }
   BusTransfer r;

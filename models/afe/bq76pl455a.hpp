@@ -47,7 +47,11 @@ class Bq76pl455aChain final : public MonitorChain {
 
   int deviceCount() const override { return cfg_.devices; }
   int cellsOf(int d) const override;
-  DeviceAnalog& analog(int d) override { return dev_[static_cast<size_t>(d)].analog; }
+  DeviceAnalog& analog(int d) override {  // the caller fills it: the comparators look again
+    Device& dv = dev_[static_cast<size_t>(d)];
+    dv.compared = false;
+    return dv.analog;
+  }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
   void setBrokenLinkAbove(int d) override { brokenAbove_ = d; }
   void advance(double t) override;
@@ -76,6 +80,11 @@ class Bq76pl455aChain final : public MonitorChain {
     // AUX over-temperature threshold in (unrounded) code units: the EEPROM's exact
     // value until the host writes AUXn_UV, then the written code.
     double hotCode[PL455_AUX_INPUTS] = {}, eepromHotCode[PL455_AUX_INPUTS] = {};
+    ThermistorCodeCache thermCode[PL455_AUX_INPUTS];  // each AUX input's noiseless code
+    // The comparators' conditions (bit c: cell c over / under, bit k: AUX k hot) for the
+    // pins and thresholds as they are; compared = false once either may have changed.
+    uint16_t over = 0, under = 0, hotMask = 0;
+    bool compared = false;
     double balanceUntil_s = 0.0;
     BalancePauses pauses;  // the host's, around its conversions
     double heard_s = 0.0;  // the last valid frame it heard (the link supervision's clock)
@@ -86,6 +95,12 @@ class Bq76pl455aChain final : public MonitorChain {
     DeviceAnalog analog;
     MonitorDeviceFault comm;
   };
+  // One device's response frame: header, data, CRC (a register read of up to 128 bytes).
+  struct Reply {
+    std::array<uint8_t, 1 + 128 + 2> bytes;
+    size_t size = 0;
+    void push(uint8_t b) { bytes[size++] = b; }
+  };
   struct Frame {  // one command frame as received
     uint8_t req = 0, address = 0, size = 0;
     uint16_t reg = 0;
@@ -94,6 +109,7 @@ class Bq76pl455aChain final : public MonitorChain {
 
   void powerUp(Device& dv);
   void settle(Device& dv, double t);
+  void compare(Device& dv, int d);
   void runComparators(Device& dv, int d, double t);
   void superviseLink(Device& dv, double t);
   bool hears(int d) const;      // on an intact link and not silent
@@ -103,9 +119,10 @@ class Bq76pl455aChain final : public MonitorChain {
   void clearWritten(Device& dv, uint8_t addr, uint8_t bits);
   void startSample(Device& dv, int d, double t);
   uint16_t faultSummary(const Device& dv) const;
-  // One device's reply to f (data read or sample); ready_s: when it can start sending.
-  std::vector<uint8_t> reply(Device& dv, int d, const Frame& f, double t, double& ready_s);
-  void corrupt(const Device& dv, std::vector<uint8_t>& bytes);
+  // One device's reply to f (data read or sample) into out (size 0: no reply); ready_s:
+  // when it can start sending.
+  void reply(Device& dv, int d, const Frame& f, double t, double& ready_s, Reply& out);
+  void corrupt(const Device& dv, Reply& out);
 
   MonitorConfig cfg_;
   int cells_;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -254,7 +255,6 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
   const int device = static_cast<int>(&dv - dev_.data());
   const bool unlocked = dv.shadowOpen;
   dv.shadowOpen = false;  // the key opens exactly one write
-  dv.compared = false;    // a threshold may change
   switch (reg) {
     case BQ536_ALERT_STATUS:
     case BQ536_FAULT_STATUS: {
@@ -297,7 +297,8 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
     default:
       // Protected configuration: only right after the shadow key. Others are read-only.
-      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) dv.reg[reg] = value;
+      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked)
+        dv.reg[reg] = value, dv.compared = false;  // a threshold may change
       else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
         misuse_.note(t, device, registerName(reg), "protected register written without the SHDW_CTRL key just before");
       else
@@ -368,7 +369,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   const size_t replyLen = count + 1;
   corruptReply(target->comm, commRng_, reply, replyLen);
   const size_t got = std::min(rxLen, replyLen);
-  std::copy(reply, reply + got, rx);
+  std::memcpy(rx, reply, got);  // (std::copy compiled to a rep movs: slow for a few bytes)
   r.received = static_cast<int>(got);
   return r;
 }

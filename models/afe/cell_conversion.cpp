@@ -34,4 +34,11 @@ int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp
   return ntc.code(temp_C, noise);
 }
 
+int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, ThermistorCodeCache& kept,
+                       Rng& noise) {
+  if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
+  if (fault == ThermistorFault::Short) return 0;
+  return ntc.codeOf(kept.ideal(ntc, temp_C), noise);
+}
+
 }  // namespace packsim

@@ -15,6 +15,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "models/afe/device_faults.hpp"
@@ -44,7 +45,25 @@ class CellChannelErrors {
 // the conversion sees them (DeviceAnalog::cellsSeen).
 double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise);
 
+// A thermistor input's noiseless code (Thermistor::idealCode, an exp) for the last
+// temperature asked: the inputs change once per tick, while a chain looks at them at
+// every transfer (its comparators) and conversion. The same value as computing it anew.
+class ThermistorCodeCache {
+ public:
+  double ideal(const Thermistor& ntc, double temp_C) {
+    if (!(temp_C == temp_C_)) code_ = ntc.idealCode(temp_C), temp_C_ = temp_C;
+    return code_;
+  }
+
+ private:
+  double temp_C_ = std::numeric_limits<double>::quiet_NaN();  // NaN: nothing kept
+  double code_ = 0.0;
+};
+
 // A thermistor input's code: open reads full scale, shorted reads 0.
 int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, Rng& noise);
+// The same, its noiseless code kept in `kept` (one cache per input and thermistor type).
+int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, ThermistorCodeCache& kept,
+                       Rng& noise);
 
 }  // namespace packsim

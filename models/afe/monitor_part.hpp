@@ -72,7 +72,9 @@ class MonitorChain {
 
   virtual int deviceCount() const = 0;
   virtual int cellsOf(int d) const = 0;
-  virtual DeviceAnalog& analog(int d) = 0;  // sized at construction; fill before advance(t)
+  // Sized at construction; fill before advance(t). Ask again for every change: a part
+  // keeps what it derived from the pins (its comparators' conditions) until then.
+  virtual DeviceAnalog& analog(int d) = 0;
   virtual void setCommFault(int d, const MonitorDeviceFault& f) = 0;
   virtual void setBrokenLinkAbove(int d) = 0;  // -1: link intact
 

@@ -19,7 +19,11 @@ struct Thermistor {
 
   double resistance_ohm(double temp_C) const;
   int64_t fullScaleCode() const { return (int64_t{1} << bits) - 1; }
-  int64_t code(double temp_C, Rng& rng) const;
+  // The divider's noiseless code (unrounded) at temp_C, and a conversion of it: code(T)
+  // is codeOf(idealCode(T)), so a caller may keep idealCode for an unchanged T.
+  double idealCode(double temp_C) const;
+  int64_t codeOf(double ideal_code, Rng& rng) const;
+  int64_t code(double temp_C, Rng& rng) const { return codeOf(idealCode(temp_C), rng); }
 };
 
 }  // namespace packsim
