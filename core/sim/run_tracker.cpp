@@ -187,32 +187,66 @@ std::string RunTracker::misuseDetail(int board, const RegisterMisuse& m) const {
   return who + ": " + m.what + ": " + m.why + times;
 }
 
+namespace {
+
+// kOutputEdges in runs [begin, end): a row alone, or consecutive mask rows that go bit
+// by bit together (same bit count, side, needs). Fixed by the table: found once.
+struct EdgeRun {
+  size_t begin, end;
+};
+const std::vector<EdgeRun>& edgeRuns() {
+  static const std::vector<EdgeRun> runs = [] {
+    std::vector<EdgeRun> v;
+    for (size_t i = 0, end; i < kOutputEdgeCount; i = end) {
+      const OutputEdge& e = kOutputEdges[i];
+      end = i + 1;
+      while (e.mask && end < kOutputEdgeCount && kOutputEdges[end].mask && kOutputEdges[end].names == e.names &&
+             kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs)
+        ++end;
+      v.push_back({i, end});
+    }
+    return v;
+  }();
+  return runs;
+}
+
+}  // namespace
+
 void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
   static_assert(kOutputEdgeCount <= sizeof lastOutput_ / sizeof lastOutput_[0], "RunTracker::lastOutput_ holds every row");
-  for (size_t i = 0, end; i < kOutputEdgeCount; i = end) {
+  uint64_t now[kOutputEdgeCount];  // each row's field, read once
+  for (const EdgeRun& run : edgeRuns()) {
+    const size_t i = run.begin, end = run.end;
     const OutputEdge& e = kOutputEdges[i];
-    end = i + 1;  // [i, end): this row, or the run of mask rows going bit by bit together
-    while (e.mask && end < kOutputEdgeCount && kOutputEdges[end].mask && kOutputEdges[end].names == e.names &&
-           kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs)
-      ++end;
     if (e.report != report || (e.needs == OutputEdge::kHardware && !hw_) ||
         (e.needs == OutputEdge::kBalancing && !r_.rec.has_balancing))
       continue;
     if (!e.mask) {
-      const uint64_t now = e.read(out), before = lastOutput_[i];
-      if ((now != before || (first_ && e.on_first)) && (e.names == 0 || now < e.names))
-        event(t, e.kind, (e.shows_before && !first_ ? e.name(before) + " -> " : std::string()) + e.name(now) +
-                             (e.more ? e.more(cfg_, out, now) : std::string()));
+      now[i] = e.read(out);
+      const uint64_t before = lastOutput_[i];
+      if ((now[i] != before || (first_ && e.on_first)) && (e.names == 0 || now[i] < e.names))
+        event(t, e.kind, (e.shows_before && !first_ ? e.name(before) + " -> " : std::string()) + e.name(now[i]) +
+                             (e.more ? e.more(cfg_, out, now[i]) : std::string()));
     } else {
-      for (unsigned bit = 0; bit < e.names; ++bit)
+      // Only the bits that changed in some row of the run are visited (in bit order, the
+      // rows side by side), so an unchanged mask costs one compare.
+      uint64_t changed = 0;
+      for (size_t r = i; r < end; ++r) {
+        now[r] = kOutputEdges[r].read(out);
+        changed |= now[r] ^ lastOutput_[r];
+      }
+      if (e.names < 64) changed &= (uint64_t{1} << e.names) - 1;
+      for (; changed; changed &= changed - 1) {
+        const unsigned bit = static_cast<unsigned>(__builtin_ctzll(changed));
         for (size_t r = i; r < end; ++r) {
           const OutputEdge& m = kOutputEdges[r];
-          const uint64_t b = uint64_t{1} << bit, now = m.read(out) & b, before = lastOutput_[r] & b;
-          if (now && !before) event(t, m.kind, m.name(bit) + (m.more ? m.more(cfg_, out, bit) : std::string()));
-          if (!now && before && m.falling) event(t, m.falling, m.name(bit));
+          const uint64_t b = uint64_t{1} << bit, on = now[r] & b, before = lastOutput_[r] & b;
+          if (on && !before) event(t, m.kind, m.name(bit) + (m.more ? m.more(cfg_, out, bit) : std::string()));
+          if (!on && before && m.falling) event(t, m.falling, m.name(bit));
         }
+      }
     }
-    for (size_t r = i; r < end; ++r) lastOutput_[r] = kOutputEdges[r].read(out);
+    for (size_t r = i; r < end; ++r) lastOutput_[r] = now[r];
   }
 }
 
