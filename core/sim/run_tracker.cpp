@@ -103,7 +103,8 @@ constexpr size_t kOutputEdgeCount = sizeof kOutputEdges / sizeof kOutputEdges[0]
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
-    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel) {
+    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
+      limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }) {
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
@@ -296,8 +297,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
-  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive,
-               [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
+  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_);
   first_ = false;
   lastT_ = t;
   lastX_ = x;
@@ -380,7 +380,7 @@ RunResult RunTracker::finish(const double* q) {
   const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);
   sm.energy_left_Wh = se.left_Wh;
   sm.energy_stranded_Wh = se.stranded_Wh;
-  limits_.finish(lastT_, [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
+  limits_.finish(lastT_, limitSink_);
   sm.limit_unseen_longest_s = limits_.longestUnseen_s();
   sm.limit_unseen_longest = limits_.longestUnseen();
   event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");

@@ -111,6 +111,7 @@ struct SimulationRun::Impl {
   const PlantSignals* sampled = nullptr;  // the signals of the last tick
   bool restartNext = false;               // an input of the plant jumped at the last tick
   long k = 0;
+  long recordPhase = 0;  // k % recordEvery, kept along with k (no division per tick)
   bool ended = false;
   std::string endReason = "it was stopped";  // why the run ended (for unreached faults)
 };
@@ -164,7 +165,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   tracker.tick(t, xs, sg, out);
   const bool stop = k >= lastTick || (!driverEnds && (tracker.stopRequested(t) || hw.chargeComplete())) ||
                     (stopWhen && stopWhen(t, xs, sg, out)) || (vehicle && vehicle->done());
-  if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
+  if (recordPhase == 0 || stop) tracker.record(t, xs, sg, out);
   if (stop) {
     ended = true;
     endReason = k >= lastTick                    ? "the scenario's end time"
@@ -230,6 +231,7 @@ void SimulationRun::Impl::advance() {
   if (restart) integ.reset(tc, integ.state());
   tracker.checkFinite(t_next, integ.state(), ode.size());
   ++k;
+  if (++recordPhase == recordEvery) recordPhase = 0;
 }
 
 SimulationRun::SimulationRun(const Scenario& s, RunEnd end, Budgets budgets)
