@@ -57,7 +57,7 @@ def main() -> None:
     best_peer = min(peers, key=lambda k: peers[k]["cpu_s"])
     for name, m in peers.items():
         res["cell_1s1p"][name] = {"cpu_s": m["cpu_s"], "build_cpu_s": m["build_cpu_s"],
-                                  "cpu_s_per_cell_hour": per_cell_hour(m["cpu_s"], 1)}
+                                  "cpu_s_per_cell_hour": per_cell_hour(m["cpu_s"], 1), "solver": m.get("solver", "")}
     ref_V = pe[f"{best_peer}_V"]
     for label, m in pmeta["runs"].items():
         if not label.startswith("cell_"):

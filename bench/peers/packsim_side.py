@@ -2,7 +2,8 @@
 """packsim's side of the peer comparison (run by the system Python with packsim
 importable; bench/peers/run.sh does it): the 1-cell race and the 16s4p race on each
 solver, CPU time of a whole `packsim.run` (load, run, recording), minimum of the
-repeats, and the voltages for the comparison. Writes one .npz (argv[1])."""
+repeats, and the voltages for the comparison. Writes one .npz (argv[1]).
+`--time-cell SOLVER TICK_MS REPEATS` times the 1-cell race alone (one_cell.py's child)."""
 from __future__ import annotations
 
 import json
@@ -59,7 +60,18 @@ def timed(sc: dict, repeats: int):
     return best, res
 
 
+def time_cell(solver: str, tick_ms: int, repeats: int) -> None:
+    """One_cell.py's child: the 1-cell race on one solver and tick, repeated; prints the
+    minimum CPU time of `packsim.run` and the end of the run as one JSON line."""
+    cpu_s, r = timed(scenario(1, 1, solver, tick_ms, False), repeats)
+    if r.summary.get("tripped") or r.time_s[-1] < c.REST_S + c.LAPS * 100.0 - 1.0:
+        raise SystemExit(f"cell_{solver}_{tick_ms}ms: the race ended early ({r.summary.get('trip_reason')})")
+    print(json.dumps({"cpu_s": cpu_s, "sim_s": float(r.time_s[-1]), "final_V": float(r["/truth/cell_voltage_V"][-1, 0])}))
+
+
 def main() -> None:
+    if len(sys.argv) == 5 and sys.argv[1] == "--time-cell":
+        return time_cell(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
     out, repeats = sys.argv[1], int(sys.argv[2]) if len(sys.argv) > 2 else 3
     arrays, meta = {}, {"packsim_version": getattr(packsim, "__version__", "?"), "runs": {}}
     cases = [  # (label, series, parallel, solver, tick_ms, step load)

@@ -8,7 +8,10 @@
 # requirements.txt, git-ignored); the system Python only runs packsim.
 #   bench/peers/run.sh                 # ~10-15 minutes on 2 busy cores (liionpack: most of it)
 #   BUILD_DIR=build REPEATS=3 bench/peers/run.sh
-# Writes bench/peers/results.json and prints a summary.
+# Writes bench/peers/results.json and prints a summary. The 1-cell race alone, with
+# packsim builds and PyBaMM's solvers interleaved round by round (before/after a change):
+#   bench/peers/.venv/bin/python bench/peers/one_cell.py --packsim main=OTHER/build/python \
+#       --packsim now=build/python --json bench/peers/one_cell.json
 set -euo pipefail
 HERE="$(cd "$(dirname "$0")" && pwd)"
 REPO="$(cd "$HERE/../.." && pwd)"

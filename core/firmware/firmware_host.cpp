@@ -21,52 +21,55 @@ FirmwareHost& host(psfw_board* b) { return *reinterpret_cast<FirmwareHost*>(b); 
 uint64_t toNs(double t_s) { return static_cast<uint64_t>(std::llround(t_s * 1e9)); }
 
 // The services as C entry points; each forwards to the host, marked as host code for
-// the watchdog (FaultGuard::enterService).
-template <typename R, typename F>
+// the watchdog (FaultGuard::enterService) when the firmware runs under the guard (a
+// library). A linked-in firmware runs without it: its table skips the marks (two
+// thread-local writes per service call, on the per-tick path).
+template <bool Guarded, typename R, typename F>
 R service(F&& f) {
-  FaultGuard::enterService();
+  if (Guarded) FaultGuard::enterService();
   const R r = f();
-  FaultGuard::leaveService();
+  if (Guarded) FaultGuard::leaveService();
   return r;
 }
-template <typename F>
+template <bool Guarded, typename F>
 void serviceVoid(F&& f) {
-  FaultGuard::enterService();
+  if (Guarded) FaultGuard::enterService();
   f();
-  FaultGuard::leaveService();
+  if (Guarded) FaultGuard::leaveService();
 }
 
+template <bool G>
 psfw_board_api makeApi() {
   psfw_board_api a{};
   a.abi_version = PSFW_ABI_VERSION;
   a.now_ms = [](psfw_board* b) { return host(b).nowMs(); };
   a.now_us = [](psfw_board* b) { return host(b).nowUs(); };
-  a.delay_us = [](psfw_board* b, uint32_t us) { serviceVoid([&] { host(b).delayUs(us); }); };
+  a.delay_us = [](psfw_board* b, uint32_t us) { serviceVoid<G>([&] { host(b).delayUs(us); }); };
   a.bus_transfer = [](psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
-    return service<int32_t>([&] { return host(b).busTransfer(bus, tx, txLen, rx, rxLen); });
+    return service<G, int32_t>([&] { return host(b).busTransfer(bus, tx, txLen, rx, rxLen); });
   };
   a.adc_read = [](psfw_board* b, uint8_t ch) { return host(b).adcRead(ch); };
   a.gpio_read = [](psfw_board* b, uint8_t pin) { return host(b).gpioRead(pin); };
   a.gpio_write = [](psfw_board* b, uint8_t pin, int32_t level) { host(b).gpioWrite(pin, level); };
   a.dac_write = [](psfw_board* b, uint8_t ch, int32_t v) { host(b).dacWrite(ch, v); };
   a.telemetry_send = [](psfw_board* b, const uint8_t* bytes, uint16_t len) {
-    serviceVoid([&] { host(b).telemetrySend(bytes, len); });
+    serviceVoid<G>([&] { host(b).telemetrySend(bytes, len); });
   };
-  a.event = [](psfw_board* b, const char* text) { serviceVoid([&] { host(b).firmwareEvent(text); }); };
+  a.event = [](psfw_board* b, const char* text) { serviceVoid<G>([&] { host(b).firmwareEvent(text); }); };
   a.set_task_period = [](psfw_board* b, uint32_t task, uint32_t period_ms, uint32_t budget_us) {
     return host(b).setTaskPeriod(task, period_ms, budget_us);
   };
   a.can_send = [](psfw_board* b, uint8_t can, uint32_t id, const uint8_t* data, uint8_t len) {
-    return service<int32_t>([&] { return host(b).canSend(can, id, data, len); });
+    return service<G, int32_t>([&] { return host(b).canSend(can, id, data, len); });
   };
   a.can_receive = [](psfw_board* b, uint8_t can, uint32_t* id, uint8_t* data) {
-    return service<int32_t>([&] { return host(b).canReceive(can, id, data); });
+    return service<G, int32_t>([&] { return host(b).canReceive(can, id, data); });
   };
   a.nvm_read = [](psfw_board* b, uint32_t offset, uint8_t* data, uint32_t len) {
-    return service<int32_t>([&] { return host(b).nvmRead(offset, data, len); });
+    return service<G, int32_t>([&] { return host(b).nvmRead(offset, data, len); });
   };
   a.nvm_write = [](psfw_board* b, uint32_t offset, const uint8_t* data, uint32_t len) {
-    return service<int32_t>([&] { return host(b).nvmWrite(offset, data, len); });
+    return service<G, int32_t>([&] { return host(b).nvmWrite(offset, data, len); });
   };
   return a;
 }
@@ -104,7 +107,7 @@ FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, doubl
       sink_(sink),
       lib_(s.isTarget() ? nullptr : std::make_unique<FirmwareLibrary>(s.library_path)),
       guard_(s.isTarget() ? nullptr : std::make_unique<FaultGuard>(s.watchdog_s)),
-      api_(makeApi()),
+      api_(makeApi<true>()),
       name_(s.library_path) {
   nvm_.fill(0xFF);
   if (s.isTarget())
@@ -119,7 +122,7 @@ FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> con
       tick_ns_(toNs(tick_s)),
       sink_(sink),
       linked_(linked),
-      api_(makeApi()),
+      api_(makeApi<false>()),
       name_(linked && linked->name ? linked->name : "(linked firmware)") {
   nvm_.fill(0xFF);
 }

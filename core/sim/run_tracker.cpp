@@ -103,7 +103,8 @@ constexpr size_t kOutputEdgeCount = sizeof kOutputEdges / sizeof kOutputEdges[0]
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
-    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel) {
+    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
+      limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }) {
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
@@ -187,32 +188,66 @@ std::string RunTracker::misuseDetail(int board, const RegisterMisuse& m) const {
   return who + ": " + m.what + ": " + m.why + times;
 }
 
+namespace {
+
+// kOutputEdges in runs [begin, end): a row alone, or consecutive mask rows that go bit
+// by bit together (same bit count, side, needs). Fixed by the table: found once.
+struct EdgeRun {
+  size_t begin, end;
+};
+const std::vector<EdgeRun>& edgeRuns() {
+  static const std::vector<EdgeRun> runs = [] {
+    std::vector<EdgeRun> v;
+    for (size_t i = 0, end; i < kOutputEdgeCount; i = end) {
+      const OutputEdge& e = kOutputEdges[i];
+      end = i + 1;
+      while (e.mask && end < kOutputEdgeCount && kOutputEdges[end].mask && kOutputEdges[end].names == e.names &&
+             kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs)
+        ++end;
+      v.push_back({i, end});
+    }
+    return v;
+  }();
+  return runs;
+}
+
+}  // namespace
+
 void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
   static_assert(kOutputEdgeCount <= sizeof lastOutput_ / sizeof lastOutput_[0], "RunTracker::lastOutput_ holds every row");
-  for (size_t i = 0, end; i < kOutputEdgeCount; i = end) {
+  uint64_t now[kOutputEdgeCount];  // each row's field, read once
+  for (const EdgeRun& run : edgeRuns()) {
+    const size_t i = run.begin, end = run.end;
     const OutputEdge& e = kOutputEdges[i];
-    end = i + 1;  // [i, end): this row, or the run of mask rows going bit by bit together
-    while (e.mask && end < kOutputEdgeCount && kOutputEdges[end].mask && kOutputEdges[end].names == e.names &&
-           kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs)
-      ++end;
     if (e.report != report || (e.needs == OutputEdge::kHardware && !hw_) ||
         (e.needs == OutputEdge::kBalancing && !r_.rec.has_balancing))
       continue;
     if (!e.mask) {
-      const uint64_t now = e.read(out), before = lastOutput_[i];
-      if ((now != before || (first_ && e.on_first)) && (e.names == 0 || now < e.names))
-        event(t, e.kind, (e.shows_before && !first_ ? e.name(before) + " -> " : std::string()) + e.name(now) +
-                             (e.more ? e.more(cfg_, out, now) : std::string()));
+      now[i] = e.read(out);
+      const uint64_t before = lastOutput_[i];
+      if ((now[i] != before || (first_ && e.on_first)) && (e.names == 0 || now[i] < e.names))
+        event(t, e.kind, (e.shows_before && !first_ ? e.name(before) + " -> " : std::string()) + e.name(now[i]) +
+                             (e.more ? e.more(cfg_, out, now[i]) : std::string()));
     } else {
-      for (unsigned bit = 0; bit < e.names; ++bit)
+      // Only the bits that changed in some row of the run are visited (in bit order, the
+      // rows side by side), so an unchanged mask costs one compare.
+      uint64_t changed = 0;
+      for (size_t r = i; r < end; ++r) {
+        now[r] = kOutputEdges[r].read(out);
+        changed |= now[r] ^ lastOutput_[r];
+      }
+      if (e.names < 64) changed &= (uint64_t{1} << e.names) - 1;
+      for (; changed; changed &= changed - 1) {
+        const unsigned bit = static_cast<unsigned>(__builtin_ctzll(changed));
         for (size_t r = i; r < end; ++r) {
           const OutputEdge& m = kOutputEdges[r];
-          const uint64_t b = uint64_t{1} << bit, now = m.read(out) & b, before = lastOutput_[r] & b;
-          if (now && !before) event(t, m.kind, m.name(bit) + (m.more ? m.more(cfg_, out, bit) : std::string()));
-          if (!now && before && m.falling) event(t, m.falling, m.name(bit));
+          const uint64_t b = uint64_t{1} << bit, on = now[r] & b, before = lastOutput_[r] & b;
+          if (on && !before) event(t, m.kind, m.name(bit) + (m.more ? m.more(cfg_, out, bit) : std::string()));
+          if (!on && before && m.falling) event(t, m.falling, m.name(bit));
         }
+      }
     }
-    for (size_t r = i; r < end; ++r) lastOutput_[r] = kOutputEdges[r].read(out);
+    for (size_t r = i; r < end; ++r) lastOutput_[r] = now[r];
   }
 }
 
@@ -262,8 +297,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
-  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive,
-               [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
+  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_);
   first_ = false;
   lastT_ = t;
   lastX_ = x;
@@ -346,7 +380,7 @@ RunResult RunTracker::finish(const double* q) {
   const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);
   sm.energy_left_Wh = se.left_Wh;
   sm.energy_stranded_Wh = se.stranded_Wh;
-  limits_.finish(lastT_, [this](double te, const std::string& d) { event(te, "limit_unseen", d); });
+  limits_.finish(lastT_, limitSink_);
   sm.limit_unseen_longest_s = limits_.longestUnseen_s();
   sm.limit_unseen_longest = limits_.longestUnseen();
   event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");

@@ -16,6 +16,8 @@ namespace packsim {
 class RunTracker {
  public:
   RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg);
+  RunTracker(const RunTracker&) = delete;  // limitSink_ holds `this`
+  RunTracker& operator=(const RunTracker&) = delete;
 
   void tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
   void record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
@@ -61,6 +63,7 @@ class RunTracker {
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
   LimitWatch limits_;            // cells past a protection limit the BMS has not seen
+  LimitWatch::EventSink limitSink_;  // its events: limit_unseen (made once, not per tick)
   // register_misuse: per board, the misuse entries already reported, and each one's
   // event (its count is filled in at the end)
   struct MisuseReported {

@@ -99,6 +99,7 @@ struct SimulationRun::Impl {
   FaultScheduler scheduler;
   McuFirmware firmware{s, cfg, hw, tracker};  // packsim's core, or the scenario's library
   PinTimeline pins;  // the MCU's output changes not yet in effect (core/firmware/pin_timeline.hpp)
+  bms::Outputs act{};  // step 3's scratch: the decisions with other pins in effect
   const double tick_s;
   const long recordEvery;
   const double end_s;
@@ -110,6 +111,7 @@ struct SimulationRun::Impl {
   const PlantSignals* sampled = nullptr;  // the signals of the last tick
   bool restartNext = false;               // an input of the plant jumped at the last tick
   long k = 0;
+  long recordPhase = 0;  // k % recordEvery, kept along with k (no division per tick)
   bool ended = false;
   std::string endReason = "it was stopped";  // why the run ended (for unreached faults)
 };
@@ -148,9 +150,14 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   // 3. actuators: the commands in effect at t_k (those the firmware wrote at or before
   //    it; later ones act inside the tick, step 5) drive the switching hardware
   //    (delays, weld, fuse, FETs, precharge) whose state the plant sees from t_k
-  bms::Outputs act = out;
-  applyPins(act, pins.at(t));
-  const bool relayChanged = hw.actuate(t, act, sg, faults, inputs);
+  // (the decisions with the pins in effect: a copy only when those differ from them)
+  const PinLevels& inEffect = pins.at(t);
+  const bool pinsDiffer = pinsOf(out) != inEffect;
+  if (pinsDiffer) {
+    act = out;
+    applyPins(act, inEffect);
+  }
+  const bool relayChanged = hw.actuate(t, pinsDiffer ? act : out, sg, faults, inputs);
   sampled = &sg;
   restartNext = relayChanged || faultChanged;
 
@@ -158,7 +165,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   tracker.tick(t, xs, sg, out);
   const bool stop = k >= lastTick || (!driverEnds && (tracker.stopRequested(t) || hw.chargeComplete())) ||
                     (stopWhen && stopWhen(t, xs, sg, out)) || (vehicle && vehicle->done());
-  if (k % recordEvery == 0 || stop) tracker.record(t, xs, sg, out);
+  if (recordPhase == 0 || stop) tracker.record(t, xs, sg, out);
   if (stop) {
     ended = true;
     endReason = k >= lastTick                    ? "the scenario's end time"
@@ -180,7 +187,7 @@ void SimulationRun::Impl::advance() {
   const double t = static_cast<double>(k) * tick_s;
   const double t_next = static_cast<double>(k + 1) * tick_s;
   bool restart = restartNext;
-  const bms::Outputs decided = out;  // the tick's decisions; their pins applied at their instants
+  const bms::Outputs& decided = out;  // the tick's decisions (unchanged here); their pins applied at their instants
   if (ext.applyToPlant(t, inputs)) restart = true;  // set since the tick at t_k
   sampled = nullptr;
   double tc = t;
@@ -215,7 +222,7 @@ void SimulationRun::Impl::advance() {
     }
     if (pinInside && reached(tc, pinBreak_s)) {  // the outputs act at the instant they were written
       plant.evaluate(tc, integ.state(), inputs, sig);
-      bms::Outputs act = decided;
+      act = decided;
       applyPins(act, pins.at(tc));
       if (hw.actuatePins(tc, t_next, act, sig, faults, inputs)) restart = true;
       tracker.hardwareChanged(tc);
@@ -224,6 +231,7 @@ void SimulationRun::Impl::advance() {
   if (restart) integ.reset(tc, integ.state());
   tracker.checkFinite(t_next, integ.state(), ode.size());
   ++k;
+  if (++recordPhase == recordEvery) recordPhase = 0;
 }
 
 SimulationRun::SimulationRun(const Scenario& s, RunEnd end, Budgets budgets)

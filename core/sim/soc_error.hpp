@@ -21,9 +21,13 @@ class SocErrorTracker {
     st_.end = e;
     sumSq_ += e * e;
     ++st_.ticks;
-    st_.rms = std::sqrt(sumSq_ / static_cast<double>(st_.ticks));
   }
-  const SocErrorStats& stats() const { return st_; }
+  // rms from the sum at the time of asking (not at every tick: a square root per tick)
+  SocErrorStats stats() const {
+    SocErrorStats s = st_;
+    if (s.ticks > 0) s.rms = std::sqrt(sumSq_ / static_cast<double>(s.ticks));
+    return s;
+  }
 
  private:
   SocErrorStats st_;
