@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Builds and runs every test: the C++ suites (ctest), the BMS core cross-compiled for a
-# Cortex-M4, a fuzz smoke of the input loaders (scripts/fuzz.sh, build-fuzz/), the whole
-# C++ suite again under AddressSanitizer + UBSan in build-asan/, and the Python tests. PACKSIM_SKIP_SANITIZE=1 skips the sanitizer pass.
+# Cortex-M4, a fuzz smoke of the input loaders (scripts/fuzz.sh, build-fuzz/), the
+# C++ suites again under AddressSanitizer + UBSan in build-asan/ (the `sanitize` label: the quick
+# tests and a few short physics tests), and the Python tests. PACKSIM_SKIP_SANITIZE=1 skips the sanitizer pass.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -68,12 +69,11 @@ scripts/fuzz.sh
 if [ "${PACKSIM_SKIP_SANITIZE:-0}" != 1 ]; then
   stage "C++ tests under AddressSanitizer + UBSan"
   # Optimised (-O2 -g) so the sanitizers cost ~2-3x rather than the ~10x of -O0. The
-  # `sanitize` label is every test but the solver-agreement sweep, which re-runs every
-  # bundled scenario on CVODE: that plant code runs here under the fast-integrator tests,
-  # and the sweep runs in the pass above (tests/CMakeLists.txt). The `quick` set alone is
-  # not enough: by gcov it misses code only the `physics` tests reach (the time-to-balance
-  # simulation, the active balancer's isolated safe state, ...: docs/hardening.md), so the
-  # `physics` tests stay in this pass until a subset is shown to reach the same lines.
+  # `sanitize` label is the quick tests of these executables plus a handful of short
+  # `physics` tests (tests/CMakeLists.txt, PACKSIM_SANITIZE_PHYSICS_TESTS) chosen by line
+  # coverage: they reach all the lines of core/ models/ bms/ the whole physics set reaches
+  # but the few docs/hardening.md lists ("What the sanitizer pass leaves out"); the long
+  # physics runs run once, unsanitized, in the pass above.
   # Only the executables the `sanitize` tests run (and what core_tests starts: the packsim
   # program and the firmware libraries), not the FMU library, target_tests or the bench.
   TARGETS="bms_tests model_tests core_tests ltc681x_tests" BUILD_DIR=build-asan scripts/build.sh \
