@@ -75,6 +75,7 @@ struct CvodeIntegrator::Impl {
   SquaredOde sys;
   std::vector<double> x;      // the state in the model's coordinates (state())
   double squaredAtol = 0.0;   // the model's absolute tolerance on the squared state
+  double rtol = 0.0;
   SUNContext ctx = nullptr;
   void* mem = nullptr;
   N_Vector y = nullptr;
@@ -93,8 +94,6 @@ struct CvodeIntegrator::Impl {
   long jacReused = 0;
   bool diagonal = false;  // Newton::Diagonal: CVDiag, no matrix, no Jacobian callback
   long rhsCalls = 0;      // right-hand sides CVODE asked for, its own and CVDiag's
-
-  double rtol = 0.0;
 
   explicit Impl(OdeSystem& s) : sys(s), x(static_cast<size_t>(s.size()), 0.0) {}
   ~Impl() {
@@ -256,7 +255,7 @@ void CvodeIntegrator::advance(double t_out, double t_stop) {
   Impl& m = *impl_;
   // CVODE may have stepped ahead of t_ (it interpolates back to each t_out). A stop
   // time inside that step -- a fault the loop learnt of only now, mid-tick -- restarts
-  // it at t_, where m.y holds the interpolated state.
+  // it at t_, where state() holds the interpolated state.
   realtype t_internal = t_;
   CVodeGetCurrentTime(m.mem, &t_internal);
   if (std::max(t_stop, t_out) < t_internal) reset(t_, m.x.data());
