@@ -8,6 +8,7 @@
 #include <sunmatrix/sunmatrix_sparse.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
@@ -17,8 +18,64 @@
 
 namespace packsim {
 
+namespace {
+
+// The ODE as CVODE sees it: the model's, with its squared state (OdeSystem::squaredState)
+// carried as its square z = V² while `squared` is on (set at each restart, from the
+// state's sign there). z' = 2·V·V'; V = sqrt(z), held at 0 if CVODE's trial z dips
+// below. The transform is per component, so the Jacobian's pattern is the model's.
+class SquaredOde final : public OdeSystem {
+ public:
+  explicit SquaredOde(OdeSystem& model)
+      : model_(model), index_(model.squaredState()), x_(static_cast<size_t>(model.size())) {}
+  int size() const override { return model_.size(); }
+  JacobianPattern jacobianPattern() const override { return model_.jacobianPattern(); }
+  std::vector<double> absTolerances() const override { return model_.absTolerances(); }
+  void rhs(double t, const double* y, double* dy) override {
+    model_.rhs(t, modelState(y), dy);
+    scaleRate(dy);
+  }
+  void holdCouplings(double t, const double* y0) override { model_.holdCouplings(t, modelState(y0)); }
+  void rhsHeld(double t, const double* y, double* dy) override {
+    model_.rhsHeld(t, modelState(y), dy);
+    scaleRate(dy);
+  }
+  int squaredState() const override { return index_; }
+
+  bool squared() const { return squared_; }
+  void setSquared(bool on) { squared_ = on && index_ >= 0; }
+  // Model coordinates x from CVODE's y, and back.
+  void toModel(const double* y, double* x) const {
+    if (x != y) std::memcpy(x, y, sizeof(double) * x_.size());
+    if (squared_) x[index_] = std::sqrt(std::max(0.0, y[index_]));
+  }
+  void toSolver(const double* x, double* y) const {
+    if (x != y) std::memcpy(y, x, sizeof(double) * x_.size());
+    if (squared_) y[index_] = x[index_] * x[index_];
+  }
+
+ private:
+  const double* modelState(const double* y) {
+    if (!squared_) return y;
+    toModel(y, x_.data());
+    return x_.data();
+  }
+  void scaleRate(double* dy) const {
+    if (squared_) dy[index_] *= 2.0 * x_[static_cast<size_t>(index_)];
+  }
+  OdeSystem& model_;
+  const int index_;
+  bool squared_ = false;
+  std::vector<double> x_;  // the model's coordinates of the last y converted
+};
+
+}  // namespace
+
 struct CvodeIntegrator::Impl {
-  OdeSystem& sys;
+  SquaredOde sys;
+  std::vector<double> x;      // the state in the model's coordinates (state())
+  double squaredAtol = 0.0;   // the model's absolute tolerance on the squared state
+  double rtol = 0.0;
   SUNContext ctx = nullptr;
   void* mem = nullptr;
   N_Vector y = nullptr;
@@ -38,7 +95,7 @@ struct CvodeIntegrator::Impl {
   bool diagonal = false;  // Newton::Diagonal: CVDiag, no matrix, no Jacobian callback
   long rhsCalls = 0;      // right-hand sides CVODE asked for, its own and CVDiag's
 
-  explicit Impl(OdeSystem& s) : sys(s) {}
+  explicit Impl(OdeSystem& s) : sys(s), x(static_cast<size_t>(s.size()), 0.0) {}
   ~Impl() {
     if (mem) CVodeFree(&mem);
     if (LS) SUNLinSolFree(LS);
@@ -109,12 +166,14 @@ void check(int flag, const char* what) {
 CvodeIntegrator::CvodeIntegrator(OdeSystem& sys, double rtol, Newton newton) : impl_(std::make_unique<Impl>(sys)) {
   Impl& m = *impl_;
   const sunindextype n = sys.size();
-  m.dq = std::make_unique<ColouredJacobian>(sys.jacobianPattern());
+  m.dq = std::make_unique<ColouredJacobian>(m.sys.jacobianPattern());
   check(SUNContext_Create(nullptr, &m.ctx), "SUNContext_Create");
   m.y = N_VNew_Serial(n, m.ctx);
   m.atol = N_VNew_Serial(n, m.ctx);
   const std::vector<double> atol = sys.absTolerances();
   std::copy(atol.begin(), atol.end(), N_VGetArrayPointer(m.atol));
+  if (m.sys.squaredState() >= 0) m.squaredAtol = atol[static_cast<size_t>(m.sys.squaredState())];
+  m.rtol = rtol;
   N_VConst(0.0, m.y);
   m.mem = CVodeCreate(CV_BDF, m.ctx);
   if (!m.mem) throw std::runtime_error("CVODE: CVodeCreate failed");
@@ -153,8 +212,23 @@ void CvodeIntegrator::reset(double t, const double* x) {
   if (hLast > 0.0) lastStep_s_ = hLast;
   base_ = stats();  // CVodeReInit zeroes CVODE's own counters
   m.stepsBefore = base_.steps;
-  double* y = N_VGetArrayPointer(m.y);
-  if (x != y) std::memcpy(y, x, sizeof(double) * static_cast<size_t>(m.sys.size()));
+  if (x != m.x.data()) std::memcpy(m.x.data(), x, sizeof(double) * m.x.size());
+  const int sq = m.sys.squaredState();
+  if (sq >= 0) {
+    // The squared state (a capacitor charged at near-constant power between two
+    // switches): CVODE carries V² while V > 0, so that its order-1 restart meets a
+    // straight line, not V's bend. Its absolute tolerance maps to V² at the restart
+    // (dV² = 2·V·dV), and run.rtol on V² is rtol/2 on V: the answer is held at least
+    // as tightly as in V. At V = 0 (the bus before its precharge) V² would not move
+    // (z' = 2·V·V'), so it stays in V there.
+    const bool wasSquared = m.sys.squared();
+    const double v = m.x[static_cast<size_t>(sq)];
+    m.sys.setSquared(v > 0.0);
+    N_VGetArrayPointer(m.atol)[sq] = m.sys.squared() ? 2.0 * v * m.squaredAtol : m.squaredAtol;
+    check(CVodeSVtolerances(m.mem, m.rtol, m.atol), "CVodeSVtolerances");
+    if (m.sys.squared() != wasSquared) m.haveSavedJ = false;  // its entries were in the other coordinate
+  }
+  m.sys.toSolver(m.x.data(), N_VGetArrayPointer(m.y));
   check(CVodeReInit(m.mem, t, m.y), "CVodeReInit");
   // Warm restart: the history (order, higher derivatives) is dropped, the state is
   // continuous. The first step tries a quarter of the last step size (kRestartStepFraction:
@@ -181,18 +255,19 @@ void CvodeIntegrator::advance(double t_out, double t_stop) {
   Impl& m = *impl_;
   // CVODE may have stepped ahead of t_ (it interpolates back to each t_out). A stop
   // time inside that step -- a fault the loop learnt of only now, mid-tick -- restarts
-  // it at t_, where m.y holds the interpolated state.
+  // it at t_, where state() holds the interpolated state.
   realtype t_internal = t_;
   CVodeGetCurrentTime(m.mem, &t_internal);
-  if (std::max(t_stop, t_out) < t_internal) reset(t_, N_VGetArrayPointer(m.y));
+  if (std::max(t_stop, t_out) < t_internal) reset(t_, m.x.data());
   check(CVodeSetStopTime(m.mem, std::max(t_stop, t_out)), "CVodeSetStopTime");
   realtype t_reached = t_;
   const int flag = CVode(m.mem, t_out, m.y, &t_reached, CV_NORMAL);
   check(flag, "CVode");
+  m.sys.toModel(N_VGetArrayPointer(m.y), m.x.data());
   t_ = t_out;
 }
 
-const double* CvodeIntegrator::state() const { return N_VGetArrayPointer(impl_->y); }
+const double* CvodeIntegrator::state() const { return impl_->x.data(); }
 
 CvodeStats CvodeIntegrator::stats() const {
   CvodeStats s = base_;

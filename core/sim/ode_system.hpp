@@ -23,6 +23,10 @@ class OdeSystem {
   // the pattern leaves nothing out.
   virtual void holdCouplings(double /*t*/, const double* /*x0*/) {}
   virtual void rhsHeld(double t, const double* x, double* dx) { rhs(t, x, dx); }
+  // A state an integrator may carry as its square (-1: none): a capacitor's voltage V
+  // charged at near-constant power P, C·dV/dt = P/V. V bends (V'' = -V'²/V) where
+  // V² = 2·E/C moves linearly in time.
+  virtual int squaredState() const { return -1; }
 };
 
 }  // namespace packsim

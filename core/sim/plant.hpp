@@ -101,6 +101,8 @@ class Plant {
   // Sparsity of d(derivatives)/dx, followed by `quadratures` loose states nothing reads.
   JacobianPattern jacobianPattern(int quadratures) const;
   int stride() const { return stride_; }
+  // The active balancer's bus voltage (-1 without one).
+  int busIndex() const { return busIndex_; }
   // State index of thermal node j (cells first, then extra nodes).
   int tempIndex(int node) const;
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }

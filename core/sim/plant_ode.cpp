@@ -7,6 +7,7 @@ PlantOde::PlantOde(const Plant& p, const RunConfig& run, const PlantInputs& in)
 
 int PlantOde::size() const { return plant_.stateSize() + kQuadCount; }
 JacobianPattern PlantOde::jacobianPattern() const { return plant_.jacobianPattern(kQuadCount); }
+int PlantOde::squaredState() const { return plant_.busIndex(); }
 
 std::vector<double> PlantOde::absTolerances() const {
   std::vector<double> a(static_cast<size_t>(size()), run_.atol_V);

@@ -29,6 +29,9 @@ class PlantOde : public OdeSystem {
   // Holds the pack current (Plant::terminalCurrent) at x0.
   void holdCouplings(double t, const double* x0) override;
   void rhsHeld(double t, const double* x, double* dx) override;
+  // The active balancer's bus: its converters move the stored energy at a near-constant
+  // power between two switches (Plant::busIndex).
+  int squaredState() const override;
 
  private:
   const Plant& plant_;
