@@ -19,7 +19,8 @@ APT_PACKAGES=(
 PIP_PACKAGES=(numpy h5py pytest matplotlib plotly selenium pyyaml pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
               "dask[distributed]" scikit-build-core pybind11
               fmpy   # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
-              bpx)   # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
+              bpx    # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
+              pytest-xdist)  # scripts/test.sh runs the Python tests on two worker processes (pytest -n 2)
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
@@ -38,6 +39,7 @@ for p in "${PIP_PACKAGES[@]}"; do
   case $p in
     pyyaml) mod=yaml ;;
     "dask[distributed]") mod=distributed ;;
+    pytest-xdist) mod=xdist ;;
     *) mod=${p//-/_} ;;
   esac
   "$PY" -c "import $mod" 2>/dev/null || need_pip+=("$p")
