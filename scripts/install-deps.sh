@@ -52,7 +52,8 @@ PIP_PYTHON=(numpy h5py pyyaml scikit-build-core pybind11)
 PIP_TEST=(pytest matplotlib plotly selenium pandas xarray h5netcdf scipy pyarrow tqdm ipywidgets nbformat nbclient ipykernel
           "dask[distributed]"
           fmpy   # the FMI 2.0 headers the FMU library builds against, and the FMU tests' importer
-          bpx)   # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
+          bpx    # packsim fit --bpx / packsim.from_bpx: writes and validates the Battery Parameter eXchange format
+          pytest-xdist)  # scripts/test.sh runs the Python tests on two worker processes (pytest -n 2)
 
 APT_PACKAGES=("${APT_RUN[@]}")
 PIP_PACKAGES=()
@@ -88,6 +89,7 @@ for p in "${PIP_PACKAGES[@]}"; do
   case $p in
     pyyaml) mod=yaml ;;
     "dask[distributed]") mod=distributed ;;
+    pytest-xdist) mod=xdist ;;
     *) mod=${p//-/_} ;;
   esac
   "$PY" -c "import $mod" 2>/dev/null || need_pip+=("$p")

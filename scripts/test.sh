@@ -86,5 +86,19 @@ fi
 
 if [ -d tests/python ]; then
   stage "Python tests"
-  PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}" python3 -m pytest -q --durations=10 tests/python
+  # Two worker processes (pytest-xdist), as ctest runs two tests at once: the same work
+  # split over 2 cores (2026-11-26: 252 s of CPU with two workers, 245 s with one, one
+  # worker's share 119-137 s), so on an idle machine about half the wall time of one
+  # process. `loadgroup` keeps the tests of a module that share a module-scoped fixture
+  # on one worker, so it is built once (tests/python/conftest.py); every other test goes
+  # to the free worker.
+  # Not `-n auto`: more workers on a bigger machine would each repeat the session
+  # fixtures and start their own kernels, browsers and Dask clusters for little gain.
+  # Plain `python3 -m pytest tests/python` (one process) runs the same tests.
+  XDIST=(-n 2 --dist loadgroup)
+  if ! python3 -c "import xdist" 2>/dev/null; then
+    echo "   pytest-xdist is not installed (scripts/install-deps.sh installs it): the Python tests run in one process"
+    XDIST=()
+  fi
+  PYTHONPATH="$PWD/build/python:$PWD/python${PYTHONPATH:+:$PYTHONPATH}" python3 -m pytest -q "${XDIST[@]}" --durations=10 tests/python
 fi

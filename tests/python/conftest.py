@@ -1,5 +1,6 @@
 """Shared fixtures: the packsim package under test, the CLI binary built next to it,
-small inline scenarios and one cached run of the bundled default race."""
+small inline scenarios and one cached run of the bundled default race; and, under
+pytest-xdist (scripts/test.sh runs `pytest -n 2 --dist loadgroup`), which tests share a worker."""
 from __future__ import annotations
 
 import os
@@ -77,3 +78,16 @@ def simple_yaml() -> str:
 def race(default_scenario) -> packsim.Result:
     """The bundled default race, run once per session."""
     return packsim.run(default_scenario)
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which reads the marks into the test ids
+def pytest_collection_modifyitems(config, items):
+    """Under `--dist loadgroup` the tests of a module that share a module-scoped fixture (a
+    run of every bundled scenario, an FMU, a fit, a Monte Carlo batch) go to one worker, so
+    the fixture is built once, not once per worker; every other test goes to whichever
+    worker is free. Fixtures build into tmp_path_factory folders, which are per worker, so
+    this saves CPU and is not needed for correctness. Without xdist the mark is inert."""
+    for item in items:
+        defs = getattr(getattr(item, "_fixtureinfo", None), "name2fixturedefs", {})
+        if any(d and d[-1].scope in ("module", "class") for d in defs.values()):
+            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))

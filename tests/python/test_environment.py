@@ -7,9 +7,10 @@ import os
 
 import pytest
 
-# Modules some tests import only when present; scripts/install-deps.sh installs them all.
+# Modules some tests import only when present, and xdist (pytest-xdist: scripts/test.sh runs
+# the tests on two workers, pytest -n 2); scripts/install-deps.sh installs them all.
 OPTIONAL = ["pandas", "xarray", "nbformat", "nbclient", "ipykernel", "distributed", "scikit_build_core", "yaml", "fmpy",
-            "bpx"]
+            "bpx", "xdist"]
 
 
 def _missing() -> list[str]:
