@@ -68,6 +68,8 @@ class FastIntegrator : public Integrator {
   std::vector<double> x_;        // [plant states…, quadratures…]
   std::vector<double> rates_;    // d/dt of x_ at (t_, x_)
   std::vector<double> quadStart_;
+  std::vector<int> socState_;       // each cell's SOC state
+  std::vector<double> socRateStart_;  // its rate at the sub-step's start
   std::vector<int> rcState_;
   std::vector<double> rcTau_s_;
   std::vector<Plant::RcBranch> rcBranches_;
