@@ -19,6 +19,9 @@ an `extends:` child, with part of it given as --set style overrides. Oracles:
   extends       the extends chain + overrides equals the inlined scenario, byte for byte
   charge        summary charge = the load's exact integral from the relay closing, plus
                 an over-current injection and the precharged bus capacitor (check_charge)
+  soc           the cells' SOC fell by the charge the counter delivered: sum over cells of
+                (SOC at 0 - SOC at the end) x capacity = series x charge delivered, where
+                that is exact (no capacity spread, no charging current: check_soc)
   summary       lowest / hottest cell, duration and trip flag follow from truth and events
   faults        every scripted fault was injected, or reported as not reached
   firmware      a case in eight runs the example C firmware (examples/firmware) on system
@@ -397,6 +400,36 @@ def check_charge(scen: dict, r, case_dir: Path) -> list:
         if abs(got - q) > tol else []
 
 
+def check_soc(scen: dict, r) -> list:
+    """Charge conservation inside the pack: each series group carries the pack current, so
+    the cells' SOC loss times their capacity is the series count times the charge the
+    counter delivered. Judged where that is exact: every cell of one capacity (no
+    capacity spread) and no charging current (the coulombic efficiency applies to
+    charge only). A 1 s tick on a ramping load once lost 0.8 % of it from the SOC (the fast
+    integrator's Euler step against the counter's trapezoid)."""
+    pack = scen.get("pack", {})
+    cell = pack.get("cell", {})
+    cap = cell.get("capacity_Ah", PRESETS.get(cell.get("preset"), (None,))[0])
+    if cap is None or "series" not in pack or pack.get("spread", {}).get("capacity_rel_sd", 0.0) != 0.0:
+        return []
+    current = np.asarray(r["truth/cell_current_A"])
+    if current.size == 0 or float(current.min()) < -1e-6:
+        return []
+    soc = np.asarray(r["truth/cell_soc"])
+    taken = float(np.sum(soc[0] - soc[-1])) * cap * 3600.0
+    q = 3600.0 * r.summary["charge_delivered_Ah"] * pack["series"]
+    # The fast integrator keeps it to rounding. CVODE holds each SOC to its own error
+    # bound (rtol 1e-6 of the SOC: up to ~2e-6 of a cell's capacity, each cell apart; a
+    # 10s10p case came out 0.011 of 130 As apart), while the counter is exact.
+    tol = 1e-5 * abs(q) + 1e-3
+    if scen.get("run", {}).get("solver", "cvode") == "cvode":
+        tol += soc.shape[-1] * 2e-6 * cap * 3600.0
+    if abs(taken - q) > tol:
+        return [f"soc: the cells' SOC fell by {taken:.6f} As of charge, the counter delivered {q:.6f} As "
+                f"(series x charge delivered)"]
+    return []
+
+
 def check_physics(scen: dict, r) -> list:
     out = []
     t = np.asarray(r["time_s"])
@@ -486,6 +519,8 @@ def run_case(index: int, campaign_seed: int, out_dir: Path, keep: bool, max_s: f
         findings += check_physics(case["scenario"], r)
         oracle = "charge"
         findings += check_charge(case["scenario"], r, case_dir)
+        oracle = "soc"
+        findings += check_soc(case["scenario"], r)
         oracle = "faults"
         findings += check_faults(case["scenario"], r)
         oracle = "solvers"

@@ -51,5 +51,12 @@ def test_the_oracles_can_fail(tmp_path):
             return self._r[key]
 
     assert any("lowest cell" in f for f in campaign.check_physics({}, Tampered(r)))
+    # The SOC oracle: the same run holds it; a counter that says 1 % more was delivered
+    # than the cells gave is caught.
+    scen = {"pack": {"series": 2, "cell": {"preset": "lipo_5Ah"}}}
+    assert campaign.check_soc(scen, r) == []
+    more = Tampered(r)
+    more.summary = dict(r.summary, charge_delivered_Ah=1.01 * r.summary["charge_delivered_Ah"])
+    assert any(f.startswith("soc:") for f in campaign.check_soc(scen, more))
     other = packsim.run(yaml, seed=99)
     assert campaign.same_bytes(packsim.run(yaml), other) != ""
