@@ -6,6 +6,9 @@
 # lets CMake 4 read Debian's older package config files).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The project's .venv, which scripts/install-deps.sh makes where the system python3 is
+# externally managed (Debian's): its python3 (and the packages in it) comes first.
+if [ -x .venv/bin/python3 ]; then export PATH="$PWD/.venv/bin:$PATH"; fi
 BUILD_DIR=${BUILD_DIR:-build}
 GEN=(); command -v ninja >/dev/null 2>&1 && GEN=(-G Ninja)
 # ccache (scripts/install-deps.sh installs it) when present: a second build dir or a fresh

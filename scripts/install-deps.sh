@@ -37,7 +37,9 @@ APT_RUN=(
   libunicorn-dev libcapstone-dev  # bms.firmware.target: cortex-m4: the ARM emulator and the disassembler of its cycle model
 )
 # The Python module packsim._packsim (pybind11, the interpreter's headers).
-APT_PYTHON=(pybind11-dev python3-dev)
+# python3-venv: Debian's python3 is "externally managed" (PEP 668): pip refuses to install
+# into it, so the Python packages go into the project's .venv (below).
+APT_PYTHON=(pybind11-dev python3-dev python3-venv)
 # What only the tests need.
 APT_TEST=(
   libgtest-dev libgmock-dev
@@ -84,6 +86,23 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 PY=${PYTHON:-python3}
+# Debian's own python3 refuses `pip install` (PEP 668: its stdlib folder holds an
+# EXTERNALLY-MANAGED file). Then the Python packages go into .venv in the source folder,
+# made with the system's packages visible; scripts/build.sh and scripts/test.sh put its
+# bin/ first on PATH when it exists, so `python3` there is the venv's (activate it with
+# `. .venv/bin/activate` for your own shell). A Python of your own (pyenv, conda, a venv
+# you activated, or PYTHON=...) is used as it is.
+if [ -z "${PYTHON:-}" ] && [ ${#PIP_PACKAGES[@]} -gt 0 ] && "$PY" -c '
+import os, sys, sysconfig
+managed = os.path.exists(os.path.join(sysconfig.get_path("stdlib"), "EXTERNALLY-MANAGED"))
+sys.exit(0 if managed and sys.prefix == sys.base_prefix else 1)' 2>/dev/null; then
+  VENV="$(cd "$(dirname "$0")/.." && pwd)/.venv"
+  if [ ! -x "$VENV/bin/python3" ]; then
+    echo "install-deps: $("$PY" -c 'import sys; print(sys.executable)') is externally managed (PEP 668): the Python packages go into $VENV"
+    "$PY" -m venv --system-site-packages "$VENV"
+  fi
+  PY=$VENV/bin/python3
+fi
 need_pip=()
 for p in "${PIP_PACKAGES[@]}"; do
   case $p in

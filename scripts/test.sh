@@ -5,6 +5,9 @@
 # tests and a few short physics tests), and the Python tests. PACKSIM_SKIP_SANITIZE=1 skips the sanitizer pass.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# The project's .venv, which scripts/install-deps.sh makes where the system python3 is
+# externally managed (Debian's): its python3 (and the packages in it) comes first.
+if [ -x .venv/bin/python3 ]; then export PATH="$PWD/.venv/bin:$PATH"; fi
 
 # Wall and CPU time (user + sys of every process the stage ran) per stage, printed at the
 # end (and so in CI's log), also after a failure. On a shared machine the wall time says
