@@ -68,9 +68,32 @@ if [ "$mode" = test ]; then
   PIP_PACKAGES+=("${PIP_TEST[@]}")
 fi
 
+PY=${PYTHON:-python3}
+# Debian's own python3 refuses `pip install` (PEP 668: its stdlib folder holds an
+# EXTERNALLY-MANAGED file). Then the Python packages go into .venv in the source folder,
+# made with the system's packages visible; scripts/build.sh and scripts/test.sh put its
+# bin/ first on PATH when it exists, so `python3` there is the venv's (activate it with
+# `. .venv/bin/activate` for your own shell). A Python of your own (pyenv, conda, a venv
+# you activated, or PYTHON=...) is used as it is.
+# (Asked before apt too, for --list; again after it, which may have brought python3.)
+find_venv() {
+  VENV=""
+  if [ -z "${PYTHON:-}" ] && [ ${#PIP_PACKAGES[@]} -gt 0 ] && "$PY" -c '
+import os, sys, sysconfig
+managed = os.path.exists(os.path.join(sysconfig.get_path("stdlib"), "EXTERNALLY-MANAGED"))
+sys.exit(0 if managed and sys.prefix == sys.base_prefix else 1)' 2>/dev/null; then
+    VENV="$(cd "$(dirname "$0")/.." && pwd)/.venv"
+  fi
+}
+find_venv
+
 if [ "$list" = 1 ]; then
   echo "apt: ${APT_PACKAGES[*]}"
-  echo "pip: ${PIP_PACKAGES[*]}"
+  if [ -n "$VENV" ]; then
+    echo "pip (into $VENV: $("$PY" -c 'import sys; print(sys.executable)') is externally managed, PEP 668): ${PIP_PACKAGES[*]}"
+  else
+    echo "pip: ${PIP_PACKAGES[*]}"
+  fi
   exit 0
 fi
 
@@ -85,18 +108,8 @@ if [ ${#missing[@]} -gt 0 ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-PY=${PYTHON:-python3}
-# Debian's own python3 refuses `pip install` (PEP 668: its stdlib folder holds an
-# EXTERNALLY-MANAGED file). Then the Python packages go into .venv in the source folder,
-# made with the system's packages visible; scripts/build.sh and scripts/test.sh put its
-# bin/ first on PATH when it exists, so `python3` there is the venv's (activate it with
-# `. .venv/bin/activate` for your own shell). A Python of your own (pyenv, conda, a venv
-# you activated, or PYTHON=...) is used as it is.
-if [ -z "${PYTHON:-}" ] && [ ${#PIP_PACKAGES[@]} -gt 0 ] && "$PY" -c '
-import os, sys, sysconfig
-managed = os.path.exists(os.path.join(sysconfig.get_path("stdlib"), "EXTERNALLY-MANAGED"))
-sys.exit(0 if managed and sys.prefix == sys.base_prefix else 1)' 2>/dev/null; then
-  VENV="$(cd "$(dirname "$0")/.." && pwd)/.venv"
+find_venv
+if [ -n "$VENV" ]; then
   if [ ! -x "$VENV/bin/python3" ]; then
     echo "install-deps: $("$PY" -c 'import sys; print(sys.executable)') is externally managed (PEP 668): the Python packages go into $VENV"
     "$PY" -m venv --system-site-packages "$VENV"

@@ -1,6 +1,7 @@
-"""scripts/install-deps.sh: its argument handling, and that its `--run` set (README command 1)
-holds what the packsim program needs and none of what only the tests need. Runs the
-script's --help / --list paths only: nothing is installed."""
+"""scripts/install-deps.sh: its argument handling, that its `--run` set (README command 1)
+holds what the packsim program needs and none of what only the tests need, and where the
+Python packages go on Debian's own python3. Runs the script's --help / --list paths only:
+nothing is installed."""
 from __future__ import annotations
 
 import re
@@ -96,3 +97,27 @@ def test_the_run_set_holds_the_package_of_every_required_dependency():
     run_apt, _ = listed("--run")
     for name, pkgs in owners.items():
         assert pkgs & run_apt, f"{name} ({FOUND_BY[name]}) comes from {pkgs}, not in install-deps --run"
+
+
+def test_debian_s_own_python3_gets_the_project_venv_and_a_chosen_python_is_used_as_it_is():
+    """Debian's python3 refuses `pip install` (externally managed, PEP 668): the Python
+    packages are to go into the project's .venv. PYTHON=... (or pyenv, conda, an active
+    venv) is used as it is."""
+    import os
+    debian = Path("/usr/bin/python3")
+    marker = subprocess.run([str(debian), "-c", "import sysconfig; print(sysconfig.get_path('stdlib'))"],
+                            capture_output=True, text=True).stdout.strip() if debian.exists() else ""
+    if not marker or not (Path(marker) / "EXTERNALLY-MANAGED").exists():
+        pytest.skip("no externally managed /usr/bin/python3 on this machine")
+    env = {k: v for k, v in os.environ.items() if k != "PYTHON"}
+    env["PATH"] = "/usr/bin:/bin"
+    done = subprocess.run(["bash", str(SCRIPT), "--list", "--python"], capture_output=True, text=True, timeout=30, env=env)
+    assert done.returncode == 0, done.stderr
+    assert f"pip (into {REPO / '.venv'}: /usr/bin/python3 is externally managed, PEP 668): numpy" in done.stdout
+    env["PYTHON"] = str(debian)
+    chosen = subprocess.run(["bash", str(SCRIPT), "--list", "--python"], capture_output=True, text=True, timeout=30, env=env)
+    assert "\npip: numpy" in "\n" + chosen.stdout and ".venv" not in chosen.stdout
+    # --run has no Python packages: no venv either
+    env.pop("PYTHON")
+    run = subprocess.run(["bash", str(SCRIPT), "--list", "--run"], capture_output=True, text=True, timeout=30, env=env)
+    assert ".venv" not in run.stdout
