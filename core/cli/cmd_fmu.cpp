@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <random>
+#include <stdexcept>
 
 #include "core/cli/commands.hpp"
 #include "core/fmu/fmu_archive.hpp"
@@ -55,8 +56,9 @@ int cmdFmu(const FmuCliOptions& o) {
   const Scenario s = loadPacked(res);
   const std::string binary = fmuBinaryPath();
   if (!fs::is_regular_file(binary))
-    throw ScenarioError(binary, 0, 0, "", "the FMU library was not built (the build needs the FMI headers from "
-                                          "`pip install fmpy`); or set PACKSIM_FMU_BINARY");
+    // Not the scenario's fault but the installation's: a failed run (exit 1), not bad input.
+    throw std::runtime_error(binary + ": the FMU library was not built (the build needs the FMI headers from "
+                             "`pip install fmpy`); or set PACKSIM_FMU_BINARY");
   FmuArchive a;
   const std::string& text = res.at("scenario.yaml");
   a.contents["modelDescription.xml"] = modelDescriptionXml(s, fmuVariables(s), fmuGuid(text));

@@ -2,6 +2,7 @@
 simulator) against `packsim run` of the same scenario (docs/fmu.md)."""
 from __future__ import annotations
 
+import os
 import subprocess
 import zipfile
 from pathlib import Path
@@ -165,6 +166,19 @@ def test_bad_scenario_fails_at_fmu_time(cli, tmp_path):
     done = subprocess.run([str(cli), "fmu", str(cold), "-o", str(out)], capture_output=True, text=True)
     assert done.returncode == 2 and "scooter_16s_lto_cold.yaml:" in done.stderr and "compare:" in done.stderr
     assert not out.exists()
+
+
+def test_a_missing_fmu_library_is_a_failed_run_not_bad_input(cli, tmp_path):
+    """The scenario is fine; the installation lacks the FMU library: exit 1 (a failed run,
+    as the README defines it), naming the path looked at, and no archive left behind."""
+    good = _write(tmp_path, "good", SCENARIO)
+    out = tmp_path / "good.fmu"
+    missing = tmp_path / "nowhere" / "packsim_fmu.so"
+    done = subprocess.run([str(cli), "fmu", str(good), "-o", str(out)], capture_output=True, text=True,
+                          env=dict(os.environ, PACKSIM_FMU_BINARY=str(missing)))
+    assert done.returncode == 1, done.stderr
+    assert str(missing) in done.stderr and "FMU library was not built" in done.stderr
+    assert not out.exists() and list(tmp_path.glob("good.fmu*")) == []
 
 
 def test_fmu_rejects_a_step_that_is_not_whole_ticks(bench):
