@@ -100,13 +100,15 @@ int main(int argc, char** argv) {
 
   if (on("presets")) {
     // Every reference preset as bundled (its read-out rates, tick and recording), with
-    // the fast integrator and with CVODE; system D also read out every 10 ms (its boards
+    // the fast integrator and with CVODE; system C also at a 10 ms BMS tick (the small-pack
+    // case: a whole stack's firmware and frames for 6 cells); system D also read out every 10 ms (its boards
     // at 1 MHz SPI: at the team's ~62 kHz a 36-cell board takes longer than 10 ms to read).
     struct Preset { const char* label; const char* file; Overrides extra; };
     const Preset presets[] = {
         {"A eco-marathon 12s1p", "eco_marathon_12s.yaml", {}},
         {"B solar car 28s15p", "solar_car_28s15p.yaml", {}},
         {"C bench 6s1p 2C", "bench_6s_ncr18650_2C.yaml", {}},
+        {"C at a 10 ms tick", "bench_6s_ncr18650_2C.yaml", {{"bms.tick_ms", "10"}}},
         {"D motorcycle 110s1p", "motorcycle_110s.yaml", {}},
         {"D read every 10 ms, 1 MHz SPI", "motorcycle_110s.yaml", {{"bms.readout.period_ms", "10"}, {"hardware.afe.baud", "1000000"}}},
         {"E scooter 16s1p", "scooter_16s_lto.yaml", {}},

@@ -58,5 +58,18 @@ def test_the_oracles_can_fail(tmp_path):
     more = Tampered(r)
     more.summary = dict(r.summary, charge_delivered_Ah=1.01 * r.summary["charge_delivered_Ah"])
     assert any(f.startswith("soc:") for f in campaign.check_soc(scen, more))
+    # The energy oracle: a cell whose every term is known holds it (the RC pair charged at
+    # the end); a heat figure 1 % off is caught.
+    cell = {"capacity_Ah": 5.0, "ocv_V": {"x": [0.0, 0.5, 1.0], "y": [3.0, 3.7, 4.2]},
+            "r0_ohm": {"x": [0.0, 1.0], "y": [0.012, 0.010]}, "rc_pairs": [{"r_ohm": 0.006, "tau_s": 30.0}],
+            "v_min_V": 2.8, "v_max_V": 4.25}
+    scen = {"pack": {"series": 3, "parallel": 2, "cell": cell}}
+    hot = packsim.run({**scen, "load": {"current_A": 15.0}, "run": {"duration_s": 60.0},
+                       "bms": {"tick_ms": 100}, "output": {"interval_s": 1.0}})
+    assert campaign.energy_balance(scen, hot)[2] > 1.0  # J in the RC pairs: the term is exercised
+    assert campaign.check_energy(scen, hot) == []
+    off = Tampered(hot)
+    off.summary = dict(hot.summary, heat_Wh=1.01 * hot.summary["heat_Wh"])
+    assert any(f.startswith("energy:") for f in campaign.check_energy(scen, off))
     other = packsim.run(yaml, seed=99)
     assert campaign.same_bytes(packsim.run(yaml), other) != ""
