@@ -41,10 +41,13 @@ void setR0Scales(const EkfConfig& k, const ThermistorMap& therm, EkfState& s, ui
     for (uint16_t g = 0; g < groups; ++g) s.group[g].r0Scale = 1.0f;
     return;
   }
+  // Channels past the highest cell channel hold no cell's reading: the pass stops there.
+  uint16_t channels = 0;
+  while (channels < kMaxThermistors && (therm.cell >> channels) != 0) ++channels;
   float factor[kMaxThermistors];  // per cell channel; 0 where the reading is invalid or no cell's
   int32_t sum_dC = 0;
   uint16_t valid = 0;
-  for (uint16_t ch = 0; ch < kMaxThermistors; ++ch) {
+  for (uint16_t ch = 0; ch < channels; ++ch) {
     factor[ch] = 0.0f;
     if (!thermOn(therm.cell, static_cast<uint8_t>(ch)) || temp_dC[ch] == kTempInvalid_dC) continue;
     factor[ch] = ekfR0Factor(k, static_cast<float>(temp_dC[ch]) * 0.1f);
@@ -54,7 +57,7 @@ void setR0Scales(const EkfConfig& k, const ThermistorMap& therm, EkfState& s, ui
   const float mean = valid > 0 ? ekfR0Factor(k, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
   for (uint16_t g = 0; g < groups; ++g) {
     const uint16_t ch = therm.nearest[g];
-    s.group[g].r0Scale = ch < kMaxThermistors && factor[ch] > 0.0f ? factor[ch] : mean;
+    s.group[g].r0Scale = ch < channels && factor[ch] > 0.0f ? factor[ch] : mean;
   }
 }
 

@@ -105,11 +105,15 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
   int16_t minT = INT16_MAX;
   int16_t maxFet = INT16_MIN;
   uint8_t invalid = 0;
+  uint8_t nextDevice = 0, nextInput = 0;  // AFE channel k is input k % perDevice of device k / perDevice
   for (uint8_t k = 0; k < cfg.thermistorCount; ++k) {
     int16_t dC = kTempInvalid_dC;
     if (k < afeTherm) {
-      const uint8_t d = static_cast<uint8_t>(k / cfg.afe.thermistorsPerDevice);
-      const uint8_t i = static_cast<uint8_t>(k % cfg.afe.thermistorsPerDevice);
+      const uint8_t d = nextDevice, i = nextInput;  // counted, not divided: two divisions a channel a tick
+      if (++nextInput == cfg.afe.thermistorsPerDevice) {
+        nextInput = 0;
+        ++nextDevice;
+      }
       if (!a.seen[d]) {
         tm.temperature_dC[k] = kTempInvalid_dC;
         continue;  // no data yet is a comm problem, not a sensor fault

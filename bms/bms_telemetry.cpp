@@ -30,9 +30,8 @@ uint8_t telemetryEncode(const Outputs& out, uint8_t f[kTelemetryFrameBytes]) {
   put(f + 25, tm.maxCell_mV, 2);
   put(f + 27, static_cast<uint16_t>(tm.maxTemp_dC), 2);
   put(f + 29, static_cast<uint16_t>(tm.minTemp_dC), 2);
-  uint8_t lost = 0;
-  for (uint8_t d = 0; d < 64; ++d)
-    if ((tm.devicesLost >> d) & 1u) ++lost;
+  uint8_t lost = 0;  // devices lost: one pass per set bit (none on the usual tick)
+  for (uint64_t m = tm.devicesLost; m != 0; m &= m - 1) ++lost;
   f[31] = lost;
   f[32] = crcCrc8(f, kTelemetryFrameBytes - 1);
   return kTelemetryFrameBytes;

@@ -196,7 +196,7 @@ void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
       const uint16_t summary = be16(rx + 2);
       uint8_t selected = 0;
       const uint32_t ch = channelsOf(c, d);
-      for (uint8_t k = 0; k < 32; ++k) selected = static_cast<uint8_t>(selected + ((ch >> k) & 1u));
+      for (uint32_t m = ch; m != 0; m &= m - 1) ++selected;  // one pass per selected channel
       r = requestRetried(c, s, b, api, d, PL455_REG_CMD, PL455_CMD_SEND_HELD, static_cast<uint8_t>(2 * selected), rx);
       if (r == FrameResult::Ok) decode(c, d, rx + 1, summary, out[d]);
     }

@@ -1,6 +1,7 @@
 // The frame checksums against the catalogue check values (CRC of "123456789") and a
 // bit-serial reference written from the polynomial, on every frame length.
 #include <bms/bms_crc.hpp>
+#include <bms/bms_telemetry.hpp>
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -43,6 +44,27 @@ TEST(Crc, TableEqualsBitSerialOnEveryLength) {
     const size_t n = static_cast<size_t>(trial % 65);
     ASSERT_EQ(bms::crcCrc8(buf.data(), n), serial8(buf.data(), n)) << "length " << n;
     ASSERT_EQ(bms::crcCrc16(buf.data(), n), serial16(buf.data(), n)) << "length " << n;
+  }
+}
+
+// The telemetry frame's lost-device count (byte 31) is the number of set bits of
+// devicesLost, and its last byte the CRC-8 of the 32 before it.
+TEST(Crc, TelemetryFrameCountsLostDevicesAndEndsWithItsCrc) {
+  std::mt19937_64 rng(3);
+  bms::Outputs out{};
+  for (int trial = 0; trial < 500; ++trial) {
+    uint64_t lost = rng();
+    if (trial % 4 == 1) lost = 0;
+    if (trial % 4 == 2) lost = ~uint64_t{0};
+    if (trial % 4 == 3) lost &= rng() & rng();
+    out.telemetry.devicesLost = lost;
+    out.telemetry.packCurrent_mA = static_cast<int32_t>(rng());
+    uint8_t f[bms::kTelemetryFrameBytes];
+    ASSERT_EQ(bms::telemetryEncode(out, f), bms::kTelemetryFrameBytes);
+    int bits = 0;
+    for (int d = 0; d < 64; ++d) bits += static_cast<int>((lost >> d) & 1u);
+    ASSERT_EQ(f[31], bits);
+    ASSERT_EQ(f[bms::kTelemetryFrameBytes - 1], serial8(f, bms::kTelemetryFrameBytes - 1));
   }
 }
 

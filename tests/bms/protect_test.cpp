@@ -3,6 +3,8 @@
 #include <bms/bms_protect.hpp>
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "fake_stack.hpp"
 
 namespace {
@@ -156,6 +158,114 @@ TEST(Core, EitherESwitchIsolatesWithinOneTickAndLatches) {
     in.resetRequest = false;
     bms_test::run(cfg, s, in, out, st, t, t + 50);
     EXPECT_TRUE(out.relayClose);
+  }
+}
+
+// protectionUpdate, fatalFaults and openedActuators against the straightforward table
+// walk they replaced (each derived from isolatingRules over every rule, the masks read
+// and written in memory rule by rule), over random tables, quantities and times.
+namespace reference {
+
+uint32_t isolating(const bms::Config& cfg, bool driving) {
+  uint32_t mask = 0;
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i) {
+    const bms::ProtectionRule& r = cfg.rules[i];
+    const bool iso = r.action == bms::FaultAction::Isolate ||
+                     (r.action == bms::FaultAction::MonitorWhileDriving && !driving);
+    if (r.severity == bms::Severity::Fatal && iso) mask |= 1u << i;
+  }
+  return mask;
+}
+
+void update(const bms::Config& cfg, const int32_t* quantity, uint32_t now_ms, bool driving, bms::ProtectionState& ps) {
+  const uint32_t iso = isolating(cfg, driving);
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i) {
+    const bms::ProtectionRule& r = cfg.rules[i];
+    const uint32_t bit = 1u << i;
+    if (!r.enabled) {
+      ps.violating &= ~bit;
+      ps.active &= ~bit;
+      continue;
+    }
+    const int32_t value = quantity[static_cast<uint8_t>(r.quantity)];
+    const int32_t margin = (ps.active & bit) ? r.hysteresis : 0;
+    const bool bad = r.tripAbove ? value > r.threshold - margin : value < r.threshold + margin;
+    if (!bad) {
+      ps.violating &= ~bit;
+      ps.active &= ~bit;
+      continue;
+    }
+    if ((ps.violating & bit) == 0) {
+      ps.violating |= bit;
+      ps.violatingSince_ms[i] = now_ms;
+    }
+    if (now_ms - ps.violatingSince_ms[i] >= r.delay_ms) {
+      ps.active |= bit;
+      if (r.latch && (r.severity != bms::Severity::Fatal || (iso & bit))) ps.latched |= bit;
+    }
+  }
+}
+
+uint32_t fatal(const bms::Config& cfg, const bms::ProtectionState& ps, bool driving) {
+  return (ps.active | ps.latched) & isolating(cfg, driving);
+}
+
+uint8_t opened(const bms::Config& cfg, const bms::ProtectionState& ps, bool driving) {
+  uint32_t lower = 0;
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+    if (cfg.rules[i].severity != bms::Severity::Fatal) lower |= 1u << i;
+  const uint32_t present = (ps.active | ps.latched) & (isolating(cfg, driving) | lower);
+  uint8_t opens = 0;
+  for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+    if (present & (1u << i)) opens |= cfg.rules[i].opens;
+  return opens;
+}
+
+}  // namespace reference
+
+TEST(Protection, MatchesTheStraightforwardTableWalkOnRandomTables) {
+  std::mt19937 rng(11);
+  auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<uint32_t>(n)); };
+  for (int table = 0; table < 300; ++table) {
+    bms::Config cfg = bms::defaultConfig(4, 1);
+    for (bms::ProtectionRule& r : cfg.rules) {
+      r.enabled = pick(5) != 0;
+      r.tripAbove = pick(2) != 0;
+      r.threshold = pick(200) - 100;
+      r.hysteresis = pick(20);
+      r.delay_ms = static_cast<uint32_t>(pick(4) * 30);
+      r.severity = static_cast<bms::Severity>(pick(3));
+      r.action = static_cast<bms::FaultAction>(pick(3));
+      r.latch = pick(2) != 0;
+      r.opens = static_cast<uint8_t>(pick(8));
+    }
+    bms::ProtectionState mine, ref;
+    bms::protectionReset(mine);
+    bms::protectionReset(ref);
+    int32_t quantity[bms::kQuantityCount];
+    for (int32_t& v : quantity) v = 0;
+    uint32_t now = 4294967000u;  // across the millisecond wrap
+    for (int tick = 0; tick < 400; ++tick, now += 10) {
+      for (int32_t& v : quantity)
+        if (pick(4) == 0) v = pick(240) - 120;  // values drift around the thresholds
+      const bool driving = pick(3) == 0;
+      bms::protectionUpdate(cfg, quantity, now, driving, mine);
+      reference::update(cfg, quantity, now, driving, ref);
+      ASSERT_EQ(mine.violating, ref.violating) << "table " << table << " tick " << tick;
+      ASSERT_EQ(mine.active, ref.active) << "table " << table << " tick " << tick;
+      ASSERT_EQ(mine.latched, ref.latched) << "table " << table << " tick " << tick;
+      for (uint8_t i = 0; i < bms::kFaultCount; ++i)
+        if (ref.violating & (1u << i)) ASSERT_EQ(mine.violatingSince_ms[i], ref.violatingSince_ms[i]);
+      for (const bool d : {false, true}) {
+        ASSERT_EQ(bms::fatalFaults(cfg, mine, d), reference::fatal(cfg, ref, d));
+        ASSERT_EQ(bms::openedActuators(cfg, mine, d), reference::opened(cfg, ref, d));
+        ASSERT_EQ(bms::isolatingRules(cfg, d), reference::isolating(cfg, d));
+      }
+      if (pick(50) == 0) {  // an operator reset now and then
+        bms::clearLatched(mine);
+        bms::clearLatched(ref);
+      }
+    }
   }
 }
 
