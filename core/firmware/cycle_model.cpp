@@ -1,6 +1,6 @@
 #include "core/firmware/cycle_model.hpp"
 
-#include <capstone/capstone.h>
+#include "core/firmware/emulator_libraries.hpp"
 
 #include <cstring>
 #include <stdexcept>
@@ -53,15 +53,15 @@ Extra extraCycles(const cs_insn& in) {
 
 CycleModel::CycleModel() {
   csh h = 0;
-  if (cs_open(CS_ARCH_ARM, static_cast<cs_mode>(CS_MODE_THUMB | CS_MODE_MCLASS), &h) != CS_ERR_OK)
+  if (capstone().open(CS_ARCH_ARM, static_cast<cs_mode>(CS_MODE_THUMB | CS_MODE_MCLASS), &h) != CS_ERR_OK)
     throw std::runtime_error("Capstone: cannot open a Thumb-2 (M-class) disassembler");
-  cs_option(h, CS_OPT_DETAIL, CS_OPT_ON);
+  capstone().option(h, CS_OPT_DETAIL, CS_OPT_ON);
   handle_ = h;
 }
 
 CycleModel::~CycleModel() {
   csh h = handle_;
-  cs_close(&h);
+  capstone().close(&h);
 }
 
 BlockCost CycleModel::cost(const uint8_t* code, size_t n, uint64_t address) const {
@@ -69,7 +69,7 @@ BlockCost CycleModel::cost(const uint8_t* code, size_t n, uint64_t address) cons
   cs_insn* insn = nullptr;
   size_t pos = 0;
   while (pos < n) {
-    const size_t got = cs_disasm(handle_, code + pos, n - pos, address + pos, 0, &insn);
+    const size_t got = capstone().disasm(handle_, code + pos, n - pos, address + pos, 0, &insn);
     size_t used = 0;
     for (size_t i = 0; i < got; ++i) {
       ++c.instructions;
@@ -79,7 +79,7 @@ BlockCost CycleModel::cost(const uint8_t* code, size_t n, uint64_t address) cons
       c.cyclesMax += 1 + e.max;
       used += insn[i].size;
     }
-    if (got) cs_free(insn, got);
+    if (got) capstone().free(insn, got);
     pos += used;
     if (pos < n) {  // an undecodable halfword: one instruction, skip it
       ++c.instructions;
@@ -94,7 +94,7 @@ BlockCost CycleModel::cost(const uint8_t* code, size_t n, uint64_t address) cons
 
 size_t CycleModel::boundary(const uint8_t* code, size_t n, uint64_t address, uint64_t cycles) const {
   cs_insn* insn = nullptr;
-  const size_t got = cs_disasm(handle_, code, n, address, 0, &insn);
+  const size_t got = capstone().disasm(handle_, code, n, address, 0, &insn);
   uint64_t spent = 0;
   size_t pos = 0, itLeft = 0;
   size_t result = n;
@@ -108,7 +108,7 @@ size_t CycleModel::boundary(const uint8_t* code, size_t n, uint64_t address, uin
     spent += 1 + extraCycles(insn[i]).model;
     pos += insn[i].size;
   }
-  if (got) cs_free(insn, got);
+  if (got) capstone().free(insn, got);
   return result;
 }
 

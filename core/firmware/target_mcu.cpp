@@ -1,6 +1,6 @@
 #include "core/firmware/target_mcu.hpp"
 
-#include <unicorn/unicorn.h>
+#include "core/firmware/emulator_libraries.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -17,7 +17,7 @@ constexpr uint32_t kExcpSwi = 2;  // QEMU's EXCP_SWI: the SVC instruction
 constexpr uint32_t kExcpExceptionExit = 8;  // QEMU's EXCP_EXCEPTION_EXIT: a branch to an EXC_RETURN value
 
 void check(uc_err e, const char* what) {
-  if (e != UC_ERR_OK) throw std::runtime_error(std::string("Unicorn: ") + what + ": " + uc_strerror(e));
+  if (e != UC_ERR_OK) throw std::runtime_error(std::string("Unicorn: ") + what + ": " + unicorn().strerror(e));
 }
 
 const char* exceptionName(uint32_t intno) {
@@ -50,29 +50,29 @@ const char* accessName(int type) {
 }  // namespace
 
 TargetMcu::TargetMcu(const ElfImage& elf) : elf_(elf) {
-  check(uc_open(UC_ARCH_ARM, static_cast<uc_mode>(UC_MODE_THUMB | UC_MODE_MCLASS), &uc_), "open a Cortex-M");
-  check(uc_ctl_set_cpu_model(uc_, UC_CPU_ARM_CORTEX_M4), "select the Cortex-M4 model");
-  check(uc_mem_map(uc_, target::kFlashBase, target::kFlashBytes, UC_PROT_READ | UC_PROT_EXEC), "map flash");
-  check(uc_mem_map(uc_, target::kRamBase, target::kRamBytes, UC_PROT_ALL), "map RAM");
-  check(uc_mem_map(uc_, target::kReturnPage, target::kReturnBytes, UC_PROT_READ | UC_PROT_EXEC), "map the return page");
-  check(uc_mmio_map(uc_, target::kWatchdogBase, target::kWatchdogBytes, &TargetMcu::onWatchdogRead, this,
+  check(unicorn().open(UC_ARCH_ARM, static_cast<uc_mode>(UC_MODE_THUMB | UC_MODE_MCLASS), &uc_), "open a Cortex-M");
+  check(unicorn().ctl(uc_, UC_CTL_WRITE(UC_CTL_CPU_MODEL, 1), UC_CPU_ARM_CORTEX_M4), "select the Cortex-M4 model");
+  check(unicorn().mem_map(uc_, target::kFlashBase, target::kFlashBytes, UC_PROT_READ | UC_PROT_EXEC), "map flash");
+  check(unicorn().mem_map(uc_, target::kRamBase, target::kRamBytes, UC_PROT_ALL), "map RAM");
+  check(unicorn().mem_map(uc_, target::kReturnPage, target::kReturnBytes, UC_PROT_READ | UC_PROT_EXEC), "map the return page");
+  check(unicorn().mmio_map(uc_, target::kWatchdogBase, target::kWatchdogBytes, &TargetMcu::onWatchdogRead, this,
                     &TargetMcu::onWatchdogWrite, this),
         "map the watchdog");
-  check(uc_mmio_map(uc_, target::kPeripheralBase, target::kPeripheralBytes, &TargetMcu::onPeripheralRead, this,
+  check(unicorn().mmio_map(uc_, target::kPeripheralBase, target::kPeripheralBytes, &TargetMcu::onPeripheralRead, this,
                     &TargetMcu::onPeripheralWrite, this),
         "map the peripherals");
-  check(uc_mmio_map(uc_, target::kScsBase, target::kScsBytes, &TargetMcu::onScsRead, this, &TargetMcu::onScsWrite, this),
+  check(unicorn().mmio_map(uc_, target::kScsBase, target::kScsBytes, &TargetMcu::onScsRead, this, &TargetMcu::onScsWrite, this),
         "map the NVIC");
   for (const ElfSegment& s : elf.segments)
     if (s.vaddr >= target::kFlashBase && s.vaddr < target::kFlashBase + target::kFlashBytes && !s.bytes.empty())
-      check(uc_mem_write(uc_, s.vaddr, s.bytes.data(), s.bytes.size()), "load flash");
+      check(unicorn().mem_write(uc_, s.vaddr, s.bytes.data(), s.bytes.size()), "load flash");
   const uint16_t bkpt[2] = {0xBE00, 0xBE00};  // never executed: reaching the page ends the call
-  check(uc_mem_write(uc_, target::kReturnPage, bkpt, sizeof bkpt), "fill the return page");
+  check(unicorn().mem_write(uc_, target::kReturnPage, bkpt, sizeof bkpt), "fill the return page");
   uc_hook h;
-  check(uc_hook_add(uc_, &h, UC_HOOK_BLOCK, reinterpret_cast<void*>(&TargetMcu::onBlock), this, 1, 0), "hook blocks");
-  check(uc_hook_add(uc_, &h, UC_HOOK_INTR, reinterpret_cast<void*>(&TargetMcu::onInterrupt), this, 1, 0),
+  check(unicorn().hook_add(uc_, &h, UC_HOOK_BLOCK, reinterpret_cast<void*>(&TargetMcu::onBlock), this, 1, 0), "hook blocks");
+  check(unicorn().hook_add(uc_, &h, UC_HOOK_INTR, reinterpret_cast<void*>(&TargetMcu::onInterrupt), this, 1, 0),
         "hook exceptions");
-  check(uc_hook_add(uc_, &h, UC_HOOK_MEM_INVALID, reinterpret_cast<void*>(&TargetMcu::onBadMemory), this, 1, 0),
+  check(unicorn().hook_add(uc_, &h, UC_HOOK_MEM_INVALID, reinterpret_cast<void*>(&TargetMcu::onBadMemory), this, 1, 0),
         "hook memory faults");
   stackTop_ = elf.symbol("__psbsp_stack_top");
   stackLimit_ = elf.symbol("__psbsp_stack_limit");
@@ -89,7 +89,7 @@ TargetMcu::TargetMcu(const ElfImage& elf) : elf_(elf) {
 }
 
 TargetMcu::~TargetMcu() {
-  if (uc_) uc_close(uc_);
+  if (uc_) unicorn().close(uc_);
 }
 
 void TargetMcu::loadRam(bool keepNoInit) {
@@ -98,9 +98,9 @@ void TargetMcu::loadRam(bool keepNoInit) {
     if (s.vaddr >= target::kRamBase && s.vaddr < target::kRamBase + target::kRamBytes && !s.bytes.empty())
       std::memcpy(ram.data() + (s.vaddr - target::kRamBase), s.bytes.data(), s.bytes.size());
   if (keepNoInit && noinitEnd_ > noinitStart_)
-    check(uc_mem_read(uc_, noinitStart_, ram.data() + (noinitStart_ - target::kRamBase), noinitEnd_ - noinitStart_),
+    check(unicorn().mem_read(uc_, noinitStart_, ram.data() + (noinitStart_ - target::kRamBase), noinitEnd_ - noinitStart_),
           "keep .noinit");
-  check(uc_mem_write(uc_, target::kRamBase, ram.data(), ram.size()), "load RAM");
+  check(unicorn().mem_write(uc_, target::kRamBase, ram.data(), ram.size()), "load RAM");
   paintedFrom_ = stackTop_;
   paintStack();
   // The core's reset state: thread mode, no interrupt pending or enabled, masks clear.
@@ -116,25 +116,25 @@ void TargetMcu::loadRam(bool keepNoInit) {
 
 uint32_t TargetMcu::reg(int id) {
   uint32_t v = 0;
-  uc_reg_read(uc_, id, &v);
+  unicorn().reg_read(uc_, id, &v);
   return v;
 }
 
-void TargetMcu::setReg(int id, uint32_t v) { uc_reg_write(uc_, id, &v); }
+void TargetMcu::setReg(int id, uint32_t v) { unicorn().reg_write(uc_, id, &v); }
 
 bool TargetMcu::atReturnPage() { return pc() == target::kReturnPage; }
 
 void TargetMcu::paintStack() {
   if (paintedFrom_ >= stackTop_) paintedFrom_ = stackLimit_;
   std::vector<uint32_t> paint((stackTop_ - paintedFrom_) / 4, target::kStackPaint);
-  if (!paint.empty()) check(uc_mem_write(uc_, paintedFrom_, paint.data(), paint.size() * 4), "paint the stack");
+  if (!paint.empty()) check(unicorn().mem_write(uc_, paintedFrom_, paint.data(), paint.size() * 4), "paint the stack");
   paintedFrom_ = stackTop_;
 }
 
 uint32_t TargetMcu::stackUsed_bytes() {
   const uint32_t n = (stackTop_ - stackLimit_) / 4;
   std::vector<uint32_t> words(n);
-  check(uc_mem_read(uc_, stackLimit_, words.data(), n * 4), "scan the stack");
+  check(unicorn().mem_read(uc_, stackLimit_, words.data(), n * 4), "scan the stack");
   uint32_t i = 0;
   while (i < n && words[i] == target::kStackPaint) ++i;
   const uint32_t lowest = stackLimit_ + i * 4;
@@ -148,16 +148,16 @@ TargetCallResult TargetMcu::call(uint32_t fn, const std::vector<uint32_t>& args,
   if (args.size() > 4) {
     sp -= static_cast<uint32_t>((args.size() - 4) * 4);
     sp &= ~7u;  // AAPCS: 8-byte aligned at a call
-    check(uc_mem_write(uc_, sp, args.data() + 4, (args.size() - 4) * 4), "push arguments");
+    check(unicorn().mem_write(uc_, sp, args.data() + 4, (args.size() - 4) * 4), "push arguments");
   }
   const int argRegs[4] = {UC_ARM_REG_R0, UC_ARM_REG_R1, UC_ARM_REG_R2, UC_ARM_REG_R3};
   for (size_t i = 0; i < 4; ++i) {
     uint32_t v = i < args.size() ? args[i] : 0;
-    uc_reg_write(uc_, argRegs[i], &v);
+    unicorn().reg_write(uc_, argRegs[i], &v);
   }
   uint32_t lr = target::kReturnPage | 1u;
-  uc_reg_write(uc_, UC_ARM_REG_SP, &sp);
-  uc_reg_write(uc_, UC_ARM_REG_LR, &lr);
+  unicorn().reg_write(uc_, UC_ARM_REG_SP, &sp);
+  unicorn().reg_write(uc_, UC_ARM_REG_LR, &lr);
   return run(fn, p);
 }
 
@@ -168,31 +168,31 @@ TargetCallResult TargetMcu::run(uint32_t start, TargetPeripherals& p) {
   stop_ = TargetStop::Returned;
   stopping_ = false;
   fault_.clear();
-  uc_err e = uc_emu_start(uc_, start | 1u, target::kReturnPage, 0, 0);
+  uc_err e = unicorn().emu_start(uc_, start | 1u, target::kReturnPage, 0, 0);
   if (stopping_ && stop_ == TargetStop::Split) {
     // The interrupt falls inside the block the emulator was entering (it has not run):
     // re-translate it with a hook on its instructions from the boundary on, and run it
     // again; the hook stops the emulator before the first of them.
     uc_hook h = 0;
-    check(uc_hook_add(uc_, &h, UC_HOOK_CODE, reinterpret_cast<void*>(&TargetMcu::onSplit), this, splitAt_, splitEnd_ - 1),
+    check(unicorn().hook_add(uc_, &h, UC_HOOK_CODE, reinterpret_cast<void*>(&TargetMcu::onSplit), this, splitAt_, splitEnd_ - 1),
           "hook the interrupt's boundary");
     splitHook_ = h;
-    check(uc_ctl_remove_cache(uc_, splitStart_, splitEnd_), "re-translate a block");
+    check(unicorn().ctl(uc_, UC_CTL_WRITE(UC_CTL_TB_REMOVE_CACHE, 2), splitStart_, splitEnd_), "re-translate a block");
     splitArmed_ = true;
     stop_ = TargetStop::Returned;
     stopping_ = false;
-    e = uc_emu_start(uc_, pc() | 1u, target::kReturnPage, 0, 0);
+    e = unicorn().emu_start(uc_, pc() | 1u, target::kReturnPage, 0, 0);
   }
   if (splitArmed_) {
     splitArmed_ = false;
-    uc_hook_del(uc_, splitHook_);
-    check(uc_ctl_remove_cache(uc_, splitStart_, splitEnd_), "re-translate a block");
+    unicorn().hook_del(uc_, splitHook_);
+    check(unicorn().ctl(uc_, UC_CTL_WRITE(UC_CTL_TB_REMOVE_CACHE, 2), splitStart_, splitEnd_), "re-translate a block");
     const uint32_t at = pc();
     if (stopping_ && stop_ == TargetStop::Interrupt && at >= splitStart_ && at < splitEnd_) {
       // The block was counted whole when it started: its instructions from the
       // boundary on have not run (they run, and count, after the handler).
       std::vector<uint8_t> code(splitEnd_ - at);
-      if (uc_mem_read(uc_, at, code.data(), code.size()) == UC_ERR_OK) {
+      if (unicorn().mem_read(uc_, at, code.data(), code.size()) == UC_ERR_OK) {
         const BlockCost rest = model_.cost(code.data(), code.size(), at);
         instructions_ -= rest.instructions;
         cycles_ -= rest.cycles;
@@ -204,7 +204,7 @@ TargetCallResult TargetMcu::run(uint32_t start, TargetPeripherals& p) {
   }
   peripherals_ = nullptr;
   TargetCallResult r;
-  uc_reg_read(uc_, UC_ARM_REG_R0, &r.r0);
+  unicorn().reg_read(uc_, UC_ARM_REG_R0, &r.r0);
   if (stopping_) {
     r.stop = stop_;
     r.fault = fault_;
@@ -213,7 +213,7 @@ TargetCallResult TargetMcu::run(uint32_t start, TargetPeripherals& p) {
   if (e != UC_ERR_OK) {
     char why[200];
     std::snprintf(why, sizeof why, "%s at PC 0x%08x",
-                  e == UC_ERR_INSN_INVALID ? "undefined instruction (UsageFault: UNDEFINSTR)" : uc_strerror(e), pc());
+                  e == UC_ERR_INSN_INVALID ? "undefined instruction (UsageFault: UNDEFINSTR)" : unicorn().strerror(e), pc());
     r.stop = TargetStop::Fault;
     r.fault = why;
     return r;
@@ -232,7 +232,7 @@ void TargetMcu::stopWith(TargetStop s, const std::string& why) {
   stopping_ = true;
   stop_ = s;
   fault_ = why;
-  uc_emu_stop(uc_);
+  unicorn().emu_stop(uc_);
 }
 
 void TargetMcu::requestStop() { stopWith(TargetStop::Requested, ""); }
@@ -241,7 +241,7 @@ void TargetMcu::raiseFault(const std::string& why) { stopWith(TargetStop::Fault,
 
 uint32_t TargetMcu::pc() {
   uint32_t v = 0;
-  uc_reg_read(uc_, UC_ARM_REG_PC, &v);
+  unicorn().reg_read(uc_, UC_ARM_REG_PC, &v);
   return v;
 }
 
@@ -249,30 +249,30 @@ uint32_t TargetMcu::arg(int i) {
   uint32_t v = 0;
   if (i < 4) {
     const int regs[4] = {UC_ARM_REG_R0, UC_ARM_REG_R1, UC_ARM_REG_R2, UC_ARM_REG_R3};
-    uc_reg_read(uc_, regs[i], &v);
+    unicorn().reg_read(uc_, regs[i], &v);
     return v;
   }
   uint32_t sp = 0;
-  uc_reg_read(uc_, UC_ARM_REG_SP, &sp);
-  if (uc_mem_read(uc_, sp + 4u * static_cast<uint32_t>(i - 4), &v, 4) != UC_ERR_OK) return 0;
+  unicorn().reg_read(uc_, UC_ARM_REG_SP, &sp);
+  if (unicorn().mem_read(uc_, sp + 4u * static_cast<uint32_t>(i - 4), &v, 4) != UC_ERR_OK) return 0;
   return v;
 }
 
 bool TargetMcu::read(uint32_t addr, void* out, size_t n) {
   if (n == 0) return true;
-  return uc_mem_read(uc_, addr, out, n) == UC_ERR_OK;
+  return unicorn().mem_read(uc_, addr, out, n) == UC_ERR_OK;
 }
 
 bool TargetMcu::write(uint32_t addr, const void* in, size_t n) {
   if (n == 0) return true;
   // Firmware buffers live in RAM: a write elsewhere (flash, unmapped) is a fault.
   if (addr < target::kRamBase || uint64_t{addr} + n > uint64_t{target::kRamBase} + target::kRamBytes) return false;
-  return uc_mem_write(uc_, addr, in, n) == UC_ERR_OK;
+  return unicorn().mem_write(uc_, addr, in, n) == UC_ERR_OK;
 }
 
 bool TargetMcu::readString(uint32_t addr, char* out, size_t max) {
   for (size_t i = 0; i < max; ++i) {
-    if (uc_mem_read(uc_, addr + i, out + i, 1) != UC_ERR_OK) return false;
+    if (unicorn().mem_read(uc_, addr + i, out + i, 1) != UC_ERR_OK) return false;
     if (out[i] == '\0') return true;
   }
   out[max - 1] = '\0';
@@ -292,7 +292,7 @@ void TargetMcu::onBlock(uc_struct* uc, uint64_t address, uint32_t size, void* se
   if (it == m.costs_.end()) {
     std::vector<uint8_t> code(size);
     BlockCost c;
-    if (size > 0 && uc_mem_read(uc, address, code.data(), size) == UC_ERR_OK) c = m.model_.cost(code.data(), size, address);
+    if (size > 0 && unicorn().mem_read(uc, address, code.data(), size) == UC_ERR_OK) c = m.model_.cost(code.data(), size, address);
     it = m.costs_.emplace(key, c).first;
   }
   const bool splitting = m.splitArmed_;  // the split block again: counted whole, its hook stops it
@@ -330,7 +330,7 @@ bool TargetMcu::interruptBoundary(uint64_t address, uint32_t size, const BlockCo
   }
   if (irqDue_ >= c0 + c.cycles) return false;
   std::vector<uint8_t> code(size);
-  if (uc_mem_read(uc_, address, code.data(), size) != UC_ERR_OK) return false;
+  if (unicorn().mem_read(uc_, address, code.data(), size) != UC_ERR_OK) return false;
   const size_t at = model_.boundary(code.data(), size, address, irqDue_ - c0);
   if (at >= size) return false;  // at the block's end: the next block stops
   splitStart_ = address;
@@ -503,9 +503,9 @@ void TargetMcu::onInterrupt(uc_struct* uc, uint32_t intno, void* self) {
   const uint32_t pc = m.pc();
   if (intno == kExcpSwi && m.peripherals_) {
     uint16_t insn = 0;  // the SVC instruction before the return address: its immediate is the service
-    uc_mem_read(uc, pc - 2, &insn, 2);
+    unicorn().mem_read(uc, pc - 2, &insn, 2);
     const uint32_t r0 = m.peripherals_->supervisorCall(m, insn & 0xFFu);
-    uc_reg_write(uc, UC_ARM_REG_R0, &r0);
+    unicorn().reg_write(uc, UC_ARM_REG_R0, &r0);
     if (m.nvic_.anyPendingEnabled()) m.irqCheck_ = true;  // a service pended one (an edge seen on the bus)
     return;
   }

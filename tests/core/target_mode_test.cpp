@@ -13,6 +13,7 @@
 
 #include "core/firmware/cycle_model.hpp"
 #include "core/firmware/elf_image.hpp"
+#include "core/firmware/emulator_libraries.hpp"
 #include "core/firmware/target_nvic.hpp"
 #include "core/io/hdf5_writer.hpp"
 #include "core/sim/firmware_failure.hpp"
@@ -313,6 +314,37 @@ TEST(TargetCycleModel, EachInstructionClassCostsWhatTheTableSays) {
   const BlockCost b = model.cost(block, sizeof block, 0x08000000);
   EXPECT_EQ(b.instructions, 3u);
   EXPECT_EQ(b.cycles, 1u + 2u + 6u);
+}
+
+// Unicorn and Capstone are loaded when target mode first needs them, not linked
+// (core/firmware/emulator_libraries.hpp): every function packsim calls resolves in the
+// installed versions, and a library that cannot be loaded is named with the reason, the
+// scenario setting that needs it and how to install it. Needs no toolchain.
+TEST(TargetEmulatorLibraries, EveryFunctionResolvesAndAMissingLibraryIsNamed) {
+  const UnicornApi& u = unicorn();
+  for (const void* f : {(const void*)u.open, (const void*)u.close, (const void*)u.strerror, (const void*)u.ctl,
+                        (const void*)u.mem_map, (const void*)u.mmio_map, (const void*)u.mem_read,
+                        (const void*)u.mem_write, (const void*)u.reg_read, (const void*)u.reg_write,
+                        (const void*)u.hook_add, (const void*)u.hook_del, (const void*)u.emu_start,
+                        (const void*)u.emu_stop})
+    EXPECT_NE(f, nullptr);
+  EXPECT_STREQ(u.strerror(UC_ERR_NOMEM), "No memory available or memory not present (UC_ERR_NOMEM)");
+  const CapstoneApi& c = capstone();
+  for (const void* f : {(const void*)c.open, (const void*)c.close, (const void*)c.option, (const void*)c.disasm,
+                        (const void*)c.free})
+    EXPECT_NE(f, nullptr);
+  try {
+    openEmulatorLibrary("libpacksim-no-such-emulator.so.9", "the Unicorn engine (the ARM emulator)", "libunicorn2");
+    ADD_FAILURE() << "a library that does not exist was loaded";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("bms.firmware.target: cortex-m4"), std::string::npos) << m;
+    EXPECT_NE(m.find("the Unicorn engine"), std::string::npos) << m;
+    EXPECT_NE(m.find("libpacksim-no-such-emulator.so.9, which could not be loaded ("), std::string::npos) << m;
+    EXPECT_NE(m.find("cannot open shared object file"), std::string::npos) << m;  // dlerror's reason
+    EXPECT_NE(m.find("scripts/install-deps.sh --run"), std::string::npos) << m;
+    EXPECT_NE(m.find("libunicorn2"), std::string::npos) << m;
+  }
 }
 
 // A library built for the host is refused when the scenario loads, naming the file and
