@@ -74,10 +74,12 @@ std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, doub
     for (size_t i = 0; i < socs.size(); ++i) {
       const double soc = socs[i];
       const double y = c.eval(soc, q_Ah, t_C);
-      const std::string at = where(c, soc, q_Ah, t_C, showTemp);
-      if (!std::isfinite(y)) return "is not finite (" + num(y) + ") at " + at;
+      // Where the sample is, in words: formed only for an error (the loader checks every
+      // curve of every cell at hundreds of samples; formatting each cost more than the check).
+      auto at = [&] { return where(c, soc, q_Ah, t_C, showTemp); };
+      if (!std::isfinite(y)) return "is not finite (" + num(y) + ") at " + at();
       if (std::fabs(y) > max_abs && (c.arrhenius_K == 0.0 || t_C == c.ref_temp_C))
-        return "reaches " + num(y) + " at " + at + "; allowed [-" + num(max_abs) + ", " + num(max_abs) + "]";
+        return "reaches " + num(y) + " at " + at() + "; allowed [-" + num(max_abs) + ", " + num(max_abs) + "]";
       switch (rule) {
         case CurveRule::Positive:
         case CurveRule::NonNegative: {
@@ -87,15 +89,15 @@ std::optional<std::string> curveDomainError(const Curve& c, CurveRule rule, doub
           size_t j = i;
           while (j + 1 < socs.size() && bad(c.eval(socs[j + 1], q_Ah, t_C))) ++j;
           return std::string("must be ") + (rule == CurveRule::Positive ? "> 0" : ">= 0") + " over SOC 0..1 but is " +
-                 num(y) + " at " + at + (j > i ? " (and up to " + where(c, socs[j], q_Ah, t_C, false) + ")" : "");
+                 num(y) + " at " + at() + (j > i ? " (and up to " + where(c, socs[j], q_Ah, t_C, false) + ")" : "");
         }
         case CurveRule::Ocv:
-          if (!(y > 0.0)) return "must be > 0 V over SOC 0..1 but is " + num(y) + " V at " + at;
+          if (!(y > 0.0)) return "must be > 0 V over SOC 0..1 but is " + num(y) + " V at " + at();
           if (i > 0) {
             const bool flat = heldFlat(c, c.axisValue(soc, q_Ah)) && heldFlat(c, c.axisValue(prevSoc, q_Ah));
             if (y < prev || (y == prev && !flat))
               return std::string("must rise strictly with SOC but ") + (y < prev ? "falls" : "stays flat") + " from " +
-                     num(prev) + " V at " + where(c, prevSoc, q_Ah, t_C, showTemp) + " to " + num(y) + " V at " + at;
+                     num(prev) + " V at " + where(c, prevSoc, q_Ah, t_C, showTemp) + " to " + num(y) + " V at " + at();
           }
           break;
         case CurveRule::Finite:

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/sim/cvode_jacobian.hpp"
+#include "core/sim/cvode_output.hpp"
 #include "core/sim/same_instant.hpp"
 
 namespace packsim {
@@ -178,6 +179,9 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& sys, double rtol, Newton newton) : i
   m.mem = CVodeCreate(CV_BDF, m.ctx);
   if (!m.mem) throw std::runtime_error("CVODE: CVodeCreate failed");
   check(CVodeInit(m.mem, &Impl::rhs, 0.0, m.y), "CVodeInit");
+  // Set on y alone, after CVodeInit cloned its own vectors from it: only the output
+  // interpolation into y takes it (core/sim/cvode_output.hpp).
+  m.y->ops->nvlinearcombination = &cvodeOutputCombination;
   check(CVodeSetUserData(m.mem, &m), "CVodeSetUserData");
   check(CVodeSVtolerances(m.mem, rtol, m.atol), "CVodeSVtolerances");
   check(CVodeSetMaxNumSteps(m.mem, 100000), "CVodeSetMaxNumSteps");

@@ -37,6 +37,7 @@ LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(p
     limits_.push_back({static_cast<int>(r.id), r.above ? "above" : "below", r.above, p.threshold, r.unit, r.perCell,
                        p.delay_s + latency_s});
     ep_.emplace_back(static_cast<size_t>(r.perCell ? cells : 1));
+    open_.push_back(0);
   }
 }
 
@@ -50,6 +51,7 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   const double unseen_s = t - e.from_s;
   const double from_s = e.from_s;
   e.from_s = -1.0;
+  --open_[li];
   if (unseen_s <= l.allowed_s + 1e-9) {  // within the BMS's own delay and latency: no miss
     ++short_;
     return;
@@ -80,14 +82,29 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
     const Limit& l = limits_[li];
     const bool active = (faultActive >> l.fault) & 1u;
     const bool charge = l.fault == static_cast<int>(bms::FaultId::OverCurrentCharge);
-    for (size_t c = 0; c < ep_[li].size(); ++c) {
-      const double v = !l.perCell ? (charge ? -pack_A : pack_A) : l.unit[0] == 'V' ? cell_V[c] : cell_C[c];
+    const double packValue = charge ? -pack_A : pack_A;
+    const double* values = !l.perCell ? &packValue : l.unit[0] == 'V' ? cell_V.data() : cell_C.data();
+    const size_t n = ep_[li].size();
+    // No episode open: one opens only where a value is past the limit while the row is
+    // not active. The usual tick (every cell within every limit) ends with this scan.
+    if (open_[li] == 0) {
+      if (active) continue;
+      bool anyPast = false;
+      if (l.above)
+        for (size_t c = 0; c < n; ++c) anyPast |= values[c] > l.threshold;
+      else
+        for (size_t c = 0; c < n; ++c) anyPast |= values[c] < l.threshold;
+      if (!anyPast) continue;
+    }
+    for (size_t c = 0; c < n; ++c) {
+      const double v = values[c];
       const bool past = l.above ? v > l.threshold : v < l.threshold;
       Episode& e = ep_[li][c];
       if (e.from_s < 0.0) {
         if (past && !active) {
           e.from_s = t;
           e.extreme = v;
+          ++open_[li];
         }
         continue;
       }

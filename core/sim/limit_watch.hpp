@@ -55,6 +55,7 @@ class LimitWatch {
 
   std::vector<Limit> limits_;
   std::vector<std::vector<Episode>> ep_;  // [limit][cell]
+  std::vector<size_t> open_;              // [limit]: episodes open (from_s >= 0)
   int parallel_;
   double longest_s_ = 0.0;
   long short_ = 0;

@@ -68,11 +68,6 @@ Plant::Plant(const Scenario& s)
   if (active_.present) busIndex_ = stateSize_++;
 }
 
-int Plant::tempIndex(int node) const {
-  const int cells = pack_.cellCount();
-  return node < cells ? node * stride_ + pack_.layout.size() : cells * stride_ + (node - cells);
-}
-
 PlantSignals Plant::makeSignals() const {
   PlantSignals s;
   const size_t n = static_cast<size_t>(pack_.cellCount());

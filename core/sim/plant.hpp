@@ -103,8 +103,12 @@ class Plant {
   int stride() const { return stride_; }
   // The active balancer's bus voltage (-1 without one).
   int busIndex() const { return busIndex_; }
-  // State index of thermal node j (cells first, then extra nodes).
-  int tempIndex(int node) const;
+  // State index of thermal node j (cells first, then extra nodes). Inline: read per cell
+  // and tick by the loop and the recorder.
+  int tempIndex(int node) const {
+    const int cells = pack_.cellCount();
+    return node < cells ? node * stride_ + pack_.layout.size() : cells * stride_ + (node - cells);
+  }
   const double* cellStates(const double* x, int cell) const { return x + cell * stride_; }
   const std::vector<double>& initialSoc() const { return initialSoc_; }
   // A FET's thermal node (-1 if none): its I²·Rds_on (or diode) loss heats it.

@@ -100,6 +100,20 @@ const OutputEdge kOutputEdges[] = {
 // clang-format on
 constexpr size_t kOutputEdgeCount = sizeof kOutputEdges / sizeof kOutputEdges[0];
 
+// Whether a row applies to this run (its needs met: a hardware simulation, balancing hardware).
+bool rowApplies(const OutputEdge& e, bool hardware, bool balancing) {
+  return !((e.needs == OutputEdge::kHardware && !hardware) || (e.needs == OutputEdge::kBalancing && !balancing));
+}
+
+// Whether some row that applies reads other than at the last tick. If none does (and it
+// is not the first tick), outputEvents has no event to raise and nothing to note: the
+// usual tick, so it is skipped.
+bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing) {
+  for (size_t i = 0; i < kOutputEdgeCount; ++i)
+    if (rowApplies(kOutputEdges[i], hardware, balancing) && kOutputEdges[i].read(out) != last[i]) return true;
+  return false;
+}
+
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
@@ -219,9 +233,7 @@ void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
   for (const EdgeRun& run : edgeRuns()) {
     const size_t i = run.begin, end = run.end;
     const OutputEdge& e = kOutputEdges[i];
-    if (e.report != report || (e.needs == OutputEdge::kHardware && !hw_) ||
-        (e.needs == OutputEdge::kBalancing && !r_.rec.has_balancing))
-      continue;
+    if (e.report != report || !rowApplies(e, hw_ != nullptr, r_.rec.has_balancing)) continue;
     if (!e.mask) {
       now[i] = e.read(out);
       const uint64_t before = lastOutput_[i];
@@ -273,7 +285,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     }
   }
 
-  outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
+  const bool outputsMoved = first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing);
+  if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
   // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
   // had closed it before or, as after a failed precharge, never got that far).
   if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {
@@ -295,7 +308,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
     hardwareChanged(t);
     noteMisuse();
   }
-  outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
+  if (outputsMoved) outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
   limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_);
   first_ = false;

@@ -74,11 +74,23 @@ struct Curve {
 // held flat beyond the ends; a one-point table is a constant.
 double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x);
 
+// The first point above x (std::upper_bound) for xs[0] < x < xs[n-1]: a forward scan on
+// a short table (a cell curve: a dozen points, read several times per cell and tick;
+// the scan's one mispredicted exit costs less than a binary search's call and its
+// guesses), the binary search on a long one (a load profile). Same index either way.
+inline size_t pointAbove(const double* xs, size_t n, double x) {
+  constexpr size_t kScanUpTo = 16;
+  if (n > kScanUpTo) return static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
+  size_t i = 1;
+  while (i + 1 < n && !(x < xs[i])) ++i;
+  return i;
+}
+
 // The same over n points of arrays (ys may be one row of a 2-D table).
 inline double interpolateN(const double* xs, const double* ys, size_t n, double x) {
   if (n == 1 || x <= xs[0]) return ys[0];
   if (x >= xs[n - 1]) return ys[n - 1];
-  const size_t i = static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
+  const size_t i = pointAbove(xs, n, x);
   const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
   return ys[i - 1] + w * (ys[i] - ys[i - 1]);
 }
@@ -91,7 +103,7 @@ inline double interpolateGrid(const double* xs, const double* ys, size_t n, cons
   auto row = [&](size_t j) { return interpolateN(xs, ys + j * n, n, x); };
   if (rows == 1 || temp_C <= temps_C[0]) return row(0);
   if (temp_C >= temps_C[rows - 1]) return row(rows - 1);
-  const size_t j = static_cast<size_t>(std::upper_bound(temps_C, temps_C + rows, temp_C) - temps_C);
+  const size_t j = pointAbove(temps_C, rows, temp_C);
   const double w = (temp_C - temps_C[j - 1]) / (temps_C[j] - temps_C[j - 1]);
   const double lo = row(j - 1);
   return lo + w * (row(j) - lo);

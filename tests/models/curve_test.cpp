@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace packsim {
 namespace {
@@ -29,6 +31,31 @@ TEST(Curve, TableInterpolatesAndHoldsEnds) {
 
 TEST(Curve, RejectsNonIncreasingTable) {
   EXPECT_THROW(Curve::table({0.0, 0.5, 0.5}, {1, 2, 3}), std::invalid_argument);
+}
+
+// pointAbove scans short tables and bisects long ones: both must give std::upper_bound's
+// index, so a table reads the same whichever way it is searched. Tables of 2..40 points
+// (both sides of the switch at 16), x at every point, between points and just beside them.
+TEST(Curve, PointAboveIsTheUpperBoundForShortAndLongTables) {
+  long checked = 0;
+  for (size_t n = 2; n <= 40; ++n) {
+    std::vector<double> xs(n);
+    for (size_t i = 0; i < n; ++i) xs[i] = -1.0 + 0.37 * static_cast<double>(i) + 0.01 * static_cast<double>(i * i);
+    std::vector<double> probes;
+    for (size_t i = 0; i < n; ++i) {
+      probes.push_back(xs[i]);
+      probes.push_back(std::nextafter(xs[i], -INFINITY));
+      probes.push_back(std::nextafter(xs[i], INFINITY));
+      if (i + 1 < n) probes.push_back(0.5 * (xs[i] + xs[i + 1]));
+    }
+    for (double x : probes) {
+      if (!(x > xs.front() && x < xs.back())) continue;  // its domain: strictly inside the table
+      const size_t want = static_cast<size_t>(std::upper_bound(xs.begin(), xs.end(), x) - xs.begin());
+      ASSERT_EQ(pointAbove(xs.data(), n, x), want) << "n = " << n << ", x = " << x;
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 2000);
 }
 
 }  // namespace
