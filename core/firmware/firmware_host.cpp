@@ -1,5 +1,7 @@
 #include "core/firmware/firmware_host.hpp"
 
+#include "models/afe/byte_copy.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -81,12 +83,14 @@ struct FirmwareHost::Call {
   FirmwareHost* h;
   int task;
   const psfw_firmware* desc = nullptr;  // what the entry returned
-  char name[65] = {0};                   // its name, read inside the guard (a pointer into the library)
+  char name[65];                         // its name, read inside the guard (a pointer into the library);
+                                         // set by the entry call only (not cleared per call: a rep stos each)
   static void run(void* p) {
     Call& c = *static_cast<Call*>(p);
     FirmwareHost& h = *c.h;
     psfw_board* board = reinterpret_cast<psfw_board*>(&h);
     if (c.task == -2) {
+      c.name[0] = c.name[sizeof c.name - 1] = '\0';
       c.desc = h.linked_ ? h.linked_ : h.lib_->entry()();
       if (c.desc && c.desc->name) std::strncpy(c.name, c.desc->name, sizeof c.name - 1);
     } else if (c.task == -1) {
@@ -149,7 +153,9 @@ void FirmwareHost::breakContract(const char* fmt, ...) {
 // not return cleanly or broke the contract.
 bool FirmwareHost::call(const char* what, int task) {
   if (target_) return target_->call(what, task);
-  Call c{this, task};
+  Call c;  // default-initialised: its name is not cleared (aggregate init would zero it)
+  c.h = this;
+  c.task = task;
   breakCause_[0] = '\0';
   const double start_s = clock_s();
   GuardResult r;
@@ -479,10 +485,12 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
   }
   // The firmware's buffers are copied first: a bad pointer faults here, before the
   // chain's state is touched.
+  // (copyBytes / zeroBytes: library calls, not the inline rep movs / stos GCC makes of a
+  // length bounded by the buffers, slow to start for a frame of a few bytes)
   uint8_t txCopy[PSFW_BUS_MAX_FRAME], rxCopy[PSFW_BUS_MAX_FRAME];
-  if (txLen > 0) std::memcpy(txCopy, tx, txLen);
-  if (rxLen > 0) std::memset(rx, 0, rxLen);
-  std::memset(rxCopy, 0, rxLen);
+  if (txLen > 0) copyBytes(txCopy, tx, txLen);
+  if (rxLen > 0) zeroBytes(rx, rxLen);
+  zeroBytes(rxCopy, rxLen);
   MonitorBus& b = *board_.buses[bus];
   const double t_s = clock_s();
   BusTransfer r;
@@ -501,7 +509,7 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
     breakContract("host error: the chain returned more bytes than asked for");
     return PSFW_BUS_ERROR;
   }
-  if (r.received > 0) std::memcpy(rx, rxCopy, static_cast<size_t>(r.received));
+  if (r.received > 0) copyBytes(rx, rxCopy, static_cast<size_t>(r.received));
   clock_ns_ += toNs(r.duration_s);
   checkBudget();
   return r.received < 0 ? PSFW_BUS_TIMEOUT : r.received;
@@ -622,9 +630,10 @@ void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {
   if (len > 0 && bytes == nullptr) return breakContract("telemetry_send with a null buffer and a non-zero length");
   uint8_t kept[kTelemetryKeep];  // copied first: a bad pointer faults before host data changes
   const size_t n = std::min<size_t>(len, kTelemetryKeep);
-  if (n > 0) std::memcpy(kept, bytes, n);
+  if (n > 0) copyBytes(kept, bytes, n);
   ++telemetryFrames_;
-  lastTelemetry_.assign(kept, kept + n);
+  lastTelemetry_.resize(n);
+  if (n > 0) copyBytes(lastTelemetry_.data(), kept, n);
 }
 
 void FirmwareHost::firmwareEvent(const char* text) {

@@ -84,7 +84,10 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     const bool cutHere = f.broken_link_above >= 0 && cut >= 0 && cut < b.devices;
     for (size_t d = 0; d < tr.comm.size(); ++d) {
       const size_t gd = static_cast<size_t>(b.firstDevice) + d;
-      tr.comm[d] = gd < f.device.size() ? f.device[gd] : MonitorDeviceFault{};
+      static const MonitorDeviceFault kHealthy{};
+      // (a reference to either: a temporary of the ?: was built bytewise on the stack and
+      // read back whole, a store-forwarding stall each tick)
+      tr.comm[d] = gd < f.device.size() ? f.device[gd] : kHealthy;
       if (cutHere && static_cast<int>(d) > cut && f.broken_link_byte >= 0) tr.comm[d].stuck_byte = f.broken_link_byte;
     }
     tr.broken_link_above = cutHere && f.broken_link_byte < 0 ? cut : -1;

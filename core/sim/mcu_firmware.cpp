@@ -4,8 +4,11 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 
 #include <bms/bms_firmware.hpp>
+
+#include "models/afe/byte_copy.hpp"
 
 namespace packsim {
 
@@ -126,7 +129,10 @@ void McuFirmware::mergeProbes(bms::Outputs& out) {
     out = targetRam_->out;
     return;  // one board only in target mode (the loader refuses several)
   }
-  out = bms::coreFirmwareOutputs(hosts_.front()->ram());
+  // A kilobyte and more each tick: through the library's memcpy, not the inline rep movsq
+  // GCC makes of the struct assignment (models/afe/byte_copy.hpp).
+  static_assert(std::is_trivially_copyable_v<bms::Outputs>);
+  copyBytes(&out, &bms::coreFirmwareOutputs(hosts_.front()->ram()), sizeof(bms::Outputs));
   if (hosts_.size() == 1) return;
   bms::Telemetry& tm = out.telemetry;
   const bms::Telemetry host = tm;

@@ -1,5 +1,7 @@
 #include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76pl536a.hpp"
+#include "models/afe/byte_copy.hpp"
+#include "models/sensors/round_even.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -206,7 +208,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
   if (sel & BQ536_AC_GPAI) {
     const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
     const double lsb = BQ536_GPAI_CELL_LSBS * cfg_.cell_adc.lsb;
-    put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(std::nearbyint(module_V / lsb)), 0,
+    put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(roundHalfEven(module_V / lsb)), 0,
                                                cfg_.cell_adc.code_max)));
     ++channels;
   }
@@ -369,7 +371,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   const size_t replyLen = count + 1;
   corruptReply(target->comm, commRng_, reply, replyLen);
   const size_t got = std::min(rxLen, replyLen);
-  std::memcpy(rx, reply, got);  // (std::copy compiled to a rep movs: slow for a few bytes)
+  copyBytes(rx, reply, got);  // (std::copy and memcpy compile to a rep movs here: slow for a few bytes)
   r.received = static_cast<int>(got);
   return r;
 }

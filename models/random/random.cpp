@@ -4,11 +4,7 @@
 
 namespace packsim {
 
-double standardNormal(Rng& rng) {
-  if (rng.hasSpare_) {
-    rng.hasSpare_ = false;
-    return rng.spare_;
-  }
+double standardNormalPair(Rng& rng) {
   constexpr double kTwoPi = 6.283185307179586;
   const double u1 = (static_cast<double>(rng() >> 11) + 0.5) * 0x1.0p-53;
   const double u2 = static_cast<double>(rng() >> 11) * 0x1.0p-53;

@@ -35,15 +35,26 @@ class Rng {
 
  private:
   friend double standardNormal(Rng& rng);
+  friend double standardNormalPair(Rng& rng);
   std::mt19937_64 engine_;
   double spare_ = 0.0;
   bool hasSpare_ = false;
 };
 
+// A new Box-Muller pair: returns its first normal, keeps the second (standardNormal).
+double standardNormalPair(Rng& rng);
+
 // Zero-mean unit normal drawn with a fixed algorithm (Box-Muller on 53-bit uniforms,
 // both outputs of each pair used in turn), so the noise sequence for a seed is the same
-// with every standard library.
-double standardNormal(Rng& rng);
+// with every standard library. Inline: every other draw is the kept second normal, not
+// worth a call (several draws per tick and cell on the read-out path).
+inline double standardNormal(Rng& rng) {
+  if (rng.hasSpare_) {
+    rng.hasSpare_ = false;
+    return rng.spare_;
+  }
+  return standardNormalPair(rng);
+}
 
 // splitmix64: the seed of stream `stream` of `seed`.
 uint64_t deriveSeed(uint64_t seed, uint64_t stream);

@@ -1,0 +1,102 @@
+// The per-tick helpers that replace a library call on the read-out path must give what
+// the call gave, bit for bit: roundHalfEven against std::nearbyint (the default rounding
+// mode), copyBytes / zeroBytes against a byte loop, standardNormal (its kept second
+// normal served inline) against Box-Muller written out here on the same engine.
+#include <gtest/gtest.h>
+
+#include <cfenv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "models/afe/byte_copy.hpp"
+#include "models/random/random.hpp"
+#include "models/sensors/round_even.hpp"
+
+namespace packsim {
+namespace {
+
+uint64_t bitsOf(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// Same bits as std::nearbyint (NaN: a NaN).
+void expectSameAsNearbyint(double v) {
+  const double want = std::nearbyint(v), got = roundHalfEven(v);
+  if (std::isnan(want)) {
+    EXPECT_TRUE(std::isnan(got)) << v;
+    return;
+  }
+  EXPECT_EQ(bitsOf(got), bitsOf(want)) << std::hexfloat << v << " -> " << got << ", nearbyint " << want;
+}
+
+TEST(RoundHalfEven, MatchesNearbyintOnTiesEdgesAndSpecials) {
+  ASSERT_EQ(std::fegetround(), FE_TONEAREST);
+  const double inf = std::numeric_limits<double>::infinity();
+  const double edges[] = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994, -0.49999999999999994,
+                          0x1p52, -0x1p52, 0x1p52 - 0.5, -(0x1p52 - 0.5), 0x1p52 - 1.5, 0x1p51 + 0.5, 0x1p53, 0x1p53 + 2,
+                          1e300, -1e300, std::numeric_limits<double>::denorm_min(), -std::numeric_limits<double>::min(),
+                          std::numeric_limits<double>::max(), inf, -inf, std::numeric_limits<double>::quiet_NaN()};
+  for (double v : edges) expectSameAsNearbyint(v);
+  for (int n = -100000; n <= 100000; ++n) {  // every half-integer tie and its neighbours
+    const double tie = n + 0.5;
+    expectSameAsNearbyint(tie);
+    expectSameAsNearbyint(std::nextafter(tie, -inf));
+    expectSameAsNearbyint(std::nextafter(tie, inf));
+  }
+}
+
+TEST(RoundHalfEven, MatchesNearbyintOnRandomDoubles) {
+  std::mt19937_64 gen(32);
+  std::uniform_real_distribution<double> codes(-70000.0, 70000.0);  // an ADC's code range and beyond
+  for (int k = 0; k < 2000000; ++k) expectSameAsNearbyint(codes(gen));
+  for (int k = 0; k < 2000000; ++k) {  // any bit pattern: every exponent, sign, NaN payload
+    const uint64_t b = gen();
+    double v;
+    std::memcpy(&v, &b, sizeof v);
+    expectSameAsNearbyint(v);
+  }
+}
+
+TEST(ByteCopy, CopiesAndClearsExactlyTheBytesAskedFor) {
+  std::mt19937 gen(5);
+  for (size_t n = 0; n <= 1100; n += (n < 80 ? 1 : 37)) {
+    for (size_t off = 0; off < 3; ++off) {
+      std::vector<uint8_t> src(n + 8), dst(n + 8, 0xA5), want(n + 8, 0xA5);
+      for (uint8_t& b : src) b = static_cast<uint8_t>(gen());
+      for (size_t i = 0; i < n; ++i) want[off + i] = src[i];
+      copyBytes(dst.data() + off, src.data(), n);
+      EXPECT_EQ(dst, want) << "copy of " << n << " bytes at offset " << off;
+      for (size_t i = 0; i < n; ++i) want[off + i] = 0;
+      zeroBytes(dst.data() + off, n);
+      EXPECT_EQ(dst, want) << "clear of " << n << " bytes at offset " << off;
+    }
+  }
+}
+
+// The documented algorithm, independently: 53-bit uniforms u1 in (0, 1), u2 in [0, 1),
+// r = sqrt(-2 ln u1), the pair r·cos(2πu2), r·sin(2πu2), used in that order.
+TEST(StandardNormal, IsBoxMullerOnTheSeedsMersenneTwisterBitForBit) {
+  for (uint64_t seed : {uint64_t{1}, uint64_t{0x536A}, uint64_t{20261126}}) {
+    Rng rng(seed);
+    std::mt19937_64 ref(seed);
+    for (int k = 0; k < 500000; ++k) {
+      const double u1 = (static_cast<double>(ref() >> 11) + 0.5) * 0x1.0p-53;
+      const double u2 = static_cast<double>(ref() >> 11) * 0x1.0p-53;
+      const double r = std::sqrt(-2.0 * std::log(u1)), a = 6.283185307179586 * u2;
+      const double first = r * std::cos(a), second = r * std::sin(a);
+      const double got1 = standardNormal(rng), got2 = standardNormal(rng);
+      ASSERT_EQ(bitsOf(got1), bitsOf(first)) << "seed " << seed << " pair " << k;
+      ASSERT_EQ(bitsOf(got2), bitsOf(second)) << "seed " << seed << " pair " << k;
+      if (k % 1000 == 0) ASSERT_EQ(rng(), ref()) << "a raw draw between pairs";  // the engines stay in step
+    }
+  }
+}
+
+}  // namespace
+}  // namespace packsim
