@@ -121,3 +121,26 @@ def test_debian_s_own_python3_gets_the_project_venv_and_a_chosen_python_is_used_
     env.pop("PYTHON")
     run = subprocess.run(["bash", str(SCRIPT), "--list", "--run"], capture_output=True, text=True, timeout=30, env=env)
     assert ".venv" not in run.stdout
+
+
+def test_without_root_and_without_sudo_it_says_so_and_fails_before_apt(tmp_path):
+    """A minimal Debian 12 has no sudo: a user who is not root gets one clear line naming
+    what is missing and how to run it, exit 1, and apt-get is never called."""
+    import os
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    calls = tmp_path / "calls"
+    for name, body in {"id": "echo 1000",                      # not root
+                       "dpkg-query": "exit 1",                 # nothing installed
+                       "apt-get": f"echo apt-get >> {calls}",  # must not be reached
+                       }.items():
+        (fake / name).write_text(f"#!/bin/sh\n{body}\n")
+        (fake / name).chmod(0o755)
+    for tool in ("grep",):  # what the script runs on the way; no sudo on this PATH
+        (fake / tool).symlink_to(shutil.which(tool))
+    done = subprocess.run([shutil.which("bash"), str(SCRIPT), "--run"], capture_output=True, text=True, timeout=30,
+                          env={**os.environ, "PATH": str(fake)})
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "needs root, and there is no sudo here" in done.stderr
+    assert "libsundials-dev" in done.stderr and "su -c 'bash scripts/install-deps.sh --run'" in done.stderr
+    assert not calls.exists()
