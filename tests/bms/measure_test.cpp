@@ -56,7 +56,7 @@ TEST(Measure, TemperatureChannelsMapToTheirDeviceAndInput) {
       cfg.afe.cellsPerDevice = 2;
       cfg.afe.thermistorsPerDevice = perDevice;
       cfg.scaling = scaling();
-      bms::AcquisitionState a;
+      bms::AcquisitionState a{};  // every reading zeroed: the test sets what it reads
       bms::acquisitionReset(a);
       for (uint8_t d = 0; d < devices; ++d) {
         a.seen[d] = d != 3;  // device 3 has not answered yet
