@@ -6,15 +6,14 @@ namespace packsim {
 
 int cvodeOutputCombination(int nvec, realtype* c, N_Vector* X, N_Vector z) {
   if (nvec < 1) return -1;
-  const sunindextype n = N_VGetLength_Serial(z);
-  double* zd = N_VGetArrayPointer_Serial(z);
-  const double* x0 = N_VGetArrayPointer_Serial(X[0]);
-  const double c0 = c[0];
-  for (sunindextype j = 0; j < n; ++j) zd[j] = c0 * x0[j];
-  for (int i = 1; i < nvec; ++i) {
-    const double* xd = N_VGetArrayPointer_Serial(X[i]);
-    const double ci = c[i];
-    for (sunindextype j = 0; j < n; ++j) zd[j] += ci * xd[j];
+  // Element by element, every input read before the output is written: z may be any of
+  // the X[i] (the library's own general case is safe only for X[0]).
+  const sunindextype n = NV_LENGTH_S(z);
+  double* zd = NV_DATA_S(z);
+  for (sunindextype j = 0; j < n; ++j) {
+    double acc = c[0] * NV_DATA_S(X[0])[j];
+    for (int i = 1; i < nvec; ++i) acc += c[i] * NV_DATA_S(X[i])[j];
+    zd[j] = acc;
   }
   return 0;
 }

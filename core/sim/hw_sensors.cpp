@@ -50,6 +50,9 @@ bool HwSensors::faultLine() const {
   return false;
 }
 
+// A device no fault was scripted for.
+static const MonitorDeviceFault kHealthy{};
+
 void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& unloaded, const HardwareFaults& f,
                        double bus_V, bool relayAux, Rng& rng, bms::Inputs& in) {
   const HardwareConfig& hw = s_.hardware;
@@ -84,7 +87,6 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     const bool cutHere = f.broken_link_above >= 0 && cut >= 0 && cut < b.devices;
     for (size_t d = 0; d < tr.comm.size(); ++d) {
       const size_t gd = static_cast<size_t>(b.firstDevice) + d;
-      static const MonitorDeviceFault kHealthy{};
       // (a reference to either: a temporary of the ?: was built bytewise on the stack and
       // read back whole, a store-forwarding stall each tick)
       tr.comm[d] = gd < f.device.size() ? f.device[gd] : kHealthy;

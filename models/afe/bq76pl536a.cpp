@@ -299,9 +299,10 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
     default:
       // Protected configuration: only right after the shadow key. Others are read-only.
-      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked)
-        dv.reg[reg] = value, dv.compared = false;  // a threshold may change
-      else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
+      if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) {
+        dv.reg[reg] = value;
+        dv.compared = false;  // a threshold may change
+      } else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
         misuse_.note(t, device, registerName(reg), "protected register written without the SHDW_CTRL key just before");
       else
         misuse_.note(t, device, registerName(reg), "read-only or reserved register written");
