@@ -16,14 +16,16 @@ bool HwBalancing::tick(double t, const HwSensors& sensors, const bms::Outputs& o
   if (s_.hardware.balancing.present) {
     if (pin.balancing.size() != static_cast<size_t>(series)) pin.balancing.assign(static_cast<size_t>(series), 0);
     if (pin.balance_duty.size() != static_cast<size_t>(series)) pin.balance_duty.assign(static_cast<size_t>(series), 1.0);
-    for (int g = 0; g < series; ++g) {
-      const uint8_t on = sensors.balancing(g) ? 1 : 0;
-      // The share of the coming tick the switch conducts: the monitor IC (or the host)
-      // holds it open for conversions (models/afe, balancingDuty).
-      const double duty = on ? sensors.balancingDuty(g, t, t + s_.bms.tick_s) : 1.0;
-      changed = changed || pin.balancing[static_cast<size_t>(g)] != on || pin.balance_duty[static_cast<size_t>(g)] != duty;
-      pin.balancing[static_cast<size_t>(g)] = on;
-      pin.balance_duty[static_cast<size_t>(g)] = duty;
+    // Each switch as the monitor ICs hold it, and the share of the coming tick it
+    // conducts: the monitor IC (or the host) holds it open for conversions (models/afe,
+    // balancingDuty).
+    on_.resize(static_cast<size_t>(series));
+    duty_.resize(static_cast<size_t>(series));
+    sensors.balancingSwitches(t, t + s_.bms.tick_s, on_.data(), duty_.data());
+    for (size_t g = 0; g < static_cast<size_t>(series); ++g) {
+      changed = changed || pin.balancing[g] != on_[g] || pin.balance_duty[g] != duty_[g];
+      pin.balancing[g] = on_[g];
+      pin.balance_duty[g] = duty_[g];
     }
   }
   const ActiveBalancerConfig& a = s_.hardware.active_balancer;

@@ -29,6 +29,8 @@ class HwBalancing {
  private:
   const Scenario& s_;
   std::vector<double> moduleV_;  // active balancer: module voltages received from the BMS
+  std::vector<uint8_t> on_;      // scratch: each group's switch this tick
+  std::vector<double> duty_;     // scratch: the share of the tick it conducts
   ActiveBalancerCommand cmd_;
 };
 

@@ -44,6 +44,20 @@ double HwSensors::balancingDuty(int g, double t0, double t1) const {
   return chains_[static_cast<size_t>(b.index)]->balancingDuty(g - b.firstCell, t0, t1);
 }
 
+void HwSensors::balancingSwitches(double t0, double t1, uint8_t* on, double* duty) const {
+  const int series = s_.pack.series;
+  int covered = 0;  // the boards hold the series groups in order, each after the one before
+  for (const MonitorBoard& b : boards_) {
+    if (b.firstCell != covered || covered + b.cells > series) break;
+    chains_[static_cast<size_t>(b.index)]->balancingSwitches(t0, t1, on + b.firstCell, duty + b.firstCell);
+    covered += b.cells;
+  }
+  for (int g = covered; g < series; ++g) {  // any group no board holds in order: as asked one by one
+    on[g] = balancing(g) ? 1 : 0;
+    duty[g] = on[g] ? balancingDuty(g, t0, t1) : 1.0;
+  }
+}
+
 bool HwSensors::faultLine() const {
   for (const auto& c : chains_)
     if (c->faultLine()) return true;

@@ -45,6 +45,9 @@ class HwSensors {
   bool balancing(int g) const;
   // The share of [t0, t1) that switch, held on, conducts.
   double balancingDuty(int g, double t0, double t1) const;
+  // Every series group's switch (on[g]) and share of [t0, t1) (duty[g], 1 when off):
+  // balancing(g) and balancingDuty(g, t0, t1) for all groups at once, board by board.
+  void balancingSwitches(double t0, double t1, uint8_t* on, double* duty) const;
   // Any board's FAULT line (the lines are wired together).
   bool faultLine() const;
   // The monitor part's own FET drivers (a part with FETs: one board; others: always on).

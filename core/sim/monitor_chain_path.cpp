@@ -69,6 +69,23 @@ bool MonitorChainPath::balancing(int cell) const {
   return d >= 0 && bus_.chain->balancing(d, cell - firstCell_[static_cast<size_t>(d)]);
 }
 
+void MonitorChainPath::balancingSwitches(double t0, double t1, uint8_t* on, double* duty) const {
+  const MonitorChain& c = *bus_.chain;
+  int cell = 0;
+  for (int d = 0; d < c.deviceCount(); ++d) {
+    const uint32_t mask = c.balancingMask(d);
+    for (int k = 0; k < c.cellsOf(d) && cell < cells_; ++k, ++cell) {
+      const bool sw = (mask >> k) & 1u;
+      on[cell] = sw ? 1 : 0;
+      duty[cell] = sw ? c.balancingDuty(d, k, t0, t1) : 1.0;
+    }
+  }
+  for (; cell < cells_; ++cell) {  // cells beyond the devices' inputs (none in a valid stack): as asked one by one
+    on[cell] = balancing(cell) ? 1 : 0;
+    duty[cell] = on[cell] ? balancingDuty(cell, t0, t1) : 1.0;
+  }
+}
+
 double MonitorChainPath::balancingDuty(int cell, double t0, double t1) const {
   const auto it = std::upper_bound(firstCell_.begin(), firstCell_.end(), cell);
   const int d = static_cast<int>(it - firstCell_.begin()) - 1;

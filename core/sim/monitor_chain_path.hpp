@@ -26,6 +26,10 @@ class MonitorChainPath {
   bool balancing(int cell) const;  // series position
   // The share of [t0, t1) its switch, held on, conducts (the part's pauses for conversions).
   double balancingDuty(int cell, double t0, double t1) const;
+  // Every cell's switch (on[cell], 0/1) and its share of [t0, t1) (duty[cell], 1 when
+  // off): balancing(cell) and balancingDuty(cell, t0, t1) of each cell, read device by
+  // device (one switch register read per device, no search per cell).
+  void balancingSwitches(double t0, double t1, uint8_t* on, double* duty) const;
   // Device d's thermistor bias current (A) and the cell it draws from (its top one).
   double thermistorBias_A(int d) const;
   int topCell(int d) const { return firstCell_[static_cast<size_t>(d)] + bus_.chain->cellsOf(d) - 1; }

@@ -1,5 +1,6 @@
 #include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76pl455a.hpp"
+#include "models/afe/byte_copy.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -207,11 +208,15 @@ void Bq76pl455aChain::compare(Device& dv, int d) {
   dv.under = under;
   dv.hotMask = hot;
   dv.compared = true;
+  dv.quiet = false;  // one pass with these conditions (it puts running timers at rest)
 }
 
 void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
   if ((dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) == 0) return;
   if (!dv.compared) compare(dv, d);
+  // With no condition present a pass only puts the timers at rest; after one it does
+  // nothing (DebounceTimer::held with a false condition), so it is skipped.
+  if (dv.quiet) return;
   const SecondaryProtection& p = cfg_.secondary;
   if (dv.cov.held(t, dv.over != 0, p.cov_delay_s))
     set16(dv.reg, PL455_REG_FAULT_2OV, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_2OV) | dv.over));
@@ -221,6 +226,7 @@ void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
   for (int k = 0; k < nt; ++k)
     if (dv.hot[k].held(t, (dv.hotMask >> k) & 1u, p.ot_delay_s))
       set16(dv.reg, PL455_REG_FAULT_AUX, static_cast<uint16_t>(get16(dv.reg, PL455_REG_FAULT_AUX) | PL455_FAULT_AUX_UV(k)));
+  dv.quiet = dv.over == 0 && dv.under == 0 && dv.hotMask == 0;
 }
 
 // The communication timeout: no valid frame heard for the CTO fault time.
@@ -267,6 +273,10 @@ bool Bq76pl455aChain::balancing(int d, int cell) const {
   return (get16(dev_[static_cast<size_t>(d)].reg, PL455_REG_CBENBL) >> cell) & 1u;
 }
 
+uint32_t Bq76pl455aChain::balancingMask(int d) const {
+  return get16(dev_[static_cast<size_t>(d)].reg, PL455_REG_CBENBL) & ((1u << cellsOf(d)) - 1u);
+}
+
 // Write 1s to latched flags: a flag clears only when its condition is gone.
 void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
   auto& r = dv.reg;
@@ -303,7 +313,7 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   const uint32_t ch = get32(dv.reg, PL455_REG_CHANNELS);
   const int samples = 1 << std::min<unsigned>(dv.reg[PL455_REG_OVERSMPL] & PL455_OVERSMPL_LOG2_MASK, PL455_OVERSMPL_MAX_LOG2);
   int selected = 0;
-  for (int b = 0; b < kResultSlots; ++b) selected += (ch >> b) & 1u;
+  for (uint32_t m = ch; m != 0; m &= m - 1) ++selected;  // one step per set bit
   // cell_adc.noise_rms is the noise at the configured oversampling; the register's
   // setting averages more or fewer samples.
   AdcChannel base = cfg_.cell_adc;
@@ -408,10 +418,11 @@ void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double&
     if (!fresh) settle(dv, t);
     const auto& values = fresh ? dv.pending : dv.held;
     const uint32_t ch = fresh ? dv.pendingChannels : dv.heldChannels;
-    for (int b = kResultSlots - 1; b >= 0; --b) {
-      if (((ch >> b) & 1u) == 0) continue;
-      out.push(static_cast<uint8_t>(values[static_cast<size_t>(b)] >> 8));
-      out.push(static_cast<uint8_t>(values[static_cast<size_t>(b)] & 0xFF));
+    for (uint32_t m = ch; m != 0;) {  // the selected slots, highest first
+      const unsigned b = 31u - static_cast<unsigned>(__builtin_clz(m));
+      m &= ~(1u << b);
+      out.push(static_cast<uint8_t>(values[b] >> 8));
+      out.push(static_cast<uint8_t>(values[b] & 0xFF));
     }
   } else {
     settle(dv, t);
@@ -494,8 +505,9 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
       reply(dev_[static_cast<size_t>(d)], d, f, arrived_s, ready_s, out);
       if (out.size == 0) continue;
       now = std::max(now, ready_s) + static_cast<double>(out.size) * byte_s;
-      for (size_t i = 0; i < out.size; ++i)
-        if (received < rxLen) rx[received++] = out.bytes[i];
+      const size_t take = std::min(out.size, rxLen - received);  // what still fits (received <= rxLen)
+      if (take > 0) copyBytes(rx + received, out.bytes.data(), take);
+      received += take;
     }
   }
   BusTransfer r;

@@ -58,6 +58,7 @@ class Bq76pl455aChain final : public MonitorChain {
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  uint32_t balancingMask(int d) const override;
   double balancingDuty(int d, int cell, double t0, double t1) const override {
     return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
   }
@@ -85,6 +86,9 @@ class Bq76pl455aChain final : public MonitorChain {
     // pins and thresholds as they are; compared = false once either may have changed.
     uint16_t over = 0, under = 0, hotMask = 0;
     bool compared = false;
+    // No condition present and every debounce timer at rest after the last pass: a pass
+    // with the same conditions changes nothing (false again once they are compared anew).
+    bool quiet = false;
     double balanceUntil_s = 0.0;
     BalancePauses pauses;  // the host's, around its conversions
     double heard_s = 0.0;  // the last valid frame it heard (the link supervision's clock)

@@ -117,30 +117,30 @@ void Bq76pl536aChain::reset(Device& dv) {
   dv.converting = false;
   dv.resultsValid = false;
   dv.balanceUntil_s = 0.0;
-  refreshStatus(dv);
 }
 
-void Bq76pl536aChain::refreshStatus(Device& dv) {
+uint8_t Bq76pl536aChain::status(const Device& dv) const {
   uint8_t s = 0;
   if (dv.resultsValid && !dv.converting) s |= BQ536_DS_DRDY;
   if (dv.reg[BQ536_CB_CTRL] != 0) s |= BQ536_DS_CBT;
   if (dv.reg[BQ536_ALERT_STATUS] != 0) s |= BQ536_DS_ALERT;
   if (dv.reg[BQ536_FAULT_STATUS] != 0) s |= BQ536_DS_FAULT;
   if (assigned(dv)) s |= BQ536_DS_ADDR_RQST;
-  dv.reg[BQ536_DEVICE_STATUS] = s;
+  return s;
 }
 
 void Bq76pl536aChain::settle(Device& dv, double t) {
   // A conversion's results land when its last channel is done.
   if (dv.converting && t >= dv.readyAt_s - 1e-12) {
-    for (size_t i = 0; i < dv.pending.size(); ++i)
-      if (dv.pendingMask[i]) dv.reg[BQ536_RESULTS_FIRST + i] = dv.pending[i];
+    for (uint32_t m = dv.pendingMask; m != 0; m &= m - 1) {  // the converted registers only
+      const unsigned i = static_cast<unsigned>(__builtin_ctz(m));
+      dv.reg[BQ536_RESULTS_FIRST + i] = dv.pending[i];
+    }
     dv.converting = false;
     dv.resultsValid = true;
   }
   // The balancing timer runs on the device: it switches the cells off itself.
   if (dv.reg[BQ536_CB_CTRL] != 0 && t >= dv.balanceUntil_s - 1e-9) dv.reg[BQ536_CB_CTRL] = 0;
-  refreshStatus(dv);
 }
 
 void Bq76pl536aChain::compare(Device& dv) {
@@ -165,10 +165,14 @@ void Bq76pl536aChain::compare(Device& dv) {
   dv.under = under;
   dv.hot = hot;
   dv.compared = true;
+  dv.quiet = false;  // one pass with these conditions (it puts running timers at rest)
 }
 
 void Bq76pl536aChain::runComparators(Device& dv, double t) {
   if (!dv.compared) compare(dv);
+  // With no condition present a pass only puts the timers at rest; after one it does
+  // nothing (DebounceTimer::held with a false condition), so it is skipped.
+  if (dv.quiet) return;
   if (dv.cov.held(t, dv.over != 0, bq536_delay_us(dv.reg[BQ536_CONFIG_COVT]) * 1e-6)) {
     dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_COV;
     dv.reg[BQ536_COV_FAULT] |= dv.over;
@@ -180,24 +184,23 @@ void Bq76pl536aChain::runComparators(Device& dv, double t) {
   const double otDelay_s = dv.reg[BQ536_CONFIG_OTT] * BQ536_OTT_STEP_MS * 1e-3;
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k)
     if (dv.ot[k].held(t, (dv.hot >> k) & 1u, otDelay_s)) dv.reg[BQ536_ALERT_STATUS] |= static_cast<uint8_t>(BQ536_AS_OT1 << k);
+  dv.quiet = dv.over == 0 && dv.under == 0 && dv.hot == 0;
 }
 
 void Bq76pl536aChain::advance(double t) {
   for (Device& dv : dev_) {
     settle(dv, t);
     runComparators(dv, t);
-    refreshStatus(dv);
   }
 }
 
 void Bq76pl536aChain::startConversion(Device& dv, double t) {
   const uint8_t sel = dv.reg[BQ536_ADC_CONTROL];
   const int nCells = std::min<int>((sel & BQ536_AC_CELL_SEL_MASK) + 1, BQ536_CELLS_MAX);
-  dv.pending.fill(0);
-  std::fill(std::begin(dv.pendingMask), std::end(dv.pendingMask), uint8_t{0});
+  dv.pendingMask = 0;  // (the bytes outside the mask are never read)
   auto put = [&](uint8_t reg, uint16_t code) {
     putBe16(&dv.pending[reg - BQ536_RESULTS_FIRST], code);
-    dv.pendingMask[reg - BQ536_RESULTS_FIRST] = dv.pendingMask[reg + 1 - BQ536_RESULTS_FIRST] = 1;
+    dv.pendingMask |= 3u << (reg - BQ536_RESULTS_FIRST);
   };
   int channels = 0;
   const DeviceAnalog& a = dv.analog;
@@ -228,7 +231,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
     ++channels;
     uint16_t code = 0;  // no divider bias (or no thermistor): the input sits at 0
     if (k < a.therm_C.size() && (dv.reg[BQ536_IO_CONTROL] & tsBias[k]))
-      code = code16(thermistorCode(cfg_.thermistor, a.therm_fault[k], a.therm_C[k], noise_));
+      code = code16(thermistorCode(cfg_.thermistor, a.therm_fault[k], a.therm_C[k], dv.thermCode[k], noise_));
     put(tsReg[k], code);
   }
   dv.converting = true;
@@ -343,7 +346,6 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
       if (!crcOk) {
         misuse_.note(t, static_cast<int>(&dv - dev_.data()), registerName(tx[1]), "write with a bad CRC (rejected, FAULT_STATUS CRC set)");
         dv.reg[BQ536_FAULT_STATUS] |= BQ536_FS_CRC;  // rejected, and flagged
-        refreshStatus(dv);
         continue;
       }
       settle(dv, tEnd);
@@ -360,13 +362,14 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
     if (addressOf(dv) == addr) target = &dv;
   }
   if (target == nullptr || target->comm.silent) return r;
-  const size_t count = tx[2];
+  const size_t count = tx[2], first = tx[1];
   uint8_t frame[3 + 256];
   std::copy(tx, tx + 3, frame);
-  for (size_t i = 0; i < count; ++i) {
-    const size_t reg = static_cast<size_t>(tx[1]) + i;
-    frame[3 + i] = reg < BQ536_REGISTER_COUNT ? target->reg[reg] : 0;
-  }
+  // The registers from `first` on; past the register file they read 0.
+  const size_t inFile = first < BQ536_REGISTER_COUNT ? std::min(count, BQ536_REGISTER_COUNT - first) : 0;
+  if (inFile > 0) copyBytes(frame + 3, target->reg.data() + first, inFile);
+  if (inFile < count) zeroBytes(frame + 3 + inFile, count - inFile);
+  if (first == BQ536_DEVICE_STATUS && count > 0) frame[3] = status(*target);
   frame[3 + count] = bms::crcCrc8(frame, 3 + count);
   uint8_t* reply = frame + 3;
   const size_t replyLen = count + 1;
@@ -399,6 +402,11 @@ bool Bq76pl536aChain::thermistorBias(int d) const {
 
 bool Bq76pl536aChain::balancing(int d, int cell) const {
   return (dev_[static_cast<size_t>(d)].reg[BQ536_CB_CTRL] & (1u << cell)) != 0;
+}
+
+uint32_t Bq76pl536aChain::balancingMask(int d) const {
+  const Device& dv = dev_[static_cast<size_t>(d)];
+  return dv.reg[BQ536_CB_CTRL] & ((1u << dv.cells) - 1u);
 }
 
 std::unique_ptr<MonitorChain> makeBq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed) {

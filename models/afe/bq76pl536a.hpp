@@ -57,6 +57,7 @@ class Bq76pl536aChain final : public MonitorChain {
 
   bool faultLine() const override;
   bool balancing(int d, int cell) const override;
+  uint32_t balancingMask(int d) const override;
   double balancingDuty(int d, int cell, double t0, double t1) const override {
     return dev_[static_cast<size_t>(d)].pauses.conductingShare(cell, t0, t1);
   }
@@ -67,7 +68,10 @@ class Bq76pl536aChain final : public MonitorChain {
   double channelGain(int cell) const { return errors_.gain(cell); }
   double channelOffset_V(int cell) const { return errors_.offset_V(cell); }
   // A register as the device holds it (tests; the firmware reads through transfer()).
-  uint8_t peek(int d, uint8_t reg) const { return dev_[static_cast<size_t>(d)].reg[reg]; }
+  uint8_t peek(int d, uint8_t reg) const {
+    const Device& dv = dev_[static_cast<size_t>(d)];
+    return reg == BQ536_DEVICE_STATUS ? status(dv) : dv.reg[reg];
+  }
 
  private:
   struct Device {
@@ -80,16 +84,23 @@ class Bq76pl536aChain final : public MonitorChain {
     bool resultsValid = false;
     double readyAt_s = 0.0;
     std::array<uint8_t, BQ536_RESULTS_LEN> pending{};  // registers 0x00.. of the conversion in flight
-    uint8_t pendingMask[BQ536_RESULTS_LEN] = {};      // which of them it converts
+    uint32_t pendingMask = 0;                           // which of them it converts (bit i: register i)
     double balanceUntil_s = 0.0;
     BalancePauses pauses;  // the host's, around its conversions
     DeviceAnalog analog;
     MonitorDeviceFault comm;
+    // Each input's noiseless code for its last temperature (an exp): an input whose
+    // temperature did not move since the last conversion (an unused one at 25 °C, a
+    // slow node) needs none.
+    ThermistorCodeCache thermCode[BQ536_TEMPS_MAX];
     // What the comparators see (cells over / under, thermistors hot) for the present
     // inputs and thresholds; the chain advances many times per tick (at every frame),
     // the inputs change only when filled or a threshold is written.
     bool compared = false;
     uint8_t over = 0, under = 0, hot = 0;
+    // No condition present and every debounce timer at rest after the last pass: a pass
+    // with the same conditions changes nothing (false again once they are compared anew).
+    bool quiet = false;
   };
 
   uint8_t addressOf(const Device& dv) const { return dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_MASK; }
@@ -101,7 +112,9 @@ class Bq76pl536aChain final : public MonitorChain {
   void settle(Device& dv, double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
   void runComparators(Device& dv, double t);
-  void refreshStatus(Device& dv);
+  // DEVICE_STATUS, composed from the device's state when it is read (the register file's
+  // byte 0x00 is not kept up to date: nothing else reads it).
+  uint8_t status(const Device& dv) const;
   void write(Device& dv, double t, uint8_t reg, uint8_t value);
   void clearLatches(Device& dv, uint8_t reg, uint8_t falling);
   void startConversion(Device& dv, double t);

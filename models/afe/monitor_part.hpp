@@ -86,6 +86,15 @@ class MonitorChain {
   // Pins and switches the rest of the hardware sees.
   virtual bool faultLine() const = 0;
   virtual bool balancing(int d, int cell) const = 0;  // cell index within device d
+  // Device d's switches at once: bit c is balancing(d, c), for each of its cells (none
+  // above). The hardware asks every tick for every cell; a part answers from its switch
+  // register in one read instead of one call per cell.
+  virtual uint32_t balancingMask(int d) const {
+    uint32_t m = 0;
+    for (int c = 0; c < cellsOf(d); ++c)
+      if (balancing(d, c)) m |= 1u << c;
+    return m;
+  }
   // The share of [t0, t1) the balancing switch of device d's `cell`, held on, conducts:
   // below 1 where the part (or the host, DeviceAnalog::host_opens_balancing) opens it
   // for conversions. The plant scales the branch's current by it.

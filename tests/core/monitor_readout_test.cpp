@@ -310,6 +310,40 @@ TEST(Monitor, BalancingStopsWhenTheDevicesTimerRunsOutUnlessReArmed) {
   EXPECT_FALSE(rig.path.balancing(1));
 }
 
+// The hardware reads every switch each tick device by device (balancingSwitches); it
+// gives what asking cell by cell does (balancing, balancingDuty), on every part, with
+// switches on across devices and the host opening them around its conversions.
+TEST(Monitor, SwitchesReadByDeviceAreTheSwitchesAskedCellByCell) {
+  for (const char* model : {"bq76pl536a", "bq76pl455a", "bq76952", "ltc6811", "ltc6813"}) {
+    Rig rig(model, 12);
+    rig.truth.host_opens_balancing = true;
+    ASSERT_TRUE(rig.init()) << model;
+    uint32_t mask[bms::kBalanceWords] = {0b101100100110};
+    bms::monitorWriteBalance(rig.cfg, rig.drv, rig.board.board(), rig.board.api(), mask, 60);
+    int on = 0, paused = 0;
+    for (int k = 0; k < 4; ++k) {
+      rig.wait(0.01);
+      const double t0 = rig.board.t_s;
+      rig.readAll();
+      const int cells = static_cast<int>(rig.truth.cell_V.size());
+      std::vector<uint8_t> sw(static_cast<size_t>(cells), 9);
+      std::vector<double> duty(static_cast<size_t>(cells), -1.0);
+      rig.path.balancingSwitches(t0, t0 + 0.01, sw.data(), duty.data());
+      for (int c = 0; c < cells; ++c) {
+        const size_t i = static_cast<size_t>(c);
+        EXPECT_EQ(sw[i], rig.path.balancing(c) ? 1 : 0) << model << " cell " << c;
+        const double expected = rig.path.balancing(c) ? rig.path.balancingDuty(c, t0, t0 + 0.01) : 1.0;
+        EXPECT_EQ(duty[i], expected) << model << " cell " << c;
+        on += sw[i];
+        paused += duty[i] < 1.0;
+      }
+    }
+    EXPECT_GT(on, 0) << model << ": no switch on";
+    const std::string m(model);
+    if (m == "bq76pl536a" || m == "bq76pl455a") EXPECT_GT(paused, 0) << model << ": no conversion pause";
+  }
+}
+
 // A BQ76PL536A read-out on 1 Mbit/s SPI: the broadcast convert (4 bytes), the
 // conversion wait (6 cells + GPAI + 2 thermistors at 6 µs), then per device the results
 // (3-byte request + 19 registers + CRC) and the flags (3 + 4 + 1): 8 bits a byte.

@@ -441,11 +441,97 @@ TEST(Bq76pl455a, BalancingStopsOnTheDeviceWhenItsTimeRunsOut) {
   EXPECT_TRUE(r.chain.balancing(0, 0));
   EXPECT_TRUE(r.chain.balancing(0, 15));
   EXPECT_FALSE(r.chain.balancing(0, 1));
+  EXPECT_EQ(r.chain.balancingMask(0), 0x8005u);  // the same switches at once
   r.wait(59.9);
   EXPECT_TRUE(r.chain.balancing(0, 2));
   r.wait(0.2);
   EXPECT_FALSE(r.chain.balancing(0, 2));
+  EXPECT_EQ(r.chain.balancingMask(0), 0u);
   EXPECT_EQ(r.read16(0, PL455_REG_CBENBL), 0);
+}
+
+// The switch mask is each cell's switch, on a device with fewer cells than CBENBL bits
+// (a write above its cells does not switch anything).
+TEST(Bq76pl455a, TheSwitchMaskIsEachCellsSwitch) {
+  Rig r(2, 10);
+  r.autoAddress();
+  r.write(0, PL455_REG_CBCONFIG, {2u << PL455_CBCONFIG_TIME_SHIFT});
+  r.write(1, PL455_REG_CBCONFIG, {2u << PL455_CBCONFIG_TIME_SHIFT});
+  r.write(0, PL455_REG_CBENBL, {0xFF, 0x21});  // cells 1 and 6, and bits above its 10 cells
+  r.write(1, PL455_REG_CBENBL, {0x02, 0x00});  // cell 10
+  for (int d = 0; d < 2; ++d) {
+    uint32_t perCell = 0;
+    for (int c = 0; c < r.chain.cellsOf(d); ++c) perCell |= r.chain.balancing(d, c) ? 1u << c : 0u;
+    EXPECT_EQ(r.chain.balancingMask(d), perCell) << d;
+  }
+  EXPECT_EQ(r.chain.balancingMask(0), 0x321u);
+  EXPECT_EQ(r.chain.balancingMask(1), 0x200u);
+}
+
+// A sample reply carries the selected slots, the highest first, whatever the selection;
+// an MCU that takes fewer bytes than the chain sends gets the first of them, across the
+// replies of several devices (the top one's first).
+TEST(Bq76pl455a, SparseSelectionsAndShortReceiveBuffersGetTheBytesInChainOrder) {
+  auto sample = [](size_t rxLen) {
+    Rig r(2, 16);
+    r.autoAddress();
+    r.chain.analog(0).therm_C = {30.0, 40.0};
+    r.chain.analog(1).therm_C = {35.0, 45.0};
+    // cells 1, 3 and 16, the module, AUX0 and AUX1, the die
+    const uint32_t ch = PL455_CH_CELL(1) | PL455_CH_CELL(3) | PL455_CH_CELL(16) | PL455_CH_MODULE | PL455_CH_AUX(0) |
+                        PL455_CH_AUX(1) | PL455_CH_DIE_TEMP;
+    r.writeAll(PL455_REG_CHANNELS, {static_cast<uint8_t>(ch >> 24), static_cast<uint8_t>(ch >> 16),
+                                    static_cast<uint8_t>(ch >> 8), static_cast<uint8_t>(ch)});
+    return r.send(frame(PL455_REQ_BROADCAST_R, -1, PL455_REG_CMD, {PL455_CMD_SAMPLE}), rxLen);
+  };
+  const std::vector<uint8_t> all = sample(2 * 17);
+  ASSERT_EQ(all.size(), 2u * 17u);  // per device: header, 7 channels x 2, CRC
+  for (int dev = 0; dev < 2; ++dev) {
+    const std::vector<uint8_t> one(all.begin() + 17 * dev, all.begin() + 17 * (dev + 1));
+    EXPECT_TRUE(replyValid(one)) << dev;
+    const int d = 1 - dev;  // the top device answers first
+    auto code = [&](int i) { return (one[1 + 2 * i] << 8) | one[2 + 2 * i]; };
+    const double lsb = 5.0 / 65535.0;
+    EXPECT_EQ(code(0), std::lround((3.5003 + 0.01 * 15 + 0.2 * d) / lsb));  // cell 16 (slot 31)
+    EXPECT_EQ(code(1), std::lround((3.5003 + 0.01 * 2 + 0.2 * d) / lsb));   // cell 3
+    EXPECT_EQ(code(2), std::lround((3.5003 + 0.2 * d) / lsb));              // cell 1 (slot 16)
+    Rng unused(0);
+    EXPECT_EQ(code(3), Thermistor{}.code(d == 0 ? 40.0 : 45.0, unused));    // AUX1 (slot 9)
+    EXPECT_EQ(code(4), Thermistor{}.code(d == 0 ? 30.0 : 35.0, unused));    // AUX0 (slot 8)
+    EXPECT_EQ(code(5), 250);                                                // die 25.0 °C (slot 7)
+    double module_V = 0.0;
+    for (int c = 0; c < 16; ++c) module_V += 3.5003 + 0.01 * c + 0.2 * d;
+    EXPECT_NEAR(code(6), module_V / (100.0 / 65535.0), 0.5);                // the module (slot 6)
+  }
+  for (size_t n : {size_t{1}, size_t{7}, size_t{17}, size_t{18}, size_t{33}}) {
+    const std::vector<uint8_t> part = sample(n);
+    EXPECT_EQ(part, std::vector<uint8_t>(all.begin(), all.begin() + static_cast<long>(n))) << n;
+  }
+}
+
+// The comparators skip their pass while nothing is over, under or hot; a condition that
+// appears after any stretch of that still latches exactly one delay after it appeared,
+// and one that goes and comes back starts its delay again.
+TEST(Bq76pl455a, AConditionAfterALongQuietStretchLatchesOneDelayAfterItAppears) {
+  Rig r(1, 16);
+  r.autoAddress();
+  for (int k = 0; k < 1000; ++k) r.wait(0.01);  // 10 s with nothing present
+  EXPECT_FALSE(r.chain.faultLine());
+  r.chain.analog(0).cell_V[5] = 2.7;  // under COMP_UV 2.80 V (1 s)
+  r.wait(0.5);
+  const double appeared = r.t;
+  r.wait(0.8);
+  EXPECT_FALSE(r.chain.faultLine());
+  r.chain.analog(0).cell_V[5] = 3.5;  // gone before its delay: the timer rests
+  for (int k = 0; k < 100; ++k) r.wait(0.01);
+  r.chain.analog(0).cell_V[5] = 2.7;  // back: a new second from here
+  r.wait(0.0);
+  EXPECT_GT(r.t - appeared, 1.0);
+  r.wait(0.99);
+  EXPECT_FALSE(r.chain.faultLine());
+  r.wait(0.02);
+  EXPECT_TRUE(r.chain.faultLine());
+  EXPECT_EQ(r.read16(0, PL455_REG_FAULT_2UV), 1u << 5);
 }
 
 TEST(Bq76pl455a, CommFaultsActOnTheBytes) {

@@ -380,6 +380,97 @@ TEST(Bq76pl536a, BalancingTimerExpiresOnTheDevice) {
   EXPECT_FALSE(chain.balancing(0, 5));
 }
 
+// The per-tick shortcuts answer as the register file does, byte for byte: a read of any
+// span (past 0x4F it reads 0) gives what peek() gives register by register,
+// DEVICE_STATUS (composed when read) included, through conversions, balancing, a latched
+// fault and a reset; the switch mask is the per-cell switches.
+TEST(Bq76pl536a, ReadsOfAnySpanMatchTheRegisterFileAndTheSwitchMaskTheSwitches) {
+  Bq76pl536aChain chain(config(2), 11, 3);  // the top device has 5 cells
+  for (double& v : chain.analog(0).cell_V) v = 3.7;
+  for (double& v : chain.analog(1).cell_V) v = 3.6;
+  Bus bus{chain};
+  bus.addressAll(2);
+  auto expectReadsMatch = [&](const char* when) {
+    for (uint8_t addr = 1; addr <= 2; ++addr)
+      for (int first : {0, 1, 2, 0x10, 0x3F, 0x4E, 0x4F, 0x50, 0xF0})
+        for (int count : {1, 2, 19, 0x50, 0xFF}) {
+          const std::vector<uint8_t> v = bus.read(addr, static_cast<uint8_t>(first), static_cast<uint8_t>(count));
+          ASSERT_EQ(v.size(), static_cast<size_t>(count)) << when;
+          for (int i = 0; i < count; ++i) {
+            const int r = first + i;
+            const uint8_t expected = r < static_cast<int>(BQ536_REGISTER_COUNT) ? chain.peek(addr - 1, static_cast<uint8_t>(r)) : 0;
+            ASSERT_EQ(v[static_cast<size_t>(i)], expected) << when << ": device " << int(addr) << " register " << r;
+          }
+        }
+    for (int d = 0; d < 2; ++d) {
+      uint32_t perCell = 0;
+      for (int c = 0; c < chain.cellsOf(d); ++c) perCell |= chain.balancing(d, c) ? 1u << c : 0u;
+      EXPECT_EQ(chain.balancingMask(d), perCell) << when << ": device " << d;
+    }
+  };
+  auto statusOf = [&](int d) {  // the datasheet's bits from what they report
+    uint8_t s = 0;
+    if (chain.peek(d, BQ536_CB_CTRL) != 0) s |= BQ536_DS_CBT;
+    if (chain.peek(d, BQ536_ALERT_STATUS) != 0) s |= BQ536_DS_ALERT;
+    if (chain.peek(d, BQ536_FAULT_STATUS) != 0) s |= BQ536_DS_FAULT;
+    if (chain.peek(d, BQ536_ADDRESS_CONTROL) & BQ536_ADDR_ASSIGNED) s |= BQ536_DS_ADDR_RQST;
+    return s;
+  };
+  expectReadsMatch("addressed");
+  EXPECT_EQ(chain.peek(0, BQ536_DEVICE_STATUS), statusOf(0));  // no conversion yet: no DRDY
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONTROL, BQ536_AC_ADC_ON | BQ536_AC_GPAI | 5);
+  bus.t = 1.0;
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, BQ536_CONV_START);
+  expectReadsMatch("converting");
+  EXPECT_EQ(chain.peek(1, BQ536_DEVICE_STATUS), statusOf(1));
+  bus.t = 1.1;
+  chain.advance(bus.t);
+  expectReadsMatch("converted");
+  EXPECT_EQ(chain.peek(1, BQ536_DEVICE_STATUS), statusOf(1) | BQ536_DS_DRDY);
+  bus.write(2, BQ536_CB_TIME, 2);
+  bus.write(2, BQ536_CB_CTRL, 0xFF);  // masked to the device's 5 cells
+  bus.write(1, BQ536_CB_CTRL, 0x09);
+  expectReadsMatch("balancing");
+  EXPECT_EQ(chain.balancingMask(1), 0x1Fu);
+  EXPECT_EQ(chain.peek(1, BQ536_DEVICE_STATUS), statusOf(1) | BQ536_DS_DRDY);
+  chain.analog(0).cell_V[3] = 4.5;  // over: COV latches after its 1 s
+  bus.t = 2.0;
+  chain.advance(bus.t);
+  bus.t = 3.5;
+  chain.advance(bus.t);
+  ASSERT_TRUE(chain.faultLine());
+  expectReadsMatch("latched");
+  EXPECT_NE(chain.peek(0, BQ536_DEVICE_STATUS) & BQ536_DS_FAULT, 0);
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_RESET, BQ536_RESET_KEY);
+  EXPECT_EQ(chain.peek(0, BQ536_DEVICE_STATUS), BQ536_DS_FAULT | BQ536_DS_ALERT);  // POR, AR; no address
+  bus.addressAll(2);
+  expectReadsMatch("reset and addressed again");
+  EXPECT_EQ(chain.peek(0, BQ536_DEVICE_STATUS), statusOf(0));
+}
+
+// The comparators skip their pass while nothing is over, under or hot; a condition that
+// appears after any stretch of that still latches exactly one delay after it appeared,
+// and one that goes away and comes back starts its delay again.
+TEST(Bq76pl536a, AConditionAfterALongQuietStretchLatchesOneDelayAfterItAppears) {
+  Bq76pl536aChain chain(config(1), 6, 1);
+  for (double& v : chain.analog(0).cell_V) v = 3.7;
+  for (int k = 0; k <= 1000; ++k) chain.advance(k * 0.01);  // 10 s with nothing present
+  EXPECT_FALSE(chain.faultLine());
+  chain.analog(0).cell_V[1] = 4.4;  // over COV (4.35 V, 1 s)
+  chain.advance(10.5);
+  chain.advance(11.49);
+  EXPECT_FALSE(chain.faultLine());
+  chain.analog(0).cell_V[1] = 3.7;  // gone before its delay: the timer rests
+  for (int k = 0; k < 100; ++k) chain.advance(11.5 + k * 0.01);
+  chain.analog(0).cell_V[1] = 4.4;  // back: a new second from here
+  chain.advance(13.0);
+  chain.advance(13.99);
+  EXPECT_FALSE(chain.faultLine());
+  chain.advance(14.0);
+  EXPECT_TRUE(chain.faultLine());
+  EXPECT_EQ(chain.peek(0, BQ536_COV_FAULT), 0x02);
+}
+
 TEST(Bq76pl536a, CommFaultsActOnTheBytes) {
   Bq76pl536aChain chain(config(3), 18, 1);
   Bus bus{chain};
