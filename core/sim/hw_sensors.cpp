@@ -1,5 +1,6 @@
 #include "core/sim/hw_sensors.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "models/random/random.hpp"
@@ -81,13 +82,16 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     MonitorTruth& tr = truths_[static_cast<size_t>(b.index)];
     tr.cell_unloaded_V.resize(tr.cell_V.size());
     tr.host_opens_balancing = s_.bms.balancing.measure_paused;
-    for (int i = 0; i < b.cells; ++i) {
-      const size_t gi = static_cast<size_t>(b.firstCell + i), li = static_cast<size_t>(i);
-      tr.cell_V[li] = sig.group_voltage_V[gi];
-      tr.cell_unloaded_V[li] = unloaded.group_voltage_V[gi];
-      tr.cell_gain_error[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].gain_error : 0.0;
-      tr.cell_offset_V[li] = gi < f.cell_channel.size() ? f.cell_channel[gi].offset_V : 0.0;
+    const size_t first = static_cast<size_t>(b.firstCell), cells = static_cast<size_t>(b.cells);
+    for (size_t i = 0; i < cells; ++i) tr.cell_V[i] = sig.group_voltage_V[first + i];
+    for (size_t i = 0; i < cells; ++i) tr.cell_unloaded_V[i] = unloaded.group_voltage_V[first + i];
+    // Injected channel errors where the faults name the channel (none: 0).
+    const size_t injected = f.cell_channel.size() > first ? std::min(cells, f.cell_channel.size() - first) : 0;
+    for (size_t i = 0; i < injected; ++i) {
+      tr.cell_gain_error[i] = f.cell_channel[first + i].gain_error;
+      tr.cell_offset_V[i] = f.cell_channel[first + i].offset_V;
     }
+    for (size_t i = injected; i < cells; ++i) tr.cell_gain_error[i] = tr.cell_offset_V[i] = 0.0;
     for (size_t d = 0; d < tr.board_C.size(); ++d) {
       const int node = plant_.boardNodeOfGroup(b.firstCell + static_cast<int>(d) * hw.afe.cells_per_device);
       tr.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;

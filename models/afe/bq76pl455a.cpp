@@ -173,11 +173,13 @@ void Bq76pl455aChain::settle(Device& dv, double t) {
   const uint16_t uvCode = get16(dv.reg, PL455_REG_CELL_UV), ovCode = get16(dv.reg, PL455_REG_CELL_OV);
   uint16_t uv = get16(dv.reg, PL455_REG_FAULT_UV), ov = get16(dv.reg, PL455_REG_FAULT_OV);
   const unsigned nchan = std::min<unsigned>(dv.reg[PL455_REG_NCHAN], 16);
-  for (unsigned k = 1; k <= nchan; ++k) {
-    if ((dv.heldChannels & PL455_CH_CELL(k)) == 0) continue;
-    const uint16_t code = dv.held[15 + k];
-    if (code < uvCode) uv = static_cast<uint16_t>(uv | (1u << (k - 1)));
-    if (code > ovCode) ov = static_cast<uint16_t>(ov | (1u << (k - 1)));
+  // The cells converted among the first nchan (bit c: cell c + 1, CHANNELS bit 16 + c).
+  const uint32_t cells = (dv.heldChannels >> 16) & ((1u << nchan) - 1u);
+  for (uint32_t m = cells; m != 0; m &= m - 1) {
+    const unsigned c = static_cast<unsigned>(__builtin_ctz(m));
+    const uint16_t code = dv.held[16 + c];
+    if (code < uvCode) uv = static_cast<uint16_t>(uv | (1u << c));
+    if (code > ovCode) ov = static_cast<uint16_t>(ov | (1u << c));
   }
   set16(dv.reg, PL455_REG_FAULT_UV, uv);
   set16(dv.reg, PL455_REG_FAULT_OV, ov);
@@ -208,7 +210,9 @@ void Bq76pl455aChain::compare(Device& dv, int d) {
   dv.under = under;
   dv.hotMask = hot;
   dv.compared = true;
-  dv.quiet = false;  // one pass with these conditions (it puts running timers at rest)
+  // Still nothing present with the timers at rest: still nothing to do. Else one pass
+  // with these conditions (which puts the timers of absent conditions at rest).
+  dv.quiet = dv.quiet && over == 0 && under == 0 && hot == 0;
 }
 
 void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {

@@ -86,8 +86,8 @@ class Bq76pl455aChain final : public MonitorChain {
     // pins and thresholds as they are; compared = false once either may have changed.
     uint16_t over = 0, under = 0, hotMask = 0;
     bool compared = false;
-    // No condition present and every debounce timer at rest after the last pass: a pass
-    // with the same conditions changes nothing (false again once they are compared anew).
+    // No condition present and every debounce timer at rest: a pass changes nothing
+    // (DebounceTimer::held with a false condition), so none is made until one appears.
     bool quiet = false;
     double balanceUntil_s = 0.0;
     BalancePauses pauses;  // the host's, around its conversions

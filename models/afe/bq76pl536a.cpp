@@ -132,10 +132,7 @@ uint8_t Bq76pl536aChain::status(const Device& dv) const {
 void Bq76pl536aChain::settle(Device& dv, double t) {
   // A conversion's results land when its last channel is done.
   if (dv.converting && t >= dv.readyAt_s - 1e-12) {
-    for (uint32_t m = dv.pendingMask; m != 0; m &= m - 1) {  // the converted registers only
-      const unsigned i = static_cast<unsigned>(__builtin_ctz(m));
-      dv.reg[BQ536_RESULTS_FIRST + i] = dv.pending[i];
-    }
+    std::memcpy(&dv.reg[BQ536_GPAI], &dv.pending[BQ536_GPAI], BQ536_RESULTS_LEN - BQ536_GPAI);
     dv.converting = false;
     dv.resultsValid = true;
   }
@@ -146,11 +143,13 @@ void Bq76pl536aChain::settle(Device& dv, double t) {
 void Bq76pl536aChain::compare(Device& dv) {
   const DeviceAnalog& a = dv.analog;
   const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
+  const bool covOn = !(covReg & BQ536_CONFIG_DISABLE), cuvOn = !(cuvReg & BQ536_CONFIG_DISABLE);
+  const double cov_V = bq536_cov_mV(covReg) * 1e-3, cuv_V = bq536_cuv_mV(cuvReg) * 1e-3;
   uint8_t over = 0, under = 0, hot = 0;
   for (int c = 0; c < dv.cells; ++c) {
     const double v = a.cell_V[static_cast<size_t>(c)];  // the pin voltage: comparators are not the ADC
-    if (!(covReg & BQ536_CONFIG_DISABLE) && v > bq536_cov_mV(covReg) * 1e-3) over |= static_cast<uint8_t>(1u << c);
-    if (!(cuvReg & BQ536_CONFIG_DISABLE) && v < bq536_cuv_mV(cuvReg) * 1e-3) under |= static_cast<uint8_t>(1u << c);
+    if (covOn && v > cov_V) over |= static_cast<uint8_t>(1u << c);
+    if (cuvOn && v < cuv_V) under |= static_cast<uint8_t>(1u << c);
   }
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
     const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);
@@ -165,7 +164,9 @@ void Bq76pl536aChain::compare(Device& dv) {
   dv.under = under;
   dv.hot = hot;
   dv.compared = true;
-  dv.quiet = false;  // one pass with these conditions (it puts running timers at rest)
+  // Still nothing present with the timers at rest: still nothing to do. Else one pass
+  // with these conditions (which puts the timers of absent conditions at rest).
+  dv.quiet = dv.quiet && over == 0 && under == 0 && hot == 0;
 }
 
 void Bq76pl536aChain::runComparators(Device& dv, double t) {
@@ -197,11 +198,9 @@ void Bq76pl536aChain::advance(double t) {
 void Bq76pl536aChain::startConversion(Device& dv, double t) {
   const uint8_t sel = dv.reg[BQ536_ADC_CONTROL];
   const int nCells = std::min<int>((sel & BQ536_AC_CELL_SEL_MASK) + 1, BQ536_CELLS_MAX);
-  dv.pendingMask = 0;  // (the bytes outside the mask are never read)
-  auto put = [&](uint8_t reg, uint16_t code) {
-    putBe16(&dv.pending[reg - BQ536_RESULTS_FIRST], code);
-    dv.pendingMask |= 3u << (reg - BQ536_RESULTS_FIRST);
-  };
+  // The channels it does not convert keep their results.
+  std::memcpy(&dv.pending[BQ536_GPAI], &dv.reg[BQ536_GPAI], BQ536_RESULTS_LEN - BQ536_GPAI);
+  auto put = [&](uint8_t reg, uint16_t code) { putBe16(&dv.pending[reg], code); };
   int channels = 0;
   const DeviceAnalog& a = dv.analog;
   // The part converts with its balancing switches as they are; a host that opens them

@@ -83,8 +83,10 @@ class Bq76pl536aChain final : public MonitorChain {
     bool converting = false;
     bool resultsValid = false;
     double readyAt_s = 0.0;
-    std::array<uint8_t, BQ536_RESULTS_LEN> pending{};  // registers 0x00.. of the conversion in flight
-    uint32_t pendingMask = 0;                           // which of them it converts (bit i: register i)
+    // The result registers (GPAI .. TEMPERATURE2) as the conversion in flight leaves them:
+    // its channels' codes, the others as they were when it started (nothing but a
+    // conversion writes them), so that it lands as one copy.
+    std::array<uint8_t, BQ536_RESULTS_LEN> pending{};  // indexed by register (0x00 unused)
     double balanceUntil_s = 0.0;
     BalancePauses pauses;  // the host's, around its conversions
     DeviceAnalog analog;
@@ -98,8 +100,8 @@ class Bq76pl536aChain final : public MonitorChain {
     // the inputs change only when filled or a threshold is written.
     bool compared = false;
     uint8_t over = 0, under = 0, hot = 0;
-    // No condition present and every debounce timer at rest after the last pass: a pass
-    // with the same conditions changes nothing (false again once they are compared anew).
+    // No condition present and every debounce timer at rest: a pass changes nothing
+    // (DebounceTimer::held with a false condition), so none is made until one appears.
     bool quiet = false;
   };
 
