@@ -77,7 +77,8 @@ void MonitorChainPath::balancingSwitches(double t0, double t1, uint8_t* on, doub
   int cell = 0;
   for (int d = 0; d < c.deviceCount(); ++d) {
     const uint32_t mask = c.balancingMask(d);
-    for (int k = 0; k < c.cellsOf(d) && cell < cells_; ++k, ++cell) {
+    const int n = c.cellsOf(d);
+    for (int k = 0; k < n && cell < cells_; ++k, ++cell) {
       const bool sw = (mask >> k) & 1u;
       on[cell] = sw ? 1 : 0;
       duty[cell] = sw ? c.balancingDuty(d, k, t0, t1) : 1.0;

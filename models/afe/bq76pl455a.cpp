@@ -178,8 +178,8 @@ void Bq76pl455aChain::settle(Device& dv, double t) {
   for (uint32_t m = cells; m != 0; m &= m - 1) {
     const unsigned c = static_cast<unsigned>(__builtin_ctz(m));
     const uint16_t code = dv.held[16 + c];
-    if (code < uvCode) uv = static_cast<uint16_t>(uv | (1u << c));
-    if (code > ovCode) ov = static_cast<uint16_t>(ov | (1u << c));
+    uv = static_cast<uint16_t>(uv | static_cast<unsigned>(code < uvCode) << c);  // (no branches)
+    ov = static_cast<uint16_t>(ov | static_cast<unsigned>(code > ovCode) << c);
   }
   set16(dv.reg, PL455_REG_FAULT_UV, uv);
   set16(dv.reg, PL455_REG_FAULT_OV, ov);
@@ -197,8 +197,8 @@ void Bq76pl455aChain::compare(Device& dv, int d) {
   const int n = cellsOf(d);
   for (int c = 0; c < n; ++c) {
     const double v = dv.analog.cell_V[static_cast<size_t>(c)];
-    if (v > ov_V) over = static_cast<uint16_t>(over | (1u << c));
-    if (v < uv_V) under = static_cast<uint16_t>(under | (1u << c));
+    over = static_cast<uint16_t>(over | static_cast<unsigned>(v > ov_V) << c);  // (no branches)
+    under = static_cast<uint16_t>(under | static_cast<unsigned>(v < uv_V) << c);
   }
   const int nt = std::min(cfg_.thermistors_per_device, static_cast<int>(PL455_AUX_INPUTS));
   for (int k = 0; k < nt; ++k) {
@@ -316,8 +316,7 @@ void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
 void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   const uint32_t ch = get32(dv.reg, PL455_REG_CHANNELS);
   const int samples = 1 << std::min<unsigned>(dv.reg[PL455_REG_OVERSMPL] & PL455_OVERSMPL_LOG2_MASK, PL455_OVERSMPL_MAX_LOG2);
-  int selected = 0;
-  for (uint32_t m = ch; m != 0; m &= m - 1) ++selected;  // one step per set bit
+  const int selected = __builtin_popcount(ch);
   // cell_adc.noise_rms is the noise at the configured oversampling; the register's
   // setting averages more or fewer samples.
   AdcChannel base = cfg_.cell_adc;

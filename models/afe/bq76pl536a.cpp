@@ -148,8 +148,8 @@ void Bq76pl536aChain::compare(Device& dv) {
   uint8_t over = 0, under = 0, hot = 0;
   for (int c = 0; c < dv.cells; ++c) {
     const double v = a.cell_V[static_cast<size_t>(c)];  // the pin voltage: comparators are not the ADC
-    if (covOn && v > cov_V) over |= static_cast<uint8_t>(1u << c);
-    if (cuvOn && v < cuv_V) under |= static_cast<uint8_t>(1u << c);
+    over = static_cast<uint8_t>(over | static_cast<unsigned>(covOn && v > cov_V) << c);  // (no branches)
+    under = static_cast<uint8_t>(under | static_cast<unsigned>(cuvOn && v < cuv_V) << c);
   }
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
     const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);

@@ -15,10 +15,8 @@ CellChannelErrors::CellChannelErrors(int cells, double gain_sd, double offset_sd
 
 int64_t CellChannelErrors::convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k,
                                    double v_V, Rng& noise) const {
-  AdcChannel a = adc;
-  a.gain_error += gain_[cell] + pins.cell_gain_error[k];
-  a.offset += offset_[cell] + pins.cell_offset_V[k];
-  return a.convert(v_V, noise);
+  return adc.convertWith(adc.gain_error + (gain_[cell] + pins.cell_gain_error[k]),
+                         adc.offset + (offset_[cell] + pins.cell_offset_V[k]), v_V, noise);
 }
 
 double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise) {
