@@ -370,8 +370,9 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
     }
   }
   auto touched = [&](unsigned a, unsigned size) { return f.reg < a + size && a < f.reg + f.size; };
-  for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k)
-    if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k)), dv.compared = false;
+  if (touched(PL455_REG_AUX_UV(0), PL455_REG_AUX_OV(PL455_AUX_INPUTS - 1) - PL455_REG_AUX_UV(0)))  // the AUX block
+    for (unsigned k = 0; k < PL455_AUX_INPUTS; ++k)
+      if (touched(PL455_REG_AUX_UV(k), 2)) dv.hotCode[k] = get16(dv.reg, PL455_REG_AUX_UV(k)), dv.compared = false;
   if (touched(PL455_REG_COMP_UV, 1) || touched(PL455_REG_COMP_OV, 1)) dv.compared = false;  // a threshold changed
   if (touched(PL455_REG_DEV_CTRL, 1)) {
     const uint8_t c = dv.reg[PL455_REG_DEV_CTRL];

@@ -100,7 +100,6 @@ Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64
     dv.analog.size(dv.cells, static_cast<int>(therms));
     reset(dv);
   }
-  reached_.reserve(dev_.size());
 }
 
 void Bq76pl536aChain::reset(Device& dv) {
@@ -313,11 +312,11 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
   settle(dv, t);
 }
 
-int Bq76pl536aChain::reach(int* out) const {
+int Bq76pl536aChain::reach() const {
   int n = 0;
   for (int d = 0; d < deviceCount(); ++d) {
     if (brokenAbove_ >= 0 && d > brokenAbove_) break;
-    out[n++] = d;
+    ++n;
     if (!assigned(dev_[static_cast<size_t>(d)])) break;  // it does not pass frames up
   }
   return n;
@@ -331,15 +330,14 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   r.received = rxLen > 0 ? -1 : 0;
   if (tx == nullptr || txLen < BQ536_READ_REQUEST_LEN) return r;
   const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);
-  reached_.resize(dev_.size());
-  const int n = reach(reached_.data());
+  const int n = reach();  // as the frame set out: a write on its way may change an address
 
   if (tx[0] & 1u) {  // write frame: acted on once the device has it all
     if (txLen < BQ536_WRITE_FRAME_LEN) return r;
     const double tEnd = t + r.duration_s;
     const bool crcOk = bms::crcCrc8(tx, 3) == tx[3];
     for (int i = 0; i < n; ++i) {
-      Device& dv = dev_[static_cast<size_t>(reached_[static_cast<size_t>(i)])];
+      Device& dv = dev_[static_cast<size_t>(i)];
       if (addr != BQ536_ADDR_BROADCAST && addressOf(dv) != addr) continue;
       if (dv.comm.silent || dv.comm.stuck_byte >= 0) continue;  // its link does not take writes
       if (!crcOk) {
@@ -357,7 +355,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   if (addr == BQ536_ADDR_BROADCAST || rxLen == 0) return r;
   Device* target = nullptr;
   for (int i = 0; i < n && target == nullptr; ++i) {
-    Device& dv = dev_[static_cast<size_t>(reached_[static_cast<size_t>(i)])];
+    Device& dv = dev_[static_cast<size_t>(i)];
     if (addressOf(dv) == addr) target = &dv;
   }
   if (target == nullptr || target->comm.silent) return r;

@@ -107,9 +107,9 @@ class Bq76pl536aChain final : public MonitorChain {
 
   uint8_t addressOf(const Device& dv) const { return dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_MASK; }
   bool assigned(const Device& dv) const { return (dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_ASSIGNED) != 0; }
-  // Devices a frame reaches on its way up, bottom first (stops above an
-  // unaddressed device and at a broken link).
-  int reach(int* out) const;
+  // How many devices a frame reaches on its way up: devices 0 .. n-1, bottom first (it
+  // stops above an unaddressed device and at a broken link).
+  int reach() const;
   void reset(Device& dv);
   void settle(Device& dv, double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
@@ -128,7 +128,6 @@ class Bq76pl536aChain final : public MonitorChain {
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
-  std::vector<int> reached_;         // scratch: devices one frame reaches
 };
 
 // The part's register-level chain (registered by core/parts/bq76pl536a_part.cpp).
