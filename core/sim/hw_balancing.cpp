@@ -1,5 +1,7 @@
 #include "core/sim/hw_balancing.hpp"
 
+#include <algorithm>
+
 #include "core/sim/hw_status.hpp"
 #include "core/sim/hw_sensors.hpp"
 
@@ -22,11 +24,12 @@ bool HwBalancing::tick(double t, const HwSensors& sensors, const bms::Outputs& o
     on_.resize(static_cast<size_t>(series));
     duty_.resize(static_cast<size_t>(series));
     sensors.balancingSwitches(t, t + s_.bms.tick_s, on_.data(), duty_.data());
-    for (size_t g = 0; g < static_cast<size_t>(series); ++g) {
-      changed = changed || pin.balancing[g] != on_[g] || pin.balance_duty[g] != duty_[g];
-      pin.balancing[g] = on_[g];
-      pin.balance_duty[g] = duty_[g];
-    }
+    bool differ = false;  // (every group compared: no early exit, no branch per group)
+    for (size_t g = 0; g < static_cast<size_t>(series); ++g)
+      differ |= (pin.balancing[g] != on_[g]) | (pin.balance_duty[g] != duty_[g]);
+    changed = changed || differ;
+    std::copy(on_.begin(), on_.end(), pin.balancing.begin());
+    std::copy(duty_.begin(), duty_.end(), pin.balance_duty.begin());
   }
   const ActiveBalancerConfig& a = s_.hardware.active_balancer;
   if (a.present) {

@@ -33,13 +33,14 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
     a.cell_unloaded_V.resize(unloaded ? a.cell_V.size() : 0);
     // Its cells in the truth (all of them in a stack as built), each array in one pass.
     const size_t n = first < truth.cell_V.size() ? std::min(a.cell_V.size(), truth.cell_V.size() - first) : 0;
-    for (size_t k = 0; k < n; ++k) a.cell_V[k] = truth.cell_V[first + k];
-    if (unloaded)
-      for (size_t k = 0; k < n; ++k) a.cell_unloaded_V[k] = truth.cell_unloaded_V[first + k];
-    for (size_t k = 0, m = std::min(n, a.cell_gain_error.size()); k < m; ++k)
-      a.cell_gain_error[k] = truth.cell_gain_error[first + k];
-    for (size_t k = 0, m = std::min(n, a.cell_offset_V.size()); k < m; ++k)
-      a.cell_offset_V[k] = truth.cell_offset_V[first + k];
+    if (n > 0) {
+      std::copy_n(truth.cell_V.begin() + static_cast<long>(first), n, a.cell_V.begin());
+      if (unloaded) std::copy_n(truth.cell_unloaded_V.begin() + static_cast<long>(first), n, a.cell_unloaded_V.begin());
+      std::copy_n(truth.cell_gain_error.begin() + static_cast<long>(first), std::min(n, a.cell_gain_error.size()),
+                  a.cell_gain_error.begin());
+      std::copy_n(truth.cell_offset_V.begin() + static_cast<long>(first), std::min(n, a.cell_offset_V.size()),
+                  a.cell_offset_V.begin());
+    }
     for (size_t j = 0; j < a.therm_C.size() && static_cast<int>(j) < perDevice; ++j) {
       const size_t ch = static_cast<size_t>(d * perDevice) + j;
       if (ch >= truth.therm_C.size()) break;
