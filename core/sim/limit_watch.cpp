@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "core/sim/summary_text.hpp"
 
@@ -76,8 +77,27 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   sink(t, d);
 }
 
+namespace {
+
+// The lowest and highest of some values, NaN skipped (init at the infinities, taken
+// only by a comparison that is true): some value is above a limit exactly when the
+// highest is, below it exactly when the lowest is.
+struct Extremes {
+  double lo = INFINITY, hi = -INFINITY;
+  explicit Extremes(const std::vector<double>& v) {
+    for (const double x : v) {
+      if (x < lo) lo = x;
+      if (x > hi) hi = x;
+    }
+  }
+};
+
+}  // namespace
+
 void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
                       uint32_t faultActive, const EventSink& sink) {
+  // Each quantity's extremes, taken once a tick for every limit with no episode open.
+  std::optional<Extremes> volts, temps;
   for (size_t li = 0; li < limits_.size(); ++li) {
     const Limit& l = limits_[li];
     const bool active = (faultActive >> l.fault) & 1u;
@@ -89,12 +109,13 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
     // not active. The usual tick (every cell within every limit) ends with this scan.
     if (open_[li] == 0) {
       if (active) continue;
-      bool anyPast = false;
-      if (l.above)
-        for (size_t c = 0; c < n; ++c) anyPast |= values[c] > l.threshold;
-      else
-        for (size_t c = 0; c < n; ++c) anyPast |= values[c] < l.threshold;
-      if (!anyPast) continue;
+      double worst = packValue;
+      if (l.perCell) {
+        std::optional<Extremes>& ex = l.unit[0] == 'V' ? volts : temps;
+        if (!ex) ex.emplace(l.unit[0] == 'V' ? cell_V : cell_C);
+        worst = l.above ? ex->hi : ex->lo;
+      }
+      if (!(l.above ? worst > l.threshold : worst < l.threshold)) continue;
     }
     for (size_t c = 0; c < n; ++c) {
       const double v = values[c];

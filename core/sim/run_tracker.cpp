@@ -349,6 +349,12 @@ bool RunTracker::stopRequested(double t) const {
 }
 
 void RunTracker::checkFinite(double t, const double* x, int n) const {
+  // x·0 is 0 for a finite x and NaN for an infinite or NaN one, and NaN stays in a sum:
+  // one branch-free pass for the usual tick; the state is looked at one by one only
+  // when something is not finite.
+  double probe = 0.0;
+  for (int i = 0; i < n; ++i) probe += x[i] * 0.0;
+  if (probe == 0.0) return;
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) {
       std::ostringstream os;
