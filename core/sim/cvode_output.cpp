@@ -2,13 +2,19 @@
 
 #include <nvector/nvector_serial.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace packsim {
 
 namespace {
 
 // The combination for a fixed count of vectors: the coefficients and data pointers in
 // registers, the sum over the vectors unrolled. Element by element, every input read
-// before the output is written: z may be any of the x[i].
+// before the output is written: z may be any of the x[i]. With SSE2 (every x86-64) two
+// elements at a time: each lane does the scalar code's multiplications and additions in
+// the same order, so each element gets the same bits.
 template <int N>
 void combineFixed(const double* c, const double* const* x, double* z, long n) {
   double k[N];
@@ -17,7 +23,17 @@ void combineFixed(const double* c, const double* const* x, double* z, long n) {
     k[i] = c[i];
     p[i] = x[i];
   }
-  for (long j = 0; j < n; ++j) {
+  long j = 0;
+#if defined(__SSE2__)
+  __m128d kv[N];
+  for (int i = 0; i < N; ++i) kv[i] = _mm_set1_pd(k[i]);
+  for (; j + 2 <= n; j += 2) {
+    __m128d acc = _mm_mul_pd(kv[0], _mm_loadu_pd(p[0] + j));
+    for (int i = 1; i < N; ++i) acc = _mm_add_pd(acc, _mm_mul_pd(kv[i], _mm_loadu_pd(p[i] + j)));
+    _mm_storeu_pd(z + j, acc);
+  }
+#endif
+  for (; j < n; ++j) {
     double acc = k[0] * p[0][j];
     for (int i = 1; i < N; ++i) acc += k[i] * p[i][j];
     z[j] = acc;

@@ -6,6 +6,10 @@
 #include <cstdio>
 #include <optional>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/sim/summary_text.hpp"
 
 namespace packsim {
@@ -81,11 +85,30 @@ namespace {
 
 // The lowest and highest of some values, NaN skipped (init at the infinities, taken
 // only by a comparison that is true): some value is above a limit exactly when the
-// highest is, below it exactly when the lowest is.
+// highest is, below it exactly when the lowest is. With SSE2 two values at a time:
+// minpd(x, lo) is (x < lo ? x : lo) per lane, the same NaN-skipping choice.
 struct Extremes {
   double lo = INFINITY, hi = -INFINITY;
   explicit Extremes(const std::vector<double>& v) {
-    for (const double x : v) {
+    const size_t n = v.size();
+    size_t c = 0;
+#if defined(__SSE2__)
+    __m128d lo2 = _mm_set1_pd(INFINITY), hi2 = _mm_set1_pd(-INFINITY);
+    for (; c + 2 <= n; c += 2) {
+      const __m128d x = _mm_loadu_pd(v.data() + c);
+      lo2 = _mm_min_pd(x, lo2);
+      hi2 = _mm_max_pd(x, hi2);
+    }
+    double l[2], h[2];
+    _mm_storeu_pd(l, lo2);
+    _mm_storeu_pd(h, hi2);
+    for (int k = 0; k < 2; ++k) {
+      if (l[k] < lo) lo = l[k];
+      if (h[k] > hi) hi = h[k];
+    }
+#endif
+    for (; c < n; ++c) {
+      const double x = v[c];
       if (x < lo) lo = x;
       if (x > hi) hi = x;
     }

@@ -16,6 +16,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace packsim {
 
 namespace {
@@ -131,6 +135,7 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   r_.summary.soc_estimator = settingChoice("soc.estimator", s.bms.image);
   for (const auto& cell : plant.pack().cells) r_.summary.capacity_true_Ah += cell.capacity_Ah;
   r_.summary.capacity_true_Ah /= plant.pack().series;
+  for (const auto& cell : plant.pack().cells) cellMin_V_.push_back(cell.v_min_V);
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
   for (int c = 0; c < plant.pack().cellCount(); ++c)
@@ -265,8 +270,9 @@ void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   Summary& sm = r_.summary;
-  cellTemp_C_.resize(static_cast<size_t>(plant_.pack().cellCount()));
-  for (int c = 0; c < plant_.pack().cellCount(); ++c) {
+  const int cells = plant_.pack().cellCount();
+  cellTemp_C_.resize(static_cast<size_t>(cells));
+  for (int c = 0; c < cells; ++c) {
     const double v = sig.cell_voltage_V[static_cast<size_t>(c)];
     const double T = x[plant_.tempIndex(c)];
     cellTemp_C_[static_cast<size_t>(c)] = T;
@@ -275,7 +281,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
       sm.min_cell = c + 1;
       sm.min_cell_time_s = t;
     }
-    if (!sm.limit_reached && v <= plant_.pack().cells[static_cast<size_t>(c)].v_min_V) noteLimit(t, x, c);
+    if (!sm.limit_reached && v <= cellMin_V_[static_cast<size_t>(c)]) noteLimit(t, x, c);
     const double soc = plant_.cellStates(x, c)[CellLayout::soc];
     if (soc < 0.0 || soc > 1.0) noteSocRange(t, x, c);
     if (T > sm.max_temp_C) {
@@ -352,10 +358,20 @@ void RunTracker::checkFinite(double t, const double* x, int n) const {
   // x·0 is 0 for a finite x and NaN for an infinite or NaN one, and NaN stays in a sum:
   // one branch-free pass for the usual tick; the state is looked at one by one only
   // when something is not finite.
+  // (With SSE2 two elements at a time: the order of the sum does not matter here.)
   double probe = 0.0;
-  for (int i = 0; i < n; ++i) probe += x[i] * 0.0;
+  int i = 0;
+#if defined(__SSE2__)
+  __m128d probe2 = _mm_setzero_pd();
+  const __m128d zero = _mm_setzero_pd();
+  for (; i + 2 <= n; i += 2) probe2 = _mm_add_pd(probe2, _mm_mul_pd(_mm_loadu_pd(x + i), zero));
+  double lanes[2];
+  _mm_storeu_pd(lanes, probe2);
+  probe = lanes[0] + lanes[1];
+#endif
+  for (; i < n; ++i) probe += x[i] * 0.0;
   if (probe == 0.0) return;
-  for (int i = 0; i < n; ++i) {
+  for (i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) {
       std::ostringstream os;
       os << "the simulation diverged at t = " << t << " s (state " << i << " is not finite); "

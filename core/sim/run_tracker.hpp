@@ -75,6 +75,7 @@ class RunTracker {
   void noteMisuse();
   std::string misuseDetail(int board, const RegisterMisuse& m) const;
   std::vector<double> cellTemp_C_;
+  std::vector<double> cellMin_V_;  // each cell's v_min_V, in a row for the per-tick scan
 };
 
 }  // namespace packsim

@@ -25,10 +25,10 @@ TEST(RunTracker, CheckFiniteNamesTheFirstNonFiniteStateAndPassesEveryFiniteOne) 
   RunTracker tracker(s, plant, cfg);
   constexpr double kInf = std::numeric_limits<double>::infinity();
   const double kMax = std::numeric_limits<double>::max(), kMin = std::numeric_limits<double>::denorm_min();
-  const std::vector<double> finite = {0.0, -0.0, kMax, -kMax, kMin, -kMin, 3.7, -1e-300};
+  const std::vector<double> finite = {0.0, -0.0, kMax, -kMax, kMin, -kMin, 3.7, -1e-300, 2.0};  // an odd count
   EXPECT_NO_THROW(tracker.checkFinite(1.0, finite.data(), static_cast<int>(finite.size())));
   for (const double bad : {kInf, -kInf, std::nan("")}) {
-    for (int at : {0, 3, 7}) {
+    for (int at : {0, 3, 7, 8}) {
       std::vector<double> x = finite;
       x[static_cast<size_t>(at)] = bad;
       if (at == 3) x[7] = bad;  // two: the first is named
