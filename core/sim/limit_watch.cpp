@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <optional>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -57,6 +56,7 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   const double from_s = e.from_s;
   e.from_s = -1.0;
   --open_[li];
+  --openTotal_;
   if (unseen_s <= l.allowed_s + 1e-9) {  // within the BMS's own delay and latency: no miss
     ++short_;
     return;
@@ -89,22 +89,26 @@ namespace {
 // minpd(x, lo) is (x < lo ? x : lo) per lane, the same NaN-skipping choice.
 struct Extremes {
   double lo = INFINITY, hi = -INFINITY;
-  explicit Extremes(const std::vector<double>& v) {
+  bool taken = false;
+  void take(const std::vector<double>& v) {
+    taken = true;
     const size_t n = v.size();
     size_t c = 0;
 #if defined(__SSE2__)
-    __m128d lo2 = _mm_set1_pd(INFINITY), hi2 = _mm_set1_pd(-INFINITY);
-    for (; c + 2 <= n; c += 2) {
-      const __m128d x = _mm_loadu_pd(v.data() + c);
-      lo2 = _mm_min_pd(x, lo2);
-      hi2 = _mm_max_pd(x, hi2);
-    }
-    double l[2], h[2];
-    _mm_storeu_pd(l, lo2);
-    _mm_storeu_pd(h, hi2);
-    for (int k = 0; k < 2; ++k) {
-      if (l[k] < lo) lo = l[k];
-      if (h[k] > hi) hi = h[k];
+    if (n >= 2) {
+      __m128d lo2 = _mm_set1_pd(INFINITY), hi2 = _mm_set1_pd(-INFINITY);
+      for (; c + 2 <= n; c += 2) {
+        const __m128d x = _mm_loadu_pd(v.data() + c);
+        lo2 = _mm_min_pd(x, lo2);
+        hi2 = _mm_max_pd(x, hi2);
+      }
+      double l[2], h[2];
+      _mm_storeu_pd(l, lo2);
+      _mm_storeu_pd(h, hi2);
+      for (int k = 0; k < 2; ++k) {
+        if (l[k] < lo) lo = l[k];
+        if (h[k] > hi) hi = h[k];
+      }
     }
 #endif
     for (; c < n; ++c) {
@@ -117,10 +121,30 @@ struct Extremes {
 
 }  // namespace
 
+// Whether some value is past a limit whose row is not active: from each quantity's
+// extremes, taken once a tick.
+bool LimitWatch::anyPast(const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+                         uint32_t faultActive) const {
+  Extremes volts, temps;
+  for (const Limit& l : limits_) {
+    if ((faultActive >> l.fault) & 1u) continue;
+    double worst = l.fault == static_cast<int>(bms::FaultId::OverCurrentCharge) ? -pack_A : pack_A;
+    if (l.perCell) {
+      const bool isV = l.unit[0] == 'V';
+      Extremes& ex = isV ? volts : temps;
+      if (!ex.taken) ex.take(isV ? cell_V : cell_C);
+      worst = l.above ? ex.hi : ex.lo;
+    }
+    if (l.above ? worst > l.threshold : worst < l.threshold) return true;
+  }
+  return false;
+}
+
 void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
                       uint32_t faultActive, const EventSink& sink) {
-  // Each quantity's extremes, taken once a tick for every limit with no episode open.
-  std::optional<Extremes> volts, temps;
+  // The usual tick: no episode open, and no value past a limit whose row is not active
+  // (none opens): nothing to do.
+  if (openTotal_ == 0 && !anyPast(cell_V, cell_C, pack_A, faultActive)) return;
   for (size_t li = 0; li < limits_.size(); ++li) {
     const Limit& l = limits_[li];
     const bool active = (faultActive >> l.fault) & 1u;
@@ -129,16 +153,12 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
     const double* values = !l.perCell ? &packValue : l.unit[0] == 'V' ? cell_V.data() : cell_C.data();
     const size_t n = ep_[li].size();
     // No episode open: one opens only where a value is past the limit while the row is
-    // not active. The usual tick (every cell within every limit) ends with this scan.
+    // not active.
     if (open_[li] == 0) {
       if (active) continue;
-      double worst = packValue;
-      if (l.perCell) {
-        std::optional<Extremes>& ex = l.unit[0] == 'V' ? volts : temps;
-        if (!ex) ex.emplace(l.unit[0] == 'V' ? cell_V : cell_C);
-        worst = l.above ? ex->hi : ex->lo;
-      }
-      if (!(l.above ? worst > l.threshold : worst < l.threshold)) continue;
+      bool past = false;
+      for (size_t c = 0; c < n; ++c) past |= l.above ? values[c] > l.threshold : values[c] < l.threshold;
+      if (!past) continue;
     }
     for (size_t c = 0; c < n; ++c) {
       const double v = values[c];
@@ -149,6 +169,7 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
           e.from_s = t;
           e.extreme = v;
           ++open_[li];
+          ++openTotal_;
         }
         continue;
       }

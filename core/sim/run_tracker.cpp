@@ -136,6 +136,11 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   for (const auto& cell : plant.pack().cells) r_.summary.capacity_true_Ah += cell.capacity_Ah;
   r_.summary.capacity_true_Ah /= plant.pack().series;
   for (const auto& cell : plant.pack().cells) cellMin_V_.push_back(cell.v_min_V);
+  const std::vector<double> state(static_cast<size_t>(plant.stateSize()));  // where cellStates points, as an index
+  for (int c = 0; c < plant.pack().cellCount(); ++c) {
+    cellTempIndex_.push_back(static_cast<size_t>(plant.tempIndex(c)));
+    cellSocIndex_.push_back(static_cast<size_t>(&plant.cellStates(state.data(), c)[CellLayout::soc] - state.data()));
+  }
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
   for (int c = 0; c < plant.pack().cellCount(); ++c)
@@ -272,24 +277,37 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   Summary& sm = r_.summary;
   const int cells = plant_.pack().cellCount();
   cellTemp_C_.resize(static_cast<size_t>(cells));
+  // The extremes kept in locals over the cells (noteLimit and noteSocRange neither read
+  // nor write them) and stored once.
+  const double* cell_V = sig.cell_voltage_V.data();
+  double* cell_C = cellTemp_C_.data();
+  double minV = sm.min_cell_V, minV_s = sm.min_cell_time_s, maxT = sm.max_temp_C, maxT_s = sm.hottest_time_s;
+  int minCell = sm.min_cell, hottest = sm.hottest_cell;
   for (int c = 0; c < cells; ++c) {
-    const double v = sig.cell_voltage_V[static_cast<size_t>(c)];
-    const double T = x[plant_.tempIndex(c)];
-    cellTemp_C_[static_cast<size_t>(c)] = T;
-    if (v < sm.min_cell_V) {
-      sm.min_cell_V = v;
-      sm.min_cell = c + 1;
-      sm.min_cell_time_s = t;
+    const size_t ci = static_cast<size_t>(c);
+    const double v = cell_V[ci];
+    const double T = x[cellTempIndex_[ci]];
+    cell_C[ci] = T;
+    if (v < minV) {
+      minV = v;
+      minCell = c + 1;
+      minV_s = t;
     }
-    if (!sm.limit_reached && v <= cellMin_V_[static_cast<size_t>(c)]) noteLimit(t, x, c);
-    const double soc = plant_.cellStates(x, c)[CellLayout::soc];
+    if (!sm.limit_reached && v <= cellMin_V_[ci]) noteLimit(t, x, c);
+    const double soc = x[cellSocIndex_[ci]];
     if (soc < 0.0 || soc > 1.0) noteSocRange(t, x, c);
-    if (T > sm.max_temp_C) {
-      sm.max_temp_C = T;
-      sm.hottest_cell = c + 1;
-      sm.hottest_time_s = t;
+    if (T > maxT) {
+      maxT = T;
+      hottest = c + 1;
+      maxT_s = t;
     }
   }
+  sm.min_cell_V = minV;
+  sm.min_cell = minCell;
+  sm.min_cell_time_s = minV_s;
+  sm.max_temp_C = maxT;
+  sm.hottest_cell = hottest;
+  sm.hottest_time_s = maxT_s;
 
   const bool outputsMoved = first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing);
   if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
@@ -431,7 +449,7 @@ void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const 
   double total = 0.0;
   for (int g = 0; g < plant_.pack().series; ++g) {
     double sum = 0.0;
-    for (int k = 0; k < parallel; ++k) sum += plant_.cellStates(x, g * parallel + k)[CellLayout::soc];
+    for (int k = 0; k < parallel; ++k) sum += x[cellSocIndex_[static_cast<size_t>(g * parallel + k)]];
     total += sum;
     const double e = std::fabs(tm.socGroup_permille[g] * 1e-3 - sum / parallel);
     if (tm.socEkfValid && e > sm.soc_error_ekf_group_max) {
