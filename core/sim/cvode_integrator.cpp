@@ -312,8 +312,10 @@ void CvodeIntegrator::noteHistory() {
 bool CvodeIntegrator::ownOutputInside(double t_out, double t_stop) {
   Impl& m = *impl_;
   if (!(t_out <= m.tn && t_out >= m.tn - m.h && t_stop >= m.tn)) return false;
-  cvodeInterpolate(m.history, t_out, m.tn, m.h, N_VGetArrayPointer(m.y), static_cast<long>(m.x.size()));
-  m.sys.toModel(N_VGetArrayPointer(m.y), m.x.data());
+  // Straight into the model's coordinates: y's content between two CVode calls is read
+  // by nothing (CVode writes it; reset() fills it from x).
+  cvodeInterpolate(m.history, t_out, m.tn, m.h, m.x.data(), static_cast<long>(m.x.size()));
+  m.sys.toModel(m.x.data(), m.x.data());
   t_ = t_out;
   ++m.ownOutputCount;
   return true;
