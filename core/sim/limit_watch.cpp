@@ -40,6 +40,11 @@ LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(p
     if (!p.enabled) continue;
     limits_.push_back({static_cast<int>(r.id), r.above ? "above" : "below", r.above, p.threshold, r.unit, r.perCell,
                        p.delay_s + latency_s});
+    const bool charge = r.id == F::OverCurrentCharge;
+    const int quantity = !r.perCell ? (charge ? kPackCharge : kPackDischarge)
+                         : r.unit[0] == 'V' ? (r.above ? kVoltsHigh : kVoltsLow)
+                                            : (r.above ? kTempHigh : kTempLow);
+    checks_.push_back({1u << static_cast<int>(r.id), quantity, r.above ? p.threshold : -p.threshold});
     ep_.emplace_back(static_cast<size_t>(r.perCell ? cells : 1));
     open_.push_back(0);
   }
@@ -89,9 +94,7 @@ namespace {
 // minpd(x, lo) is (x < lo ? x : lo) per lane, the same NaN-skipping choice.
 struct Extremes {
   double lo = INFINITY, hi = -INFINITY;
-  bool taken = false;
   void take(const std::vector<double>& v) {
-    taken = true;
     const size_t n = v.size();
     size_t c = 0;
 #if defined(__SSE2__)
@@ -122,21 +125,16 @@ struct Extremes {
 }  // namespace
 
 // Whether some value is past a limit whose row is not active: from each quantity's
-// extremes, taken once a tick.
+// extremes, taken once a tick. Every check reads as "highest > threshold": a lower
+// limit as -lowest > -threshold (negation is exact; a NaN pack current fails both forms).
 bool LimitWatch::anyPast(const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
                          uint32_t faultActive) const {
   Extremes volts, temps;
-  for (const Limit& l : limits_) {
-    if ((faultActive >> l.fault) & 1u) continue;
-    double worst = l.fault == static_cast<int>(bms::FaultId::OverCurrentCharge) ? -pack_A : pack_A;
-    if (l.perCell) {
-      const bool isV = l.unit[0] == 'V';
-      Extremes& ex = isV ? volts : temps;
-      if (!ex.taken) ex.take(isV ? cell_V : cell_C);
-      worst = l.above ? ex.hi : ex.lo;
-    }
-    if (l.above ? worst > l.threshold : worst < l.threshold) return true;
-  }
+  volts.take(cell_V);
+  temps.take(cell_C);
+  const double highest[kQuantities] = {volts.hi, -volts.lo, temps.hi, -temps.lo, pack_A, -pack_A};
+  for (const Check& k : checks_)
+    if (!(faultActive & k.faultBit) && highest[k.quantity] > k.threshold) return true;
   return false;
 }
 
