@@ -278,6 +278,7 @@ void CvodeIntegrator::advance(double t_out, double t_stop) {
   realtype t_reached = t_;
   int flag = 0;
   {
+    m.history.nvec = 0;  // a call that ends without a combination into y leaves no history
     const CvodeOutputWatch watch(m.history);
     flag = CVode(m.mem, t_out, m.y, &t_reached, CV_NORMAL);
   }
