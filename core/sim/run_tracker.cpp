@@ -113,6 +113,8 @@ bool rowApplies(const OutputEdge& e, bool hardware, bool balancing) {
 // is not the first tick), outputEvents has no event to raise and nothing to note: the
 // usual tick, so it is skipped.
 bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing) {
+  // Unrolled: each row's needs and reader become constants (once per tick, every tick).
+#pragma GCC unroll 8
   for (size_t i = 0; i < kOutputEdgeCount; ++i)
     if (rowApplies(kOutputEdges[i], hardware, balancing) && kOutputEdges[i].read(out) != last[i]) return true;
   return false;
@@ -344,6 +346,8 @@ void RunTracker::hardwareChanged(double t) {
   if (!hw_) return;
   // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
   const HardwareStatus& h = hw_->status();
+  // Unrolled: each row's flag becomes a constant offset (once per tick, every tick).
+#pragma GCC unroll 8
   for (const HardwareEdge& e : kHardwareEdges) {
     const bool now = h.*(e.flag), before = lastHw_.*(e.flag);
     if (now && !before) event(t, e.kind, e.rising);
