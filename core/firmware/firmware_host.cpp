@@ -1,5 +1,6 @@
 #include "core/firmware/firmware_host.hpp"
 
+#include "core/firmware/clock_ns.hpp"
 #include "models/afe/byte_copy.hpp"
 
 #include <algorithm>
@@ -19,8 +20,6 @@ constexpr size_t kEventChars = 120;       // kept of one firmware event (the hea
 constexpr size_t kTelemetryKeep = 256;    // bytes kept of the last telemetry frame
 
 FirmwareHost& host(psfw_board* b) { return *reinterpret_cast<FirmwareHost*>(b); }
-
-uint64_t toNs(double t_s) { return static_cast<uint64_t>(std::llround(t_s * 1e9)); }
 
 // The services as C entry points; each forwards to the host, marked as host code for
 // the watchdog (FaultGuard::enterService) when the firmware runs under the guard (a
@@ -238,14 +237,15 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   heldInReset_ = false;  // the supply is back (a brown-out left started_ false: the MCU boots now)
   in_ = &in;
   out_ = &out;
-  clock_ns_ = std::max(clock_ns_, toNs(t_s));
-  const uint64_t windowEnd_ns = toNs(t_s) + tick_ns_;
-  if (target_ && started_ && target_->watchdogExpired(toNs(t_s))) {
+  const uint64_t t_ns = toNs(t_s);
+  clock_ns_ = std::max(clock_ns_, t_ns);
+  const uint64_t windowEnd_ns = t_ns + tick_ns_;
+  if (target_ && started_ && target_->watchdogExpired(t_ns)) {
     target_->expire();  // it ran out while the MCU waited for its next task
     watchdogReset();
   }
   if (!bootAfterReset(windowEnd_ns, out)) return;
-  if (target_) target_->monitorLine(in.monitorFaultPin, toNs(t_s));  // its edge pends the ALERT interrupt
+  if (target_) target_->monitorLine(in.monitorFaultPin, t_ns);  // its edge pends the ALERT interrupt
   bool due = !started_;
   for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
   uint64_t irqAt_ns = 0;

@@ -95,6 +95,14 @@ struct CvodeIntegrator::Impl {
   long jacReused = 0;
   bool diagonal = false;  // Newton::Diagonal: CVDiag, no matrix, no Jacobian callback
   long rhsCalls = 0;      // right-hand sides CVODE asked for, its own and CVDiag's
+  // CVODE's last step as its last output into y summed it (core/sim/cvode_output.hpp):
+  // the Nordsieck vectors, the step's end tn and size h. `dense` while they describe
+  // CVODE's history (a call returned since the last restart and took no step since).
+  CvodeOutputRecord history;
+  bool dense = false;
+  double tn = 0.0, h = 0.0;
+  bool ownOutputs = true;  // form the outputs inside the last step without the library
+  long ownOutputCount = 0;
 
   explicit Impl(OdeSystem& s) : sys(s), x(static_cast<size_t>(s.size()), 0.0) {}
   ~Impl() {
@@ -182,6 +190,7 @@ CvodeIntegrator::CvodeIntegrator(OdeSystem& sys, double rtol, Newton newton) : i
   // Set on y alone, after CVodeInit cloned its own vectors from it: only the output
   // interpolation into y takes it (core/sim/cvode_output.hpp).
   m.y->ops->nvlinearcombination = &cvodeOutputCombination;
+  m.history.z = m.y;
   check(CVodeSetUserData(m.mem, &m), "CVodeSetUserData");
   check(CVodeSVtolerances(m.mem, rtol, m.atol), "CVodeSVtolerances");
   check(CVodeSetMaxNumSteps(m.mem, 100000), "CVodeSetMaxNumSteps");
@@ -244,6 +253,7 @@ void CvodeIntegrator::reset(double t, const double* x) {
   // request is evaluated afresh.
   check(CVodeSetInitStep(m.mem, kRestartStepFraction * lastStep_s_), "CVodeSetInitStep");
   m.reuseSavedJ = m.haveSavedJ && base_.steps - m.stepsAtJ < kJacobianMaxAgeSteps;
+  m.dense = false;
   t_ = t;
   ++reinits_;
 }
@@ -257,6 +267,7 @@ void CvodeIntegrator::advance(double t_out, double t_stop) {
     return;
   }
   Impl& m = *impl_;
+  if (m.dense && m.ownOutputs && ownOutputInside(t_out, std::max(t_stop, t_out))) return;
   // CVODE may have stepped ahead of t_ (it interpolates back to each t_out). A stop
   // time inside that step -- a fault the loop learnt of only now, mid-tick -- restarts
   // it at t_, where state() holds the interpolated state.
@@ -265,11 +276,54 @@ void CvodeIntegrator::advance(double t_out, double t_stop) {
   if (std::max(t_stop, t_out) < t_internal) reset(t_, m.x.data());
   check(CVodeSetStopTime(m.mem, std::max(t_stop, t_out)), "CVodeSetStopTime");
   realtype t_reached = t_;
-  const int flag = CVode(m.mem, t_out, m.y, &t_reached, CV_NORMAL);
+  int flag = 0;
+  {
+    m.history.nvec = 0;  // a call that ends without a combination into y leaves no history
+    const CvodeOutputWatch watch(m.history);
+    flag = CVode(m.mem, t_out, m.y, &t_reached, CV_NORMAL);
+  }
   check(flag, "CVode");
+  noteHistory();
   m.sys.toModel(N_VGetArrayPointer(m.y), m.x.data());
   t_ = t_out;
 }
+
+// After CVode returned: its last output into y was CVodeGetDky's sum over the
+// Nordsieck array of the step it ended on (order q = nvec - 1; after a step the step's
+// size h is CVODE's last step, and CVODE's error-free return leaves h and q as the
+// step had them). Checked against CVODE's own order; anything else: no history.
+void CvodeIntegrator::noteHistory() {
+  Impl& m = *impl_;
+  int q = -1;
+  realtype tn = 0.0, hu = 0.0;
+  CVodeGetLastOrder(m.mem, &q);
+  CVodeGetCurrentTime(m.mem, &tn);
+  CVodeGetLastStep(m.mem, &hu);
+  m.dense = m.history.nvec >= 2 && m.history.nvec - 1 == q && hu > 0.0;
+  m.tn = tn;
+  m.h = hu;
+}
+
+// What CVode(t_out) would do once it has stepped past t_out (CV_NORMAL): return
+// CVodeGetDky(t_out) from the step's history, taking no step. Done here with no library
+// call when t_out lies inside the last step and the stop time is not behind CVODE
+// (advance() would restart it). CVODE's stop time is set again before every call that
+// reaches the library, and only such a call can step: skipping CVodeSetStopTime here
+// changes nothing CVODE does later (its stop time is read only when it steps).
+bool CvodeIntegrator::ownOutputInside(double t_out, double t_stop) {
+  Impl& m = *impl_;
+  if (!(t_out <= m.tn && t_out >= m.tn - m.h && t_stop >= m.tn)) return false;
+  // Straight into the model's coordinates: y's content between two CVode calls is read
+  // by nothing (CVode writes it; reset() fills it from x).
+  cvodeInterpolate(m.history, t_out, m.tn, m.h, m.x.data(), static_cast<long>(m.x.size()));
+  m.sys.toModel(m.x.data(), m.x.data());
+  t_ = t_out;
+  ++m.ownOutputCount;
+  return true;
+}
+
+void CvodeIntegrator::setOwnOutputs(bool on) { impl_->ownOutputs = on; }
+long CvodeIntegrator::ownOutputs() const { return impl_->ownOutputCount; }
 
 const double* CvodeIntegrator::state() const { return impl_->x.data(); }
 

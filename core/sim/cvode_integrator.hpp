@@ -63,6 +63,12 @@ class CvodeIntegrator : public Integrator {
   double time() const override { return t_; }
   CvodeStats stats() const override;
   const char* name() const override { return "cvode"; }
+  // Outputs inside CVODE's last step (most ticks: its steps are far longer) are its
+  // interpolation, formed here from its history with no library call
+  // (core/sim/cvode_output.hpp), the same to the bit. Off: every output is CVode's own
+  // (the reference the tests compare with). ownOutputs(): how many were formed here.
+  void setOwnOutputs(bool on);
+  long ownOutputs() const;
   // Never: CVODE's last right-hand side was taken at a trial point inside its step,
   // not at the interpolated t_out, so the loop evaluates the plant itself.
   const PlantSignals* signalsAt(double) const override { return nullptr; }
@@ -70,6 +76,8 @@ class CvodeIntegrator : public Integrator {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  void noteHistory();
+  bool ownOutputInside(double t_out, double t_stop);
   // CVODE's own limit on a Jacobian's age (msbj, steps) also bounds its reuse across restarts.
   static constexpr long kJacobianMaxAgeSteps = 51;
   // First step after a restart, as a fraction of the last step (reset()); on system B's

@@ -2,20 +2,104 @@
 
 #include <nvector/nvector_serial.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace packsim {
+
+namespace {
+
+// The combination for a fixed count of vectors: the coefficients and data pointers in
+// registers, the sum over the vectors unrolled. Element by element, every input read
+// before the output is written: z may be any of the x[i]. With SSE2 (every x86-64) two
+// elements at a time: each lane does the scalar code's multiplications and additions in
+// the same order, so each element gets the same bits.
+template <int N>
+void combineFixed(const double* c, const double* const* x, double* z, long n) {
+  double k[N];
+  const double* p[N];
+  for (int i = 0; i < N; ++i) {
+    k[i] = c[i];
+    p[i] = x[i];
+  }
+  long j = 0;
+#if defined(__SSE2__)
+  __m128d kv[N];
+  for (int i = 0; i < N; ++i) kv[i] = _mm_set1_pd(k[i]);
+  for (; j + 2 <= n; j += 2) {
+    __m128d acc = _mm_mul_pd(kv[0], _mm_loadu_pd(p[0] + j));
+    for (int i = 1; i < N; ++i) acc = _mm_add_pd(acc, _mm_mul_pd(kv[i], _mm_loadu_pd(p[i] + j)));
+    _mm_storeu_pd(z + j, acc);
+  }
+#endif
+  for (; j < n; ++j) {
+    double acc = k[0] * p[0][j];
+    for (int i = 1; i < N; ++i) acc += k[i] * p[i][j];
+    z[j] = acc;
+  }
+}
+
+// The record being filled on this thread (CvodeOutputWatch), if any.
+thread_local CvodeOutputRecord* tWatched = nullptr;
+
+}  // namespace
+
+void cvodeCombine(int nvec, const double* c, const double* const* x, double* z, long n) {
+  switch (nvec) {
+    case 1: return combineFixed<1>(c, x, z, n);
+    case 2: return combineFixed<2>(c, x, z, n);
+    case 3: return combineFixed<3>(c, x, z, n);
+    case 4: return combineFixed<4>(c, x, z, n);
+    case 5: return combineFixed<5>(c, x, z, n);
+    case 6: return combineFixed<6>(c, x, z, n);
+    default: break;
+  }
+  for (long j = 0; j < n; ++j) {
+    double acc = c[0] * x[0][j];
+    for (int i = 1; i < nvec; ++i) acc += c[i] * x[i][j];
+    z[j] = acc;
+  }
+}
 
 int cvodeOutputCombination(int nvec, realtype* c, N_Vector* X, N_Vector z) {
   if (nvec < 1) return -1;
-  // Element by element, every input read before the output is written: z may be any of
-  // the X[i] (the library's own general case is safe only for X[0]).
-  const sunindextype n = NV_LENGTH_S(z);
-  double* zd = NV_DATA_S(z);
-  for (sunindextype j = 0; j < n; ++j) {
-    double acc = c[0] * NV_DATA_S(X[0])[j];
-    for (int i = 1; i < nvec; ++i) acc += c[i] * NV_DATA_S(X[i])[j];
-    zd[j] = acc;
+  constexpr int kMax = CvodeOutputRecord::kMaxVectors;
+  const double* x[kMax];
+  CvodeOutputRecord* rec = tWatched != nullptr && tWatched->z == z ? tWatched : nullptr;
+  if (rec) rec->nvec = nvec <= kMax ? nvec : 0;
+  if (nvec > kMax) {  // not CVODE's output (at most q+1 = 6 vectors): element by element as above
+    const sunindextype n = NV_LENGTH_S(z);
+    double* zd = NV_DATA_S(z);
+    for (sunindextype j = 0; j < n; ++j) {
+      double acc = c[0] * NV_DATA_S(X[0])[j];
+      for (int i = 1; i < nvec; ++i) acc += c[i] * NV_DATA_S(X[i])[j];
+      zd[j] = acc;
+    }
+    return 0;
   }
+  for (int i = 0; i < nvec; ++i) {
+    x[i] = NV_DATA_S(X[i]);
+    if (rec) rec->x[i] = x[i];
+  }
+  cvodeCombine(nvec, c, x, NV_DATA_S(z), NV_LENGTH_S(z));
   return 0;
+}
+
+CvodeOutputWatch::CvodeOutputWatch(CvodeOutputRecord& rec) { tWatched = &rec; }
+CvodeOutputWatch::~CvodeOutputWatch() { tWatched = nullptr; }
+
+void cvodeInterpolate(const CvodeOutputRecord& rec, double t, double tn, double h, double* z, long n) {
+  constexpr int kMax = CvodeOutputRecord::kMaxVectors;
+  const int q = rec.nvec - 1;
+  const double s = (t - tn) / h;
+  double c[kMax];
+  for (int j = q, v = 0; j >= 0; --j, ++v) {  // CVodeGetDky's loop for k = 0
+    double cj = 1.0;
+    for (int i = 0; i < j; ++i) cj *= s;
+    c[v] = cj;
+  }
+  cvodeCombine(rec.nvec, c, rec.x, z, n);
 }
 
 }  // namespace packsim

@@ -5,6 +5,10 @@
 #include <cmath>
 #include <cstdio>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/sim/summary_text.hpp"
 
 namespace packsim {
@@ -36,6 +40,11 @@ LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(p
     if (!p.enabled) continue;
     limits_.push_back({static_cast<int>(r.id), r.above ? "above" : "below", r.above, p.threshold, r.unit, r.perCell,
                        p.delay_s + latency_s});
+    const bool charge = r.id == F::OverCurrentCharge;
+    const int quantity = !r.perCell ? (charge ? kPackCharge : kPackDischarge)
+                         : r.unit[0] == 'V' ? (r.above ? kVoltsHigh : kVoltsLow)
+                                            : (r.above ? kTempHigh : kTempLow);
+    checks_.push_back({1u << static_cast<int>(r.id), quantity, r.above ? p.threshold : -p.threshold});
     ep_.emplace_back(static_cast<size_t>(r.perCell ? cells : 1));
     open_.push_back(0);
   }
@@ -52,6 +61,7 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   const double from_s = e.from_s;
   e.from_s = -1.0;
   --open_[li];
+  --openTotal_;
   if (unseen_s <= l.allowed_s + 1e-9) {  // within the BMS's own delay and latency: no miss
     ++short_;
     return;
@@ -76,8 +86,63 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   sink(t, d);
 }
 
+namespace {
+
+// The lowest and highest of some values, NaN skipped (init at the infinities, taken
+// only by a comparison that is true): some value is above a limit exactly when the
+// highest is, below it exactly when the lowest is. With SSE2 two values at a time:
+// minpd(x, lo) is (x < lo ? x : lo) per lane, the same NaN-skipping choice.
+struct Extremes {
+  double lo = INFINITY, hi = -INFINITY;
+  void take(const std::vector<double>& v) {
+    const size_t n = v.size();
+    size_t c = 0;
+#if defined(__SSE2__)
+    if (n >= 2) {
+      __m128d lo2 = _mm_set1_pd(INFINITY), hi2 = _mm_set1_pd(-INFINITY);
+      for (; c + 2 <= n; c += 2) {
+        const __m128d x = _mm_loadu_pd(v.data() + c);
+        lo2 = _mm_min_pd(x, lo2);
+        hi2 = _mm_max_pd(x, hi2);
+      }
+      double l[2], h[2];
+      _mm_storeu_pd(l, lo2);
+      _mm_storeu_pd(h, hi2);
+      for (int k = 0; k < 2; ++k) {
+        if (l[k] < lo) lo = l[k];
+        if (h[k] > hi) hi = h[k];
+      }
+    }
+#endif
+    for (; c < n; ++c) {
+      const double x = v[c];
+      if (x < lo) lo = x;
+      if (x > hi) hi = x;
+    }
+  }
+};
+
+}  // namespace
+
+// Whether some value is past a limit whose row is not active: from each quantity's
+// extremes, taken once a tick. Every check reads as "highest > threshold": a lower
+// limit as -lowest > -threshold (negation is exact; a NaN pack current fails both forms).
+bool LimitWatch::anyPast(const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+                         uint32_t faultActive) const {
+  Extremes volts, temps;
+  volts.take(cell_V);
+  temps.take(cell_C);
+  const double highest[kQuantities] = {volts.hi, -volts.lo, temps.hi, -temps.lo, pack_A, -pack_A};
+  for (const Check& k : checks_)
+    if (!(faultActive & k.faultBit) && highest[k.quantity] > k.threshold) return true;
+  return false;
+}
+
 void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
                       uint32_t faultActive, const EventSink& sink) {
+  // The usual tick: no episode open, and no value past a limit whose row is not active
+  // (none opens): nothing to do.
+  if (openTotal_ == 0 && !anyPast(cell_V, cell_C, pack_A, faultActive)) return;
   for (size_t li = 0; li < limits_.size(); ++li) {
     const Limit& l = limits_[li];
     const bool active = (faultActive >> l.fault) & 1u;
@@ -86,15 +151,12 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
     const double* values = !l.perCell ? &packValue : l.unit[0] == 'V' ? cell_V.data() : cell_C.data();
     const size_t n = ep_[li].size();
     // No episode open: one opens only where a value is past the limit while the row is
-    // not active. The usual tick (every cell within every limit) ends with this scan.
+    // not active.
     if (open_[li] == 0) {
       if (active) continue;
-      bool anyPast = false;
-      if (l.above)
-        for (size_t c = 0; c < n; ++c) anyPast |= values[c] > l.threshold;
-      else
-        for (size_t c = 0; c < n; ++c) anyPast |= values[c] < l.threshold;
-      if (!anyPast) continue;
+      bool past = false;
+      for (size_t c = 0; c < n; ++c) past |= l.above ? values[c] > l.threshold : values[c] < l.threshold;
+      if (!past) continue;
     }
     for (size_t c = 0; c < n; ++c) {
       const double v = values[c];
@@ -105,6 +167,7 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
           e.from_s = t;
           e.extreme = v;
           ++open_[li];
+          ++openTotal_;
         }
         continue;
       }

@@ -56,6 +56,18 @@ class LimitWatch {
   std::vector<Limit> limits_;
   std::vector<std::vector<Episode>> ep_;  // [limit][cell]
   std::vector<size_t> open_;              // [limit]: episodes open (from_s >= 0)
+  size_t openTotal_ = 0;                  // over every limit
+  // Per limit, the usual tick's test (anyPast): the quantity's highest value (of the
+  // values or of their negatives) against the threshold (negated for a lower limit).
+  enum Quantity { kVoltsHigh, kVoltsLow, kTempHigh, kTempLow, kPackDischarge, kPackCharge, kQuantities };
+  struct Check {
+    uint32_t faultBit;
+    int quantity;
+    double threshold;
+  };
+  std::vector<Check> checks_;
+  bool anyPast(const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+               uint32_t faultActive) const;
   int parallel_;
   double longest_s_ = 0.0;
   long short_ = 0;

@@ -16,6 +16,10 @@
 #include <sstream>
 #include <stdexcept>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace packsim {
 
 namespace {
@@ -109,6 +113,8 @@ bool rowApplies(const OutputEdge& e, bool hardware, bool balancing) {
 // is not the first tick), outputEvents has no event to raise and nothing to note: the
 // usual tick, so it is skipped.
 bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing) {
+  // Unrolled: each row's needs and reader become constants (once per tick, every tick).
+#pragma GCC unroll 8
   for (size_t i = 0; i < kOutputEdgeCount; ++i)
     if (rowApplies(kOutputEdges[i], hardware, balancing) && kOutputEdges[i].read(out) != last[i]) return true;
   return false;
@@ -131,6 +137,12 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   r_.summary.soc_estimator = settingChoice("soc.estimator", s.bms.image);
   for (const auto& cell : plant.pack().cells) r_.summary.capacity_true_Ah += cell.capacity_Ah;
   r_.summary.capacity_true_Ah /= plant.pack().series;
+  for (const auto& cell : plant.pack().cells) cellMin_V_.push_back(cell.v_min_V);
+  const std::vector<double> state(static_cast<size_t>(plant.stateSize()));  // where cellStates points, as an index
+  for (int c = 0; c < plant.pack().cellCount(); ++c) {
+    cellTempIndex_.push_back(static_cast<size_t>(plant.tempIndex(c)));
+    cellSocIndex_.push_back(static_cast<size_t>(&plant.cellStates(state.data(), c)[CellLayout::soc] - state.data()));
+  }
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
   for (int c = 0; c < plant.pack().cellCount(); ++c)
@@ -265,25 +277,39 @@ void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   Summary& sm = r_.summary;
-  cellTemp_C_.resize(static_cast<size_t>(plant_.pack().cellCount()));
-  for (int c = 0; c < plant_.pack().cellCount(); ++c) {
-    const double v = sig.cell_voltage_V[static_cast<size_t>(c)];
-    const double T = x[plant_.tempIndex(c)];
-    cellTemp_C_[static_cast<size_t>(c)] = T;
-    if (v < sm.min_cell_V) {
-      sm.min_cell_V = v;
-      sm.min_cell = c + 1;
-      sm.min_cell_time_s = t;
+  const int cells = plant_.pack().cellCount();
+  cellTemp_C_.resize(static_cast<size_t>(cells));
+  // The extremes kept in locals over the cells (noteLimit and noteSocRange neither read
+  // nor write them) and stored once.
+  const double* cell_V = sig.cell_voltage_V.data();
+  double* cell_C = cellTemp_C_.data();
+  double minV = sm.min_cell_V, minV_s = sm.min_cell_time_s, maxT = sm.max_temp_C, maxT_s = sm.hottest_time_s;
+  int minCell = sm.min_cell, hottest = sm.hottest_cell;
+  for (int c = 0; c < cells; ++c) {
+    const size_t ci = static_cast<size_t>(c);
+    const double v = cell_V[ci];
+    const double T = x[cellTempIndex_[ci]];
+    cell_C[ci] = T;
+    if (v < minV) {
+      minV = v;
+      minCell = c + 1;
+      minV_s = t;
     }
-    if (!sm.limit_reached && v <= plant_.pack().cells[static_cast<size_t>(c)].v_min_V) noteLimit(t, x, c);
-    const double soc = plant_.cellStates(x, c)[CellLayout::soc];
+    if (!sm.limit_reached && v <= cellMin_V_[ci]) noteLimit(t, x, c);
+    const double soc = x[cellSocIndex_[ci]];
     if (soc < 0.0 || soc > 1.0) noteSocRange(t, x, c);
-    if (T > sm.max_temp_C) {
-      sm.max_temp_C = T;
-      sm.hottest_cell = c + 1;
-      sm.hottest_time_s = t;
+    if (T > maxT) {
+      maxT = T;
+      hottest = c + 1;
+      maxT_s = t;
     }
   }
+  sm.min_cell_V = minV;
+  sm.min_cell = minCell;
+  sm.min_cell_time_s = minV_s;
+  sm.max_temp_C = maxT;
+  sm.hottest_cell = hottest;
+  sm.hottest_time_s = maxT_s;
 
   const bool outputsMoved = first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing);
   if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
@@ -320,6 +346,8 @@ void RunTracker::hardwareChanged(double t) {
   if (!hw_) return;
   // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
   const HardwareStatus& h = hw_->status();
+  // Unrolled: each row's flag becomes a constant offset (once per tick, every tick).
+#pragma GCC unroll 8
   for (const HardwareEdge& e : kHardwareEdges) {
     const bool now = h.*(e.flag), before = lastHw_.*(e.flag);
     if (now && !before) event(t, e.kind, e.rising);
@@ -349,7 +377,23 @@ bool RunTracker::stopRequested(double t) const {
 }
 
 void RunTracker::checkFinite(double t, const double* x, int n) const {
-  for (int i = 0; i < n; ++i) {
+  // x·0 is 0 for a finite x and NaN for an infinite or NaN one, and NaN stays in a sum:
+  // one branch-free pass for the usual tick; the state is looked at one by one only
+  // when something is not finite.
+  // (With SSE2 two elements at a time: the order of the sum does not matter here.)
+  double probe = 0.0;
+  int i = 0;
+#if defined(__SSE2__)
+  __m128d probe2 = _mm_setzero_pd();
+  const __m128d zero = _mm_setzero_pd();
+  for (; i + 2 <= n; i += 2) probe2 = _mm_add_pd(probe2, _mm_mul_pd(_mm_loadu_pd(x + i), zero));
+  double lanes[2];
+  _mm_storeu_pd(lanes, probe2);
+  probe = lanes[0] + lanes[1];
+#endif
+  for (; i < n; ++i) probe += x[i] * 0.0;
+  if (probe == 0.0) return;
+  for (i = 0; i < n; ++i) {
     if (!std::isfinite(x[i])) {
       std::ostringstream os;
       os << "the simulation diverged at t = " << t << " s (state " << i << " is not finite); "
@@ -409,7 +453,7 @@ void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const 
   double total = 0.0;
   for (int g = 0; g < plant_.pack().series; ++g) {
     double sum = 0.0;
-    for (int k = 0; k < parallel; ++k) sum += plant_.cellStates(x, g * parallel + k)[CellLayout::soc];
+    for (int k = 0; k < parallel; ++k) sum += x[cellSocIndex_[static_cast<size_t>(g * parallel + k)]];
     total += sum;
     const double e = std::fabs(tm.socGroup_permille[g] * 1e-3 - sum / parallel);
     if (tm.socEkfValid && e > sm.soc_error_ekf_group_max) {

@@ -75,6 +75,9 @@ class RunTracker {
   void noteMisuse();
   std::string misuseDetail(int board, const RegisterMisuse& m) const;
   std::vector<double> cellTemp_C_;
+  std::vector<double> cellMin_V_;  // each cell's v_min_V, in a row for the per-tick scan
+  // Each cell's temperature and SOC in the state (Plant::tempIndex, cellStates), likewise
+  std::vector<size_t> cellTempIndex_, cellSocIndex_;
 };
 
 }  // namespace packsim

@@ -4,9 +4,12 @@
 // simulator down.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <csignal>
+#include <random>
 #include <sstream>
 
+#include "core/firmware/clock_ns.hpp"
 #include "core/firmware/firmware_host.hpp"
 
 namespace packsim {
@@ -88,6 +91,34 @@ struct Bench {
 // Init at 0, task i first at its period, then every period; tasks due together run
 // in declaration order; the 15 ms task (not a multiple of the 10 ms tick) at its own
 // due times on its clock.
+// The clock's conversion (core/firmware/clock_ns.hpp) against std::llround: tick
+// instants and bus durations as the host forms them, exact half-way cases, the values
+// next to them, and what falls back to the library (negative, past 2^52 ns, NaN).
+TEST(FirmwareHost, TheClocksNanosecondsAreLlroundsToTheBit) {
+  const auto ref = [](double t_s) { return static_cast<uint64_t>(std::llround(t_s * 1e9)); };
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  long checked = 0;
+  for (long k = 0; k < 200000; ++k) {
+    const double tick = static_cast<double>(k) * 0.01;  // the loop's t = k·tick_s
+    const double bus = u(rng) * 1e-3 * std::ldexp(1.0, static_cast<int>(u(rng) * 20) - 10);
+    for (const double t : {tick, bus, tick + bus, std::nextafter(tick, 0.0), std::nextafter(tick, 1e9)}) {
+      ASSERT_EQ(toNs(t), ref(t)) << t;
+      ++checked;
+    }
+  }
+  for (long i = 0; i < 100000; ++i) {  // near half-way: (i + 1/2) ns, most products exactly so
+    const double t = (static_cast<double>(i) + 0.5) * 1e-9;
+    ASSERT_EQ(toNs(t), ref(t)) << i;
+  }
+  for (const double x : {0.5, 1.5, 2.5, 4503599627370495.5, 0.49999999999999994, 1e15 + 0.5, 4503599627370496.0,
+                         1e17, -0.4, -2.5, 0.0, -0.0}) {
+    EXPECT_EQ(toNs(x * 1e-9), ref(x * 1e-9)) << x;
+    EXPECT_EQ(toNs(std::nextafter(x, 1e30) * 1e-9), ref(std::nextafter(x, 1e30) * 1e-9)) << x;
+  }
+  EXPECT_EQ(checked, 1000000);
+}
+
 TEST(FirmwareHost, RunsEachTaskAtItsPeriodInDeclarationOrder) {
   Bench b(probe(PROBE));
   b.run(7);  // ticks 0..60 ms: instances due in [0, 70) ms

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <bms/bms_faults.hpp>
+#include <cmath>
 #include <string>
 #include <utility>
 #include <vector>
@@ -55,6 +56,32 @@ TEST(LimitWatch, EpisodesOpenCloseAndReportAgainstAHandWrittenTruth) {
   EXPECT_EQ(w.shortExcursions(), 1);
   EXPECT_DOUBLE_EQ(w.longestUnseen_s(), 4.0);
   EXPECT_EQ(w.longestUnseen(), events[0].second);
+}
+
+// The scan for a value past a limit (taken as the values' extremes once a tick) skips a
+// NaN as the comparison with the threshold does: a cell past the limit beside a NaN one,
+// before or after it in the list, still opens its episode; overtemperature too.
+TEST(LimitWatch, AValuePastTheLimitIsFoundBesideANaN) {
+  const Scenario s = test::scenarioFromYaml(
+      test::simpleCellYaml(3) +
+      "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
+      "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
+      "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+  for (int nanAt : {0, 2}) {
+    LimitWatch w(s, 3, 1);
+    std::vector<std::pair<double, std::string>> events;
+    const LimitWatch::EventSink sink = [&](double t, const std::string& d) { events.emplace_back(t, d); };
+    for (int k = 0; k <= 40; ++k) {
+      std::vector<double> v = {3.7, 3.7, 3.7}, temp = {25.0, 25.0, 25.0};
+      v[static_cast<size_t>(nanAt)] = temp[static_cast<size_t>(nanAt)] = NAN;
+      if (k >= 10 && k < 30) v[1] = 2.9, temp[1] = 70.0;  // cell 2: 1.0 s .. 3.0 s
+      w.tick(k * 0.1, v, temp, 1.0, 0u, sink);
+    }
+    ASSERT_EQ(events.size(), 2u) << "NaN at cell " << nanAt + 1;
+    EXPECT_DOUBLE_EQ(events[0].first, 3.0);
+    EXPECT_NE(events[0].second.find("cell 2 below the 3.000 V limit from 1.00 s"), std::string::npos) << events[0].second;
+    EXPECT_NE(events[1].second.find("cell 2 above the 60 C limit from 1.00 s"), std::string::npos) << events[1].second;
+  }
 }
 
 }  // namespace
