@@ -21,6 +21,7 @@ Plant::Plant(const Scenario& s)
   pack_.layout.n_rc = static_cast<int>(s.pack.cell.rc.size());
   pack_.layout.hysteresis = s.pack.cell.has_hysteresis;
   pack_.cacheTemperatureUse();
+  for (const CellParams& p : pack_.cells) flat_.push_back(FlatCell::of(p));
 
   const ThermalConfig& th = s.thermal;
   for (int c = 0; c < pack_.cellCount(); ++c) {
@@ -77,6 +78,9 @@ PlantSignals Plant::makeSignals() const {
   s.internal_A.assign(n, 0.0);
   s.cell_ocv_V.assign(n, 0.0);
   s.cell_r0_ohm.assign(n, 0.0);
+  s.cell_emf_V.assign(n, 0.0);
+  s.cell_reversible_W.assign(n, 0.0);
+  s.cell_hints.assign(n, CellHints{});
   s.group_voltage_V.assign(static_cast<size_t>(pack_.series), 0.0);
   s.heat_W.assign(nodes, 0.0);
   s.balance_current_A.assign(static_cast<size_t>(pack_.series), 0.0);
@@ -177,7 +181,10 @@ void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, 
     const size_t ci = static_cast<size_t>(c);
     const CellParams& p = pack_.cells[ci];
     const double* xc = cellX(c);
-    double q = ecm::heatWithR0_W(p, xc, sig.cell_current_A[ci], sig.cell_r0_ohm[ci], pack_.cellTemp_C(c, xc));
+    const double t_C = pack_.cellTemp_C(c, xc), i_A = sig.cell_current_A[ci];
+    const double rev = flat_[ci].reversibleHeat_W(xc[CellLayout::soc], i_A, t_C, sig.cell_hints[ci]);
+    sig.cell_reversible_W[ci] = rev;
+    double q = ecm::heatWithParts_W(p, xc, i_A, sig.cell_r0_ohm[ci], rev, t_C);
     sig.internal_A[ci] = 0.0;
     if (f) {
       if (ci < f->cell_heat_W.size()) {
@@ -231,6 +238,23 @@ void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, 
   sig.ambient_C = in.ambient_C ? *in.ambient_C : ambient_.at(t);
 }
 
+// Inline: once per group and evaluation, mostly a group of one cell.
+inline void Plant::evaluateGroupCells(int g, const double* x, double i_A, PlantSignals& sig) const {
+  const size_t first = static_cast<size_t>(g) * static_cast<size_t>(pack_.parallel);
+  for (size_t ci = first; ci < first + static_cast<size_t>(pack_.parallel); ++ci) {
+    const int c = static_cast<int>(ci);
+    const CellParams& p = pack_.cells[ci];
+    const FlatCell& f = flat_[ci];
+    CellHints& h = sig.cell_hints[ci];
+    const double* xc = cellStates(x, c);
+    const double t_C = pack_.cellTemp_C(c, xc), soc = xc[CellLayout::soc];
+    const double ocv = f.ocv_V(p, soc, t_C, h);
+    sig.cell_ocv_V[ci] = ocv;
+    sig.cell_r0_ohm[ci] = f.r0_ohm(soc, t_C, i_A, h);
+    sig.cell_emf_V[ci] = ecm::emf(p, xc, ocv) + ecm::instantHysteresis_V(p, i_A);
+  }
+}
+
 // Group voltages and cell currents for the string current sig.pack_current_A, with
 // each group's balancing resistor (closed form, see the header) and the active
 // balancer's converter and precharge currents.
@@ -268,11 +292,12 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
       pack_.groupThevenin(g, cellX, eg, rg, iString);
       v = balancingFactor(in, g, rg) * (eg - rg * iString);
       iBal = balancingDuty(in, gi) * balancer_.current_A(v);
-      v = pack_.splitGroup(g, iString + iBal, cellX, sig.cell_current_A.data(), sig.cell_ocv_V.data(),
-                           sig.cell_r0_ohm.data());
+      evaluateGroupCells(g, x, iString + iBal, sig);
+      v = pack_.splitGroup(g, iString + iBal, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
       sig.balance_heat_W += v * iBal;
     } else {
-      v = pack_.splitGroup(g, iString, cellX, sig.cell_current_A.data(), sig.cell_ocv_V.data(), sig.cell_r0_ohm.data());
+      evaluateGroupCells(g, x, iString, sig);
+      v = pack_.splitGroup(g, iString, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
     }
     sig.group_voltage_V[gi] = v;
     sig.pack_voltage_V += v;
@@ -317,7 +342,7 @@ void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
   if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
 }
 
-void Plant::quadratures(const double* x, const PlantSignals& sig, double* dq) const {
+void Plant::quadratures(const double* /*x*/, const PlantSignals& sig, double* dq) const {
   // Heat from the cells (Joule, and reversible where a cell has dOCV/dT): heat injected
   // by a scripted fault is not drawn from the cells. The chemical energy released is
   // ∫OCV·I, plus the reversible heat -I·T·dOCV/dT where given (the enthalpy), so that
@@ -329,11 +354,7 @@ void Plant::quadratures(const double* x, const PlantSignals& sig, double* dq) co
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     chem += sig.cell_ocv_V[ci] * (sig.cell_current_A[ci] + sig.internal_A[ci]);
-    const CellParams& p = pack_.cells[ci];
-    if (p.has_entropic) {
-      const double* xc = cellStates(x, c);
-      chem += ecm::reversibleHeat_W(p, xc[CellLayout::soc], sig.cell_current_A[ci], pack_.cellTemp_C(c, xc));
-    }
+    if (pack_.cells[ci].has_entropic) chem += sig.cell_reversible_W[ci];  // as evaluated with the heat
   }
   // Balancing heat sits in the board node's heat_W when there is one.
   if (boardNode_ < 0) heat += sig.balance_heat_W;

@@ -30,6 +30,7 @@
 #include "core/scenario/scenario.hpp"
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/sparsity.hpp"
+#include "models/cell/flat_cell.hpp"
 #include "models/load/load_profile.hpp"
 #include "models/pack/pack.hpp"
 #include "models/thermal/thermal_network.hpp"
@@ -70,6 +71,9 @@ struct PlantSignals {
   std::vector<double> internal_A;       // current through an internal short, per cell
   std::vector<double> cell_ocv_V;       // OCV and R0 at the cell's SOC (curves evaluated once)
   std::vector<double> cell_r0_ohm;
+  std::vector<double> cell_emf_V;       // behind R0: OCV - Σ v_rc (+ h - M0·sgn i): the current split's input
+  std::vector<double> cell_reversible_W;  // -i·T_K·dOCV/dT (0 without): heat, and again the chemical energy
+  std::vector<CellHints> cell_hints;    // each cell's table segments found last time (speed only)
   double pack_current_A = 0.0;
   double pack_voltage_V = 0.0;
   double ambient_C = 25.0;
@@ -131,7 +135,8 @@ class Plant {
   // sig (from terminalCurrent at another state: the Jacobian holds it, plant_ode.hpp).
   void terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
-  // Rates of the quadratures from signals already evaluated at (t, x) (by evaluate/derivatives).
+  // Rates of the quadratures from signals already evaluated at (t, x) (by evaluate/derivatives):
+  // they hold all it reads (the reversible heat too), x is not read again.
   void quadratures(const double* x, const PlantSignals& sig, double* dq) const;
   PlantSignals makeSignals() const;
 
@@ -163,6 +168,8 @@ class Plant {
   double balancingDuty(const PlantInputs& in, size_t gi) const;  // PlantInputs::balance_duty (1 if unset)
   double balancingFactor(const PlantInputs& in, int g, double r_g) const;
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  // Cells of group g at the group current i_A: OCV, R0, EMF into sig (curves once per cell).
+  void evaluateGroupCells(int g, const double* x, double i_A, PlantSignals& sig) const;
   void evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void rates(const double* x, double* dx, PlantSignals& sig) const;  // from evaluated signals
 
@@ -184,6 +191,9 @@ class Plant {
   std::vector<int> boardNodes_;  // per monitor board; empty without a board node
   std::vector<std::pair<int, double>> externalHeat_W_;  // (node, W): heat from outside the pack
   int busIndex_ = -1;
+  // Per cell: its curves and constants laid out for the per-cell loop (pointing into
+  // pack_'s curves, whose arrays every copy shares).
+  std::vector<FlatCell> flat_;
 };
 
 }  // namespace packsim

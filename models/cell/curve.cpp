@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "models/cell/flat_curve.hpp"
+
 namespace packsim {
 
 Curve Curve::constant(double value) {
@@ -106,6 +108,10 @@ double Curve::eval(double soc, double axis_capacity_Ah, double temp_C) const {
   if (kind == Kind::Constant && arrhenius_K == 0.0) return pts_->coeffs[0];
   if (!dependsOnTemperature()) return at(axisValue(soc, axis_capacity_Ah));  // the 1-D path, as without T
   return at(axisValue(soc, axis_capacity_Ah), temp_C);
+}
+
+double FlatCurve::grid(double x, double temp_C, CurveHint& hint) const {
+  return interpolateGrid(xs, ys, n, temps_C, rows, x, temp_C, &hint.x, &hint.temp);
 }
 
 }  // namespace packsim

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -74,36 +75,56 @@ struct Curve {
 // held flat beyond the ends; a one-point table is a constant.
 double interpolate(const std::vector<double>& xs, const std::vector<double>& ys, double x);
 
+// A caller's remembered table segment: the index pointAbove found last time (0: none).
+// A cell's SOC moves by a hair per evaluation, so it nearly always falls in the same
+// segment again; checking that one segment replaces the search. The index found is the
+// same either way (the segment i with xs[i-1] <= x < xs[i] is unique), so the result is
+// too: the hint saves instructions, never changes a bit.
+struct SegmentHint {
+  uint32_t i = 0;
+};
+
 // The first point above x (std::upper_bound) for xs[0] < x < xs[n-1]: a forward scan on
 // a short table (a cell curve: a dozen points, read several times per cell and tick;
 // the scan's one mispredicted exit costs less than a binary search's call and its
 // guesses), the binary search on a long one (a load profile). Same index either way.
-inline size_t pointAbove(const double* xs, size_t n, double x) {
+// With a hint: its segment when x lies in it, else the search (and the hint remembers).
+inline size_t pointAbove(const double* xs, size_t n, double x, SegmentHint* hint = nullptr) {
+  if (hint) {
+    const size_t h = hint->i;
+    if (h - 1 < n - 1 && xs[h - 1] <= x && x < xs[h]) return h;  // h = 0 wraps: no hint
+  }
   constexpr size_t kScanUpTo = 16;
-  if (n > kScanUpTo) return static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
   size_t i = 1;
-  while (i + 1 < n && !(x < xs[i])) ++i;
+  if (n > kScanUpTo) {
+    i = static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
+  } else {
+    while (i + 1 < n && !(x < xs[i])) ++i;
+  }
+  if (hint) hint->i = static_cast<uint32_t>(i);
   return i;
 }
 
 // The same over n points of arrays (ys may be one row of a 2-D table).
-inline double interpolateN(const double* xs, const double* ys, size_t n, double x) {
+inline double interpolateN(const double* xs, const double* ys, size_t n, double x, SegmentHint* hint = nullptr) {
   if (n == 1 || x <= xs[0]) return ys[0];
   if (x >= xs[n - 1]) return ys[n - 1];
-  const size_t i = pointAbove(xs, n, x);
+  const size_t i = pointAbove(xs, n, x, hint);
   const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
   return ys[i - 1] + w * (ys[i] - ys[i - 1]);
 }
 
 // A table over (x, temperature): `rows` rows of n values (row-major), one per grid
 // temperature (temps_C increasing). Each row is interpolated at x, then linearly between
-// the two rows around temp_C; held at the grid's first and last row beyond it.
+// the two rows around temp_C; held at the grid's first and last row beyond it. The
+// optional hints remember the x segment (shared by the rows) and the temperature one.
 inline double interpolateGrid(const double* xs, const double* ys, size_t n, const double* temps_C, size_t rows,
-                              double x, double temp_C) {
-  auto row = [&](size_t j) { return interpolateN(xs, ys + j * n, n, x); };
+                              double x, double temp_C, SegmentHint* x_hint = nullptr,
+                              SegmentHint* temp_hint = nullptr) {
+  auto row = [&](size_t j) { return interpolateN(xs, ys + j * n, n, x, x_hint); };
   if (rows == 1 || temp_C <= temps_C[0]) return row(0);
   if (temp_C >= temps_C[rows - 1]) return row(rows - 1);
-  const size_t j = pointAbove(temps_C, rows, temp_C);
+  const size_t j = pointAbove(temps_C, rows, temp_C, temp_hint);
   const double w = (temp_C - temps_C[j - 1]) / (temps_C[j] - temps_C[j - 1]);
   const double lo = row(j - 1);
   return lo + w * (row(j) - lo);

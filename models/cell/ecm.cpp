@@ -46,12 +46,6 @@ double emfAt(const CellParams& p, const double* x, double temp_C) {
 
 double emf(const CellParams& p, const double* x) { return emfAt(p, x, kReferenceTemp_C); }
 
-double emf(const CellParams& p, const double* x, double ocv_V) {
-  double v = ocv_V;
-  for (size_t k = 0; k < p.rc.size(); ++k) v -= x[1 + k];
-  if (p.has_hysteresis) v += x[1 + p.rc.size()];
-  return v;
-}
 
 namespace {
 
@@ -70,11 +64,7 @@ double heat_W(const CellParams& p, const double* x, double i_A) {
 }
 
 double heatWithR0_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double temp_C) {
-  double q = i_A * i_A * r0_ohm;
-  for (size_t k = 0; k < p.rc.size(); ++k) q += x[1 + k] * x[1 + k] / rcR_ohm(p.rc[k], p, x[CellLayout::soc], temp_C);
-  if (p.has_entropic) q += reversibleHeat_W(p, x[CellLayout::soc], i_A, temp_C);
-  if (p.has_hysteresis) q -= i_A * (x[1 + p.rc.size()] + instantHysteresis_V(p, i_A));
-  return q;
+  return heatWithParts_W(p, x, i_A, r0_ohm, reversibleHeat_W(p, x[CellLayout::soc], i_A, temp_C), temp_C);
 }
 
 double reversibleHeat_W(const CellParams& p, double soc, double i_A, double temp_C) {

@@ -95,15 +95,33 @@ double rcC_F(const RcPair& rc, const CellParams& p, double soc, double temp_C);
 double emfAt(const CellParams& p, const double* x, double temp_C);
 double emf(const CellParams& p, const double* x);  // at kReferenceTemp_C
 // The same with the OCV already evaluated at the cell's SOC (ocv_V = ocv(p, soc, T)).
-double emf(const CellParams& p, const double* x, double ocv_V);
+// Inline: the plant reads it per cell and evaluation.
+inline double emf(const CellParams& p, const double* x, double ocv_V) {
+  double v = ocv_V;
+  for (size_t k = 0; k < p.rc.size(); ++k) v -= x[1 + k];
+  if (p.has_hysteresis) v += x[1 + p.rc.size()];
+  return v;
+}
 double terminalVoltage(const CellParams& p, const double* x, double i_A, double temp_C = kReferenceTemp_C);
 double heat_W(const CellParams& p, const double* x, double i_A);  // at kReferenceTemp_C
 // Heat with R0 already evaluated at the cell's SOC (r0_ohm = r0(p, soc, T, i)).
 double heatWithR0_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double temp_C);
+// The same with the reversible heat evaluated too (reversible_W = reversibleHeat_W(p,
+// soc, i, T)): the plant keeps it for the chemical-energy quadrature.
+inline double heatWithParts_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double reversible_W,
+                              double temp_C);
 // The instantaneous hysteresis term -M0·sgn(i) (0 without hysteresis or current).
 inline double instantHysteresis_V(const CellParams& p, double i_A) {
   if (!p.has_hysteresis) return 0.0;
   return i_A > 0.0 ? -p.hysteresis_instant_V : i_A < 0.0 ? p.hysteresis_instant_V : 0.0;
+}
+inline double heatWithParts_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double reversible_W,
+                              double temp_C) {
+  double q = i_A * i_A * r0_ohm;
+  for (size_t k = 0; k < p.rc.size(); ++k) q += x[1 + k] * x[1 + k] / rcR_ohm(p.rc[k], p, x[CellLayout::soc], temp_C);
+  if (p.has_entropic) q += reversible_W;
+  if (p.has_hysteresis) q -= i_A * (x[1 + p.rc.size()] + instantHysteresis_V(p, i_A));
+  return q;
 }
 // Reversible heat alone: -i·T_K·dOCV/dT (0 without a dOCV/dT curve).
 double reversibleHeat_W(const CellParams& p, double soc, double i_A, double temp_C);

@@ -48,13 +48,26 @@ struct Pack {
   // the charge R0.
   template <typename CellStates>
   void groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm, double i_sign_A = 0.0) const;
-  // Splits group g's current. x_cell(i) points at cell i's electrical states.
-  // Writes per-cell currents into i_cell[g·Mp … g·Mp+Mp-1]; returns V_g. When given,
-  // ocv_cell and r0_cell receive each cell's OCV and R0 at the same indices (the
-  // curves are evaluated once per cell; callers reuse them for heat and energy).
-  template <typename CellStates>
-  double splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell, double* ocv_cell = nullptr,
-                    double* r0_cell = nullptr) const;
+  // Splits group g's current from its cells' EMF behind R0 (OCV minus RC polarisation,
+  // plus the instantaneous hysteresis for this current) and R0 (for this current's
+  // sign), evaluated by the caller once per cell: emf_cell[i], r0_cell[i] at the cell
+  // indices i = g·Mp … g·Mp+Mp-1. Writes the cells' currents into i_cell; returns V_g.
+  double splitGroup(int g, double i_group_A, const double* emf_cell, const double* r0_cell, double* i_cell) const {
+    const int first = g * parallel;
+    if (parallel == 1) {  // the cell carries the group's current
+      i_cell[first] = i_group_A;
+      return emf_cell[first] - i_group_A * r0_cell[first];
+    }
+    double sum_e_over_r = 0.0, sum_g = 0.0;
+    for (int i = first; i < first + parallel; ++i) {
+      const double gk = 1.0 / r0_cell[i];
+      sum_e_over_r += emf_cell[i] * gk;
+      sum_g += gk;
+    }
+    const double v_g = (sum_e_over_r - i_group_A) / sum_g;
+    for (int i = first; i < first + parallel; ++i) i_cell[i] = (emf_cell[i] - v_g) / r0_cell[i];
+    return v_g;
+  }
 };
 
 template <typename CellStates>
@@ -71,45 +84,6 @@ void Pack::groupThevenin(int g, CellStates x_cell, double& e_V, double& r_ohm, d
   }
   e_V = sum_e_over_r / sum_g;
   r_ohm = 1.0 / sum_g;
-}
-
-template <typename CellStates>
-double Pack::splitGroup(int g, double i_group_A, CellStates x_cell, double* i_cell, double* ocv_cell,
-                        double* r0_cell) const {
-  const int first = g * parallel;
-  // EMF and R0 of cell i, its OCV and R0 kept if asked.
-  auto cellEmf = [&](int i, double& r0) {
-    const CellParams& p = cells[i];
-    const double* x = x_cell(i);
-    const double t_C = cellTemp_C(i, x);
-    const double ocv = ecm::ocv(p, x[CellLayout::soc], t_C);
-    r0 = ecm::r0(p, x[CellLayout::soc], t_C, i_group_A);
-    if (ocv_cell) ocv_cell[i] = ocv;
-    if (r0_cell) r0_cell[i] = r0;
-    return ecm::emf(p, x, ocv) + ecm::instantHysteresis_V(p, i_group_A);
-  };
-  if (parallel == 1) {
-    double r0 = 0.0;
-    const double e = cellEmf(first, r0);
-    i_cell[first] = i_group_A;
-    return e - i_group_A * r0;
-  }
-  double sum_e_over_r = 0.0, sum_g = 0.0;
-  for (int k = 0; k < parallel; ++k) {
-    double r0 = 0.0;
-    const double e = cellEmf(first + k, r0);
-    const double gk = 1.0 / r0;
-    sum_e_over_r += e * gk;
-    sum_g += gk;
-    i_cell[first + k] = e;  // EMF for now; the current once V_g is known
-  }
-  const double v_g = (sum_e_over_r - i_group_A) / sum_g;
-  for (int k = 0; k < parallel; ++k) {
-    const int i = first + k;
-    const double r0 = r0_cell ? r0_cell[i] : ecm::r0(cells[i], x_cell(i)[CellLayout::soc], cellTemp_C(i, x_cell(i)), i_group_A);
-    i_cell[i] = (i_cell[i] - v_g) / r0;
-  }
-  return v_g;
 }
 
 }  // namespace packsim

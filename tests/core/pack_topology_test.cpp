@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <random>
 
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
@@ -100,6 +103,82 @@ TEST(PackTopology, GroupLevelSpreadIsSharedWithinAGroup) {
     for (int k = 1; k < 3; ++k)
       EXPECT_EQ(p.pack().cells[static_cast<size_t>(g * 3 + k)].capacity_Ah, p.pack().cells[static_cast<size_t>(g * 3)].capacity_Ah);
   EXPECT_NE(p.pack().cells[0].capacity_Ah, p.pack().cells[3].capacity_Ah);
+}
+
+
+uint64_t bits(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// The plant evaluates each cell's curves once, from its flattened copy of them with
+// remembered table segments (models/cell/flat_cell.hpp), and keeps the reversible heat
+// for the chemical-energy quadrature. Against the ECM's own functions at the same state,
+// bit for bit: OCV, R0, the current split, each cell's heat and the quadratures, over a
+// random walk of states (SOC inside and beyond 0…1, RC and hysteresis voltages,
+// temperatures) on both current signs, for an Arrhenius table R0 with a charge R0,
+// hysteresis and entropic heat (lipo), a discharged-Ah polynomial R0 (NCR18650) and a 2-D
+// R0 table (LTO), in parallel groups with spread cells; a warm and a fresh set of signals
+// agree too.
+TEST(PackTopology, PlantSignalsAreTheEcmFunctionsBitForBit) {
+  const std::vector<std::string> cells = {
+      "{preset: lipo_5Ah, r0_charge_ohm: {x: [0.0, 1.0], y: [0.012, 0.009]}, "
+      "hysteresis: {max_V: 0.03, rate_per_Ah: 20, instantaneous_V: 0.005}}",
+      "{preset: ncr18650_3p1Ah}", "{preset: lto_20Ah}"};
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const std::string& cell : cells) {
+    const Scenario s = test::scenarioFromYaml(
+        "name: flat\nseed: 5\npack:\n  series: 2\n  parallel: 3\n  initial_soc: 0.8\n  cell: " + cell +
+        "\n  spread: {capacity_rel_sd: 0.02, r0_rel_sd: 0.05}\nload: {current_A: 3}\nrun: {duration_s: 10}\n");
+    const Plant plant(s);
+    const Pack& pk = plant.pack();
+    const int n = pk.cellCount(), stride = plant.stride();
+    std::vector<double> x(static_cast<size_t>(plant.stateSize()));
+    plant.initialState(x.data());
+    PlantSignals warm = plant.makeSignals();
+    PlantInputs in;
+    in.relay_closed = true;
+    std::vector<double> dq(kQuadCount), dqFresh(kQuadCount);
+    for (int step = 0; step < 600; ++step) {
+      for (int c = 0; c < n; ++c) {
+        double* xc = x.data() + c * stride;
+        xc[0] = u(rng) < 0.03 ? -0.1 + 1.2 * u(rng) : xc[0] - 0.003 * u(rng);
+        if (xc[0] < -0.1) xc[0] = 1.05;
+        for (int k = 1; k < pk.layout.size(); ++k) xc[k] = 0.02 * (u(rng) - 0.5);
+        x[static_cast<size_t>(plant.tempIndex(c))] = -20.0 + 80.0 * u(rng);
+      }
+      in.load.i0_A = -8.0 + 24.0 * u(rng);
+      plant.evaluate(0.0, x.data(), in, warm);
+      plant.quadratures(x.data(), warm, dq.data());
+      PlantSignals fresh = plant.makeSignals();
+      plant.evaluate(0.0, x.data(), in, fresh);
+      plant.quadratures(x.data(), fresh, dqFresh.data());
+      const double iPack = warm.pack_current_A;
+      double chem = 0.0;
+      for (int c = 0; c < n; ++c) {
+        const size_t ci = static_cast<size_t>(c);
+        const CellParams& p = pk.cells[ci];
+        const double* xc = x.data() + c * stride;
+        const double t_C = pk.cellTemp_C(c, xc);
+        const double ocv = ecm::ocv(p, xc[0], t_C), r0 = ecm::r0(p, xc[0], t_C, iPack);
+        ASSERT_EQ(bits(warm.cell_ocv_V[ci]), bits(ocv)) << cell << " cell " << c;
+        ASSERT_EQ(bits(warm.cell_r0_ohm[ci]), bits(r0)) << cell << " cell " << c;
+        const double emf = ecm::emf(p, xc, ocv) + ecm::instantHysteresis_V(p, iPack);
+        const double v_g = warm.group_voltage_V[ci / 3];
+        ASSERT_EQ(bits(warm.cell_current_A[ci]), bits((emf - v_g) / r0)) << cell << " cell " << c;
+        const double i = warm.cell_current_A[ci];
+        ASSERT_EQ(bits(warm.heat_W[ci]), bits(ecm::heatWithR0_W(p, xc, i, r0, t_C))) << cell << " cell " << c;
+        chem += ocv * (i + warm.internal_A[ci]);
+        if (p.has_entropic) chem += ecm::reversibleHeat_W(p, xc[0], i, t_C);
+      }
+      ASSERT_EQ(bits(dq[kQuadChemEnergy_J]), bits(chem)) << cell;
+      for (int q = 0; q < kQuadCount; ++q) ASSERT_EQ(bits(dq[static_cast<size_t>(q)]), bits(dqFresh[static_cast<size_t>(q)]));
+      for (int c = 0; c < n; ++c)
+        ASSERT_EQ(bits(warm.cell_current_A[static_cast<size_t>(c)]), bits(fresh.cell_current_A[static_cast<size_t>(c)]));
+    }
+  }
 }
 
 }  // namespace

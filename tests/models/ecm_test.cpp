@@ -1,6 +1,11 @@
 #include "models/cell/ecm.hpp"
+#include "models/cell/flat_cell.hpp"
 
 #include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstring>
+#include <random>
 
 namespace packsim {
 namespace {
@@ -31,6 +36,51 @@ TEST(Ecm, TerminalVoltageAndHeat) {
   const double x[2] = {0.5, 0.004};
   EXPECT_DOUBLE_EQ(ecm::terminalVoltage(p, x, 3.0), 3.8 - 0.004 - 3.0 * 0.02);
   EXPECT_DOUBLE_EQ(ecm::heat_W(p, x, 3.0), 9.0 * 0.02 + 0.004 * 0.004 / 0.01);
+}
+
+
+uint64_t bits(double v) {
+  uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// FlatCell's OCV, R0 and reversible heat are ecm::ocv, ecm::r0 and ecm::reversibleHeat_W
+// to the bit, with the hints carried from call to call: SOC inside, at and beyond 0…1
+// (the OCV's extrapolation), both current signs (the charge R0), a discharged-Ah axis on
+// a nominal capacity other than the cell's, an Arrhenius R0 and a 2-D OCV table.
+TEST(Ecm, FlatCellIsTheEcmFunctionsBitForBit) {
+  CellParams a = cell();
+  a.ocv_V = Curve::table({0.0, 0.1, 0.3, 0.6, 0.9, 1.0}, {3.0, 3.4, 3.6, 3.8, 4.05, 4.2});
+  a.r0_ohm = Curve::table({0.0, 0.2, 1.0}, {0.03, 0.02, 0.018}).withArrhenius(2000.0, 25.0);
+  a.has_r0_charge = true;
+  a.r0_charge_ohm = Curve::polynomial({0.01, 0.025}).withArrhenius(1500.0, 20.0);
+  a.r0_scale = 1.07;
+  a.has_entropic = true;
+  a.docv_dT_V_per_K = Curve::table({0.0, 0.5, 1.0}, {-4e-4, 0.0, 5e-5});
+  CellParams b = cell();
+  b.capacity_Ah = 2.9;
+  b.axis_capacity_Ah = 3.1;
+  b.ocv_V = Curve::table2d({-0.05, 0.0, 1.0, 2.0, 3.1}, {0.0, 25.0, 40.0},
+                           {{4.2, 4.15, 3.8, 3.5, 2.6}, {4.21, 4.16, 3.82, 3.55, 2.7}, {4.22, 4.17, 3.83, 3.57, 2.75}},
+                           CurveAxis::Discharged_Ah);
+  b.r0_ohm = Curve::polynomial({0.0292, -0.1914, 0.4481, -0.457, 0.1991, 0.0545}, CurveAxis::Discharged_Ah)
+                 .withArrhenius(2250.0, 25.0);
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const CellParams& p : {a, b, cell()}) {
+    const FlatCell f = FlatCell::of(p);
+    CellHints h;
+    double soc = 0.9;
+    for (int n = 0; n < 4000; ++n) {
+      soc = u(rng) < 0.05 ? -0.2 + 1.4 * u(rng) : soc - 0.002 * u(rng);
+      if (soc < -0.2) soc = 1.1;
+      const double t_C = -20.0 + 80.0 * u(rng), i_A = -5.0 + 15.0 * u(rng);
+      ASSERT_EQ(bits(f.ocv_V(p, soc, t_C, h)), bits(ecm::ocv(p, soc, t_C))) << soc << " " << t_C;
+      ASSERT_EQ(bits(f.r0_ohm(soc, t_C, i_A, h)), bits(ecm::r0(p, soc, t_C, i_A))) << soc << " " << i_A;
+      ASSERT_EQ(bits(f.reversibleHeat_W(soc, i_A, t_C, h)), bits(ecm::reversibleHeat_W(p, soc, i_A, t_C)));
+    }
+  }
 }
 
 }  // namespace
