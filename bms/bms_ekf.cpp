@@ -34,6 +34,19 @@ float tableSlope(const SocConfig& c, const float* y, float soc) {
   return (y[i + 1] - y[i]) * static_cast<float>(c.ocvPoints - 1);
 }
 
+// The index of the lowest set bit of m (m != 0); 32-bit count instructions only (a
+// Cortex-M4 has no 64-bit one).
+uint8_t lowestBit(uint64_t m) {
+  const uint32_t lo = static_cast<uint32_t>(m);
+  return static_cast<uint8_t>(lo != 0 ? __builtin_ctz(lo) : 32 + __builtin_ctz(static_cast<uint32_t>(m >> 32)));
+}
+
+// exp(K·(1/T - 1/T_ref)) with 1/T_ref given (the same quotient ekfR0Factor forms).
+float r0Factor(const EkfConfig& k, float invRef, float temp_C) {
+  const float t_C = temp_C < -55.0f ? -55.0f : (temp_C > 125.0f ? 125.0f : temp_C);
+  return expf(k.r0ArrheniusK * (1.0f / (t_C + 273.15f) - invRef));
+}
+
 // Each group's R0 factor from this tick's thermistor readings: its own channel when
 // valid, else the mean of the valid cell thermistors, else the reference (1).
 void setR0Scales(const EkfConfig& k, const ThermistorMap& therm, EkfState& s, uint16_t groups, const int16_t temp_dC[]) {
@@ -41,23 +54,36 @@ void setR0Scales(const EkfConfig& k, const ThermistorMap& therm, EkfState& s, ui
     for (uint16_t g = 0; g < groups; ++g) s.group[g].r0Scale = 1.0f;
     return;
   }
-  // Channels past the highest cell channel hold no cell's reading: the pass stops there.
-  uint16_t channels = 0;
-  while (channels < kMaxThermistors && (therm.cell >> channels) != 0) ++channels;
-  float factor[kMaxThermistors];  // per cell channel; 0 where the reading is invalid or no cell's
+  const float invRef = 1.0f / (k.r0RefTemp_C + 273.15f);
+  // One pass per cell channel. factor[ch] is set for the cell channels with a valid
+  // reading only (the group pass below reads no other).
+  float factor[kMaxThermistors];
+  uint64_t usable = 0;  // bit ch: a cell channel with a valid reading and a factor above 0
   int32_t sum_dC = 0;
   uint16_t valid = 0;
-  for (uint16_t ch = 0; ch < channels; ++ch) {
-    factor[ch] = 0.0f;
-    if (!thermOn(therm.cell, static_cast<uint8_t>(ch)) || temp_dC[ch] == kTempInvalid_dC) continue;
-    factor[ch] = ekfR0Factor(k, static_cast<float>(temp_dC[ch]) * 0.1f);
+  for (uint64_t left = therm.cell; left != 0; left &= left - 1) {
+    const uint8_t ch = lowestBit(left);
+    if (ch >= kMaxThermistors) break;
+    if (temp_dC[ch] == kTempInvalid_dC) continue;
+    factor[ch] = r0Factor(k, invRef, static_cast<float>(temp_dC[ch]) * 0.1f);
+    if (factor[ch] > 0.0f) usable |= uint64_t{1} << ch;
     sum_dC += temp_dC[ch];
     ++valid;
   }
-  const float mean = valid > 0 ? ekfR0Factor(k, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
+  // The mean's factor only when a group has no usable channel of its own (an expf).
+  float mean = 0.0f;
+  bool meanKnown = false;
   for (uint16_t g = 0; g < groups; ++g) {
-    const uint16_t ch = therm.nearest[g];
-    s.group[g].r0Scale = ch < channels && factor[ch] > 0.0f ? factor[ch] : mean;
+    const uint8_t ch = therm.nearest[g];
+    if (ch < kMaxThermistors && thermOn(usable, ch)) {
+      s.group[g].r0Scale = factor[ch];
+      continue;
+    }
+    if (!meanKnown) {
+      mean = valid > 0 ? r0Factor(k, invRef, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
+      meanKnown = true;
+    }
+    s.group[g].r0Scale = mean;
   }
 }
 
@@ -89,8 +115,7 @@ void ekfReset(EkfState& s) {
 
 float ekfR0Factor(const EkfConfig& k, float temp_C) {
   if (k.r0ArrheniusK == 0.0f) return 1.0f;
-  const float t_C = temp_C < -55.0f ? -55.0f : (temp_C > 125.0f ? 125.0f : temp_C);
-  return expf(k.r0ArrheniusK * (1.0f / (t_C + 273.15f) - 1.0f / (k.r0RefTemp_C + 273.15f)));
+  return r0Factor(k, 1.0f / (k.r0RefTemp_C + 273.15f), temp_C);
 }
 
 float ocvAt_mV(const SocConfig& c, float soc) {
@@ -144,7 +169,9 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
   const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;
   const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s;
   const float r = k.voltageSd_mV * k.voltageSd_mV;
-  const float perUnitSoc = static_cast<float>(c.ocvPoints - 1);  // table segments per unit SOC
+  const int lastSegment = c.ocvPoints - 1;  // table segments; segment() keeps i below this
+  const float perUnitSoc = static_cast<float>(lastSegment);  // table segments per unit SOC
+  const float i_A = i_mA * 1e-3f;
   for (uint16_t g = 0; g < groups; ++g) {
     EkfGroup& e = s.group[g];
     // Predict.
@@ -157,12 +184,13 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
     // Update with this group's reading.
     // OCV and R0 (value and slope, at the group's temperature) from the one table
     // segment holding soc.
-    uint8_t i;
-    float frac;
-    segment(c, e.soc, i, frac);
+    // e.soc is clamped just above: the segment without segment()'s clamp (the same bits).
+    const float pos = e.soc * perUnitSoc;
+    uint8_t i = static_cast<uint8_t>(pos);
+    if (i >= lastSegment) i = static_cast<uint8_t>(lastSegment - 1);
+    const float frac = pos - static_cast<float>(i);
     const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
     const float r0Lo = k.r0_mOhm[i] * e.r0Scale, r0Hi = k.r0_mOhm[i + 1] * e.r0Scale;
-    const float i_A = i_mA * 1e-3f;
     const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * i_A) * perUnitSoc;
     const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * i_A;
     const float innovation = static_cast<float>(cell_mV[g]) - v_pred;
