@@ -200,7 +200,8 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   // below it stops at once. Both only clear bits: one pass per cell in the mask (none
   // while nothing balances).
   const bool severalBoards = boards(b) > 1;
-  for (uint8_t w = 0; w < kBalanceWords; ++w) {
+  const uint8_t cellWords = static_cast<uint8_t>(cfg.cellCount >= kMaxCells ? kBalanceWords : (cfg.cellCount + 31u) / 32u);
+  for (uint8_t w = 0; w < cellWords; ++w) {
     for (uint32_t left = s.mask[w]; left != 0; left &= left - 1) {
       const uint8_t bit = static_cast<uint8_t>(__builtin_ctz(left));
       const uint16_t c = static_cast<uint16_t>(w * 32u + bit);
@@ -211,11 +212,12 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   }
 
   // Re-arm the monitor's timer every half period while anything balances.
-  bool any = false;
+  uint32_t anyBit = 0;
   for (uint8_t w = 0; w < kBalanceWords; ++w) {
     mask[w] = s.mask[w];
-    any = any || s.mask[w] != 0;
+    anyBit |= s.mask[w];
   }
+  const bool any = anyBit != 0;
   const uint32_t half_ms = static_cast<uint32_t>(cfg.balanceTime_s) * 500u;
   if (any && now_ms - s.lastArm_ms >= half_ms) {
     ++armCount;

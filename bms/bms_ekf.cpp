@@ -105,6 +105,55 @@ void start(const SocConfig& c, EkfState& s, uint16_t groups, const uint16_t cell
   s.started = true;
 }
 
+// What one tick's prediction and update share across the groups.
+struct TickTerms {
+  float a;           // the RC branch's decay over the tick
+  float dSoc;        // SOC the current moves in the tick
+  float v1Drive_mV;  // the RC voltage the current drives in the tick
+  float qSoc, qV1;   // process noise over the tick
+  float r;           // the reading's variance
+  float i_A;
+  float perUnitSoc;  // table segments per unit SOC
+  int lastSegment;   // the same as an int: the segment index stays below it
+};
+
+void predict(const TickTerms& t, EkfGroup& e) {
+  e.soc = clamp01(e.soc - t.dSoc);
+  e.v1_mV = t.a * e.v1_mV + t.v1Drive_mV;
+  e.p00 += t.qSoc;
+  e.p01 *= t.a;
+  e.p11 = t.a * t.a * e.p11 + t.qV1;
+}
+
+// The update with the group's reading. OCV and R0 (value and slope, at the group's
+// temperature) from the one table segment holding soc; e.soc was clamped by predict,
+// so the segment is taken without segment()'s clamp (the same bits).
+void correct(const SocConfig& c, const TickTerms& t, uint16_t reading_mV, EkfGroup& e) {
+  const EkfConfig& k = c.ekf;
+  const float pos = e.soc * t.perUnitSoc;
+  uint8_t i = static_cast<uint8_t>(pos);
+  if (i >= t.lastSegment) i = static_cast<uint8_t>(t.lastSegment - 1);
+  const float frac = pos - static_cast<float>(i);
+  const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
+  const float r0Lo = k.r0_mOhm[i] * e.r0Scale, r0Hi = k.r0_mOhm[i + 1] * e.r0Scale;
+  const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * t.i_A) * t.perUnitSoc;
+  const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * t.i_A;
+  const float innovation = static_cast<float>(reading_mV) - v_pred;
+  const float ph0 = e.p00 * h0 - e.p01;  // (P·H')[0]
+  const float ph1 = e.p01 * h0 - e.p11;  // (P·H')[1]
+  const float sInn = h0 * ph0 - ph1 + t.r;
+  if (!(sInn > 0.0f)) return;
+  const float k0 = ph0 / sInn, k1 = ph1 / sInn;
+  e.soc = clamp01(e.soc + k0 * innovation);
+  e.v1_mV += k1 * innovation;
+  // P -= K·(H·P) with H·P = (P·H')' (P symmetric).
+  e.p00 -= k0 * ph0;
+  e.p01 -= k0 * ph1;
+  e.p11 -= k1 * ph1;
+  if (e.p00 < 0.0f) e.p00 = 0.0f;
+  if (e.p11 < 0.0f) e.p11 = 0.0f;
+}
+
 }  // namespace
 
 void ekfReset(EkfState& s) {
@@ -172,41 +221,14 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
   const int lastSegment = c.ocvPoints - 1;  // table segments; segment() keeps i below this
   const float perUnitSoc = static_cast<float>(lastSegment);  // table segments per unit SOC
   const float i_A = i_mA * 1e-3f;
+  const TickTerms t{a, dSoc, v1Drive_mV, qSoc, qV1, r, i_A, perUnitSoc, lastSegment};
   for (uint16_t g = 0; g < groups; ++g) {
-    EkfGroup& e = s.group[g];
-    // Predict.
-    e.soc = clamp01(e.soc - dSoc);
-    e.v1_mV = a * e.v1_mV + v1Drive_mV;
-    e.p00 += qSoc;
-    e.p01 *= a;
-    e.p11 = a * a * e.p11 + qV1;
-    if (!valid) continue;  // no fresh complete reading: prediction only
-    // Update with this group's reading.
-    // OCV and R0 (value and slope, at the group's temperature) from the one table
-    // segment holding soc.
-    // e.soc is clamped just above: the segment without segment()'s clamp (the same bits).
-    const float pos = e.soc * perUnitSoc;
-    uint8_t i = static_cast<uint8_t>(pos);
-    if (i >= lastSegment) i = static_cast<uint8_t>(lastSegment - 1);
-    const float frac = pos - static_cast<float>(i);
-    const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
-    const float r0Lo = k.r0_mOhm[i] * e.r0Scale, r0Hi = k.r0_mOhm[i + 1] * e.r0Scale;
-    const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * i_A) * perUnitSoc;
-    const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * i_A;
-    const float innovation = static_cast<float>(cell_mV[g]) - v_pred;
-    const float ph0 = e.p00 * h0 - e.p01;  // (P·H')[0]
-    const float ph1 = e.p01 * h0 - e.p11;  // (P·H')[1]
-    const float sInn = h0 * ph0 - ph1 + r;
-    if (!(sInn > 0.0f)) continue;
-    const float k0 = ph0 / sInn, k1 = ph1 / sInn;
-    e.soc = clamp01(e.soc + k0 * innovation);
-    e.v1_mV += k1 * innovation;
-    // P -= K·(H·P) with H·P = (P·H')' (P symmetric).
-    e.p00 -= k0 * ph0;
-    e.p01 -= k0 * ph1;
-    e.p11 -= k1 * ph1;
-    if (e.p00 < 0.0f) e.p00 = 0.0f;
-    if (e.p11 < 0.0f) e.p11 = 0.0f;
+    // The group in registers for the tick: a store into the state could alias the
+    // configuration's float tables, so the compiler would store and reload between steps.
+    EkfGroup e = s.group[g];
+    predict(t, e);
+    if (valid) correct(c, t, cell_mV[g], e);  // a fresh complete reading; else prediction only
+    s.group[g] = e;
   }
 }
 

@@ -20,20 +20,6 @@ bool isolates(const ProtectionRule& r, bool driving) {
   return r.action == FaultAction::Isolate || (r.action == FaultAction::MonitorWhileDriving && !driving);
 }
 
-// The enabled rules whose quantity is beyond the threshold now; an active rule (only
-// looked for when some rule is active: the usual tick has none) with its hysteresis.
-template <bool kAnyActive>
-uint32_t beyondMask(const Config& cfg, const int32_t quantity[kQuantityCount], uint32_t active) {
-  uint32_t bad = 0;
-  uint32_t bit = 1;
-  for (uint8_t i = 0; i < kFaultCount; ++i, bit <<= 1) {
-    const ProtectionRule& r = cfg.rules[i];
-    const int32_t margin = kAnyActive && (active & bit) != 0 ? r.hysteresis : 0;
-    if (r.enabled && beyond(r, quantity[static_cast<uint8_t>(r.quantity)], margin)) bad |= bit;
-  }
-  return bad;
-}
-
 }  // namespace
 
 uint32_t isolatingRules(const Config& cfg, bool driving) {
@@ -53,7 +39,13 @@ void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount],
   // Pass 1, every rule: is its quantity beyond the threshold now? Once active, a fault
   // holds until the quantity is back past threshold - hysteresis. An idle rule costs
   // this one compare.
-  const uint32_t bad = active != 0 ? beyondMask<true>(cfg, quantity, active) : beyondMask<false>(cfg, quantity, 0);
+  uint32_t bad = 0;
+  uint32_t bit = 1;
+  for (uint8_t i = 0; i < kFaultCount; ++i, bit <<= 1) {
+    const ProtectionRule& r = cfg.rules[i];
+    if (r.enabled && beyond(r, quantity[static_cast<uint8_t>(r.quantity)], (active & bit) != 0 ? r.hysteresis : 0))
+      bad |= bit;
+  }
   // A disabled rule, or one back inside its limit, is neither violating nor active.
   violating &= bad;
   active &= bad;
