@@ -61,11 +61,17 @@ void setR0Scales(const EkfConfig& k, const ThermistorMap& therm, EkfState& s, ui
   uint64_t usable = 0;  // bit ch: a cell channel with a valid reading and a factor above 0
   int32_t sum_dC = 0;
   uint16_t valid = 0;
+  int16_t last_dC = kTempInvalid_dC;  // the previous valid channel's reading and factor:
+  float lastFactor = 0.0f;            // neighbours often read the same tenth of a degree
   for (uint64_t left = therm.cell; left != 0; left &= left - 1) {
     const uint8_t ch = lowestBit(left);
     if (ch >= kMaxThermistors) break;
     if (temp_dC[ch] == kTempInvalid_dC) continue;
-    factor[ch] = r0Factor(k, invRef, static_cast<float>(temp_dC[ch]) * 0.1f);
+    if (temp_dC[ch] != last_dC) {
+      last_dC = temp_dC[ch];
+      lastFactor = r0Factor(k, invRef, static_cast<float>(last_dC) * 0.1f);
+    }
+    factor[ch] = lastFactor;
     if (factor[ch] > 0.0f) usable |= uint64_t{1} << ch;
     sum_dC += temp_dC[ch];
     ++valid;

@@ -300,6 +300,8 @@ TEST(Ekf, MatchesTheStraightforwardFormBitForBit) {
       now += 1 + pick(30);
       for (uint16_t g = 0; g < kGroups; ++g) cell_mV[g] = static_cast<uint16_t>(2900 + pick(1400));
       for (int16_t& t : temp_dC) t = pick(10) == 0 ? bms::kTempInvalid_dC : static_cast<int16_t>(pick(1800)) - 600;
+      for (uint8_t ch = 1; ch < bms::kMaxThermistors; ++ch)  // neighbours reading the same, now and then
+        if (pick(3) == 0) temp_dC[ch] = temp_dC[ch - 1];
       const int32_t current_mA = static_cast<int32_t>(pick(20000)) - 10000;
       const bool valid = pick(4) != 0;
       bms::ekfUpdate(c, m, mine, kGroups, valid, cell_mV, current_mA, temp_dC, now);
