@@ -53,8 +53,14 @@ struct DeviceReading {
 // line shows as a bad header or CRC).
 enum class FrameResult : uint8_t { Ok = 0, Timeout, BadLength, BadHeader, BadCrc };
 
-// A cell ADC code in mV (rounded, clamped to 0..65535) at the flashed LSB.
-uint16_t afeCellCodeToMv(uint16_t code, float lsb_uV);
+// A cell ADC code in mV (rounded, clamped to 0..65535) at the flashed LSB. Inline: the
+// drivers convert every cell of every read-out with it.
+inline uint16_t afeCellCodeToMv(uint16_t code, float lsb_uV) {
+  const float mv = static_cast<float>(code) * lsb_uV * 0.001f;
+  if (mv <= 0.0f) return 0;
+  if (mv >= 65535.0f) return 65535;
+  return static_cast<uint16_t>(mv + 0.5f);
+}
 // Cells held by device d (the last device may be partly populated).
 uint8_t afeCellsOf(const AfeConfig& c, uint16_t cellCount, uint8_t d);
 

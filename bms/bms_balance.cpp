@@ -196,20 +196,28 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
   }
 
   // A board that turned hot stops its own cells at once (the others keep their decision).
-  if (boards(b) > 1)
-    for (uint16_t c = 0; c < cfg.cellCount; ++c)
-      if (s.boardHot[boardOf(b, c)]) s.mask[c / 32] &= ~(1u << (c % 32));
   // The minimum holds every tick, not only at a decision: a held cell that now reads
-  // below it stops at once.
-  for (uint16_t c = 0; c < cfg.cellCount && c < kMaxCells; ++c)
-    if (tm.cellVoltage_mV[c] < b.minCell_mV) s.mask[c / 32] &= ~(1u << (c % 32));
+  // below it stops at once. Both only clear bits: one pass per cell in the mask (none
+  // while nothing balances).
+  const bool severalBoards = boards(b) > 1;
+  const uint8_t cellWords = static_cast<uint8_t>(cfg.cellCount >= kMaxCells ? kBalanceWords : (cfg.cellCount + 31u) / 32u);
+  for (uint8_t w = 0; w < cellWords; ++w) {
+    for (uint32_t left = s.mask[w]; left != 0; left &= left - 1) {
+      const uint8_t bit = static_cast<uint8_t>(__builtin_ctz(left));
+      const uint16_t c = static_cast<uint16_t>(w * 32u + bit);
+      if (c >= cfg.cellCount) break;  // bits ascend; the later words hold higher cells still
+      if ((severalBoards && s.boardHot[boardOf(b, c)]) || tm.cellVoltage_mV[c] < b.minCell_mV)
+        s.mask[w] &= ~(1u << bit);
+    }
+  }
 
   // Re-arm the monitor's timer every half period while anything balances.
-  bool any = false;
+  uint32_t anyBit = 0;
   for (uint8_t w = 0; w < kBalanceWords; ++w) {
     mask[w] = s.mask[w];
-    any = any || s.mask[w] != 0;
+    anyBit |= s.mask[w];
   }
+  const bool any = anyBit != 0;
   const uint32_t half_ms = static_cast<uint32_t>(cfg.balanceTime_s) * 500u;
   if (any && now_ms - s.lastArm_ms >= half_ms) {
     ++armCount;

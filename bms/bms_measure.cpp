@@ -57,45 +57,44 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
              int32_t quantity[kQuantityCount]) {
   // 1. Comm status of every device; the device's own protection counts from a read that
   //    just succeeded (a device that stopped answering is the comm-loss rule's).
+  // 2. Cells, from each device's last good reading (0 until it has answered), in the
+  //    same pass: each reading is read once.
   uint8_t worstBad = 0;
   uint32_t worstSumError_mV = 0;
   int16_t maxDie = INT16_MIN;
   bool deviceFault = false;
+  uint16_t minMv = UINT16_MAX;
+  uint16_t maxMv = 0;
+  uint32_t sumMv = 0;
+  uint16_t counted = 0;
   tm.devicesLost = 0;
   for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
     tm.lastResult[d] = static_cast<uint8_t>(a.last[d]);
     tm.commBad[d] = a.bad[d];
     if (a.bad[d] > worstBad) worstBad = a.bad[d];
     if (a.bad[d] >= cfg.afe.commLossCount && d < 64) tm.devicesLost |= uint64_t{1} << d;
-    if (!a.seen[d]) continue;
+    const uint8_t cells = afeCellsOf(cfg.afe, cfg.cellCount, d);
+    uint16_t* const cell_mV = tm.cellVoltage_mV + static_cast<uint16_t>(d * cfg.afe.cellsPerDevice);
+    if (!a.seen[d]) {
+      for (uint8_t c = 0; c < cells; ++c) cell_mV[c] = 0;
+      continue;
+    }
     const DeviceReading& r = a.device[d];
     deviceFault = deviceFault || (a.bad[d] == 0 && r.fault);
-    const uint8_t cells = afeCellsOf(cfg.afe, cfg.cellCount, d);
     uint32_t sum_mV = 0;
-    for (uint8_t c = 0; c < cells; ++c) sum_mV += r.cell_mV[c];
+    for (uint8_t c = 0; c < cells; ++c) {
+      const uint16_t mv = r.cell_mV[c];
+      cell_mV[c] = mv;
+      sum_mV += mv;
+      if (mv < minMv) minMv = mv;
+      if (mv > maxMv) maxMv = mv;
+    }
+    sumMv += sum_mV;
+    counted = static_cast<uint16_t>(counted + cells);
     const uint32_t diff = sum_mV > r.stack_mV ? sum_mV - r.stack_mV : r.stack_mV - sum_mV;
     const uint32_t perCell = cells > 0 ? diff / cells : 0;
     if (perCell > worstSumError_mV) worstSumError_mV = perCell;
     if (r.die_dC > maxDie) maxDie = r.die_dC;
-  }
-
-  // 2. Cells, from each device's last good reading.
-  uint16_t minMv = UINT16_MAX;
-  uint16_t maxMv = 0;
-  uint32_t sumMv = 0;
-  uint16_t counted = 0;
-  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
-    const uint8_t cells = afeCellsOf(cfg.afe, cfg.cellCount, d);
-    for (uint8_t c = 0; c < cells; ++c) {
-      const uint16_t idx = static_cast<uint16_t>(d * cfg.afe.cellsPerDevice + c);
-      const uint16_t mv = a.seen[d] ? a.device[d].cell_mV[c] : 0;
-      tm.cellVoltage_mV[idx] = mv;
-      if (!a.seen[d]) continue;
-      if (mv < minMv) minMv = mv;
-      if (mv > maxMv) maxMv = mv;
-      sumMv += mv;
-      ++counted;
-    }
   }
 
   // 3. Temperatures: the first channels sit on the monitor ICs, the rest on the MCU.

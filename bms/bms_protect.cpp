@@ -36,32 +36,34 @@ void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount],
   // The three masks live in registers for the pass (the quantities, int32_t, could alias
   // them in memory): one load and one store each per tick instead of one per rule.
   uint32_t violating = ps.violating, active = ps.active, latched = ps.latched;
-  for (uint8_t i = 0; i < kFaultCount; ++i) {
+  // Pass 1, every rule: is its quantity beyond the threshold now? Once active, a fault
+  // holds until the quantity is back past threshold - hysteresis. An idle rule costs
+  // this one compare.
+  uint32_t bad = 0;
+  uint32_t bit = 1;
+  for (uint8_t i = 0; i < kFaultCount; ++i, bit <<= 1) {
     const ProtectionRule& r = cfg.rules[i];
-    const uint32_t bit = 1u << i;
-    if (!r.enabled) {
-      violating &= ~bit;
-      active &= ~bit;
-      continue;
-    }
-    const int32_t value = quantity[static_cast<uint8_t>(r.quantity)];
-    // Once active, the fault holds until the quantity is back past threshold - hysteresis.
-    const bool isActive = (active & bit) != 0;
-    const bool bad = beyond(r, value, isActive ? r.hysteresis : 0);
-    if (!bad) {
-      violating &= ~bit;
-      active &= ~bit;
-      continue;
-    }
-    if ((violating & bit) == 0) {
-      violating |= bit;
+    if (r.enabled && beyond(r, quantity[static_cast<uint8_t>(r.quantity)], (active & bit) != 0 ? r.hysteresis : 0))
+      bad |= bit;
+  }
+  // A disabled rule, or one back inside its limit, is neither violating nor active.
+  violating &= bad;
+  active &= bad;
+  // Pass 2, only the rules beyond their threshold (none on the usual tick): debounce
+  // and latch.
+  for (uint32_t left = bad; left != 0; left &= left - 1) {
+    const uint8_t i = static_cast<uint8_t>(__builtin_ctz(left));
+    const ProtectionRule& r = cfg.rules[i];
+    const uint32_t b = 1u << i;
+    if ((violating & b) == 0) {
+      violating |= b;
       ps.violatingSince_ms[i] = now_ms;
     }
     // Unsigned difference stays correct across the 32-bit millisecond wrap.
     if (now_ms - ps.violatingSince_ms[i] >= r.delay_ms) {
-      active |= bit;
+      active |= b;
       // A fatal fault only monitored now reports active and latches once it isolates.
-      if (r.latch && (r.severity != Severity::Fatal || isolates(r, driving))) latched |= bit;
+      if (r.latch && (r.severity != Severity::Fatal || isolates(r, driving))) latched |= b;
     }
   }
   ps.violating = violating;

@@ -74,6 +74,14 @@ uint32_t channelsOf(const Pl455Config& c, uint8_t d) {
   return ch;
 }
 
+// The number of bits channelsOf(c, d) sets, counted without building the mask: its
+// cells (PL455_CH_CELLS keeps at most 16 in the word), the AUX inputs in use, the die
+// temperature and the module voltage.
+uint8_t selectedOf(const Pl455Config& c, uint8_t d) {
+  const uint8_t cells = pl455CellsOf(c, d);
+  return static_cast<uint8_t>((cells < 16u ? cells : 16u) + thermsOf(c) + 2u);
+}
+
 uint8_t compField(uint16_t mV, uint16_t base_mV) {
   const uint16_t steps = mV <= base_mV ? 0 : static_cast<uint16_t>((mV - base_mV + PL455_COMP_STEP_MV / 2) / PL455_COMP_STEP_MV);
   return static_cast<uint8_t>((steps > PL455_COMP_MAX_STEPS ? PL455_COMP_MAX_STEPS : steps) << PL455_COMP_SHIFT);
@@ -194,9 +202,7 @@ void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
     }
     if (r == FrameResult::Ok) {
       const uint16_t summary = be16(rx + 2);
-      uint8_t selected = 0;
-      const uint32_t ch = channelsOf(c, d);
-      for (uint32_t m = ch; m != 0; m &= m - 1) ++selected;  // one pass per selected channel
+      const uint8_t selected = selectedOf(c, d);
       r = requestRetried(c, s, b, api, d, PL455_REG_CMD, PL455_CMD_SEND_HELD, static_cast<uint8_t>(2 * selected), rx);
       if (r == FrameResult::Ok) decode(c, d, rx + 1, summary, out[d]);
     }

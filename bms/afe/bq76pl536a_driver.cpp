@@ -1,5 +1,7 @@
 #include "bq76pl536a_driver.hpp"
 
+#include <cstring>
+
 #include "../bms_crc.hpp"
 #include "bq76pl536a_regs.h"
 
@@ -36,7 +38,7 @@ FrameResult readRegs(const Bq536Config& c, Bq536State& s, psfw_board* b, const p
       r = FrameResult::BadCrc;
       continue;
     }
-    for (uint8_t i = 0; i < count; ++i) data[i] = f[BQ536_READ_REQUEST_LEN + i];
+    std::memcpy(data, f + BQ536_READ_REQUEST_LEN, count);
     return FrameResult::Ok;
   }
   return r;
@@ -158,8 +160,9 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
 
     DeviceReading& o = out[d];
     const uint8_t cells = cellsOf(c, d);
-    for (uint8_t i = 0; i < kMaxCellsPerDevice; ++i)
-      o.cell_mV[i] = i < cells ? afeCellCodeToMv(be16(v + BQ536_VCELL(i)), c.cellLsb_uV) : 0;
+    const uint8_t n = cells < kMaxCellsPerDevice ? cells : kMaxCellsPerDevice;
+    for (uint8_t i = 0; i < n; ++i) o.cell_mV[i] = afeCellCodeToMv(be16(v + BQ536_VCELL(i)), c.cellLsb_uV);
+    for (uint8_t i = n; i < kMaxCellsPerDevice; ++i) o.cell_mV[i] = 0;
     for (uint8_t k = 0; k < kMaxThermPerDevice; ++k) {
       o.thermCode[k] = 0;
       o.temp_dC[k] = 0;

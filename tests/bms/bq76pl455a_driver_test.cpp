@@ -246,5 +246,41 @@ TEST(Bq76pl455aDriver, ReadOutTakesTheTimeTheLinkAllows) {
   EXPECT_EQ(bms::pl455ConversionTime_us(r.cfg, 0), 2000u);
 }
 
+// The held-results request asks for exactly the channels the driver selected (cells of
+// a full or partly populated device, 0..8 AUX inputs, die, module): the part answers
+// that many and the reading parses, with every cell and input in its place.
+TEST(Bq76pl455aDriver, EverySelectionOfCellsAndInputsReadsBackInFull) {
+  for (const int therms : {0, 1, 3, 8}) {
+    for (const int cells : {1, 5, 16}) {
+      MonitorConfig m = chainConfig(2, 16);
+      m.thermistors_per_device = therms;
+      const int cellCount = 16 + cells;  // the top device holds `cells`
+      Bq76pl455aChain chain(m, cellCount, 3);
+      test::ChainTestBoard board(chain);
+      bms::Pl455Config cfg = driverConfig(m, cellCount);
+      cfg.thermistorsPerDevice = static_cast<uint8_t>(therms);
+      for (int d = 0; d < 2; ++d) {
+        DeviceAnalog& a = chain.analog(d);
+        for (size_t c = 0; c < a.cell_V.size(); ++c) a.cell_V[c] = Rig::truth(d, static_cast<int>(c));
+        for (size_t k = 0; k < a.therm_C.size(); ++k) a.therm_C[k] = 20.0 + static_cast<double>(k);
+      }
+      bms::Pl455State state{};
+      bms::DeviceReading reading[bms::kMaxDevices]{};
+      bms::FrameResult result[bms::kMaxDevices]{};
+      ASSERT_EQ(bms::pl455Init(cfg, state, board.board(), board.api()), 2);
+      bms::pl455ReadAll(cfg, state, board.board(), board.api(), reading, result);
+      const Thermistor th;
+      Rng none(1);
+      for (int d = 0; d < 2; ++d) {
+        ASSERT_EQ(result[d], bms::FrameResult::Ok) << therms << " inputs, " << cells << " cells, device " << d;
+        const int n = d == 0 ? 16 : cells;
+        for (int c = 0; c < n; ++c) EXPECT_NEAR(reading[d].cell_mV[c], Rig::truth(d, c) * 1e3, 0.58) << d << " " << c;
+        for (int k = 0; k < therms; ++k) EXPECT_EQ(reading[d].thermCode[k], th.code(20.0 + k, none)) << d << " " << k;
+        EXPECT_EQ(reading[d].die_dC, 250);  // the model's default die at 25 degC
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace packsim

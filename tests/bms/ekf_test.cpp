@@ -8,6 +8,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <math.h>
+#include <random>
 
 #include "soc_fixture.hpp"
 
@@ -187,6 +190,136 @@ TEST(Ekf, TracksAColdCellWithItsMeasuredTemperature) {
   EXPECT_LT(right, 0.01);
   EXPECT_GT(blind, 2.0 * right);
   EXPECT_GT(blind, 0.01);
+}
+
+// ekfUpdate bit for bit against the straightforward form it replaced (every channel up
+// to the highest cell channel walked, the mean's factor always computed, the update's
+// segment through the clamping lookup), over random maps, temperatures with invalid
+// readings, currents and ticks with and without a fresh reading.
+namespace reference {
+
+float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
+
+void setR0Scales(const bms::EkfConfig& k, const bms::ThermistorMap& therm, bms::EkfState& s, uint16_t groups,
+                 const int16_t temp_dC[]) {
+  if (k.r0ArrheniusK == 0.0f || temp_dC == nullptr) {
+    for (uint16_t g = 0; g < groups; ++g) s.group[g].r0Scale = 1.0f;
+    return;
+  }
+  uint16_t channels = 0;
+  while (channels < bms::kMaxThermistors && (therm.cell >> channels) != 0) ++channels;
+  float factor[bms::kMaxThermistors];
+  int32_t sum_dC = 0;
+  uint16_t valid = 0;
+  for (uint16_t ch = 0; ch < channels; ++ch) {
+    factor[ch] = 0.0f;
+    if (!bms::thermOn(therm.cell, static_cast<uint8_t>(ch)) || temp_dC[ch] == bms::kTempInvalid_dC) continue;
+    factor[ch] = bms::ekfR0Factor(k, static_cast<float>(temp_dC[ch]) * 0.1f);
+    sum_dC += temp_dC[ch];
+    ++valid;
+  }
+  const float mean =
+      valid > 0 ? bms::ekfR0Factor(k, static_cast<float>(sum_dC) * 0.1f / static_cast<float>(valid)) : 1.0f;
+  for (uint16_t g = 0; g < groups; ++g) {
+    const uint16_t ch = therm.nearest[g];
+    s.group[g].r0Scale = ch < channels && factor[ch] > 0.0f ? factor[ch] : mean;
+  }
+}
+
+void update(const bms::SocConfig& c, const bms::ThermistorMap& therm, bms::EkfState& s, uint16_t groups, bool valid,
+            const uint16_t cell_mV[], int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms) {
+  const uint32_t dt_ms = now_ms - s.last_ms;
+  s.last_ms = now_ms;
+  if (valid) setR0Scales(c.ekf, therm, s, groups, temp_dC);
+  const bms::EkfConfig& k = c.ekf;
+  const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
+  const float i_mA = static_cast<float>(current_mA);
+  const float a = k.tau1_s > 0.0f ? expf(-dt_s / k.tau1_s) : 0.0f;
+  const float dSoc = i_mA * static_cast<float>(dt_ms) / (c.capacity_mAh * 3.6e6f);
+  const float v1Drive_mV = k.r1_mOhm * i_mA * 1e-3f * (1.0f - a);
+  const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;
+  const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s;
+  const float r = k.voltageSd_mV * k.voltageSd_mV;
+  const float perUnitSoc = static_cast<float>(c.ocvPoints - 1);
+  for (uint16_t g = 0; g < groups; ++g) {
+    bms::EkfGroup& e = s.group[g];
+    e.soc = clamp01(e.soc - dSoc);
+    e.v1_mV = a * e.v1_mV + v1Drive_mV;
+    e.p00 += qSoc;
+    e.p01 *= a;
+    e.p11 = a * a * e.p11 + qV1;
+    if (!valid) continue;
+    const float pos = clamp01(e.soc) * static_cast<float>(c.ocvPoints - 1);
+    uint8_t i = static_cast<uint8_t>(pos);
+    if (i >= c.ocvPoints - 1) i = static_cast<uint8_t>(c.ocvPoints - 2);
+    const float frac = pos - static_cast<float>(i);
+    const float ocvLo = static_cast<float>(c.ocv_mV[i]), ocvHi = static_cast<float>(c.ocv_mV[i + 1]);
+    const float r0Lo = k.r0_mOhm[i] * e.r0Scale, r0Hi = k.r0_mOhm[i + 1] * e.r0Scale;
+    const float i_A = i_mA * 1e-3f;
+    const float h0 = ((ocvHi - ocvLo) - (r0Hi - r0Lo) * i_A) * perUnitSoc;
+    const float v_pred = ocvLo + frac * (ocvHi - ocvLo) - e.v1_mV - (r0Lo + frac * (r0Hi - r0Lo)) * i_A;
+    const float innovation = static_cast<float>(cell_mV[g]) - v_pred;
+    const float ph0 = e.p00 * h0 - e.p01;
+    const float ph1 = e.p01 * h0 - e.p11;
+    const float sInn = h0 * ph0 - ph1 + r;
+    if (!(sInn > 0.0f)) continue;
+    const float k0 = ph0 / sInn, k1 = ph1 / sInn;
+    e.soc = clamp01(e.soc + k0 * innovation);
+    e.v1_mV += k1 * innovation;
+    e.p00 -= k0 * ph0;
+    e.p01 -= k0 * ph1;
+    e.p11 -= k1 * ph1;
+    if (e.p00 < 0.0f) e.p00 = 0.0f;
+    if (e.p11 < 0.0f) e.p11 = 0.0f;
+  }
+}
+
+}  // namespace reference
+
+bool sameBits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+TEST(Ekf, MatchesTheStraightforwardFormBitForBit) {
+  std::mt19937 rng(5);
+  auto pick = [&](uint32_t n) { return rng() % n; };
+  constexpr uint16_t kGroups = 24;
+  for (int run = 0; run < 60; ++run) {
+    bms::SocConfig c = thermalConfig();
+    c.ekf.r0ArrheniusK = run % 5 == 0 ? 0.0f : 500.0f + static_cast<float>(pick(4000));
+    bms::ThermistorMap m{};
+    m.cell = (uint64_t{rng()} << 32 | rng()) & ((uint64_t{1} << bms::kMaxThermistors) - 1) & (run % 2 ? ~0ull : 0xFFull);
+    for (uint8_t& ch : m.nearest) ch = bms::kMaxThermistors;
+    for (uint16_t g = 0; g < kGroups; ++g)  // mostly a channel, now and then none or a non-cell one
+      m.nearest[g] = static_cast<uint8_t>(pick(8) == 0 ? bms::kMaxThermistors : pick(bms::kMaxThermistors));
+    static bms::EkfState mine, ref;
+    bms::ekfReset(mine);
+    bms::ekfReset(ref);
+    uint16_t cell_mV[kGroups];
+    int16_t temp_dC[bms::kMaxThermistors];
+    uint32_t now = 4294960000u + static_cast<uint32_t>(pick(5000));  // across the millisecond wrap
+    for (int tick = 0; tick < 300; ++tick) {
+      now += 1 + pick(30);
+      for (uint16_t g = 0; g < kGroups; ++g) cell_mV[g] = static_cast<uint16_t>(2900 + pick(1400));
+      for (int16_t& t : temp_dC) t = pick(10) == 0 ? bms::kTempInvalid_dC : static_cast<int16_t>(pick(1800)) - 600;
+      for (uint8_t ch = 1; ch < bms::kMaxThermistors; ++ch)  // neighbours reading the same, now and then
+        if (pick(3) == 0) temp_dC[ch] = temp_dC[ch - 1];
+      const int32_t current_mA = static_cast<int32_t>(pick(20000)) - 10000;
+      const bool valid = pick(4) != 0;
+      bms::ekfUpdate(c, m, mine, kGroups, valid, cell_mV, current_mA, temp_dC, now);
+      if (!ref.started) {  // the start is unchanged: take it from the firmware
+        if (mine.started) ref = mine;
+        else ref.last_ms = now;
+        continue;
+      }
+      reference::update(c, m, ref, kGroups, valid, cell_mV, current_mA, temp_dC, now);
+      for (uint16_t g = 0; g < kGroups; ++g) {
+        const bms::EkfGroup& x = mine.group[g];
+        const bms::EkfGroup& y = ref.group[g];
+        ASSERT_TRUE(sameBits(x.soc, y.soc) && sameBits(x.v1_mV, y.v1_mV) && sameBits(x.p00, y.p00) &&
+                    sameBits(x.p01, y.p01) && sameBits(x.p11, y.p11) && sameBits(x.r0Scale, y.r0Scale))
+            << "run " << run << " tick " << tick << " group " << g;
+      }
+    }
+  }
 }
 
 }  // namespace

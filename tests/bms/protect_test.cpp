@@ -249,6 +249,10 @@ TEST(Protection, MatchesTheStraightforwardTableWalkOnRandomTables) {
       for (int32_t& v : quantity)
         if (pick(4) == 0) v = pick(240) - 120;  // values drift around the thresholds
       const bool driving = pick(3) == 0;
+      if (pick(40) == 0) {  // a rule switched off or on mid-run (its state, if any, dropped)
+        bms::ProtectionRule& r = cfg.rules[pick(bms::kFaultCount)];
+        r.enabled = !r.enabled;
+      }
       bms::protectionUpdate(cfg, quantity, now, driving, mine);
       reference::update(cfg, quantity, now, driving, ref);
       ASSERT_EQ(mine.violating, ref.violating) << "table " << table << " tick " << tick;
