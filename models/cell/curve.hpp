@@ -98,6 +98,9 @@ inline size_t pointAbove(const double* xs, size_t n, double x, SegmentHint* hint
   size_t i = 1;
   if (n > kScanUpTo) {
     i = static_cast<size_t>(std::upper_bound(xs, xs + n, x) - xs);
+    // A NaN compares below nothing: upper_bound gives n, one past the table. Kept inside
+    // [1, n - 1] as the scan below keeps it (the interpolation is NaN either way).
+    i = std::min(std::max<size_t>(i, 1), n - 1);
   } else {
     while (i + 1 < n && !(x < xs[i])) ++i;
   }

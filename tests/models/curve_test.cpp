@@ -66,6 +66,19 @@ TEST(Curve, PointAboveIsTheUpperBoundForShortAndLongTables) {
 // The remembered segment never changes the index: pointAbove with a hint (hit, miss,
 // stale, garbage) gives pointAbove's own, for random walks and jumps over tables of
 // 2..40 points.
+// A NaN is neither below the first point nor above the last: the search must still name a
+// segment inside the table (upper_bound alone gives n, and the interpolation read xs[n]).
+TEST(Curve, PointAboveOfNanStaysInsideTheTable) {
+  for (size_t n : {2u, 3u, 16u, 17u, 40u}) {
+    std::vector<double> xs(n);
+    for (size_t i = 0; i < n; ++i) xs[i] = static_cast<double>(i);
+    const size_t i = pointAbove(xs.data(), n, NAN);
+    EXPECT_GE(i, 1u) << n << " points";
+    EXPECT_LE(i, n - 1) << n << " points";
+    EXPECT_TRUE(std::isnan(interpolateN(xs.data(), xs.data(), n, NAN))) << n << " points";
+  }
+}
+
 TEST(Curve, PointAboveWithAHintIsPointAbove) {
   std::mt19937_64 rng(7);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -161,11 +174,10 @@ TEST(Curve, FlatCurveIsCurveEvalBitForBit) {
           << "curve " << k << ", soc " << soc << ", T " << t_C;
       ++checked;
     }
-    // Without a temperature (Curve::eval's reference) and at a NaN SOC (a short table
-    // scans to its last segment either way).
+    // Without a temperature (Curve::eval's reference) and at a NaN SOC (every table, short
+    // or long, stays on its last segment).
     ASSERT_EQ(bitsOf(f.eval(0.37, 3.1, kReferenceTemp_C, hint)), bitsOf(c.eval(0.37, 3.1))) << "curve " << k;
-    if (c.kind != Curve::Kind::Table || c.xs().size() <= 16)
-      ASSERT_EQ(bitsOf(f.eval(NAN, 3.1, 25.0, hint)), bitsOf(c.eval(NAN, 3.1, 25.0))) << "curve " << k;
+    ASSERT_EQ(bitsOf(f.eval(NAN, 3.1, 25.0, hint)), bitsOf(c.eval(NAN, 3.1, 25.0))) << "curve " << k;
   }
   EXPECT_EQ(checked, 3000L * static_cast<long>(curves.size()));
 }
