@@ -37,7 +37,7 @@ void FastIntegrator::reset(double t, const double* x) {
 
 void FastIntegrator::evaluateRates() {
   plant_.derivatives(t_, x_.data(), in_, rates_.data(), sig_);
-  plant_.quadratures(x_.data(), sig_, rates_.data() + n_);
+  plant_.quadratures(sig_, rates_.data() + n_);
   ++stats_.rhs_evals;
   ratesValid_ = true;
 }

@@ -342,7 +342,7 @@ void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
   if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
 }
 
-void Plant::quadratures(const double* /*x*/, const PlantSignals& sig, double* dq) const {
+void Plant::quadratures(const PlantSignals& sig, double* dq) const {
   // Heat from the cells (Joule, and reversible where a cell has dOCV/dT): heat injected
   // by a scripted fault is not drawn from the cells. The chemical energy released is
   // ∫OCV·I, plus the reversible heat -I·T·dOCV/dT where given (the enthalpy), so that

@@ -136,8 +136,8 @@ class Plant {
   void terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
   // Rates of the quadratures from signals already evaluated at (t, x) (by evaluate/derivatives):
-  // they hold all it reads (the reversible heat too), x is not read again.
-  void quadratures(const double* x, const PlantSignals& sig, double* dq) const;
+  // they hold all it reads, the reversible heat too.
+  void quadratures(const PlantSignals& sig, double* dq) const;
   PlantSignals makeSignals() const;
 
   // For integrators that update RC branches in closed form (core/sim/fast_integrator):

@@ -19,7 +19,7 @@ std::vector<double> PlantOde::absTolerances() const {
 
 void PlantOde::rhs(double t, const double* x, double* dx) {
   plant_.derivatives(t, x, in_, dx, sig_);
-  plant_.quadratures(x, sig_, dx + plant_.stateSize());
+  plant_.quadratures(sig_, dx + plant_.stateSize());
 }
 
 void PlantOde::holdCouplings(double t, const double* x0) {
@@ -32,7 +32,7 @@ void PlantOde::rhsHeld(double t, const double* x, double* dx) {
   sig_.pack_current_A = heldCurrent_A_;
   sig_.charger_A = heldCharger_A_;
   plant_.derivativesAtCurrent(t, x, in_, dx, sig_);
-  plant_.quadratures(x, sig_, dx + plant_.stateSize());
+  plant_.quadratures(sig_, dx + plant_.stateSize());
 }
 
 }  // namespace packsim

@@ -2,7 +2,7 @@
 // (core/sim/cvode_integrator.hpp):
 //
 //   x = [plant states…, charge_As, load_J, heat_J, chem_J]
-//   dx/dt = [Plant::derivatives(t, x, inputs), Plant::quadratures(x, signals)]
+//   dx/dt = [Plant::derivatives(t, x, inputs), Plant::quadratures(signals at x)]
 //
 // Absolute tolerances per component: run.atol_soc on each cell's SOC, run.atol_C on
 // every thermal node, 1e-3 on the quadratures (C, J) and run.atol_V on the rest (RC

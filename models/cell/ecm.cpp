@@ -46,7 +46,6 @@ double emfAt(const CellParams& p, const double* x, double temp_C) {
 
 double emf(const CellParams& p, const double* x) { return emfAt(p, x, kReferenceTemp_C); }
 
-
 namespace {
 
 double sign(double i_A) { return i_A > 0.0 ? 1.0 : i_A < 0.0 ? -1.0 : 0.0; }

@@ -106,15 +106,13 @@ double terminalVoltage(const CellParams& p, const double* x, double i_A, double 
 double heat_W(const CellParams& p, const double* x, double i_A);  // at kReferenceTemp_C
 // Heat with R0 already evaluated at the cell's SOC (r0_ohm = r0(p, soc, T, i)).
 double heatWithR0_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double temp_C);
-// The same with the reversible heat evaluated too (reversible_W = reversibleHeat_W(p,
-// soc, i, T)): the plant keeps it for the chemical-energy quadrature.
-inline double heatWithParts_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double reversible_W,
-                              double temp_C);
 // The instantaneous hysteresis term -M0·sgn(i) (0 without hysteresis or current).
 inline double instantHysteresis_V(const CellParams& p, double i_A) {
   if (!p.has_hysteresis) return 0.0;
   return i_A > 0.0 ? -p.hysteresis_instant_V : i_A < 0.0 ? p.hysteresis_instant_V : 0.0;
 }
+// Heat with R0 and the reversible heat evaluated too (reversible_W = reversibleHeat_W(p,
+// soc, i, T)): the plant keeps the latter for the chemical-energy quadrature.
 inline double heatWithParts_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double reversible_W,
                               double temp_C) {
   double q = i_A * i_A * r0_ohm;

@@ -151,10 +151,10 @@ TEST(PackTopology, PlantSignalsAreTheEcmFunctionsBitForBit) {
       }
       in.load.i0_A = -8.0 + 24.0 * u(rng);
       plant.evaluate(0.0, x.data(), in, warm);
-      plant.quadratures(x.data(), warm, dq.data());
+      plant.quadratures(warm, dq.data());
       PlantSignals fresh = plant.makeSignals();
       plant.evaluate(0.0, x.data(), in, fresh);
-      plant.quadratures(x.data(), fresh, dqFresh.data());
+      plant.quadratures(fresh, dqFresh.data());
       const double iPack = warm.pack_current_A;
       double chem = 0.0;
       for (int c = 0; c < n; ++c) {
