@@ -55,11 +55,23 @@ void FastIntegrator::prepareGains(double h) {
   gainStep_s_ = h;
 }
 
+namespace {
+
+// The quadratures' trapezoid, q += h/2·(start + end) each. Three arrays that never overlap
+// (the state, the kept start rates, the end rates): said so, the compiler handles two
+// quadratures per instruction, each the same multiply and adds as one at a time.
+void closeQuadratures(double* __restrict q, const double* __restrict start, const double* __restrict end,
+                      double half_h) {
+  for (int k = 0; k < kQuadCount; ++k) q[k] += half_h * (start[k] + end[k]);
+}
+
+}  // namespace
+
 void FastIntegrator::substep(double h, double t_end) {
   if (!ratesValid_) evaluateRates();
   double* x = x_.data();
   const double* f = rates_.data();
-  for (int q = 0; q < kQuadCount; ++q) quadStart_[static_cast<size_t>(q)] = f[n_ + q];
+  std::memcpy(quadStart_.data(), f + n_, sizeof(double) * kQuadCount);
   for (size_t k = 0; k < socState_.size(); ++k) socRateStart_[k] = f[socState_[k]];
   // Explicit Euler on every plant state, then the RC branches corrected to the exact
   // exponential update (x += h·f + (τ(1-e^{-h/τ}) - h)·f).
@@ -76,7 +88,7 @@ void FastIntegrator::substep(double h, double t_end) {
   }
   t_ = t_end;
   evaluateRates();  // at the end of the sub-step: closes the trapezoid, starts the next
-  for (int q = 0; q < kQuadCount; ++q) x[n_ + q] += 0.5 * h * (quadStart_[static_cast<size_t>(q)] + f[n_ + q]);
+  closeQuadratures(x + n_, quadStart_.data(), f + n_, 0.5 * h);
   // SOC by the same trapezoid as the charge quadrature: Euler's start-held current took
   // h·(I_end - I_start)/2 too little charge from a sub-step on a ramp, and with sub-steps of
   // unequal length (rampSubsteps: a slow ramp in one, a fast drop in many) that did not

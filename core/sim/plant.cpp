@@ -173,33 +173,8 @@ void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, Pl
 }
 
 void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
-  auto cellX = [&](int c) { return cellStates(x, c); };
-  groupCurrents(x, in, sig);
-  const HardwareFaults* f = in.faults;
   sig.injected_heat_W = 0.0;
-  for (int c = 0; c < pack_.cellCount(); ++c) {
-    const size_t ci = static_cast<size_t>(c);
-    const CellParams& p = pack_.cells[ci];
-    const double* xc = cellX(c);
-    const double t_C = pack_.cellTemp_C(c, xc), i_A = sig.cell_current_A[ci];
-    const double rev = flat_[ci].reversibleHeat_W(xc[CellLayout::soc], i_A, t_C, sig.cell_hints[ci]);
-    sig.cell_reversible_W[ci] = rev;
-    double q = ecm::heatWithParts_W(p, xc, i_A, sig.cell_r0_ohm[ci], rev, t_C);
-    sig.internal_A[ci] = 0.0;
-    if (f) {
-      if (ci < f->cell_heat_W.size()) {
-        q += f->cell_heat_W[ci];
-        sig.injected_heat_W += f->cell_heat_W[ci];
-      }
-      if (ci < f->cell_leak_ohm.size() && f->cell_leak_ohm[ci] > 0.0) {
-        // An internal short: a resistance across the cell's EMF, inside its terminals.
-        const double i_int = sig.cell_ocv_V[ci] / f->cell_leak_ohm[ci];
-        sig.internal_A[ci] = i_int;
-        q += i_int * i_int * f->cell_leak_ohm[ci];
-      }
-    }
-    sig.heat_W[ci] = q;
-  }
+  groupCurrents(x, in, sig);  // with each cell's heat and temperature
   // The monitor ICs' thermistor bias: a few mA from some groups' cells, spread over the
   // group's parallel cells like a leak; its power heats them (mW: negligible).
   for (size_t g = 0; g < in.bias_A.size(); ++g) {
@@ -211,8 +186,8 @@ void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, 
       sig.heat_W[ci] += sig.cell_ocv_V[ci] * i;
     }
   }
-  for (int j = 0; j < thermal_.nodeCount(); ++j) {
-    if (j >= pack_.cellCount()) sig.heat_W[static_cast<size_t>(j)] = 0.0;
+  for (int j = pack_.cellCount(); j < thermal_.nodeCount(); ++j) {  // the nodes after the cells
+    sig.heat_W[static_cast<size_t>(j)] = 0.0;
     sig.node_temp_C[static_cast<size_t>(j)] = x[tempIndex(j)];
   }
   // Heat from outside the pack (sun on its skin, a motor nearby): not the cells' energy.
@@ -238,21 +213,92 @@ void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, 
   sig.ambient_C = in.ambient_C ? *in.ambient_C : ambient_.at(t);
 }
 
-// Inline: once per group and evaluation, mostly a group of one cell.
-inline void Plant::evaluateGroupCells(int g, const double* x, double i_A, PlantSignals& sig) const {
-  const size_t first = static_cast<size_t>(g) * static_cast<size_t>(pack_.parallel);
-  for (size_t ci = first; ci < first + static_cast<size_t>(pack_.parallel); ++ci) {
-    const int c = static_cast<int>(ci);
-    const CellParams& p = pack_.cells[ci];
-    const FlatCell& f = flat_[ci];
-    CellHints& h = sig.cell_hints[ci];
-    const double* xc = cellStates(x, c);
-    const double t_C = pack_.cellTemp_C(c, xc), soc = xc[CellLayout::soc];
-    const double ocv = f.ocv_V(p, soc, t_C, h);
-    sig.cell_ocv_V[ci] = ocv;
-    sig.cell_r0_ohm[ci] = f.r0_ohm(soc, t_C, i_A, h);
-    sig.cell_emf_V[ci] = ecm::emf(p, xc, ocv) + ecm::instantHysteresis_V(p, i_A);
+// The faults' extra heat and internal shorts per cell (HardwareFaults), read once per
+// evaluation: no cell's entry past the end of either list (none without faults).
+struct Plant::CellFaults {
+  const double* heat_W = nullptr;
+  size_t heat_cells = 0;
+  const double* leak_ohm = nullptr;
+  size_t leak_cells = 0;
+
+  explicit CellFaults(const HardwareFaults* f) {
+    if (!f) return;
+    heat_W = f->cell_heat_W.data();
+    heat_cells = f->cell_heat_W.size();
+    leak_ohm = f->cell_leak_ohm.data();
+    leak_cells = f->cell_leak_ohm.size();
   }
+};
+
+namespace {
+
+// Cell ci at the state xc, temperature t_C and its group's current i_A (R0's sign): OCV,
+// R0 and the EMF behind R0 into sig.
+[[gnu::always_inline]] inline void cellElectrical(const FlatCell& fc, const CellParams& p, size_t ci, const double* xc,
+                                                  double t_C, double i_A, PlantSignals& sig) {
+  CellHints& h = sig.cell_hints[ci];
+  const double soc = xc[CellLayout::soc];
+  const double ocv = fc.ocv_V(p, soc, t_C, h);
+  sig.cell_ocv_V[ci] = ocv;
+  sig.cell_r0_ohm[ci] = fc.r0_ohm(soc, t_C, i_A, h);
+  sig.cell_emf_V[ci] = fc.emf_V(xc, ocv, i_A);
+}
+
+// Cell ci's heat at its current (split already): Joule, reversible and hysteresis heat,
+// a hot cell's injected heat, an internal short's current and heat.
+[[gnu::always_inline]] inline void cellHeat(const FlatCell& fc, const CellParams& p, size_t ci, const double* xc,
+                                            double t_C, const Plant::CellFaults& f, PlantSignals& sig) {
+  const double i_A = sig.cell_current_A[ci];
+  const double rev = fc.reversibleHeat_W(xc[CellLayout::soc], i_A, t_C, sig.cell_hints[ci]);
+  sig.cell_reversible_W[ci] = rev;
+  double q = fc.heat_W(p, xc, i_A, sig.cell_r0_ohm[ci], rev, t_C);
+  sig.internal_A[ci] = 0.0;
+  if (ci < f.heat_cells) {
+    q += f.heat_W[ci];
+    sig.injected_heat_W += f.heat_W[ci];
+  }
+  if (ci < f.leak_cells && f.leak_ohm[ci] > 0.0) {
+    // An internal short: a resistance across the cell's EMF, inside its terminals.
+    const double i_int = sig.cell_ocv_V[ci] / f.leak_ohm[ci];
+    sig.internal_A[ci] = i_int;
+    q += i_int * i_int * f.leak_ohm[ci];
+  }
+  sig.heat_W[ci] = q;
+}
+
+}  // namespace
+
+// Group g at the group current i_A: its cells' OCV, R0 and EMF (curves once per cell),
+// the current split, then each cell's heat and its thermal node's temperature. Returns
+// the group voltage. Inlined into groupCurrents, its only caller.
+[[gnu::always_inline]] inline double Plant::evaluateGroup(int g, const double* x, double i_A, const CellFaults& f,
+                                                         PlantSignals& sig) const {
+  const int slot = pack_.layout.size();  // a cell's temperature, after its electrical states
+  if (pack_.parallel == 1) {  // one cell: it carries the group current (Pack::splitGroup)
+    const size_t ci = static_cast<size_t>(g);
+    const FlatCell& fc = flat_[ci];
+    const CellParams& p = pack_.cells[ci];
+    const double* xc = cellStates(x, g);
+    const double t_C = fc.temp_C(xc, slot);
+    cellElectrical(fc, p, ci, xc, t_C, i_A, sig);
+    const double v = pack_.splitGroup(g, i_A, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
+    cellHeat(fc, p, ci, xc, t_C, f, sig);
+    sig.node_temp_C[ci] = xc[slot];
+    return v;
+  }
+  const size_t first = static_cast<size_t>(g) * static_cast<size_t>(pack_.parallel);
+  const size_t end = first + static_cast<size_t>(pack_.parallel);
+  for (size_t ci = first; ci < end; ++ci) {
+    const double* xc = cellStates(x, static_cast<int>(ci));
+    cellElectrical(flat_[ci], pack_.cells[ci], ci, xc, flat_[ci].temp_C(xc, slot), i_A, sig);
+  }
+  const double v = pack_.splitGroup(g, i_A, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
+  for (size_t ci = first; ci < end; ++ci) {
+    const double* xc = cellStates(x, static_cast<int>(ci));
+    cellHeat(flat_[ci], pack_.cells[ci], ci, xc, flat_[ci].temp_C(xc, slot), f, sig);
+    sig.node_temp_C[ci] = xc[slot];
+  }
+  return v;
 }
 
 // Group voltages and cell currents for the string current sig.pack_current_A, with
@@ -261,16 +307,17 @@ inline void Plant::evaluateGroupCells(int g, const double* x, double i_A, PlantS
 void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const {
   auto cellX = [&](int c) { return cellStates(x, c); };
   const double I = sig.pack_current_A;
+  const bool bus = busIndex_ >= 0;
   sig.pack_voltage_V = -I * pack_.interconnect_ohm;
   sig.balance_heat_W = 0.0;
-  sig.bus_V = busIndex_ >= 0 ? x[busIndex_] : 0.0;
+  sig.bus_V = bus ? x[busIndex_] : 0.0;
   sig.bus_current_A = sig.converter_loss_W = 0.0;
   sig.converter_from_modules_W = sig.converter_to_modules_W = 0.0;
 
   // Bus precharge from the whole stack: V_stack = A - B·I_pre (linear), so
   // I_pre = (A - V_bus)/(R_pre + B).
   double iPre = 0.0;
-  if (busIndex_ >= 0 && in.bus_precharge) {
+  if (bus && in.bus_precharge) {
     double a = 0.0, b = 0.0;
     for (int g = 0; g < pack_.series; ++g) {
       double eg = 0.0, rg = 0.0;
@@ -282,28 +329,32 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
     iPre = std::max(0.0, (a - sig.bus_V) / (active_.precharge_ohm + b));
   }
 
+  // balancingOn(in, gi), read once: the switches' list (empty without a balancer).
+  const uint8_t* switchOn = balancer_.present ? in.balancing.data() : nullptr;
+  const size_t switches = balancer_.present ? in.balancing.size() : 0;
+  const CellFaults faults(in.faults);
+  const size_t parallel = static_cast<size_t>(pack_.parallel);
+  const double* converter = in.converter_A.data();  // converterA(in, gi), read once
+  const size_t converters = in.converter_A.size();
   for (int g = 0; g < pack_.series; ++g) {
     const size_t gi = static_cast<size_t>(g);
-    const double ix = converterA(in, gi);
+    const double ix = gi < converters ? converter[gi] : 0.0;
     const double iString = I + ix + iPre;
-    double v = 0.0, iBal = 0.0;
-    if (balancingOn(in, gi)) {
+    double iBal = 0.0;
+    const bool bleeding = gi < switches && switchOn[gi] != 0;
+    if (bleeding) {
       double eg = 0.0, rg = 0.0;
       pack_.groupThevenin(g, cellX, eg, rg, iString);
-      v = balancingFactor(in, g, rg) * (eg - rg * iString);
-      iBal = balancingDuty(in, gi) * balancer_.current_A(v);
-      evaluateGroupCells(g, x, iString + iBal, sig);
-      v = pack_.splitGroup(g, iString + iBal, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
-      sig.balance_heat_W += v * iBal;
-    } else {
-      evaluateGroupCells(g, x, iString, sig);
-      v = pack_.splitGroup(g, iString, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
+      const double vOn = balancingFactor(in, g, rg) * (eg - rg * iString);
+      iBal = balancingDuty(in, gi) * balancer_.current_A(vOn);
     }
+    const double v = evaluateGroup(g, x, bleeding ? iString + iBal : iString, faults, sig);
+    if (bleeding) sig.balance_heat_W += v * iBal;
     sig.group_voltage_V[gi] = v;
     sig.pack_voltage_V += v;
-    for (int k = 0; k < pack_.parallel; ++k) sig.cell_voltage_V[gi * static_cast<size_t>(pack_.parallel) + static_cast<size_t>(k)] = v;
-    sig.balance_current_A[gi] = busIndex_ >= 0 ? ix : iBal;
-    if (busIndex_ >= 0 && ix != 0.0) {
+    for (size_t ci = gi * parallel; ci < (gi + 1) * parallel; ++ci) sig.cell_voltage_V[ci] = v;
+    sig.balance_current_A[gi] = bus ? ix : iBal;
+    if (bus && ix != 0.0) {
       double loss = 0.0;
       sig.bus_current_A += converterBusCurrent_A(active_, v, ix, sig.bus_V, loss);
       sig.converter_loss_W += loss;
@@ -329,11 +380,12 @@ void Plant::derivativesAtCurrent(double t, const double* x, const PlantInputs& i
 }
 
 void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
+  const int slot = pack_.layout.size();
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     const double* xc = cellStates(x, c);
     ecm::derivatives(pack_.cells[ci], xc, sig.cell_current_A[ci], dx + c * stride_, sig.internal_A[ci],
-                     pack_.cellTemp_C(c, xc));
+                     flat_[ci].temp_C(xc, slot));
   }
   // Thermal network on gathered temperatures; rates scattered to the state slots.
   thermal_.derivatives(sig.node_temp_C.data(), sig.heat_W.data(), sig.ambient_C, coolant_C_,
@@ -354,7 +406,7 @@ void Plant::quadratures(const PlantSignals& sig, double* dq) const {
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
     chem += sig.cell_ocv_V[ci] * (sig.cell_current_A[ci] + sig.internal_A[ci]);
-    if (pack_.cells[ci].has_entropic) chem += sig.cell_reversible_W[ci];  // as evaluated with the heat
+    if (flat_[ci].has_entropic) chem += sig.cell_reversible_W[ci];  // as evaluated with the heat
   }
   // Balancing heat sits in the board node's heat_W when there is one.
   if (boardNode_ < 0) heat += sig.balance_heat_W;

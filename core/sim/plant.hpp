@@ -159,6 +159,9 @@ class Plant {
   // its time constant here, so fixed-step integrators stay stable.
   double explicitTimeConstant_s() const;
 
+  // The faults' heat and leaks per cell, as the per-cell loop reads them (plant.cpp).
+  struct CellFaults;
+
  private:
   double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm) const;
   // Pack Thevenin seen from the terminals with the held balancing / converter currents.
@@ -168,8 +171,9 @@ class Plant {
   double balancingDuty(const PlantInputs& in, size_t gi) const;  // PlantInputs::balance_duty (1 if unset)
   double balancingFactor(const PlantInputs& in, int g, double r_g) const;
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
-  // Cells of group g at the group current i_A: OCV, R0, EMF into sig (curves once per cell).
-  void evaluateGroupCells(int g, const double* x, double i_A, PlantSignals& sig) const;
+  // Group g at the group current i_A: its cells' OCV, R0, EMF, currents, heat and
+  // temperatures into sig (curves once per cell); returns the group voltage.
+  double evaluateGroup(int g, const double* x, double i_A, const CellFaults& f, PlantSignals& sig) const;
   void evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void rates(const double* x, double* dx, PlantSignals& sig) const;  // from evaluated signals
 

@@ -6,6 +6,10 @@
 //                      extrapolation along the last 1 % is not worth a second copy)
 //   r0_ohm             ecm::r0 (the charge R0 for i_A < 0 when the cell has one)
 //   reversibleHeat_W   ecm::reversibleHeat_W
+//   emf_V              ecm::emf(p, x, ocv) + ecm::instantHysteresis_V(p, i_A)
+//   heat_W             ecm::heatWithParts_W (the RC resistances read from here when
+//                      every pair is constant and there are at most kFlatRc of them)
+//   temp_C             Pack::cellTemp_C: the cell's temperature slot if a curve reads it
 //
 // The hints (CellHints) belong to the caller: the plant keeps them per cell in its
 // signals, so a const Plant evaluated from several places never shares them.
@@ -20,11 +24,19 @@ struct CellHints {
 };
 
 struct FlatCell {
+  static constexpr int kFlatRc = 4;  // constant RC pairs kept here (a cell has one or two)
+
   FlatCurve ocv, r0, r0_charge, docv_dT;
   double axis_capacity_Ah = 1.0;
   double r0_scale = 1.0;
   bool has_r0_charge = false;
   bool has_entropic = false;
+  bool has_hysteresis = false;
+  bool uses_temp = false;        // CellParams::usesTemperature
+  bool rc_constant = true;       // every pair constant and at most kFlatRc: rc_r_ohm holds them
+  int n_rc = 0;
+  double hysteresis_instant_V = 0.0;
+  double rc_r_ohm[kFlatRc] = {};
 
   static FlatCell of(const CellParams& p) {
     FlatCell f;
@@ -36,21 +48,59 @@ struct FlatCell {
     f.r0_scale = p.r0_scale;
     f.has_r0_charge = p.has_r0_charge;
     f.has_entropic = p.has_entropic;
+    f.has_hysteresis = p.has_hysteresis;
+    f.uses_temp = p.usesTemperature();
+    f.n_rc = static_cast<int>(p.rc.size());
+    f.hysteresis_instant_V = p.hysteresis_instant_V;
+    f.rc_constant = f.n_rc <= kFlatRc;
+    for (int k = 0; k < f.n_rc && f.rc_constant; ++k) {
+      const RcPair& rc = p.rc[static_cast<size_t>(k)];
+      f.rc_constant = !rc.variable;
+      f.rc_r_ohm[k] = rc.r_ohm;
+    }
     return f;
   }
+
+  // x: the cell's states; temp_slot: its temperature's index there (CellLayout::size()).
+  double temp_C(const double* x, int temp_slot) const { return uses_temp ? x[temp_slot] : kReferenceTemp_C; }
 
   // p: the cell this was built from.
   double ocv_V(const CellParams& p, double soc, double temp_C, CellHints& h) const {
     if (soc >= 0.0 && soc <= 1.0) return ocv.eval(soc, axis_capacity_Ah, temp_C, h.ocv);
     return ecm::ocv(p, soc, temp_C);
   }
-  double r0_ohm(double soc, double temp_C, double i_A, CellHints& h) const {
+  [[gnu::always_inline]] double r0_ohm(double soc, double temp_C, double i_A, CellHints& h) const {
     if (i_A < 0.0 && has_r0_charge) return r0_scale * r0_charge.eval(soc, axis_capacity_Ah, temp_C, h.r0_charge);
     return r0_scale * r0.eval(soc, axis_capacity_Ah, temp_C, h.r0);
   }
   double reversibleHeat_W(double soc, double i_A, double temp_C, CellHints& h) const {
     if (!has_entropic) return 0.0;
     return -i_A * (temp_C + kZeroCelsius_K) * docv_dT.eval(soc, axis_capacity_Ah, temp_C, h.docv_dT);
+  }
+  double instantHysteresis_V(double i_A) const {
+    if (!has_hysteresis) return 0.0;
+    return i_A > 0.0 ? -hysteresis_instant_V : i_A < 0.0 ? hysteresis_instant_V : 0.0;
+  }
+  // x: the cell's states (layout: soc, v_rc…, h).
+  double emf_V(const double* x, double ocv_V, double i_A) const {
+    double v = ocv_V;
+    for (int k = 0; k < n_rc; ++k) v -= x[1 + k];
+    if (has_hysteresis) v += x[1 + n_rc];
+    return v + instantHysteresis_V(i_A);
+  }
+  // p: the cell this was built from (its RC curves when rc_constant is false).
+  double heat_W(const CellParams& p, const double* x, double i_A, double r0_ohm, double reversible_W,
+                double temp_C) const {
+    double q = i_A * i_A * r0_ohm;
+    if (rc_constant) {
+      for (int k = 0; k < n_rc; ++k) q += x[1 + k] * x[1 + k] / rc_r_ohm[k];
+    } else {
+      for (int k = 0; k < n_rc; ++k)
+        q += x[1 + k] * x[1 + k] / ecm::rcR_ohm(p.rc[static_cast<size_t>(k)], p, x[CellLayout::soc], temp_C);
+    }
+    if (has_entropic) q += reversible_W;
+    if (has_hysteresis) q -= i_A * (x[1 + n_rc] + instantHysteresis_V(i_A));
+    return q;
   }
 };
 

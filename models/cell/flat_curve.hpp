@@ -6,11 +6,13 @@
 // the same order (tests/models/curve_test.cpp compares them with == over random
 // points of every kind). What it leaves out is only the way there: Curve::eval's three
 // out-of-line calls (eval -> at -> interpolate) through the shared pointer and the
-// vectors, and the table search when x is still in the segment it was in last time.
+// vectors, the table search when x is still in the segment it was in last time, and the
+// reference temperature's 1/T_ref,K (a constant, worked out once).
 //
 // The pointers are the Curve's own arrays, which every copy of the Curve shares: a
 // FlatCurve stays valid while the Curve or any copy of it lives.
 #pragma once
+#include <cmath>
 #include <cstddef>
 
 #include "models/cell/curve.hpp"
@@ -28,6 +30,8 @@ struct FlatCurve {
   bool discharged_axis = false;  // x = (1 - SOC)·Q_axis, else x = SOC
   double arrhenius_K = 0.0;
   double ref_temp_C = kReferenceTemp_C;
+  double inv_ref_K = 1.0 / (kReferenceTemp_C + kZeroCelsius_K);  // 1/T_ref,K, as arrheniusFactor forms it
+  bool has_arrhenius = false;  // !(arrhenius_K == 0.0): one flag test instead of a double compare
   const double* coeffs = nullptr;   // polynomial (highest power first); constant: one value
   const double* xs = nullptr;       // table
   const double* ys = nullptr;       // table; 2-D: row-major [temp][x]
@@ -41,6 +45,8 @@ struct FlatCurve {
     f.discharged_axis = c.axis == CurveAxis::Discharged_Ah;
     f.arrhenius_K = c.arrhenius_K;
     f.ref_temp_C = c.ref_temp_C;
+    f.inv_ref_K = 1.0 / (c.ref_temp_C + kZeroCelsius_K);
+    f.has_arrhenius = !(c.arrhenius_K == 0.0);
     f.coeffs = c.coeffs().data();
     f.xs = c.xs().data();
     f.ys = c.ys().data();
@@ -55,19 +61,38 @@ struct FlatCurve {
   // the next call (the same caller and curve).
   // Always inlined (GCC and Clang; others ignore it): the call, not the arithmetic, was
   // most of a hinted table read, and -O2 would not inline it into the per-cell loop.
+  // Inline: a 1-D table (a cell's usual curve) and a plain constant; the other kinds out of
+  // line (evalOther), which keeps eval small enough to inline into the per-cell loop.
   [[gnu::always_inline]] double eval(double soc, double axis_capacity_Ah, double temp_C, CurveHint& hint) const {
-    if (kind == Curve::Kind::Constant && arrhenius_K == 0.0) return coeffs[0];
-    const double x = discharged_axis ? (1.0 - soc) * axis_capacity_Ah : soc;
-    if (kind == Curve::Kind::Table2D) return grid(x, temp_C, hint);
-    const double y = at(x, hint.x);
-    if (arrhenius_K == 0.0) return y;
-    return y * arrheniusFactor(arrhenius_K, temp_C, ref_temp_C);
+    if (kind == Curve::Kind::Table) {  // evalOther's branches, taken for a table
+      const double x = discharged_axis ? (1.0 - soc) * axis_capacity_Ah : soc;
+      const double y = tableAt(x, hint.x);
+      return has_arrhenius ? y * arrhenius(temp_C) : y;
+    }
+    if (kind == Curve::Kind::Constant && !has_arrhenius) return coeffs[0];
+    return evalOther(soc, axis_capacity_Ah, temp_C, hint);
   }
 
+  // == Curve::eval for every kind (models/cell/curve.cpp).
+  double evalOther(double soc, double axis_capacity_Ah, double temp_C, CurveHint& hint) const;
+
  private:
-  // The 2-D table (interpolateGrid), out of line (models/cell/curve.cpp): inlined twice
-  // over it would make eval too large to inline into the per-cell loop.
-  double grid(double x, double temp_C, CurveHint& hint) const;
+  // arrheniusFactor(arrhenius_K, temp_C, ref_temp_C): the same operations, 1/T_ref,K kept.
+  double arrhenius(double temp_C) const {
+    return std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - inv_ref_K));
+  }
+  // interpolateN(xs, ys, n, x, &hint). When x lies strictly inside the remembered segment
+  // (xs[h-1] < x < xs[h]), interpolateN passes its end checks (xs[0] <= xs[h-1] < x <
+  // xs[h] <= xs[n-1]), its search returns that same h, and it interpolates so: the same
+  // formula inline. Anything else (a miss, x on a point, NaN) goes to interpolateN itself.
+  double tableAt(double x, SegmentHint& hint) const {
+    const size_t h = hint.i;
+    if (h - 1 < n - 1 && xs[h - 1] < x && x < xs[h]) {  // h = 0 wraps: no hint
+      const double w = (x - xs[h - 1]) / (xs[h] - xs[h - 1]);
+      return ys[h - 1] + w * (ys[h] - ys[h - 1]);
+    }
+    return interpolateN(xs, ys, n, x, &hint);
+  }
   // Curve::at(x) for a 1-D kind.
   double at(double x, SegmentHint& hint) const {
     switch (kind) {

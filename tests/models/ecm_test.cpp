@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <random>
+#include <vector>
 
 namespace packsim {
 namespace {
@@ -79,6 +80,57 @@ TEST(Ecm, FlatCellIsTheEcmFunctionsBitForBit) {
       ASSERT_EQ(bits(f.ocv_V(p, soc, t_C, h)), bits(ecm::ocv(p, soc, t_C))) << soc << " " << t_C;
       ASSERT_EQ(bits(f.r0_ohm(soc, t_C, i_A, h)), bits(ecm::r0(p, soc, t_C, i_A))) << soc << " " << i_A;
       ASSERT_EQ(bits(f.reversibleHeat_W(soc, i_A, t_C, h)), bits(ecm::reversibleHeat_W(p, soc, i_A, t_C)));
+    }
+  }
+}
+
+// FlatCell's EMF, heat and temperature are ecm::emf + ecm::instantHysteresis_V,
+// ecm::heatWithParts_W and Pack::cellTemp_C's rule to the bit: constant RC pairs (read
+// from the flat copy), a variable pair and more pairs than kFlatRc (read from the
+// CellParams), hysteresis with an instantaneous step at both current signs and at rest,
+// reversible heat, a cell whose curves read no temperature.
+TEST(Ecm, FlatCellEmfHeatAndTemperatureAreTheEcmFunctionsBitForBit) {
+  CellParams a = cell();  // one constant pair, no temperature
+  CellParams b = cell();
+  b.rc = {{0.01, 1000.0}, {0.004, 20000.0}};
+  b.has_hysteresis = true;
+  b.hysteresis_max_V = Curve::constant(0.03);
+  b.hysteresis_rate_per_Ah = 40.0;
+  b.hysteresis_instant_V = 0.004;
+  b.has_entropic = true;
+  b.docv_dT_V_per_K = Curve::table({0.0, 0.5, 1.0}, {-4e-4, 0.0, 5e-5});
+  CellParams c = cell();  // a variable pair: R over SOC and temperature
+  RcPair var;
+  var.variable = true;
+  var.by_tau = true;
+  var.r_curve = Curve::table({0.0, 0.5, 1.0}, {0.02, 0.01, 0.012}).withArrhenius(1800.0, 25.0);
+  var.tau_curve = Curve::constant(30.0);
+  c.rc = {{0.01, 1000.0}, var};
+  CellParams d = cell();  // more pairs than the flat copy keeps
+  for (int k = 0; k < FlatCell::kFlatRc; ++k) d.rc.push_back({0.002 * (k + 1), 500.0 * (k + 1)});
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const CellParams* cells[] = {&a, &b, &c, &d};
+  const bool rcFlat[] = {true, true, false, false};  // the pairs' resistances read from the flat copy
+  for (int k = 0; k < 4; ++k) {
+    const CellParams& p = *cells[k];
+    const FlatCell f = FlatCell::of(p);
+    EXPECT_EQ(f.rc_constant, rcFlat[k]);
+    const int slot = 1 + static_cast<int>(p.rc.size()) + (p.has_hysteresis ? 1 : 0);
+    std::vector<double> x(static_cast<size_t>(slot) + 1);
+    CellHints h;
+    for (int n = 0; n < 2000; ++n) {
+      x[0] = u(rng);
+      for (int k = 1; k < slot; ++k) x[static_cast<size_t>(k)] = -0.05 + 0.1 * u(rng);
+      x[static_cast<size_t>(slot)] = -20.0 + 80.0 * u(rng);
+      const double r = u(rng), i_A = r < 0.1 ? 0.0 : r < 0.2 ? -0.0 : -5.0 + 15.0 * u(rng);
+      const double t_C = f.temp_C(x.data(), slot);
+      EXPECT_EQ(bits(t_C), bits(p.usesTemperature() ? x[static_cast<size_t>(slot)] : kReferenceTemp_C));
+      const double ocv = ecm::ocv(p, x[0], t_C), r0 = ecm::r0(p, x[0], t_C, i_A);
+      ASSERT_EQ(bits(f.emf_V(x.data(), ocv, i_A)), bits(ecm::emf(p, x.data(), ocv) + ecm::instantHysteresis_V(p, i_A)));
+      const double rev = ecm::reversibleHeat_W(p, x[0], i_A, t_C);
+      ASSERT_EQ(bits(f.heat_W(p, x.data(), i_A, r0, rev, t_C)), bits(ecm::heatWithParts_W(p, x.data(), i_A, r0, rev, t_C)));
+      ASSERT_EQ(bits(f.reversibleHeat_W(x[0], i_A, t_C, h)), bits(rev));
     }
   }
 }
