@@ -152,6 +152,22 @@ void FirmwareHost::breakContract(const char* fmt, ...) {
 // not return cleanly or broke the contract.
 bool FirmwareHost::call(const char* what, int task) {
   if (target_) return target_->call(what, task);
+  if (!guard_ && task >= 0) {  // a linked-in firmware's task (every tick): no guard, no descriptor
+    breakCause_[0] = '\0';
+    const uint64_t start_ns = clock_ns_;
+    fw_.tasks[task].run(ram_.get(), reinterpret_cast<psfw_board*>(this), &api_);
+    if (breakCause_[0] == '\0') return true;
+    GuardResult r;
+    r.outcome = GuardOutcome::ContractBreak;
+    failed(static_cast<double>(start_ns) * 1e-9, callName(what, task), r);
+    return false;
+  }
+  return callFull(what, task);
+}
+
+// Any other call: the entry, init, or a library's task under the guard (kept out of
+// call()'s own frame, so that the linked-in task's path does not set up the Call).
+bool FirmwareHost::callFull(const char* what, int task) {
   Call c;  // default-initialised: its name is not cleared (aggregate init would zero it)
   c.h = this;
   c.task = task;
@@ -165,9 +181,7 @@ bool FirmwareHost::call(const char* what, int task) {
     if (breakCause_[0] != '\0') r.outcome = GuardOutcome::ContractBreak;
   }
   if (r.outcome != GuardOutcome::Ok) {
-    std::string where = what;
-    if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
-    failed(start_s, where, r);
+    failed(start_s, callName(what, task), r);
     return false;
   }
   if (task == -2) {
@@ -179,6 +193,13 @@ bool FirmwareHost::call(const char* what, int task) {
     name_ = c.name[0] ? c.name : "(unnamed)";
   }
   return true;
+}
+
+// "task 1 (period 10 ms)", "init": the call named in a firmware_fault.
+std::string FirmwareHost::callName(const char* what, int task) const {
+  std::string where = what;
+  if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
+  return where;
 }
 
 // The firmware_fault of a call that did not return cleanly.
@@ -483,33 +504,35 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
     breakContract("bus_transfer with a null buffer and a non-zero length");
     return PSFW_BUS_ERROR;
   }
-  // The firmware's buffers are copied first: a bad pointer faults here, before the
-  // chain's state is touched.
+  // The firmware's buffers are touched first: a bad pointer faults here, before the
+  // chain's state is touched. tx is copied (the reply may land on it); rx is cleared and
+  // the chain answers into it, then the bytes past what it received are cleared again
+  // (so rx holds exactly the reply, zeros after it, as on any failure).
   // (copyBytes / zeroBytes: library calls, not the inline rep movs / stos GCC makes of a
   // length bounded by the buffers, slow to start for a frame of a few bytes)
-  uint8_t txCopy[PSFW_BUS_MAX_FRAME], rxCopy[PSFW_BUS_MAX_FRAME];
+  uint8_t txCopy[PSFW_BUS_MAX_FRAME];
   if (txLen > 0) copyBytes(txCopy, tx, txLen);
   if (rxLen > 0) zeroBytes(rx, rxLen);
-  zeroBytes(rxCopy, rxLen);
   MonitorBus& b = *board_.buses[bus];
   const double t_s = clock_s();
   BusTransfer r;
   bool threw = false;
   try {
     b.advanceTo(t_s);
-    r = b.chain->transfer(b.time_s, txCopy, txLen, rxCopy, rxLen);
+    r = b.chain->transfer(b.time_s, txCopy, txLen, rx, rxLen);
   } catch (const std::exception&) {
     threw = true;
   }
-  if (threw) {
-    breakContract("the monitor chain rejected the transaction on bus %u", bus);
+  if (threw || r.received > static_cast<int>(rxLen)) {
+    if (rxLen > 0) zeroBytes(rx, rxLen);
+    if (threw)
+      breakContract("the monitor chain rejected the transaction on bus %u", bus);
+    else
+      breakContract("host error: the chain returned more bytes than asked for");
     return PSFW_BUS_ERROR;
   }
-  if (r.received > static_cast<int>(rxLen)) {
-    breakContract("host error: the chain returned more bytes than asked for");
-    return PSFW_BUS_ERROR;
-  }
-  if (r.received > 0) copyBytes(rx, rxCopy, static_cast<size_t>(r.received));
+  const size_t got = r.received > 0 ? static_cast<size_t>(r.received) : 0u;
+  if (got < rxLen) zeroBytes(rx + got, rxLen - got);
   clock_ns_ += toNs(r.duration_s);
   checkBudget();
   return r.received < 0 ? PSFW_BUS_TIMEOUT : r.received;
