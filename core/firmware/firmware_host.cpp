@@ -268,13 +268,14 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   if (!bootAfterReset(windowEnd_ns, out)) return;
   if (target_) target_->monitorLine(in.monitorFaultPin, t_ns);  // its edge pends the ALERT interrupt
   bool due = !started_;
-  for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
+  for (size_t i = 0; i < nextDue_ns_.size() && !due; ++i) due = nextDue_ns_[i] < windowEnd_ns;
   uint64_t irqAt_ns = 0;
   if (!due && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
   // A library's calls run under the guard, its handlers installed only around ticks
   // that call into it.
   std::optional<FaultGuard::Scope> handlers;
   if (guard_) handlers.emplace();
+  pinsNoted_ = pinsOf(out) == lastPins_;  // the writes below compare with `out` from here on
   if (!started_) start(t_s);
   while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots in the tick of its instant
     int next = -1;
@@ -409,8 +410,7 @@ std::string FirmwareHost::status() const {
 
 // --- board services -------------------------------------------------------------
 
-bool FirmwareHost::checkBudget() {
-  if (!enforceBudgets_ || callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return true;
+bool FirmwareHost::overBudget() {
   breakContract(target_ ? "ran %.6f ms of simulated time (its code on the MCU clock, bus transfers and delays), over "
                           "its %.3f ms budget"
                         : "ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
@@ -562,19 +562,27 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
   if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
-  const bool on = level != 0;
+  bool* field = nullptr;
   switch (pin) {
-    case PSFW_OUT_RELAY: out_->relayClose = on; break;
-    case PSFW_OUT_PRECHARGE: out_->prechargeClose = on; break;
-    case PSFW_OUT_DISCHARGE_FET: out_->dischargeFetOn = on; break;
-    case PSFW_OUT_CHARGE_FET: out_->chargeFetOn = on; break;
-    case PSFW_OUT_CHARGER_ENABLE: out_->chargerEnable = on; break;
+    case PSFW_OUT_RELAY: field = &out_->relayClose; break;
+    case PSFW_OUT_PRECHARGE: field = &out_->prechargeClose; break;
+    case PSFW_OUT_DISCHARGE_FET: field = &out_->dischargeFetOn; break;
+    case PSFW_OUT_CHARGE_FET: field = &out_->chargeFetOn; break;
+    case PSFW_OUT_CHARGER_ENABLE: field = &out_->chargerEnable; break;
     default: break;  // an unconnected port pin
+  }
+  const bool on = level != 0;
+  if (field) {
+    if (pinsNoted_ && *field == on) return;  // the level it has: no change to note
+    *field = on;
+  } else if (pinsNoted_) {
+    return;
   }
   notePins();
 }
 
 void FirmwareHost::notePins() {
+  pinsNoted_ = true;
   const PinLevels p = pinsOf(*out_);
   if (p == lastPins_) return;
   lastPins_ = p;
@@ -582,7 +590,13 @@ void FirmwareHost::notePins() {
 }
 
 void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
-  if (channel == PSFW_DAC_CHARGER_CURRENT_MA) out_->chargerCurrentRequest_mA = std::max<int32_t>(0, value);
+  if (channel == PSFW_DAC_CHARGER_CURRENT_MA) {
+    const int32_t mA = std::max<int32_t>(0, value);
+    if (pinsNoted_ && out_->chargerCurrentRequest_mA == mA) return;
+    out_->chargerCurrentRequest_mA = mA;
+  } else if (pinsNoted_) {
+    return;
+  }
   notePins();
 }
 
