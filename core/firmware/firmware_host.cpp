@@ -152,6 +152,22 @@ void FirmwareHost::breakContract(const char* fmt, ...) {
 // not return cleanly or broke the contract.
 bool FirmwareHost::call(const char* what, int task) {
   if (target_) return target_->call(what, task);
+  if (!guard_ && task >= 0) {  // a linked-in firmware's task (every tick): no guard, no descriptor
+    breakCause_[0] = '\0';
+    const uint64_t start_ns = clock_ns_;
+    fw_.tasks[task].run(ram_.get(), reinterpret_cast<psfw_board*>(this), &api_);
+    if (breakCause_[0] == '\0') return true;
+    GuardResult r;
+    r.outcome = GuardOutcome::ContractBreak;
+    failed(static_cast<double>(start_ns) * 1e-9, callName(what, task), r);
+    return false;
+  }
+  return callFull(what, task);
+}
+
+// Any other call: the entry, init, or a library's task under the guard (kept out of
+// call()'s own frame, so that the linked-in task's path does not set up the Call).
+bool FirmwareHost::callFull(const char* what, int task) {
   Call c;  // default-initialised: its name is not cleared (aggregate init would zero it)
   c.h = this;
   c.task = task;
@@ -165,9 +181,7 @@ bool FirmwareHost::call(const char* what, int task) {
     if (breakCause_[0] != '\0') r.outcome = GuardOutcome::ContractBreak;
   }
   if (r.outcome != GuardOutcome::Ok) {
-    std::string where = what;
-    if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
-    failed(start_s, where, r);
+    failed(start_s, callName(what, task), r);
     return false;
   }
   if (task == -2) {
@@ -179,6 +193,13 @@ bool FirmwareHost::call(const char* what, int task) {
     name_ = c.name[0] ? c.name : "(unnamed)";
   }
   return true;
+}
+
+// "task 1 (period 10 ms)", "init": the call named in a firmware_fault.
+std::string FirmwareHost::callName(const char* what, int task) const {
+  std::string where = what;
+  if (task >= 0) where += " " + std::to_string(task) + " (period " + std::to_string(fw_.tasks[task].period_ms) + " ms)";
+  return where;
 }
 
 // The firmware_fault of a call that did not return cleanly.
@@ -247,13 +268,14 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   if (!bootAfterReset(windowEnd_ns, out)) return;
   if (target_) target_->monitorLine(in.monitorFaultPin, t_ns);  // its edge pends the ALERT interrupt
   bool due = !started_;
-  for (uint64_t d : nextDue_ns_) due = due || d < windowEnd_ns;
+  for (size_t i = 0; i < nextDue_ns_.size() && !due; ++i) due = nextDue_ns_[i] < windowEnd_ns;
   uint64_t irqAt_ns = 0;
   if (!due && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
   // A library's calls run under the guard, its handlers installed only around ticks
   // that call into it.
   std::optional<FaultGuard::Scope> handlers;
   if (guard_) handlers.emplace();
+  pinsNoted_ = pinsOf(out) == lastPins_;  // the writes below compare with `out` from here on
   if (!started_) start(t_s);
   while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots in the tick of its instant
     int next = -1;
@@ -388,8 +410,7 @@ std::string FirmwareHost::status() const {
 
 // --- board services -------------------------------------------------------------
 
-bool FirmwareHost::checkBudget() {
-  if (!enforceBudgets_ || callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_) return true;
+bool FirmwareHost::overBudget() {
   breakContract(target_ ? "ran %.6f ms of simulated time (its code on the MCU clock, bus transfers and delays), over "
                           "its %.3f ms budget"
                         : "ran %.3f ms of simulated time (bus transfers and delays), over its %.3f ms budget",
@@ -483,33 +504,35 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
     breakContract("bus_transfer with a null buffer and a non-zero length");
     return PSFW_BUS_ERROR;
   }
-  // The firmware's buffers are copied first: a bad pointer faults here, before the
-  // chain's state is touched.
+  // The firmware's buffers are touched first: a bad pointer faults here, before the
+  // chain's state is touched. tx is copied (the reply may land on it); rx is cleared and
+  // the chain answers into it, then the bytes past what it received are cleared again
+  // (so rx holds exactly the reply, zeros after it, as on any failure).
   // (copyBytes / zeroBytes: library calls, not the inline rep movs / stos GCC makes of a
   // length bounded by the buffers, slow to start for a frame of a few bytes)
-  uint8_t txCopy[PSFW_BUS_MAX_FRAME], rxCopy[PSFW_BUS_MAX_FRAME];
+  uint8_t txCopy[PSFW_BUS_MAX_FRAME];
   if (txLen > 0) copyBytes(txCopy, tx, txLen);
   if (rxLen > 0) zeroBytes(rx, rxLen);
-  zeroBytes(rxCopy, rxLen);
   MonitorBus& b = *board_.buses[bus];
   const double t_s = clock_s();
   BusTransfer r;
   bool threw = false;
   try {
     b.advanceTo(t_s);
-    r = b.chain->transfer(b.time_s, txCopy, txLen, rxCopy, rxLen);
+    r = b.chain->transfer(b.time_s, txCopy, txLen, rx, rxLen);
   } catch (const std::exception&) {
     threw = true;
   }
-  if (threw) {
-    breakContract("the monitor chain rejected the transaction on bus %u", bus);
+  if (threw || r.received > static_cast<int>(rxLen)) {
+    if (rxLen > 0) zeroBytes(rx, rxLen);
+    if (threw)
+      breakContract("the monitor chain rejected the transaction on bus %u", bus);
+    else
+      breakContract("host error: the chain returned more bytes than asked for");
     return PSFW_BUS_ERROR;
   }
-  if (r.received > static_cast<int>(rxLen)) {
-    breakContract("host error: the chain returned more bytes than asked for");
-    return PSFW_BUS_ERROR;
-  }
-  if (r.received > 0) copyBytes(rx, rxCopy, static_cast<size_t>(r.received));
+  const size_t got = r.received > 0 ? static_cast<size_t>(r.received) : 0u;
+  if (got < rxLen) zeroBytes(rx + got, rxLen - got);
   clock_ns_ += toNs(r.duration_s);
   checkBudget();
   return r.received < 0 ? PSFW_BUS_TIMEOUT : r.received;
@@ -539,19 +562,27 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
   if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
-  const bool on = level != 0;
+  bool* field = nullptr;
   switch (pin) {
-    case PSFW_OUT_RELAY: out_->relayClose = on; break;
-    case PSFW_OUT_PRECHARGE: out_->prechargeClose = on; break;
-    case PSFW_OUT_DISCHARGE_FET: out_->dischargeFetOn = on; break;
-    case PSFW_OUT_CHARGE_FET: out_->chargeFetOn = on; break;
-    case PSFW_OUT_CHARGER_ENABLE: out_->chargerEnable = on; break;
+    case PSFW_OUT_RELAY: field = &out_->relayClose; break;
+    case PSFW_OUT_PRECHARGE: field = &out_->prechargeClose; break;
+    case PSFW_OUT_DISCHARGE_FET: field = &out_->dischargeFetOn; break;
+    case PSFW_OUT_CHARGE_FET: field = &out_->chargeFetOn; break;
+    case PSFW_OUT_CHARGER_ENABLE: field = &out_->chargerEnable; break;
     default: break;  // an unconnected port pin
+  }
+  const bool on = level != 0;
+  if (field) {
+    if (pinsNoted_ && *field == on) return;  // the level it has: no change to note
+    *field = on;
+  } else if (pinsNoted_) {
+    return;
   }
   notePins();
 }
 
 void FirmwareHost::notePins() {
+  pinsNoted_ = true;
   const PinLevels p = pinsOf(*out_);
   if (p == lastPins_) return;
   lastPins_ = p;
@@ -559,7 +590,13 @@ void FirmwareHost::notePins() {
 }
 
 void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
-  if (channel == PSFW_DAC_CHARGER_CURRENT_MA) out_->chargerCurrentRequest_mA = std::max<int32_t>(0, value);
+  if (channel == PSFW_DAC_CHARGER_CURRENT_MA) {
+    const int32_t mA = std::max<int32_t>(0, value);
+    if (pinsNoted_ && out_->chargerCurrentRequest_mA == mA) return;
+    out_->chargerCurrentRequest_mA = mA;
+  } else if (pinsNoted_) {
+    return;
+  }
   notePins();
 }
 
@@ -628,8 +665,14 @@ int32_t FirmwareHost::nvmWrite(uint32_t offset, const uint8_t* data, uint32_t le
 
 void FirmwareHost::telemetrySend(const uint8_t* bytes, uint16_t len) {
   if (len > 0 && bytes == nullptr) return breakContract("telemetry_send with a null buffer and a non-zero length");
-  uint8_t kept[kTelemetryKeep];  // copied first: a bad pointer faults before host data changes
   const size_t n = std::min<size_t>(len, kTelemetryKeep);
+  if (!guard_) {  // trusted code (linked in, or read from the virtual MCU's memory): kept at once
+    ++telemetryFrames_;
+    lastTelemetry_.resize(n);
+    if (n > 0) copyBytes(lastTelemetry_.data(), bytes, n);
+    return;
+  }
+  uint8_t kept[kTelemetryKeep];  // a library's: copied first, a bad pointer faults before host data changes
   if (n > 0) copyBytes(kept, bytes, n);
   ++telemetryFrames_;
   lastTelemetry_.resize(n);

@@ -147,13 +147,20 @@ class FirmwareHost {
   // Target mode: the interrupts taken before before_ns while the MCU idles between calls.
   bool runInterrupts(uint64_t before_ns);
   bool call(const char* what, int task);
+  __attribute__((noinline)) bool callFull(const char* what, int task);
+  std::string callName(const char* what, int task) const;
   void failed(double start_s, const std::string& where, const GuardResult& r);
   void start(double t_s);
   void fault(double t_s, const std::string& cause);
   // Records the cause; under the guard the call ends here (longjmp), else the service
   // returns and the firmware is stopped when its call returns.
   void breakContract(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
-  bool checkBudget();
+  // After a bus transfer, delay or NVM write: within the running task's budget (inline:
+  // several times a tick), else a contract break (overBudget).
+  bool checkBudget() {
+    return !enforceBudgets_ || callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_ || overBudget();
+  }
+  bool overBudget();
   void notePins();  // after a GPIO or DAC write: a change of the levels, at the MCU clock
 
   std::vector<uint8_t> config_;
@@ -190,6 +197,7 @@ class FirmwareHost {
   std::vector<uint8_t> lastTelemetry_;
   std::array<uint8_t, PSFW_NVM_BYTES> nvm_;  // the board's NVM page: outside the MCU, kept across its resets
   PinLevels lastPins_;                  // the levels of the last recorded change (all off at power-up)
+  bool pinsNoted_ = false;              // the pins of *out_ are lastPins_: a write of a pin's own level changes nothing
   std::vector<PinChange> pinChanges_;   // since the last takePinChanges()
 };
 

@@ -5,6 +5,10 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define PACKSIM_COMBINE_AVX 1
+#endif
 
 namespace packsim {
 
@@ -40,12 +44,58 @@ void combineFixed(const double* c, const double* const* x, double* z, long n) {
   }
 }
 
+#if PACKSIM_COMBINE_AVX
+// The same on a CPU with AVX (chosen at run time; the build targets plain x86-64): four
+// elements at a time, each lane still the scalar code's products and sums in the same
+// order (separate multiply and add: no fused multiply-add), so the same bits; half the
+// instructions of the two-lane loop on a pack's state.
+template <int N>
+__attribute__((target("avx"))) void combineFixedAvx(const double* c, const double* const* x, double* z, long n) {
+  __m256d kv[N];
+  const double* p[N];
+  for (int i = 0; i < N; ++i) {
+    kv[i] = _mm256_set1_pd(c[i]);
+    p[i] = x[i];
+  }
+  long j = 0;
+  for (; j + 4 <= n; j += 4) {
+    __m256d acc = _mm256_mul_pd(kv[0], _mm256_loadu_pd(p[0] + j));
+    for (int i = 1; i < N; ++i) acc = _mm256_add_pd(acc, _mm256_mul_pd(kv[i], _mm256_loadu_pd(p[i] + j)));
+    _mm256_storeu_pd(z + j, acc);
+  }
+  for (; j < n; ++j) {
+    double acc = c[0] * p[0][j];
+    for (int i = 1; i < N; ++i) acc += c[i] * p[i][j];
+    z[j] = acc;
+  }
+}
+
+// Whether the CPU (and the OS, which must save its registers) has AVX; libgcc's check.
+const bool kHaveAvx = [] {
+  __builtin_cpu_init();  // may run before libgcc's own constructor
+  return __builtin_cpu_supports("avx") != 0;
+}();
+#endif
+
 // The record being filled on this thread (CvodeOutputWatch), if any.
 thread_local CvodeOutputRecord* tWatched = nullptr;
 
 }  // namespace
 
 void cvodeCombine(int nvec, const double* c, const double* const* x, double* z, long n) {
+#if PACKSIM_COMBINE_AVX
+  if (kHaveAvx) {
+    switch (nvec) {
+      case 1: return combineFixedAvx<1>(c, x, z, n);
+      case 2: return combineFixedAvx<2>(c, x, z, n);
+      case 3: return combineFixedAvx<3>(c, x, z, n);
+      case 4: return combineFixedAvx<4>(c, x, z, n);
+      case 5: return combineFixedAvx<5>(c, x, z, n);
+      case 6: return combineFixedAvx<6>(c, x, z, n);
+      default: break;
+    }
+  }
+#endif
   switch (nvec) {
     case 1: return combineFixed<1>(c, x, z, n);
     case 2: return combineFixed<2>(c, x, z, n);

@@ -8,6 +8,7 @@
 
 #include <bms/bms_firmware.hpp>
 
+#include "core/firmware/pin_timeline.hpp"
 #include "models/afe/byte_copy.hpp"
 
 namespace packsim {
@@ -89,7 +90,7 @@ std::vector<CanTraceRow> McuFirmware::takeCanTrace() {
   return rows;
 }
 
-void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f) {
+const bms::Outputs& McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f) {
   if (aloneCan_) injectScripted(t_s + tickFor_s_);
   // Every MCU of the pack is on the BMS's 12 V rail: below the brown-out threshold each
   // is held in reset, and boots at the first tick the rail is back.
@@ -102,20 +103,21 @@ void McuFirmware::decide(double t_s, const bms::Inputs& in, bms::Outputs& out, c
       hosts_[b]->holdInReset(t_s, std::string(why) + " (board " + std::to_string(b + 1) + ")", memberPins_[b]);
       hosts_[b]->takePinChanges();
     }
-    if (!library_) mergeProbes(out);
-    return;
+    return *(decided_ = library_ ? &out : &probe(out));
   }
   if (!f.host_dead) hosts_.front()->step(t_s, in, out);
   for (size_t b = 1; b < hosts_.size(); ++b) {
     if (!(f.dead_boards & (1u << b))) hosts_[b]->step(t_s, in, memberPins_[b]);
     hosts_[b]->takePinChanges();  // a member's port pins are not wired to the pack
   }
-  if (!library_ && !f.host_dead) mergeProbes(out);
+  if (library_ || !decided_) decided_ = &out;
+  if (!library_ && !f.host_dead) decided_ = &probe(out);
+  return *decided_;  // a hung host: what it decided last (its RAM has not changed since)
 }
 
 // The pack host's outputs with each board's own arrays at their pack positions.
-void McuFirmware::mergeProbes(bms::Outputs& out) {
-  if (!hosts_.front()->ram()) return;
+const bms::Outputs& McuFirmware::probe(bms::Outputs& out) {
+  if (!hosts_.front()->ram()) return out;
   if (const TargetFirmware* t = hosts_.front()->target()) {
     // The core's RAM on the virtual MCU, read as a debugger reads it. Its layout is the
     // host build's (the same sources; ILP32 and LP64 lay these structs out alike, no
@@ -125,15 +127,21 @@ void McuFirmware::mergeProbes(bms::Outputs& out) {
                                std::to_string(t->instanceBytes()) + " bytes, this packsim's " +
                                std::to_string(sizeof(bms::CoreFirmwareRam)) +
                                " (rebuild it: cmake --build build --target packsim_core_cm4)");
-    if (!t->readInstanceRam(targetRam_.get(), sizeof(bms::CoreFirmwareRam))) return;
+    if (!t->readInstanceRam(targetRam_.get(), sizeof(bms::CoreFirmwareRam))) return out;
     out = targetRam_->out;
-    return;  // one board only in target mode (the loader refuses several)
+    return out;  // one board only in target mode (the loader refuses several)
+  }
+  const bms::Outputs& ram = bms::coreFirmwareOutputs(hosts_.front()->ram());
+  if (hosts_.size() == 1) {
+    // Read in place. The host reads and writes only the pins of `out` (GPIO, DAC,
+    // resets): they start the next tick as a whole copy would have left them.
+    applyPins(out, pinsOf(ram));
+    return ram;
   }
   // A kilobyte and more each tick: through the library's memcpy, not the inline rep movsq
   // GCC makes of the struct assignment (models/afe/byte_copy.hpp).
   static_assert(std::is_trivially_copyable_v<bms::Outputs>);
-  copyBytes(&out, &bms::coreFirmwareOutputs(hosts_.front()->ram()), sizeof(bms::Outputs));
-  if (hosts_.size() == 1) return;
+  copyBytes(&out, &ram, sizeof(bms::Outputs));
   bms::Telemetry& tm = out.telemetry;
   const bms::Telemetry host = tm;
   for (uint32_t& w : out.balanceMask) w = 0;
@@ -157,6 +165,7 @@ void McuFirmware::mergeProbes(bms::Outputs& out) {
       tm.lastResult[b.firstDevice + d] = bt.lastResult[d];
     }
   }
+  return out;
 }
 
 bool McuFirmware::anyDead() const {

@@ -43,7 +43,11 @@ class McuFirmware : public FirmwareSink {
   // (host_dead) runs nothing: its pins hold their last level. A supply below the
   // brown-out threshold (supply_brownout) holds every MCU in reset, outputs off; they
   // boot at the first tick it is back (FirmwareHost::holdInReset).
-  void decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f);
+  // Returns the tick's decisions: `out`, or (packsim's core on one board, host mode)
+  // the outputs in the MCU's RAM, read in place instead of copied (a kilobyte and more
+  // a tick), with their pins copied into `out`, where the host's next writes land.
+  // Valid until the next decide().
+  const bms::Outputs& decide(double t_s, const bms::Inputs& in, bms::Outputs& out, const HardwareFaults& f);
   // The pack host's output changes of the last decide(), each at the instant its
   // firmware wrote it (core/firmware/pin_timeline.hpp); the members' pins drive nothing.
   std::vector<PinChange> takePinChanges() { return hosts_.front()->takePinChanges(); }
@@ -66,7 +70,7 @@ class McuFirmware : public FirmwareSink {
   void trip(double t_s, const std::string& reason) override { tracker_.firmwareTrip(t_s, reason); }
 
  private:
-  void mergeProbes(bms::Outputs& out);
+  const bms::Outputs& probe(bms::Outputs& out);
 
   RunTracker& tracker_;
   const HardwareSim& hw_;
@@ -84,6 +88,7 @@ class McuFirmware : public FirmwareSink {
   std::vector<bms::Outputs> memberPins_;            // what the members' unconnected pins got
   std::string coreElf_;                               // target mode: the core's ELF
   std::unique_ptr<bms::CoreFirmwareRam> targetRam_;  // target mode: the probe's copy of the MCU's RAM
+  const bms::Outputs* decided_ = nullptr;             // what the last decide() returned
 };
 
 }  // namespace packsim

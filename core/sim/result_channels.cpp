@@ -205,11 +205,15 @@ std::vector<ResultChannel> makeChannels() {
 
 }  // namespace
 
-uint8_t trueDisplayBars(const bms::Config& cfg, const PlantSignals& sig) {
+uint16_t trueDisplay_mV(const PlantSignals& sig) {
   double sum = 0.0;
   for (double v : sig.cell_ocv_V) sum += v;
   const double mean_mV = sum / static_cast<double>(sig.cell_ocv_V.size()) * 1e3;
-  return bms::socDisplayBars(cfg.soc, static_cast<uint16_t>(std::clamp(std::lround(mean_mV), 0L, 65535L)));
+  return static_cast<uint16_t>(std::clamp(std::lround(mean_mV), 0L, 65535L));
+}
+
+uint8_t trueDisplayBars(const bms::Config& cfg, const PlantSignals& sig) {
+  return bms::socDisplayBars(cfg.soc, trueDisplay_mV(sig));
 }
 
 const std::vector<ResultChannel>& resultChannels() {

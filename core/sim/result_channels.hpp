@@ -93,6 +93,8 @@ int storedDecimals(const ResultChannel& c);
 // The bars the SOC display would show if it read the true open-circuit voltage (mean
 // cell): the truth the firmware's display is judged against.
 uint8_t trueDisplayBars(const bms::Config& cfg, const PlantSignals& sig);
+// Its input: the mean cell open-circuit voltage in whole mV, as the display reads it.
+uint16_t trueDisplay_mV(const PlantSignals& sig);
 
 // Appends one sample of every channel this recording holds.
 void recordSample(const ChannelSample& s, Recording& rec);

@@ -466,7 +466,13 @@ void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const 
   if (tm.socEkfValid) socErrorEkf_.add(tm.socEkf, truth);
   sm.capacity_estimate_Ah = tm.capacityEstimate_mAh * 1e-3;
   if (tm.socCoulombValid) {  // the display runs from the same complete reading
-    const int diff = static_cast<int>(trueDisplayBars(cfg_, sig)) - static_cast<int>(tm.socDisplayBars);
+    // The true bars again only when their input moved (a whole mV: most ticks it has not).
+    const uint16_t at_mV = trueDisplay_mV(sig);
+    if (at_mV != displayAt_mV_) {
+      displayAt_mV_ = at_mV;
+      displayBars_ = bms::socDisplayBars(cfg_.soc, at_mV);
+    }
+    const int diff = static_cast<int>(displayBars_) - static_cast<int>(tm.socDisplayBars);
     sm.display_bars_hidden_max = std::max(sm.display_bars_hidden_max, diff);
     sm.display_bars_extra_max = std::max(sm.display_bars_extra_max, -diff);
   }

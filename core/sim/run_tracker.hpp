@@ -61,6 +61,8 @@ class RunTracker {
   const VehicleSample* vehicle_ = nullptr;
   HardwareStatus lastHw_;
   SocErrorTracker socErrorCoulomb_, socErrorEkf_;
+  int32_t displayAt_mV_ = -1;  // trueDisplayBars's input last tick (-1: none yet) and its bars
+  uint8_t displayBars_ = 0;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
   LimitWatch limits_;            // cells past a protection limit the BMS has not seen
   LimitWatch::EventSink limitSink_;  // its events: limit_unseen (made once, not per tick)

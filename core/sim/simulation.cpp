@@ -92,7 +92,8 @@ struct SimulationRun::Impl {
   const bms::Config cfg;
   HardwareSim hw;  // monitor ICs, sensors, relay, FETs, fuse, precharge (bms_bridge)
   bms::Inputs in{};
-  bms::Outputs out{};
+  bms::Outputs out{};                  // the host's pin writes (and the boards' merged outputs)
+  const bms::Outputs* decided = &out;  // the last tick's decisions (McuFirmware::decide)
   Rng rng;
   PlantSignals sig;
   RunTracker tracker;
@@ -122,7 +123,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   const double t = static_cast<double>(k) * tick_s;
   if (vehicle)  // the vehicle moves over the last tick and asks its power for the next
     ext.load_A_or_W = vehicle->tick(t, integ.state()[plant.stateSize() + kQuadLoadEnergy_J], packV,
-                                    out.state == bms::State::Normal, out.telemetry.maxCell_mV * 1e-3, tracker);
+                                    decided->state == bms::State::Normal, decided->telemetry.maxCell_mV * 1e-3, tracker);
   if (ext.applyToPlant(t, inputs)) integ.reset(t, integ.state());  // external inputs, if any
   const double* xs = integ.state();
 
@@ -144,7 +145,8 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   //    talking to the monitor chain over the bus (a hung MCU does not: its pins hold
   //    their last level, and only the monitor ICs' own FAULT line can still open the
   //    relay)
-  firmware.decide(t, in, out, faults);
+  decided = &firmware.decide(t, in, out, faults);
+  const bms::Outputs& decision = *decided;
   for (const PinChange& c : firmware.takePinChanges()) pins.push(c);
 
   // 3. actuators: the commands in effect at t_k (those the firmware wrote at or before
@@ -152,20 +154,20 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   //    (delays, weld, fuse, FETs, precharge) whose state the plant sees from t_k
   // (the decisions with the pins in effect: a copy only when those differ from them)
   const PinLevels& inEffect = pins.at(t);
-  const bool pinsDiffer = pinsOf(out) != inEffect;
+  const bool pinsDiffer = pinsOf(decision) != inEffect;
   if (pinsDiffer) {
-    act = out;
+    act = decision;
     applyPins(act, inEffect);
   }
-  const bool relayChanged = hw.actuate(t, pinsDiffer ? act : out, sg, faults, inputs);
+  const bool relayChanged = hw.actuate(t, pinsDiffer ? act : decision, sg, faults, inputs);
   sampled = &sg;
   restartNext = relayChanged || faultChanged;
 
   // 4. record
-  tracker.tick(t, xs, sg, out);
+  tracker.tick(t, xs, sg, decision);
   const bool stop = k >= lastTick || (!driverEnds && (tracker.stopRequested(t) || hw.chargeComplete())) ||
-                    (stopWhen && stopWhen(t, xs, sg, out)) || (vehicle && vehicle->done());
-  if (recordPhase == 0 || stop) tracker.record(t, xs, sg, out);
+                    (stopWhen && stopWhen(t, xs, sg, decision)) || (vehicle && vehicle->done());
+  if (recordPhase == 0 || stop) tracker.record(t, xs, sg, decision);
   if (stop) {
     ended = true;
     endReason = k >= lastTick                    ? "the scenario's end time"
@@ -187,7 +189,7 @@ void SimulationRun::Impl::advance() {
   const double t = static_cast<double>(k) * tick_s;
   const double t_next = static_cast<double>(k + 1) * tick_s;
   bool restart = restartNext;
-  const bms::Outputs& decided = out;  // the tick's decisions (unchanged here); their pins applied at their instants
+  const bms::Outputs& decisions = *decided;  // the tick's (unchanged here); their pins applied at their instants
   if (ext.applyToPlant(t, inputs)) restart = true;  // set since the tick at t_k
   sampled = nullptr;
   double tc = t;
@@ -222,7 +224,7 @@ void SimulationRun::Impl::advance() {
     }
     if (pinInside && reached(tc, pinBreak_s)) {  // the outputs act at the instant they were written
       plant.evaluate(tc, integ.state(), inputs, sig);
-      act = decided;
+      act = decisions;
       applyPins(act, pins.at(tc));
       if (hw.actuatePins(tc, t_next, act, sig, faults, inputs)) restart = true;
       tracker.hardwareChanged(tc);
@@ -252,7 +254,7 @@ void SimulationRun::setExternalInputs(const ExternalInputs& in) { impl_->ext = i
 const Plant& SimulationRun::plant() const { return impl_->plant; }
 const double* SimulationRun::state() const { return impl_->solver->state(); }
 const PlantSignals& SimulationRun::signals() const { return impl_->sampled ? *impl_->sampled : impl_->sig; }
-const bms::Outputs& SimulationRun::outputs() const { return impl_->out; }
+const bms::Outputs& SimulationRun::outputs() const { return *impl_->decided; }
 const HardwareStatus& SimulationRun::hardware() const { return impl_->hw.status(); }
 bool SimulationRun::tripped() const { return impl_->tracker.tripped(); }
 double SimulationRun::time_s() const { return static_cast<double>(impl_->k) * impl_->tick_s; }
