@@ -32,9 +32,13 @@ void HardwareSim::report(const SwitchState& sw, const PlantSignals& sig) {
 }
 
 void HardwareSim::watchFets(double t, const SwitchDrive& d, const SwitchState& sw) {
-  // The part's reason is asked for only where it tells something: the pin on, the driver off.
-  fets_.hold(t, d, sw, d.dischargePin && !d.afeDischarge ? sensors_.afeFetOffCause(true) : std::string(),
-             d.chargePin && !d.afeCharge ? sensors_.afeFetOffCause(false) : std::string());
+  // The part's reason is asked for only where it tells something: the pin on, the driver off
+  // (the usual tick: neither, and no string is made).
+  static const std::string kNoCause;
+  const bool askDsg = d.dischargePin && !d.afeDischarge, askChg = d.chargePin && !d.afeCharge;
+  if (!askDsg && !askChg) return fets_.hold(t, d, sw, kNoCause, kNoCause);
+  fets_.hold(t, d, sw, askDsg ? sensors_.afeFetOffCause(true) : kNoCause,
+             askChg ? sensors_.afeFetOffCause(false) : kNoCause);
 }
 
 std::vector<std::string> HardwareSim::fetNotes(double end_s) const {

@@ -24,12 +24,15 @@ bool HwBalancing::tick(double t, const HwSensors& sensors, const bms::Outputs& o
     on_.resize(static_cast<size_t>(series));
     duty_.resize(static_cast<size_t>(series));
     sensors.balancingSwitches(t, t + s_.bms.tick_s, on_.data(), duty_.data());
-    bool differ = false;  // (every group compared: no early exit, no branch per group)
-    for (size_t g = 0; g < static_cast<size_t>(series); ++g)
+    // Compared and taken over in one pass (every group: no early exit, no branch per
+    // group; no library copy of a dozen values).
+    bool differ = false;
+    for (size_t g = 0; g < static_cast<size_t>(series); ++g) {
       differ |= (pin.balancing[g] != on_[g]) | (pin.balance_duty[g] != duty_[g]);
+      pin.balancing[g] = on_[g];
+      pin.balance_duty[g] = duty_[g];
+    }
     changed = changed || differ;
-    std::copy(on_.begin(), on_.end(), pin.balancing.begin());
-    std::copy(duty_.begin(), duty_.end(), pin.balance_duty.begin());
   }
   const ActiveBalancerConfig& a = s_.hardware.active_balancer;
   if (a.present) {

@@ -4,11 +4,12 @@
 #include <cmath>
 
 #include "models/random/random.hpp"
+#include "models/sensors/round_half_away.hpp"
 
 namespace packsim {
 
 HwSensors::HwSensors(const Scenario& s, const Plant& plant)
-    : s_(s), plant_(plant), boards_(monitorBoards(s.hardware, s.pack.series)) {
+    : s_(s), plant_(plant), boards_(monitorBoards(s.hardware, s.pack.series)), currentAdc_(s.hardware.current_sense.channel()) {
   // One register-level stack per monitor board; board 0 draws from the run's seed (a
   // single-board pack as ever), the others from their own streams.
   for (const MonitorBoard& b : boards_) {
@@ -126,7 +127,7 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     in.mcuThermistorCode[j] = static_cast<uint16_t>(code);
   }
   const double senseOffset_A = f.current_sensor_offset_A + f.current_sensor_drift_A_per_s * t;
-  in.currentCode = static_cast<int32_t>(hw.current_sense.code(sig.pack_current_A + senseOffset_A, rng));
+  in.currentCode = static_cast<int32_t>(currentAdc_.convert(sig.pack_current_A + senseOffset_A, rng));
   in.busVoltageCode = static_cast<uint16_t>(hw.bus_adc.convert(bus_V, rng));
   in.eSwitchInternal = f.estop_internal_pulled;
   in.eSwitchExternal = f.estop_external_pulled;
@@ -135,7 +136,7 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
   in.chargerPresent = s_.bms.charger_present;
   in.runRequest = s_.bms.run_request && !f.key_off;
   in.resetRequest = f.reset_requested;
-  in.now_ms = static_cast<uint32_t>(std::llround(t * 1e3));
+  in.now_ms = static_cast<uint32_t>(roundHalfAway(t * 1e3));  // std::llround, inline
 }
 
 // The monitor ICs' thermistor bias, from each device's top cell while it is switched on.

@@ -20,6 +20,7 @@
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/monitor_chain_path.hpp"
 #include "core/sim/plant.hpp"
+#include "models/sensors/adc.hpp"
 
 namespace packsim {
 
@@ -66,6 +67,7 @@ class HwSensors {
   std::vector<std::unique_ptr<MonitorChainPath>> chains_;  // per board
   std::vector<MonitorTruth> truths_;                       // per board, filled each tick
   std::vector<size_t> thermNode_;  // per thermistor channel: the thermal node it reads
+  AdcChannel currentAdc_;          // the current sense's converter (hardware.current_sense), built once
   std::vector<BusTraceRow> busTrace_;  // the chains' TracedChain write here (output.bus_trace)
 };
 

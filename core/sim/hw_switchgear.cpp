@@ -10,6 +10,14 @@
 
 namespace packsim {
 
+HwSwitchgear::HwSwitchgear(const HardwareConfig& hw) : hw_(hw) {
+  for (int dsg = 0; dsg < 2; ++dsg)
+    for (int chg = 0; chg < 2; ++chg) {
+      passesDischarge_[dsg][chg] = fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg != 0, hw.charge_fet, chg != 0, 1.0);
+      passesCharge_[dsg][chg] = fetPairConducts(hw.fet_paths, hw.discharge_fet, dsg != 0, hw.charge_fet, chg != 0, -1.0);
+    }
+}
+
 SwitchState HwSwitchgear::gates(double t, const SwitchDrive& d, const HardwareFaults& f) {
   // The monitor FAULT line sits in series with the relay drive: it opens the relay
   // whatever the MCU commands.
@@ -20,8 +28,8 @@ SwitchState HwSwitchgear::gates(double t, const SwitchDrive& d, const HardwareFa
   SwitchState s;
   s.dsg = fetGateOn(hw_.fet_control, d.dischargePin, d.afeDischarge);
   s.chg = fetGateOn(hw_.fet_control, d.chargePin, d.afeCharge);
-  s.dischargeBlocked = fuse_.blown || !fetPairConducts(hw_.fet_paths, hw_.discharge_fet, s.dsg, hw_.charge_fet, s.chg, 1.0);
-  s.chargeBlocked = fuse_.blown || !fetPairConducts(hw_.fet_paths, hw_.discharge_fet, s.dsg, hw_.charge_fet, s.chg, -1.0);
+  s.dischargeBlocked = fuse_.blown || !passesDischarge_[s.dsg][s.chg];
+  s.chargeBlocked = fuse_.blown || !passesCharge_[s.dsg][s.chg];
   s.mainClosed = relay_.closed && !fuse_.blown;
   return s;
 }

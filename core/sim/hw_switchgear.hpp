@@ -41,7 +41,7 @@ struct SwitchState {
 
 class HwSwitchgear {
  public:
-  explicit HwSwitchgear(const HardwareConfig& hw) : hw_(hw) {}
+  explicit HwSwitchgear(const HardwareConfig& hw);
 
   // The tick's step at t (dt = the tick).
   SwitchState tick(double t, double dt, const SwitchDrive& d, const HardwareFaults& f, const PlantSignals& sig);
@@ -63,6 +63,9 @@ class HwSwitchgear {
   SwitchState gates(double t, const SwitchDrive& d, const HardwareFaults& f);
 
   const HardwareConfig& hw_;
+  // Whether the FET pair passes discharge / charge current, [discharge gate on][charge
+  // gate on]: fixed by the configuration, so tabulated once (fetPairConducts).
+  bool passesDischarge_[2][2] = {}, passesCharge_[2][2] = {};
   RelayState relay_, precharge_;
   FuseState fuse_;
   double bus_V_ = 0.0;

@@ -27,7 +27,8 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   MonitorChain& c = *bus_.chain;
   const int perDevice = cfg_.thermistors_per_device;
   const bool unloaded = truth.cell_unloaded_V.size() == truth.cell_V.size();
-  for (int d = 0; d < c.deviceCount(); ++d) {
+  const int devices = c.deviceCount();
+  for (int d = 0; d < devices; ++d) {
     DeviceAnalog& a = c.analog(d);
     const size_t first = static_cast<size_t>(firstCell_[static_cast<size_t>(d)]);
     a.cell_unloaded_V.resize(unloaded ? a.cell_V.size() : 0);
@@ -76,9 +77,14 @@ bool MonitorChainPath::balancing(int cell) const {
 void MonitorChainPath::balancingSwitches(double t0, double t1, uint8_t* on, double* duty) const {
   const MonitorChain& c = *bus_.chain;
   int cell = 0;
-  for (int d = 0; d < c.deviceCount(); ++d) {
+  const int devices = c.deviceCount();
+  for (int d = 0; d < devices; ++d) {
     const uint32_t mask = c.balancingMask(d);
     const int n = c.cellsOf(d);
+    if (mask == 0) {  // the usual device: every switch off, a duty of 1 each (no call per cell)
+      for (int k = 0; k < n && cell < cells_; ++k, ++cell) on[cell] = 0, duty[cell] = 1.0;
+      continue;
+    }
     for (int k = 0; k < n && cell < cells_; ++k, ++cell) {
       const bool sw = (mask >> k) & 1u;
       on[cell] = sw ? 1 : 0;

@@ -157,15 +157,9 @@ void Bq76pl455aChain::powerUp(Device& dv) {
   dv.compared = false;
 }
 
-bool Bq76pl455aChain::hears(int d) const {
-  if (brokenAbove_ >= 0 && d > brokenAbove_) return false;
-  return !dev_[static_cast<size_t>(d)].comm.silent;
-}
-
 // A conversion whose time has come becomes the held result; the ADC thresholds
 // are checked on it.
-void Bq76pl455aChain::settle(Device& dv, double t) {
-  if (dv.ready_s < 0.0 || t < dv.ready_s - 1e-12) return;
+void Bq76pl455aChain::settleDue(Device& dv) {
   dv.held = dv.pending;
   dv.heldChannels = dv.pendingChannels;
   dv.ready_s = -1.0;
@@ -215,8 +209,7 @@ void Bq76pl455aChain::compare(Device& dv, int d) {
   dv.quiet = dv.quiet && over == 0 && under == 0 && hot == 0;
 }
 
-void Bq76pl455aChain::runComparators(Device& dv, int d, double t) {
-  if ((dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) == 0) return;
+void Bq76pl455aChain::runComparatorsPass(Device& dv, int d, double t) {
   if (!dv.compared) compare(dv, d);
   // With no condition present a pass only puts the timers at rest; after one it does
   // nothing (DebounceTimer::held with a false condition), so it is skipped.
@@ -422,17 +415,23 @@ void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double&
     if (!fresh) settle(dv, t);
     const auto& values = fresh ? dv.pending : dv.held;
     const uint32_t ch = fresh ? dv.pendingChannels : dv.heldChannels;
+    // (the length counted in a local: a byte stored through out.bytes may alias out.size,
+    // which push() would reload and store again for every byte)
+    size_t n = out.size;
     for (uint32_t m = ch; m != 0;) {  // the selected slots, highest first
       const unsigned b = 31u - static_cast<unsigned>(__builtin_clz(m));
       m &= ~(1u << b);
-      out.push(static_cast<uint8_t>(values[b] >> 8));
-      out.push(static_cast<uint8_t>(values[b] & 0xFF));
+      out.bytes[n++] = static_cast<uint8_t>(values[b] >> 8);
+      out.bytes[n++] = static_cast<uint8_t>(values[b] & 0xFF);
     }
+    out.size = n;
   } else {
     settle(dv, t);
     set16(dv.reg, PL455_REG_FAULT_SUM, faultSummary(dv));
     const unsigned count = (f.size > 0 ? f.data[0] & 0x7Fu : 0u) + 1u;
-    for (unsigned i = 0; i < count; ++i) out.push(f.reg + i < PL455_REG_COUNT ? dv.reg[f.reg + i] : 0);
+    size_t n = out.size;
+    for (unsigned i = 0; i < count; ++i) out.bytes[n++] = f.reg + i < PL455_REG_COUNT ? dv.reg[f.reg + i] : 0;
+    out.size = n;
   }
   if (out.size == 1) {  // nothing selected: no reply
     out.size = 0;

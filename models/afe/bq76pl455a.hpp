@@ -112,11 +112,25 @@ class Bq76pl455aChain final : public MonitorChain {
   };
 
   void powerUp(Device& dv);
-  void settle(Device& dv, double t);
+  // The chain advances at every frame (several per tick), and on most calls a device has
+  // nothing to do: the checks sit here, inline, the work out of line.
+  // A conversion whose time has come becomes the held result (settleDue).
+  void settle(Device& dv, double t) {
+    if (!(dv.ready_s < 0.0 || t < dv.ready_s - 1e-12)) settleDue(dv);
+  }
+  void settleDue(Device& dv);
   void compare(Device& dv, int d);
-  void runComparators(Device& dv, int d, double t);
+  // The comparators, when enabled: no pass while their conditions are known (compared)
+  // and none is present with the timers at rest (quiet): it would change nothing.
+  void runComparators(Device& dv, int d, double t) {
+    if ((dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) != 0 && !(dv.compared && dv.quiet))
+      runComparatorsPass(dv, d, t);
+  }
+  void runComparatorsPass(Device& dv, int d, double t);
   void superviseLink(Device& dv, double t);
-  bool hears(int d) const;      // on an intact link and not silent
+  bool hears(int d) const {  // on an intact link and not silent
+    return !(brokenAbove_ >= 0 && d > brokenAbove_) && !dev_[static_cast<size_t>(d)].comm.silent;
+  }
   bool acceptsWrites(int d) const { return hears(d) && dev_[static_cast<size_t>(d)].comm.stuck_byte < 0; }
   bool addressedBy(const Frame& f, int d) const;
   void write(Device& dv, int d, const Frame& f, double t, bool takesAddress);

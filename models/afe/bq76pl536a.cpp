@@ -128,7 +128,7 @@ uint8_t Bq76pl536aChain::status(const Device& dv) const {
   return s;
 }
 
-void Bq76pl536aChain::settle(Device& dv, double t) {
+void Bq76pl536aChain::settleDue(Device& dv, double t) {
   // A conversion's results land when its last channel is done.
   if (dv.converting && t >= dv.readyAt_s - 1e-12) {
     std::memcpy(&dv.reg[BQ536_GPAI], &dv.pending[BQ536_GPAI], BQ536_RESULTS_LEN - BQ536_GPAI);
@@ -144,12 +144,14 @@ void Bq76pl536aChain::compare(Device& dv) {
   const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
   const bool covOn = !(covReg & BQ536_CONFIG_DISABLE), cuvOn = !(cuvReg & BQ536_CONFIG_DISABLE);
   const double cov_V = bq536_cov_mV(covReg) * 1e-3, cuv_V = bq536_cuv_mV(cuvReg) * 1e-3;
-  uint8_t over = 0, under = 0, hot = 0;
+  unsigned overAll = 0, underAll = 0;
   for (int c = 0; c < dv.cells; ++c) {
     const double v = a.cell_V[static_cast<size_t>(c)];  // the pin voltage: comparators are not the ADC
-    over = static_cast<uint8_t>(over | static_cast<unsigned>(covOn && v > cov_V) << c);  // (no branches)
-    under = static_cast<uint8_t>(under | static_cast<unsigned>(cuvOn && v < cuv_V) << c);
+    overAll |= static_cast<unsigned>(v > cov_V) << c;  // (no branches)
+    underAll |= static_cast<unsigned>(v < cuv_V) << c;
   }
+  // A disabled comparator sees nothing (masked once, not tested per cell).
+  uint8_t over = static_cast<uint8_t>(covOn ? overAll : 0u), under = static_cast<uint8_t>(cuvOn ? underAll : 0u), hot = 0;
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
     const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);
     if (nibble != 0 && k < a.therm_C.size()) {
@@ -168,7 +170,7 @@ void Bq76pl536aChain::compare(Device& dv) {
   dv.quiet = dv.quiet && over == 0 && under == 0 && hot == 0;
 }
 
-void Bq76pl536aChain::runComparators(Device& dv, double t) {
+void Bq76pl536aChain::runComparatorsPass(Device& dv, double t) {
   if (!dv.compared) compare(dv);
   // With no condition present a pass only puts the timers at rest; after one it does
   // nothing (DebounceTimer::held with a false condition), so it is skipped.

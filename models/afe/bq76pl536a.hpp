@@ -111,9 +111,23 @@ class Bq76pl536aChain final : public MonitorChain {
   // stops above an unaddressed device and at a broken link).
   int reach() const;
   void reset(Device& dv);
-  void settle(Device& dv, double t);
+  // A conversion whose results are due lands, an expired balancing timer switches off.
+  // The chain settles and runs its comparators at every frame (several per tick), and on
+  // most calls neither has anything to do: the checks sit here, inline, the work out of
+  // line (settleDue, runComparatorsPass).
+  void settle(Device& dv, double t) {
+    const bool landing = dv.converting && t >= dv.readyAt_s - 1e-12;
+    const bool expiring = dv.reg[BQ536_CB_CTRL] != 0 && t >= dv.balanceUntil_s - 1e-9;
+    if (landing || expiring) settleDue(dv, t);
+  }
+  void settleDue(Device& dv, double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
-  void runComparators(Device& dv, double t);
+  // No pass while the conditions are known (compared) and none is present with the timers
+  // at rest (quiet): it would change nothing.
+  void runComparators(Device& dv, double t) {
+    if (!(dv.compared && dv.quiet)) runComparatorsPass(dv, t);
+  }
+  void runComparatorsPass(Device& dv, double t);
   // DEVICE_STATUS, composed from the device's state when it is read (the register file's
   // byte 0x00 is not kept up to date: nothing else reads it).
   uint8_t status(const Device& dv) const;

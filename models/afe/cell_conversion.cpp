@@ -13,12 +13,6 @@ CellChannelErrors::CellChannelErrors(int cells, double gain_sd, double offset_sd
   }
 }
 
-int64_t CellChannelErrors::convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k,
-                                   double v_V, Rng& noise) const {
-  return adc.convertWith(adc.gain_error + (gain_[cell] + pins.cell_gain_error[k]),
-                         adc.offset + (offset_[cell] + pins.cell_offset_V[k]), v_V, noise);
-}
-
 double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noise) {
   double v = 0.0;
   for (double c : cell_V) v += c;
@@ -30,13 +24,6 @@ int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp
   if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
   if (fault == ThermistorFault::Short) return 0;
   return ntc.code(temp_C, noise);
-}
-
-int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, ThermistorCodeCache& kept,
-                       Rng& noise) {
-  if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
-  if (fault == ThermistorFault::Short) return 0;
-  return ntc.codeOf(kept.ideal(ntc, temp_C), noise);
 }
 
 }  // namespace packsim

@@ -33,9 +33,13 @@ class CellChannelErrors {
   double offset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
 
   // The code of stack cell `cell`, input `k` of the device whose pins `pins` are, for
-  // v_V across the input.
+  // v_V across the input. Inline: one call per cell and conversion, for a few additions
+  // around the ADC's own (inline) conversion.
   int64_t convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k, double v_V,
-                  Rng& noise) const;
+                  Rng& noise) const {
+    return adc.convertWith(adc.gain_error + (gain_[cell] + pins.cell_gain_error[k]),
+                           adc.offset + (offset_[cell] + pins.cell_offset_V[k]), v_V, noise);
+  }
 
  private:
   std::vector<double> gain_, offset_;
@@ -63,7 +67,12 @@ class ThermistorCodeCache {
 // A thermistor input's code: open reads full scale, shorted reads 0.
 int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, Rng& noise);
 // The same, its noiseless code kept in `kept` (one cache per input and thermistor type).
-int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, ThermistorCodeCache& kept,
-                       Rng& noise);
+// Inline, as the conversion it ends in (Thermistor::codeOf).
+inline int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, ThermistorCodeCache& kept,
+                              Rng& noise) {
+  if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
+  if (fault == ThermistorFault::Short) return 0;
+  return ntc.codeOf(kept.ideal(ntc, temp_C), noise);
+}
 
 }  // namespace packsim

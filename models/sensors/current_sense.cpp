@@ -2,7 +2,7 @@
 
 namespace packsim {
 
-int64_t CurrentSense::code(double current_A, Rng& rng) const {
+AdcChannel CurrentSense::channel() const {
   // Work in amps referred to the input so noise is specified where engineers quote it.
   AdcChannel adc;
   adc.lsb = lsb_A();
@@ -11,7 +11,7 @@ int64_t CurrentSense::code(double current_A, Rng& rng) const {
   adc.noise_rms = noise_A_rms;
   adc.code_min = 0;
   adc.code_max = (int64_t{1} << bits) - 1;
-  return adc.convert(current_A, rng);
+  return adc;
 }
 
 }  // namespace packsim

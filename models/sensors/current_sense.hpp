@@ -21,7 +21,10 @@ struct CurrentSense {
   double lsb_V() const { return vref_V / static_cast<double>(int64_t{1} << bits); }
   double zeroCode() const { return (vref_V / 2.0) / lsb_V(); }
   double lsb_A() const { return lsb_V() / (amp_gain * shunt_ohm); }
-  int64_t code(double current_A, Rng& rng) const;
+  // The converter, referred to the current: built once by a caller that converts every
+  // tick (code() builds it each time).
+  AdcChannel channel() const;
+  int64_t code(double current_A, Rng& rng) const { return channel().convert(current_A, rng); }
 };
 
 }  // namespace packsim

@@ -13,13 +13,4 @@ double Thermistor::idealCode(double temp_C) const {
   return static_cast<double>(fullScaleCode()) * r / (pullup_ohm + r);
 }
 
-int64_t Thermistor::codeOf(double ideal_code, Rng& rng) const {
-  AdcChannel adc;
-  adc.lsb = 1.0;
-  adc.noise_rms = noise_codes_rms;
-  adc.code_min = 0;
-  adc.code_max = fullScaleCode();
-  return adc.convert(ideal_code, rng);
-}
-
 }  // namespace packsim

@@ -22,7 +22,15 @@ struct Thermistor {
   // The divider's noiseless code (unrounded) at temp_C, and a conversion of it: code(T)
   // is codeOf(idealCode(T)), so a caller may keep idealCode for an unchanged T.
   double idealCode(double temp_C) const;
-  int64_t codeOf(double ideal_code, Rng& rng) const;
+  // Inline: the monitor models convert their thermistor inputs several times per tick.
+  int64_t codeOf(double ideal_code, Rng& rng) const {
+    AdcChannel adc;
+    adc.lsb = 1.0;
+    adc.noise_rms = noise_codes_rms;
+    adc.code_min = 0;
+    adc.code_max = fullScaleCode();
+    return adc.convert(ideal_code, rng);
+  }
   int64_t code(double temp_C, Rng& rng) const { return codeOf(idealCode(temp_C), rng); }
 };
 

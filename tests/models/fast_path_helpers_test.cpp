@@ -1,6 +1,6 @@
 // The per-tick helpers that replace a library call on the read-out path must give what
 // the call gave, bit for bit: roundHalfEven against std::nearbyint (the default rounding
-// mode), copyBytes / zeroBytes against a byte loop, standardNormal (its kept second
+// mode), roundHalfAway against std::llround, copyBytes / zeroBytes against a byte loop, standardNormal (its kept second
 // normal served inline) against Box-Muller written out here on the same engine.
 #include <gtest/gtest.h>
 
@@ -15,6 +15,7 @@
 #include "models/afe/byte_copy.hpp"
 #include "models/random/random.hpp"
 #include "models/sensors/round_even.hpp"
+#include "models/sensors/round_half_away.hpp"
 
 namespace packsim {
 namespace {
@@ -60,6 +61,30 @@ TEST(RoundHalfEven, MatchesNearbyintOnRandomDoubles) {
     double v;
     std::memcpy(&v, &b, sizeof v);
     expectSameAsNearbyint(v);
+  }
+}
+
+void expectSameAsLlround(double v) { EXPECT_EQ(roundHalfAway(v), std::llround(v)) << std::hexfloat << v; }
+
+TEST(RoundHalfAway, MatchesLlroundOnTiesEdgesAndRandomValues) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const double edges[] = {0.0, -0.0, 0.5, -0.5, 1.5, -1.5, 2.5, -2.5, 0.49999999999999994, -0.49999999999999994,
+                          1.0, -1.0, 0x1p52, -0x1p52, 0x1p52 - 0.5, -(0x1p52 - 0.5), 0x1p52 - 1.5, 0x1p51 + 0.5,
+                          0x1p53, 0x1p53 + 2, 0x1p62, -0x1p62, std::numeric_limits<double>::denorm_min(),
+                          -std::numeric_limits<double>::min()};
+  for (double v : edges) expectSameAsLlround(v);
+  for (int n = -100000; n <= 100000; ++n) {  // every half-integer tie and its neighbours
+    const double tie = n + 0.5;
+    expectSameAsLlround(tie);
+    expectSameAsLlround(std::nextafter(tie, -inf));
+    expectSameAsLlround(std::nextafter(tie, inf));
+  }
+  std::mt19937_64 gen(33);
+  std::uniform_real_distribution<double> ms(-1e10, 1e10);  // a run's milliseconds and beyond
+  for (int k = 0; k < 1000000; ++k) expectSameAsLlround(ms(gen));
+  for (int k = 0; k < 10000; ++k) {  // a 10 ms tick's times in ms, as the host's clock rounds them
+    const double t_s = k * 0.01;
+    expectSameAsLlround(t_s * 1e3);
   }
 }
 
