@@ -39,9 +39,9 @@ void writePins(const Outputs& out, psfw_board* b, const psfw_board_api* api) {
 void writeMonitors(CoreFirmwareRam& r, psfw_board* b, const psfw_board_api* api) {
   const Outputs& out = r.out;
   if (out.afeClearFaults) monitorClearFaults(r.cfg, r.monitors, b, api);
-  bool maskChanged = false;
-  for (uint8_t w = 0; w < kBalanceWords; ++w) maskChanged = maskChanged || out.balanceMask[w] != r.writtenMask[w];
-  if (maskChanged || out.balanceArmCount != r.writtenArm) {
+  uint32_t maskDiff = 0;  // every word's difference ORed: no branch per word
+  for (uint8_t w = 0; w < kBalanceWords; ++w) maskDiff |= out.balanceMask[w] ^ r.writtenMask[w];
+  if (maskDiff != 0 || out.balanceArmCount != r.writtenArm) {
     monitorWriteBalance(r.cfg, r.monitors, b, api, out.balanceMask, out.balanceTime_s);
     for (uint8_t w = 0; w < kBalanceWords; ++w) r.writtenMask[w] = out.balanceMask[w];
     r.writtenArm = out.balanceArmCount;

@@ -104,9 +104,12 @@ void applySummary(uint16_t summary, DeviceReading& r) {
 void decode(const Pl455Config& c, uint8_t d, const uint8_t* p, uint16_t summary, DeviceReading& r) {
   const uint8_t n = pl455CellsOf(c, d), nt = thermsOf(c);
   for (uint8_t i = 0; i < kMaxCellsPerDevice; ++i) r.cell_mV[i] = 0;
-  for (uint8_t i = 0; i < kMaxThermPerDevice; ++i) r.thermCode[i] = 0, r.temp_dC[i] = 0;
   for (uint8_t k = n; k >= 1; --k, p += 2) r.cell_mV[k - 1] = afeCellCodeToMv(be16(p), c.cellLsb_uV);
-  for (uint8_t k = nt; k >= 1; --k, p += 2) r.thermCode[k - 1] = be16(p);
+  // Codes through afeSetThermCodes: an input reading the same code keeps the core's
+  // conversion of it (nearly every read-out: a thermistor moves slowly).
+  uint16_t codes[kMaxThermPerDevice] = {};
+  for (uint8_t k = nt; k >= 1; --k, p += 2) codes[k - 1] = be16(p);
+  afeSetThermCodes(r, codes);
   r.die_dC = static_cast<int16_t>(be16(p) * PL455_DIE_TEMP_DC_PER_CODE);
   p += 2;
   r.stack_mV = static_cast<uint32_t>(static_cast<float>(be16(p)) * PL455_MODULE_FULL_SCALE_MV /
