@@ -6,6 +6,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 
 #include "bms_limits.hpp"
 
@@ -28,6 +29,8 @@ struct AfeConfig {
   AfeSettings settings;          // the part's own settings (its driver's struct)
 };
 
+static_assert(kMaxThermPerDevice <= 8, "DeviceReading::thermConverted holds one bit per thermistor input");
+
 // What one good read of a device says, in firmware units.
 struct DeviceReading {
   uint16_t cell_mV[kMaxCellsPerDevice];
@@ -44,6 +47,12 @@ struct DeviceReading {
   uint8_t fetStatus;   // a part with FETs: their status as it reports it
   uint8_t safetyA;     // the part's first protection status byte (its driver's header says which)
   uint8_t safetyB;     // its second
+  // Bit i: the core's last conversion of thermCode[i] (Telemetry::temperature_dC) still
+  // holds, so the next tick need not convert the same code again. The core sets it when
+  // it converts (bms_measure.cpp); a driver of a part whose temperature_dC is
+  // afeRatiometricTemp_dC clears it whenever it writes another code (afeSetThermCodes);
+  // a reading built afresh has it clear. It sits in what was the struct's padding.
+  uint8_t thermConverted;
   int32_t current_mA;  // a part with a current input: its reading
   int32_t charge_mAs;  // ... and its accumulated charge
 };
@@ -61,6 +70,19 @@ inline uint16_t afeCellCodeToMv(uint16_t code, float lsb_uV) {
   if (mv >= 65535.0f) return 65535;
   return static_cast<uint16_t>(mv + 0.5f);
 }
+// A ratiometric part's driver writes its thermistor inputs' codes (all
+// kMaxThermPerDevice, 0 where unused) through this: an input whose code differs from the
+// one held loses the core's conversion of it (thermConverted).
+inline void afeSetThermCodes(DeviceReading& r, const uint16_t (&codes)[kMaxThermPerDevice]) {
+  if (std::memcmp(r.thermCode, codes, sizeof codes) == 0) return;  // the usual read-out: every code as held
+  uint32_t changed = 0;
+  for (uint8_t i = 0; i < kMaxThermPerDevice; ++i) {
+    changed |= static_cast<uint32_t>(r.thermCode[i] != codes[i]) << i;
+    r.thermCode[i] = codes[i];
+  }
+  r.thermConverted = static_cast<uint8_t>(r.thermConverted & ~changed);
+}
+
 // Cells held by device d (the last device may be partly populated).
 uint8_t afeCellsOf(const AfeConfig& c, uint16_t cellCount, uint8_t d);
 

@@ -148,10 +148,8 @@ void historyQuantities(const Config& cfg, const CoreState& s, const Inputs& in, 
 void estimateTelemetry(const Config& cfg, const CoreState& s, uint16_t meanCell_mV, Telemetry& tm) {
   tm.socCoulomb = socValue(cfg.soc, s.soc);
   tm.socCoulombValid = s.soc.anchored;
-  tm.socEkf = ekfPackSoc(s.ekf, cfg.cellCount);
+  tm.socEkf = ekfPackSoc(s.ekf, cfg.cellCount, tm.socGroup_permille);
   tm.socEkfValid = s.ekf.started;
-  for (uint16_t g = 0; g < cfg.cellCount; ++g)
-    tm.socGroup_permille[g] = static_cast<uint16_t>(s.ekf.group[g].soc * 1000.0f + 0.5f);
   const float soc = cfg.soc.estimator == SocEstimator::Ekf ? tm.socEkf : tm.socCoulomb;
   tm.soc_permille = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
   tm.capacityEstimate_mAh = s.soc.capacityEstimate_mAh;

@@ -47,8 +47,9 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
 // R0's temperature factor exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)) at temp_C (held within
 // -55…125 °C); exactly 1 when r0ArrheniusK = 0.
 float ekfR0Factor(const EkfConfig& k, float temp_C);
-// Mean SOC over the groups (0..1); 0 before the first reading.
-float ekfPackSoc(const EkfState& s, uint16_t groups);
+// Mean SOC over the groups (0..1); 0 before the first reading. With groupPermille, each
+// group's SOC in permille (rounded) into it as well, in the same pass.
+float ekfPackSoc(const EkfState& s, uint16_t groups, uint16_t groupPermille[] = nullptr);
 // Slope of the OCV table at soc, mV per unit SOC (the segment's; 0 for a flat table).
 float ocvSlope_mV(const SocConfig& c, float soc);
 // OCV table at soc (linear, clamped), mV.

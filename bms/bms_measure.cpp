@@ -30,6 +30,7 @@ void acquisitionReset(AcquisitionState& a) {
     a.seen[d] = false;
     a.bad[d] = 0;
     a.last[d] = FrameResult::Timeout;
+    a.device[d].thermConverted = 0;  // no conversion is held yet
   }
   a.fresh = false;
 }
@@ -53,7 +54,7 @@ void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* r
   if (full) a.fresh = true;
 }
 
-void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Telemetry& tm,
+void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]) {
   // 1. Comm status of every device; the device's own protection counts from a read that
   //    just succeeded (a device that stopped answering is the comm-loss rule's).
@@ -100,6 +101,9 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
   // 3. Temperatures: the first channels sit on the monitor ICs, the rest on the MCU.
   const uint8_t afeTherm = afeThermistorChannels(cfg);
   const AfeDriver* part = afeDriver(cfg.afe.part);  // converts its thermistor inputs
+  // A ratiometric part's driver marks the inputs whose code changed: the others keep the
+  // temperature this Telemetry holds (a logf and five divisions a channel a tick saved).
+  const bool keepsConversions = part != nullptr && part->api->temperature_dC == afeRatiometricTemp_dC;
   int16_t maxT = INT16_MIN;
   int16_t minT = INT16_MAX;
   int16_t maxFet = INT16_MIN;
@@ -117,7 +121,14 @@ void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Tel
         tm.temperature_dC[k] = kTempInvalid_dC;
         continue;  // no data yet is a comm problem, not a sensor fault
       }
-      dC = part != nullptr ? part->api->temperature_dC(cfg, a.device[d], i) : kTempInvalid_dC;
+      DeviceReading& r = a.device[d];
+      const uint8_t bit = static_cast<uint8_t>(1u << i);
+      if (keepsConversions && (r.thermConverted & bit) != 0) {
+        dC = tm.temperature_dC[k];  // converted from this same code on an earlier tick
+      } else {
+        dC = part != nullptr ? part->api->temperature_dC(cfg, r, i) : kTempInvalid_dC;
+        if (keepsConversions) r.thermConverted = static_cast<uint8_t>(r.thermConverted | bit);
+      }
     } else {
       dC = thermistorCodeToDeciCelsius(cfg.scaling, in.mcuThermistorCode[k - afeTherm]);
     }

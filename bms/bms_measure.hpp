@@ -42,7 +42,11 @@ void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* r
 // One control tick: the held readings plus the MCU's own inputs (current, bus voltage,
 // MCU thermistors, GPIO) into telemetry (voltages, temperatures, current, bus, comm
 // status, min/max) and the measurement quantities of the protection table.
-void measure(const Config& cfg, const Inputs& in, const AcquisitionState& a, Telemetry& tm,
+// A ratiometric part's thermistor input whose code has not changed since this tick's
+// Telemetry converted it keeps that temperature (DeviceReading::thermConverted): call it
+// with the same Telemetry every tick (the firmware's Outputs), or with readings built
+// afresh.
+void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]);
 
 }  // namespace bms

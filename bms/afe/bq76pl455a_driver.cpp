@@ -37,14 +37,12 @@ bool write8(const Pl455Config& c, psfw_board* b, const psfw_board_api* api, uint
   return writeRegs(c, b, api, address, reg, &v, 1);
 }
 
-// One request with response to device `address`; checks length, header and CRC of
-// the reply of `count` data bytes into rx (count + 3 bytes).
-FrameResult request(const Pl455Config& c, psfw_board* b, const psfw_board_api* api, uint8_t address, uint8_t reg,
-                    uint8_t data, uint8_t count, uint8_t* rx) {
-  uint8_t tx[8];
-  const uint16_t len = buildFrame(tx, PL455_REQ_SINGLE_R, address, reg, &data, 1);
+// One request with response (the frame tx, kPl455RequestLen bytes); checks length,
+// header and CRC of the reply of `count` data bytes into rx (count + 3 bytes).
+FrameResult request(const Pl455Config& c, psfw_board* b, const psfw_board_api* api, const uint8_t* tx, uint8_t count,
+                    uint8_t* rx) {
   const uint16_t want = static_cast<uint16_t>(count + PL455_RESPONSE_OVERHEAD);
-  const int32_t got = api->bus_transfer(b, c.bus, tx, len, rx, want);
+  const int32_t got = api->bus_transfer(b, c.bus, tx, kPl455RequestLen, rx, want);
   if (got <= 0) return FrameResult::Timeout;
   if (got != want) return FrameResult::BadLength;
   if (rx[0] != static_cast<uint8_t>(count - 1)) return FrameResult::BadHeader;  // also a stuck 0xFF / 0x00 line
@@ -55,13 +53,26 @@ FrameResult request(const Pl455Config& c, psfw_board* b, const psfw_board_api* a
 
 // A request retried on a bad CRC only (the request does not change the device).
 FrameResult requestRetried(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api,
-                           uint8_t address, uint8_t reg, uint8_t data, uint8_t count, uint8_t* rx) {
-  FrameResult r = request(c, b, api, address, reg, data, count, rx);
+                           const uint8_t* tx, uint8_t count, uint8_t* rx) {
+  FrameResult r = request(c, b, api, tx, count, rx);
   for (uint8_t k = 0; k < c.crcRetries && r == FrameResult::BadCrc; ++k) {
     ++s.crcRetriesUsed;
-    r = request(c, b, api, address, reg, data, count, rx);
+    r = request(c, b, api, tx, count, rx);
   }
   return r;
+}
+
+// A request with response to device `address` (the frame built into tx).
+const uint8_t* requestFrame(uint8_t* tx, uint8_t address, uint8_t reg, uint8_t data) {
+  buildFrame(tx, PL455_REQ_SINGLE_R, address, reg, &data, 1);
+  return tx;
+}
+
+// Device d's read-out request from the table init built; built into scratch for a chain
+// longer than the part allows (no table entry).
+const uint8_t* tableFrame(const uint8_t (&table)[PL455_MAX_DEVICES][kPl455RequestLen], uint8_t d, uint8_t reg,
+                          uint8_t data, uint8_t* scratch) {
+  return d < PL455_MAX_DEVICES ? table[d] : requestFrame(scratch, d, reg, data);
 }
 
 uint8_t thermsOf(const Pl455Config& c) {
@@ -104,9 +115,12 @@ void applySummary(uint16_t summary, DeviceReading& r) {
 void decode(const Pl455Config& c, uint8_t d, const uint8_t* p, uint16_t summary, DeviceReading& r) {
   const uint8_t n = pl455CellsOf(c, d), nt = thermsOf(c);
   for (uint8_t i = 0; i < kMaxCellsPerDevice; ++i) r.cell_mV[i] = 0;
-  for (uint8_t i = 0; i < kMaxThermPerDevice; ++i) r.thermCode[i] = 0, r.temp_dC[i] = 0;
   for (uint8_t k = n; k >= 1; --k, p += 2) r.cell_mV[k - 1] = afeCellCodeToMv(be16(p), c.cellLsb_uV);
-  for (uint8_t k = nt; k >= 1; --k, p += 2) r.thermCode[k - 1] = be16(p);
+  // Codes through afeSetThermCodes: an input reading the same code keeps the core's
+  // conversion of it (nearly every read-out: a thermistor moves slowly).
+  uint16_t codes[kMaxThermPerDevice] = {};
+  for (uint8_t k = nt; k >= 1; --k, p += 2) codes[k - 1] = be16(p);
+  afeSetThermCodes(r, codes);
   r.die_dC = static_cast<int16_t>(be16(p) * PL455_DIE_TEMP_DC_PER_CODE);
   p += 2;
   r.stack_mV = static_cast<uint32_t>(static_cast<float>(be16(p)) * PL455_MODULE_FULL_SCALE_MV /
@@ -146,9 +160,17 @@ uint8_t pl455Init(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
   write8(c, b, api, kBroadcast, PL455_REG_DEVCONFIG, devconfig);
   write8(c, b, api, kBroadcast, PL455_REG_DEV_CTRL, PL455_DEV_CTRL_AUTO_ADDRESS);
   for (uint8_t d = 0; d < c.deviceCount; ++d) write8(c, b, api, kBroadcast, PL455_REG_ADDR, d);
-  uint8_t rx[8];
+  uint8_t rx[8], tx[kPl455RequestLen];
   for (uint8_t d = 0; d < c.deviceCount; ++d)
-    if (requestRetried(c, s, b, api, d, PL455_REG_ADDR, 1, 2, rx) == FrameResult::Ok && rx[1] == d) ++s.devicesFound;
+    if (requestRetried(c, s, b, api, requestFrame(tx, d, PL455_REG_ADDR, 1), 2, rx) == FrameResult::Ok && rx[1] == d)
+      ++s.devicesFound;
+  // The read-out's frames, once.
+  const uint8_t sample = PL455_CMD_SAMPLE;
+  buildFrame(s.sampleCommand, PL455_REQ_BROADCAST_NR, kBroadcast, PL455_REG_CMD, &sample, 1);
+  for (uint8_t d = 0; d < PL455_MAX_DEVICES; ++d) {
+    requestFrame(s.statusRequest[d], d, PL455_REG_STATUS, 2);
+    requestFrame(s.heldRequest[d], d, PL455_REG_CMD, PL455_CMD_SEND_HELD);
+  }
 
   // Thresholds shared by every device, broadcast.
   write8(c, b, api, kBroadcast, PL455_REG_OVERSMPL, c.oversamplingLog2);
@@ -185,7 +207,7 @@ void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
                   FrameResult* result) {
   ++s.readouts;
   // Every device samples at once; the slowest conversion bounds the wait.
-  write8(c, b, api, kBroadcast, PL455_REG_CMD, PL455_CMD_SAMPLE);
+  api->bus_transfer(b, c.bus, s.sampleCommand, kPl455BroadcastLen, nullptr, 0);
   uint32_t wait_us = 0;
   for (uint8_t d = 0; d < c.deviceCount; ++d) {
     const uint32_t t = pl455ConversionTime_us(c, d);
@@ -193,17 +215,20 @@ void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
   }
   api->delay_us(b, wait_us);
   uint8_t rx[PL455_MAX_RESPONSE_DATA + PL455_RESPONSE_OVERHEAD];
+  uint8_t scratch[kPl455RequestLen];
   for (uint8_t d = 0; d < c.deviceCount; ++d) {
     // STATUS and FAULT_SUM in one read; a sample not yet done gets one more wait.
-    FrameResult r = requestRetried(c, s, b, api, d, PL455_REG_STATUS, 2, 3, rx);
+    const uint8_t* const status = tableFrame(s.statusRequest, d, PL455_REG_STATUS, 2, scratch);
+    FrameResult r = requestRetried(c, s, b, api, status, 3, rx);
     if (r == FrameResult::Ok && (rx[1] & PL455_STATUS_DRDY) == 0) {
       api->delay_us(b, pl455ConversionTime_us(c, d));
-      r = requestRetried(c, s, b, api, d, PL455_REG_STATUS, 2, 3, rx);
+      r = requestRetried(c, s, b, api, status, 3, rx);
     }
     if (r == FrameResult::Ok) {
       const uint16_t summary = be16(rx + 2);
       const uint8_t selected = selectedOf(c, d);
-      r = requestRetried(c, s, b, api, d, PL455_REG_CMD, PL455_CMD_SEND_HELD, static_cast<uint8_t>(2 * selected), rx);
+      const uint8_t* const held = tableFrame(s.heldRequest, d, PL455_REG_CMD, PL455_CMD_SEND_HELD, scratch);
+      r = requestRetried(c, s, b, api, held, static_cast<uint8_t>(2 * selected), rx);
       if (r == FrameResult::Ok) decode(c, d, rx + 1, summary, out[d]);
     }
     result[d] = r;
@@ -213,9 +238,9 @@ void pl455ReadAll(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw
 
 void pl455PollFaults(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api, DeviceReading* io,
                      FrameResult* result) {
-  uint8_t rx[8];
+  uint8_t rx[8], scratch[kPl455RequestLen];
   for (uint8_t d = 0; d < c.deviceCount; ++d) {
-    result[d] = requestRetried(c, s, b, api, d, PL455_REG_STATUS, 2, 3, rx);
+    result[d] = requestRetried(c, s, b, api, tableFrame(s.statusRequest, d, PL455_REG_STATUS, 2, scratch), 3, rx);
     if (result[d] == FrameResult::Ok) applySummary(be16(rx + 2), io[d]);
   }
 }

@@ -40,11 +40,21 @@ struct Pl455Config {
   uint8_t crcRetries;            // extra attempts after a bad CRC
 };
 
+// A request with response to one device: command, address, register, one data byte, CRC.
+constexpr uint8_t kPl455RequestLen = 6;
+// A broadcast write of one register: command, register, one data byte, CRC.
+constexpr uint8_t kPl455BroadcastLen = 5;
+
 struct Pl455State {
   uint8_t devicesFound;     // answered the address read-back at init
   uint32_t crcRetriesUsed;  // since init
   uint32_t readouts;
   FrameResult last[kMaxDevices];
+  // The read-out's command frames, built at init (their bytes never change): the sample
+  // broadcast, and per device the STATUS + FAULT_SUM read and the held results' send.
+  uint8_t sampleCommand[kPl455BroadcastLen];
+  uint8_t statusRequest[PL455_MAX_DEVICES][kPl455RequestLen];
+  uint8_t heldRequest[PL455_MAX_DEVICES][kPl455RequestLen];
 };
 
 // Time one sample of a device takes: channels x oversamples x 100 us.

@@ -18,11 +18,17 @@ void writeReg(const Bq536Config& c, psfw_board* b, const psfw_board_api* api, ui
   api->bus_transfer(b, c.bus, f, BQ536_WRITE_FRAME_LEN, nullptr, 0);
 }
 
-// One read of `count` registers into data; checks length and CRC over the exchange,
-// repeating after a bad CRC up to crcRetries times.
+// One read's exchange as it travels: the request, then the registers and their CRC.
+struct ReadFrame {
+  uint8_t bytes[BQ536_READ_REQUEST_LEN + 32 + 1];
+  const uint8_t* regs() const { return bytes + BQ536_READ_REQUEST_LEN; }  // the registers read
+};
+
+// One read of `count` registers (f.regs() on Ok); checks length and CRC over the
+// exchange, repeating after a bad CRC up to crcRetries times.
 FrameResult readRegs(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api, uint8_t addr,
-                     uint8_t reg, uint8_t count, uint8_t* data) {
-  uint8_t f[BQ536_READ_REQUEST_LEN + 32 + 1];
+                     uint8_t reg, uint8_t count, ReadFrame& frame) {
+  uint8_t* const f = frame.bytes;
   if (count > 32) return FrameResult::BadLength;
   FrameResult r = FrameResult::BadCrc;
   for (uint8_t attempt = 0; attempt <= c.crcRetries; ++attempt) {
@@ -38,9 +44,17 @@ FrameResult readRegs(const Bq536Config& c, Bq536State& s, psfw_board* b, const p
       r = FrameResult::BadCrc;
       continue;
     }
-    std::memcpy(data, f + BQ536_READ_REQUEST_LEN, count);
     return FrameResult::Ok;
   }
+  return r;
+}
+
+// The same into data (count bytes, written on Ok only).
+FrameResult readRegs(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api, uint8_t addr,
+                     uint8_t reg, uint8_t count, uint8_t* data) {
+  ReadFrame f;
+  const FrameResult r = readRegs(c, s, b, api, addr, reg, count, f);
+  if (r == FrameResult::Ok) std::memcpy(data, f.regs(), count);
   return r;
 }
 
@@ -143,18 +157,20 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
   const uint32_t conv_us = static_cast<uint32_t>(channelsOf(c)) * c.conversionPerChannel_us;
   api->delay_us(b, conv_us);
   for (uint8_t d = 0; d < devicesOf(c); ++d) {
-    uint8_t v[BQ536_RESULTS_LEN];
-    uint8_t flags[BQ536_FLAGS_LEN];
-    FrameResult r = readRegs(c, s, b, api, addrOf(d), BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN, v);
+    // Decoded where they arrived (no copy of the registers).
+    ReadFrame results, flagFrame;
+    const uint8_t* const v = results.regs();
+    const uint8_t* const flags = flagFrame.regs();
+    FrameResult r = readRegs(c, s, b, api, addrOf(d), BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN, results);
     if (r == FrameResult::Ok && !(v[0] & BQ536_DS_DRDY)) {
       // Not converted yet: one more conversion time, then the device must be ready.
       api->delay_us(b, conv_us);
-      r = readRegs(c, s, b, api, addrOf(d), BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN, v);
+      r = readRegs(c, s, b, api, addrOf(d), BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN, results);
       if (r == FrameResult::Ok && !(v[0] & BQ536_DS_DRDY)) r = FrameResult::Timeout;
     }
     // A device that answers without its address (after a reset) is not the one asked.
     if (r == FrameResult::Ok && !(v[0] & BQ536_DS_ADDR_RQST)) r = FrameResult::BadHeader;
-    if (r == FrameResult::Ok) r = readRegs(c, s, b, api, addrOf(d), BQ536_FLAGS_FIRST, BQ536_FLAGS_LEN, flags);
+    if (r == FrameResult::Ok) r = readRegs(c, s, b, api, addrOf(d), BQ536_FLAGS_FIRST, BQ536_FLAGS_LEN, flagFrame);
     res[d] = r;
     if (r != FrameResult::Ok) continue;
 
@@ -163,12 +179,10 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
     const uint8_t n = cells < kMaxCellsPerDevice ? cells : kMaxCellsPerDevice;
     for (uint8_t i = 0; i < n; ++i) o.cell_mV[i] = afeCellCodeToMv(be16(v + BQ536_VCELL(i)), c.cellLsb_uV);
     for (uint8_t i = n; i < kMaxCellsPerDevice; ++i) o.cell_mV[i] = 0;
-    for (uint8_t k = 0; k < kMaxThermPerDevice; ++k) {
-      o.thermCode[k] = 0;
-      o.temp_dC[k] = 0;
-    }
-    o.thermCode[0] = be16(v + BQ536_TEMPERATURE1);
-    o.thermCode[1] = be16(v + BQ536_TEMPERATURE2);
+    // Codes through afeSetThermCodes: an input reading the same code keeps the core's
+    // conversion of it (nearly every read-out: a thermistor moves slowly).
+    const uint16_t codes[kMaxThermPerDevice] = {be16(v + BQ536_TEMPERATURE1), be16(v + BQ536_TEMPERATURE2)};
+    afeSetThermCodes(o, codes);
     o.stack_mV = static_cast<uint32_t>(static_cast<float>(be16(v + BQ536_GPAI)) * c.cellLsb_uV *
                                            static_cast<float>(BQ536_GPAI_CELL_LSBS) * 0.001f +
                                        0.5f);

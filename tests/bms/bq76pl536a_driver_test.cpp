@@ -120,6 +120,26 @@ TEST(Bq536Driver, ReadOutReturnsTheTruthWithinQuantisationAndConfiguredError) {
   EXPECT_EQ(r.out[2].cell_mV[4], 0);  // the last device holds 4 cells
 }
 
+// The core's conversion of a thermistor input (DeviceReading::thermConverted, set by
+// bms::measure) survives a read-out that brings the same code and is dropped, for that
+// input alone, by one that brings another.
+TEST(Bq536Driver, AChangedThermistorCodeDropsOnlyItsKeptConversion) {
+  Rig r(modelConfig());
+  ASSERT_TRUE(r.init());
+  r.readAll();
+  for (int d = 0; d < 3; ++d) r.out[d].thermConverted = 0x03;  // as measure leaves them
+  r.readAll();
+  for (int d = 0; d < 3; ++d) EXPECT_EQ(r.out[d].thermConverted, 0x03) << d;
+  r.chain.analog(1).therm_C = {45.0, 31.0};  // device 1's first input warms
+  r.readAll();
+  Rng unused(0);
+  EXPECT_EQ(r.out[1].thermCode[0], modelConfig().thermistor.code(45.0, unused));
+  EXPECT_EQ(r.out[1].thermConverted, 0x02);
+  EXPECT_EQ(r.out[1].thermCode[1], modelConfig().thermistor.code(31.0, unused));
+  EXPECT_EQ(r.out[0].thermConverted, 0x03);
+  EXPECT_EQ(r.out[2].thermConverted, 0x03);
+}
+
 TEST(Bq536Driver, SilentDeviceTimesOutAloneAndStuckDevicesNeverReadPlausible) {
   Rig r(modelConfig());
   ASSERT_TRUE(r.init());

@@ -1,9 +1,11 @@
 // Code -> firmware-unit conversions against hand-computed values.
+#include <bms/bms_afe_driver.hpp>
 #include <bms/bms_config.hpp>
 #include <bms/bms_measure.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 namespace {
 
@@ -82,6 +84,95 @@ TEST(Measure, TemperatureChannelsMapToTheirDeviceAndInput) {
       }
     }
   }
+}
+
+// A ratiometric part's inputs keep their conversion while the code stays: over ticks of
+// random read-outs (some inputs unchanged, some changed, rails, reads that fail and leave
+// the reading as it was, ticks without a read-out), every channel still equals a fresh
+// conversion of the code its device holds. A code written past afeSetThermCodes shows
+// the kept value, so the test sees the reuse happen.
+TEST(Measure, KeptThermistorConversionsEqualFreshOnes) {
+  const uint8_t devices = 3, perDevice = 4;
+  bms::Config cfg = bms::defaultConfig(static_cast<uint16_t>(devices * 2), static_cast<uint8_t>(devices * perDevice));
+  ASSERT_EQ(bms::afeDriver(cfg.afe.part)->api->temperature_dC, bms::afeRatiometricTemp_dC);
+  cfg.afe.deviceCount = devices;
+  cfg.afe.cellsPerDevice = 2;
+  cfg.afe.thermistorsPerDevice = perDevice;
+  cfg.scaling = scaling();
+  bms::AcquisitionState a{};
+  bms::acquisitionReset(a);
+  bms::Inputs in{};
+  bms::Telemetry tm{};
+  int32_t quantity[bms::kQuantityCount];
+  std::mt19937 rng(7);
+  uint32_t kept = 0, converted = 0;
+  for (int tick = 0; tick < 3000; ++tick) {
+    bms::FrameResult res[bms::kMaxDevices];
+    const bool readout = tick % 3 != 2;
+    for (uint8_t d = 0; d < devices; ++d) {
+      res[d] = rng() % 7 == 0 ? bms::FrameResult::Timeout : bms::FrameResult::Ok;
+      if (!readout || res[d] != bms::FrameResult::Ok) continue;
+      uint16_t codes[bms::kMaxThermPerDevice] = {};
+      for (uint8_t i = 0; i < perDevice; ++i) {
+        const uint32_t roll = rng() % 10;
+        codes[i] = a.device[d].thermCode[i];
+        if (roll == 0) codes[i] = 0;
+        else if (roll == 1) codes[i] = 4095;
+        else if (roll < 5) codes[i] = static_cast<uint16_t>(1000 + rng() % 2000);
+      }
+      bms::afeSetThermCodes(a.device[d], codes);
+    }
+    if (readout) bms::acquireResults(cfg, a, res, true);
+    for (uint8_t d = 0; d < devices; ++d)
+      for (uint8_t i = 0; i < perDevice; ++i) {
+        const bool held = (a.device[d].thermConverted >> i) & 1u;
+        kept += held ? 1u : 0u;
+        converted += held ? 0u : 1u;
+      }
+    bms::measure(cfg, in, a, tm, quantity);
+    for (uint8_t k = 0; k < cfg.thermistorCount; ++k) {
+      const uint8_t d = static_cast<uint8_t>(k / perDevice), i = static_cast<uint8_t>(k % perDevice);
+      const int16_t want = a.seen[d] ? bms::thermistorCodeToDeciCelsius(cfg.scaling, a.device[d].thermCode[i])
+                                     : bms::kTempInvalid_dC;
+      ASSERT_EQ(tm.temperature_dC[k], want) << "tick " << tick << ", channel " << int(k);
+    }
+  }
+  EXPECT_GT(kept, 10000u);  // most inputs kept their conversion...
+  EXPECT_GT(converted, 3000u);  // ... and the changed ones were converted again
+
+  // The reuse is real: a code written around afeSetThermCodes is not seen.
+  const int16_t before = tm.temperature_dC[0];
+  ASSERT_EQ(a.device[0].thermCode[0] == 2600, false);
+  a.device[0].thermCode[0] = 2600;
+  bms::measure(cfg, in, a, tm, quantity);
+  EXPECT_EQ(tm.temperature_dC[0], before);
+  uint16_t codes[bms::kMaxThermPerDevice] = {};
+  for (uint8_t i = 0; i < bms::kMaxThermPerDevice; ++i) codes[i] = a.device[0].thermCode[i];
+  codes[0] = 2601;
+  bms::afeSetThermCodes(a.device[0], codes);  // through the setter it is converted
+  bms::measure(cfg, in, a, tm, quantity);
+  EXPECT_EQ(tm.temperature_dC[0], bms::thermistorCodeToDeciCelsius(cfg.scaling, 2601));
+  // A reading built afresh holds no conversion.
+  a.device[0] = bms::DeviceReading{};
+  a.device[0].thermCode[0] = 2600;
+  bms::measure(cfg, in, a, tm, quantity);
+  EXPECT_EQ(tm.temperature_dC[0], bms::thermistorCodeToDeciCelsius(cfg.scaling, 2600));
+}
+
+TEST(Measure, SetThermCodesClearsOnlyTheChangedInputs) {
+  bms::DeviceReading r{};
+  r.thermCode[2] = 1234;
+  r.thermConverted = 0xFF;
+  uint16_t codes[bms::kMaxThermPerDevice] = {0, 0, 1234};
+  bms::afeSetThermCodes(r, codes);
+  EXPECT_EQ(r.thermConverted, 0xFF);
+  codes[2] = 1235;
+  codes[7] = 9;
+  bms::afeSetThermCodes(r, codes);
+  EXPECT_EQ(r.thermConverted, 0x7B);
+  EXPECT_EQ(r.thermCode[2], 1235);
+  EXPECT_EQ(r.thermCode[7], 9);
+  EXPECT_EQ(r.thermCode[0], 0);
 }
 
 }  // namespace
