@@ -26,31 +26,13 @@ void readPins(const Config& c, Inputs& in, psfw_board* b, const psfw_board_api* 
   in.resetRequest = api->gpio_read(b, PSFW_IN_RESET_REQUEST) == 1;
 }
 
-// The levels the port pins were last given (the previous tick's Outputs hold them).
-struct PinLevels {
-  bool relay, precharge, dischargeFet, chargeFet, chargerEnable;
-  int32_t chargerCurrent_mA;
-};
-
-PinLevels pinLevels(const Outputs& out) {
-  return {out.relayClose,  out.prechargeClose, out.dischargeFetOn,
-          out.chargeFetOn, out.chargerEnable,  out.chargerCurrentRequest_mA};
-}
-
-void writePin(psfw_board* b, const psfw_board_api* api, uint8_t pin, bool on, bool was, bool all) {
-  if (all || on != was) api->gpio_write(b, pin, on ? 1 : 0);
-}
-
-// A pin is written when its level changes (an output latch holds its level), every pin
-// at power-up (all).
-void writePins(const Outputs& out, const PinLevels& was, bool all, psfw_board* b, const psfw_board_api* api) {
-  writePin(b, api, PSFW_OUT_RELAY, out.relayClose, was.relay, all);
-  writePin(b, api, PSFW_OUT_PRECHARGE, out.prechargeClose, was.precharge, all);
-  writePin(b, api, PSFW_OUT_DISCHARGE_FET, out.dischargeFetOn, was.dischargeFet, all);
-  writePin(b, api, PSFW_OUT_CHARGE_FET, out.chargeFetOn, was.chargeFet, all);
-  writePin(b, api, PSFW_OUT_CHARGER_ENABLE, out.chargerEnable, was.chargerEnable, all);
-  if (all || out.chargerCurrentRequest_mA != was.chargerCurrent_mA)
-    api->dac_write(b, PSFW_DAC_CHARGER_CURRENT_MA, out.chargerCurrentRequest_mA);
+void writePins(const Outputs& out, psfw_board* b, const psfw_board_api* api) {
+  api->gpio_write(b, PSFW_OUT_RELAY, out.relayClose ? 1 : 0);
+  api->gpio_write(b, PSFW_OUT_PRECHARGE, out.prechargeClose ? 1 : 0);
+  api->gpio_write(b, PSFW_OUT_DISCHARGE_FET, out.dischargeFetOn ? 1 : 0);
+  api->gpio_write(b, PSFW_OUT_CHARGE_FET, out.chargeFetOn ? 1 : 0);
+  api->gpio_write(b, PSFW_OUT_CHARGER_ENABLE, out.chargerEnable ? 1 : 0);
+  api->dac_write(b, PSFW_DAC_CHARGER_CURRENT_MA, out.chargerCurrentRequest_mA);
 }
 
 // Monitor writes the tick's decisions need: only what changed goes on the bus.
@@ -86,9 +68,8 @@ void alertTask(void* ram, psfw_board* b, const psfw_board_api* api) {
   monitorPollAlerts(r.cfg, r.monitors, r.core.acq, b, api);
 }
 
-// One control tick; allPins: write every port pin (the first tick after power-up).
-void control(CoreFirmwareRam& r, bool allPins, psfw_board* b, const psfw_board_api* api) {
-  const PinLevels was = pinLevels(r.out);
+void controlTask(void* ram, psfw_board* b, const psfw_board_api* api) {
+  CoreFirmwareRam& r = ramOf(ram);
   readPins(r.cfg, r.in, b, api);
   packReceive(r.cfg, r.core.pack, r.in.now_ms, b, api);
   const bool fresh = r.core.acq.fresh;
@@ -97,12 +78,10 @@ void control(CoreFirmwareRam& r, bool allPins, psfw_board* b, const psfw_board_a
   balanceRange(r.cfg, r.core.balance, r.out.telemetry, range[0], range[1]);
   packSend(r.cfg, r.core.pack, r.out, r.core.balancePermitted, r.out.state == State::Charge, fresh, r.core.quantity,
            range, b, api);
-  writePins(r.out, was, allPins, b, api);
+  writePins(r.out, b, api);
   writeMonitors(r, b, api);
   api->telemetry_send(b, r.telemetry, telemetryEncode(r.out, r.telemetry));
 }
-
-void controlTask(void* ram, psfw_board* b, const psfw_board_api* api) { control(ramOf(ram), false, b, api); }
 
 int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint8_t* config, uint32_t len) {
   CoreFirmwareRam& r = ramOf(ram);
@@ -121,7 +100,7 @@ int32_t coreInit(void* ram, psfw_board* b, const psfw_board_api* api, const uint
   init(r.core);
   if (!monitorInit(c, r.monitors, r.core.acq, b, api))
     api->event(b, "monitor stack: not every device took its address and configuration at init");
-  control(r, true, b, api);  // the outputs of power-up: every pin decided (open) from the first reading
+  controlTask(ram, b, api);  // the outputs of power-up: every pin decided (open) from the first reading
   return 0;
 }
 
