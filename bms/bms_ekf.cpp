@@ -200,14 +200,10 @@ float r0Slope_mOhm(const SocConfig& c, float soc) {
 
 float ekfPackSoc(const EkfState& s, uint16_t groups, uint16_t groupPermille[]) {
   float sum = 0.0f;
-  if (groupPermille != nullptr) {
-    for (uint16_t g = 0; g < groups; ++g) {
-      const float soc = s.group[g].soc;
-      sum += soc;
-      groupPermille[g] = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
-    }
-  } else if (s.started) {
-    for (uint16_t g = 0; g < groups; ++g) sum += s.group[g].soc;
+  for (uint16_t g = 0; g < groups; ++g) {
+    const float soc = s.group[g].soc;
+    sum += soc;
+    if (groupPermille != nullptr) groupPermille[g] = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
   }
   if (!s.started || groups == 0) return 0.0f;
   return clamp01(sum / static_cast<float>(groups));

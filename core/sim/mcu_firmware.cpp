@@ -110,9 +110,13 @@ const bms::Outputs& McuFirmware::decide(double t_s, const bms::Inputs& in, bms::
     if (!(f.dead_boards & (1u << b))) hosts_[b]->step(t_s, in, memberPins_[b]);
     hosts_[b]->takePinChanges();  // a member's port pins are not wired to the pack
   }
-  if (library_ || !decided_) decided_ = &out;
-  if (!library_ && !f.host_dead) decided_ = &probe(out);
-  return *decided_;  // a hung host: what it decided last (its RAM has not changed since)
+  if (library_)
+    decided_ = &out;
+  else if (!f.host_dead)
+    decided_ = &probe(out);
+  else if (!decided_)  // a hung host: what it decided last (its RAM has not changed since)
+    decided_ = &out;
+  return *decided_;
 }
 
 // The pack host's outputs with each board's own arrays at their pack positions.
