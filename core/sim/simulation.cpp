@@ -29,6 +29,15 @@ std::string afterTripText(double s) {
   std::snprintf(buf, sizeof buf, "it stops %g s after the trip (run.stop_after_trip_s)", s);
   return buf;
 }
+
+// The `load_end` event's detail: a profile's last lap is over and the run goes on with
+// no load (LoadProfile::segmentAt: zero past the last lap).
+std::string loadEndText(const LoadProfile& p) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "the load profile ends (%d lap%s of %g s): 0 %s from here to the run's end", p.laps,
+                p.laps == 1 ? "" : "s", p.lap_s(), p.quantity == LoadProfile::Quantity::Power_W ? "W" : "A");
+  return buf;
+}
 }  // namespace
 
 struct SimulationRun::Impl {
@@ -217,6 +226,9 @@ void SimulationRun::Impl::advance() {
         if (!(inputs.load.t1_s > t1)) throw std::logic_error("load profile: no piece after t = " + std::to_string(t1) + " s");
       }
       restart = true;
+      // Past a profile's last lap the load is zero: said where the run goes on after it.
+      if (std::isinf(inputs.load.t1_s) && !vehicle && !reached(inputs.load.t0_s, end_s))
+        tracker.event(inputs.load.t0_s, "load_end", loadEndText(s.load));
     }
     if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here
       plant.evaluate(tc, integ.state(), inputs, sig);

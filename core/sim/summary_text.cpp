@@ -173,6 +173,15 @@ void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
   }
 }
 
+// A profile that ended before the run did (the load_end event): the rest of the run had
+// no load, which the energy line above includes.
+void loadEndLine(LineWriter& w, const S&, const R& r) {
+  for (const Event& e : r.events)
+    if (e.kind == "load_end")
+      w.line("the profile ended at " + fmt("%.2f", e.time_s) + " s; no load for the run's last " +
+             fmt("%.2f", r.summary.duration_s - e.time_s) + " s");
+}
+
 // Each row: its label, the /summary figures it prints (summaryFields() names; the test
 // checks every figure is on a line), how it writes. In the order printed.
 // clang-format off
@@ -186,6 +195,7 @@ const std::vector<SummaryLine> kLines = {
        const Summary& m = r.summary;
        w.line(fmt("%.2f", m.energy_delivered_Wh) + " Wh  (" + fmt("%.3f", m.charge_delivered_Ah) + " Ah, " +
               fmt("%.2f", m.heat_Wh) + " Wh heat in cells)"); }},
+    {"load", "", loadEndLine},
     {"firmware", "", [](LineWriter& w, const S&, const R& r) {
        if (!r.summary.firmware_status.empty()) w.line(r.summary.firmware_status); }},
     {"target", "", [](LineWriter& w, const S&, const R& r) {

@@ -87,6 +87,66 @@ TEST(SummaryText, FaultLineSaysWhatItIsWiredToAndWhatTheContactDid) {
   }
 }
 
+// Two laps of a 20 s profile in a 60 s run: the load ends at 40 s. A load_end event and a
+// `load` line say so, on both integrators, and the truth agrees: the recorded pack current
+// is zero from then on and the charge delivered is the profile's integral from the relay
+// closing. The same profile as long as the run (no run.duration_s) has neither.
+TEST(SummaryText, ProfileEndingBeforeTheRunIsAnEventAndALine) {
+  const std::string profile = test::simpleCellYaml(2) +
+                              "load: {segments: [{duration_s: 10, current_A: 2}, {duration_s: 10, current_A: 1}], laps: 2}\n";
+  for (const char* solver : {"fast", "cvode"}) {
+    SCOPED_TRACE(solver);
+    const Scenario s = test::scenarioFromYaml(profile + "run: {duration_s: 60, solver: " + solver + "}\n");
+    const RunResult r = runScenario(s);
+    const std::string text = formatSummary(s, r);
+    ASSERT_FALSE(r.summary.tripped) << text;
+    const Event* end = lastEvent(r, "load_end");
+    ASSERT_TRUE(end) << text;
+    EXPECT_DOUBLE_EQ(end->time_s, 40.0);
+    EXPECT_EQ(end->detail, "the load profile ends (2 laps of 20 s): 0 A from here to the run's end");
+    EXPECT_TRUE(has(text, "load            the profile ended at 40.00 s; no load for the run's last 20.00 s\n")) << text;
+    const Recording& rec = r.rec;
+    int during = 0, after = 0;
+    for (size_t i = 0; i < rec.samples(); ++i) {
+      if (rec.time_s[i] > 40.0) {
+        EXPECT_NEAR(rec.pack_current_A[i], 0.0, 1e-9) << rec.time_s[i];
+        ++after;
+      } else if (rec.time_s[i] > 1.0 && std::fabs(rec.pack_current_A[i]) > 0.5) {
+        ++during;
+      }
+    }
+    EXPECT_EQ(after, 20);
+    EXPECT_GT(during, 30);
+    const double closed_s = test::eventTime(r, "relay_contact", "closed");
+    ASSERT_GE(closed_s, 0.0);
+    EXPECT_NEAR(3600.0 * r.summary.charge_delivered_Ah, s.load.chargeUntil_As(40.0) - s.load.chargeUntil_As(closed_s), 1e-4);
+  }
+  const Scenario whole = test::scenarioFromYaml(profile);
+  const RunResult r = runScenario(whole);
+  EXPECT_DOUBLE_EQ(r.summary.duration_s, 40.0);
+  EXPECT_EQ(lastEvent(r, "load_end"), nullptr);
+  EXPECT_FALSE(has(formatSummary(whole, r), "\nload ")) << formatSummary(whole, r);
+}
+
+// A power profile says watts; a run that stops after a trip before the profile ends has no
+// load_end event (the load never ended).
+TEST(SummaryText, LoadEndSaysWattsAndIsAbsentWhenATripEndsTheRunFirst) {
+  const Scenario power = test::scenarioFromYaml(test::simpleCellYaml(2) +
+                                                "load: {points: {time_s: [0, 5], power_W: [4, 4]}}\nrun: {duration_s: 8}\n");
+  const RunResult rp = runScenario(power);
+  const Event* end = lastEvent(rp, "load_end");
+  ASSERT_TRUE(end) << formatSummary(power, rp);
+  EXPECT_DOUBLE_EQ(end->time_s, 5.0);
+  EXPECT_EQ(end->detail, "the load profile ends (1 lap of 5 s): 0 W from here to the run's end");
+  const Scenario tripped = test::scenarioFromYaml(
+      test::simpleCellYaml(2) + "load: {segments: [{duration_s: 600, current_A: 1}]}\nrun: {duration_s: 900}\n"
+                                "faults:\n  - {kind: estop, switch: external, at_s: 10}\n");
+  const RunResult rt = runScenario(tripped);
+  ASSERT_TRUE(rt.summary.tripped);
+  ASSERT_LT(rt.summary.duration_s, 600.0);
+  EXPECT_EQ(lastEvent(rt, "load_end"), nullptr);
+}
+
 // A fault scripted after the run stops (60 s after a trip) is an event and a line.
 TEST(SummaryText, UnreachedScriptedFaultIsAnEventAndALine) {
   const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 600}\n"
