@@ -364,8 +364,35 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   s.ambient_C = readAmbient(m.optionalMap("ambient"));
   s.thermal = readThermal(m.optionalMap("thermal"), s.pack.series * s.pack.parallel);
   s.run = readRun(m.optionalMap("run"), seed);
-  if (auto o = m.optionalMap("output")) {
+  // The recording keeps every n-th tick: its interval is a whole number of BMS ticks. A
+  // stated one that is not is refused (it would be rounded silently); the default is the
+  // whole number of ticks nearest 1 s.
+  const double tick_s = s.bms.tick_s;
+  const auto wholeTicks = [tick_s](double interval_s) {
+    const double ticks = interval_s / tick_s;
+    const double n = std::round(ticks);
+    return n >= 1.0 && std::fabs(ticks - n) <= 1e-6 * n;
+  };
+  auto o = m.optionalMap("output");
+  if (o && o->has("interval_s")) {
     s.output.interval_s = o->number("interval_s", 1.0, Range::positive(limits::kMaxTime_s));
+    if (!wholeTicks(s.output.interval_s)) {
+      const double below = std::max(1.0, std::floor(s.output.interval_s / tick_s)) * tick_s;
+      std::ostringstream os;
+      os << "interval_s = " << s.output.interval_s << " s is not a whole number of BMS ticks (bms.tick_ms "
+         << std::lround(tick_s * 1e3) << "): the recording keeps every n-th tick; "
+         << (s.output.interval_s < tick_s ? "at least " + numberText(tick_s)
+                                          : numberText(below) + " or " + numberText(below + tick_s));
+      throw o->errorAt("interval_s", os.str());
+    }
+  } else if (!wholeTicks(s.output.interval_s)) {
+    const long tick_ms = std::lround(tick_s * 1e3);  // whole ms (bms.tick_ms): 3 x 300 ms is 0.9 s, not 0.8999…
+    s.output.interval_s = static_cast<double>(std::max(1L, std::lround(1000.0 / tick_ms)) * tick_ms) / 1000.0;
+    if (Provenance* prov = Provenance::active())
+      prov->recordDefault("output.interval_s", numberText(s.output.interval_s),
+                          "default (the whole number of BMS ticks nearest 1 s)");
+  }
+  if (o) {
     s.output.bus_trace = o->boolean("bus_trace", false);
     o->finish();
   }
@@ -405,8 +432,6 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
        << " s); a run lasts at most " << limits::kMaxTime_s << " s (30 days): fewer laps or a run.duration_s";
     throw m.errorAt("load", os.str());
   }
-  if (s.output.interval_s < s.bms.tick_s)
-    throw m.errorAt("output", "interval_s must be at least the BMS tick (" + std::to_string(s.bms.tick_s) + " s)");
   checkBalancing(m, s);  // also checks the FETs' thermal nodes, which the next check relies on
   checkThermistorNodes(m, s);
   applyDerivedDefaults(root, s);  // hardware derived from what the scenario states (before the range check)
