@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "core/scenario/derived_defaults.hpp"
@@ -144,6 +145,26 @@ void checkBalancingBoard(const Scenario& s, const Provenance& p, std::vector<std
                 "temperature is simulated and bms.balancing.board_max_C can never act");
 }
 
+// A run ends at a BMS tick (the last one at or before its end time): an end time between
+// two ticks is cut short, which the summary's duration shows but does not explain.
+void checkRunEnd(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  if (s.vehicle.present && s.run.duration_s <= 0.0) return;  // the vehicle ends its own run
+  const double end_s = s.endTime_s();
+  const double ticks = std::floor(end_s / s.bms.tick_s + 1e-9);  // SimulationRun's last tick
+  const double last_s = ticks * s.bms.tick_s;
+  if (end_s - last_s <= 1e-9 * std::max(1.0, end_s)) return;
+  const auto seconds = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.10g", v);
+    return std::string(buf);
+  };
+  const std::string tick = "bms.tick_ms " + std::to_string(std::lround(s.bms.tick_s * 1e3));
+  out.push_back((s.run.duration_s > 0.0 ? p.describe("run.duration_s", numberText(s.run.duration_s))
+                                        : "run.duration_s = " + seconds(end_s) + " (default: the load profile's length)") +
+                " is not a whole number of BMS ticks (" + tick + "): the run ends at its last tick, " + seconds(last_s) +
+                " s, " + seconds(end_s - last_s) + " s early");
+}
+
 std::string describeTable(const YAML::Node& n) {
   if (n.IsSequence()) return "list of " + std::to_string(n.size()) + " values";
   if (!n.IsMap()) return "value";
@@ -202,6 +223,7 @@ const std::vector<WarningCheck>& warningChecks() {
       {"thermistor_reach", checkThermistorReach},
       {"load_magnitude", checkLoadMagnitude},
       {"balancing_board", checkBalancingBoard},
+      {"run_end", checkRunEnd},
   };
   return checks;
 }

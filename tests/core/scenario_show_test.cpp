@@ -305,6 +305,30 @@ TEST(ScenarioWarnings, BalancingWithoutABoardNode) {
   EXPECT_EQ(warningsWith(board, "board_node"), 0u) << allWarnings(board);
 }
 
+// A run ends at a BMS tick: 2.5 s at a 1 s tick runs to 2 s (the recording's last sample
+// says so), and a profile of 10.25 s at a 100 ms tick (the default duration) to 10.2 s.
+// A whole number of ticks, or a floating-point hair from one, is not warned about.
+TEST(ScenarioWarnings, AnEndBetweenTwoTicks) {
+  const std::string cell = test::simpleCellYaml();
+  const Scenario cut = test::scenarioFromYaml(cell + "load: {current_A: 1}\nrun: {duration_s: 2.5}\nbms: {tick_ms: 1000}\n");
+  EXPECT_EQ(warningsWith(cut, "run.duration_s = 2.5 (test.yaml:"), 1u) << allWarnings(cut);
+  EXPECT_EQ(warningsWith(cut, "is not a whole number of BMS ticks (bms.tick_ms 1000): the run ends at its last tick, 2 s, "
+                              "0.5 s early"), 1u) << allWarnings(cut);
+  const RunResult r = runScenario(cut);
+  EXPECT_DOUBLE_EQ(r.rec.time_s.back(), 2.0);
+  EXPECT_DOUBLE_EQ(r.summary.duration_s, 2.0);
+  const Scenario profile = test::scenarioFromYaml(
+      cell + "load: {segments: [{duration_s: 10, current_A: 1}, {duration_s: 0.25, current_A: 2}]}\nbms: {tick_ms: 100}\n");
+  EXPECT_EQ(warningsWith(profile, "run.duration_s = 10.25 (default: the load profile's length) is not a whole number of "
+                                  "BMS ticks (bms.tick_ms 100): the run ends at its last tick, 10.2 s, 0.05 s early"), 1u)
+      << allWarnings(profile);
+  for (const char* whole : {"run: {duration_s: 3}\nbms: {tick_ms: 1000}\n", "run: {duration_s: 0.7}\n",
+                            "run: {duration_s: 2620.01}\n"}) {
+    const Scenario s = test::scenarioFromYaml(cell + "load: {current_A: 1}\n" + whole);
+    EXPECT_EQ(warningsWith(s, "whole number of BMS ticks"), 0u) << whole << allWarnings(s);
+  }
+}
+
 // Every bundled scenario loads without a spurious warning: system B's three replace the
 // NCR18650 preset's R0 curve by a curve of their own ({poly: [0.030], arrhenius_K: 0}),
 // deliberately, and are not warned about (OverrideThatDropsADependence: a plain number is).
