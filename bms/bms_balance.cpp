@@ -172,7 +172,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     clearMask(s.mask);
     const uint16_t spread = r.max_mV > r.min_mV ? static_cast<uint16_t>(r.max_mV - r.min_mV) : 0;
     if (spread > b.startDelta_mV) s.active = true;
-    if (spread < b.stopDelta_mV) s.active = false;
+    // At or below the stop delta no cell is above min + stopDelta (chooseCells' floor):
+    // stopping there too keeps the two in step. Stopping only below it left the policy
+    // active with nothing to choose at spread == stopDelta, reported "balanced", and
+    // started again at the next millivolt, far below the start delta.
+    if (spread <= b.stopDelta_mV) s.active = false;
     if (!allowed) {
       s.status = BalanceStatus::Disabled;
     } else if (!conditionHolds(b, s, charging, now_ms)) {

@@ -60,6 +60,29 @@ TEST(BalancePolicy, StartsAboveStartDeltaAndStopsBelowStopDelta) {
   EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
 }
 
+// A spread of exactly the stop delta ends balancing: no cell is more than stopDelta above
+// the minimum, so none could be chosen. It stays off until the spread passes the start
+// delta again; it used to stay active with nothing chosen, report "balanced", and start
+// again at 11 mV (system C's bench charge, scenarios/balance/bench_6s_balancing.yaml,
+// started again 19 times in the 300 s after it first reported balanced, as the reading's
+// noise crossed the stop delta).
+TEST(BalancePolicy, ASpreadAtTheStopDeltaStopsUntilTheStartDelta) {
+  Policy p(4);  // start 50 mV, stop 10 mV (defaults)
+  p.cells({3700, 3760, 3700, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 1, 0, 0}));
+  p.cells({3700, 3710, 3700, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 0, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balanced);
+  for (const uint16_t high : {3711, 3720, 3750}) {  // up to the start delta: stays off
+    p.cells({3700, high, 3700, 3700});
+    EXPECT_EQ(p.tick(), (V{0, 0, 0, 0})) << high;
+    EXPECT_EQ(p.st.status, bms::BalanceStatus::Balanced) << high;
+  }
+  p.cells({3700, 3751, 3700, 3700});
+  EXPECT_EQ(p.tick(), (V{0, 1, 0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balancing);
+}
+
 TEST(BalancePolicy, NeverBalancesACellBelowTheMinimumVoltage) {
   Policy p(3);
   p.cfg.balance.minCell_mV = 3300;
