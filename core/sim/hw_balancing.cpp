@@ -4,6 +4,7 @@
 
 #include "core/sim/hw_status.hpp"
 #include "core/sim/hw_sensors.hpp"
+#include "core/sim/hw_take_over.hpp"
 
 namespace packsim {
 
@@ -24,15 +25,12 @@ bool HwBalancing::tick(double t, const HwSensors& sensors, const bms::Outputs& o
     on_.resize(static_cast<size_t>(series));
     duty_.resize(static_cast<size_t>(series));
     sensors.balancingSwitches(t, t + s_.bms.tick_s, on_.data(), duty_.data());
-    // Compared and taken over in one pass (every group: no early exit, no branch per
-    // group; no library copy of a dozen values).
-    bool differ = false;
-    for (size_t g = 0; g < static_cast<size_t>(series); ++g) {
-      differ |= (pin.balancing[g] != on_[g]) | (pin.balance_duty[g] != duty_[g]);
-      pin.balancing[g] = on_[g];
-      pin.balance_duty[g] = duty_[g];
-    }
-    changed = changed || differ;
+    // Compared and taken over (every group: no early exit; a word of switches, two
+    // duties per compare, hw_take_over.hpp).
+    const size_t n = static_cast<size_t>(series);
+    const bool switched = takeOverBytes(pin.balancing.data(), on_.data(), n);
+    const bool dutyChanged = takeOverDoubles(pin.balance_duty.data(), duty_.data(), n);
+    changed = changed || switched || dutyChanged;
   }
   const ActiveBalancerConfig& a = s_.hardware.active_balancer;
   if (a.present) {

@@ -33,11 +33,11 @@ void FetWatch::set(Levels& l, bool pin, bool driver, bool gate, const std::strin
 void FetWatch::hold(double t, const SwitchDrive& d, const SwitchState& s, const std::string& dsgCause,
                     const std::string& chgCause) {
   const double dt = t > since_s_ ? t - since_s_ : 0.0;
-  advance(dsg_, dt);
-  advance(chg_, dt);
   since_s_ = t > since_s_ ? t : since_s_;
-  set(dsg_, d.dischargePin, d.afeDischarge, s.dsg, dsgCause);
-  set(chg_, d.chargePin, d.afeCharge, s.chg, chgCause);
+  // A FET whose gate was on once is settled: notes() never reads its levels again, so
+  // they are no longer kept (the usual tick: both, and nothing to do).
+  if (!dsg_.gateEver) advance(dsg_, dt), set(dsg_, d.dischargePin, d.afeDischarge, s.dsg, dsgCause);
+  if (!chg_.gateEver) advance(chg_, dt), set(chg_, d.chargePin, d.afeCharge, s.chg, chgCause);
 }
 
 std::string FetWatch::note(const Levels& l, bool discharge, FetControl control, const std::string& part) {

@@ -23,6 +23,9 @@ class FetWatch {
   // The lines for a run that ended at end_s; none when each FET conducted at some time
   // or was never asked for. `part`: the monitor part's name (hardware.afe.model).
   std::vector<std::string> notes(double end_s, FetControl control, const std::string& part, bool chargeFet) const;
+  // Both gates were on at some time: no note can come any more and hold() keeps nothing
+  // (its caller need not find the part's reasons).
+  bool settled() const { return dsg_.gateEver && chg_.gateEver; }
 
  private:
   struct Levels {

@@ -81,11 +81,10 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
   // devices' comm faults; a broken link cuts off the devices above it on that board.
   for (const MonitorBoard& b : boards_) {
     MonitorTruth& tr = truths_[static_cast<size_t>(b.index)];
-    tr.cell_unloaded_V.resize(tr.cell_V.size());
     tr.host_opens_balancing = s_.bms.balancing.measure_paused;
     const size_t first = static_cast<size_t>(b.firstCell), cells = static_cast<size_t>(b.cells);
-    for (size_t i = 0; i < cells; ++i) tr.cell_V[i] = sig.group_voltage_V[first + i];
-    for (size_t i = 0; i < cells; ++i) tr.cell_unloaded_V[i] = unloaded.group_voltage_V[first + i];
+    tr.cell_V = sig.group_voltage_V.data() + first;  // views: the devices copy them into their pins
+    tr.cell_unloaded_V = unloaded.group_voltage_V.data() + first;
     // Injected channel errors where the faults name the channel (none: 0).
     const size_t injected = f.cell_channel.size() > first ? std::min(cells, f.cell_channel.size() - first) : 0;
     for (size_t i = 0; i < injected; ++i) {

@@ -5,6 +5,7 @@
 
 #include "core/parts/monitor_parts.hpp"
 #include "core/sim/bus_trace.hpp"
+#include "models/afe/byte_copy.hpp"
 
 namespace packsim {
 
@@ -26,28 +27,30 @@ MonitorTruth MonitorChainPath::makeTruth() const {
 void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   MonitorChain& c = *bus_.chain;
   const int perDevice = cfg_.thermistors_per_device;
-  const bool unloaded = truth.cell_unloaded_V.size() == truth.cell_V.size();
+  const bool unloaded = truth.cell_V != nullptr && truth.cell_unloaded_V != nullptr;
+  const size_t truthCells = truth.cell_V != nullptr ? static_cast<size_t>(cells_) : 0;  // the truth is made for cells_
   const int devices = c.deviceCount();
   for (int d = 0; d < devices; ++d) {
     DeviceAnalog& a = c.analog(d);
     const size_t first = static_cast<size_t>(firstCell_[static_cast<size_t>(d)]);
     a.cell_unloaded_V.resize(unloaded ? a.cell_V.size() : 0);
     // Its cells in the truth (all of them in a stack as built), each array in one pass.
-    const size_t n = first < truth.cell_V.size() ? std::min(a.cell_V.size(), truth.cell_V.size() - first) : 0;
+    const size_t n = first < truthCells ? std::min(a.cell_V.size(), truthCells - first) : 0;
     if (n > 0) {
-      std::copy_n(truth.cell_V.begin() + static_cast<long>(first), n, a.cell_V.begin());
-      if (unloaded) std::copy_n(truth.cell_unloaded_V.begin() + static_cast<long>(first), n, a.cell_unloaded_V.begin());
-      std::copy_n(truth.cell_gain_error.begin() + static_cast<long>(first), std::min(n, a.cell_gain_error.size()),
-                  a.cell_gain_error.begin());
-      std::copy_n(truth.cell_offset_V.begin() + static_cast<long>(first), std::min(n, a.cell_offset_V.size()),
-                  a.cell_offset_V.begin());
+      // (copyValues: a cell or two by assignment, not four library calls a tick)
+      copyValues(a.cell_V.data(), truth.cell_V + first, n);
+      if (unloaded) copyValues(a.cell_unloaded_V.data(), truth.cell_unloaded_V + first, n);
+      copyValues(a.cell_gain_error.data(), truth.cell_gain_error.data() + first, std::min(n, a.cell_gain_error.size()));
+      copyValues(a.cell_offset_V.data(), truth.cell_offset_V.data() + first, std::min(n, a.cell_offset_V.size()));
     }
-    for (size_t j = 0; j < a.therm_C.size() && static_cast<int>(j) < perDevice; ++j) {
-      const size_t ch = static_cast<size_t>(d * perDevice) + j;
-      if (ch >= truth.therm_C.size()) break;
-      a.therm_C[j] = truth.therm_C[ch];
-      if (j < a.therm_fault.size())
-        a.therm_fault[j] = truth.therm_fault[ch];
+    // Its thermistor channels in the truth (those it has inputs for), each array in one pass.
+    const size_t base = static_cast<size_t>(d) * static_cast<size_t>(std::max(perDevice, 0));
+    const size_t k = base < truth.therm_C.size()
+                         ? std::min({a.therm_C.size(), static_cast<size_t>(std::max(perDevice, 0)), truth.therm_C.size() - base})
+                         : 0;
+    if (k > 0) {
+      copyValues(a.therm_C.data(), truth.therm_C.data() + base, k);
+      copyValues(a.therm_fault.data(), truth.therm_fault.data() + base, std::min(k, a.therm_fault.size()));
     }
     a.die_C = (static_cast<size_t>(d) < truth.board_C.size() ? truth.board_C[static_cast<size_t>(d)] : 25.0) +
               cfg_.die_rise_C;
@@ -82,7 +85,14 @@ void MonitorChainPath::balancingSwitches(double t0, double t1, uint8_t* on, doub
     const uint32_t mask = c.balancingMask(d);
     const int n = c.cellsOf(d);
     if (mask == 0) {  // the usual device: every switch off, a duty of 1 each (no call per cell)
-      for (int k = 0; k < n && cell < cells_; ++k, ++cell) on[cell] = 0, duty[cell] = 1.0;
+      // (its run of cells as two plain fills: the loop with both bounds in its test stored
+      // one byte and one double per turn, some 10 instructions a cell)
+      const int k = std::min(n, cells_ - cell);
+      if (k > 0) {
+        std::fill_n(on + cell, k, uint8_t{0});
+        std::fill_n(duty + cell, k, 1.0);
+        cell += k;
+      }
       continue;
     }
     for (int k = 0; k < n && cell < cells_; ++k, ++cell) {

@@ -62,8 +62,11 @@ class BalancePauses {
     size_t from = n_ - std::min(unchecked_, n_);
     if (asked_s_ != dropped_s_) from = 0, dropped_s_ = asked_s_;
     size_t kept = from;
-    for (size_t i = from; i < n_; ++i)
-      if (!(at(i).to_s <= asked_s_)) at(kept++) = at(i);
+    for (size_t i = from; i < n_; ++i) {
+      if (at(i).to_s <= asked_s_) continue;
+      if (kept != i) at(kept) = at(i);  // (none dropped yet, the usual call: nothing to move)
+      ++kept;
+    }
     n_ = kept;
     unchecked_ = 0;
   }

@@ -1,6 +1,7 @@
 #include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76pl455a.hpp"
 #include "models/afe/byte_copy.hpp"
+#include "models/afe/window_masks.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -169,12 +170,11 @@ void Bq76pl455aChain::settleDue(Device& dv) {
   const unsigned nchan = std::min<unsigned>(dv.reg[PL455_REG_NCHAN], 16);
   // The cells converted among the first nchan (bit c: cell c + 1, CHANNELS bit 16 + c).
   const uint32_t cells = (dv.heldChannels >> 16) & ((1u << nchan) - 1u);
-  for (uint32_t m = cells; m != 0; m &= m - 1) {
-    const unsigned c = static_cast<unsigned>(__builtin_ctz(m));
-    const uint16_t code = dv.held[16 + c];
-    uv = static_cast<uint16_t>(uv | static_cast<unsigned>(code < uvCode) << c);  // (no branches)
-    ov = static_cast<uint16_t>(ov | static_cast<unsigned>(code > ovCode) << c);
-  }
+  // Every cell slot's code against both thresholds at once (the other slots masked off).
+  uint32_t over = 0, under = 0;
+  codeWindowMasks16(dv.held.data() + 16, uvCode, ovCode, over, under);
+  uv = static_cast<uint16_t>(uv | (under & cells));
+  ov = static_cast<uint16_t>(ov | (over & cells));
   set16(dv.reg, PL455_REG_FAULT_UV, uv);
   set16(dv.reg, PL455_REG_FAULT_OV, ov);
 }
@@ -187,13 +187,10 @@ void Bq76pl455aChain::settleDue(Device& dv) {
 void Bq76pl455aChain::compare(Device& dv, int d) {
   const double ov_V = compVolts(dv.reg[PL455_REG_COMP_OV], PL455_COMP_OV_BASE_MV);
   const double uv_V = compVolts(dv.reg[PL455_REG_COMP_UV], PL455_COMP_UV_BASE_MV);
-  uint16_t over = 0, under = 0, hot = 0;
-  const int n = cellsOf(d);
-  for (int c = 0; c < n; ++c) {
-    const double v = dv.analog.cell_V[static_cast<size_t>(c)];
-    over = static_cast<uint16_t>(over | static_cast<unsigned>(v > ov_V) << c);  // (no branches)
-    under = static_cast<uint16_t>(under | static_cast<unsigned>(v < uv_V) << c);
-  }
+  uint32_t overAll = 0, underAll = 0;
+  windowMasks(dv.analog.cell_V.data(), cellsOf(d), uv_V, ov_V, overAll, underAll);  // (up to 16 cells)
+  const uint16_t over = static_cast<uint16_t>(overAll), under = static_cast<uint16_t>(underAll);
+  uint16_t hot = 0;
   const int nt = std::min(cfg_.thermistors_per_device, static_cast<int>(PL455_AUX_INPUTS));
   for (int k = 0; k < nt; ++k) {
     const size_t ks = static_cast<size_t>(k);

@@ -1,6 +1,7 @@
 #include "models/afe/reply_corruption.hpp"
 #include "models/afe/bq76pl536a.hpp"
 #include "models/afe/byte_copy.hpp"
+#include "models/afe/window_masks.hpp"
 #include "models/sensors/round_even.hpp"
 
 #include <algorithm>
@@ -144,12 +145,8 @@ void Bq76pl536aChain::compare(Device& dv) {
   const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
   const bool covOn = !(covReg & BQ536_CONFIG_DISABLE), cuvOn = !(cuvReg & BQ536_CONFIG_DISABLE);
   const double cov_V = bq536_cov_mV(covReg) * 1e-3, cuv_V = bq536_cuv_mV(cuvReg) * 1e-3;
-  unsigned overAll = 0, underAll = 0;
-  for (int c = 0; c < dv.cells; ++c) {
-    const double v = a.cell_V[static_cast<size_t>(c)];  // the pin voltage: comparators are not the ADC
-    overAll |= static_cast<unsigned>(v > cov_V) << c;  // (no branches)
-    underAll |= static_cast<unsigned>(v < cuv_V) << c;
-  }
+  uint32_t overAll = 0, underAll = 0;  // the pin voltages: comparators are not the ADC
+  windowMasks(a.cell_V.data(), dv.cells, cuv_V, cov_V, overAll, underAll);
   // A disabled comparator sees nothing (masked once, not tested per cell).
   uint8_t over = static_cast<uint8_t>(covOn ? overAll : 0u), under = static_cast<uint8_t>(cuvOn ? underAll : 0u), hot = 0;
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {

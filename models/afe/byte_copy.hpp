@@ -10,6 +10,7 @@
 #pragma once
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 
 namespace packsim {
 
@@ -25,6 +26,20 @@ inline void zeroBytes(void* dst, size_t n) {
   __asm__("" : "+r"(n));
 #endif
   std::memset(dst, 0, n);
+}
+
+// n values (the chain's per-cell and per-thermistor inputs): one or two by assignment,
+// where the library call's set-up would cost several times the copy (a stack of one
+// cell, a device's two thermistors), else copyBytes.
+template <class T>
+inline void copyValues(T* dst, const T* src, size_t n) {
+  static_assert(std::is_trivially_copyable<T>::value, "copied as bytes");
+  if (n <= 2) {  // (no loop: GCC would make one a library call again)
+    if (n > 0) dst[0] = src[0];
+    if (n > 1) dst[1] = src[1];
+    return;
+  }
+  copyBytes(dst, src, n * sizeof(T));
 }
 
 }  // namespace packsim

@@ -134,6 +134,33 @@ TEST(FetControl, WatchNamesThePinThatHeldTheGateOff) {
   EXPECT_TRUE(w.notes(3.5, FetControl::Afe, "bq76952", false).empty());  // the gate was the driver: not asked by pin
 }
 
+// A FET whose gate was on once is settled: what its pin and driver do later gives no
+// line (and is not kept); the other FET is still watched, its times as held.
+TEST(FetControl, WatchSettlesAFetOnceItsGateWasOn) {
+  FetWatch w;
+  SwitchDrive d;
+  SwitchState s;
+  d.dischargePin = d.afeDischarge = true;
+  s.dsg = true;  // the discharge gate on at 0 s
+  d.chargePin = true;  // the charge pin on, its driver off, all run
+  d.afeCharge = false;
+  w.hold(0.0, d, s, "", "CHG held off");
+  EXPECT_FALSE(w.settled());
+  d.afeDischarge = false;  // the discharge driver off from 1 s with the pin on: settled, no line
+  s.dsg = false;
+  w.hold(1.0, d, s, "DSG held off", "CHG held off");
+  w.hold(2.25, d, s, "DSG held off", "CHG held off");
+  const std::vector<std::string> n = w.notes(4.0, FetControl::AfeAndMcu, "bq76952", true);
+  ASSERT_EQ(n.size(), 1u);
+  EXPECT_EQ(n[0],
+            "charge FET off all run: the bq76952's CHG driver never on (CHG held off) while the MCU's charge FET pin "
+            "was on for 4.0 s; hardware.fet_control: afe_and_mcu -- both must be on");
+  s.chg = true;  // the charge gate on too: both settled, no line at all
+  w.hold(5.0, d, s, "", "");
+  EXPECT_TRUE(w.settled());
+  EXPECT_TRUE(w.notes(6.0, FetControl::AfeAndMcu, "bq76952", true).empty());
+}
+
 // packsim's core drives the FETs both ways (pins and bus), so the bundled BQ76952 pack
 // delivers energy on each wiring, with no FETs line.
 TEST(FetControl, CoreRunsOnEveryWiring) {

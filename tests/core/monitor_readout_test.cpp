@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <vector>
 
 #include "../models/chain_test_board.hpp"
 #include "core/parts/monitor_parts.hpp"
@@ -39,6 +40,7 @@ struct Rig {
   bms::Config cfg;
   MonitorChainPath path;
   MonitorTruth truth;
+  std::vector<double> cells;  // the truth's cells (a view of them)
   test::ChainTestBoard board;
   bms::MonitorDrivers drv{};
   bms::AcquisitionState acq{};
@@ -47,8 +49,9 @@ struct Rig {
         cfg(makeBmsConfig(s)),
         path(s.hardware.afe, series, 7),
         truth(path.makeTruth()),
+        cells(static_cast<size_t>(series), 3.7),
         board(*path.buses()[0]->chain) {
-    for (double& v : truth.cell_V) v = 3.7;
+    truth.cell_V = cells.data();
     bms::acquisitionReset(acq);
   }
   // The chain sees the truth at the board's clock; then the core's call.
@@ -145,14 +148,14 @@ class Lsb : public ::testing::TestWithParam<LsbCase> {};
 TEST_P(Lsb, CellCodesFollowTheDatasheetLsb) {
   const LsbCase c = GetParam();
   Rig rig(c.model);
-  rig.truth.cell_V[0] = 3.7;
-  rig.truth.cell_V[1] = 2.0123;
+  rig.cells[0] = 3.7;
+  rig.cells[1] = 2.0123;
   ASSERT_TRUE(rig.init());
   rig.wait(0.1);  // a BQ76952 converts in its own measurement loop
   rig.readAll();
   ASSERT_EQ(rig.acq.last[0], bms::FrameResult::Ok);
   for (int k = 0; k < 2; ++k) {
-    const double v = rig.truth.cell_V[static_cast<size_t>(k)];
+    const double v = rig.cells[static_cast<size_t>(k)];
     // The code is the nearest LSB step; the firmware scales it back to mV.
     const double expect_mV = std::round(v / c.lsb_V) * c.lsb_V * 1e3;
     EXPECT_NEAR(rig.acq.device[0].cell_mV[k], expect_mV, 0.5 + 1e-9) << c.model << " cell " << k;
@@ -222,7 +225,7 @@ TEST(Monitor, SecondaryOverVoltageLatchesUntilTheHostClearsIt) {
   Rig rig("bq76pl536a", 12);
   ASSERT_TRUE(rig.init());
   const SecondaryProtection& p = rig.s.hardware.afe.secondary;
-  rig.truth.cell_V[7] = p.cov_V + 0.05;
+  rig.cells[7] = p.cov_V + 0.05;
   for (double t = 0; t < p.cov_delay_s - 0.02; t += 0.01) rig.wait(0.01);
   EXPECT_FALSE(rig.path.faultLine()) << "before its delay";
   for (int k = 0; k < 4; ++k) rig.wait(0.01);
@@ -230,7 +233,7 @@ TEST(Monitor, SecondaryOverVoltageLatchesUntilTheHostClearsIt) {
   rig.readAll();
   EXPECT_TRUE(rig.acq.device[1].fault);
   EXPECT_FALSE(rig.acq.device[0].fault);
-  rig.truth.cell_V[7] = 3.7;  // condition gone: still latched
+  rig.cells[7] = 3.7;  // condition gone: still latched
   rig.wait(1.0);
   EXPECT_TRUE(rig.path.faultLine());
   bms::monitorClearFaults(rig.cfg, rig.drv, rig.board.board(), rig.board.api());
@@ -240,7 +243,7 @@ TEST(Monitor, SecondaryOverVoltageLatchesUntilTheHostClearsIt) {
   EXPECT_FALSE(rig.acq.device[1].fault);
   // The FAULT wire works without the link: a silent device still asserts it.
   rig.truth.comm[1].silent = true;
-  rig.truth.cell_V[7] = p.cov_V + 0.05;
+  rig.cells[7] = p.cov_V + 0.05;
   for (double t = 0; t < p.cov_delay_s + 0.05; t += 0.01) rig.wait(0.01);
   EXPECT_TRUE(rig.path.faultLine());
 }
@@ -325,7 +328,7 @@ TEST(Monitor, SwitchesReadByDeviceAreTheSwitchesAskedCellByCell) {
       rig.wait(0.01);
       const double t0 = rig.board.t_s;
       rig.readAll();
-      const int cells = static_cast<int>(rig.truth.cell_V.size());
+      const int cells = static_cast<int>(rig.cells.size());
       std::vector<uint8_t> sw(static_cast<size_t>(cells), 9);
       std::vector<double> duty(static_cast<size_t>(cells), -1.0);
       rig.path.balancingSwitches(t0, t0 + 0.01, sw.data(), duty.data());

@@ -1,6 +1,8 @@
 // The per-tick helpers that replace a library call on the read-out path must give what
 // the call gave, bit for bit: roundHalfEven against std::nearbyint (the default rounding
-// mode), roundHalfAway against std::llround, copyBytes / zeroBytes against a byte loop, standardNormal (its kept second
+// mode), roundHalfAway against std::llround, copyBytes / zeroBytes / copyValues against a plain loop, windowMasks
+// (two cells per SSE2 compare) against its plain loop, takeOverBytes / takeOverDoubles
+// against a compare-and-copy loop, standardNormal (its kept second
 // normal served inline) against Box-Muller written out here on the same engine.
 #include <gtest/gtest.h>
 
@@ -8,11 +10,14 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <limits>
 #include <random>
 #include <vector>
 
+#include "core/sim/hw_take_over.hpp"
 #include "models/afe/byte_copy.hpp"
+#include "models/afe/window_masks.hpp"
 #include "models/random/random.hpp"
 #include "models/sensors/round_even.hpp"
 #include "models/sensors/round_half_away.hpp"
@@ -100,6 +105,98 @@ TEST(ByteCopy, CopiesAndClearsExactlyTheBytesAskedFor) {
       for (size_t i = 0; i < n; ++i) want[off + i] = 0;
       zeroBytes(dst.data() + off, n);
       EXPECT_EQ(dst, want) << "clear of " << n << " bytes at offset " << off;
+    }
+  }
+}
+
+TEST(ByteCopy, CopyValuesCopiesExactlyTheValuesAskedFor) {
+  std::mt19937_64 gen(6);
+  for (size_t n = 0; n <= 20; ++n) {
+    std::vector<double> src(n + 2), dst(n + 2, -7.5), want(n + 2, -7.5);
+    for (double& v : src) v = static_cast<double>(gen() >> 11) * 0x1.0p-40 - 1000.0;
+    if (n > 0) src[0] = -0.0;
+    for (size_t i = 0; i < n; ++i) want[i] = src[i];
+    copyValues(dst.data(), src.data(), n);
+    for (size_t i = 0; i < n + 2; ++i) ASSERT_EQ(bitsOf(dst[i]), bitsOf(want[i])) << "n " << n << " at " << i;
+  }
+}
+
+// Every count up to 32 cells, values on, just inside and just outside both thresholds,
+// infinities and NaN at every position: the same bits as the plain loop.
+TEST(WindowMasks, MatchesThePlainLoopForEveryCountAndEdge) {
+  const double lo = 2.5, hi = 4.25;
+  const double specials[] = {lo, hi, std::nextafter(lo, 0.0), std::nextafter(lo, 5.0), std::nextafter(hi, 0.0),
+                             std::nextafter(hi, 5.0), 3.7, -0.0, 0.0,
+                             std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::quiet_NaN()};
+  std::mt19937_64 rng(455);
+  std::uniform_int_distribution<size_t> pick(0, std::size(specials) - 1);
+  for (int n = 0; n <= 32; ++n) {
+    for (int trial = 0; trial < 200; ++trial) {
+      std::vector<double> v(static_cast<size_t>(n) + 1);  // one past n: must not be looked at
+      for (double& x : v) x = specials[pick(rng)];
+      v.back() = 100.0;
+      const size_t at = static_cast<size_t>(trial) % 2;  // an unaligned start too
+      std::vector<double> buf(at, 0.0);
+      buf.insert(buf.end(), v.begin(), v.end());
+      uint32_t o = 0xDEAD, u = 0xBEEF, oRef = 0, uRef = 0;
+      windowMasks(buf.data() + at, n, lo, hi, o, u);
+      windowMasksScalar(buf.data() + at, n, lo, hi, oRef, uRef);
+      ASSERT_EQ(o, oRef) << "n " << n << " trial " << trial;
+      ASSERT_EQ(u, uRef) << "n " << n << " trial " << trial;
+    }
+  }
+  uint32_t o = 1, u = 1;
+  windowMasks(nullptr, 0, lo, hi, o, u);  // no cells: no bits
+  EXPECT_EQ(o, 0u);
+  EXPECT_EQ(u, 0u);
+}
+
+// Every code's position against thresholds at, around and between the ends of the
+// 16-bit range (the vector compare offsets them by 0x8000): the plain loop's bits.
+TEST(WindowMasks, CodesMatchThePlainLoop) {
+  const uint16_t edges[] = {0, 1, 0x7FFE, 0x7FFF, 0x8000, 0x8001, 0xFFFE, 0xFFFF, 1234, 52000};
+  std::mt19937_64 rng(0x455);
+  std::uniform_int_distribution<size_t> pickEdge(0, std::size(edges) - 1);
+  std::uniform_int_distribution<unsigned> any(0, 0xFFFF);
+  for (int trial = 0; trial < 20000; ++trial) {
+    uint16_t code[17];
+    for (uint16_t& c : code) c = trial % 2 ? edges[pickEdge(rng)] : static_cast<uint16_t>(any(rng));
+    const uint16_t lo = edges[pickEdge(rng)], hi = trial % 3 ? edges[pickEdge(rng)] : static_cast<uint16_t>(any(rng));
+    const uint16_t* at = code + trial % 2;  // unaligned too
+    uint32_t o = 0xDEAD, u = 0xBEEF, oRef = 0, uRef = 0;
+    codeWindowMasks16(at, lo, hi, o, u);
+    codeWindowMasks16Scalar(at, lo, hi, oRef, uRef);
+    ASSERT_EQ(o, oRef) << "trial " << trial << " lo " << lo << " hi " << hi;
+    ASSERT_EQ(u, uRef) << "trial " << trial << " lo " << lo << " hi " << hi;
+  }
+}
+
+// Every length up to 40, each element equal, changed, +0.0 against -0.0 (equal), NaN on
+// either side (unequal): what the plain compare-and-copy loop copies and answers.
+TEST(TakeOver, MatchesTheCompareAndCopyLoop) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double values[] = {1.0, 0.25, 0.0, -0.0, nan, 1.0};
+  std::mt19937_64 rng(12);
+  std::uniform_int_distribution<size_t> pick(0, std::size(values) - 1);
+  std::uniform_int_distribution<int> byte(0, 3), changeAt(0, 9);
+  for (size_t n = 0; n <= 40; ++n) {
+    for (int trial = 0; trial < 300; ++trial) {
+      std::vector<double> src(n), dst(n);
+      std::vector<uint8_t> srcB(n), dstB(n);
+      for (size_t i = 0; i < n; ++i) {
+        src[i] = values[pick(rng)];
+        dst[i] = changeAt(rng) == 0 ? values[pick(rng)] : src[i];  // mostly equal, as ticks are
+        srcB[i] = static_cast<uint8_t>(byte(rng));
+        dstB[i] = changeAt(rng) == 0 ? static_cast<uint8_t>(byte(rng)) : srcB[i];
+      }
+      bool want = false, wantB = false;
+      for (size_t i = 0; i < n; ++i) want |= dst[i] != src[i], wantB |= dstB[i] != srcB[i];
+      const bool got = takeOverDoubles(dst.data(), src.data(), n), gotB = takeOverBytes(dstB.data(), srcB.data(), n);
+      ASSERT_EQ(got, want) << "n " << n << " trial " << trial;
+      ASSERT_EQ(gotB, wantB) << "n " << n << " trial " << trial;
+      for (size_t i = 0; i < n; ++i) ASSERT_EQ(bitsOf(dst[i]), bitsOf(src[i])) << "n " << n << " at " << i;
+      ASSERT_EQ(dstB, srcB) << "n " << n;
     }
   }
 }
