@@ -148,7 +148,12 @@ double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_
 
 void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
   terminalCurrent(t, x, in, sig);
-  evaluateAtCurrent(t, x, in, sig);
+  evaluateAtCurrent<true>(t, x, in, sig);
+}
+
+void Plant::sample(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  terminalCurrent(t, x, in, sig);
+  evaluateAtCurrent<false>(t, x, in, sig);
 }
 
 void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
@@ -172,44 +177,48 @@ void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, Pl
   }
 }
 
+template <bool kHeat>
 void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
-  sig.injected_heat_W = 0.0;
-  groupCurrents(x, in, sig);  // with each cell's heat and temperature
+  if constexpr (kHeat) sig.injected_heat_W = 0.0;
+  groupCurrents<kHeat>(x, in, sig);  // with each cell's temperature (and heat)
   // The monitor ICs' thermistor bias: a few mA from some groups' cells, spread over the
   // group's parallel cells like a leak; its power heats them (mW: negligible).
-  for (size_t g = 0; g < in.bias_A.size(); ++g) {
-    if (in.bias_A[g] == 0.0) continue;
-    for (int k = 0; k < pack_.parallel; ++k) {
-      const size_t ci = g * static_cast<size_t>(pack_.parallel) + static_cast<size_t>(k);
-      const double i = in.bias_A[g] / pack_.parallel;
-      sig.internal_A[ci] += i;
-      sig.heat_W[ci] += sig.cell_ocv_V[ci] * i;
+  if constexpr (kHeat)
+    for (size_t g = 0; g < in.bias_A.size(); ++g) {
+      if (in.bias_A[g] == 0.0) continue;
+      for (int k = 0; k < pack_.parallel; ++k) {
+        const size_t ci = g * static_cast<size_t>(pack_.parallel) + static_cast<size_t>(k);
+        const double i = in.bias_A[g] / pack_.parallel;
+        sig.internal_A[ci] += i;
+        sig.heat_W[ci] += sig.cell_ocv_V[ci] * i;
+      }
     }
-  }
   for (int j = pack_.cellCount(); j < thermal_.nodeCount(); ++j) {  // the nodes after the cells
-    sig.heat_W[static_cast<size_t>(j)] = 0.0;
+    if constexpr (kHeat) sig.heat_W[static_cast<size_t>(j)] = 0.0;
     sig.node_temp_C[static_cast<size_t>(j)] = x[tempIndex(j)];
   }
-  // Heat from outside the pack (sun on its skin, a motor nearby): not the cells' energy.
-  for (const auto& [node, q] : externalHeat_W_) {
-    sig.heat_W[static_cast<size_t>(node)] += q;
-    sig.injected_heat_W += q;
+  if constexpr (kHeat) {
+    // Heat from outside the pack (sun on its skin, a motor nearby): not the cells' energy.
+    for (const auto& [node, q] : externalHeat_W_) {
+      sig.heat_W[static_cast<size_t>(node)] += q;
+      sig.injected_heat_W += q;
+    }
+    // Each resistor heats the board it sits on.
+    if (boardNode_ >= 0 && busIndex_ < 0)
+      for (int g = 0; g < pack_.series; ++g) {
+        const size_t gi = static_cast<size_t>(g);
+        sig.heat_W[static_cast<size_t>(boardNodeOfGroup(g))] += sig.group_voltage_V[gi] * sig.balance_current_A[gi];
+      }
+    // The FETs carry the pack current between the terminals and the load.
+    sig.fet_heat_W = 0.0;
+    const bool gate[2] = {in.discharge_fet_on, in.charge_fet_on};
+    for (int k = 0; k < 2; ++k)
+      if (fetNode_[k] >= 0) {
+        const double q = mosfetLoss_W(fet_[k], gate[k], fetCurrent_A(fetPaths_, k == 0, sig.pack_current_A));
+        sig.heat_W[static_cast<size_t>(fetNode_[k])] += q;
+        sig.fet_heat_W += q;
+      }
   }
-  // Each resistor heats the board it sits on.
-  if (boardNode_ >= 0 && busIndex_ < 0)
-    for (int g = 0; g < pack_.series; ++g) {
-      const size_t gi = static_cast<size_t>(g);
-      sig.heat_W[static_cast<size_t>(boardNodeOfGroup(g))] += sig.group_voltage_V[gi] * sig.balance_current_A[gi];
-    }
-  // The FETs carry the pack current between the terminals and the load.
-  sig.fet_heat_W = 0.0;
-  const bool gate[2] = {in.discharge_fet_on, in.charge_fet_on};
-  for (int k = 0; k < 2; ++k)
-    if (fetNode_[k] >= 0) {
-      const double q = mosfetLoss_W(fet_[k], gate[k], fetCurrent_A(fetPaths_, k == 0, sig.pack_current_A));
-      sig.heat_W[static_cast<size_t>(fetNode_[k])] += q;
-      sig.fet_heat_W += q;
-    }
   sig.ambient_C = in.ambient_C ? *in.ambient_C : ambient_.at(t);
 }
 
@@ -271,6 +280,7 @@ namespace {
 // Group g at the group current i_A: its cells' OCV, R0 and EMF (curves once per cell),
 // the current split, then each cell's heat and its thermal node's temperature. Returns
 // the group voltage. Inlined into groupCurrents, its only caller.
+template <bool kHeat>
 [[gnu::always_inline]] inline double Plant::evaluateGroup(int g, const double* x, double i_A, const CellFaults& f,
                                                          PlantSignals& sig) const {
   const int slot = pack_.layout.size();  // a cell's temperature, after its electrical states
@@ -284,7 +294,7 @@ namespace {
     const double t_C = fc.temp_C(xc, slot);
     cellElectrical(fc, p, ci, xc, t_C, i_A, sig);
     const double v = pack_.splitGroup(g, i_A, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
-    cellHeat(fc, p, ci, xc, t_C, f, sig);
+    if constexpr (kHeat) cellHeat(fc, p, ci, xc, t_C, f, sig);
     sig.node_temp_C[ci] = xc[slot];
     return v;
   }
@@ -297,7 +307,7 @@ namespace {
   const double v = pack_.splitGroup(g, i_A, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
   for (size_t ci = first; ci < end; ++ci) {
     const double* xc = cellStates(x, static_cast<int>(ci));
-    cellHeat(flat_[ci], pack_.cells[ci], ci, xc, flat_[ci].temp_C(xc, slot), f, sig);
+    if constexpr (kHeat) cellHeat(flat_[ci], pack_.cells[ci], ci, xc, flat_[ci].temp_C(xc, slot), f, sig);
     sig.node_temp_C[ci] = xc[slot];
   }
   return v;
@@ -306,6 +316,7 @@ namespace {
 // Group voltages and cell currents for the string current sig.pack_current_A, with
 // each group's balancing resistor (closed form, see the header) and the active
 // balancer's converter and precharge currents.
+template <bool kHeat>
 void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const {
   auto cellX = [&](int c) { return cellStates(x, c); };
   const double I = sig.pack_current_A;
@@ -352,7 +363,7 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
       const double vOn = balancingFactor(in, g, rg) * (eg - rg * iString);
       iBal = balancingDuty(in, gi) * balancer_.current_A(vOn);
     }
-    const double v = evaluateGroup(g, x, bleeding ? iString + iBal : iString, faults, sig);
+    const double v = evaluateGroup<kHeat>(g, x, bleeding ? iString + iBal : iString, faults, sig);
     if (bleeding) sig.balance_heat_W += v * iBal;
     sig.group_voltage_V[gi] = v;
     sig.pack_voltage_V += v;
@@ -379,7 +390,7 @@ void Plant::derivatives(double t, const double* x, const PlantInputs& in, double
 
 void Plant::derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx,
                                  PlantSignals& sig) const {
-  evaluateAtCurrent(t, x, in, sig);
+  evaluateAtCurrent<true>(t, x, in, sig);
   rates(x, dx, sig);
 }
 

@@ -65,20 +65,20 @@ struct PlantSignals {
   std::vector<double> cell_current_A;
   std::vector<double> cell_voltage_V;   // terminal voltage (= its group's voltage)
   std::vector<double> group_voltage_V;
-  std::vector<double> heat_W;           // per thermal node
+  std::vector<double> heat_W;           // per thermal node (not by Plant::sample, nor the fields marked *)
   std::vector<double> node_temp_C;
   std::vector<double> node_rate_K_per_s;
-  std::vector<double> internal_A;       // current through an internal short, per cell
+  std::vector<double> internal_A;       // * current through an internal short, per cell
   std::vector<double> cell_ocv_V;       // OCV and R0 at the cell's SOC (curves evaluated once)
   std::vector<double> cell_r0_ohm;
   std::vector<double> cell_emf_V;       // behind R0: OCV - Σ v_rc (+ h - M0·sgn i): the current split's input
-  std::vector<double> cell_reversible_W;  // -i·T_K·dOCV/dT (0 without): heat, and again the chemical energy
+  std::vector<double> cell_reversible_W;  // * -i·T_K·dOCV/dT (0 without): heat, and again the chemical energy
   std::vector<CellHints> cell_hints;    // each cell's table segments found last time (speed only)
   double pack_current_A = 0.0;
   double pack_voltage_V = 0.0;
   double ambient_C = 25.0;
-  double injected_heat_W = 0.0;  // heat from scripted faults (hot cell), not Joule heat
-  double fet_heat_W = 0.0;       // FET loss in a FET node: outside the pack terminals (load side)
+  double injected_heat_W = 0.0;  // * heat from scripted faults (hot cell), not Joule heat
+  double fet_heat_W = 0.0;       // * FET loss in a FET node: outside the pack terminals (load side)
   std::vector<double> balance_current_A;  // per group: passive I_bal, or converter module current
   double balance_heat_W = 0.0;            // passive balancing resistors + FETs
   double charger_A = 0.0;                 // into the pack
@@ -128,6 +128,12 @@ class Plant {
   void initialState(double* x) const;
   // Algebraic part: currents, voltages, heat, temperatures at (t, x).
   void evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  // evaluate() for a reader of the signals that needs no heat (the loop's sample at a
+  // tick: sensors, recorder, fault scheduler, switchgear): the same values, except that
+  // the heat and leaks only rates() and quadratures() read (heat_W, cell_reversible_W,
+  // internal_A, injected_heat_W, fet_heat_W) keep whatever they held. It skips the
+  // per-cell heat (a curve and a few multiplies per cell) and the nodes' heat.
+  void sample(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
   // The two halves of evaluate(): the current at the pack's terminals (sig.pack_current_A,
   // sig.charger_A: under a power load or a charger it depends on every cell), then
@@ -170,10 +176,14 @@ class Plant {
   bool balancingOn(const PlantInputs& in, size_t gi) const;  // group gi's passive switch is on
   double balancingDuty(const PlantInputs& in, size_t gi) const;  // PlantInputs::balance_duty (1 if unset)
   double balancingFactor(const PlantInputs& in, int g, double r_g) const;
+  // kHeat = false: without the heat (sample()) in these three.
+  template <bool kHeat>
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
   // Group g at the group current i_A: its cells' OCV, R0, EMF, currents, heat and
   // temperatures into sig (curves once per cell); returns the group voltage.
+  template <bool kHeat>
   double evaluateGroup(int g, const double* x, double i_A, const CellFaults& f, PlantSignals& sig) const;
+  template <bool kHeat>
   void evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   void rates(const double* x, double* dx, PlantSignals& sig) const;  // from evaluated signals
 

@@ -36,7 +36,8 @@ namespace packsim {
 struct HardwareStatus;
 
 // Optional early end, judged once per tick after step 2 (t_k, the plant state and
-// signals sampled at t_k, the firmware's outputs); true ends the run at t_k.
+// signals sampled at t_k, the firmware's outputs); true ends the run at t_k. The signals
+// are a sample (Plant::sample): without the heat fields PlantSignals marks with *.
 using StopCondition = std::function<bool(double t_s, const double* x, const PlantSignals& sig, const bms::Outputs& out)>;
 
 // Who ends a run: the scenario (its end time, stop after a trip, a finished charge), or
@@ -72,7 +73,7 @@ class SimulationRun {
   // What the last tick sampled and decided (valid until the next advance()).
   const Plant& plant() const;
   const double* state() const;  // x at t_k
-  const PlantSignals& signals() const;
+  const PlantSignals& signals() const;  // a sample (Plant::sample): no heat
   const bms::Outputs& outputs() const;
   const HardwareStatus& hardware() const;
   bool tripped() const;  // the BMS opened the relay on a latched fault (the summary's trip)

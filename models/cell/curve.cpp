@@ -112,12 +112,10 @@ double Curve::eval(double soc, double axis_capacity_Ah, double temp_C) const {
 
 double FlatCurve::evalOther(double soc, double axis_capacity_Ah, double temp_C, CurveHint& hint) const {
   if (kind == Curve::Kind::Constant && arrhenius_K == 0.0) return coeffs[0];
-  const double x = discharged_axis ? (1.0 - soc) * axis_capacity_Ah : soc;
+  const double x = axisX(soc, axis_capacity_Ah);
   if (kind == Curve::Kind::Table2D)
     return interpolateGrid(xs, ys, n, temps_C, rows, x, temp_C, &hint.x, &hint.temp);
-  const double y = at(x, hint.x);
-  if (arrhenius_K == 0.0) return y;
-  return y * arrhenius(temp_C);
+  return timesArrhenius(at(x, hint.x), temp_C);
 }
 
 }  // namespace packsim

@@ -108,13 +108,18 @@ inline size_t pointAbove(const double* xs, size_t n, double x, SegmentHint* hint
   return i;
 }
 
+// The straight line through points i-1 and i at x: interpolateN's segment, and
+// FlatCurve::tableAt's (models/cell/flat_curve.hpp) when x is in its remembered one.
+inline double segmentAt(const double* xs, const double* ys, size_t i, double x) {
+  const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+  return ys[i - 1] + w * (ys[i] - ys[i - 1]);
+}
+
 // The same over n points of arrays (ys may be one row of a 2-D table).
 inline double interpolateN(const double* xs, const double* ys, size_t n, double x, SegmentHint* hint = nullptr) {
   if (n == 1 || x <= xs[0]) return ys[0];
   if (x >= xs[n - 1]) return ys[n - 1];
-  const size_t i = pointAbove(xs, n, x, hint);
-  const double w = (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
-  return ys[i - 1] + w * (ys[i] - ys[i - 1]);
+  return segmentAt(xs, ys, pointAbove(xs, n, x, hint), x);
 }
 
 // A table over (x, temperature): `rows` rows of n values (row-major), one per grid

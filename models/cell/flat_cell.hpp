@@ -65,7 +65,10 @@ struct FlatCell {
   double temp_C(const double* x, int temp_slot) const { return uses_temp ? x[temp_slot] : kReferenceTemp_C; }
 
   // p: the cell this was built from.
-  double ocv_V(const CellParams& p, double soc, double temp_C, CellHints& h) const {
+  // ocv_V, r0_ohm and reversibleHeat_W always inlined, like the FlatCurve::eval they call:
+  // left to -O2, ocv_V and reversibleHeat_W went out of line once eval took the polynomial
+  // too (some 50 instructions a tick more on one cell).
+  [[gnu::always_inline]] double ocv_V(const CellParams& p, double soc, double temp_C, CellHints& h) const {
     if (soc >= 0.0 && soc <= 1.0) return ocv.eval(soc, axis_capacity_Ah, temp_C, h.ocv);
     return ecm::ocv(p, soc, temp_C);
   }
@@ -73,7 +76,7 @@ struct FlatCell {
     if (i_A < 0.0 && has_r0_charge) return r0_scale * r0_charge.eval(soc, axis_capacity_Ah, temp_C, h.r0_charge);
     return r0_scale * r0.eval(soc, axis_capacity_Ah, temp_C, h.r0);
   }
-  double reversibleHeat_W(double soc, double i_A, double temp_C, CellHints& h) const {
+  [[gnu::always_inline]] double reversibleHeat_W(double soc, double i_A, double temp_C, CellHints& h) const {
     if (!has_entropic) return 0.0;
     return -i_A * (temp_C + kZeroCelsius_K) * docv_dT.eval(soc, axis_capacity_Ah, temp_C, h.docv_dT);
   }

@@ -61,14 +61,13 @@ struct FlatCurve {
   // the next call (the same caller and curve).
   // Always inlined (GCC and Clang; others ignore it): the call, not the arithmetic, was
   // most of a hinted table read, and -O2 would not inline it into the per-cell loop.
-  // Inline: a 1-D table (a cell's usual curve) and a plain constant; the other kinds out of
-  // line (evalOther), which keeps eval small enough to inline into the per-cell loop.
+  // Inline: a 1-D table (a cell's usual curve), a polynomial (e.g. an R0 fit) and a plain
+  // constant; the other kinds out of line (evalOther), which keeps eval small enough to
+  // inline into the per-cell loop.
   [[gnu::always_inline]] double eval(double soc, double axis_capacity_Ah, double temp_C, CurveHint& hint) const {
-    if (kind == Curve::Kind::Table) {  // evalOther's branches, taken for a table
-      const double x = discharged_axis ? (1.0 - soc) * axis_capacity_Ah : soc;
-      const double y = tableAt(x, hint.x);
-      return has_arrhenius ? y * arrhenius(temp_C) : y;
-    }
+    // evalOther's branches, taken for a table and a polynomial
+    if (kind == Curve::Kind::Table) return timesArrhenius(tableAt(axisX(soc, axis_capacity_Ah), hint.x), temp_C);
+    if (kind == Curve::Kind::Polynomial) return timesArrhenius(polynomialAt(axisX(soc, axis_capacity_Ah)), temp_C);
     if (kind == Curve::Kind::Constant && !has_arrhenius) return coeffs[0];
     return evalOther(soc, axis_capacity_Ah, temp_C, hint);
   }
@@ -77,30 +76,38 @@ struct FlatCurve {
   double evalOther(double soc, double axis_capacity_Ah, double temp_C, CurveHint& hint) const;
 
  private:
+  // Curve::axisValue.
+  double axisX(double soc, double axis_capacity_Ah) const {
+    return discharged_axis ? (1.0 - soc) * axis_capacity_Ah : soc;
+  }
   // arrheniusFactor(arrhenius_K, temp_C, ref_temp_C): the same operations, 1/T_ref,K kept.
   double arrhenius(double temp_C) const {
     return std::exp(arrhenius_K * (1.0 / (temp_C + kZeroCelsius_K) - inv_ref_K));
   }
+  // The 1-D value y with the curve's temperature factor, if it has one (Curve::at(x, T)).
+  double timesArrhenius(double y, double temp_C) const { return has_arrhenius ? y * arrhenius(temp_C) : y; }
+  // Curve::at's Horner loop over the coefficients (highest power first).
+  double polynomialAt(double x) const {
+    double y = 0.0;
+    for (size_t k = 0; k < n; ++k) y = y * x + coeffs[k];
+    return y;
+  }
   // interpolateN(xs, ys, n, x, &hint). When x lies strictly inside the remembered segment
   // (xs[h-1] < x < xs[h]), interpolateN passes its end checks (xs[0] <= xs[h-1] < x <
-  // xs[h] <= xs[n-1]), its search returns that same h, and it interpolates so: the same
-  // formula inline. Anything else (a miss, x on a point, NaN) goes to interpolateN itself.
-  double tableAt(double x, SegmentHint& hint) const {
+  // xs[h] <= xs[n-1]), its search returns that same h, and it interpolates there with
+  // segmentAt: called inline here. Anything else (a miss, x on a point, NaN) goes to
+  // interpolateN itself. Always inlined like eval (once eval took the polynomial too, -O2
+  // left it out of line: some 600 instructions a tick more on A).
+  [[gnu::always_inline]] double tableAt(double x, SegmentHint& hint) const {
     const size_t h = hint.i;
-    if (h - 1 < n - 1 && xs[h - 1] < x && x < xs[h]) {  // h = 0 wraps: no hint
-      const double w = (x - xs[h - 1]) / (xs[h] - xs[h - 1]);
-      return ys[h - 1] + w * (ys[h] - ys[h - 1]);
-    }
+    if (h - 1 < n - 1 && xs[h - 1] < x && x < xs[h]) return segmentAt(xs, ys, h, x);  // h = 0 wraps: no hint
     return interpolateN(xs, ys, n, x, &hint);
   }
   // Curve::at(x) for a 1-D kind.
   double at(double x, SegmentHint& hint) const {
     switch (kind) {
-      case Curve::Kind::Polynomial: {
-        double y = 0.0;  // Horner
-        for (size_t k = 0; k < n; ++k) y = y * x + coeffs[k];
-        return y;
-      }
+      case Curve::Kind::Polynomial:
+        return polynomialAt(x);
       case Curve::Kind::Table:
         return interpolateN(xs, ys, n, x, &hint);
       default:  // Constant (with an Arrhenius factor)

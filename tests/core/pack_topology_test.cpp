@@ -181,5 +181,70 @@ TEST(PackTopology, PlantSignalsAreTheEcmFunctionsBitForBit) {
   }
 }
 
+// Plant::sample is evaluate without the heat: every other field to the bit, on packs with
+// one and three cells a group, table and polynomial R0 with Arrhenius factors, passive
+// balancing with a board node, the active balancer, a power load; the sample's signals
+// warm (kept from call to call, as the loop keeps them), the evaluation's fresh.
+TEST(PackTopology, SampleIsEvaluateWithoutTheHeatBitForBit) {
+  const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+      if (bits(a[i]) != bits(b[i])) return false;
+    return true;
+  };
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const char* file : {"eco_marathon_12s.yaml", "bench_6s_ncr18650_2C.yaml", "balance/solar_4s3p_active.yaml",
+                           "balance/bench_6s_balancing.yaml"}) {
+    const Scenario s = loadScenarioFile(test::scenarioDir() + "/" + file);
+    const Plant plant(s);
+    const Pack& pk = plant.pack();
+    std::vector<double> x(static_cast<size_t>(plant.stateSize()));
+    plant.initialState(x.data());
+    PlantSignals warm = plant.makeSignals();
+    PlantInputs in;
+    in.relay_closed = true;
+    in.load = s.load.segmentAt(0.0);
+    for (int step = 0; step < 300; ++step) {
+      for (int c = 0; c < pk.cellCount(); ++c) {
+        double* xc = x.data() + c * plant.stride();
+        xc[0] = 0.05 + 0.9 * u(rng);
+        for (int k = 1; k < pk.layout.size(); ++k) xc[k] = 0.02 * (u(rng) - 0.5);
+      }
+      for (int j = 0; j < plant.thermal().nodeCount(); ++j) x[static_cast<size_t>(plant.tempIndex(j))] = -10.0 + 60.0 * u(rng);
+      if (plant.busIndex() >= 0) x[static_cast<size_t>(plant.busIndex())] = 20.0 * u(rng);
+      in.load.i0_A = -5.0 + 20.0 * u(rng);
+      in.balancing.assign(static_cast<size_t>(pk.series), 0);
+      in.converter_A.assign(static_cast<size_t>(pk.series), 0.0);
+      for (int g = 0; g < pk.series; ++g) {
+        in.balancing[static_cast<size_t>(g)] = u(rng) < 0.5;
+        if (plant.busIndex() >= 0 && u(rng) < 0.5) in.converter_A[static_cast<size_t>(g)] = 2.0 * (u(rng) - 0.5);
+      }
+      in.bus_precharge = plant.busIndex() >= 0 && u(rng) < 0.3;
+      in.discharge_fet_on = in.charge_fet_on = u(rng) < 0.8;
+      PlantSignals full = plant.makeSignals();
+      plant.evaluate(0.0, x.data(), in, full);
+      plant.sample(0.0, x.data(), in, warm);
+      ASSERT_TRUE(same(warm.cell_current_A, full.cell_current_A)) << file;
+      ASSERT_TRUE(same(warm.cell_voltage_V, full.cell_voltage_V)) << file;
+      ASSERT_TRUE(same(warm.group_voltage_V, full.group_voltage_V)) << file;
+      ASSERT_TRUE(same(warm.node_temp_C, full.node_temp_C)) << file;
+      ASSERT_TRUE(same(warm.cell_ocv_V, full.cell_ocv_V)) << file;
+      ASSERT_TRUE(same(warm.cell_r0_ohm, full.cell_r0_ohm)) << file;
+      ASSERT_TRUE(same(warm.cell_emf_V, full.cell_emf_V)) << file;
+      ASSERT_TRUE(same(warm.balance_current_A, full.balance_current_A)) << file;
+      const std::vector<double> scalars = {warm.pack_current_A, warm.pack_voltage_V, warm.ambient_C,
+                                           warm.balance_heat_W, warm.charger_A, warm.bus_V, warm.bus_current_A,
+                                           warm.converter_loss_W, warm.converter_from_modules_W,
+                                           warm.converter_to_modules_W};
+      const std::vector<double> fullScalars = {full.pack_current_A, full.pack_voltage_V, full.ambient_C,
+                                               full.balance_heat_W, full.charger_A, full.bus_V, full.bus_current_A,
+                                               full.converter_loss_W, full.converter_from_modules_W,
+                                               full.converter_to_modules_W};
+      ASSERT_TRUE(same(scalars, fullScalars)) << file << " step " << step;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace packsim
