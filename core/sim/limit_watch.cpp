@@ -112,6 +112,13 @@ void LimitWatch::Extremes::take(const std::vector<double>& v) {
   for (; c < n; ++c) take(v[c]);
 }
 
+LimitWatch::CellExtremes LimitWatch::extremesOf(const std::vector<double>& cell_V, const std::vector<double>& cell_C) {
+  CellExtremes e;
+  e.volts.take(cell_V);
+  e.temps.take(cell_C);
+  return e;
+}
+
 // Whether some value is past a limit whose row is not active: from each quantity's
 // extremes, taken once a tick. Every check reads as "highest > threshold": a lower
 // limit as -lowest > -threshold (negation is exact; a NaN pack current fails both forms).
@@ -132,12 +139,8 @@ void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::ve
   // (none opens): nothing to do.
   if (openTotal_ == 0) {
     if (limits_.empty()) return;  // off: nothing watched (no episode ever opens)
-    CellExtremes taken;
-    if (!known) {
-      taken.volts.take(cell_V);
-      taken.temps.take(cell_C);
-    }
-    if (!anyPast(known ? *known : taken, pack_A, faultActive)) return;
+    if (!(known ? anyPast(*known, pack_A, faultActive) : anyPast(extremesOf(cell_V, cell_C), pack_A, faultActive)))
+      return;
   }
   for (size_t li = 0; li < limits_.size(); ++li) {
     const Limit& l = limits_[li];

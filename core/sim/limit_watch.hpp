@@ -82,6 +82,7 @@ class LimitWatch {
   double threshold_[kQuantities] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
   uint32_t faultBit_[kQuantities] = {};
   bool anyPast(const CellExtremes& cells, double pack_A, uint32_t faultActive) const;
+  static CellExtremes extremesOf(const std::vector<double>& cell_V, const std::vector<double>& cell_C);
   int parallel_;
   double longest_s_ = 0.0;
   long short_ = 0;

@@ -517,13 +517,14 @@ RunResult RunTracker::finish(const double* q) {
 namespace {
 
 // judgeEstimates's pass over the groups: returns the sum of every cell's SOC (group by
-// group, each group's cells in order) and, with `ekf`, raises the largest group error
+// group, each group's cells in order) and, with kEkf (a valid EKF reading: decided once
+// a tick, not per group), raises the largest group error
 // (|EKF - true group mean|) and its group. kParallel: the cells per group when known at
 // compile time (1: the loop and the division by 1 fold away; the same operations), 0:
 // `parallel`. Locals instead of the summary's fields: its stores alias nothing read here.
-template <int kParallel>
+template <int kParallel, bool kEkf>
 double judgeGroups(const double* x, const size_t* socIndex, int series, int parallel, const uint16_t* group_permille,
-                   bool ekf, double& errorMax, int& errorGroup) {
+                   double& errorMax, int& errorGroup) {
   const int p = kParallel > 0 ? kParallel : parallel;
   double total = 0.0, eMax = errorMax;
   int eGroup = errorGroup;
@@ -531,7 +532,7 @@ double judgeGroups(const double* x, const size_t* socIndex, int series, int para
     double sum = 0.0;
     for (int k = 0; k < p; ++k) sum += x[socIndex[static_cast<size_t>(g * p + k)]];
     total += sum;
-    if (!ekf) continue;
+    if (!kEkf) continue;
     const double e = std::fabs(group_permille[g] * 1e-3 - sum / p);
     if (e > eMax) {
       eMax = e;
@@ -551,11 +552,15 @@ void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const 
   Summary& sm = r_.summary;
   // One pass over the cells: each group's true SOC against its EKF, and the pack mean.
   const int series = plant_.pack().series, parallel = plant_.pack().parallel;
+  const size_t* socIndex = cellSocIndex_.data();
+  double& eMax = sm.soc_error_ekf_group_max;
+  int& eGroup = sm.soc_error_ekf_group;
+  const uint16_t* ekf = tm.socGroup_permille;
   const double total =
-      parallel == 1 ? judgeGroups<1>(x, cellSocIndex_.data(), series, 1, tm.socGroup_permille, tm.socEkfValid,
-                                     sm.soc_error_ekf_group_max, sm.soc_error_ekf_group)
-                    : judgeGroups<0>(x, cellSocIndex_.data(), series, parallel, tm.socGroup_permille, tm.socEkfValid,
-                                     sm.soc_error_ekf_group_max, sm.soc_error_ekf_group);
+      parallel == 1 ? (tm.socEkfValid ? judgeGroups<1, true>(x, socIndex, series, 1, ekf, eMax, eGroup)
+                                      : judgeGroups<1, false>(x, socIndex, series, 1, ekf, eMax, eGroup))
+                    : (tm.socEkfValid ? judgeGroups<0, true>(x, socIndex, series, parallel, ekf, eMax, eGroup)
+                                      : judgeGroups<0, false>(x, socIndex, series, parallel, ekf, eMax, eGroup));
   const double truth = total / plant_.pack().cellCount();
   if (tm.socCoulombValid) socErrorCoulomb_.add(tm.socCoulomb, truth);
   if (tm.socEkfValid) socErrorEkf_.add(tm.socEkf, truth);
