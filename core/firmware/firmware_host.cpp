@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <iterator>
 #include <limits>
 #include <optional>
 
@@ -20,6 +21,23 @@ constexpr size_t kEventChars = 120;       // kept of one firmware event (the hea
 constexpr size_t kTelemetryKeep = 256;    // bytes kept of the last telemetry frame
 
 FirmwareHost& host(psfw_board* b) { return *reinterpret_cast<FirmwareHost*>(b); }
+
+// The port pins by number (psfw_gpio_in / psfw_gpio_out): an indexed field instead of
+// a switch's jump per read or write (some seven reads and five writes a tick).
+constexpr bool bms::Inputs::*kInputPins[] = {&bms::Inputs::eSwitchInternal, &bms::Inputs::eSwitchExternal,
+                                             &bms::Inputs::relayAux,        &bms::Inputs::monitorFaultPin,
+                                             &bms::Inputs::chargerPresent,  &bms::Inputs::runRequest,
+                                             &bms::Inputs::resetRequest};
+static_assert(PSFW_IN_ESWITCH_INTERNAL == 0 && PSFW_IN_ESWITCH_EXTERNAL == 1 && PSFW_IN_RELAY_AUX == 2 &&
+                  PSFW_IN_MONITOR_FAULT == 3 && PSFW_IN_CHARGER_PRESENT == 4 && PSFW_IN_RUN_REQUEST == 5 &&
+                  PSFW_IN_RESET_REQUEST == 6 && std::size(kInputPins) == 7,
+              "kInputPins is indexed by psfw_gpio_in");
+constexpr bool bms::Outputs::*kOutputPins[] = {&bms::Outputs::relayClose, &bms::Outputs::prechargeClose,
+                                               &bms::Outputs::dischargeFetOn, &bms::Outputs::chargeFetOn,
+                                               &bms::Outputs::chargerEnable};
+static_assert(PSFW_OUT_RELAY == 0 && PSFW_OUT_PRECHARGE == 1 && PSFW_OUT_DISCHARGE_FET == 2 &&
+                  PSFW_OUT_CHARGE_FET == 3 && PSFW_OUT_CHARGER_ENABLE == 4 && std::size(kOutputPins) == 5,
+              "kOutputPins is indexed by psfw_gpio_out");
 
 // The services as C entry points; each forwards to the host, marked as host code for
 // the watchdog (FaultGuard::enterService) when the firmware runs under the guard (a
@@ -547,30 +565,13 @@ int32_t FirmwareHost::adcRead(uint8_t channel) const {
 }
 
 int32_t FirmwareHost::gpioRead(uint8_t pin) const {
-  if (!board_.pins) return noChannel();
-  switch (pin) {
-    case PSFW_IN_ESWITCH_INTERNAL: return in_->eSwitchInternal;
-    case PSFW_IN_ESWITCH_EXTERNAL: return in_->eSwitchExternal;
-    case PSFW_IN_RELAY_AUX: return in_->relayAux;
-    case PSFW_IN_MONITOR_FAULT: return in_->monitorFaultPin;
-    case PSFW_IN_CHARGER_PRESENT: return in_->chargerPresent;
-    case PSFW_IN_RUN_REQUEST: return in_->runRequest;
-    case PSFW_IN_RESET_REQUEST: return in_->resetRequest;
-    default: return noChannel();
-  }
+  if (!board_.pins || pin >= std::size(kInputPins)) return noChannel();
+  return in_->*kInputPins[pin];
 }
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
   if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
-  bool* field = nullptr;
-  switch (pin) {
-    case PSFW_OUT_RELAY: field = &out_->relayClose; break;
-    case PSFW_OUT_PRECHARGE: field = &out_->prechargeClose; break;
-    case PSFW_OUT_DISCHARGE_FET: field = &out_->dischargeFetOn; break;
-    case PSFW_OUT_CHARGE_FET: field = &out_->chargeFetOn; break;
-    case PSFW_OUT_CHARGER_ENABLE: field = &out_->chargerEnable; break;
-    default: break;  // an unconnected port pin
-  }
+  bool* const field = pin < std::size(kOutputPins) ? &(out_->*kOutputPins[pin]) : nullptr;  // null: unconnected
   const bool on = level != 0;
   if (field) {
     if (pinsNoted_ && *field == on) return;  // the level it has: no change to note

@@ -10,6 +10,7 @@
 // `limit_unseen` event: "overtemperature: cell 74 (group 19) above the 60 C limit from
 // 511.00 s, unseen by the BMS for 499.00 s (max 86.6 C)".
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -25,10 +26,26 @@ class LimitWatch {
   LimitWatch(const Scenario& s, int cells, int parallel);
 
   using EventSink = std::function<void(double t, const std::string& detail)>;
+  // The lowest and highest of some values, NaN skipped (init at the infinities, taken
+  // only by a comparison that is true): some value is above a limit exactly when the
+  // highest is, below it exactly when the lowest is.
+  struct Extremes {
+    double lo = INFINITY, hi = -INFINITY;
+    void take(double x) {
+      lo = x < lo ? x : lo;  // minsd / maxsd: a NaN x leaves them as they are
+      hi = x > hi ? x : hi;
+    }
+    void take(const std::vector<double>& v);
+  };
+  // A tick's extremes of the cell voltages and temperatures, for a caller that passes
+  // over them anyway (RunTracker::tick): the usual tick's test then reads no value again.
+  struct CellExtremes {
+    Extremes volts, temps;
+  };
   // One tick: truth (cell voltages V, temperatures C, pack current A, + discharges) and
-  // the BMS's active fault bits.
+  // the BMS's active fault bits; `known`: cell_V's and cell_C's extremes, or null (taken here).
   void tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
-            uint32_t faultActive, const EventSink& sink);
+            uint32_t faultActive, const EventSink& sink, const CellExtremes* known = nullptr);
   // Closes every open episode at the end of the run.
   void finish(double t, const EventSink& sink);
   double longestUnseen_s() const { return longest_s_; }
@@ -57,17 +74,15 @@ class LimitWatch {
   std::vector<std::vector<Episode>> ep_;  // [limit][cell]
   std::vector<size_t> open_;              // [limit]: episodes open (from_s >= 0)
   size_t openTotal_ = 0;                  // over every limit
-  // Per limit, the usual tick's test (anyPast): the quantity's highest value (of the
-  // values or of their negatives) against the threshold (negated for a lower limit).
+  // The usual tick's test (anyPast), per quantity: its highest value (of the values or of
+  // their negatives) against the threshold (negated for a lower limit), unless the row's
+  // fault bit is active. One protection row per quantity at most; a quantity no row
+  // watches has threshold +inf (no value is above it) and no bit.
   enum Quantity { kVoltsHigh, kVoltsLow, kTempHigh, kTempLow, kPackDischarge, kPackCharge, kQuantities };
-  struct Check {
-    uint32_t faultBit;
-    int quantity;
-    double threshold;
-  };
-  std::vector<Check> checks_;
-  bool anyPast(const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
-               uint32_t faultActive) const;
+  double threshold_[kQuantities] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
+  uint32_t faultBit_[kQuantities] = {};
+  bool anyPast(const CellExtremes& cells, double pack_A, uint32_t faultActive) const;
+  static CellExtremes extremesOf(const std::vector<double>& cell_V, const std::vector<double>& cell_C);
   int parallel_;
   double longest_s_ = 0.0;
   long short_ = 0;

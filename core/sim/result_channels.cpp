@@ -11,6 +11,7 @@
 
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/plant.hpp"
+#include "models/sensors/round_half_away.hpp"
 #include "models/vehicle/vehicle.hpp"
 
 namespace packsim {
@@ -209,7 +210,8 @@ uint16_t trueDisplay_mV(const PlantSignals& sig) {
   double sum = 0.0;
   for (double v : sig.cell_ocv_V) sum += v;
   const double mean_mV = sum / static_cast<double>(sig.cell_ocv_V.size()) * 1e3;
-  return static_cast<uint16_t>(std::clamp(std::lround(mean_mV), 0L, 65535L));
+  // std::lround's value, inline (the libm call cost a quarter of this function, every tick)
+  return static_cast<uint16_t>(std::clamp<long long>(roundHalfAway(mean_mV), 0, 65535));
 }
 
 uint8_t trueDisplayBars(const bms::Config& cfg, const PlantSignals& sig) {

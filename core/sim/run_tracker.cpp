@@ -12,9 +12,12 @@
 #include <bms/bms_telemetry.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
+#include <cstring>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -26,7 +29,8 @@ namespace {
 
 // The switching hardware's own events: one row per flag of HardwareStatus, the event it
 // raises when the flag sets and (falling: non-null) when it clears, in this order
-// within a tick.
+// within a tick. (A new row's flag must be one sameEventFlags compares: RunTracker's
+// constructor checks.)
 struct HardwareEdge {
   bool HardwareStatus::*flag;
   const char* kind;
@@ -41,6 +45,36 @@ constexpr HardwareEdge kHardwareEdges[] = {
     {&HardwareStatus::charger_cv, "charger", "constant voltage", nullptr},
     {&HardwareStatus::charger_done, "charger", "done (taper end current)", nullptr},
 };
+
+// Whether every flag an event of hardwareChanged reads (kHardwareEdges, the active
+// balancer's two) is the same in a and b, compared as HardwareStatus's two runs of
+// bools (the first also holds the FET gates, which no event reads: a change of one only
+// takes the row-by-row look): the usual tick, one compare each instead of that look.
+bool sameEventFlags(const HardwareStatus& a, const HardwareStatus& b) {
+  using H = HardwareStatus;
+  static_assert(offsetof(H, fault_line) - offsetof(H, relay_closed) == 5 &&
+                    offsetof(H, precharge_closed) == offsetof(H, relay_closed) + 1 &&
+                    offsetof(H, fuse_blown) == offsetof(H, relay_closed) + 2,
+                "HardwareStatus: relay_closed .. fault_line are 6 bools in a row");
+  static_assert(offsetof(H, charger_done) == offsetof(H, charger_cv) + 1 &&
+                    offsetof(H, active_safe_state) == offsetof(H, charger_cv) + 2 &&
+                    offsetof(H, active_isolated) == offsetof(H, charger_cv) + 3,
+                "HardwareStatus: charger_cv .. active_isolated are 4 bools in a row");
+  return std::memcmp(&a.relay_closed, &b.relay_closed, 6) == 0 && std::memcmp(&a.charger_cv, &b.charger_cv, 4) == 0;
+}
+
+// sameEventFlags covers every flag an event reads: each one set alone differs from none.
+bool everyEventFlagCompared() {
+  bool HardwareStatus::*const active[] = {&HardwareStatus::active_safe_state, &HardwareStatus::active_isolated};
+  std::vector<bool HardwareStatus::*> flags(active, active + 2);
+  for (const HardwareEdge& e : kHardwareEdges) flags.push_back(e.flag);
+  for (bool HardwareStatus::*f : flags) {
+    HardwareStatus none, one;
+    one.*f = true;
+    if (sameEventFlags(none, one)) return false;
+  }
+  return true;
+}
 
 // The firmware's own events: one row per field of bms::Outputs that raises events, the
 // field read as a number. A value row raises `kind` when the number changes (and, with
@@ -91,7 +125,7 @@ std::string prechargeMore(const bms::Config&, const bms::Outputs& out, uint64_t)
 
 using O = bms::Outputs;
 // clang-format off
-const OutputEdge kOutputEdges[] = {
+constexpr OutputEdge kOutputEdges[] = {
   // kind           falling          read                                                       mask   needs                   report on_first before names                 name
   {"bms_state",     nullptr,         [](const O& o) -> uint64_t { return static_cast<uint64_t>(o.state); },   false, OutputEdge::kAlways,    false, true,  true,  0,                     stateText},
   {"fault_active",  "fault_cleared", [](const O& o) -> uint64_t { return o.faultActive; },                    true,  OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText, faultMore},
@@ -111,13 +145,16 @@ bool rowApplies(const OutputEdge& e, bool hardware, bool balancing) {
 
 // Whether some row that applies reads other than at the last tick. If none does (and it
 // is not the first tick), outputEvents has no event to raise and nothing to note: the
-// usual tick, so it is skipped.
+// usual tick, so it is skipped. Row by row in table order as a fold over the indices:
+// each row's needs and reader are constants (kOutputEdges is constexpr), so the readers
+// are inlined instead of called through their pointers (once per tick, every tick).
+template <size_t... I>
+bool anyRowChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing,
+                   std::index_sequence<I...>) {
+  return ((rowApplies(kOutputEdges[I], hardware, balancing) && kOutputEdges[I].read(out) != last[I]) || ...);
+}
 bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing) {
-  // Unrolled: each row's needs and reader become constants (once per tick, every tick).
-#pragma GCC unroll 8
-  for (size_t i = 0; i < kOutputEdgeCount; ++i)
-    if (rowApplies(kOutputEdges[i], hardware, balancing) && kOutputEdges[i].read(out) != last[i]) return true;
-  return false;
+  return anyRowChanged(out, last, hardware, balancing, std::make_index_sequence<kOutputEdgeCount>{});
 }
 
 }  // namespace
@@ -143,6 +180,8 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
     cellTempIndex_.push_back(static_cast<size_t>(plant.tempIndex(c)));
     cellSocIndex_.push_back(static_cast<size_t>(&plant.cellStates(state.data(), c)[CellLayout::soc] - state.data()));
   }
+  static const bool flagsCovered = everyEventFlagCompared();  // once: a table row outside the compared bools
+  if (!flagsCovered) throw std::logic_error("RunTracker: sameEventFlags misses a flag of kHardwareEdges");
   r_.summary.min_cell_V = INFINITY;
   r_.summary.max_temp_C = -INFINITY;
   for (int c = 0; c < plant.pack().cellCount(); ++c)
@@ -280,30 +319,43 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   const int cells = plant_.pack().cellCount();
   cellTemp_C_.resize(static_cast<size_t>(cells));
   // The extremes kept in locals over the cells (noteLimit and noteSocRange neither read
-  // nor write them) and stored once.
+  // nor write them, nor the index vectors) and stored once. The same pass takes the
+  // tick's extremes of the voltages and temperatures for limits_ (which then reads
+  // neither again), in locals too: the calls in the loop keep anything whose address
+  // escapes in memory.
   const double* cell_V = sig.cell_voltage_V.data();
   double* cell_C = cellTemp_C_.data();
+  const size_t *tempIndex = cellTempIndex_.data(), *socIndex = cellSocIndex_.data();
+  const double* cellMin_V = cellMin_V_.data();
   double minV = sm.min_cell_V, minV_s = sm.min_cell_time_s, maxT = sm.max_temp_C, maxT_s = sm.hottest_time_s;
   int minCell = sm.min_cell, hottest = sm.hottest_cell;
+  bool limitReached = sm.limit_reached;
+  LimitWatch::Extremes volts, temps;
   for (int c = 0; c < cells; ++c) {
     const size_t ci = static_cast<size_t>(c);
     const double v = cell_V[ci];
-    const double T = x[cellTempIndex_[ci]];
+    const double T = x[tempIndex[ci]];
     cell_C[ci] = T;
+    volts.take(v);
+    temps.take(T);
     if (v < minV) {
       minV = v;
       minCell = c + 1;
       minV_s = t;
     }
-    if (!sm.limit_reached && v <= cellMin_V_[ci]) noteLimit(t, x, c);
-    const double soc = x[cellSocIndex_[ci]];
-    if (soc < 0.0 || soc > 1.0) noteSocRange(t, x, c);
+    if (!limitReached && v <= cellMin_V[ci]) {
+      noteLimit(t, x, c);
+      limitReached = true;  // as noteLimit set it
+    }
+    const double soc = x[socIndex[ci]];
+    if ((soc < 0.0) | (soc > 1.0)) noteSocRange(t, x, c);  // one branch for the usual in-range SOC
     if (T > maxT) {
       maxT = T;
       hottest = c + 1;
       maxT_s = t;
     }
   }
+  const LimitWatch::CellExtremes tickExtremes{volts, temps};
   sm.min_cell_V = minV;
   sm.min_cell = minCell;
   sm.min_cell_time_s = minV_s;
@@ -336,7 +388,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   if (outputsMoved) outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
-  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_);
+  limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_, &tickExtremes);
   first_ = false;
   lastT_ = t;
   lastX_ = x;
@@ -346,6 +398,7 @@ void RunTracker::hardwareChanged(double t) {
   if (!hw_) return;
   // What the hardware actually did (delays, weld, fuse, the monitor's FAULT line).
   const HardwareStatus& h = hw_->status();
+  if (sameEventFlags(h, lastHw_)) return;  // no event (lastHw_ is read for these flags only)
   // Unrolled: each row's flag becomes a constant offset (once per tick, every tick).
 #pragma GCC unroll 8
   for (const HardwareEdge& e : kHardwareEdges) {
@@ -376,31 +429,48 @@ bool RunTracker::stopRequested(double t) const {
   return r_.summary.tripped && t >= r_.summary.trip_time_s + s_.run.stop_after_trip_s;
 }
 
+namespace {
+
+// checkFinite's error, out of line: the check itself then needs no stack frame (the
+// message's stream made it save six registers and set up 450 bytes, every tick).
+[[noreturn]] __attribute__((noinline)) void throwDiverged(double t, int state) {
+  std::ostringstream os;
+  os << "the simulation diverged at t = " << t << " s (state " << state << " is not finite); "
+     << "check the cell curves for the SOC range reached";
+  throw std::runtime_error(os.str());
+}
+
+}  // namespace
+
 void RunTracker::checkFinite(double t, const double* x, int n) const {
-  // x·0 is 0 for a finite x and NaN for an infinite or NaN one, and NaN stays in a sum:
-  // one branch-free pass for the usual tick; the state is looked at one by one only
-  // when something is not finite.
-  // (With SSE2 two elements at a time: the order of the sum does not matter here.)
+  // An infinity or NaN stays in a sum, and a sum of finite values is finite unless it
+  // overflows: a finite sum clears the usual tick in one pass of adds (one instruction
+  // per value pair, where x·0 summed took three); a sum that is not finite (a value that
+  // is not, or huge finite ones) has the state looked at one by one.
+  // (With SSE2 two values at a time in four sums: the order of the sum does not matter here.)
   double probe = 0.0;
   int i = 0;
 #if defined(__SSE2__)
-  __m128d probe2 = _mm_setzero_pd();
-  const __m128d zero = _mm_setzero_pd();
-  for (; i + 2 <= n; i += 2) probe2 = _mm_add_pd(probe2, _mm_mul_pd(_mm_loadu_pd(x + i), zero));
+  __m128d s0 = _mm_setzero_pd();
+  if (n >= 8) {  // a small state (one cell) skips the four sums' set-up
+    __m128d s1 = s0, s2 = s0, s3 = s0;
+    for (; i + 8 <= n; i += 8) {
+      s0 = _mm_add_pd(s0, _mm_loadu_pd(x + i));
+      s1 = _mm_add_pd(s1, _mm_loadu_pd(x + i + 2));
+      s2 = _mm_add_pd(s2, _mm_loadu_pd(x + i + 4));
+      s3 = _mm_add_pd(s3, _mm_loadu_pd(x + i + 6));
+    }
+    s0 = _mm_add_pd(_mm_add_pd(s0, s1), _mm_add_pd(s2, s3));
+  }
+  for (; i + 2 <= n; i += 2) s0 = _mm_add_pd(s0, _mm_loadu_pd(x + i));
   double lanes[2];
-  _mm_storeu_pd(lanes, probe2);
+  _mm_storeu_pd(lanes, s0);
   probe = lanes[0] + lanes[1];
 #endif
-  for (; i < n; ++i) probe += x[i] * 0.0;
-  if (probe == 0.0) return;
-  for (i = 0; i < n; ++i) {
-    if (!std::isfinite(x[i])) {
-      std::ostringstream os;
-      os << "the simulation diverged at t = " << t << " s (state " << i << " is not finite); "
-         << "check the cell curves for the SOC range reached";
-      throw std::runtime_error(os.str());
-    }
-  }
+  for (; i < n; ++i) probe += x[i];
+  if (std::isfinite(probe)) return;
+  for (i = 0; i < n; ++i)
+    if (!std::isfinite(x[i])) throwDiverged(t, i);
 }
 
 RunResult RunTracker::finish(const double* q) {
@@ -444,23 +514,53 @@ RunResult RunTracker::finish(const double* q) {
   return std::move(r_);
 }
 
+namespace {
+
+// judgeEstimates's pass over the groups: returns the sum of every cell's SOC (group by
+// group, each group's cells in order) and, with kEkf (a valid EKF reading: decided once
+// a tick, not per group), raises the largest group error
+// (|EKF - true group mean|) and its group. kParallel: the cells per group when known at
+// compile time (1: the loop and the division by 1 fold away; the same operations), 0:
+// `parallel`. Locals instead of the summary's fields: its stores alias nothing read here.
+template <int kParallel, bool kEkf>
+double judgeGroups(const double* x, const size_t* socIndex, int series, int parallel, const uint16_t* group_permille,
+                   double& errorMax, int& errorGroup) {
+  const int p = kParallel > 0 ? kParallel : parallel;
+  double total = 0.0, eMax = errorMax;
+  int eGroup = errorGroup;
+  for (int g = 0; g < series; ++g) {
+    double sum = 0.0;
+    for (int k = 0; k < p; ++k) sum += x[socIndex[static_cast<size_t>(g * p + k)]];
+    total += sum;
+    if (!kEkf) continue;
+    const double e = std::fabs(group_permille[g] * 1e-3 - sum / p);
+    if (e > eMax) {
+      eMax = e;
+      eGroup = g + 1;
+    }
+  }
+  errorMax = eMax;
+  errorGroup = eGroup;
+  return total;
+}
+
+}  // namespace
+
 void RunTracker::judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   const bms::Telemetry& tm = out.telemetry;
   if (!tm.socCoulombValid && !tm.socEkfValid) return;
   Summary& sm = r_.summary;
   // One pass over the cells: each group's true SOC against its EKF, and the pack mean.
-  const int parallel = plant_.pack().parallel;
-  double total = 0.0;
-  for (int g = 0; g < plant_.pack().series; ++g) {
-    double sum = 0.0;
-    for (int k = 0; k < parallel; ++k) sum += x[cellSocIndex_[static_cast<size_t>(g * parallel + k)]];
-    total += sum;
-    const double e = std::fabs(tm.socGroup_permille[g] * 1e-3 - sum / parallel);
-    if (tm.socEkfValid && e > sm.soc_error_ekf_group_max) {
-      sm.soc_error_ekf_group_max = e;
-      sm.soc_error_ekf_group = g + 1;
-    }
-  }
+  const int series = plant_.pack().series, parallel = plant_.pack().parallel;
+  const size_t* socIndex = cellSocIndex_.data();
+  double& eMax = sm.soc_error_ekf_group_max;
+  int& eGroup = sm.soc_error_ekf_group;
+  const uint16_t* ekf = tm.socGroup_permille;
+  const double total =
+      parallel == 1 ? (tm.socEkfValid ? judgeGroups<1, true>(x, socIndex, series, 1, ekf, eMax, eGroup)
+                                      : judgeGroups<1, false>(x, socIndex, series, 1, ekf, eMax, eGroup))
+                    : (tm.socEkfValid ? judgeGroups<0, true>(x, socIndex, series, parallel, ekf, eMax, eGroup)
+                                      : judgeGroups<0, false>(x, socIndex, series, parallel, ekf, eMax, eGroup));
   const double truth = total / plant_.pack().cellCount();
   if (tm.socCoulombValid) socErrorCoulomb_.add(tm.socCoulomb, truth);
   if (tm.socEkfValid) socErrorEkf_.add(tm.socEkf, truth);

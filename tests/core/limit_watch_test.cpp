@@ -84,5 +84,49 @@ TEST(LimitWatch, AValuePastTheLimitIsFoundBesideANaN) {
   }
 }
 
+// Extremes taken one value at a time (RunTracker::tick's pass) and over a vector (SSE2,
+// two at a time) agree, a NaN skipped wherever it stands.
+TEST(LimitWatch, ExtremesTakenOneByOneMatchTheVectorPass) {
+  const std::vector<std::vector<double>> cases = {
+      {}, {3.2}, {NAN}, {3.1, NAN, 2.9}, {NAN, 4.2, 3.3, -0.0, 0.0}, {2.5, 2.5, 1e300, -1e300, NAN, NAN, 7.0}};
+  for (const std::vector<double>& v : cases) {
+    LimitWatch::Extremes one, all;
+    for (double x : v) one.take(x);
+    all.take(v);
+    EXPECT_EQ(one.lo, all.lo) << v.size();
+    EXPECT_EQ(one.hi, all.hi) << v.size();
+  }
+}
+
+// A tick given the cells' extremes (RunTracker::tick takes them in its own pass) raises
+// the same events at the same times as one that takes them itself.
+TEST(LimitWatch, KnownExtremesGiveTheSameEpisodes) {
+  const Scenario s = test::scenarioFromYaml(
+      test::simpleCellYaml(3) +
+      "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
+      "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
+      "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+  LimitWatch plain(s, 3, 1), given(s, 3, 1);
+  std::vector<std::pair<double, std::string>> a, b;
+  const LimitWatch::EventSink sinkA = [&](double t, const std::string& d) { a.emplace_back(t, d); };
+  const LimitWatch::EventSink sinkB = [&](double t, const std::string& d) { b.emplace_back(t, d); };
+  for (int k = 0; k <= 60; ++k) {
+    std::vector<double> v = {3.7, 3.6, 3.5}, temp = {25.0, 26.0, 27.0};
+    if (k >= 10 && k < 30) v[1] = 2.9 - 0.001 * k;
+    if (k >= 20 && k < 45) temp[2] = 61.0 + k;
+    if (k == 35) v[0] = NAN;
+    LimitWatch::CellExtremes ext;
+    for (size_t c = 0; c < v.size(); ++c) ext.volts.take(v[c]), ext.temps.take(temp[c]);
+    const uint32_t active = k >= 40 ? ~0u : 0u;
+    plain.tick(k * 0.1, v, temp, 1.0, active, sinkA);
+    given.tick(k * 0.1, v, temp, 1.0, active, sinkB, &ext);
+  }
+  plain.finish(6.0, sinkA);
+  given.finish(6.0, sinkB);
+  ASSERT_EQ(a.size(), 2u);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(plain.shortExcursions(), given.shortExcursions());
+}
+
 }  // namespace
 }  // namespace packsim
