@@ -228,11 +228,26 @@ void tick(const SocConfig& c, const TickTerms& t, bool valid, const uint16_t cel
   if (valid) correct<N>(c, t, cell_mV, s, g0);
 }
 
+// The RC branch's decay over dt_ms, exp(-dt / tau1) (0 without a time constant). The
+// tick length seldom changes: the last one's is kept (an expf a tick saved).
+float rcDecay(const EkfConfig& k, EkfState& s, uint32_t dt_ms) {
+  if (dt_ms == s.decayDt_ms && dt_ms != 0) return s.decay;
+  const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
+  const float a = k.tau1_s > 0.0f ? expf(-dt_s / k.tau1_s) : 0.0f;
+  if (dt_ms <= UINT16_MAX) {
+    s.decayDt_ms = static_cast<uint16_t>(dt_ms);
+    s.decay = a;
+  }
+  return a;
+}
+
 }  // namespace
 
 void ekfReset(EkfState& s) {
   s.started = false;
   s.last_ms = 0;
+  s.decayDt_ms = 0;
+  s.decay = 0.0f;
   for (uint16_t g = 0; g < kMaxCells; ++g) {
     s.soc[g] = s.v1_mV[g] = 0.0f;
     s.p00[g] = s.p01[g] = s.p11[g] = 0.0f;
@@ -294,7 +309,7 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
   const EkfConfig& k = c.ekf;
   const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
   const float i_mA = static_cast<float>(current_mA);
-  const float a = k.tau1_s > 0.0f ? expf(-dt_s / k.tau1_s) : 0.0f;
+  const float a = rcDecay(k, s, dt_ms);
   const float dSoc = i_mA * static_cast<float>(dt_ms) / (c.capacity_mAh * 3.6e6f);
   const float v1Drive_mV = k.r1_mOhm * i_mA * 1e-3f * (1.0f - a);
   const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;

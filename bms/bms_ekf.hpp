@@ -28,13 +28,16 @@ namespace bms {
 // Each series group's filter state at index g of every array (structure of arrays).
 struct EkfState {
   bool started;
+  uint16_t decayDt_ms;  // the tick length `decay` holds the RC decay of (0: none yet)
   uint32_t last_ms;
+  float decay;          // exp(-dt / tau1) at decayDt_ms: one expf per change of tick length
   float soc[kMaxCells];
   float v1_mV[kMaxCells];
   float p00[kMaxCells], p01[kMaxCells], p11[kMaxCells];  // covariance [soc², soc·mV, mV²]
   float r0Scale[kMaxCells];  // R0's temperature factor at the last complete reading (1 = T_ref)
 };
 
+// The configuration an EkfState runs with is the one it had since its reset.
 void ekfReset(EkfState& s);
 // One tick over `groups` series groups. `valid` = a complete cell measurement.
 // `temp_dC` = this tick's thermistor readings (kTempInvalid_dC where invalid; nullptr:
