@@ -14,9 +14,9 @@
 //
 // Started at the first complete reading from the OCV of the reading plus its R0·I drop
 // (or from EkfConfig::initialSoc); R0(soc) is linear in the table like the OCV. Fixed arrays, float, no allocation:
-// sizeof(EkfGroup) = 24 bytes per series group (6.1 KiB for kMaxCells = 256; 2.6 KiB
-// for the 110 groups of system D). Per tick with a temperature factor: one expf per
-// valid cell thermistor plus one for their mean.
+// 24 bytes per series group (6.1 KiB for kMaxCells = 256), one array per quantity so that
+// the groups' update runs in SIMD lanes where the CPU has them (bms_ekf.cpp). Per tick
+// with a temperature factor: one expf per valid cell thermistor plus one for their mean.
 #pragma once
 #include <cstdint>
 
@@ -25,19 +25,19 @@
 
 namespace bms {
 
-struct EkfGroup {
-  float soc;
-  float v1_mV;
-  float p00, p01, p11;  // covariance [soc², soc·mV, mV²]
-  float r0Scale;        // R0's temperature factor at the last complete reading (1 = T_ref)
-};
-
+// Each series group's filter state at index g of every array (structure of arrays).
 struct EkfState {
   bool started;
+  uint16_t decayDt_ms;  // the tick length `decay` holds the RC decay of (0: none yet)
   uint32_t last_ms;
-  EkfGroup group[kMaxCells];
+  float decay;          // exp(-dt / tau1) at decayDt_ms: one expf per change of tick length
+  float soc[kMaxCells];
+  float v1_mV[kMaxCells];
+  float p00[kMaxCells], p01[kMaxCells], p11[kMaxCells];  // covariance [soc², soc·mV, mV²]
+  float r0Scale[kMaxCells];  // R0's temperature factor at the last complete reading (1 = T_ref)
 };
 
+// The configuration an EkfState runs with is the one it had since its reset.
 void ekfReset(EkfState& s);
 // One tick over `groups` series groups. `valid` = a complete cell measurement.
 // `temp_dC` = this tick's thermistor readings (kTempInvalid_dC where invalid; nullptr:
