@@ -368,6 +368,9 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   // stated one that is not is refused (it would be rounded silently); the default is the
   // whole number of ticks nearest 1 s.
   const double tick_s = s.bms.tick_s;
+  const long tick_ms = std::lround(tick_s * 1e3);  // bms.tick_ms, whole
+  // n ticks in seconds, from whole ms: 3 x 300 ms is 0.9 s, not 0.8999…
+  const auto ticks_s = [tick_ms](long n) { return static_cast<double>(n * tick_ms) / 1000.0; };
   const auto wholeTicks = [tick_s](double interval_s) {
     const double ticks = interval_s / tick_s;
     const double n = std::round(ticks);
@@ -377,17 +380,16 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   if (o && o->has("interval_s")) {
     s.output.interval_s = o->number("interval_s", 1.0, Range::positive(limits::kMaxTime_s));
     if (!wholeTicks(s.output.interval_s)) {
-      const double below = std::max(1.0, std::floor(s.output.interval_s / tick_s)) * tick_s;
+      const long below = std::max(1L, static_cast<long>(std::floor(s.output.interval_s / tick_s)));
       std::ostringstream os;
-      os << "interval_s = " << s.output.interval_s << " s is not a whole number of BMS ticks (bms.tick_ms "
-         << std::lround(tick_s * 1e3) << "): the recording keeps every n-th tick; "
-         << (s.output.interval_s < tick_s ? "at least " + numberText(tick_s)
-                                          : numberText(below) + " or " + numberText(below + tick_s));
+      os << "interval_s = " << s.output.interval_s << " s is not a whole number of BMS ticks (bms.tick_ms " << tick_ms
+         << "): the recording keeps every n-th tick; "
+         << (s.output.interval_s < tick_s ? "at least " + numberText(ticks_s(1))
+                                          : numberText(ticks_s(below)) + " or " + numberText(ticks_s(below + 1)));
       throw o->errorAt("interval_s", os.str());
     }
   } else if (!wholeTicks(s.output.interval_s)) {
-    const long tick_ms = std::lround(tick_s * 1e3);  // whole ms (bms.tick_ms): 3 x 300 ms is 0.9 s, not 0.8999…
-    s.output.interval_s = static_cast<double>(std::max(1L, std::lround(1000.0 / tick_ms)) * tick_ms) / 1000.0;
+    s.output.interval_s = ticks_s(std::max(1L, std::lround(1000.0 / static_cast<double>(tick_ms))));
     if (Provenance* prov = Provenance::active())
       prov->recordDefault("output.interval_s", numberText(s.output.interval_s),
                           "default (the whole number of BMS ticks nearest 1 s)");
