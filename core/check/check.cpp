@@ -77,7 +77,7 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   CheckOutcome o;
   o.name = s.name;
   for (const Event& ev : r.events)
-    if (ev.kind == "config_warning") o.warnings.push_back(ev.detail);
+    if (ev.kind == "config_warning" || ev.kind == "monitor_unread") o.warnings.push_back(ev.detail);
   o.target = r.summary.firmware_target;
   const Expectations& e = s.expect;
   const Summary& sm = r.summary;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/sim/read_coverage.hpp"
+
 namespace packsim {
 
 HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
@@ -40,6 +42,12 @@ void HardwareSim::watchFets(double t, const SwitchDrive& d, const SwitchState& s
   if (!askDsg && !askChg) return fets_.hold(t, d, sw, kNoCause, kNoCause);
   fets_.hold(t, d, sw, askDsg ? sensors_.afeFetOffCause(true) : kNoCause,
              askChg ? sensors_.afeFetOffCause(false) : kNoCause);
+}
+
+std::vector<std::string> HardwareSim::unreadNotes(double end_s) const {
+  std::vector<const MonitorChainPath*> chains;
+  for (size_t b = 0; b < boards().size(); ++b) chains.push_back(&sensors_.chain(static_cast<int>(b)));
+  return packsim::unreadNotes(s_, boards(), chains, end_s);
 }
 
 std::vector<std::string> HardwareSim::fetNotes(double end_s) const {

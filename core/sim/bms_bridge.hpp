@@ -81,6 +81,9 @@ class HardwareSim {
   // The summary's FETs lines for a run that ended at end_s: a FET that never conducted
   // although the MCU's pin or the monitor part's driver asked for it (hw_fet_watch.hpp).
   std::vector<std::string> fetNotes(double end_s) const;
+  // The `monitor_unread` details of a run that ended at end_s: the series groups and
+  // thermistor channels the firmware never read (core/sim/read_coverage.hpp).
+  std::vector<std::string> unreadNotes(double end_s) const;
   // The run may end: the charger finished and the scenario asks to stop then.
   bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done(); }
 

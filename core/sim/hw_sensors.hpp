@@ -56,6 +56,7 @@ class HwSensors {
   bool afeChargeOn() const { return chains_.front()->chargeAllowed(); }
   std::string afeFetOffCause(bool discharge) const { return chains_.front()->fetOffCause(discharge); }
   const RegisterMisuseLog& registerMisuse(int board) const { return chains_[static_cast<size_t>(board)]->misuse(); }
+  const MonitorChainPath& chain(int board) const { return *chains_[static_cast<size_t>(board)]; }
   std::vector<BusTraceRow> takeBusTrace() { return std::move(busTrace_); }
 
  private:

@@ -38,6 +38,12 @@ class MonitorChainPath {
   bool chargeAllowed() const { return bus_.chain->chargeFetOn(); }
   std::string fetOffCause(bool discharge) const { return bus_.chain->fetOffCause(discharge); }
   const RegisterMisuseLog& misuse() const { return part_->misuse(); }  // writes the part ignored
+  // What the MCU has read of each device so far (monitor_part.hpp), device d's cell
+  // count and its bottom cell's position in this chain.
+  const MonitorChain::ReadCoverage& readCoverage() const { return part_->readCoverage(); }
+  int cellsOf(int d) const { return bus_.chain->cellsOf(d); }
+  int firstCell(int d) const { return firstCell_[static_cast<size_t>(d)]; }
+  int thermistorsPerDevice() const { return cfg_.thermistors_per_device; }
   // output.bus_trace: every transaction from now on as rows of `sink`, on bus `bus`.
   void traceInto(std::vector<BusTraceRow>& sink, int bus);
   std::vector<MonitorBus*> buses() { return {&bus_}; }

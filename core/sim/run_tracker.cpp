@@ -502,6 +502,8 @@ RunResult RunTracker::finish(const double* q) {
     for (const MisuseReported& m : misuseEvents_)
       r_.events[m.event].detail = misuseDetail(m.board, hw_->registerMisuse(m.board).entries()[m.entry]);
   }
+  if (hw_)  // the series groups and thermistors the firmware never read
+    for (const std::string& d : hw_->unreadNotes(lastT_)) event(lastT_, "monitor_unread", d);
   sm.soc_error_coulomb = socErrorCoulomb_.stats();
   sm.soc_error_ekf = socErrorEkf_.stats();
   const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);

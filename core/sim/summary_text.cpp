@@ -244,6 +244,9 @@ const std::vector<SummaryLine> kLines = {
        for (const std::string& line : r.summary.fet_notes) w.line(line); }},
     {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {
        unseenLimitLines(w, r); }},
+    {"unmonitored", "", [](LineWriter& w, const S&, const R& r) {  // inputs the firmware never read
+       for (const Event& e : r.events)
+         if (e.kind == "monitor_unread") w.line(e.detail); }},
     {"compared with", "", [](LineWriter& w, const S&, const R& r) {
        const Comparison& c = r.summary.compare;
        if (!c.present) return;

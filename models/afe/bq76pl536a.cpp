@@ -359,6 +359,8 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   }
   if (target == nullptr || target->comm.silent) return r;
   const size_t count = tx[2], first = tx[1];
+  noteRead(static_cast<int>(target - dev_.data()), wordsCovered(first, count, BQ536_VCELL1, BQ536_CELLS_MAX),
+           wordsCovered(first, count, BQ536_TEMPERATURE1, BQ536_TEMPS_MAX));
   uint8_t frame[3 + 256];
   std::copy(tx, tx + 3, frame);
   // The registers from `first` on; past the register file they read 0.

@@ -210,6 +210,23 @@ void Ltc681xChain::writeCfgb(Device& dv, const uint8_t* data) {
   for (size_t i = 2; i < LTC681X_GROUP_BYTES; ++i) dv.cfgb[i] = 0;    // reserved
 }
 
+// A read command's register group as MonitorChain::noteRead's cells and GPIO inputs.
+void Ltc681xChain::noteReadGroup(int d, uint16_t cc) {
+  switch (cc) {
+    case LTC681X_RDCVA: noteRead(d, 7u << 0, 0u); return;
+    case LTC681X_RDCVB: noteRead(d, 7u << 3, 0u); return;
+    case LTC681X_RDCVC: noteRead(d, 7u << 6, 0u); return;
+    case LTC681X_RDCVD: noteRead(d, 7u << 9, 0u); return;
+    case LTC681X_RDCVE: noteRead(d, 7u << 12, 0u); return;
+    case LTC681X_RDCVF: noteRead(d, 7u << 15, 0u); return;
+    case LTC681X_RDAUXA: noteRead(d, 0u, 7u << 0); return;  // GPIO1-3
+    case LTC681X_RDAUXB: noteRead(d, 0u, 3u << 3); return;  // GPIO4-5
+    case LTC681X_RDAUXC: noteRead(d, 0u, 7u << 5); return;  // GPIO6-8
+    case LTC681X_RDAUXD: noteRead(d, 0u, 1u << 8); return;  // GPIO9
+    default: return;
+  }
+}
+
 void Ltc681xChain::readGroup(const Device& dv, uint16_t cc, double t, uint8_t* out, bool& known) const {
   known = true;
   auto cells3 = [&](int first) {
@@ -534,6 +551,7 @@ BusTransfer Ltc681xChain::transfer(double t, const uint8_t* tx, size_t txLen, ui
       misuse_.note(t, -1, commandName(cc), std::string("the ") + (is6813() ? "LTC6813" : "LTC6811") + " has no such command");
       return r;
     }
+    noteReadGroup(d, cc);
     bms::ltcPutPec(slot, LTC681X_GROUP_BYTES);
     if (stuck >= 0) {
       std::fill(std::begin(slot), std::end(slot), static_cast<uint8_t>(stuck));

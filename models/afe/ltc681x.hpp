@@ -165,6 +165,7 @@ class Ltc681xChain final : public MonitorChain {
   void hear(Device& dv, double t);  // a transaction reaches it: wakes it up if needed
   void writeCfga(Device& dv, double t, const uint8_t* data);
   void writeCfgb(Device& dv, const uint8_t* data);
+  void noteReadGroup(int d, uint16_t cc);
   void readGroup(const Device& dv, uint16_t cc, double t, uint8_t* out, bool& known) const;
   void convert(Device& dv, double t, uint16_t cc);
   void convertCells(Device& dv, uint8_t ch, bool openWire, bool pullUp, double conv_s, bool paused);

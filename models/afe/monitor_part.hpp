@@ -117,9 +117,44 @@ class MonitorChain {
   // The writes the part ignored so far (register_misuse.hpp), for the run's events.
   const RegisterMisuseLog& misuse() const { return misuse_; }
 
+  // What the MCU read so far, per device (index d; shorter than deviceCount() when the
+  // upper devices were never read): bit c of cells[d] once a read of cell c's result
+  // reached device d (a read the device never heard -- silent, unaddressed, beyond a
+  // broken link -- does not count), bit k of thermistors[d] for its thermistor input k.
+  // The run's end names the cells and thermistors a firmware never read
+  // (core/sim/read_coverage.hpp).
+  struct ReadCoverage {
+    std::vector<uint32_t> cells, thermistors;
+  };
+  const ReadCoverage& readCoverage() const { return read_; }
+
  protected:
+  void noteRead(int d, uint32_t cells, uint32_t thermistors) {
+    const size_t i = static_cast<size_t>(d);
+    if (i >= read_.cells.size()) {
+      read_.cells.resize(i + 1, 0u);
+      read_.thermistors.resize(i + 1, 0u);
+    }
+    read_.cells[i] |= cells;
+    read_.thermistors[i] |= thermistors;
+  }
+
   RegisterMisuseLog misuse_;
+
+ private:
+  ReadCoverage read_;
 };
+
+// Bit i for each of the n two-byte result registers from `base` on (i = 0 .. n-1, n <= 31)
+// that a read of `count` bytes from register `first` covers whole: the cells (or
+// thermistor inputs) a register read delivers, for MonitorChain::noteRead.
+inline uint32_t wordsCovered(size_t first, size_t count, size_t base, size_t n) {
+  const size_t end = first + count;
+  if (end < base + 2) return 0u;
+  const size_t lo = first <= base ? 0 : (first - base + 1) / 2;
+  const size_t hi = std::min((end - base) / 2, n);  // exclusive
+  return lo >= hi ? 0u : ((1u << hi) - 1u) & ~((1u << lo) - 1u);
+}
 
 // Each part's factory is declared in its own header (models/afe/<part>.hpp) and
 // registered by its descriptor (core/parts/<part>_part.cpp, MonitorPart::make_chain).
