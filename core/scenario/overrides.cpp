@@ -194,10 +194,13 @@ Scenario loadScenarioWithOverrides(const std::string& yamlText, const Overrides&
     return s;
   } catch (const ScenarioError& e) {
     // A value an override put in has no position in the file: an error on a field an
-    // override touched is that override's; report it so.
+    // override touched is that override's; report it so. A Python dict scenario arrives
+    // as overrides on an empty one (file "<dict>"): its keys are the user's scenario, not
+    // overrides of one, so the value is named as given.
+    const char* how = file == kDictScenarioName ? " (given as " : " (after override ";
     for (auto it = overrides.rbegin(); it != overrides.rend(); ++it) {
       if (related(e.field(), loaderFieldName(parsePath(it->first, file))))
-        throw ScenarioError(file, 0, 0, e.field(), e.message() + " (after override " + it->first + " = " + it->second + ")");
+        throw ScenarioError(file, 0, 0, e.field(), e.message() + how + it->first + " = " + it->second + ")");
     }
     throw;  // an untouched field: the tree kept its position in the original text
   }

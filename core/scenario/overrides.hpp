@@ -25,6 +25,10 @@ namespace packsim {
 // (dotted key, YAML value text), applied in order (a later key wins).
 using Overrides = std::vector<std::pair<std::string, std::string>>;
 
+// The file name of a Python dict scenario (packsim.run({...})): its leaves arrive as
+// overrides on an empty scenario, and an error on one names it "given as KEY = VALUE".
+inline constexpr const char* kDictScenarioName = "<dict>";
+
 // Returns the scenario text with the overrides applied (the edited tree emitted by
 // yaml-cpp, so comments are dropped). Throws ScenarioError naming `fileForErrors` and the key.
 // With no overrides the text is returned unchanged.
@@ -35,7 +39,8 @@ std::string applyOverrides(const std::string& yamlText, const Overrides& dottedK
 // no re-emitted text in between); Scenario::text is the overridden scenario emitted.
 // A ScenarioError the loader raises on a field an override set is reported against
 // that override (line/column 0, the message saying which override and the allowed
-// range); one on an untouched field keeps its position in the original text.
+// range; "given as" instead of "after override" for a kDictScenarioName file); one on an
+// untouched field keeps its position in the original text.
 Scenario loadScenarioWithOverrides(const std::string& yamlText, const Overrides& overrides,
                                    const std::string& file = "<scenario>", const std::string& base_dir = ".");
 // Same for a file: relative CSV paths resolve against the file's folder.

@@ -41,6 +41,18 @@ def test_override_errors_name_the_override(simple_yaml):
         packsim.run(simple_yaml, {"pack.series.count": 3})
 
 
+def test_dict_scenario_errors_name_the_value_as_given_not_as_an_override():
+    """A dict is the user's scenario: its keys travel as overrides on an empty one, but
+    an error on one names it as given ("after override" is a word the user never used)."""
+    with pytest.raises(packsim.ScenarioError) as ei:
+        packsim.run({"pack": {"series": 0, "cell": {"preset": "lipo_5Ah"}}, "load": {"current_A": 1}})
+    e = ei.value
+    assert e.file == "<dict>" and e.field == "pack.series"
+    assert e.message.endswith("(given as pack.series = 0)") and "override" not in e.message, e.message
+    with pytest.raises(packsim.ScenarioError, match=r"did you mean 'load'\? \(given as lod.current_A = 1\)"):
+        packsim.run({"pack": {"series": 2, "cell": {"preset": "lipo_5Ah"}}, "lod": {"current_A": 1}})
+
+
 def test_scenario_error_pickles_with_its_attributes(simple_yaml):
     with pytest.raises(packsim.ScenarioError) as ei:
         packsim.run(simple_yaml.replace("r0_ohm: 0.02", "r0_ohm: low"))
