@@ -12,6 +12,7 @@
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/target_switch.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
 
 namespace packsim {
 
@@ -78,6 +79,7 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   o.name = s.name;
   for (const Event& ev : r.events)
     if (ev.kind == "config_warning" || ev.kind == "monitor_unread") o.warnings.push_back(ev.detail);
+  if (const std::string never = relayNeverClosed(s, r); !never.empty()) o.warnings.push_back("the relay " + never);
   o.target = r.summary.firmware_target;
   const Expectations& e = s.expect;
   const Summary& sm = r.summary;

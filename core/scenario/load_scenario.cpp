@@ -156,6 +156,12 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
         const std::string near = closestMatch(fs::path(rel).filename().string(), bundledScenarioNames());
         hint = ", nor a bundled scenario of that name" + (near.empty() ? std::string() : " (did you mean '" + near + "'?)") +
                "; `packsim list` lists them";
+      } else if (const fs::path given(rel); given.is_relative() && !given.has_parent_path() &&
+                 (given.extension() == ".yaml" || given.extension() == ".yml") &&
+                 !bundledScenarioFile(given.stem().string()).empty()) {
+        // `extends: bench_6s_ncr18650_2C.yaml` from a folder of the user's own: the
+        // bundled scenario is named without its extension.
+        hint = "; the bundled scenario of that name is `extends: " + given.stem().string() + "` (no extension)";
       }
       throw m.errorAt("extends", "file not found: " + path.string() + hint);
     }

@@ -173,6 +173,34 @@ void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
   }
 }
 
+}  // namespace
+
+std::string relayNeverClosed(const Scenario& s, const RunResult& r) {
+  for (const Event& e : r.events)
+    if (e.kind == "relay_contact" && e.detail == "closed") return "";
+  // The profile's peaks in its own unit (a power profile in W), the charger's current.
+  const bool watts = s.load.quantity == LoadProfile::Quantity::Power_W;
+  double discharge = 0.0, charge = 0.0;
+  for (double v : s.load.i_A) {
+    discharge = std::max(discharge, v);
+    charge = std::max(charge, -v);
+  }
+  std::string asked;
+  if (discharge > 0.0) asked = fmt("%.2f", discharge) + (watts ? " W" : " A") + " discharge";
+  if (charge > 0.0) asked += (asked.empty() ? "" : ", ") + fmt("%.2f", charge) + (watts ? " W" : " A") + " regeneration";
+  if (s.charger.present && s.charger.current_A > 0.0)
+    asked += (asked.empty() ? "" : ", ") + fmt("%.2f", s.charger.current_A) + " A from the charger";
+  if (asked.empty()) return "";  // nothing asked for current
+  std::string state;  // the BMS's last state (packsim's core reports it; a library firmware may not)
+  for (const Event& e : r.events)
+    if (e.kind == "bms_state") state = e.detail.substr(e.detail.rfind(' ') + 1);
+  return "never closed in the run's " + fmt("%.2f", r.summary.duration_s) + " s: the load asked for up to " +
+         asked + " and drew " + fmt("%.3f", r.summary.charge_delivered_Ah) + " Ah" +
+         (state.empty() ? std::string() : "; the BMS's last state: " + state);
+}
+
+namespace {
+
 // A profile that ended before the run did (the load_end event): the rest of the run had
 // no load, which the energy line above includes.
 void loadEndLine(LineWriter& w, const S&, const R& r) {
@@ -240,6 +268,9 @@ const std::vector<SummaryLine> kLines = {
        w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
        for (const Event& e : r.events)
          if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail); }},
+    {"relay", "", [](LineWriter& w, const S& s, const R& r) {  // a run whose load never got current
+       const std::string line = relayNeverClosed(s, r);
+       if (!line.empty()) w.line(line); }},
     {"FETs", "", [](LineWriter& w, const S&, const R& r) {  // a FET asked for that never conducted
        for (const std::string& line : r.summary.fet_notes) w.line(line); }},
     {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {

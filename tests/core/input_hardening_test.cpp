@@ -127,6 +127,15 @@ TEST(InputHardening, ExtendsTakesABundledScenarioByName) {
   const std::string f = loadError(d / "typo_file.yaml");
   EXPECT_NE(f.find("file not found: "), std::string::npos) << f;
   EXPECT_EQ(f.find("nor a bundled scenario"), std::string::npos) << f;
+  EXPECT_EQ(f.find("the bundled scenario of that name"), std::string::npos) << f;  // no such bundled one
+  // A bundled scenario's file name from a folder of the user's own (as the test suite's
+  // own scenarios write it, next to the bundled ones): not found, but the error says how.
+  write(d / "with_ext.yaml", "extends: bench_6s_ncr18650_2C.yaml\n");
+  const std::string g = loadError(d / "with_ext.yaml");
+  EXPECT_NE(g.find("with_ext.yaml:1:10: extends: file not found: "), std::string::npos) << g;
+  EXPECT_NE(g.find("; the bundled scenario of that name is `extends: bench_6s_ncr18650_2C` (no extension)"),
+            std::string::npos)
+      << g;
 }
 
 TEST(InputHardening, DuplicateKeyNamesBothPlaces) {

@@ -62,13 +62,28 @@ int shell(const std::string& script) {
 
 const std::string kBin = PACKSIM_BINARY;
 
+// Waits (up to 60 s) until process `pid` catches `sig`: its bit in /proc/PID/status's SigCgt.
+bool handlesSignal(pid_t pid, int sig) {
+  for (int i = 0; i < 6000; ++i) {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+    std::string line;
+    while (std::getline(in, line))
+      if (line.rfind("SigCgt:", 0) == 0 && ((std::stoull(line.substr(7), nullptr, 16) >> (sig - 1)) & 1u)) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
 void expectRunStoppedBy(int sig, const std::string& name) {
   const fs::path d = freshDir(name);
   std::ofstream(d / "long.yaml") << longScenario();
   const fs::path out = d / "out.h5";
   const pid_t pid = spawnShell("exec " + kBin + " run " + (d / "long.yaml").string() + " -o " + out.string() + " 2>" +
                                (d / "err.txt").string());
-  std::this_thread::sleep_for(std::chrono::seconds(1));  // the run takes minutes: the signal lands inside it
+  // The run takes minutes: the signal lands inside it once packsim has its handler (on a
+  // loaded machine a fixed second was sometimes still before it: killed by the default action).
+  ASSERT_TRUE(handlesSignal(pid, sig)) << "packsim never installed a handler for " << name;
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // past loading, into the run
   kill(pid, sig);
   const int status = waitStatus(pid);
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
