@@ -84,6 +84,7 @@ class HardwareSim {
   // The `monitor_unread` details of a run that ended at end_s: the series groups and
   // thermistor channels the firmware never read (core/sim/read_coverage.hpp).
   std::vector<std::string> unreadNotes(double end_s) const;
+  int unreadGroupCount() const;
   // The run may end: the charger finished and the scenario asks to stop then.
   bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done(); }
 

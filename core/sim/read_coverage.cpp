@@ -47,6 +47,12 @@ UnreadInputs unreadInputs(const MonitorChainPath& chain, const MonitorBoard& boa
   return u;
 }
 
+int unreadGroupCount(const std::vector<MonitorBoard>& boards, const std::vector<const MonitorChainPath*>& chains) {
+  size_t n = 0;
+  for (size_t b = 0; b < boards.size() && b < chains.size(); ++b) n += unreadInputs(*chains[b], boards[b]).groups.size();
+  return static_cast<int>(n);
+}
+
 std::vector<std::string> unreadNotes(const Scenario& s, const std::vector<MonitorBoard>& boards,
                                      const std::vector<const MonitorChainPath*>& chains, double end_s) {
   std::vector<std::string> out;

@@ -153,6 +153,8 @@ struct Summary {
   double limit_unseen_longest_s = 0.0;
   std::string limit_unseen_longest;
   std::vector<std::string> fet_notes;  // a FET that never conducted although asked for (core/sim/hw_fet_watch.hpp)
+  bool relay_closed = false;    // the relay contact closed at some time in the run (a relay_contact event)
+  int unmonitored_groups = 0;   // series groups whose cell voltage the firmware never read (monitor_unread)
   std::string firmware_status;  // a library firmware (bms.firmware): ran to the end, or its firmware_fault
   std::vector<std::string> firmware_target;  // target mode: per task instructions and cycles, CPU load, stack, resets
   // target mode: the same figures by name, the result file's /summary attributes target_*

@@ -502,8 +502,11 @@ RunResult RunTracker::finish(const double* q) {
     for (const MisuseReported& m : misuseEvents_)
       r_.events[m.event].detail = misuseDetail(m.board, hw_->registerMisuse(m.board).entries()[m.entry]);
   }
-  if (hw_)  // the series groups and thermistors the firmware never read
+  if (hw_) {  // the series groups and thermistors the firmware never read
     for (const std::string& d : hw_->unreadNotes(lastT_)) event(lastT_, "monitor_unread", d);
+    sm.unmonitored_groups = hw_->unreadGroupCount();
+  }
+  for (const Event& e : r_.events) sm.relay_closed = sm.relay_closed || (e.kind == "relay_contact" && e.detail == "closed");
   sm.soc_error_coulomb = socErrorCoulomb_.stats();
   sm.soc_error_ekf = socErrorEkf_.stats();
   const StrandedEnergy se = strandedEnergy(plant_.pack(), limitSoc_, sm.limit_cell - 1);

@@ -51,6 +51,8 @@ const std::vector<SummaryField>& summaryFields() {
       {"display_bars_extra_max",  [](const S& m) -> long long { return m.display_bars_extra_max; }},
       {"limit_unseen_longest_s",  [](const S& m) { return m.limit_unseen_longest_s; }},
       {"limit_unseen_longest",    [](const S& m) { return m.limit_unseen_longest; }},
+      {"relay_closed",            [](const S& m) -> long long { return m.relay_closed ? 1 : 0; }},
+      {"unmonitored_groups",      [](const S& m) -> long long { return m.unmonitored_groups; }},
       // A vehicle on its route (docs/vehicle.md): a sweep's summary.csv shows the fastest speed that finishes.
       {"vehicle_distance_km",     [](const S& m) { return m.vehicle.distance_m / 1000.0; }, vehicle},
       {"vehicle_finished",        [](const S& m) -> long long { return m.vehicle.finished ? 1 : 0; }, vehicle},

@@ -268,14 +268,14 @@ const std::vector<SummaryLine> kLines = {
        w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
        for (const Event& e : r.events)
          if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail); }},
-    {"relay", "", [](LineWriter& w, const S& s, const R& r) {  // a run whose load never got current
+    {"relay", "relay_closed", [](LineWriter& w, const S& s, const R& r) {  // a run whose load never got current
        const std::string line = relayNeverClosed(s, r);
        if (!line.empty()) w.line(line); }},
     {"FETs", "", [](LineWriter& w, const S&, const R& r) {  // a FET asked for that never conducted
        for (const std::string& line : r.summary.fet_notes) w.line(line); }},
     {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {
        unseenLimitLines(w, r); }},
-    {"unmonitored", "", [](LineWriter& w, const S&, const R& r) {  // inputs the firmware never read
+    {"unmonitored", "unmonitored_groups", [](LineWriter& w, const S&, const R& r) {  // inputs the firmware never read
        for (const Event& e : r.events)
          if (e.kind == "monitor_unread") w.line(e.detail); }},
     {"compared with", "", [](LineWriter& w, const S&, const R& r) {

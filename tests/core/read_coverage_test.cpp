@@ -55,6 +55,7 @@ TEST(ReadCoverage, AFirmwareToldSixCellsOnATwelveCellStackLeavesTheSecondDeviceU
   const RunResult r = runScenario(test::scenarioFromYaml(examplePack(6)));
   const std::vector<std::string> notes = unread(r);
   ASSERT_EQ(notes.size(), 2u) << testing::PrintToString(notes);
+  EXPECT_EQ(r.summary.unmonitored_groups, 6);  // /summary, summary.csv, Python's r.summary
   EXPECT_EQ(notes[0],
             "series groups 7-12 of 12 (on bq76pl536a device 2 of 2): the firmware never read their cell voltage in the "
             "run's 3.00 s; the BMS could not see them");
@@ -73,6 +74,7 @@ TEST(ReadCoverage, AFirmwareToldSixCellsOnATwelveCellStackLeavesTheSecondDeviceU
 TEST(ReadCoverage, TheSameFirmwareToldTwelveCellsReadsThemAll) {
   const RunResult r = runScenario(test::scenarioFromYaml(examplePack(12)));
   EXPECT_TRUE(unread(r).empty()) << testing::PrintToString(unread(r));
+  EXPECT_EQ(r.summary.unmonitored_groups, 0);
   EXPECT_EQ(formatSummary(test::scenarioFromYaml(examplePack(12)), r).find("unmonitored"), std::string::npos);
   EXPECT_TRUE(judge(test::scenarioFromYaml(examplePack(12)), r).warnings.empty());
 }

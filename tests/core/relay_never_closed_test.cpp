@@ -27,6 +27,7 @@ TEST(RelayNeverClosed, ARunRequestNeverGivenLeavesTheLoadUnservedAndSaysSo) {
   EXPECT_FALSE(r.summary.tripped);
   EXPECT_EQ(test::eventTime(r, "relay_contact", "closed"), -1.0);
   EXPECT_EQ(r.summary.charge_delivered_Ah, 0.0);
+  EXPECT_FALSE(r.summary.relay_closed);
   const std::string line = relayLine(formatSummary(s, r));
   // The bundled bench discharge is 2C of a 3.1 Ah cell: 5.9 A (its file says so).
   EXPECT_EQ(line, "relay           never closed in the run's 20.00 s: the load asked for up to 5.90 A discharge and drew "
@@ -55,6 +56,7 @@ TEST(RelayNeverClosed, AnOrdinaryRunHasNoRelayLine) {
   const Scenario s = test::scenarioFromYaml("extends: bench_6s_ncr18650_2C.yaml\nrun: {duration_s: 5}\n");
   const RunResult r = runScenario(s);
   EXPECT_GE(test::eventTime(r, "relay_contact", "closed"), 0.0);
+  EXPECT_TRUE(r.summary.relay_closed);
   EXPECT_EQ(relayLine(formatSummary(s, r)), "");
   EXPECT_TRUE(relayNeverClosed(s, r).empty());
   EXPECT_TRUE(judge(s, r).warnings.empty());
