@@ -208,7 +208,8 @@ def verdict(r: Result) -> Verdict:
     """Tripped or not, from the events: the first fault_latched is the trip (the
     protection and when); the contact, fuse and FAULT-line events say what acted; the
     recorded sample at the trip gives the BMS's reading next to the truth.
-    limit_unseen and firmware_fault events are listed whether or not it tripped."""
+    limit_unseen, firmware_fault, fault_not_reached, monitor_unread and load_end events,
+    and a relay that never closed, are listed whether or not it tripped."""
     evs = r.events
     latched = [ev for ev in evs if ev["kind"] == "fault_latched"]
     lines: list[str] = []
@@ -231,8 +232,11 @@ def verdict(r: Result) -> Verdict:
         k = ev["kind"]
         if k in _OPENED and _OPENED[k] in str(ev["detail"]):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')} {ev['detail']}")
-        elif k in ("limit_unseen", "firmware_fault", "fault_not_reached"):
+        elif k in ("limit_unseen", "firmware_fault", "fault_not_reached", "monitor_unread", "load_end"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
+    s = r.summary
+    if "relay_closed" in s and not int(s["relay_closed"]):  # the summary's `relay` line
+        lines.append(f"the relay never closed in the run: {float(s.get('charge_delivered_Ah', 0.0)):.3f} Ah delivered")
     return v
 
 

@@ -67,6 +67,18 @@ def test_the_first_latched_fault_is_the_trip_with_the_reading_at_that_sample():
     assert "6.00 s: relay contact opened" in text and "closed" not in text  # only what opened
 
 
+def test_unread_groups_a_relay_that_never_closed_and_a_profile_end_are_in_the_verdict():
+    note = "series groups 7-12 of 12 (on bq76pl536a device 2 of 2): the firmware never read their cell voltage"
+    r = _result(summary={"relay_closed": 0, "charge_delivered_Ah": 0.0},
+                events=[(10.0, "monitor_unread", note), (4.0, "load_end", "the profile's 1 lap of 4 s ended")])
+    text = "\n".join(run_facts.verdict(r).lines)
+    assert f"10.00 s: monitor unread: {note}" in text
+    assert "4.00 s: load end: the profile's 1 lap of 4 s ended" in text
+    assert "the relay never closed in the run: 0.000 Ah delivered" in text
+    closed = _result(summary={"relay_closed": 1}, events=[(0.2, "relay_contact", "closed")])
+    assert not any("never closed" in line for line in run_facts.verdict(closed).lines)
+
+
 def test_margin_sign_place_time_and_time_past_the_limit():
     v = np.full((N, 4), 3.7)
     v[7, 2] = 4.25  # cell 3 = group 2 in a 2s2p pack, past 4.2 V for one sample
