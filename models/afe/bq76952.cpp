@@ -633,7 +633,8 @@ BusTransfer Bq76952Chain::transfer(double t, const uint8_t* tx, size_t txLen, ui
   // Read phase from cmd on, the address auto-incrementing.
   {
     const size_t bytes = cfg_.crc ? rxLen / 2 : rxLen;  // with CRC each data byte is followed by its CRC
-    noteRead(0, wordsCovered(cmd, bytes, BQ952_CELL_VOLTAGE(1), BQ952_MAX_CELLS), wordsCovered(cmd, bytes, BQ952_TS1_TEMPERATURE, BQ952_MAX_TS));
+    noteRead(0, wordsCovered(cmd, bytes, BQ952_CELL_VOLTAGE(1), BQ952_MAX_CELLS),
+             wordsCovered(cmd, bytes, BQ952_TS1_TEMPERATURE, BQ952_MAX_TS));
   }
   std::array<uint8_t, BQ952_DIRECT_SPACE> regs;
   buildImage(regs);
