@@ -412,7 +412,10 @@ void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double&
     if (!fresh) settle(dv, t);
     const auto& values = fresh ? dv.pending : dv.held;
     const uint32_t ch = fresh ? dv.pendingChannels : dv.heldChannels;
-    noteRead(d, ch >> 16, (ch >> 8) & 0xFFu);  // slots 16 + c: cell c; 8 + k: AUX k
+    if ((ch & ~dv.channelsRead) != 0) {  // a slot not carried before (the usual reply: none, no call)
+      dv.channelsRead |= ch;
+      noteRead(d, ch >> 16, (ch >> 8) & 0xFFu);  // slots 16 + c: cell c; 8 + k: AUX k
+    }
     // (the length counted in a local: a byte stored through out.bytes may alias out.size,
     // which push() would reload and store again for every byte)
     size_t n = out.size;

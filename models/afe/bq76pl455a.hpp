@@ -95,6 +95,7 @@ class Bq76pl455aChain final : public MonitorChain {
     // sample results: held (readable) and pending (converting until ready_s)
     std::array<uint16_t, kResultSlots> held{}, pending{};
     uint32_t heldChannels = 0, pendingChannels = 0;
+    uint32_t channelsRead = 0;  // every slot a reply has carried so far (MonitorChain::noteRead on a new one)
     double ready_s = -1.0;  // < 0: no conversion pending
     DeviceAnalog analog;
     MonitorDeviceFault comm;

@@ -321,6 +321,8 @@ int Bq76pl536aChain::reach() const {
   return n;
 }
 
+static_assert(BQ536_TEMPERATURE2 + 2u <= 64u, "the result registers fit Device::registersRead");
+
 BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) {
   BusTransfer r;
   r.duration_s = linkTime_s(txLen + rxLen);
@@ -359,8 +361,12 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   }
   if (target == nullptr || target->comm.silent) return r;
   const size_t count = tx[2], first = tx[1];
-  noteRead(static_cast<int>(target - dev_.data()), wordsCovered(first, count, BQ536_VCELL1, BQ536_CELLS_MAX),
-           wordsCovered(first, count, BQ536_TEMPERATURE1, BQ536_TEMPS_MAX));
+  if (const uint64_t span = registerSpan(first, count); (span & ~target->registersRead) != 0) {
+    // registers not read before (the usual read: none, no call): the cells and thermistors they hold
+    target->registersRead |= span;
+    noteRead(static_cast<int>(target - dev_.data()), wordsCovered(first, count, BQ536_VCELL1, BQ536_CELLS_MAX),
+             wordsCovered(first, count, BQ536_TEMPERATURE1, BQ536_TEMPS_MAX));
+  }
   uint8_t frame[3 + 256];
   std::copy(tx, tx + 3, frame);
   // The registers from `first` on; past the register file they read 0.

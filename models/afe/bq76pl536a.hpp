@@ -78,6 +78,7 @@ class Bq76pl536aChain final : public MonitorChain {
     int firstCell = 0, cells = 0;
     std::array<uint8_t, BQ536_REGISTER_COUNT> reg{};
     bool shadowOpen = false;
+    uint64_t registersRead = 0;  // bit r: register r (< 64) read so far (MonitorChain::noteRead on a new one)
     uint8_t lastLatchWrite[2] = {0, 0};  // host's last value to ALERT_STATUS, FAULT_STATUS
     DebounceTimer cov, cuv, ot[BQ536_TEMPS_MAX];
     bool converting = false;

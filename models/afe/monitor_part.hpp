@@ -156,6 +156,13 @@ inline uint32_t wordsCovered(size_t first, size_t count, size_t base, size_t n) 
   return lo >= hi ? 0u : ((1u << hi) - 1u) & ~((1u << lo) - 1u);
 }
 
+// Bit r for each register r below 64 that a read of `count` registers from `first` covers:
+// a part's record of what was read, so that it calls noteRead only for a new register.
+inline uint64_t registerSpan(size_t first, size_t count) {
+  if (first >= 64 || count == 0) return 0u;
+  return (count >= 64 ? ~uint64_t{0} : (uint64_t{1} << count) - 1u) << first;
+}
+
 // Each part's factory is declared in its own header (models/afe/<part>.hpp) and
 // registered by its descriptor (core/parts/<part>_part.cpp, MonitorPart::make_chain).
 

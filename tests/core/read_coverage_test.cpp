@@ -36,6 +36,15 @@ TEST(ReadCoverage, WordsCoveredIsTheRegistersAReadDeliversWhole) {
         }
 }
 
+TEST(ReadCoverage, RegisterSpanIsTheRegistersBelow64AReadCovers) {
+  for (size_t first = 0; first < 100; ++first)
+    for (size_t count = 0; count < 100; ++count) {
+      uint64_t want = 0;
+      for (size_t r = first; r < first + count && r < 64; ++r) want |= uint64_t{1} << r;
+      ASSERT_EQ(registerSpan(first, count), want) << first << " " << count;
+    }
+}
+
 // 12 series groups on two BQ76PL536A devices of six; thermistors at groups 1, 2 (the
 // first device's two inputs) and 7, 8 (the second's); the example firmware reads
 // `cells` of them.
