@@ -147,6 +147,7 @@ class FirmwareHost {
   // Target mode: the interrupts taken before before_ns while the MCU idles between calls.
   bool runInterrupts(uint64_t before_ns);
   bool call(const char* what, int task);
+  int firstDue(uint64_t end_ns) const;
   __attribute__((noinline)) bool callFull(const char* what, int task);
   std::string callName(const char* what, int task) const;
   void failed(double start_s, const std::string& where, const GuardResult& r);
