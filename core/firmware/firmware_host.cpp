@@ -290,7 +290,7 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     target_->expire();  // it ran out while the MCU waited for its next task
     watchdogReset();
   }
-  if (!bootAfterReset(windowEnd_ns, out)) return;
+  if (resetPending_ && !bootAfterReset(windowEnd_ns, out)) return;  // (the usual tick: no call)
   if (target_) target_->monitorLine(in.monitorFaultPin, t_ns);  // its edge pends the ALERT interrupt
   bool due = !started_;
   for (size_t i = 0; i < nextDue_ns_.size() && !due; ++i) due = nextDue_ns_[i] < windowEnd_ns;
