@@ -97,7 +97,13 @@ class FirmwareHost {
   std::string status() const;
   uint64_t telemetryFrames() const { return telemetryFrames_; }
   const std::vector<uint8_t>& lastTelemetry() const { return lastTelemetry_; }
-  double clock_s() const { return static_cast<double>(clock_ns_) * 1e-9; }
+  // (Through int64_t below 2^63 ns, 292 years: the same double, one instruction where
+  // x86-64's unsigned 64-bit conversion takes a branch and several; at every bus transfer.)
+  double clock_s() const {
+    const double ns = clock_ns_ < (uint64_t{1} << 63) ? static_cast<double>(static_cast<int64_t>(clock_ns_))
+                                                       : static_cast<double>(clock_ns_);
+    return ns * 1e-9;
+  }
   uint64_t taskRuns(int task) const { return runs_[static_cast<size_t>(task)]; }
   // The longest simulated time one call of `task` took so far (bus transfers and
   // delays: the firmware's own code takes none), 0 before it ran.
@@ -147,6 +153,7 @@ class FirmwareHost {
   // Target mode: the interrupts taken before before_ns while the MCU idles between calls.
   bool runInterrupts(uint64_t before_ns);
   bool call(const char* what, int task);
+  int firstDue(uint64_t end_ns) const;
   __attribute__((noinline)) bool callFull(const char* what, int task);
   std::string callName(const char* what, int task) const;
   void failed(double start_s, const std::string& where, const GuardResult& r);

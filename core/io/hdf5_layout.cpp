@@ -4,6 +4,7 @@
 
 #include "core/sim/result_channels.hpp"
 
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,13 +80,28 @@ std::string dimensionName(const std::string& path, hsize_t length, const LayoutS
   return name + "_index";
 }
 
+// Whether the object at `name` is a dataset, from its header's basic information (not
+// by opening it: a dataset's open reads its layout, filters and fill value, some
+// 60,000 instructions each).
+bool isDataset(hid_t group, const char* name) {
+#if H5_VERSION_GE(1, 12, 0)
+  H5O_info2_t info;
+  if (H5Oget_info_by_name3(group, name, &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0) throw std::runtime_error("HDF5: cannot read " + std::string(name));
+#else
+  H5O_info_t info;
+  if (H5Oget_info_by_name2(group, name, &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0) throw std::runtime_error("HDF5: cannot read " + std::string(name));
+#endif
+  return info.type == H5O_TYPE_DATASET;
+}
+
 std::vector<std::string> datasetPaths(hid_t file) {
   std::vector<std::string> out;
   auto visit = [](hid_t group, const char* name, const H5L_info_t*, void* data) -> herr_t {
-    const hid_t obj = H5Oopen(group, name, H5P_DEFAULT);
-    if (obj < 0) return -1;
-    if (H5Iget_type(obj) == H5I_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
-    H5Oclose(obj);
+    try {
+      if (isDataset(group, name)) static_cast<std::vector<std::string>*>(data)->push_back(std::string("/") + name);
+    } catch (const std::exception&) {
+      return -1;  // (no exception through HDF5's C frames)
+    }
     return 0;
   };
   check(H5Lvisit(file, H5_INDEX_NAME, H5_ITER_INC, visit, &out), "list the datasets");
@@ -95,6 +111,11 @@ std::vector<std::string> datasetPaths(hid_t file) {
 class Layout {
  public:
   Layout(hid_t file, const LayoutSizes& z) : file_(file), z_(z) {}
+  ~Layout() {
+    for (const auto& [path, id] : scales_) H5Dclose(id);
+  }
+  Layout(const Layout&) = delete;
+  Layout& operator=(const Layout&) = delete;
 
   void run() {
     const std::vector<std::string> paths = datasetPaths(file_);  // before any link is added
@@ -127,8 +148,17 @@ class Layout {
   }
 
   void attach(hid_t ds, unsigned axis, const std::string& scalePath) {
-    Obj scale(H5Dopen2(file_, scalePath.c_str(), H5P_DEFAULT), scalePath);
-    check(H5DSattach_scale(ds, scale, axis), "attach dimension scale " + scalePath);
+    check(H5DSattach_scale(ds, scale(scalePath), axis), "attach dimension scale " + scalePath);
+  }
+
+  // The scale at `path`, opened on first use and kept open until the layout is done: a
+  // scale serves many datasets (/time_s most of them), each open some 60,000 instructions.
+  hid_t scale(const std::string& path) {
+    if (const auto it = scales_.find(path); it != scales_.end()) return it->second;
+    const hid_t id = H5Dopen2(file_, path.c_str(), H5P_DEFAULT);
+    if (id < 0) throw std::runtime_error("HDF5: cannot open " + path);
+    scales_.emplace(path, id);
+    return id;
   }
 
   // /time_s, hard-linked into `group` on first use.
@@ -143,13 +173,19 @@ class Layout {
   std::string indexScale(const std::string& group, std::string name, hsize_t length) {
     for (int k = 2;; ++k) {
       const std::string path = join(group, name);
-      if (H5Lexists(file_, path.c_str(), H5P_DEFAULT) <= 0) return createIndex(path, name, length);
-      Obj existing(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
-      hid_t space = H5Dget_space(existing);
-      hsize_t n = 0;
-      H5Sget_simple_extent_dims(space, &n, nullptr);
-      H5Sclose(space);
-      if (n == length && H5DSis_scale(existing) > 0) return path;
+      if (const auto it = indexLength_.find(path); it != indexLength_.end()) {  // one made here: its length known
+        if (it->second == length) return path;
+      } else if (H5Lexists(file_, path.c_str(), H5P_DEFAULT) <= 0) {
+        indexLength_.emplace(path, length);
+        return createIndex(path, name, length);
+      } else {
+        Obj existing(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
+        hid_t space = H5Dget_space(existing);
+        hsize_t n = 0;
+        H5Sget_simple_extent_dims(space, &n, nullptr);
+        H5Sclose(space);
+        if (n == length && H5DSis_scale(existing) > 0) return path;
+      }
       name = baseName(path) + "_" + std::to_string(k);
     }
   }
@@ -175,6 +211,8 @@ class Layout {
 
   hid_t file_;
   LayoutSizes z_;
+  std::map<std::string, hid_t> scales_;          // scales open for attach(), by path
+  std::map<std::string, hsize_t> indexLength_;  // index scales created here, by path: their length
 };
 
 }  // namespace

@@ -351,6 +351,14 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
   const size_t parallel = static_cast<size_t>(pack_.parallel);
   const double* converter = in.converter_A.data();
   const size_t converters = in.converter_A.size();
+  // The pack voltage and the balancing heat summed in locals (the same additions in the
+  // same order, stored once after the loop), and the per-group outputs through pointers
+  // taken once: each store of a cell's value into the signals could be one of these
+  // doubles for all the compiler knows, so it reloaded and stored them per group.
+  double packV = sig.pack_voltage_V, balanceHeat = sig.balance_heat_W;
+  double* groupV = sig.group_voltage_V.data();
+  double* cellV = sig.cell_voltage_V.data();
+  double* balanceA = sig.balance_current_A.data();
   for (int g = 0; g < pack_.series; ++g) {
     const size_t gi = static_cast<size_t>(g);
     const double ix = gi < converters ? converter[gi] : 0.0;
@@ -364,11 +372,11 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
       iBal = balancingDuty(in, gi) * balancer_.current_A(vOn);
     }
     const double v = evaluateGroup<kHeat>(g, x, bleeding ? iString + iBal : iString, faults, sig);
-    if (bleeding) sig.balance_heat_W += v * iBal;
-    sig.group_voltage_V[gi] = v;
-    sig.pack_voltage_V += v;
-    for (size_t ci = gi * parallel; ci < (gi + 1) * parallel; ++ci) sig.cell_voltage_V[ci] = v;
-    sig.balance_current_A[gi] = bus ? ix : iBal;
+    if (bleeding) balanceHeat += v * iBal;
+    groupV[gi] = v;
+    packV += v;
+    for (size_t ci = gi * parallel; ci < (gi + 1) * parallel; ++ci) cellV[ci] = v;
+    balanceA[gi] = bus ? ix : iBal;
     if (bus && ix != 0.0) {
       double loss = 0.0;
       sig.bus_current_A += converterBusCurrent_A(active_, v, ix, sig.bus_V, loss);
@@ -377,6 +385,8 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
       else sig.converter_to_modules_W -= v * ix;
     }
   }
+  sig.pack_voltage_V = packV;
+  sig.balance_heat_W = balanceHeat;
   if (iPre > 0.0) {
     sig.bus_current_A += iPre;
     sig.converter_loss_W += iPre * iPre * active_.precharge_ohm;

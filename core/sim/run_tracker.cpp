@@ -222,6 +222,10 @@ void RunTracker::setHardware(const HardwareSim* hw) {
   hw_ = hw;
   r_.rec.has_hardware = hw != nullptr;
   r_.rec.devices = hw ? hw->monitorDevices() : 0;
+  misuseLogs_.clear();
+  for (size_t b = 0; hw && b < hw->boards().size(); ++b)
+    misuseLogs_.push_back(&hw->registerMisuse(static_cast<int>(b)).entries());
+  misuseSeen_.resize(misuseLogs_.size(), 0);
 }
 
 void RunTracker::event(double t, const std::string& kind, const std::string& detail) {
@@ -232,10 +236,8 @@ void RunTracker::event(double t, const std::string& kind, const std::string& det
 // write): one register_misuse event per distinct (device, register, reason) at its
 // first occurrence; finish() fills in how often it happened.
 void RunTracker::noteMisuse() {
-  const std::vector<MonitorBoard>& boards = hw_->boards();
-  misuseSeen_.resize(boards.size(), 0);
-  for (size_t b = 0; b < boards.size(); ++b) {
-    const std::vector<RegisterMisuse>& log = hw_->registerMisuse(static_cast<int>(b)).entries();
+  for (size_t b = 0; b < misuseLogs_.size(); ++b) {
+    const std::vector<RegisterMisuse>& log = *misuseLogs_[b];
     for (; misuseSeen_[b] < log.size(); ++misuseSeen_[b]) {
       misuseEvents_.push_back({static_cast<int>(b), misuseSeen_[b], r_.events.size()});
       event(log[misuseSeen_[b]].first_s, "register_misuse", misuseDetail(static_cast<int>(b), log[misuseSeen_[b]]));

@@ -74,6 +74,10 @@ class RunTracker {
   };
   std::vector<size_t> misuseSeen_;
   std::vector<MisuseReported> misuseEvents_;
+  // Each board's misuse log (its monitor part's own, where it stays for the run), taken
+  // once by setHardware: read through it each tick instead of the two out-of-line calls
+  // down to the part (some 40 instructions a tick).
+  std::vector<const std::vector<RegisterMisuse>*> misuseLogs_;
   void noteMisuse();
   std::string misuseDetail(int board, const RegisterMisuse& m) const;
   std::vector<double> cellTemp_C_;

@@ -86,10 +86,18 @@ struct FlatCurve {
   }
   // The 1-D value y with the curve's temperature factor, if it has one (Curve::at(x, T)).
   double timesArrhenius(double y, double temp_C) const { return has_arrhenius ? y * arrhenius(temp_C) : y; }
-  // Curve::at's Horner loop over the coefficients (highest power first).
+  // Curve::at's Horner loop over the coefficients (highest power first): the same
+  // multiply and add per coefficient in the same order, two a round (the loop's count
+  // and branch once per two: some 10 instructions less for a cell's R0 fit of six
+  // coefficients, evaluated per cell at every plant evaluation).
   double polynomialAt(double x) const {
     double y = 0.0;
-    for (size_t k = 0; k < n; ++k) y = y * x + coeffs[k];
+    size_t k = 0;
+    for (; k + 2 <= n; k += 2) {
+      y = y * x + coeffs[k];
+      y = y * x + coeffs[k + 1];
+    }
+    if (k < n) y = y * x + coeffs[k];
     return y;
   }
   // interpolateN(xs, ys, n, x, &hint). When x lies strictly inside the remembered segment

@@ -141,6 +141,9 @@ TEST(Curve, FlatCurveIsCurveEvalBitForBit) {
       Curve::polynomial(kRint, CurveAxis::Discharged_Ah),
       Curve::polynomial(kRint, CurveAxis::Discharged_Ah).withArrhenius(2250.0, 20.0),
       Curve::polynomial({0.8, 3.4}),
+      // FlatCurve's Horner goes two coefficients a round: whole rounds only, rounds and a last one
+      Curve::polynomial({-0.457, 0.1991, 0.0695, 3.1}),
+      Curve::polynomial({1e-3, -0.02, 0.0292, -0.1914, 0.4481, -0.457, 0.1991, 0.0695, 3.3}, CurveAxis::Discharged_Ah),
       Curve::table(xs, ys),
       Curve::table(xs, ys).withArrhenius(-1500.0, 30.0),
       Curve::table(ah, ah_y, CurveAxis::Discharged_Ah),
