@@ -177,8 +177,10 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
     DeviceReading& o = out[d];
     const uint8_t cells = cellsOf(c, d);
     const uint8_t n = cells < kMaxCellsPerDevice ? cells : kMaxCellsPerDevice;
+    // Every slot zeroed in a few wide stores, then the device's cells (the slots past
+    // them one by one were two instructions each).
+    std::memset(o.cell_mV, 0, sizeof o.cell_mV);
     for (uint8_t i = 0; i < n; ++i) o.cell_mV[i] = afeCellCodeToMv(be16(v + BQ536_VCELL(i)), c.cellLsb_uV);
-    for (uint8_t i = n; i < kMaxCellsPerDevice; ++i) o.cell_mV[i] = 0;
     // Codes through afeSetThermCodes: an input reading the same code keeps the core's
     // conversion of it (nearly every read-out: a thermistor moves slowly).
     const uint16_t codes[kMaxThermPerDevice] = {be16(v + BQ536_TEMPERATURE1), be16(v + BQ536_TEMPERATURE2)};
