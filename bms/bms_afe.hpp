@@ -83,7 +83,13 @@ inline void afeSetThermCodes(DeviceReading& r, const uint16_t (&codes)[kMaxTherm
   r.thermConverted = static_cast<uint8_t>(r.thermConverted & ~changed);
 }
 
-// Cells held by device d (the last device may be partly populated).
-uint8_t afeCellsOf(const AfeConfig& c, uint16_t cellCount, uint8_t d);
+// Cells held by device d (the last device may be partly populated). Inline: measure()
+// asks it for every device every tick.
+inline uint8_t afeCellsOf(const AfeConfig& c, uint16_t cellCount, uint8_t d) {
+  const uint32_t first = static_cast<uint32_t>(d) * c.cellsPerDevice;
+  if (first >= cellCount) return 0;
+  const uint32_t left = cellCount - first;
+  return static_cast<uint8_t>(left < c.cellsPerDevice ? left : c.cellsPerDevice);
+}
 
 }  // namespace bms

@@ -4,20 +4,12 @@
 
 namespace bms {
 
-namespace {
-
-const AfeDriver* const kDrivers[] = {
+const AfeDriver* const kAfeDrivers[] = {
 #define MONITOR_PART(name) &afe_##name,
 #include "afe/monitor_parts.def"
 #undef MONITOR_PART
 };
-constexpr uint8_t kDriverCount = static_cast<uint8_t>(sizeof kDrivers / sizeof kDrivers[0]);
-
-}  // namespace
-
-uint8_t afeDriverCount() { return kDriverCount; }
-
-const AfeDriver* afeDriver(uint8_t part) { return part < kDriverCount ? kDrivers[part] : nullptr; }
+const uint8_t kAfeDriverCount = static_cast<uint8_t>(sizeof kAfeDrivers / sizeof kAfeDrivers[0]);
 
 bool afeSelect(Config& c, uint8_t part) {
   const AfeDriver* d = afeDriver(part);

@@ -71,8 +71,13 @@ struct AfeDriver {
 #undef MONITOR_PART
 
 // The registry (bms/afe/monitor_parts.def, in its order; part 0 is the default).
-uint8_t afeDriverCount();
-const AfeDriver* afeDriver(uint8_t part);  // nullptr: no part under that index
+// The table itself is read inline (the control tick looks its part up three times).
+extern const AfeDriver* const kAfeDrivers[];
+extern const uint8_t kAfeDriverCount;
+inline uint8_t afeDriverCount() { return kAfeDriverCount; }
+inline const AfeDriver* afeDriver(uint8_t part) {  // nullptr: no part under that index
+  return part < kAfeDriverCount ? kAfeDrivers[part] : nullptr;
+}
 // Selects part `part` for the stack: Config::afe.part and the part's default settings.
 // Returns false (c unchanged) for an index not registered.
 bool afeSelect(Config& c, uint8_t part);

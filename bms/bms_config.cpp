@@ -53,9 +53,4 @@ Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount) {
   return c;
 }
 
-uint8_t afeThermistorChannels(const Config& c) {
-  const uint32_t inputs = static_cast<uint32_t>(c.afe.deviceCount) * c.afe.thermistorsPerDevice;
-  return static_cast<uint8_t>(inputs < c.thermistorCount ? inputs : c.thermistorCount);
-}
-
 }  // namespace bms

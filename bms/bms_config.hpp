@@ -171,7 +171,11 @@ struct Config {
 // thresholds and hardware from the scenario.
 Config defaultConfig(uint16_t cellCount, uint8_t thermistorCount);
 
-// Thermistor channels read by the monitor ICs (the rest are on the MCU's ADC).
-uint8_t afeThermistorChannels(const Config& c);
+// Thermistor channels read by the monitor ICs (the rest are on the MCU's ADC). Inline:
+// the control tick asks it twice.
+inline uint8_t afeThermistorChannels(const Config& c) {
+  const uint32_t inputs = static_cast<uint32_t>(c.afe.deviceCount) * c.afe.thermistorsPerDevice;
+  return static_cast<uint8_t>(inputs < c.thermistorCount ? inputs : c.thermistorCount);
+}
 
 }  // namespace bms

@@ -160,7 +160,7 @@ void estimateTelemetry(const Config& cfg, const CoreState& s, uint16_t meanCell_
 
 void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   Telemetry& tm = out.telemetry;
-  measure(cfg, in, s.acq, tm, s.quantity);
+  const bool tempsMoved = measure(cfg, in, s.acq, tm, s.quantity);
   const bool complete = acquisitionComplete(cfg, s.acq);
   // Cell readings new since the last tick (a read-out arrived): the estimators correct
   // with them once; between read-outs they only predict with the current.
@@ -174,7 +174,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
     packMerge(cfg, s.pack, in.now_ms, tm, s.quantity);
   socUpdate(cfg.soc, s.soc, fresh, meanCell, tm.packCurrent_mA, in.now_ms);
   ekfUpdate(cfg.soc, cfg.therm, s.ekf, cfg.cellCount, fresh, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
-            in.now_ms);
+            in.now_ms, !tempsMoved);
   historyQuantities(cfg, s, in, tm, s.quantity);
   if (!member) protectionUpdate(cfg, s.quantity, in.now_ms, driving(s), s.protection);  // a member has no relay
 

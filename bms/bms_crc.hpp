@@ -10,6 +10,10 @@
 namespace bms {
 
 uint8_t crcCrc8(const uint8_t* data, size_t length);
+// The same over N bytes, N known at build time (instantiated for N = 32: the telemetry
+// frame).
+template <size_t N>
+uint8_t crcCrc8Fixed(const uint8_t* data);
 uint16_t crcCrc16(const uint8_t* data, size_t length);
 
 }  // namespace bms

@@ -245,6 +245,7 @@ float rcDecay(const EkfConfig& k, EkfState& s, uint32_t dt_ms) {
 
 void ekfReset(EkfState& s) {
   s.started = false;
+  s.r0Held = false;
   s.last_ms = 0;
   s.decayDt_ms = 0;
   s.decay = 0.0f;
@@ -297,11 +298,19 @@ float ekfPackSoc(const EkfState& s, uint16_t groups, uint16_t groupPermille[]) {
 }
 
 void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
-               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms) {
+               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms, bool tempsAsBefore) {
   const uint32_t dt_ms = now_ms - s.last_ms;
   s.last_ms = now_ms;
   if (c.ocvPoints < 2) return;  // no table, no model
-  if (valid) setR0Scales(c.ekf, therm, s, groups, temp_dC);
+  // R0's factors are a function of the readings alone (the map, the groups and the
+  // configuration are the reset's): while no temperature moves they are kept (the
+  // usual tick: a thermistor moves slowly), saving an expf per distinct reading and the
+  // passes over the channels and groups.
+  if (!tempsAsBefore) s.r0Held = false;
+  if (valid && !s.r0Held) {
+    setR0Scales(c.ekf, therm, s, groups, temp_dC);
+    s.r0Held = true;
+  }
   if (!s.started) {
     if (valid) start(c, s, groups, cell_mV, current_mA);
     return;

@@ -28,6 +28,7 @@ namespace bms {
 // Each series group's filter state at index g of every array (structure of arrays).
 struct EkfState {
   bool started;
+  bool r0Held;          // r0Scale holds the factors of the temperatures as they read now
   uint16_t decayDt_ms;  // the tick length `decay` holds the RC decay of (0: none yet)
   uint32_t last_ms;
   float decay;          // exp(-dt / tau1) at decayDt_ms: one expf per change of tick length
@@ -41,9 +42,12 @@ struct EkfState {
 void ekfReset(EkfState& s);
 // One tick over `groups` series groups. `valid` = a complete cell measurement.
 // `temp_dC` = this tick's thermistor readings (kTempInvalid_dC where invalid; nullptr:
-// none, R0 at r0RefTemp_C), `therm` where each channel sits.
+// none, R0 at r0RefTemp_C), `therm` where each channel sits. tempsAsBefore: the caller
+// knows temp_dC reads as at the previous call (the same array, every value the same),
+// so R0's factors computed since then still hold (bms_core passes measure()'s answer);
+// false recomputes them at every complete reading.
 void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
-               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms);
+               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms, bool tempsAsBefore = false);
 // R0's temperature factor exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)) at temp_C (held within
 // -55…125 °C); exactly 1 when r0ArrheniusK = 0.
 float ekfR0Factor(const EkfConfig& k, float temp_C);

@@ -71,13 +71,19 @@ void alertTask(void* ram, psfw_board* b, const psfw_board_api* api) {
 void controlTask(void* ram, psfw_board* b, const psfw_board_api* api) {
   CoreFirmwareRam& r = ramOf(ram);
   readPins(r.cfg, r.in, b, api);
-  packReceive(r.cfg, r.core.pack, r.in.now_ms, b, api);
+  // Only a pack of several boards has frames to exchange (bms_pack.hpp): a board alone
+  // skips the calls, which would return at once (their arguments cost some 70
+  // instructions a tick).
+  const bool severalBoards = r.cfg.pack.boards > 1;
+  if (severalBoards) packReceive(r.cfg, r.core.pack, r.in.now_ms, b, api);
   const bool fresh = r.core.acq.fresh;
   step(r.cfg, r.core, r.in, r.out);
-  uint16_t range[2];
-  balanceRange(r.cfg, r.core.balance, r.out.telemetry, range[0], range[1]);
-  packSend(r.cfg, r.core.pack, r.out, r.core.balancePermitted, r.out.state == State::Charge, fresh, r.core.quantity,
-           range, b, api);
+  if (severalBoards) {
+    uint16_t range[2];
+    balanceRange(r.cfg, r.core.balance, r.out.telemetry, range[0], range[1]);
+    packSend(r.cfg, r.core.pack, r.out, r.core.balancePermitted, r.out.state == State::Charge, fresh, r.core.quantity,
+             range, b, api);
+  }
   writePins(r.out, b, api);
   writeMonitors(r, b, api);
   api->telemetry_send(b, r.telemetry, telemetryEncode(r.out, r.telemetry));

@@ -54,7 +54,7 @@ void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* r
   if (full) a.fresh = true;
 }
 
-void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
+bool measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]) {
   // 1. Comm status of every device; the device's own protection counts from a read that
   //    just succeeded (a device that stopped answering is the comm-loss rule's).
@@ -108,6 +108,7 @@ void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry
   int16_t minT = INT16_MAX;
   int16_t maxFet = INT16_MIN;
   uint8_t invalid = 0;
+  bool moved = false;  // a channel reads differently from the previous tick
   uint8_t nextDevice = 0, nextInput = 0;  // AFE channel k is input k % perDevice of device k / perDevice
   for (uint8_t k = 0; k < cfg.thermistorCount; ++k) {
     int16_t dC = kTempInvalid_dC;
@@ -118,6 +119,7 @@ void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry
         ++nextDevice;
       }
       if (!a.seen[d]) {
+        moved = moved || tm.temperature_dC[k] != kTempInvalid_dC;
         tm.temperature_dC[k] = kTempInvalid_dC;
         continue;  // no data yet is a comm problem, not a sensor fault
       }
@@ -132,6 +134,7 @@ void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry
     } else {
       dC = thermistorCodeToDeciCelsius(cfg.scaling, in.mcuThermistorCode[k - afeTherm]);
     }
+    moved = moved || tm.temperature_dC[k] != dC;
     tm.temperature_dC[k] = dC;
     if (dC == kTempInvalid_dC) {
       ++invalid;
@@ -184,6 +187,7 @@ void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry
   set(Quantity::EStopPulled, (in.eSwitchInternal || in.eSwitchExternal) ? 1 : 0);
   set(Quantity::MonitorFaultLine, tm.monitorFault ? 1 : 0);
   set(Quantity::CellSpread_mV, counted > 0 ? static_cast<int32_t>(maxMv - minMv) : 0);
+  return moved;
 }
 
 }  // namespace bms

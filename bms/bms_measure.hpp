@@ -45,8 +45,9 @@ void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* r
 // A ratiometric part's thermistor input whose code has not changed since this tick's
 // Telemetry converted it keeps that temperature (DeviceReading::thermConverted): call it
 // with the same Telemetry every tick (the firmware's Outputs), or with readings built
-// afresh.
-void measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
+// afresh. Returns whether any of temperature_dC[0 .. thermistorCount) now reads
+// differently from what tm held before the call.
+bool measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,
              int32_t quantity[kQuantityCount]);
 
 }  // namespace bms

@@ -33,7 +33,7 @@ uint8_t telemetryEncode(const Outputs& out, uint8_t f[kTelemetryFrameBytes]) {
   uint8_t lost = 0;  // devices lost: one pass per set bit (none on the usual tick)
   for (uint64_t m = tm.devicesLost; m != 0; m &= m - 1) ++lost;
   f[31] = lost;
-  f[32] = crcCrc8(f, kTelemetryFrameBytes - 1);
+  f[32] = crcCrc8Fixed<kTelemetryFrameBytes - 1>(f);
   return kTelemetryFrameBytes;
 }
 

@@ -11,10 +11,18 @@ namespace {
 
 uint8_t addrOf(uint8_t d) { return static_cast<uint8_t>(d + 1u); }  // device d answers d + 1
 
+// One write's frame: command, register, value, CRC.
+void writeFrame(uint8_t (&f)[BQ536_WRITE_FRAME_LEN], uint8_t addr, uint8_t reg, uint8_t value) {
+  f[0] = BQ536_FRAME_WRITE(addr);
+  f[1] = reg;
+  f[2] = value;
+  f[3] = crcCrc8(f, 3);
+}
+
 void writeReg(const Bq536Config& c, psfw_board* b, const psfw_board_api* api, uint8_t addr, uint8_t reg,
               uint8_t value) {
-  uint8_t f[BQ536_WRITE_FRAME_LEN] = {BQ536_FRAME_WRITE(addr), reg, value, 0};
-  f[3] = crcCrc8(f, 3);
+  uint8_t f[BQ536_WRITE_FRAME_LEN];
+  writeFrame(f, addr, reg, value);
   api->bus_transfer(b, c.bus, f, BQ536_WRITE_FRAME_LEN, nullptr, 0);
 }
 
@@ -109,6 +117,7 @@ void applyFlags(const uint8_t* flags, DeviceReading& o) {
 bool bq536Init(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api) {
   s.addressed = 0;
   s.configured = 0;
+  writeFrame(s.convertFrame, BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, BQ536_CONV_START);
   // 1. Every device back to address 0 (only addressed devices pass the frame on, so a
   //    stack that is already addressed resets top to bottom in one frame).
   writeReg(c, b, api, BQ536_ADDR_BROADCAST, BQ536_RESET, BQ536_RESET_KEY);
@@ -153,7 +162,7 @@ bool bq536Init(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_bo
 void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw_board_api* api,
                   DeviceReading* out, FrameResult* res) {
   ++s.readouts;
-  writeReg(c, b, api, BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, BQ536_CONV_START);
+  api->bus_transfer(b, c.bus, s.convertFrame, BQ536_WRITE_FRAME_LEN, nullptr, 0);  // ADC_CONVERT, broadcast
   const uint32_t conv_us = static_cast<uint32_t>(channelsOf(c)) * c.conversionPerChannel_us;
   api->delay_us(b, conv_us);
   for (uint8_t d = 0; d < devicesOf(c); ++d) {
@@ -177,8 +186,10 @@ void bq536ReadAll(const Bq536Config& c, Bq536State& s, psfw_board* b, const psfw
     DeviceReading& o = out[d];
     const uint8_t cells = cellsOf(c, d);
     const uint8_t n = cells < kMaxCellsPerDevice ? cells : kMaxCellsPerDevice;
+    // Every slot zeroed in a few wide stores, then the device's cells (the slots past
+    // them one by one were two instructions each).
+    std::memset(o.cell_mV, 0, sizeof o.cell_mV);
     for (uint8_t i = 0; i < n; ++i) o.cell_mV[i] = afeCellCodeToMv(be16(v + BQ536_VCELL(i)), c.cellLsb_uV);
-    for (uint8_t i = n; i < kMaxCellsPerDevice; ++i) o.cell_mV[i] = 0;
     // Codes through afeSetThermCodes: an input reading the same code keeps the core's
     // conversion of it (nearly every read-out: a thermistor moves slowly).
     const uint16_t codes[kMaxThermPerDevice] = {be16(v + BQ536_TEMPERATURE1), be16(v + BQ536_TEMPERATURE2)};

@@ -20,6 +20,7 @@
 #include "../bms_afe.hpp"
 #include "../bms_limits.hpp"
 #include "../packsim_fw.h"
+#include "bq76pl536a_regs.h"
 
 namespace bms {
 
@@ -45,6 +46,9 @@ struct Bq536Config {
 struct Bq536State {
   uint8_t addressed;   // devices that took their address at init (bottom-up)
   uint8_t configured;  // of those, devices whose CONFIG_* read back as written
+  // The read-out's broadcast ADC_CONVERT frame, built by init: the same bytes and CRC at
+  // every read-out (a CRC a read-out saved).
+  uint8_t convertFrame[BQ536_WRITE_FRAME_LEN];
   uint32_t crcRetries;  // reads repeated after a bad CRC (diagnostics)
   uint32_t readouts;
 };

@@ -43,6 +43,7 @@ TEST(Crc, TableEqualsBitSerialOnEveryLength) {
     for (uint8_t& b : buf) b = static_cast<uint8_t>(rng());
     const size_t n = static_cast<size_t>(trial % 65);
     ASSERT_EQ(bms::crcCrc8(buf.data(), n), serial8(buf.data(), n)) << "length " << n;
+    ASSERT_EQ(bms::crcCrc8Fixed<32>(buf.data()), serial8(buf.data(), 32));  // the telemetry frame's
     ASSERT_EQ(bms::crcCrc16(buf.data(), n), serial16(buf.data(), n)) << "length " << n;
   }
 }

@@ -197,7 +197,9 @@ TEST(Ekf, TracksAColdCellWithItsMeasuredTemperature) {
 // segment through the clamping lookup, one group at a time with a branch where the
 // innovation variance is not positive), over random maps, temperatures with invalid
 // readings, currents and ticks with and without a fresh reading, and group counts that
-// leave 0 to 3 groups after the blocks of four the firmware updates in SIMD lanes.
+// leave 0 to 3 groups after the blocks of four the firmware updates in SIMD lanes; the
+// firmware told whenever the temperatures read as at its previous call (R0's factors
+// kept), the reference recomputing them at every fresh reading.
 namespace reference {
 
 float clamp01(float v) { return v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v); }
@@ -304,17 +306,23 @@ TEST(Ekf, MatchesTheStraightforwardFormBitForBit) {
     bms::ekfReset(mine);
     bms::ekfReset(ref);
     uint16_t cell_mV[kMaxGroups];
-    int16_t temp_dC[bms::kMaxThermistors];
+    int16_t temp_dC[bms::kMaxThermistors], last_dC[bms::kMaxThermistors];
     uint32_t now = 4294960000u + static_cast<uint32_t>(pick(5000));  // across the millisecond wrap
     for (int tick = 0; tick < 300; ++tick) {
       now += 1 + pick(30);
       for (uint16_t g = 0; g < kGroups; ++g) cell_mV[g] = static_cast<uint16_t>(2900 + pick(1400));
-      for (int16_t& t : temp_dC) t = pick(10) == 0 ? bms::kTempInvalid_dC : static_cast<int16_t>(pick(1800)) - 600;
-      for (uint8_t ch = 1; ch < bms::kMaxThermistors; ++ch)  // neighbours reading the same, now and then
-        if (pick(3) == 0) temp_dC[ch] = temp_dC[ch - 1];
+      // New temperatures every tick in some runs, now and then in the others (held in
+      // between: the firmware keeps R0's factors while told they read as before).
+      if (tick == 0 || run % 3 == 0 || pick(4) == 0) {
+        for (int16_t& t : temp_dC) t = pick(10) == 0 ? bms::kTempInvalid_dC : static_cast<int16_t>(pick(1800)) - 600;
+        for (uint8_t ch = 1; ch < bms::kMaxThermistors; ++ch)  // neighbours reading the same, now and then
+          if (pick(3) == 0) temp_dC[ch] = temp_dC[ch - 1];
+      }
+      const bool asBefore = tick > 0 && std::memcmp(temp_dC, last_dC, sizeof temp_dC) == 0;
+      std::memcpy(last_dC, temp_dC, sizeof temp_dC);
       const int32_t current_mA = static_cast<int32_t>(pick(20000)) - 10000;
       const bool valid = pick(4) != 0;
-      bms::ekfUpdate(c, m, mine, kGroups, valid, cell_mV, current_mA, temp_dC, now);
+      bms::ekfUpdate(c, m, mine, kGroups, valid, cell_mV, current_mA, temp_dC, now, asBefore);
       if (!ref.started) {  // the start is unchanged: take it from the firmware
         if (mine.started) ref = mine;
         else ref.last_ms = now;

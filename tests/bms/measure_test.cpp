@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <random>
 
 namespace {
@@ -90,10 +91,11 @@ TEST(Measure, TemperatureChannelsMapToTheirDeviceAndInput) {
 // random read-outs (some inputs unchanged, some changed, rails, reads that fail and leave
 // the reading as it was, ticks without a read-out), every channel still equals a fresh
 // conversion of the code its device holds. A code written past afeSetThermCodes shows
-// the kept value, so the test sees the reuse happen.
+// the kept value, so the test sees the reuse happen. measure() says whether a
+// temperature moved (two MCU channels moving now and then as well): exactly when one did.
 TEST(Measure, KeptThermistorConversionsEqualFreshOnes) {
-  const uint8_t devices = 3, perDevice = 4;
-  bms::Config cfg = bms::defaultConfig(static_cast<uint16_t>(devices * 2), static_cast<uint8_t>(devices * perDevice));
+  const uint8_t devices = 3, perDevice = 4, mcu = 2;
+  bms::Config cfg = bms::defaultConfig(static_cast<uint16_t>(devices * 2), static_cast<uint8_t>(devices * perDevice + mcu));
   ASSERT_EQ(bms::afeDriver(cfg.afe.part)->api->temperature_dC, bms::afeRatiometricTemp_dC);
   cfg.afe.deviceCount = devices;
   cfg.afe.cellsPerDevice = 2;
@@ -105,7 +107,7 @@ TEST(Measure, KeptThermistorConversionsEqualFreshOnes) {
   bms::Telemetry tm{};
   int32_t quantity[bms::kQuantityCount];
   std::mt19937 rng(7);
-  uint32_t kept = 0, converted = 0;
+  uint32_t kept = 0, converted = 0, stillTicks = 0;
   for (int tick = 0; tick < 3000; ++tick) {
     bms::FrameResult res[bms::kMaxDevices];
     const bool readout = tick % 3 != 2;
@@ -129,8 +131,14 @@ TEST(Measure, KeptThermistorConversionsEqualFreshOnes) {
         kept += held ? 1u : 0u;
         converted += held ? 0u : 1u;
       }
-    bms::measure(cfg, in, a, tm, quantity);
-    for (uint8_t k = 0; k < cfg.thermistorCount; ++k) {
+    for (uint8_t m = 0; m < mcu; ++m)
+      if (rng() % 8 == 0) in.mcuThermistorCode[m] = static_cast<uint16_t>(rng() % 5 == 0 ? 0 : 1500 + rng() % 4);
+    int16_t before[bms::kMaxThermistors];
+    std::memcpy(before, tm.temperature_dC, sizeof before);
+    const bool moved = bms::measure(cfg, in, a, tm, quantity);
+    ASSERT_EQ(moved, std::memcmp(before, tm.temperature_dC, sizeof before) != 0) << "tick " << tick;
+    stillTicks += moved ? 0u : 1u;
+    for (uint8_t k = 0; k < devices * perDevice; ++k) {
       const uint8_t d = static_cast<uint8_t>(k / perDevice), i = static_cast<uint8_t>(k % perDevice);
       const int16_t want = a.seen[d] ? bms::thermistorCodeToDeciCelsius(cfg.scaling, a.device[d].thermCode[i])
                                      : bms::kTempInvalid_dC;
@@ -139,6 +147,7 @@ TEST(Measure, KeptThermistorConversionsEqualFreshOnes) {
   }
   EXPECT_GT(kept, 10000u);  // most inputs kept their conversion...
   EXPECT_GT(converted, 3000u);  // ... and the changed ones were converted again
+  EXPECT_GT(stillTicks, 100u);   // ticks where no temperature moved
 
   // The reuse is real: a code written around afeSetThermCodes is not seen.
   const int16_t before = tm.temperature_dC[0];

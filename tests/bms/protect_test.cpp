@@ -225,6 +225,7 @@ uint8_t opened(const bms::Config& cfg, const bms::ProtectionState& ps, bool driv
 
 TEST(Protection, MatchesTheStraightforwardTableWalkOnRandomTables) {
   std::mt19937 rng(11);
+  uint32_t idleTicks = 0, heldTicks = 0;
   auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<uint32_t>(n)); };
   for (int table = 0; table < 300; ++table) {
     bms::Config cfg = bms::defaultConfig(4, 1);
@@ -253,6 +254,7 @@ TEST(Protection, MatchesTheStraightforwardTableWalkOnRandomTables) {
         bms::ProtectionRule& r = cfg.rules[pick(bms::kFaultCount)];
         r.enabled = !r.enabled;
       }
+      ++(mine.active != 0 ? heldTicks : idleTicks);  // the pass with and without hysteresis margins
       bms::protectionUpdate(cfg, quantity, now, driving, mine);
       reference::update(cfg, quantity, now, driving, ref);
       ASSERT_EQ(mine.violating, ref.violating) << "table " << table << " tick " << tick;
@@ -271,6 +273,8 @@ TEST(Protection, MatchesTheStraightforwardTableWalkOnRandomTables) {
       }
     }
   }
+  EXPECT_GT(idleTicks, 500u);
+  EXPECT_GT(heldTicks, 10000u);
 }
 
 }  // namespace
