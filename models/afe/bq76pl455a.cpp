@@ -306,7 +306,8 @@ void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
 void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   const uint32_t ch = get32(dv.reg, PL455_REG_CHANNELS);
   const int samples = 1 << std::min<unsigned>(dv.reg[PL455_REG_OVERSMPL] & PL455_OVERSMPL_LOG2_MASK, PL455_OVERSMPL_MAX_LOG2);
-  const int selected = __builtin_popcount(ch);
+  dv.replySlots.select(ch);  // the reply's order, made here: its count is the channels selected
+  const int selected = static_cast<int>(dv.replySlots.count());
   // cell_adc.noise_rms is the noise at the configured oversampling; the register's
   // setting averages more or fewer samples.
   AdcChannel base = cfg_.cell_adc;
@@ -419,11 +420,12 @@ void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double&
     // (the length counted in a local: a byte stored through out.bytes may alias out.size,
     // which push() would reload and store again for every byte)
     size_t n = out.size;
-    for (uint32_t m = ch; m != 0;) {  // the selected slots, highest first
-      const unsigned b = 31u - static_cast<unsigned>(__builtin_clz(m));
-      m &= ~(1u << b);
-      out.bytes[n++] = static_cast<uint8_t>(values[b] >> 8);
-      out.bytes[n++] = static_cast<uint8_t>(values[b] & 0xFF);
+    dv.replySlots.select(ch);  // the selected slots, highest first
+    const uint8_t* slot = dv.replySlots.slots();
+    for (unsigned i = 0, count = dv.replySlots.count(); i < count; ++i, n += 2) {
+      const uint16_t v = values[slot[i]];
+      out.bytes[n] = static_cast<uint8_t>(v >> 8);
+      out.bytes[n + 1] = static_cast<uint8_t>(v & 0xFF);
     }
     out.size = n;
   } else {

@@ -37,6 +37,7 @@
 #include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
 #include "models/afe/monitor_part.hpp"
+#include "models/afe/reply_slots.hpp"
 #include "models/sensors/adc.hpp"
 
 namespace packsim {
@@ -96,6 +97,7 @@ class Bq76pl455aChain final : public MonitorChain {
     std::array<uint16_t, kResultSlots> held{}, pending{};
     uint32_t heldChannels = 0, pendingChannels = 0;
     uint32_t channelsRead = 0;  // every slot a reply has carried so far (MonitorChain::noteRead on a new one)
+    ReplySlots replySlots;      // the order a sample reply sends its channels in
     double ready_s = -1.0;  // < 0: no conversion pending
     DeviceAnalog analog;
     MonitorDeviceFault comm;

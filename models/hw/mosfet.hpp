@@ -5,6 +5,8 @@
 //   on:  v = I·Rds_on,  p = I²·Rds_on
 //   off: I in the diode's direction: v = Vf + I·R_diode, p = v·|I|;  otherwise blocks
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace packsim {
@@ -20,8 +22,14 @@ struct MosfetConfig {
 
 // Can current of this sign flow (positive = discharge)?
 bool mosfetConducts(const MosfetConfig& c, bool gateOn, double current_A);
-// Dissipation at a current that does flow.
-double mosfetLoss_W(const MosfetConfig& c, bool gateOn, double current_A);
+// Dissipation at a current that does flow. Inline, as fetCurrent_A: asked for twice a
+// tick (the switchgear's report) and at every plant evaluation, for a few operations.
+inline double mosfetLoss_W(const MosfetConfig& c, bool gateOn, double current_A) {
+  if (!c.present) return 0.0;
+  const double i = std::fabs(current_A);
+  if (gateOn) return i * i * c.rds_on_ohm;
+  return (c.diode_vf_V + i * c.diode_r_ohm) * i;
+}
 
 // How the discharge and charge FETs sit between the pack and the outside world:
 //   Series    back to back in one path: both carry the pack current both ways
@@ -42,7 +50,10 @@ inline bool fetGateOn(FetControl c, bool mcuPin, bool partDriver) {
 }
 
 // The current through one FET of the pair for a pack current (positive = discharge).
-double fetCurrent_A(FetPaths paths, bool dischargeFet, double pack_A);
+inline double fetCurrent_A(FetPaths paths, bool dischargeFet, double pack_A) {
+  if (paths == FetPaths::Series) return pack_A;
+  return dischargeFet ? std::max(pack_A, 0.0) : std::min(pack_A, 0.0);
+}
 // Can pack current of this sign flow through the pair?
 bool fetPairConducts(FetPaths paths, const MosfetConfig& dsg, bool dsgOn, const MosfetConfig& chg, bool chgOn,
                      double sign);

@@ -9,7 +9,8 @@
 // nearby streams give unrelated generators.
 #pragma once
 #include <cstdint>
-#include <random>
+
+#include "models/random/mt19937_64.hpp"
 
 namespace packsim {
 
@@ -22,21 +23,22 @@ enum class RngStream : uint64_t {
   MonitorBoard = 0xB0A4D00,       // + b: the seed of monitor board b >= 1's stack (board 0 uses the run's)
 };
 
-// The simulator's random source: a 64-bit Mersenne Twister plus the second normal of
-// the last Box-Muller pair, so each pair of uniforms yields two normals. A standard
-// UniformRandomBitGenerator, so std:: algorithms take it too.
+// The simulator's random source: a 64-bit Mersenne Twister (std::mt19937_64's numbers,
+// mt19937_64.hpp) plus the second normal of the last Box-Muller pair, so each pair of
+// uniforms yields two normals. A standard UniformRandomBitGenerator, so std:: algorithms
+// take it too.
 class Rng {
  public:
-  using result_type = std::mt19937_64::result_type;
-  explicit Rng(uint64_t seed = std::mt19937_64::default_seed) : engine_(seed) {}
+  using result_type = uint64_t;
+  explicit Rng(uint64_t seed = Mt19937_64::kDefaultSeed) : engine_(seed) {}
   result_type operator()() { return engine_(); }
-  static constexpr result_type min() { return std::mt19937_64::min(); }
-  static constexpr result_type max() { return std::mt19937_64::max(); }
+  static constexpr result_type min() { return 0; }
+  static constexpr result_type max() { return ~result_type{0}; }
 
  private:
   friend double standardNormal(Rng& rng);
   friend double standardNormalPair(Rng& rng);
-  std::mt19937_64 engine_;
+  Mt19937_64 engine_;
   double spare_ = 0.0;
   bool hasSpare_ = false;
 };

@@ -3,7 +3,8 @@
 // mode), roundHalfAway against std::llround, copyBytes / zeroBytes / copyValues against a plain loop, windowMasks
 // (two cells per SSE2 compare) against its plain loop, takeOverBytes / takeOverDoubles
 // against a compare-and-copy loop, standardNormal (its kept second
-// normal served inline) against Box-Muller written out here on the same engine.
+// normal served inline) against Box-Muller written out here on the same engine, ReplySlots
+// (a sample reply's kept slot order) against the bit scan.
 #include <gtest/gtest.h>
 
 #include <cfenv>
@@ -17,6 +18,7 @@
 
 #include "core/sim/hw_take_over.hpp"
 #include "models/afe/byte_copy.hpp"
+#include "models/afe/reply_slots.hpp"
 #include "models/afe/window_masks.hpp"
 #include "models/random/random.hpp"
 #include "models/sensors/round_even.hpp"
@@ -198,6 +200,23 @@ TEST(TakeOver, MatchesTheCompareAndCopyLoop) {
       for (size_t i = 0; i < n; ++i) ASSERT_EQ(bitsOf(dst[i]), bitsOf(src[i])) << "n " << n << " at " << i;
       ASSERT_EQ(dstB, srcB) << "n " << n;
     }
+  }
+}
+
+// The kept reply order of a mask, after masks in any order (a change, the same mask
+// again, back to an earlier one), is the bit scan's: the set bits, highest first.
+TEST(ReplySlots, MatchesTheBitScanAfterEveryChange) {
+  std::mt19937 gen(455);
+  ReplySlots kept;
+  std::vector<uint32_t> masks = {0u, 0xFFFFFFFFu, 0x80000001u, 1u, 0x0FFF07C0u, 0x0FFF07C0u, 0u};
+  for (int k = 0; k < 2000; ++k) masks.push_back(k % 3 == 0 ? masks[masks.size() - 1] : static_cast<uint32_t>(gen()));
+  for (uint32_t mask : masks) {
+    kept.select(mask);
+    std::vector<unsigned> plain;
+    for (int b = 31; b >= 0; --b)
+      if ((mask >> b) & 1u) plain.push_back(static_cast<unsigned>(b));
+    ASSERT_EQ(kept.count(), plain.size()) << std::hex << mask;
+    for (size_t i = 0; i < plain.size(); ++i) ASSERT_EQ(kept.slots()[i], plain[i]) << std::hex << mask;
   }
 }
 
