@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "core/scenario/derived_defaults.hpp"
+#include "core/scenario/number_ranges.hpp"
 #include "core/scenario/provenance.hpp"
 
 namespace packsim {
@@ -84,14 +85,7 @@ void checkThermistorReach(const Scenario& s, const Provenance& p, std::vector<st
   }
   if (far.empty()) return;
   std::ostringstream os;
-  os << where << ": " << (parallel > 1 ? "cell" : "series group") << (far.size() > 1 ? "s " : " ");
-  for (size_t i = 0; i < far.size(); ++i) {
-    size_t j = i;
-    while (j + 1 < far.size() && far[j + 1] == far[j] + 1) ++j;
-    os << (i ? ", " : "") << far[i];
-    if (j > i) os << "-" << far[j];
-    i = j;
-  }
+  os << where << ": " << (parallel > 1 ? "cell" : "series group") << (far.size() > 1 ? "s " : " ") << numberRanges(far);
   const char* verb = far.size() > 1 ? "are" : "is";
   if (parallel > 1)
     os << " (1-based, " << parallel << " to a group; each thermistor sits on its group's first cell) " << verb

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 
-#include "core/sim/read_coverage.hpp"
-
 namespace packsim {
 
 HardwareSim::HardwareSim(const Scenario& s, const Plant& plant)
@@ -44,19 +42,11 @@ void HardwareSim::watchFets(double t, const SwitchDrive& d, const SwitchState& s
              askChg ? sensors_.afeFetOffCause(false) : kNoCause);
 }
 
-namespace {
-std::vector<const MonitorChainPath*> chainsOf(const HwSensors& sensors) {
+UnreadReport HardwareSim::unreadReport(double end_s) const {
   std::vector<const MonitorChainPath*> chains;
-  for (size_t b = 0; b < sensors.boards().size(); ++b) chains.push_back(&sensors.chain(static_cast<int>(b)));
-  return chains;
+  for (size_t b = 0; b < boards().size(); ++b) chains.push_back(&sensors_.chain(static_cast<int>(b)));
+  return packsim::unreadReport(s_, boards(), chains, end_s);
 }
-}  // namespace
-
-std::vector<std::string> HardwareSim::unreadNotes(double end_s) const {
-  return packsim::unreadNotes(s_, boards(), chainsOf(sensors_), end_s);
-}
-
-int HardwareSim::unreadGroupCount() const { return packsim::unreadGroupCount(boards(), chainsOf(sensors_)); }
 
 std::vector<std::string> HardwareSim::fetNotes(double end_s) const {
   const HardwareConfig& hw = s_.hardware;

@@ -32,6 +32,7 @@
 #include "core/sim/hw_sensors.hpp"
 #include "core/sim/hw_switchgear.hpp"
 #include "core/sim/plant.hpp"
+#include "core/sim/read_coverage.hpp"
 
 namespace packsim {
 
@@ -81,10 +82,9 @@ class HardwareSim {
   // The summary's FETs lines for a run that ended at end_s: a FET that never conducted
   // although the MCU's pin or the monitor part's driver asked for it (hw_fet_watch.hpp).
   std::vector<std::string> fetNotes(double end_s) const;
-  // The `monitor_unread` details of a run that ended at end_s: the series groups and
-  // thermistor channels the firmware never read (core/sim/read_coverage.hpp).
-  std::vector<std::string> unreadNotes(double end_s) const;
-  int unreadGroupCount() const;
+  // The `monitor_unread` details of a run that ended at end_s and the count of series
+  // groups the firmware never read (core/sim/read_coverage.hpp).
+  UnreadReport unreadReport(double end_s) const;
   // The run may end: the charger finished and the scenario asks to stop then.
   bool chargeComplete() const { return s_.charger.present && s_.charger.stop_run_when_done && charger_.done(); }
 

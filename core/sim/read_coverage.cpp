@@ -3,21 +3,16 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/scenario/number_ranges.hpp"
+
 namespace packsim {
 
 namespace {
 
-// 1-based ranges: "7-24", "3, 5-6".
-std::string ranges(const std::vector<int>& zeroBased) {
-  std::string out;
-  for (size_t i = 0; i < zeroBased.size(); ++i) {
-    size_t j = i;
-    while (j + 1 < zeroBased.size() && zeroBased[j + 1] == zeroBased[j] + 1) ++j;
-    out += (i ? ", " : "") + std::to_string(zeroBased[i] + 1);
-    if (j > i) out += "-" + std::to_string(zeroBased[j] + 1);
-    i = j;
-  }
-  return out;
+// 0-based indices as 1-based ranges: "7-24", "3, 5-6".
+std::string ranges(std::vector<int> zeroBased) {
+  for (int& i : zeroBased) ++i;
+  return numberRanges(zeroBased);
 }
 
 std::string plural(size_t n, const char* one, const char* many) { return n == 1 ? one : many; }
@@ -47,20 +42,16 @@ UnreadInputs unreadInputs(const MonitorChainPath& chain, const MonitorBoard& boa
   return u;
 }
 
-int unreadGroupCount(const std::vector<MonitorBoard>& boards, const std::vector<const MonitorChainPath*>& chains) {
-  size_t n = 0;
-  for (size_t b = 0; b < boards.size() && b < chains.size(); ++b) n += unreadInputs(*chains[b], boards[b]).groups.size();
-  return static_cast<int>(n);
-}
-
-std::vector<std::string> unreadNotes(const Scenario& s, const std::vector<MonitorBoard>& boards,
-                                     const std::vector<const MonitorChainPath*>& chains, double end_s) {
-  std::vector<std::string> out;
+UnreadReport unreadReport(const Scenario& s, const std::vector<MonitorBoard>& boards,
+                          const std::vector<const MonitorChainPath*>& chains, double end_s) {
+  UnreadReport report;
+  std::vector<std::string>& out = report.notes;
   char in[64];
   std::snprintf(in, sizeof in, "%.2f", end_s);
   const std::string part = s.hardware.afe.model;
   for (size_t b = 0; b < boards.size() && b < chains.size(); ++b) {
     const UnreadInputs u = unreadInputs(*chains[b], boards[b]);
+    report.groups += static_cast<int>(u.groups.size());
     const std::string board = boards.size() > 1 ? " (board " + std::to_string(b + 1) + ")" : "";
     auto devices = [&](const std::vector<int>& d) {
       return part + " " + plural(d.size(), "device ", "devices ") + ranges(d) + " of " + std::to_string(s.hardware.afe.devices) +
@@ -88,7 +79,7 @@ std::vector<std::string> unreadNotes(const Scenario& s, const std::vector<Monito
                     plural(u.channels.size(), "it", "them") + " in the run's " + in + " s");
     }
   }
-  return out;
+  return report;
 }
 
 }  // namespace packsim

@@ -24,12 +24,14 @@ struct UnreadInputs {
 // One board's chain.
 UnreadInputs unreadInputs(const MonitorChainPath& chain, const MonitorBoard& board);
 
-// The series groups never read, over every board.
-int unreadGroupCount(const std::vector<MonitorBoard>& boards, const std::vector<const MonitorChainPath*>& chains);
-
 // The run's `monitor_unread` event details (none when everything was read): one for the
-// cells and one for the thermistors, per board. `end_s`: the run's length.
-std::vector<std::string> unreadNotes(const Scenario& s, const std::vector<MonitorBoard>& boards,
-                                     const std::vector<const MonitorChainPath*>& chains, double end_s);
+// cells and one for the thermistors, per board; and the series groups never read over
+// every board. `end_s`: the run's length.
+struct UnreadReport {
+  std::vector<std::string> notes;
+  int groups = 0;
+};
+UnreadReport unreadReport(const Scenario& s, const std::vector<MonitorBoard>& boards,
+                          const std::vector<const MonitorChainPath*>& chains, double end_s);
 
 }  // namespace packsim

@@ -505,8 +505,9 @@ RunResult RunTracker::finish(const double* q) {
       r_.events[m.event].detail = misuseDetail(m.board, hw_->registerMisuse(m.board).entries()[m.entry]);
   }
   if (hw_) {  // the series groups and thermistors the firmware never read
-    for (const std::string& d : hw_->unreadNotes(lastT_)) event(lastT_, "monitor_unread", d);
-    sm.unmonitored_groups = hw_->unreadGroupCount();
+    const UnreadReport unread = hw_->unreadReport(lastT_);
+    for (const std::string& d : unread.notes) event(lastT_, "monitor_unread", d);
+    sm.unmonitored_groups = unread.groups;
   }
   for (const Event& e : r_.events) sm.relay_closed = sm.relay_closed || (e.kind == "relay_contact" && e.detail == "closed");
   sm.soc_error_coulomb = socErrorCoulomb_.stats();

@@ -24,8 +24,9 @@ std::string formatSummary(const Scenario& s, const RunResult& r);
 // "cell 74 (group 19)" in a 24s4p pack.
 std::string cellName(int cell, int parallel);
 // "never closed in the run's 60.00 s: the load asked for up to 5.90 A discharge and drew
-// 0.000 Ah; the BMS's last state: standby" when no relay_contact event says the relay
-// closed while the load or charger asked for current; "" otherwise. The summary's
+// 0.000 Ah; the BMS's last state: standby" when the relay never closed (Summary::relay_closed:
+// no relay_contact event said it did) while the load or charger asked for current; ""
+// otherwise. The summary's
 // `relay` line and a `check` warning: a run with no trip that delivered nothing.
 std::string relayNeverClosed(const Scenario& s, const RunResult& r);
 // A duration as h:mm:ss, rounded to the second.
