@@ -308,6 +308,17 @@ CellOverride readCellOverride(YamlMap m, int cells) {
   return o;
 }
 
+// `cell: ncr18650_3p1Ah` (a preset's name where the mapping belongs) is the likeliest
+// first try: the error shows the mapping that names the preset.
+YamlMap cellMap(YamlMap& m) {
+  const YAML::Node n = m.raw()["cell"];
+  if (n && n.IsScalar())
+    throw m.errorAt("cell", "expected a mapping: a preset is given as 'cell: {preset: " + n.Scalar() +
+                                "}' (with any field to override beside it), an inline cell as capacity_Ah, ocv_V, "
+                                "r0_ohm, ...");
+  return m.map("cell");
+}
+
 }  // namespace
 
 PackConfig readPack(YamlMap m, const std::string& baseDir) {
@@ -317,7 +328,7 @@ PackConfig readPack(YamlMap m, const std::string& baseDir) {
   p.initial_soc = m.number("initial_soc", 1.0, Range::closed(0.0, 1.0));
   p.initial_temp_C = m.number("initial_temp_C", 25.0, Range::closed(-60.0, 150.0));
   p.interconnect_ohm = m.number("interconnect_ohm", 0.0, Range::closed(0.0, 10.0));
-  p.cell = readCellWithPreset(m.map("cell"), baseDir);
+  p.cell = readCellWithPreset(cellMap(m), baseDir);
   if (auto sp = m.optionalMap("spread")) p.spread = readSpread(*sp);
   if (m.has("cells"))
     for (YamlMap c : m.mapList("cells")) p.cell_overrides.push_back(readCellOverride(c, p.series * p.parallel));

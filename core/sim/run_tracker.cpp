@@ -2,6 +2,7 @@
 
 #include "core/scenario/bms_setting_table.hpp"
 #include "core/sim/result_channels.hpp"
+#include "core/sim/run_end.hpp"
 #include "core/sim/stranded_energy.hpp"
 #include "core/sim/summary_text.hpp"
 
@@ -475,7 +476,7 @@ void RunTracker::checkFinite(double t, const double* x, int n) const {
     if (!std::isfinite(x[i])) throwDiverged(t, i);
 }
 
-RunResult RunTracker::finish(const double* q) {
+RunResult RunTracker::finish(const double* q, const std::string& endReason) {
   Summary& sm = r_.summary;
   sm.duration_s = lastT_;
   static_assert(sizeof(r_.quad) / sizeof(r_.quad[0]) == kQuadCount, "RunResult::quad holds every quadrature");
@@ -518,7 +519,7 @@ RunResult RunTracker::finish(const double* q) {
   limits_.finish(lastT_, limitSink_);
   sm.limit_unseen_longest_s = limits_.longestUnseen_s();
   sm.limit_unseen_longest = limits_.longestUnseen();
-  event(lastT_, "run", sm.tripped ? "end (" + std::to_string(s_.run.stop_after_trip_s) + " s after trip)" : "end");
+  event(lastT_, "run", kRunEndEventPrefix + endReason);
   return std::move(r_);
 }
 

@@ -25,7 +25,8 @@ class RunTracker {
   bool tripped() const { return r_.summary.tripped; }
   // Throws if the integration produced a non-finite state.
   void checkFinite(double t, const double* x, int n) const;
-  RunResult finish(const double* quadratures);
+  // endReason: why the run ended (the `run` event's detail after "end: ").
+  RunResult finish(const double* quadratures, const std::string& endReason);
   void event(double t, const std::string& kind, const std::string& detail);
   // A library firmware reported a trip (its event "trip: <reason>"); the first one is
   // the summary's trip (packsim's core trips through its latched faults instead).

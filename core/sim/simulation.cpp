@@ -17,6 +17,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
 #include "core/sim/readout_fit.hpp"
+#include "core/sim/run_end.hpp"
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
 #include "core/sim/vehicle_run.hpp"
@@ -26,7 +27,7 @@ namespace packsim {
 namespace {
 std::string afterTripText(double s) {
   char buf[80];
-  std::snprintf(buf, sizeof buf, "it stops %g s after the trip (run.stop_after_trip_s)", s);
+  std::snprintf(buf, sizeof buf, "%g s after the trip (run.stop_after_trip_s)", s);
   return buf;
 }
 
@@ -181,7 +182,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   if (recordPhase == 0 || stop) tracker.record(t, xs, sg, decision);
   if (stop) {
     ended = true;
-    endReason = k >= lastTick                    ? "the scenario's end time"
+    endReason = k >= lastTick                    ? kRunEndScheduled
                 : !driverEnds && tracker.stopRequested(t) ? afterTripText(s.run.stop_after_trip_s)
                 : !driverEnds && hw.chargeComplete()      ? "the charge was complete"
                 : vehicle && vehicle->done()              ? vehicle->endReason()
@@ -277,7 +278,7 @@ bool SimulationRun::ended() const { return impl_->ended; }
 RunResult SimulationRun::finish() {
   Impl& m = *impl_;
   m.scheduler.reportUnreached(static_cast<double>(m.k) * m.tick_s, m.endReason, m.tracker);  // before the run's end event
-  RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize());
+  RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize(), m.endReason);
   r.bus_trace = m.hw.takeBusTrace();
   r.can_trace = m.firmware.takeCanTrace();
   r.solver = m.solver->stats();

@@ -6,6 +6,7 @@
 #include <vector>
 #include <cstdio>
 
+#include "core/sim/run_end.hpp"
 #include "core/sim/summary_lines.hpp"
 #include "core/sim/vehicle_text.hpp"
 
@@ -209,6 +210,21 @@ void loadEndLine(LineWriter& w, const S&, const R& r) {
              fmt("%.2f", r.summary.duration_s - e.time_s) + " s");
 }
 
+// The run's length and, when it ended for another reason than its scheduled end (a trip,
+// a full charge, the vehicle's route), that reason as the `run` event gives it.
+void durationLine(LineWriter& w, const S& s, const R& r) {
+  std::string line = fmt("%.1f", r.summary.duration_s) + " s  (" + clockText(r.summary.duration_s) + ")";
+  const std::string prefix = kRunEndEventPrefix;
+  for (const Event& e : r.events) {
+    if (e.kind != "run" || e.detail.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string why = e.detail.substr(prefix.size());
+    if (why == kRunEndScheduled) continue;
+    line += "; ended: " + why;
+    if (s.run.duration_s > 0.0) line += ", before run.duration_s = " + fmt("%g", s.run.duration_s) + " s";
+  }
+  w.line(line);
+}
+
 // Each row: its label, the /summary figures it prints (summaryFields() names; the test
 // checks every figure is on a line), how it writes. In the order printed.
 // clang-format off
@@ -216,8 +232,7 @@ const std::vector<SummaryLine> kLines = {
     {"scenario", "", [](LineWriter& w, const S& s, const R&) {
        w.line(s.name + "  (" + std::to_string(s.pack.series) + "s" + std::to_string(s.pack.parallel) + "p, " +
               fmt("%.2f", s.pack.cell.capacity_Ah) + " Ah cells)"); }},
-    {"duration", "duration_s", [](LineWriter& w, const S&, const R& r) {
-       w.line(fmt("%.1f", r.summary.duration_s) + " s  (" + clockText(r.summary.duration_s) + ")"); }},
+    {"duration", "duration_s", durationLine},
     {"energy out", "energy_delivered_Wh charge_delivered_Ah heat_Wh", [](LineWriter& w, const S&, const R& r) {
        const Summary& m = r.summary;
        w.line(fmt("%.2f", m.energy_delivered_Wh) + " Wh  (" + fmt("%.3f", m.charge_delivered_Ah) + " Ah, " +

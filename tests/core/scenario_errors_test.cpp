@@ -52,6 +52,15 @@ TEST(ScenarioErrors, ResetRequestTakesNoTarget) {
   EXPECT_NE(k.find("did you mean 'reset_request'?"), std::string::npos) << k;
 }
 
+// `cell: ncr18650_3p1Ah`, the preset's name where its mapping belongs: the error shows
+// the mapping that names it.
+TEST(ScenarioErrors, APresetNameGivenAsTheCellShowsThePresetMapping) {
+  const std::string e = errorOf("name: t\npack:\n  series: 2\n  cell: ncr18650_3p1Ah\n" + std::string(kLoad));
+  EXPECT_NE(e.find("test.yaml:4:9: pack.cell: expected a mapping: a preset is given as 'cell: {preset: ncr18650_3p1Ah}'"),
+            std::string::npos)
+      << e;
+}
+
 TEST(ScenarioErrors, WrongType) {
   std::string y = test::simpleCellYaml() + kLoad;
   y.replace(y.find("r0_ohm: 0.02"), 12, "r0_ohm: low");

@@ -166,7 +166,7 @@ TEST(SummaryText, UnreachedScriptedFaultIsAnEventAndALine) {
   ASSERT_EQ(details.size(), 2u) << text;
   EXPECT_TRUE(has(details[0], "hot_cell cell 1, 5 W (line ")) << details[0];
   EXPECT_TRUE(has(details[0], "due at 200.000 s; the run ended at")) << details[0];
-  EXPECT_TRUE(has(details[0], "it stops 60 s after the trip")) << details[0];
+  EXPECT_TRUE(has(details[0], ": 60 s after the trip (run.stop_after_trip_s)")) << details[0];
   EXPECT_TRUE(has(details[1], "when cell_min_V < 1.0 never held")) << details[1];
   EXPECT_TRUE(has(text, "fault script    not reached: " + details[0])) << text;
   EXPECT_EQ(test::eventTime(r, "fault_injected", "hot_cell"), -1.0);
