@@ -76,12 +76,15 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
       if (text.empty() || *end != '\0' || !std::isfinite(v[k]))
         throw ScenarioError(path, lineNo, c.column, names[cols[k]], "'" + c.text + "' is not a finite number");
     }
+    v[0] *= want.time_scale;
     // The same bounds as a load's keys (core/scenario/value_ranges.hpp): time up to 30
     // days, a current up to 100 kA, a power up to 100 MW (after `scale`).
     const double maxValue = p.power ? limits::kMaxPower_W : limits::kMaxCurrent_A;
     if (v[0] > limits::kMaxTime_s) {
       std::ostringstream os;
-      os << "'" << cells[timeCol].text << "' s is out of range; allowed [0, " << limits::kMaxTime_s << "] (30 days)";
+      os << "'" << cells[timeCol].text << "'";
+      if (want.time_scale != 1.0) os << " (scaled: " << v[0] << " s)";
+      os << (want.time_scale != 1.0 ? "" : " s") << " is out of range; allowed [0, " << limits::kMaxTime_s << "] s (30 days)";
       throw ScenarioError(path, lineNo, cells[timeCol].column, names[timeCol], os.str());
     }
     if (!(std::fabs(v[1] * want.scale) <= maxValue)) {

@@ -6,6 +6,7 @@
 
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
+#include "core/scenario/column_units.hpp"
 #include "core/scenario/csv_profile.hpp"
 
 namespace packsim {
@@ -18,6 +19,30 @@ namespace {
 // C-rate bound is checked once the pack is known (checkLoadCRate).
 Range loadRange(const std::string& key) {
   return Range::symmetric(key == "power_W" ? limits::kMaxPower_W : limits::kMaxCurrent_A);
+}
+
+// A column whose name states a unit other than seconds, amperes or watts ("t_ms",
+// "I [mA]") needs its scale said: read as it stands, a log in ms is a profile a thousand
+// times too long. A scale given is the user's word (also time_scale: 1 for a name that
+// only looks like a unit).
+void checkNamedUnits(YamlMap& c, const CsvColumns& columns) {
+  const struct {
+    const char* columnKey;
+    const char* scaleKey;
+    std::string column;
+    NamedUnit unit;
+    const char* base;
+  } named[] = {{"time_column", "time_scale", columns.time, timeUnitOfName(columns.time), "s"},
+               {columns.power ? "power_column" : "current_column", "scale", columns.value,
+                valueUnitOfName(columns.value, columns.power), columns.power ? "W" : "A"}};
+  for (const auto& n : named) {
+    if (n.unit.factor == 0.0 || n.unit.factor == 1.0 || c.has(n.scaleKey)) continue;
+    std::ostringstream os;
+    os << "the column '" << n.column << "' is named in " << n.unit.unit << " and packsim reads " << n.base
+       << ": add " << n.scaleKey << ": " << n.unit.factor << " (or " << n.scaleKey << ": 1 if its values are in "
+       << n.base << ")";
+    throw c.errorAt(n.columnKey, os.str());
+  }
 }
 
 // The most a load may ask of each parallel cell: 100C, twice the highest continuous
@@ -153,6 +178,8 @@ LoadProfile readLoad(YamlMap m, const std::string& baseDir, const PackConfig& pa
         columns.value = c.string(columns.power ? "power_column" : "current_column", "");
         columns.scale = c.number("scale", 1.0, Range::symmetric(1.0e6));  // mA, kW, MW and sign flips
         if (columns.scale == 0.0) throw c.errorAt("scale", "must not be 0");
+        columns.time_scale = c.number("time_scale", 1.0, Range::positive(86400.0));  // ms, min, h
+        checkNamedUnits(c, columns);
         c.finish();
         if (csv.is_relative()) csv = fs::path(baseDir) / csv;
         std::error_code ec;  // a name too long for the file system is "not found", not an exception

@@ -159,6 +159,31 @@ void checkRunEnd(const Scenario& s, const Provenance& p, std::vector<std::string
                 " s, " + seconds(end_s - last_s) + " s early");
 }
 
+// A profile that charges the pack on balance over the run (its mean below 0): packsim
+// counts discharge positive, and many loggers count it negative. Such a log read as it
+// stands races a pack that charges -- a plausible run of the wrong sign. A constant load
+// (a charge current given as such) and the vehicle, which computes its own load, are not
+// judged.
+void checkLoadSign(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  const LoadProfile& l = s.load;
+  if (s.vehicle.present || l.isConstant() || l.t_s.empty()) return;
+  const double end_s = std::min(s.endTime_s(), l.duration_s());
+  if (!(end_s > 0.0)) return;
+  const double mean = l.chargeUntil_As(end_s) / end_s;
+  if (!(mean < 0.0)) return;
+  const bool watts = l.quantity == LoadProfile::Quantity::Power_W;
+  const bool csv = p.find("load.csv") || p.find("load.csv.file");
+  std::ostringstream os;
+  os << "load (" << sectionOrigin(p, "load") << ") charges the pack on balance: its mean is " << fmt(mean)
+     << (watts ? " W" : " A") << " over the run's first " << fmt(end_s)
+     << " s; packsim counts discharge as positive and regeneration as negative: a log that records discharge as "
+        "negative needs "
+     << (csv ? "load.csv.scale: -1 (csv: {file, time_column, " + std::string(watts ? "power" : "current") +
+                   "_column, scale: -1})"
+             : "its values' signs flipped");
+  out.push_back(os.str());
+}
+
 std::string describeTable(const YAML::Node& n) {
   if (n.IsSequence()) return "list of " + std::to_string(n.size()) + " values";
   if (!n.IsMap()) return "value";
@@ -218,6 +243,7 @@ const std::vector<WarningCheck>& warningChecks() {
       {"load_magnitude", checkLoadMagnitude},
       {"balancing_board", checkBalancingBoard},
       {"run_end", checkRunEnd},
+      {"load_sign", checkLoadSign},
   };
   return checks;
 }
