@@ -162,6 +162,7 @@ bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardwa
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
     : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
+      modelRange_(s.pack.cell),
       limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }) {
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
@@ -392,6 +393,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   if (outputsMoved) outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
   limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_, &tickExtremes);
+  modelRange_.tick(temps.lo, temps.hi, cellTemp_C_, plant_.pack().parallel,
+                   [this, t](const std::string& d) { event(t, "cell_model_range", d); });
   first_ = false;
   lastT_ = t;
   lastX_ = x;

@@ -9,6 +9,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/result.hpp"
 #include "core/sim/bms_bridge.hpp"
+#include "core/sim/cell_model_range.hpp"
 #include "core/sim/limit_watch.hpp"
 
 namespace packsim {
@@ -66,6 +67,7 @@ class RunTracker {
   uint8_t displayBars_ = 0;
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
   LimitWatch limits_;            // cells past a protection limit the BMS has not seen
+  CellModelRange modelRange_;    // cells past the temperatures the cell model stands for
   LimitWatch::EventSink limitSink_;  // its events: limit_unseen (made once, not per tick)
   // register_misuse: per board, the misuse entries already reported, and each one's
   // event (its count is filled in at the end)

@@ -300,6 +300,9 @@ const std::vector<SummaryLine> kLines = {
               " Wh lost in the cells there; " + fmt("%.2f", c.this_losses_Wh) + " Wh here: " + fmt("%.2f", std::fabs(lost)) +
               " Wh " + (lost >= 0.0 ? "more" : "less") + " energy lost; lowest cell " + fmt("%.3f", c.min_cell_V) + " V there"); }},
     {"SOC range", "", socRangeLines},
+    {"model range", "", [](LineWriter& w, const S&, const R& r) {  // cells past the model's temperatures
+       for (const Event& e : r.events)
+         if (e.kind == "cell_model_range") w.line(fmt("%.2f", e.time_s) + " s  " + e.detail); }},
     {"hardware", "", hardwareEventLines},
     {"hardware", "", weldedLine},
     {"vehicle", "", [](LineWriter& w, const S&, const R& r) {  // a vehicle on its route (docs/vehicle.md)

@@ -79,6 +79,13 @@ def test_unread_groups_a_relay_that_never_closed_and_a_profile_end_are_in_the_ve
     assert not any("never closed" in line for line in run_facts.verdict(closed).lines)
 
 
+def test_a_cell_beyond_the_cell_model_is_in_the_verdict():
+    note = "cell 5 at 80.00 C: above 80 C, where a lithium-ion cell starts to heat itself"
+    text = "\n".join(run_facts.verdict(_result(events=[(763.5, "cell_model_range", note)])).lines)
+    assert f"763.50 s: cell model range: {note}" in text
+    assert not any("cell model range" in line for line in run_facts.verdict(_result()).lines)
+
+
 def test_margin_sign_place_time_and_time_past_the_limit():
     v = np.full((N, 4), 3.7)
     v[7, 2] = 4.25  # cell 3 = group 2 in a 2s2p pack, past 4.2 V for one sample
