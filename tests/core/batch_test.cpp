@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "core/batch/batch_runner.hpp"
+#include "core/batch/drawn_inputs.hpp"
 #include "core/batch/sweep.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "test_support.hpp"
@@ -251,6 +252,16 @@ TEST(Batch, MonteCarloRecordsTheDrawnInputs) {
   // The per-cell values are in the result file, under /inputs.
   const std::string h5 = readFile(a.resultPath(a.cases[0]));
   EXPECT_NE(h5.find("cell_capacity_Ah"), std::string::npos);
+}
+
+// A pack without a spread: every group's capacity is the same, and its spread is 0, not
+// the 3e-16 an ulp off the summed mean of 13 groups of 4 x 3.1 Ah made of it.
+TEST(Batch, APackWithoutASpreadHasASpreadOfExactlyZero) {
+  const Scenario s = test::scenarioFromYaml(
+      "name: p\npack: {series: 13, parallel: 4, cell: {preset: ncr18650_3p1Ah}}\nload: {current_A: 1}\n"
+      "run: {duration_s: 1}\n");
+  for (const auto& [name, value] : drawnInputFigures(drawnInputs(s)))
+    if (name == "drawn_capacity_rel_sd" || name == "drawn_r0_scale_rel_sd") EXPECT_EQ(value, 0.0) << name;
 }
 
 TEST(Batch, CsvFieldQuoting) {
