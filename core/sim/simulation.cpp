@@ -17,6 +17,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
 #include "core/sim/readout_fit.hpp"
+#include "core/sim/load_shortfall.hpp"
 #include "core/sim/run_end.hpp"
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
@@ -118,6 +119,10 @@ struct SimulationRun::Impl {
   const bool driverEnds;
   ExternalInputs ext;
   std::unique_ptr<VehicleRun> vehicle;  // `load: {vehicle: ...}`: null otherwise
+  LoadShortfall shortfall{s.load.quantity == LoadProfile::Quantity::Power_W && !s.vehicle.present, tick_s};
+  const LoadShortfall::Sink shortfallSink = [this](double te, const std::string& d) {
+    tracker.event(te, "load_limited", d);
+  };
   double packV = 0.0;                   // pack voltage at the last tick (what the motor controller measures)
   const PlantSignals* sampled = nullptr;  // the signals of the last tick
   bool restartNext = false;               // an input of the plant jumped at the last tick
@@ -152,6 +157,8 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   hw.sample(t, sg, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
   ext.applyToPins(in);
   packV = sg.pack_voltage_V;
+  shortfall.tick(t, inputs.load.current_A(t), sg.pack_voltage_V * sg.pack_current_A,
+                 inputs.relay_closed && !inputs.discharge_blocked, shortfallSink);
 
   // 2. the firmware decides: its tasks due in [t_k, t_k+1) run on the MCU's clock,
   //    talking to the monitor chain over the bus (a hung MCU does not: its pins hold
@@ -278,6 +285,7 @@ bool SimulationRun::ended() const { return impl_->ended; }
 RunResult SimulationRun::finish() {
   Impl& m = *impl_;
   m.scheduler.reportUnreached(static_cast<double>(m.k) * m.tick_s, m.endReason, m.tracker);  // before the run's end event
+  m.shortfall.finish(static_cast<double>(m.k) * m.tick_s, m.shortfallSink);
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize(), m.endReason);
   r.bus_trace = m.hw.takeBusTrace();
   r.can_trace = m.firmware.takeCanTrace();

@@ -205,6 +205,8 @@ namespace {
 // no load, which the energy line above includes.
 void loadEndLine(LineWriter& w, const S&, const R& r) {
   for (const Event& e : r.events)
+    if (e.kind == "load_limited") w.line(e.detail);  // a power load past the pack's maximum power
+  for (const Event& e : r.events)
     if (e.kind == "load_end")
       w.line("the profile ended at " + fmt("%.2f", e.time_s) + " s; no load for the run's last " +
              fmt("%.2f", r.summary.duration_s - e.time_s) + " s");

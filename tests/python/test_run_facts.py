@@ -86,6 +86,12 @@ def test_a_cell_beyond_the_cell_model_is_in_the_verdict():
     assert not any("cell model range" in line for line in run_facts.verdict(_result()).lines)
 
 
+def test_a_power_load_the_pack_could_not_give_is_in_the_verdict():
+    note = "10.00-15.00 s: the pack gave less power than the load asked (at most 2101 W while up to 9000 W was asked)"
+    text = "\n".join(run_facts.verdict(_result(events=[(15.0, "load_limited", note)])).lines)
+    assert f"15.00 s: load limited: {note}" in text
+
+
 def test_margin_sign_place_time_and_time_past_the_limit():
     v = np.full((N, 4), 3.7)
     v[7, 2] = 4.25  # cell 3 = group 2 in a 2s2p pack, past 4.2 V for one sample
