@@ -18,6 +18,7 @@ class LoadShortfall {
 
   // One tick: what the load asked (W) and what the pack gave at its terminals (W);
   // `connected`: the relay closed and discharge not blocked (else nothing is asked of it).
+  bool watching() const { return watch_; }
   void tick(double t, double asked_W, double gave_W, bool connected, const Sink& event) {
     if (!watch_) return;
     const bool short_ = connected && asked_W > 0.0 && gave_W < asked_W * (1.0 - kTolerance);

@@ -157,8 +157,9 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   hw.sample(t, sg, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
   ext.applyToPins(in);
   packV = sg.pack_voltage_V;
-  shortfall.tick(t, inputs.load.current_A(t), sg.pack_voltage_V * sg.pack_current_A,
-                 inputs.relay_closed && !inputs.discharge_blocked, shortfallSink);
+  if (shortfall.watching())  // a power load only: a current load is always given
+    shortfall.tick(t, inputs.load.current_A(t), sg.pack_voltage_V * sg.pack_current_A,
+                   inputs.relay_closed && !inputs.discharge_blocked, shortfallSink);
 
   // 2. the firmware decides: its tasks due in [t_k, t_k+1) run on the MCU's clock,
   //    talking to the monitor chain over the bus (a hung MCU does not: its pins hold
