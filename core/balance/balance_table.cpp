@@ -20,8 +20,12 @@ std::string num(double v, const char* f) {
 std::string balanceTimeTable(const BalanceTimeResult& r) {
   std::ostringstream os;
   char line[400];
-  std::snprintf(line, sizeof line, "balance-time  %s: %.3f Ah to remove, cells at %.3f V, %d high cell%s, true target %.1f mV\n",
-                r.scenario.c_str(), r.delta_Ah, r.cell_V, r.high_cells, r.high_cells == 1 ? "" : "s", r.target_mV);
+  // With cells in parallel a "cell" of the table is a series group: its resistor bleeds them all.
+  const std::string high = std::to_string(r.high_cells) + (r.parallel > 1 ? " high series group" : " high cell") +
+                           (r.high_cells == 1 ? "" : "s") +
+                           (r.parallel > 1 ? " (" + std::to_string(r.parallel) + " cells in parallel each)" : "");
+  std::snprintf(line, sizeof line, "balance-time  %s: %.3f Ah to remove, cells at %.3f V, %s, true target %.1f mV\n",
+                r.scenario.c_str(), r.delta_Ah, r.cell_V, high.c_str(), r.target_mV);
   os << line;
   os << "firmware as configured (bms.balancing.when: " << r.when << (r.when_overridden ? ", set by --when" : "")
      << ")" << (r.during_charge ? ", on the scenario's charger" : ", at rest") << "\n";
@@ -69,8 +73,11 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
   os << "* fastest within limits (target reached, no trip, resistor within "
      << (r.resistor_rating_W > 0 ? num(r.resistor_rating_W, "%.3g") + " W" : std::string("its rating (not stated)"))
      << "); ! resistor_W above the rating.\n"
-        "cell_I_mA: bleed current of one cell at V_cell; board_W: the most loaded board, its high cells balancing.\n"
-        "const_I_all_h: all of delta at constant I = V_cell / (R + Rds_on); const_I_to_target_h: at that I until the\n"
+        "cell_I_mA: bleed current of one cell at V_cell; board_W: the most loaded board, its high cells balancing.\n";
+  if (r.parallel > 1)
+    os << "(" << r.parallel << " cells in parallel: a cell here is a series group, one resistor bleeding all "
+       << r.parallel << ", and delta is the group's.)\n";
+  os << "const_I_all_h: all of delta at constant I = V_cell / (R + Rds_on); const_I_to_target_h: at that I until the\n"
         "high cell's rest voltage is within the target of the low cell's; droop_to_target_h: (R + Rds_on) * integral\n"
         "dQ / OCV(Q) to the same target; true_h: simulated, when the true rest voltages came within the target;\n"
         "firmware_h: when the firmware (as configured) declared balanced. board_steady_C: T_amb + board_W / G of the\n"

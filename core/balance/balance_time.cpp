@@ -328,6 +328,7 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   BalanceTimeResult res;
   res.scenario = base.name;
   res.high_cells = o.delta_Ah ? o.high_cells : 1;
+  res.parallel = base.pack.parallel;
   // Default target: half again the firmware's stop threshold. The firmware leaves each cell
   // up to that threshold above the lowest reading, so the truth settles about there, a
   // little above or below with the noise: a target at the threshold itself may never be met.

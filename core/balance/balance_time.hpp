@@ -99,6 +99,7 @@ struct BalanceTimeResult {
   double delta_Ah = 0.0;
   double cell_V = 0.0;
   int high_cells = 1;
+  int parallel = 1;  // cells in parallel in a series group (a "high cell" is a group of them)
   double target_mV = 0.0;
   double resistor_rating_W = 0.0;     // hardware.balancing.resistor_power_rating_W (0: not stated)
   double board_max_C = 0.0;           // the firmware's board pause threshold

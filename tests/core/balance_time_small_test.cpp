@@ -7,6 +7,7 @@
 
 #include <cmath>
 
+#include "core/balance/balance_table.hpp"
 #include "core/balance/balance_time.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "test_support.hpp"
@@ -54,6 +55,27 @@ TEST(TimeToBalanceSmallPack, OneHighCellOfSystemCBleedsItsChargeAtVOverR) {
   EXPECT_LT(w.pack_heat_Wh, w.bled_Ah * 3.9 + 1e-9);
   EXPECT_FALSE(w.tripped);
   EXPECT_FALSE(w.within_rating) << "4.2 V across 47 ohm is 0.375 W > the scenario's 0.25 W resistors";
+}
+
+// With cells in parallel the table's "cell" is a series group: the header says so, and
+// the group's delta takes its resistor twice as long as one cell's (the same V/R bleeds
+// twice the charge).
+TEST(TimeToBalanceSmallPack, AParallelPackCountsSeriesGroupsNotCells) {
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/balance/bench_6s_balancing.yaml");
+  BalanceTimeOptions o;
+  o.cell_V = 3.9;
+  o.simulate = false;
+  o.delta_Ah = 0.2;
+  const BalanceTimeResult one = balanceTime(s, o);
+  EXPECT_NE(balanceTimeTable(one).find("1 high cell, "), std::string::npos) << balanceTimeTable(one);
+  s.pack.parallel = 2;
+  o.delta_Ah = 0.4;  // 0.2 Ah in each of the group's two cells
+  const BalanceTimeResult two = balanceTime(s, o);
+  const std::string table = balanceTimeTable(two);
+  EXPECT_NE(table.find("1 high series group (2 cells in parallel each), "), std::string::npos) << table;
+  EXPECT_NE(table.find("a cell here is a series group, one resistor bleeding all 2"), std::string::npos) << table;
+  ASSERT_EQ(two.rows.size(), 1u);
+  EXPECT_NEAR(two.rows[0].const_I_all_h, 2.0 * one.rows[0].const_I_all_h, 1e-9);
 }
 
 }  // namespace
