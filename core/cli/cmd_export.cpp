@@ -5,6 +5,7 @@
 // package's __main__, not `-m packsim.report`, which runpy warns about because
 // `import packsim` has already imported packsim.report.
 #include <filesystem>
+#include <stdexcept>
 
 #include "core/cli/commands.hpp"
 #include "core/cli/python_module.hpp"
@@ -12,9 +13,28 @@
 
 namespace packsim {
 
+namespace {
+
+// --format, or the output file's extension when it names one format: `-o run.mat`,
+// `-o run.parquet`. A CSV export writes a folder (one table a file), so `-o run.csv`
+// names no format: the error says what to give.
+std::string exportFormat(const ExportOptions& o) {
+  if (!o.format.empty()) return o.format;
+  const std::filesystem::path out(o.output);
+  const std::string ext = out.extension().string();
+  if (ext == ".mat") return "mat";
+  if (ext == ".parquet") return "parquet";
+  if (ext == ".csv")
+    throw std::invalid_argument("--format missing; a CSV export writes a folder, one CSV file per table: give "
+                                "--format csv with -o a folder (e.g. -o " + out.stem().string() + "_csv)");
+  throw std::invalid_argument("--format missing: csv, mat or parquet (or -o FILE.mat or FILE.parquet)");
+}
+
+}  // namespace
+
 int cmdExport(const ExportOptions& o) {
   if (!std::filesystem::is_regular_file(o.result)) throw ScenarioError(o.result, 0, 0, "", "no such result file");
-  std::vector<std::string> args = {o.result, "--format", o.format};
+  std::vector<std::string> args = {o.result, "--format", exportFormat(o)};
   if (!o.output.empty()) {
     args.push_back("-o");
     args.push_back(o.output);

@@ -8,8 +8,7 @@ void addToolCommands(CLI::App& app, ToolCommands& t) {
   t.exportCmd = app.add_subcommand("export", "convert a result file to CSV, MATLAB .mat or Parquet "
                                              "(needs Python 3 with pandas, scipy or pyarrow)");
   t.exportCmd->add_option("result", t.exportOpts.result, "result HDF5 file")->required();
-  t.exportCmd->add_option("--format", t.exportOpts.format, "csv, mat or parquet")
-      ->required()
+  t.exportCmd->add_option("--format", t.exportOpts.format, "csv, mat or parquet (default: from -o FILE.mat or FILE.parquet)")
       ->check(CLI::IsMember({"csv", "mat", "parquet"}));
   t.exportCmd->add_option("-o,--output", t.exportOpts.output,
                           "output file (mat, parquet) or folder (csv); default: next to the result");

@@ -83,6 +83,21 @@ def test_bad_format_and_missing_file_are_clear_errors(cli, stored, tmp_path):
     assert not [p for p in tmp_path.iterdir()]
 
 
+def test_the_format_comes_from_the_output_file_or_the_error_says_what_to_give(cli, stored, tmp_path):
+    pytest.importorskip("scipy")
+    out = tmp_path / "bench.mat"
+    done = subprocess.run([str(cli), "export", str(stored), "-o", str(out)], capture_output=True, text=True, env=_env())
+    assert done.returncode == 0, done.stderr
+    assert out.is_file()
+    done = subprocess.run([str(cli), "export", str(stored), "-o", str(tmp_path / "bench.csv")], capture_output=True,
+                          text=True, env=_env())
+    assert done.returncode == 2
+    assert "a CSV export writes a folder" in done.stderr and "-o bench_csv" in done.stderr, done.stderr
+    done = subprocess.run([str(cli), "export", str(stored)], capture_output=True, text=True, env=_env())
+    assert done.returncode == 2 and "--format missing: csv, mat or parquet" in done.stderr, done.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bench.mat"]
+
+
 @pytest.fixture(scope="module")
 def with_tables(tmp_path_factory):
     """Results with tables besides the events: the vehicle's laps (two, one complete) and
