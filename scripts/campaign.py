@@ -22,7 +22,9 @@ an `extends:` child, with part of it given as --set style overrides. Oracles:
   soc           the cells' SOC fell by the charge the counter delivered: sum over cells of
                 (SOC at 0 - SOC at the end) x capacity = series x charge delivered, where
                 that is exact (no capacity spread, no charging current: check_soc)
-  summary       lowest / hottest cell, duration and trip flag follow from truth and events
+  summary       lowest / hottest cell, duration and trip flag follow from truth and events;
+                a cell past 80 C is a cell_model_range event; the last event says why the
+                run ended, and not "the scenario's end time" for a run that ended early
   faults        every scripted fault was injected, or reported as not reached
   firmware      a case in eight runs the example C firmware (examples/firmware) on system
                 C's bench pack through a three-file extends chain
@@ -525,6 +527,18 @@ def check_physics(scen: dict, r) -> list:
                    e["kind"] == "firmware" and e["detail"].startswith("trip:")]
         if not latched or min(latched) > s["trip_time_s"] + 1e-9:
             out.append(f"summary says TRIP at {s['trip_time_s']} s without a latched fault by then")
+    # A cell past 80 C (the self-heating onset) is a cell_model_range event, and only then.
+    beyond = [e for e in r.events if e["kind"] == "cell_model_range" and "above 80 C" in e["detail"]]
+    if (s["max_temp_C"] > 80.0) != bool(beyond):
+        out.append(f"hottest cell {s['max_temp_C']:.3f} C but {len(beyond)} cell_model_range events above 80 C")
+    # The run's last event says why it ended; a run that ended before its end time says
+    # it was not the scheduled end.
+    last = r.events[-1] if len(r.events) else None
+    if last is None or last["kind"] != "run" or not last["detail"].startswith("end: "):
+        out.append(f"the last event is not the run's end: {last}")
+    elif last["detail"] == "end: the scenario's end time" and "duration_s" in scen.get("run", {}) and \
+            s["duration_s"] < scen["run"]["duration_s"] - scen.get("bms", {}).get("tick_ms", 10) / 1000.0 - 1e-9:
+        out.append(f"run ended at {s['duration_s']} s of {scen['run']['duration_s']} but says the scenario's end time")
     return out
 
 

@@ -51,6 +51,14 @@ def test_the_oracles_can_fail(tmp_path):
             return self._r[key]
 
     assert any("lowest cell" in f for f in campaign.check_physics({}, Tampered(r)))
+    # A hottest cell past 80 C without its cell_model_range event; a run that stopped at
+    # 3 s of 5 claiming its scheduled end.
+    hot = Tampered(r)
+    hot.summary = dict(r.summary, max_temp_C=90.0)
+    assert any("cell_model_range" in f for f in campaign.check_physics({}, hot))
+    early = Tampered(r)
+    early.summary = dict(r.summary, duration_s=3.0)
+    assert any("says the scenario's end time" in f for f in campaign.check_physics({"run": {"duration_s": 5.0}}, early))
     # The SOC oracle: the same run holds it; a counter that says 1 % more was delivered
     # than the cells gave is caught.
     scen = {"pack": {"series": 2, "cell": {"preset": "lipo_5Ah"}}}
