@@ -84,8 +84,11 @@ void checkResultIsNotAnInput(const std::string& out, const Scenario& s) {
   for (const Input& i : inputs(s)) {
     std::error_code ec;
     if (fs::equivalent(out, i.path, ec))
-      throw std::invalid_argument("the result file '" + out + "' is " + i.what + " '" + i.path + "' of scenario '" +
-                                  s.file + "'; writing the result there would destroy it (choose another -o)");
+      throw std::invalid_argument("the result file '" + out + "' is " +
+                                  (fs::equivalent(i.path, s.file, ec) ? std::string("the scenario file itself")
+                                                                      : i.what + " '" + i.path + "' of scenario '" +
+                                                                            s.file + "'") +
+                                  "; writing the result there would destroy it (choose another -o)");
   }
 }
 
