@@ -14,23 +14,24 @@ extern "C" double __real_pow(double x, double y);  // libm's pow (the linker's -
 namespace {
 
 constexpr int kMaxExponent = 32;
+double gPowerOfTen[2 * kMaxExponent + 1];  // 10^e at [e + kMaxExponent]
+bool gFilled = false;                      // constant-initialised: false until the fill below
 
-struct PowersOfTen {
-  double value[2 * kMaxExponent + 1];
-  PowersOfTen() {
-    for (int e = -kMaxExponent; e <= kMaxExponent; ++e) value[e + kMaxExponent] = __real_pow(10.0, e);
+// Filled before main (no thread yet, no guard to test on each call); a pow from another
+// static initialiser that runs first goes to libm's pow.
+const struct FillPowersOfTen {
+  FillPowersOfTen() {
+    for (int e = -kMaxExponent; e <= kMaxExponent; ++e) gPowerOfTen[e + kMaxExponent] = __real_pow(10.0, e);
+    gFilled = true;
   }
-};
+} kFill;
 
 }  // namespace
 
 extern "C" double __wrap_pow(double x, double y) {
   if (x == 10.0 && y >= -kMaxExponent && y <= kMaxExponent) {
     const int e = static_cast<int>(y);
-    if (static_cast<double>(e) == y) {
-      static const PowersOfTen table;  // filled on first use (thread-safe)
-      return table.value[e + kMaxExponent];
-    }
+    if (static_cast<double>(e) == y && gFilled) return gPowerOfTen[e + kMaxExponent];
   }
   return __real_pow(x, y);
 }
