@@ -239,16 +239,15 @@ class Layout {
     hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_obj_track_times(dcpl, 0);
     hid_t space = H5Screate_simple(1, &length, nullptr);
-    hid_t ds = H5Dcreate2(file_, path.c_str(), H5T_NATIVE_INT32, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    const hid_t id = H5Dcreate2(file_, path.c_str(), H5T_NATIVE_INT32, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     H5Sclose(space);
     H5Pclose(dcpl);
-    if (ds < 0) throw std::runtime_error("HDF5: cannot create " + path);
-    herr_t e = length ? H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()) : 0;
-    if (e >= 0) e = H5DSset_scale(ds, name.c_str());
-    H5Dclose(ds);
-    check(e, "write dimension scale " + path);
-    Obj obj(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
-    stringAttr(obj, "long_name", name + " number (1-based)");
+    if (id < 0) throw std::runtime_error("HDF5: cannot create " + path);
+    Obj ds(id, path);  // closed on leaving, thrown or not
+    check(length ? H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()) : 0,
+          "write dimension scale " + path);
+    check(H5DSset_scale(ds, name.c_str()), "write dimension scale " + path);
+    stringAttr(ds, "long_name", name + " number (1-based)");  // while open (no second open)
     return path;
   }
 
