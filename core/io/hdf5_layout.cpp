@@ -111,9 +111,6 @@ std::vector<std::string> datasetPaths(hid_t file) {
 class Layout {
  public:
   Layout(hid_t file, const LayoutSizes& z) : file_(file), z_(z) {}
-  ~Layout() {
-    for (const auto& [path, id] : scales_) H5Dclose(id);
-  }
   Layout(const Layout&) = delete;
   Layout& operator=(const Layout&) = delete;
 
@@ -124,6 +121,7 @@ class Layout {
       check(H5DSset_scale(time, "time_s"), "make /time_s a dimension scale");
     }
     for (const std::string& p : paths) describe(p);
+    for (const auto& [address, scale] : scaleUses_) writeReferenceList(scale.path, scale.uses);
   }
 
  private:
@@ -137,28 +135,73 @@ class Layout {
     H5Sclose(space);
     if (rank < 1 || rank > 2) return;
     const std::string group = parentOf(path);
+    std::string scales[2];
     if (group == "/inputs") {  // a batch case's drawn values: one per cell
-      attach(ds, 0, indexScale(group, "cell", dims[0]));
+      scales[0] = indexScale(group, "cell", dims[0]);
     } else if (dims[0] == z_.samples && path != "/events" && path != "/bus_trace" && path != "/can_trace") {
-      attach(ds, 0, timeScale(group));
+      scales[0] = timeScale(group);
     } else {
-      attach(ds, 0, indexScale(group, path == "/events" ? "event" : baseName(path) + "_index", dims[0]));
+      scales[0] = indexScale(group, path == "/events" ? "event" : baseName(path) + "_index", dims[0]);
     }
-    if (rank == 2) attach(ds, 1, indexScale(group, dimensionName(path, dims[1], z_), dims[1]));
+    if (rank == 2) scales[1] = indexScale(group, dimensionName(path, dims[1], z_), dims[1]);
+    attach(ds, path, rank, scales);
   }
 
-  void attach(hid_t ds, unsigned axis, const std::string& scalePath) {
-    check(H5DSattach_scale(ds, scale(scalePath), axis), "attach dimension scale " + scalePath);
+  // Dimension scales attached as H5DSattach_scale attaches them (HDF5 1.10, object
+  // references): the dataset's DIMENSION_LIST holds each axis's scale, and each scale's
+  // REFERENCE_LIST (dataset, axis) for every attachment in the order they were made. The
+  // lists are written once each: DIMENSION_LIST here, every REFERENCE_LIST after the last
+  // dataset (writeReferenceList). H5DSattach_scale read, deleted and wrote again the
+  // scale's whole list at each attachment: /time_s, which nearly every channel has, cost
+  // some 170,000 instructions a channel.
+  void attach(hid_t ds, const std::string& path, int rank, const std::string (&scales)[2]) {
+    hobj_ref_t self;
+    check(H5Rcreate(&self, ds, ".", H5R_OBJECT, -1), "make a reference to " + path);
+    hobj_ref_t axisScale[2];
+    hvl_t lists[2];
+    for (int axis = 0; axis < rank; ++axis) {
+      const std::string& scalePath = scales[axis];
+      check(H5Rcreate(&axisScale[axis], file_, scalePath.c_str(), H5R_OBJECT, -1), "make a reference to " + scalePath);
+      lists[axis].len = 1;
+      lists[axis].p = &axisScale[axis];
+      ScaleUses& uses = scaleUses_[axisScale[axis]];  // by the object: /time_s has a link in each group
+      if (uses.path.empty()) uses.path = scalePath;
+      uses.uses.push_back({self, axis});
+    }
+    const hsize_t n = static_cast<hsize_t>(rank);
+    const hid_t type = H5Tvlen_create(H5T_STD_REF_OBJ);
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t a = H5Acreate2(ds, "DIMENSION_LIST", type, space, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t e = a < 0 ? -1 : H5Awrite(a, type, lists);
+    if (a >= 0) H5Aclose(a);
+    H5Sclose(space);
+    H5Tclose(type);
+    check(e, "attach the dimension scales of " + path);
   }
 
-  // The scale at `path`, opened on first use and kept open until the layout is done: a
-  // scale serves many datasets (/time_s most of them), each open some 60,000 instructions.
-  hid_t scale(const std::string& path) {
-    if (const auto it = scales_.find(path); it != scales_.end()) return it->second;
-    const hid_t id = H5Dopen2(file_, path.c_str(), H5P_DEFAULT);
-    if (id < 0) throw std::runtime_error("HDF5: cannot open " + path);
-    scales_.emplace(path, id);
-    return id;
+  // One REFERENCE_LIST entry: H5DS's ds_list_t (the dataset, the axis the scale is of).
+  struct ScaleUse {
+    hobj_ref_t dataset;
+    int dimension;
+  };
+  struct ScaleUses {
+    std::string path;  // a link to the scale
+    std::vector<ScaleUse> uses;
+  };
+
+  void writeReferenceList(const std::string& scalePath, const std::vector<ScaleUse>& uses) {
+    const hid_t type = H5Tcreate(H5T_COMPOUND, sizeof(ScaleUse));
+    H5Tinsert(type, "dataset", HOFFSET(ScaleUse, dataset), H5T_STD_REF_OBJ);
+    H5Tinsert(type, "dimension", HOFFSET(ScaleUse, dimension), H5T_NATIVE_INT);
+    const hsize_t n = uses.size();
+    const hid_t space = H5Screate_simple(1, &n, nullptr);
+    const hid_t a = H5Acreate_by_name(file_, scalePath.c_str(), "REFERENCE_LIST", type, space, H5P_DEFAULT, H5P_DEFAULT,
+                                      H5P_DEFAULT);
+    const herr_t e = a < 0 ? -1 : H5Awrite(a, type, uses.data());
+    if (a >= 0) H5Aclose(a);
+    H5Sclose(space);
+    H5Tclose(type);
+    check(e, "attach dimension scale " + scalePath);
   }
 
   // /time_s, hard-linked into `group` on first use.
@@ -196,22 +239,21 @@ class Layout {
     hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
     H5Pset_obj_track_times(dcpl, 0);
     hid_t space = H5Screate_simple(1, &length, nullptr);
-    hid_t ds = H5Dcreate2(file_, path.c_str(), H5T_NATIVE_INT32, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    const hid_t id = H5Dcreate2(file_, path.c_str(), H5T_NATIVE_INT32, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     H5Sclose(space);
     H5Pclose(dcpl);
-    if (ds < 0) throw std::runtime_error("HDF5: cannot create " + path);
-    herr_t e = length ? H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()) : 0;
-    if (e >= 0) e = H5DSset_scale(ds, name.c_str());
-    H5Dclose(ds);
-    check(e, "write dimension scale " + path);
-    Obj obj(H5Dopen2(file_, path.c_str(), H5P_DEFAULT), path);
-    stringAttr(obj, "long_name", name + " number (1-based)");
+    if (id < 0) throw std::runtime_error("HDF5: cannot create " + path);
+    Obj ds(id, path);  // closed on leaving, thrown or not
+    check(length ? H5Dwrite(ds, H5T_NATIVE_INT32, H5S_ALL, H5S_ALL, H5P_DEFAULT, index.data()) : 0,
+          "write dimension scale " + path);
+    check(H5DSset_scale(ds, name.c_str()), "write dimension scale " + path);
+    stringAttr(ds, "long_name", name + " number (1-based)");  // while open (no second open)
     return path;
   }
 
   hid_t file_;
   LayoutSizes z_;
-  std::map<std::string, hid_t> scales_;          // scales open for attach(), by path
+  std::map<hobj_ref_t, ScaleUses> scaleUses_;   // every scale's attachments, by the scale
   std::map<std::string, hsize_t> indexLength_;  // index scales created here, by path: their length
 };
 

@@ -14,6 +14,8 @@
 #include <sstream>
 
 #include "core/io/hdf5_writer.hpp"
+#include "core/scenario/load_scenario.hpp"
+#include "core/scenario/scenario_inputs.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -93,6 +95,26 @@ TEST(ResultFile, OutputNamingAnExtendsBaseOrTheCsvIsRefused) {
   EXPECT_EQ(runCli((d / "child.yaml").string() + " -o " + (d / "out.h5").string(), d / "err.txt"), 0)
       << readText(d / "err.txt");
   EXPECT_DOUBLE_EQ(resultDuration(d / "out.h5"), 20.0);
+}
+
+// A scenario's text is parsed for its extends: and csv keys only when it could hold them
+// (scenario_inputs.cpp mayNameFiles): a key spelled with an escape still counts, and a
+// file without either key is its only input.
+TEST(ResultFile, InputsFoundThroughAnEscapedKeyAndNoneInAPlainFile) {
+  const fs::path d = test::freshTempDir("packsim_result_", "escaped");
+  std::ofstream(d / "profile.csv") << "time_s,current_A\n0,1\n10,2\n";
+  std::ofstream(d / "base.yaml") << test::simpleCellYaml() + "load: {\"\\x63sv\": profile.csv}\nrun: {duration_s: 20}\n";
+  std::ofstream(d / "child.yaml") << "\"\\x65xtends\": base.yaml\nname: child\n";
+  const std::vector<std::string> chain = scenarioInputFiles(loadScenarioFile((d / "child.yaml").string()));
+  ASSERT_EQ(chain.size(), 3u);
+  EXPECT_EQ(fs::path(chain[1]).filename(), "base.yaml");
+  EXPECT_EQ(fs::path(chain[2]).filename(), "profile.csv");
+  EXPECT_EQ(runCli((d / "child.yaml").string() + " -o " + (d / "base.yaml").string(), d / "err.txt"), 2);
+
+  std::ofstream(d / "plain.yaml") << test::simpleCellYaml() + kShort;
+  const std::vector<std::string> alone = scenarioInputFiles(loadScenarioFile((d / "plain.yaml").string()));
+  ASSERT_EQ(alone.size(), 1u);
+  EXPECT_EQ(fs::path(alone[0]).filename(), "plain.yaml");
 }
 
 // Another writer's temporary file (here one that cannot be replaced: a folder) is not
