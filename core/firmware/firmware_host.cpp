@@ -586,7 +586,10 @@ int32_t FirmwareHost::adcRead(uint8_t channel) const {
   if (board_.pins && channel == PSFW_ADC_CURRENT) return in_->currentCode;
   if (board_.pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
   const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
-  if (n >= 0 && n < board_.mcuThermistors) return in_->mcuThermistorCode[n];
+  if (n >= 0 && n < board_.mcuThermistors) {
+    mcuThermistorsRead_ |= uint64_t{1} << n;
+    return in_->mcuThermistorCode[n];
+  }
   return noChannel();
 }
 

@@ -123,6 +123,10 @@ class FirmwareHost {
   // The same figures by name (target_cycles, target_task0_worst_cycles, ...); empty in host mode.
   std::vector<std::pair<std::string, double>> targetFigures(double elapsed_s) const;
 
+  // The MCU-ADC thermistor inputs (bit n: PSFW_ADC_THERMISTOR0 + n) the firmware read at
+  // least once: a firmware configured for fewer never sees the others (core/sim/read_coverage.hpp).
+  uint64_t mcuThermistorsRead() const { return mcuThermistorsRead_; }
+
   // Board services (the psfw_board_api entries land here).
   uint32_t nowMs() const { return static_cast<uint32_t>(clock_ns_ / 1000000u); }
   uint32_t nowUs() const { return static_cast<uint32_t>(clock_ns_ / 1000u); }
@@ -146,6 +150,7 @@ class FirmwareHost {
   int32_t noChannel() const { return fw_.abi_version >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2; }
 
  private:
+  mutable uint64_t mcuThermistorsRead_ = 0;  // adcRead notes each thermistor channel read (at most 48)
   friend class TargetFirmware;  // runs the calls of target mode and serves its supervisor calls
   struct Call;  // one call into the firmware (guarded for a library)
   void watchdogReset();

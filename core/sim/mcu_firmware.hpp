@@ -54,6 +54,12 @@ class McuFirmware : public FirmwareSink {
   // "" while every MCU runs, else the first stopped one's line; a library's always.
   std::string status() const;
   const FirmwareHost& host(int board = 0) const { return *hosts_[static_cast<size_t>(board)]; }
+  // Per board, the MCU-ADC thermistor inputs its firmware read (FirmwareHost::mcuThermistorsRead).
+  std::vector<uint64_t> mcuThermistorsRead() const {
+    std::vector<uint64_t> read;
+    for (const auto& h : hosts_) read.push_back(h->mcuThermistorsRead());
+    return read;
+  }
   bool isLibrary() const { return library_; }
   bool anyDead() const;
   // The longest call of `task` on any board so far (FirmwareHost::worstTaskTime_s).

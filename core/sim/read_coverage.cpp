@@ -5,6 +5,8 @@
 
 #include "core/scenario/number_ranges.hpp"
 
+#include <bms/packsim_fw.h>
+
 namespace packsim {
 
 namespace {
@@ -42,6 +44,26 @@ UnreadInputs unreadInputs(const MonitorChainPath& chain, const MonitorBoard& boa
   return u;
 }
 
+namespace {
+
+// Where thermistor channels sit: "groups 12, 18, 24" when every one sits on a cell, else
+// each with its site.
+std::string sites(const Scenario& s, const std::vector<int>& channels) {
+  bool cells = true;
+  for (int k : channels) cells = cells && s.hardware.thermistors[k].site == ThermSite::Cell;
+  std::string where = cells ? plural(channels.size(), "group ", "groups ") : "";
+  for (size_t i = 0; i < channels.size(); ++i) {
+    const ThermistorChannel& ch = s.hardware.thermistors[channels[i]];
+    where += i ? ", " : "";
+    where += ch.site == ThermSite::Cell    ? (cells ? "" : "group ") + std::to_string(ch.group + 1)
+             : ch.site == ThermSite::Board ? "board " + std::to_string(ch.board + 1)
+                                           : "FET node " + ch.node;
+  }
+  return where;
+}
+
+}  // namespace
+
 UnreadReport unreadReport(const Scenario& s, const std::vector<MonitorBoard>& boards,
                           const std::vector<const MonitorChainPath*>& chains, double end_s) {
   UnreadReport report;
@@ -62,24 +84,33 @@ UnreadReport unreadReport(const Scenario& s, const std::vector<MonitorBoard>& bo
                     std::to_string(s.pack.series) + " (on " + devices(u.cellDevices) + "): the firmware never read " +
                     plural(u.groups.size(), "its", "their") + " cell voltage in the run's " + in +
                     " s; the BMS could not see " + plural(u.groups.size(), "it", "them"));
-    if (!u.channels.empty()) {
-      // "groups 12, 18, 24" when every one sits on a cell, else each with its site.
-      bool cells = true;
-      for (int k : u.channels) cells = cells && s.hardware.thermistors[k].site == ThermSite::Cell;
-      std::string where = cells ? plural(u.channels.size(), "group ", "groups ") : "";
-      for (size_t i = 0; i < u.channels.size(); ++i) {
-        const ThermistorChannel& ch = s.hardware.thermistors[u.channels[i]];
-        where += i ? ", " : "";
-        where += ch.site == ThermSite::Cell    ? (cells ? "" : "group ") + std::to_string(ch.group + 1)
-                 : ch.site == ThermSite::Board ? "board " + std::to_string(ch.board + 1)
-                                               : "FET node " + ch.node;
-      }
+    if (!u.channels.empty())
       out.push_back(plural(u.channels.size(), "thermistor channel ", "thermistor channels ") + ranges(u.channels) +
-                    " (at " + where + "; on " + devices(u.thermistorDevices) + "): the firmware never read " +
+                    " (at " + sites(s, u.channels) + "; on " + devices(u.thermistorDevices) + "): the firmware never read " +
                     plural(u.channels.size(), "it", "them") + " in the run's " + in + " s");
-    }
   }
   return report;
+}
+
+std::vector<std::string> unreadMcuThermistors(const Scenario& s, const std::vector<MonitorBoard>& boards,
+                                              const std::vector<uint64_t>& read, double end_s) {
+  std::vector<std::string> out;
+  char in[64];
+  std::snprintf(in, sizeof in, "%.2f", end_s);
+  for (size_t b = 0; b < boards.size() && b < read.size(); ++b) {
+    std::vector<int> never, inputs;
+    const std::vector<int>& mcu = boards[b].mcuChannels;
+    for (size_t n = 0; n < mcu.size() && n < 64; ++n)
+      if (!(read[b] >> n & 1u)) never.push_back(mcu[n]), inputs.push_back(PSFW_ADC_THERMISTOR0 + static_cast<int>(n));
+    if (never.empty()) continue;
+    const std::string board = boards.size() > 1 ? " of board " + std::to_string(b + 1) : "";
+    out.push_back(plural(never.size(), "thermistor channel ", "thermistor channels ") + ranges(never) + " (at " +
+                  sites(s, never) + "; on the MCU's own ADC" + board + ", " +
+                  plural(inputs.size(), "channel ", "channels ") + numberRanges(inputs) +
+                  " from PSFW_ADC_THERMISTOR0 = 16): the firmware never read " + plural(never.size(), "it", "them") +
+                  " in the run's " + in + " s");
+  }
+  return out;
 }
 
 }  // namespace packsim

@@ -4,8 +4,10 @@
 // MonitorChain::readCoverage). A firmware configured for fewer cells or devices than the
 // pack has -- a user's firmware told `cell_count: 6` on a 24s pack -- runs without an
 // error and guards only what it reads: the run says which groups it never saw. A read a
-// device did not hear (silent, unaddressed, beyond a broken link) does not count.
+// device did not hear (silent, unaddressed, beyond a broken link) does not count. The
+// thermistors on the MCU's own ADC count once the firmware read their channel.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -33,5 +35,11 @@ struct UnreadReport {
 };
 UnreadReport unreadReport(const Scenario& s, const std::vector<MonitorBoard>& boards,
                           const std::vector<const MonitorChainPath*>& chains, double end_s);
+
+// The thermistors on the boards' own MCU ADCs the firmware never read: `read[b]` is board
+// b's host's mask (bit n: PSFW_ADC_THERMISTOR0 + n, thermistor channel
+// boards[b].mcuChannels[n]); one `monitor_unread` detail per board with any.
+std::vector<std::string> unreadMcuThermistors(const Scenario& s, const std::vector<MonitorBoard>& boards,
+                                              const std::vector<uint64_t>& read, double end_s);
 
 }  // namespace packsim

@@ -18,6 +18,7 @@
 #include "core/sim/plant_ode.hpp"
 #include "core/sim/readout_fit.hpp"
 #include "core/sim/load_shortfall.hpp"
+#include "core/sim/read_coverage.hpp"
 #include "core/sim/run_end.hpp"
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
@@ -287,6 +288,9 @@ RunResult SimulationRun::finish() {
   Impl& m = *impl_;
   m.scheduler.reportUnreached(static_cast<double>(m.k) * m.tick_s, m.endReason, m.tracker);  // before the run's end event
   m.shortfall.finish(static_cast<double>(m.k) * m.tick_s, m.shortfallSink);
+  const double end_s = static_cast<double>(m.k) * m.tick_s;  // the MCU's thermistors it never read
+  for (const std::string& note : unreadMcuThermistors(m.s, m.hw.boards(), m.firmware.mcuThermistorsRead(), end_s))
+    m.tracker.event(end_s, "monitor_unread", note);
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize(), m.endReason);
   r.bus_trace = m.hw.takeBusTrace();
   r.can_trace = m.firmware.takeCanTrace();

@@ -88,6 +88,23 @@ TEST(ReadCoverage, TheSameFirmwareToldTwelveCellsReadsThemAll) {
   EXPECT_TRUE(judge(test::scenarioFromYaml(examplePack(12)), r).warnings.empty());
 }
 
+// A fifth thermistor, at group 10, goes to the MCU's own ADC (the two devices take two
+// each). The example firmware reads none of the MCU's thermistor inputs; packsim's core
+// reads each every tick.
+TEST(ReadCoverage, AThermistorOnTheMcusAdcThatTheFirmwareNeverReadIsNamed) {
+  std::string yaml = examplePack(12);
+  yaml.replace(yaml.find("at_groups: [1, 2, 7, 8]"), 23, "at_groups: [1, 2, 7, 8, 10]");
+  const RunResult r = runScenario(test::scenarioFromYaml(yaml));
+  const std::vector<std::string> notes = unread(r);
+  ASSERT_EQ(notes.size(), 1u) << testing::PrintToString(notes);
+  EXPECT_EQ(notes[0], "thermistor channel 5 (at group 10; on the MCU's own ADC, channel 16 from PSFW_ADC_THERMISTOR0 = "
+                      "16): the firmware never read it in the run's 3.00 s");
+  EXPECT_EQ(r.summary.unmonitored_groups, 0);  // every cell was read
+  const std::string core = yaml.substr(0, yaml.find("bms: {")) + "bms: {tick_ms: 10}\n";  // no firmware: the core
+  const RunResult own = runScenario(test::scenarioFromYaml(core));
+  EXPECT_TRUE(unread(own).empty()) << testing::PrintToString(unread(own));
+}
+
 // Each part packsim's core drives, on its bundled pack (one board, or D's six), reads
 // every cell and thermistor within two seconds.
 TEST(ReadCoverage, PacksimsCoreReadsEveryInputOnEveryPart) {
