@@ -14,11 +14,11 @@
 #include "core/sim/fast_integrator.hpp"
 #include "core/sim/fault_scheduler.hpp"
 #include "core/sim/mcu_firmware.hpp"
+#include "core/sim/load_shortfall.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/plant_ode.hpp"
-#include "core/sim/readout_fit.hpp"
-#include "core/sim/load_shortfall.hpp"
 #include "core/sim/read_coverage.hpp"
+#include "core/sim/readout_fit.hpp"
 #include "core/sim/run_end.hpp"
 #include "core/sim/run_tracker.hpp"
 #include "core/sim/same_instant.hpp"
@@ -286,9 +286,11 @@ bool SimulationRun::ended() const { return impl_->ended; }
 
 RunResult SimulationRun::finish() {
   Impl& m = *impl_;
-  m.scheduler.reportUnreached(static_cast<double>(m.k) * m.tick_s, m.endReason, m.tracker);  // before the run's end event
-  m.shortfall.finish(static_cast<double>(m.k) * m.tick_s, m.shortfallSink);
-  const double end_s = static_cast<double>(m.k) * m.tick_s;  // the MCU's thermistors it never read
+  const double end_s = static_cast<double>(m.k) * m.tick_s;
+  // Before the run's end event: faults never reached, a power load's last shortfall, the
+  // MCU's thermistors the firmware never read.
+  m.scheduler.reportUnreached(end_s, m.endReason, m.tracker);
+  m.shortfall.finish(end_s, m.shortfallSink);
   for (const std::string& note : unreadMcuThermistors(m.s, m.hw.boards(), m.firmware.mcuThermistorsRead(), end_s))
     m.tracker.event(end_s, "monitor_unread", note);
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize(), m.endReason);
