@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/sim/scenario_cells.hpp"
 #include "models/hw/charger.hpp"
@@ -324,14 +325,34 @@ template <bool kHeat>
   return v;
 }
 
+namespace {
+
+// Whether any passive balancing switch is on: a word of eight switches per test.
+bool anySwitchOn(const std::vector<uint8_t>& on) {
+  const uint8_t* p = on.data();
+  const size_t n = on.size();
+  uint64_t any = 0;
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    uint64_t w;
+    std::memcpy(&w, p + i, sizeof w);
+    any |= w;
+  }
+  for (; i < n; ++i) any |= p[i];
+  return any != 0;
+}
+
+}  // namespace
+
 // The plant's balancing hardware picks groupCurrentsWith's variant: a plant without an
-// active balancer or without passive switches (most) runs a loop without their per-group
-// reads and branches (the same operations on the values it computes: a converter's
-// current is then 0 and no switch is on).
+// active balancer, and without passive switches or with all of them off (most ticks of
+// most runs), runs a loop without their per-group reads and branches (the same
+// operations on the values it computes: a converter's current is then 0 and no switch
+// is on).
 template <bool kHeat>
 void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const {
   if (busIndex_ >= 0) groupCurrentsWith<kHeat, true, true>(x, in, sig);
-  else if (balancer_.present) groupCurrentsWith<kHeat, false, true>(x, in, sig);
+  else if (balancer_.present && anySwitchOn(in.balancing)) groupCurrentsWith<kHeat, false, true>(x, in, sig);
   else groupCurrentsWith<kHeat, false, false>(x, in, sig);
 }
 
@@ -417,18 +438,7 @@ void Plant::groupCurrentsWith(const double* x, const PlantInputs& in, PlantSigna
   }
 }
 
-void Plant::derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const {
-  evaluate(t, x, in, sig);
-  rates(x, dx, sig);
-}
-
-void Plant::derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx,
-                                 PlantSignals& sig) const {
-  evaluateAtCurrent<true>(t, x, in, sig);
-  rates(x, dx, sig);
-}
-
-void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
+[[gnu::always_inline]] inline void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
   const int slot = pack_.layout.size();
   for (int c = 0; c < pack_.cellCount(); ++c) {
     const size_t ci = static_cast<size_t>(c);
@@ -442,6 +452,20 @@ void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
   const double* rate = sig.node_rate_K_per_s.data();
   for (size_t j = 0; j < tempState_.size(); ++j) dx[tempState_[j]] = rate[j];
   if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
+}
+
+// evaluate() and rates() inline, as in derivativesAtCurrent: the fast integrator's one
+// evaluation a sub-step, whose nested calls cost more than one cell's arithmetic.
+void Plant::derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const {
+  currentAtTerminals(t, x, in, sig);
+  evaluateAtCurrent<true>(t, x, in, sig);
+  rates(x, dx, sig);
+}
+
+void Plant::derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx,
+                                 PlantSignals& sig) const {
+  evaluateAtCurrent<true>(t, x, in, sig);
+  rates(x, dx, sig);
 }
 
 void Plant::quadratures(const PlantSignals& sig, double* dq) const {
