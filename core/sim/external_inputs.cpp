@@ -4,7 +4,7 @@
 
 namespace packsim {
 
-bool ExternalInputs::applyToPlant(double t, PlantInputs& pin) const {
+bool ExternalInputs::applySome(double t, PlantInputs& pin) const {
   bool changed = false;
   if (load_A_or_W) {
     const LoadSegment& l = pin.load;
@@ -20,12 +20,6 @@ bool ExternalInputs::applyToPlant(double t, PlantInputs& pin) const {
     changed = true;
   }
   return changed;
-}
-
-void ExternalInputs::applyToPins(bms::Inputs& in) const {
-  if (estop_internal_pulled) in.eSwitchInternal = *estop_internal_pulled;
-  if (estop_external_pulled) in.eSwitchExternal = *estop_external_pulled;
-  if (charger_present) in.chargerPresent = *charger_present;
 }
 
 }  // namespace packsim

@@ -26,10 +26,18 @@ struct ExternalInputs {
   std::optional<bool> charger_present;
 
   // Into the plant's held inputs at t; true when one of them changed (the integrator
-  // restarts there).
-  bool applyToPlant(double t, PlantInputs& pin) const;
+  // restarts there). Both inline: the loop calls them three times a tick, and with none
+  // set (every `packsim run`) each call was the whole cost.
+  bool applyToPlant(double t, PlantInputs& pin) const { return (load_A_or_W || ambient_C) && applySome(t, pin); }
   // Into the pins the firmware reads, after the hardware sampled them.
-  void applyToPins(bms::Inputs& in) const;
+  void applyToPins(bms::Inputs& in) const {
+    if (estop_internal_pulled) in.eSwitchInternal = *estop_internal_pulled;
+    if (estop_external_pulled) in.eSwitchExternal = *estop_external_pulled;
+    if (charger_present) in.chargerPresent = *charger_present;
+  }
+
+ private:
+  bool applySome(double t, PlantInputs& pin) const;  // applyToPlant with the load or ambient set
 };
 
 }  // namespace packsim

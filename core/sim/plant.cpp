@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "core/sim/scenario_cells.hpp"
 #include "models/hw/charger.hpp"
@@ -12,6 +13,7 @@ namespace packsim {
 Plant::Plant(const Scenario& s)
     : ambient_(s.ambient_C), coolant_C_(s.thermal.coolant_C), loadQuantity_(s.load.quantity),
       initialTemp_C_(s.pack.initial_temp_C) {
+  ambientFixed_ = ambient_.t_s.size() == 1 && ambient_.value.size() == 1;
   pack_.series = s.pack.series;
   pack_.parallel = s.pack.parallel;
   pack_.interconnect_ohm = s.pack.interconnect_ohm;
@@ -65,8 +67,10 @@ Plant::Plant(const Scenario& s)
   fetPaths_ = s.hardware.fet_paths;
   for (int k = 0; k < 2; ++k)
     if (fet_[k].present && !fet_[k].thermal_node.empty()) fetNode_[k] = thermal_.find(fet_[k].thermal_node);
+  fetHeats_ = fetNode_[0] >= 0 || fetNode_[1] >= 0;
   active_ = s.hardware.active_balancer;
   if (active_.present) busIndex_ = stateSize_++;
+  for (int j = 0; j < thermal_.nodeCount(); ++j) tempState_.push_back(tempIndex(j));
 }
 
 PlantSignals Plant::makeSignals() const {
@@ -146,17 +150,8 @@ double Plant::packCurrent(double t, const PlantInputs& in, double e_V, double r_
   return 2.0 * demand / (e_V + std::sqrt(disc)) + extra;  // stable form of (E - √disc)/(2R)
 }
 
-void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
-  terminalCurrent(t, x, in, sig);
-  evaluateAtCurrent<true>(t, x, in, sig);
-}
-
-void Plant::sample(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
-  terminalCurrent(t, x, in, sig);
-  evaluateAtCurrent<false>(t, x, in, sig);
-}
-
-void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+[[gnu::always_inline]] inline void Plant::currentAtTerminals(double t, const double* x, const PlantInputs& in,
+                                                              PlantSignals& sig) const {
   auto cellX = [&](int c) { return cellStates(x, c); };
   const bool charger = in.relay_closed && in.charger_limit_A > 0.0;
   sig.charger_A = 0.0;
@@ -175,6 +170,20 @@ void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, Pl
     sig.pack_current_A = 0.0;
     sig.charger_A = 0.0;
   }
+}
+
+void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  currentAtTerminals(t, x, in, sig);
+}
+
+void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  currentAtTerminals(t, x, in, sig);
+  evaluateAtCurrent<true>(t, x, in, sig);
+}
+
+void Plant::sample(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  currentAtTerminals(t, x, in, sig);
+  evaluateAtCurrent<false>(t, x, in, sig);
 }
 
 template <bool kHeat>
@@ -209,17 +218,20 @@ void Plant::evaluateAtCurrent(double t, const double* x, const PlantInputs& in, 
         const size_t gi = static_cast<size_t>(g);
         sig.heat_W[static_cast<size_t>(boardNodeOfGroup(g))] += sig.group_voltage_V[gi] * sig.balance_current_A[gi];
       }
-    // The FETs carry the pack current between the terminals and the load.
+    // The FETs carry the pack current between the terminals and the load (fetHeats_: one
+    // test for a plant whose FETs have no thermal node, instead of the loop's).
     sig.fet_heat_W = 0.0;
-    const bool gate[2] = {in.discharge_fet_on, in.charge_fet_on};
-    for (int k = 0; k < 2; ++k)
-      if (fetNode_[k] >= 0) {
-        const double q = mosfetLoss_W(fet_[k], gate[k], fetCurrent_A(fetPaths_, k == 0, sig.pack_current_A));
-        sig.heat_W[static_cast<size_t>(fetNode_[k])] += q;
-        sig.fet_heat_W += q;
-      }
+    if (fetHeats_) {
+      const bool gate[2] = {in.discharge_fet_on, in.charge_fet_on};
+      for (int k = 0; k < 2; ++k)
+        if (fetNode_[k] >= 0) {
+          const double q = mosfetLoss_W(fet_[k], gate[k], fetCurrent_A(fetPaths_, k == 0, sig.pack_current_A));
+          sig.heat_W[static_cast<size_t>(fetNode_[k])] += q;
+          sig.fet_heat_W += q;
+        }
+    }
   }
-  sig.ambient_C = in.ambient_C ? *in.ambient_C : ambient_.at(t);
+  sig.ambient_C = in.ambient_C ? *in.ambient_C : ambientFixed_ ? ambient_.value[0] : ambient_.at(t);
 }
 
 // The faults' extra heat and internal shorts per cell (HardwareFaults), read once per
@@ -313,14 +325,45 @@ template <bool kHeat>
   return v;
 }
 
+namespace {
+
+// Whether any passive balancing switch is on: a word of eight switches per test.
+bool anySwitchOn(const std::vector<uint8_t>& on) {
+  const uint8_t* p = on.data();
+  const size_t n = on.size();
+  uint64_t any = 0;
+  size_t i = 0;
+  for (; i + 8 <= n; i += 8) {
+    uint64_t w;
+    std::memcpy(&w, p + i, sizeof w);
+    any |= w;
+  }
+  for (; i < n; ++i) any |= p[i];
+  return any != 0;
+}
+
+}  // namespace
+
+// The plant's balancing hardware picks groupCurrentsWith's variant: a plant without an
+// active balancer, and without passive switches or with all of them off (most ticks of
+// most runs), runs a loop without their per-group reads and branches (the same
+// operations on the values it computes: a converter's current is then 0 and no switch
+// is on).
+template <bool kHeat>
+void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const {
+  if (busIndex_ >= 0) groupCurrentsWith<kHeat, true, true>(x, in, sig);
+  else if (balancer_.present && anySwitchOn(in.balancing)) groupCurrentsWith<kHeat, false, true>(x, in, sig);
+  else groupCurrentsWith<kHeat, false, false>(x, in, sig);
+}
+
 // Group voltages and cell currents for the string current sig.pack_current_A, with
 // each group's balancing resistor (closed form, see the header) and the active
 // balancer's converter and precharge currents.
-template <bool kHeat>
-void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const {
+template <bool kHeat, bool kBus, bool kSwitches>
+void Plant::groupCurrentsWith(const double* x, const PlantInputs& in, PlantSignals& sig) const {
   auto cellX = [&](int c) { return cellStates(x, c); };
   const double I = sig.pack_current_A;
-  const bool bus = busIndex_ >= 0;
+  const bool bus = kBus;  // busIndex_ >= 0
   sig.pack_voltage_V = -I * pack_.interconnect_ohm;
   sig.balance_heat_W = 0.0;
   sig.bus_V = bus ? x[busIndex_] : 0.0;
@@ -345,12 +388,13 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
   // balancingOn(in, gi) and converterA(in, gi), their lists read once: called per group,
   // they reload each vector after the stores into the signals (the compiler cannot rule
   // out that those alias them): some 150 instructions a tick on A.
-  const uint8_t* switchOn = balancer_.present ? in.balancing.data() : nullptr;
-  const size_t switches = balancer_.present ? in.balancing.size() : 0;
+  const bool switchable = kSwitches && balancer_.present;
+  const uint8_t* switchOn = switchable ? in.balancing.data() : nullptr;
+  const size_t switches = switchable ? in.balancing.size() : 0;
   const CellFaults faults(in.faults);
   const size_t parallel = static_cast<size_t>(pack_.parallel);
   const double* converter = in.converter_A.data();
-  const size_t converters = in.converter_A.size();
+  const size_t converters = bus ? in.converter_A.size() : 0;  // filled with a bus only (hw_balancing)
   // The pack voltage and the balancing heat summed in locals (the same additions in the
   // same order, stored once after the loop), and the per-group outputs through pointers
   // taken once: each store of a cell's value into the signals could be one of these
@@ -375,7 +419,8 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
     if (bleeding) balanceHeat += v * iBal;
     groupV[gi] = v;
     packV += v;
-    for (size_t ci = gi * parallel; ci < (gi + 1) * parallel; ++ci) cellV[ci] = v;
+    if (parallel == 1) cellV[gi] = v;  // one cell a group: a store, not the loop's set-up
+    else for (size_t ci = gi * parallel; ci < (gi + 1) * parallel; ++ci) cellV[ci] = v;
     balanceA[gi] = bus ? ix : iBal;
     if (bus && ix != 0.0) {
       double loss = 0.0;
@@ -393,8 +438,27 @@ void Plant::groupCurrents(const double* x, const PlantInputs& in, PlantSignals& 
   }
 }
 
+[[gnu::always_inline]] inline void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
+  const int slot = pack_.layout.size();
+  for (int c = 0; c < pack_.cellCount(); ++c) {
+    const size_t ci = static_cast<size_t>(c);
+    const double* xc = cellStates(x, c);
+    flat_[ci].derivatives(pack_.cells[ci], xc, sig.cell_current_A[ci], dx + c * stride_, sig.internal_A[ci],
+                          flat_[ci].temp_C(xc, slot));
+  }
+  // Thermal network on gathered temperatures; rates scattered to the state slots.
+  thermal_.derivatives(sig.node_temp_C.data(), sig.heat_W.data(), sig.ambient_C, coolant_C_,
+                       sig.node_rate_K_per_s.data());
+  const double* rate = sig.node_rate_K_per_s.data();
+  for (size_t j = 0; j < tempState_.size(); ++j) dx[tempState_[j]] = rate[j];
+  if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
+}
+
+// evaluate() and rates() inline, as in derivativesAtCurrent: the fast integrator's one
+// evaluation a sub-step, whose nested calls cost more than one cell's arithmetic.
 void Plant::derivatives(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const {
-  evaluate(t, x, in, sig);
+  currentAtTerminals(t, x, in, sig);
+  evaluateAtCurrent<true>(t, x, in, sig);
   rates(x, dx, sig);
 }
 
@@ -402,21 +466,6 @@ void Plant::derivativesAtCurrent(double t, const double* x, const PlantInputs& i
                                  PlantSignals& sig) const {
   evaluateAtCurrent<true>(t, x, in, sig);
   rates(x, dx, sig);
-}
-
-void Plant::rates(const double* x, double* dx, PlantSignals& sig) const {
-  const int slot = pack_.layout.size();
-  for (int c = 0; c < pack_.cellCount(); ++c) {
-    const size_t ci = static_cast<size_t>(c);
-    const double* xc = cellStates(x, c);
-    ecm::derivatives(pack_.cells[ci], xc, sig.cell_current_A[ci], dx + c * stride_, sig.internal_A[ci],
-                     flat_[ci].temp_C(xc, slot));
-  }
-  // Thermal network on gathered temperatures; rates scattered to the state slots.
-  thermal_.derivatives(sig.node_temp_C.data(), sig.heat_W.data(), sig.ambient_C, coolant_C_,
-                       sig.node_rate_K_per_s.data());
-  for (int j = 0; j < thermal_.nodeCount(); ++j) dx[tempIndex(j)] = sig.node_rate_K_per_s[static_cast<size_t>(j)];
-  if (busIndex_ >= 0) dx[busIndex_] = sig.bus_current_A / active_.bus_capacitance_F;
 }
 
 void Plant::quadratures(const PlantSignals& sig, double* dq) const {

@@ -53,7 +53,7 @@ struct PlantInputs {
   std::vector<double> balance_duty; // share of the time a switch that is on conducts (the monitor IC opens
                                     // it for conversions): its average current; empty = 1
   std::vector<double> bias_A;       // monitor ICs' thermistor bias drawn from a group (A; empty: none)
-  std::vector<double> converter_A;  // active balancer module-side current (+ into the bus)
+  std::vector<double> converter_A;  // active balancer module-side current (+ into the bus): only with one
   bool bus_precharge = false;       // active balancer bus charging from the stack
   double charger_limit_A = 0.0;     // CC-CV charger on with this current limit; 0 = off
   double charger_setpoint_V = 0.0;
@@ -170,6 +170,9 @@ class Plant {
 
  private:
   double packCurrent(double t, const PlantInputs& in, double e_V, double r_ohm) const;
+  // terminalCurrent's body, inlined into evaluate() and sample(): for the usual current
+  // load the call cost about as much as the work (plant.cpp).
+  void currentAtTerminals(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
   // Pack Thevenin seen from the terminals with the held balancing / converter currents.
   template <typename CellX>
   void packThevenin(const PlantInputs& in, CellX cellX, double& e_V, double& r_ohm) const;
@@ -179,6 +182,10 @@ class Plant {
   // kHeat = false: without the heat (sample()) in these three.
   template <bool kHeat>
   void groupCurrents(const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  // groupCurrents for a plant with (kBus) or without the active balancer's bus, and with
+  // (kSwitches: when balancer_.present) or without passive balancing switches.
+  template <bool kHeat, bool kBus, bool kSwitches>
+  void groupCurrentsWith(const double* x, const PlantInputs& in, PlantSignals& sig) const;
   // Group g at the group current i_A: its cells' OCV, R0, EMF, currents, heat and
   // temperatures into sig (curves once per cell); returns the group voltage.
   template <bool kHeat>
@@ -190,6 +197,7 @@ class Plant {
   Pack pack_;
   ThermalNetwork thermal_;
   TimeSeries ambient_;
+  bool ambientFixed_ = false;  // one point: ambient_.at(t) is its value at every t
   double coolant_C_ = 25.0;
   LoadProfile::Quantity loadQuantity_ = LoadProfile::Quantity::Current_A;
   std::vector<double> initialSoc_;
@@ -200,6 +208,7 @@ class Plant {
   ActiveBalancerConfig active_;
   int boardNode_ = -1;
   int fetNode_[2] = {-1, -1};     // discharge FET, charge FET
+  bool fetHeats_ = false;         // either FET has a thermal node
   MosfetConfig fet_[2];
   FetPaths fetPaths_ = FetPaths::Series;
   std::vector<int> boardNodes_;  // per monitor board; empty without a board node
@@ -208,6 +217,7 @@ class Plant {
   // Per cell: its curves and constants laid out for the per-cell loop (pointing into
   // pack_'s curves, whose arrays every copy shares).
   std::vector<FlatCell> flat_;
+  std::vector<int> tempState_;  // tempIndex(j) per thermal node, for rates()' scatter
 };
 
 }  // namespace packsim

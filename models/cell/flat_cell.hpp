@@ -10,6 +10,8 @@
 //   heat_W             ecm::heatWithParts_W (the RC resistances read from here when
 //                      every pair is constant and there are at most kFlatRc of them)
 //   temp_C             Pack::cellTemp_C: the cell's temperature slot if a curve reads it
+//   derivatives        ecm::derivatives (inline for constant pairs without hysteresis, with
+//                      the products it forms per call, 3600·Q and each pair's R·C, kept)
 //
 // The hints (CellHints) belong to the caller: the plant keeps them per cell in its
 // signals, so a const Plant evaluated from several places never shares them.
@@ -37,6 +39,11 @@ struct FlatCell {
   int n_rc = 0;
   double hysteresis_instant_V = 0.0;
   double rc_r_ohm[kFlatRc] = {};
+  double rc_c_F[kFlatRc] = {};
+  double rc_tau_s[kFlatRc] = {};  // r_ohm·c_F, as ecm::derivatives forms it
+  double coulombic_efficiency = 1.0;
+  double self_discharge_A = 0.0;
+  double charge_As = 3600.0;      // 3600·capacity_Ah, as ecm::derivatives forms it
 
   static FlatCell of(const CellParams& p) {
     FlatCell f;
@@ -57,7 +64,12 @@ struct FlatCell {
       const RcPair& rc = p.rc[static_cast<size_t>(k)];
       f.rc_constant = !rc.variable;
       f.rc_r_ohm[k] = rc.r_ohm;
+      f.rc_c_F[k] = rc.c_F;
+      f.rc_tau_s[k] = rc.r_ohm * rc.c_F;
     }
+    f.coulombic_efficiency = p.coulombic_efficiency;
+    f.self_discharge_A = p.self_discharge_A;
+    f.charge_As = 3600.0 * p.capacity_Ah;
     return f;
   }
 
@@ -104,6 +116,20 @@ struct FlatCell {
     if (has_entropic) q += reversible_W;
     if (has_hysteresis) q -= i_A * (x[1 + n_rc] + instantHysteresis_V(i_A));
     return q;
+  }
+  // ecm::derivatives(p, x, i_A, dx, internal_A, temp_C): the same operations in the same
+  // order. Inline for the usual cell (constant pairs, no hysteresis), which saves the call
+  // and its walk over p.rc (some 30 instructions per cell and plant evaluation); any other
+  // cell calls it.
+  [[gnu::always_inline]] void derivatives(const CellParams& p, const double* x, double i_A, double* dx,
+                                          double internal_A, double temp_C) const {
+    if (!rc_constant || has_hysteresis) {
+      ecm::derivatives(p, x, i_A, dx, internal_A, temp_C);
+      return;
+    }
+    const double eta = i_A < 0.0 ? coulombic_efficiency : 1.0;
+    dx[CellLayout::soc] = -(eta * i_A + self_discharge_A + internal_A) / charge_As;
+    for (int k = 0; k < n_rc; ++k) dx[1 + k] = i_A / rc_c_F[k] - x[1 + k] / rc_tau_s[k];
   }
 };
 

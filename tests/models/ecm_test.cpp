@@ -88,9 +88,13 @@ TEST(Ecm, FlatCellIsTheEcmFunctionsBitForBit) {
 // ecm::heatWithParts_W and Pack::cellTemp_C's rule to the bit: constant RC pairs (read
 // from the flat copy), a variable pair and more pairs than kFlatRc (read from the
 // CellParams), hysteresis with an instantaneous step at both current signs and at rest,
-// reversible heat, a cell whose curves read no temperature.
+// reversible heat, a cell whose curves read no temperature; and its derivatives
+// (ecm::derivatives), inline for the first cell's constant pair.
 TEST(Ecm, FlatCellEmfHeatAndTemperatureAreTheEcmFunctionsBitForBit) {
   CellParams a = cell();  // one constant pair, no temperature
+  a.capacity_Ah = 3.07;
+  a.coulombic_efficiency = 0.985;
+  a.self_discharge_A = 2e-4;
   CellParams b = cell();
   b.rc = {{0.01, 1000.0}, {0.004, 20000.0}};
   b.has_hysteresis = true;
@@ -131,6 +135,11 @@ TEST(Ecm, FlatCellEmfHeatAndTemperatureAreTheEcmFunctionsBitForBit) {
       const double rev = ecm::reversibleHeat_W(p, x[0], i_A, t_C);
       ASSERT_EQ(bits(f.heat_W(p, x.data(), i_A, r0, rev, t_C)), bits(ecm::heatWithParts_W(p, x.data(), i_A, r0, rev, t_C)));
       ASSERT_EQ(bits(f.reversibleHeat_W(x[0], i_A, t_C, h)), bits(rev));
+      const double internal_A = n % 3 == 0 ? 0.0 : 0.01 * u(rng);
+      std::vector<double> dxFlat(x.size(), -1.0), dxEcm(x.size(), -1.0);
+      f.derivatives(p, x.data(), i_A, dxFlat.data(), internal_A, t_C);
+      ecm::derivatives(p, x.data(), i_A, dxEcm.data(), internal_A, t_C);
+      for (size_t j = 0; j < x.size(); ++j) ASSERT_EQ(bits(dxFlat[j]), bits(dxEcm[j])) << j;
     }
   }
 }
