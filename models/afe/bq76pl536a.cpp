@@ -186,11 +186,30 @@ void Bq76pl536aChain::runComparatorsPass(Device& dv, double t) {
   dv.quiet = dv.over == 0 && dv.under == 0 && dv.hot == 0;
 }
 
-void Bq76pl536aChain::advance(double t) {
+void Bq76pl536aChain::settleAll(double t) {
+  double due = std::numeric_limits<double>::infinity();
   for (Device& dv : dev_) {
     settle(dv, t);
-    runComparators(dv, t);
+    due = std::min(due, dueOf(dv));
   }
+  dueAt_s_ = due;
+}
+
+void Bq76pl536aChain::runAllComparators(double t) {
+  bool calm = true;
+  for (Device& dv : dev_) {
+    runComparators(dv, t);
+    calm = calm && dv.compared && dv.quiet;
+  }
+  calm_ = calm;
+}
+
+// A device's settling and its comparators touch different registers (results, CB_CTRL;
+// the fault latches) and no other device: all devices settled, then all compared, is the
+// device-by-device order's outcome.
+void Bq76pl536aChain::advance(double t) {
+  if (t >= dueAt_s_) settleAll(t);
+  if (!calm_) runAllComparators(t);
 }
 
 void Bq76pl536aChain::startConversion(Device& dv, double t) {
@@ -309,6 +328,10 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
   }
   settle(dv, t);
+  // A conversion started or a balancing timer (re)set may be due before the chain's
+  // earliest; a threshold written needs a comparator pass.
+  dueAt_s_ = std::min(dueAt_s_, dueOf(dv));
+  calm_ = calm_ && dv.compared;
 }
 
 int Bq76pl536aChain::reach() const {
@@ -327,7 +350,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   BusTransfer r;
   r.duration_s = linkTime_s(txLen + rxLen);
   if (rx == nullptr) rxLen = 0;
-  for (Device& dv : dev_) settle(dv, t);
+  if (t >= dueAt_s_) settleAll(t);
   r.received = rxLen > 0 ? -1 : 0;
   if (tx == nullptr || txLen < BQ536_READ_REQUEST_LEN) return r;
   const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);

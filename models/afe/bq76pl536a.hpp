@@ -24,7 +24,9 @@
 //                the housekeeping bits (POR, AR, CRC) show in the registers only.
 #pragma once
 #include <array>
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -47,6 +49,7 @@ class Bq76pl536aChain final : public MonitorChain {
   DeviceAnalog& analog(int d) override {  // the caller fills it: the comparators look again
     Device& dv = dev_[static_cast<size_t>(d)];
     dv.compared = false;
+    calm_ = false;
     return dv.analog;
   }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
@@ -122,6 +125,18 @@ class Bq76pl536aChain final : public MonitorChain {
     if (landing || expiring) settleDue(dv, t);
   }
   void settleDue(Device& dv, double t);
+  // The earliest t at which settle(dv, t) acts: t >= dueOf(dv) is `landing || expiring`
+  // above (the same comparisons), +inf when neither can come.
+  static double dueOf(const Device& dv) {
+    constexpr double kNever = std::numeric_limits<double>::infinity();
+    const double landing = dv.converting ? dv.readyAt_s - 1e-12 : kNever;
+    const double expiring = dv.reg[BQ536_CB_CTRL] != 0 ? dv.balanceUntil_s - 1e-9 : kNever;
+    return std::min(landing, expiring);
+  }
+  // Every device settled to t, and dueAt_s_ their earliest due time from then on.
+  void settleAll(double t);
+  // Every device's comparators run at t, and calm_ whether all are at rest from then on.
+  void runAllComparators(double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
   // No pass while the conditions are known (compared) and none is present with the timers
   // at rest (quiet): it would change nothing.
@@ -143,6 +158,14 @@ class Bq76pl536aChain final : public MonitorChain {
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
+  // The chain is advanced and settled at every frame (four or more times a tick), and on
+  // most of them no device has anything to do: dueAt_s_ is at most the earliest dueOf()
+  // of any device (lowered by every write, made exact by settleAll), calm_ true only
+  // while every device's comparators are known quiet (compared && quiet). Before t
+  // reaches dueAt_s_ no settle acts, and while calm_ no comparator pass would: both
+  // loops are skipped (a device loop, its tests and calls per frame).
+  double dueAt_s_ = -std::numeric_limits<double>::infinity();
+  bool calm_ = false;
 };
 
 // The part's register-level chain (registered by core/parts/bq76pl536a_part.cpp).
