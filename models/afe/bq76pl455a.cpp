@@ -473,7 +473,7 @@ void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double&
     return;
   }
   out.bytes[0] = static_cast<uint8_t>(out.size - 2);
-  const uint16_t crc = bms::crcCrc16(out.bytes.data(), out.size);
+  const uint16_t crc = dv.replyCrc.of(out.bytes.data(), out.size);
   out.push(static_cast<uint8_t>(crc & 0xFF));
   out.push(static_cast<uint8_t>(crc >> 8));
   corrupt(dv, out);

@@ -34,10 +34,12 @@
 #include <vector>
 
 #include <bms/afe/bq76pl455a_regs.h>
+#include <bms/bms_crc.hpp>
 
 #include "models/afe/debounce_timer.hpp"
 #include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
+#include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/afe/reply_slots.hpp"
 #include "models/sensors/adc.hpp"
@@ -104,6 +106,8 @@ class Bq76pl455aChain final : public MonitorChain {
     double ready_s = -1.0;  // < 0: no conversion pending
     DeviceAnalog analog;
     MonitorDeviceFault comm;
+    // Its replies' CRC: the STATUS + FAULT_SUM reply answers the same bytes tick after tick.
+    FrameCrcMemo<uint16_t, bms::crcCrc16> replyCrc;
   };
   // One device's response frame: header, data, CRC (a register read of up to 128 bytes).
   struct Reply {

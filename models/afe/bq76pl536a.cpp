@@ -359,7 +359,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   if (tx[0] & 1u) {  // write frame: acted on once the device has it all
     if (txLen < BQ536_WRITE_FRAME_LEN) return r;
     const double tEnd = t + r.duration_s;
-    const bool crcOk = bms::crcCrc8(tx, 3) == tx[3];
+    const bool crcOk = writeCrc_.of(tx, 3) == tx[3];
     for (int i = 0; i < n; ++i) {
       Device& dv = dev_[static_cast<size_t>(i)];
       if (addr != BQ536_ADDR_BROADCAST && addressOf(dv) != addr) continue;
@@ -397,7 +397,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   if (inFile > 0) copyBytes(frame + 3, target->reg.data() + first, inFile);
   if (inFile < count) zeroBytes(frame + 3 + inFile, count - inFile);
   if (first == BQ536_DEVICE_STATUS && count > 0) frame[3] = status(*target);
-  frame[3 + count] = bms::crcCrc8(frame, 3 + count);
+  frame[3 + count] = target->replyCrc.of(frame, 3 + count);
   uint8_t* reply = frame + 3;
   const size_t replyLen = count + 1;
   corruptReply(target->comm, commRng_, reply, replyLen);

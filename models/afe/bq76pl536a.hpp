@@ -31,10 +31,12 @@
 #include <vector>
 
 #include <bms/afe/bq76pl536a_regs.h>
+#include <bms/bms_crc.hpp>
 
 #include "models/afe/debounce_timer.hpp"
 #include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
+#include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -99,6 +101,8 @@ class Bq76pl536aChain final : public MonitorChain {
     // temperature did not move since the last conversion (an unused one at 25 °C, a
     // slow node) needs none.
     ThermistorCodeCache thermCode[BQ536_TEMPS_MAX];
+    // Its replies' CRC: a flags read (7 bytes) answers the same bytes tick after tick.
+    FrameCrcMemo<uint8_t, bms::crcCrc8> replyCrc;
     // What the comparators see (cells over / under, thermistors hot) for the present
     // inputs and thresholds; the chain advances many times per tick (at every frame),
     // the inputs change only when filled or a threshold is written.
@@ -158,6 +162,7 @@ class Bq76pl536aChain final : public MonitorChain {
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
+  FrameCrcMemo<uint8_t, bms::crcCrc8> writeCrc_;  // the host's writes: its ADC_CONVERT every tick
   // The chain is advanced and settled at every frame (four or more times a tick), and on
   // most of them no device has anything to do: dueAt_s_ is at most the earliest dueOf()
   // of any device (lowered by every write, made exact by settleAll), calm_ true only
