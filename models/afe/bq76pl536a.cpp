@@ -117,6 +117,7 @@ void Bq76pl536aChain::reset(Device& dv) {
   dv.converting = false;
   dv.resultsValid = false;
   dv.balanceUntil_s = 0.0;
+  reach_ = reach();  // its address is gone
 }
 
 uint8_t Bq76pl536aChain::status(const Device& dv) const {
@@ -310,6 +311,7 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
     case BQ536_ADDRESS_CONTROL: {
       const uint8_t a = static_cast<uint8_t>(value & BQ536_ADDR_MASK);
       dv.reg[reg] = a != 0 && a != BQ536_ADDR_BROADCAST ? static_cast<uint8_t>(a | BQ536_ADDR_ASSIGNED) : 0;
+      reach_ = reach();
       break;
     }
     case BQ536_RESET:
@@ -354,7 +356,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   r.received = rxLen > 0 ? -1 : 0;
   if (tx == nullptr || txLen < BQ536_READ_REQUEST_LEN) return r;
   const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);
-  const int n = reach();  // as the frame set out: a write on its way may change an address
+  const int n = reach_;  // as the frame set out: a write on its way may change an address
 
   if (tx[0] & 1u) {  // write frame: acted on once the device has it all
     if (txLen < BQ536_WRITE_FRAME_LEN) return r;

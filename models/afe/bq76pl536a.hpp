@@ -55,7 +55,10 @@ class Bq76pl536aChain final : public MonitorChain {
     return dv.analog;
   }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
-  void setBrokenLinkAbove(int d) override { brokenAbove_ = d; }
+  void setBrokenLinkAbove(int d) override {
+    brokenAbove_ = d;
+    reach_ = reach();
+  }
 
   void advance(double t) override;
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
@@ -116,7 +119,9 @@ class Bq76pl536aChain final : public MonitorChain {
   uint8_t addressOf(const Device& dv) const { return dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_MASK; }
   bool assigned(const Device& dv) const { return (dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_ASSIGNED) != 0; }
   // How many devices a frame reaches on its way up: devices 0 .. n-1, bottom first (it
-  // stops above an unaddressed device and at a broken link).
+  // stops above an unaddressed device and at a broken link). Kept in reach_ (a loop over
+  // the devices at every frame otherwise), worked out again wherever an address or the
+  // broken link changes: setBrokenLinkAbove, an ADDRESS_CONTROL write, reset.
   int reach() const;
   void reset(Device& dv);
   // A conversion whose results are due lands, an expired balancing timer switches off.
@@ -161,6 +166,7 @@ class Bq76pl536aChain final : public MonitorChain {
   CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
+  int reach_ = 0;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
   FrameCrcMemo<uint8_t, bms::crcCrc8> writeCrc_;  // the host's writes: its ADC_CONVERT every tick
   // The chain is advanced and settled at every frame (four or more times a tick), and on
