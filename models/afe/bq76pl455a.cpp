@@ -420,16 +420,6 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
   if (touched(PL455_REG_CMD, 1) && dv.reg[PL455_REG_CMD] == PL455_CMD_SAMPLE) startSample(dv, d, t);
 }
 
-bool Bq76pl455aChain::addressedBy(const Frame& f, int d) const {
-  const Device& dv = dev_[static_cast<size_t>(d)];
-  switch (f.req & ~0x10u) {  // with or without response alike
-    case PL455_REQ_SINGLE_R: return dv.addressed && dv.reg[PL455_REG_ADDR] == f.address;
-    case PL455_REQ_GROUP_R: return dv.addressed && dv.reg[PL455_REG_GROUP_ID] == f.address;
-    case PL455_REQ_BROADCAST_R: return true;
-    default: return false;
-  }
-}
-
 void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double& ready_s, Reply& out) {
   out.size = 0;
   out.push(0);

@@ -166,7 +166,16 @@ class Bq76pl455aChain final : public MonitorChain {
     return !(brokenAbove_ >= 0 && d > brokenAbove_) && !dev_[static_cast<size_t>(d)].comm.silent;
   }
   bool acceptsWrites(int d) const { return hears(d) && dev_[static_cast<size_t>(d)].comm.stuck_byte < 0; }
-  bool addressedBy(const Frame& f, int d) const;
+  // Inline: asked for every device and frame (a call for a switch of a few instructions).
+  bool addressedBy(const Frame& f, int d) const {
+    const Device& dv = dev_[static_cast<size_t>(d)];
+    switch (f.req & ~0x10u) {  // with or without response alike
+      case PL455_REQ_SINGLE_R: return dv.addressed && dv.reg[PL455_REG_ADDR] == f.address;
+      case PL455_REQ_GROUP_R: return dv.addressed && dv.reg[PL455_REG_GROUP_ID] == f.address;
+      case PL455_REQ_BROADCAST_R: return true;
+      default: return false;
+    }
+  }
   void write(Device& dv, int d, const Frame& f, double t, bool takesAddress);
   void clearWritten(Device& dv, uint8_t addr, uint8_t bits);
   void startSample(Device& dv, int d, double t);
