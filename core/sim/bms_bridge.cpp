@@ -31,11 +31,10 @@ void HardwareSim::report(const SwitchState& sw, const PlantSignals& sig) {
   st_.charger_done = charger_.done();
 }
 
-void HardwareSim::watchFets(double t, const SwitchDrive& d, const SwitchState& sw) {
+void HardwareSim::watchUnsettledFets(double t, const SwitchDrive& d, const SwitchState& sw) {
   // The part's reason is asked for only where it tells something: the pin on, the driver off
   // (the usual tick: neither, and no string is made).
   static const std::string kNoCause;
-  if (fets_.settled()) return;  // both gates were on once: nothing more to keep
   const bool askDsg = d.dischargePin && !d.afeDischarge, askChg = d.chargePin && !d.afeCharge;
   if (!askDsg && !askChg) return fets_.hold(t, d, sw, kNoCause, kNoCause);
   fets_.hold(t, d, sw, askDsg ? sensors_.afeFetOffCause(true) : kNoCause,

@@ -93,7 +93,12 @@ class HardwareSim {
   // the FAULT line as the tick began.
   SwitchDrive switchDrive(const bms::Outputs& out) const;
   void report(const SwitchState& sw, const PlantSignals& sig);
-  void watchFets(double t, const SwitchDrive& d, const SwitchState& sw);
+  // The FET watch, until both gates were on once: then nothing more to keep, and no call
+  // (the test inline: the usual tick's whole work).
+  void watchFets(double t, const SwitchDrive& d, const SwitchState& sw) {
+    if (!fets_.settled()) watchUnsettledFets(t, d, sw);
+  }
+  void watchUnsettledFets(double t, const SwitchDrive& d, const SwitchState& sw);
 
   const Scenario& s_;
   const Plant& plant_;

@@ -139,8 +139,7 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
 }
 
 // The monitor ICs' thermistor bias, from each device's top cell while it is switched on.
-bool HwSensors::applyBias(PlantInputs& pin) const {
-  if (!(s_.hardware.afe.thermistor_bias_A > 0.0)) return false;
+bool HwSensors::applyBiasOn(PlantInputs& pin) const {
   bool changed = pin.bias_A.size() != static_cast<size_t>(s_.pack.series);
   if (changed) pin.bias_A.assign(static_cast<size_t>(s_.pack.series), 0.0);
   for (const MonitorBoard& b : boards_) {

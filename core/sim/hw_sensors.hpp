@@ -36,8 +36,8 @@ class HwSensors {
               bool relayAux, Rng& rng,
               bms::Inputs& in);
   // The monitor ICs' thermistor bias, drawn from each device's top cell while it is on;
-  // true when it changed.
-  bool applyBias(PlantInputs& pin) const;
+  // true when it changed. (A part without bias current, the usual one: no call.)
+  bool applyBias(PlantInputs& pin) const { return s_.hardware.afe.thermistor_bias_A > 0.0 && applyBiasOn(pin); }
 
   const std::vector<MonitorBoard>& boards() const { return boards_; }
   std::vector<MonitorBus*> buses(int board) { return chains_[static_cast<size_t>(board)]->buses(); }
@@ -61,6 +61,7 @@ class HwSensors {
 
  private:
   int boardOfGroup(int g) const;
+  bool applyBiasOn(PlantInputs& pin) const;  // applyBias with a bias current
 
   const Scenario& s_;
   const Plant& plant_;

@@ -17,8 +17,14 @@ MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint
   for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
     firstCell_.push_back(first);
     first += bus_.chain->cellsOf(d);
+    bus_.chain->setCommFault(d, MonitorDeviceFault{});
   }
+  commGiven_.assign(firstCell_.size(), MonitorDeviceFault{});
+  bus_.chain->setBrokenLinkAbove(brokenGiven_);
 }
+
+// A device no fault was scripted for.
+static const MonitorDeviceFault kHealthy{};
 
 MonitorTruth MonitorChainPath::makeTruth() const {
   return MonitorTruth(cells_, bus_.chain->deviceCount(), thermistorChannels());
@@ -29,7 +35,7 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   const int perDevice = cfg_.thermistors_per_device;
   const bool unloaded = truth.cell_V != nullptr && truth.cell_unloaded_V != nullptr;
   const size_t truthCells = truth.cell_V != nullptr ? static_cast<size_t>(cells_) : 0;  // the truth is made for cells_
-  const int devices = c.deviceCount();
+  const int devices = static_cast<int>(firstCell_.size());  // c.deviceCount(), without the virtual call
   for (int d = 0; d < devices; ++d) {
     DeviceAnalog& a = c.analog(d);
     const size_t first = static_cast<size_t>(firstCell_[static_cast<size_t>(d)]);
@@ -56,11 +62,20 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
               cfg_.die_rise_C;
     a.current_A = truth.current_A;
     a.host_opens_balancing = truth.host_opens_balancing;
-    c.setCommFault(d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)]
-                                                                : MonitorDeviceFault{});
+    giveCommFault(c, d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)] : kHealthy);
   }
-  c.setBrokenLinkAbove(truth.broken_link_above);
+  if (truth.broken_link_above != brokenGiven_) {
+    c.setBrokenLinkAbove(truth.broken_link_above);
+    brokenGiven_ = truth.broken_link_above;
+  }
   bus_.advanceTo(t);
+}
+
+void MonitorChainPath::giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
+  MonitorDeviceFault& g = commGiven_[static_cast<size_t>(d)];
+  if (g.silent == f.silent && g.crc_error_rate == f.crc_error_rate && g.stuck_byte == f.stuck_byte) return;
+  g = f;
+  c.setCommFault(d, f);
 }
 
 void MonitorChainPath::traceInto(std::vector<BusTraceRow>& sink, int bus) {

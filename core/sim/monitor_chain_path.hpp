@@ -54,6 +54,13 @@ class MonitorChainPath {
   MonitorBus bus_;
   const MonitorChain* part_;  // the part's chain (bus_.chain, or what a trace wraps)
   std::vector<int> firstCell_;  // per device: its bottom cell's series position
+  // The comm faults (per device) and broken link the chain was last given, healthy and
+  // intact from the start. They change only when the scenario scripts one, and each is a
+  // virtual call into the part: handed on only when they differ.
+  std::vector<MonitorDeviceFault> commGiven_;
+  int brokenGiven_ = -1;
+  // Hands f on to device d unless the chain has it already.
+  void giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f);
 };
 
 }  // namespace packsim

@@ -229,15 +229,47 @@ void Bq76pl455aChain::superviseLink(Device& dv, double t) {
   if (code != 0 && t - dv.heard_s >= kCommTimeout_ms[code] * 1e-3 - 1e-12) dv.reg[PL455_REG_FAULT_SYS] |= PL455_FAULT_SYS_CTO;
 }
 
-void Bq76pl455aChain::advance(double t) {
-  for (int d = 0; d < cfg_.devices; ++d) {
-    Device& dv = dev_[static_cast<size_t>(d)];
+double Bq76pl455aChain::dueOf(const Device& dv) {
+  constexpr double kNever = std::numeric_limits<double>::infinity();
+  // superviseLink trips once t - heard_s >= timeout (computed in doubles): not while t is
+  // below heard_s + timeout - 1 us (rounding moves t - heard_s by picoseconds at most).
+  constexpr double kLinkMargin_s = 1e-6;
+  const uint8_t code = dv.reg[PL455_REG_CTO] & PL455_CTO_FAULT_MASK;
+  const double link = code != 0 ? dv.heard_s + (kCommTimeout_ms[code] * 1e-3 - 1e-12) - kLinkMargin_s : kNever;
+  const double landing = dv.ready_s < 0.0 ? kNever : dv.ready_s - 1e-12;
+  const double expiring = get16(dv.reg, PL455_REG_CBENBL) != 0 ? dv.balanceUntil_s - 1e-9 : kNever;
+  return std::min(link, std::min(landing, expiring));
+}
+
+void Bq76pl455aChain::settleAll(double t) {
+  double due = std::numeric_limits<double>::infinity();
+  for (Device& dv : dev_) {
     settle(dv, t);
-    runComparators(dv, d, t);
     superviseLink(dv, t);
     // The balance timer runs on the device: CBENBL clears when it expires.
     if (get16(dv.reg, PL455_REG_CBENBL) != 0 && t >= dv.balanceUntil_s - 1e-9) set16(dv.reg, PL455_REG_CBENBL, 0);
+    due = std::min(due, dueOf(dv));
   }
+  dueAt_s_ = due;
+}
+
+void Bq76pl455aChain::runAllComparators(double t) {
+  bool calm = true;
+  for (int d = 0; d < cfg_.devices; ++d) {
+    Device& dv = dev_[static_cast<size_t>(d)];
+    runComparators(dv, d, t);
+    calm = calm && comparatorsAtRest(dv);
+  }
+  calm_ = calm;
+}
+
+// A device's timed work (results, FAULT_UV/OV from them, FAULT_SYS, CBENBL) and its
+// comparators (FAULT_2UV/2OV, FAULT_AUX, from the pins and thresholds) touch different
+// registers, and no other device: all of the one, then all of the other, is the
+// device-by-device order's outcome.
+void Bq76pl455aChain::advance(double t) {
+  if (t >= dueAt_s_) settleAll(t);
+  if (!calm_) runAllComparators(t);
 }
 
 uint16_t Bq76pl455aChain::faultSummary(const Device& dv) const {
@@ -388,16 +420,6 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
   if (touched(PL455_REG_CMD, 1) && dv.reg[PL455_REG_CMD] == PL455_CMD_SAMPLE) startSample(dv, d, t);
 }
 
-bool Bq76pl455aChain::addressedBy(const Frame& f, int d) const {
-  const Device& dv = dev_[static_cast<size_t>(d)];
-  switch (f.req & ~0x10u) {  // with or without response alike
-    case PL455_REQ_SINGLE_R: return dv.addressed && dv.reg[PL455_REG_ADDR] == f.address;
-    case PL455_REQ_GROUP_R: return dv.addressed && dv.reg[PL455_REG_GROUP_ID] == f.address;
-    case PL455_REQ_BROADCAST_R: return true;
-    default: return false;
-  }
-}
-
 void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double& ready_s, Reply& out) {
   out.size = 0;
   out.push(0);
@@ -441,7 +463,7 @@ void Bq76pl455aChain::reply(Device& dv, int d, const Frame& f, double t, double&
     return;
   }
   out.bytes[0] = static_cast<uint8_t>(out.size - 2);
-  const uint16_t crc = bms::crcCrc16(out.bytes.data(), out.size);
+  const uint16_t crc = dv.replyCrc.of(out.bytes.data(), out.size);
   out.push(static_cast<uint8_t>(crc & 0xFF));
   out.push(static_cast<uint8_t>(crc >> 8));
   corrupt(dv, out);
@@ -498,7 +520,10 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
         if (acceptsWrites(d) && dev_[static_cast<size_t>(d)].autoAddress) capture = d;
     if (!withReply) {
       for (int d = 0; d < cfg_.devices; ++d)
-        if (acceptsWrites(d) && addressedBy(f, d)) write(dev_[static_cast<size_t>(d)], d, f, now, d == capture);
+        if (acceptsWrites(d) && addressedBy(f, d)) {
+          write(dev_[static_cast<size_t>(d)], d, f, now, d == capture);
+          noteWritten(dev_[static_cast<size_t>(d)]);
+        }
       continue;
     }
     expectReply = true;
@@ -509,6 +534,7 @@ BusTransfer Bq76pl455aChain::transfer(double t, const uint8_t* tx, size_t txLen,
       if (!hears(d) || !addressedBy(f, d)) continue;
       double ready_s = arrived_s;
       reply(dev_[static_cast<size_t>(d)], d, f, arrived_s, ready_s, out);
+      noteReplied(dev_[static_cast<size_t>(d)]);
       if (out.size == 0) continue;
       now = std::max(now, ready_s) + static_cast<double>(out.size) * byte_s;
       const size_t take = std::min(out.size, rxLen - received);  // what still fits (received <= rxLen)

@@ -26,16 +26,20 @@
 // corruption draw from two more seed streams in a fixed order, so the same seed and
 // the same transactions give the same bytes.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
 #include <bms/afe/bq76pl455a_regs.h>
+#include <bms/bms_crc.hpp>
 
 #include "models/afe/debounce_timer.hpp"
 #include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
+#include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/afe/reply_slots.hpp"
 #include "models/sensors/adc.hpp"
@@ -51,6 +55,7 @@ class Bq76pl455aChain final : public MonitorChain {
   DeviceAnalog& analog(int d) override {  // the caller fills it: the comparators look again
     Device& dv = dev_[static_cast<size_t>(d)];
     dv.compared = false;
+    calm_ = false;
     return dv.analog;
   }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
@@ -101,6 +106,8 @@ class Bq76pl455aChain final : public MonitorChain {
     double ready_s = -1.0;  // < 0: no conversion pending
     DeviceAnalog analog;
     MonitorDeviceFault comm;
+    // Its replies' CRC: the STATUS + FAULT_SUM reply answers the same bytes tick after tick.
+    FrameCrcMemo<uint16_t, bms::crcCrc16> replyCrc;
   };
   // One device's response frame: header, data, CRC (a register read of up to 128 bytes).
   struct Reply {
@@ -130,12 +137,45 @@ class Bq76pl455aChain final : public MonitorChain {
       runComparatorsPass(dv, d, t);
   }
   void runComparatorsPass(Device& dv, int d, double t);
+  // runComparators(dv, ...) would make no pass.
+  static bool comparatorsAtRest(const Device& dv) {
+    return (dv.reg[PL455_REG_DEVCONFIG] & PL455_DEVCONFIG_COMP_ENA) == 0 || (dv.compared && dv.quiet);
+  }
   void superviseLink(Device& dv, double t);
+  // A time before which none of advance()'s timed work acts on dv: no result lands
+  // (settle), the link supervision does not trip (superviseLink: its heard_s + timeout,
+  // less a margin far above the rounding of t - heard_s) and the balancing timer does not
+  // expire; +inf when none can come.
+  static double dueOf(const Device& dv);
+  // Every device's timed work at t, and dueAt_s_ the earliest dueOf() from then on.
+  void settleAll(double t);
+  // Every device's comparators at t, and calm_ whether all are at rest from then on.
+  void runAllComparators(double t);
+  // After a write to dv: its due time and comparators as they may now be (a sample
+  // started, a timer or threshold written, a reset).
+  void noteWritten(const Device& dv) {
+    dueAt_s_ = std::min(dueAt_s_, dueOf(dv));
+    calm_ = calm_ && comparatorsAtRest(dv);
+  }
+  // After a reply from dv: a reply writes no register the timed work or the comparators
+  // read (only STATUS, FAULT_SUM), but may start a sample (its results due at ready_s).
+  void noteReplied(const Device& dv) {
+    if (!(dv.ready_s < 0.0)) dueAt_s_ = std::min(dueAt_s_, dv.ready_s - 1e-12);
+  }
   bool hears(int d) const {  // on an intact link and not silent
     return !(brokenAbove_ >= 0 && d > brokenAbove_) && !dev_[static_cast<size_t>(d)].comm.silent;
   }
   bool acceptsWrites(int d) const { return hears(d) && dev_[static_cast<size_t>(d)].comm.stuck_byte < 0; }
-  bool addressedBy(const Frame& f, int d) const;
+  // Inline: asked for every device and frame (a call for a switch of a few instructions).
+  bool addressedBy(const Frame& f, int d) const {
+    const Device& dv = dev_[static_cast<size_t>(d)];
+    switch (f.req & ~0x10u) {  // with or without response alike
+      case PL455_REQ_SINGLE_R: return dv.addressed && dv.reg[PL455_REG_ADDR] == f.address;
+      case PL455_REQ_GROUP_R: return dv.addressed && dv.reg[PL455_REG_GROUP_ID] == f.address;
+      case PL455_REQ_BROADCAST_R: return true;
+      default: return false;
+    }
+  }
   void write(Device& dv, int d, const Frame& f, double t, bool takesAddress);
   void clearWritten(Device& dv, uint8_t addr, uint8_t bits);
   void startSample(Device& dv, int d, double t);
@@ -151,6 +191,13 @@ class Bq76pl455aChain final : public MonitorChain {
   std::vector<Device> dev_;
   CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, comm_;
+  // The chain advances at every transfer and tick (four times a tick or more), and on
+  // most calls no device has anything to do: dueAt_s_ is at most the earliest dueOf()
+  // of any device (lowered by every frame that acts on one, made exact by settleAll),
+  // calm_ true only while every device's comparators are at rest. Before t reaches
+  // dueAt_s_ and while calm_, advance() makes no pass over the devices.
+  double dueAt_s_ = -std::numeric_limits<double>::infinity();
+  bool calm_ = false;
 };
 
 // The CTO fault timer code of a link-supervision time (0 s: off), or -1 when the part has

@@ -117,6 +117,7 @@ void Bq76pl536aChain::reset(Device& dv) {
   dv.converting = false;
   dv.resultsValid = false;
   dv.balanceUntil_s = 0.0;
+  reach_ = reach();  // its address is gone
 }
 
 uint8_t Bq76pl536aChain::status(const Device& dv) const {
@@ -186,11 +187,30 @@ void Bq76pl536aChain::runComparatorsPass(Device& dv, double t) {
   dv.quiet = dv.over == 0 && dv.under == 0 && dv.hot == 0;
 }
 
-void Bq76pl536aChain::advance(double t) {
+void Bq76pl536aChain::settleAll(double t) {
+  double due = std::numeric_limits<double>::infinity();
   for (Device& dv : dev_) {
     settle(dv, t);
-    runComparators(dv, t);
+    due = std::min(due, dueOf(dv));
   }
+  dueAt_s_ = due;
+}
+
+void Bq76pl536aChain::runAllComparators(double t) {
+  bool calm = true;
+  for (Device& dv : dev_) {
+    runComparators(dv, t);
+    calm = calm && dv.compared && dv.quiet;
+  }
+  calm_ = calm;
+}
+
+// A device's settling and its comparators touch different registers (results, CB_CTRL;
+// the fault latches) and no other device: all devices settled, then all compared, is the
+// device-by-device order's outcome.
+void Bq76pl536aChain::advance(double t) {
+  if (t >= dueAt_s_) settleAll(t);
+  if (!calm_) runAllComparators(t);
 }
 
 void Bq76pl536aChain::startConversion(Device& dv, double t) {
@@ -291,6 +311,7 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
     case BQ536_ADDRESS_CONTROL: {
       const uint8_t a = static_cast<uint8_t>(value & BQ536_ADDR_MASK);
       dv.reg[reg] = a != 0 && a != BQ536_ADDR_BROADCAST ? static_cast<uint8_t>(a | BQ536_ADDR_ASSIGNED) : 0;
+      reach_ = reach();
       break;
     }
     case BQ536_RESET:
@@ -309,6 +330,10 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
   }
   settle(dv, t);
+  // A conversion started or a balancing timer (re)set may be due before the chain's
+  // earliest; a threshold written needs a comparator pass.
+  dueAt_s_ = std::min(dueAt_s_, dueOf(dv));
+  calm_ = calm_ && dv.compared;
 }
 
 int Bq76pl536aChain::reach() const {
@@ -327,16 +352,16 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   BusTransfer r;
   r.duration_s = linkTime_s(txLen + rxLen);
   if (rx == nullptr) rxLen = 0;
-  for (Device& dv : dev_) settle(dv, t);
+  if (t >= dueAt_s_) settleAll(t);
   r.received = rxLen > 0 ? -1 : 0;
   if (tx == nullptr || txLen < BQ536_READ_REQUEST_LEN) return r;
   const uint8_t addr = static_cast<uint8_t>(tx[0] >> 1);
-  const int n = reach();  // as the frame set out: a write on its way may change an address
+  const int n = reach_;  // as the frame set out: a write on its way may change an address
 
   if (tx[0] & 1u) {  // write frame: acted on once the device has it all
     if (txLen < BQ536_WRITE_FRAME_LEN) return r;
     const double tEnd = t + r.duration_s;
-    const bool crcOk = bms::crcCrc8(tx, 3) == tx[3];
+    const bool crcOk = writeCrc_.of(tx, 3) == tx[3];
     for (int i = 0; i < n; ++i) {
       Device& dv = dev_[static_cast<size_t>(i)];
       if (addr != BQ536_ADDR_BROADCAST && addressOf(dv) != addr) continue;
@@ -374,7 +399,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   if (inFile > 0) copyBytes(frame + 3, target->reg.data() + first, inFile);
   if (inFile < count) zeroBytes(frame + 3 + inFile, count - inFile);
   if (first == BQ536_DEVICE_STATUS && count > 0) frame[3] = status(*target);
-  frame[3 + count] = bms::crcCrc8(frame, 3 + count);
+  frame[3 + count] = target->replyCrc.of(frame, 3 + count);
   uint8_t* reply = frame + 3;
   const size_t replyLen = count + 1;
   corruptReply(target->comm, commRng_, reply, replyLen);

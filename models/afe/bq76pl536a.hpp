@@ -24,15 +24,19 @@
 //                the housekeeping bits (POR, AR, CRC) show in the registers only.
 #pragma once
 #include <array>
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
 #include <bms/afe/bq76pl536a_regs.h>
+#include <bms/bms_crc.hpp>
 
 #include "models/afe/debounce_timer.hpp"
 #include "models/afe/balance_pause.hpp"
 #include "models/afe/cell_conversion.hpp"
+#include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 
@@ -47,10 +51,14 @@ class Bq76pl536aChain final : public MonitorChain {
   DeviceAnalog& analog(int d) override {  // the caller fills it: the comparators look again
     Device& dv = dev_[static_cast<size_t>(d)];
     dv.compared = false;
+    calm_ = false;
     return dv.analog;
   }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
-  void setBrokenLinkAbove(int d) override { brokenAbove_ = d; }
+  void setBrokenLinkAbove(int d) override {
+    brokenAbove_ = d;
+    reach_ = reach();
+  }
 
   void advance(double t) override;
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
@@ -96,6 +104,8 @@ class Bq76pl536aChain final : public MonitorChain {
     // temperature did not move since the last conversion (an unused one at 25 °C, a
     // slow node) needs none.
     ThermistorCodeCache thermCode[BQ536_TEMPS_MAX];
+    // Its replies' CRC: a flags read (7 bytes) answers the same bytes tick after tick.
+    FrameCrcMemo<uint8_t, bms::crcCrc8> replyCrc;
     // What the comparators see (cells over / under, thermistors hot) for the present
     // inputs and thresholds; the chain advances many times per tick (at every frame),
     // the inputs change only when filled or a threshold is written.
@@ -109,7 +119,9 @@ class Bq76pl536aChain final : public MonitorChain {
   uint8_t addressOf(const Device& dv) const { return dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_MASK; }
   bool assigned(const Device& dv) const { return (dv.reg[BQ536_ADDRESS_CONTROL] & BQ536_ADDR_ASSIGNED) != 0; }
   // How many devices a frame reaches on its way up: devices 0 .. n-1, bottom first (it
-  // stops above an unaddressed device and at a broken link).
+  // stops above an unaddressed device and at a broken link). Kept in reach_ (a loop over
+  // the devices at every frame otherwise), worked out again wherever an address or the
+  // broken link changes: setBrokenLinkAbove, an ADDRESS_CONTROL write, reset.
   int reach() const;
   void reset(Device& dv);
   // A conversion whose results are due lands, an expired balancing timer switches off.
@@ -122,6 +134,18 @@ class Bq76pl536aChain final : public MonitorChain {
     if (landing || expiring) settleDue(dv, t);
   }
   void settleDue(Device& dv, double t);
+  // The earliest t at which settle(dv, t) acts: t >= dueOf(dv) is `landing || expiring`
+  // above (the same comparisons), +inf when neither can come.
+  static double dueOf(const Device& dv) {
+    constexpr double kNever = std::numeric_limits<double>::infinity();
+    const double landing = dv.converting ? dv.readyAt_s - 1e-12 : kNever;
+    const double expiring = dv.reg[BQ536_CB_CTRL] != 0 ? dv.balanceUntil_s - 1e-9 : kNever;
+    return std::min(landing, expiring);
+  }
+  // Every device settled to t, and dueAt_s_ their earliest due time from then on.
+  void settleAll(double t);
+  // Every device's comparators run at t, and calm_ whether all are at rest from then on.
+  void runAllComparators(double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
   // No pass while the conditions are known (compared) and none is present with the timers
   // at rest (quiet): it would change nothing.
@@ -142,7 +166,17 @@ class Bq76pl536aChain final : public MonitorChain {
   CellChannelErrors errors_;  // per channel, drawn once from the seed
   Rng noise_, commRng_;
   int brokenAbove_ = -1;
+  int reach_ = 0;
   std::array<uint8_t, 8> eeprom_{};  // registers 0x40..0x47 as programmed
+  FrameCrcMemo<uint8_t, bms::crcCrc8> writeCrc_;  // the host's writes: its ADC_CONVERT every tick
+  // The chain is advanced and settled at every frame (four or more times a tick), and on
+  // most of them no device has anything to do: dueAt_s_ is at most the earliest dueOf()
+  // of any device (lowered by every write, made exact by settleAll), calm_ true only
+  // while every device's comparators are known quiet (compared && quiet). Before t
+  // reaches dueAt_s_ no settle acts, and while calm_ no comparator pass would: both
+  // loops are skipped (a device loop, its tests and calls per frame).
+  double dueAt_s_ = -std::numeric_limits<double>::infinity();
+  bool calm_ = false;
 };
 
 // The part's register-level chain (registered by core/parts/bq76pl536a_part.cpp).

@@ -2,7 +2,7 @@
 
 namespace packsim {
 
-void relayStep(const RelayConfig& c, RelayState& s, bool coil, bool welded, double t) {
+void relayStepMoving(const RelayConfig& c, RelayState& s, bool coil, bool welded, double t) {
   if (coil != s.coil) {
     s.coil = coil;
     s.coilChanged_s = t;

@@ -23,6 +23,13 @@ struct RelayState {
 
 // Advances the relay to time t with the coil command held since the last call.
 // `welded`: the contacts are fused (they cannot open once closed).
-void relayStep(const RelayConfig& c, RelayState& s, bool coil, bool welded, double t);
+// Inline, the settled relay's test: the switchgear steps its two relays every tick, and a
+// coil held as before with the contact already where it takes it leaves nothing to do
+// (no delay is running: the steps below would change nothing).
+void relayStepMoving(const RelayConfig& c, RelayState& s, bool coil, bool welded, double t);
+inline void relayStep(const RelayConfig& c, RelayState& s, bool coil, bool welded, double t) {
+  if (coil == s.coil && s.closed == coil) return;
+  relayStepMoving(c, s, coil, welded, t);
+}
 
 }  // namespace packsim

@@ -450,6 +450,33 @@ TEST(Bq76pl455a, BalancingStopsOnTheDeviceWhenItsTimeRunsOut) {
   EXPECT_EQ(r.read16(0, PL455_REG_CBENBL), 0);
 }
 
+// The link supervision (CTO) trips once no valid frame was heard for its time: at the
+// first advance where t - heard >= timeout, as the plain comparison says, however many
+// advances came between (the chain skips its devices until something may be due).
+TEST(Bq76pl455a, LinkSupervisionTripsWhenNoValidFrameWasHeardForItsTime) {
+  const double byte_s = PL455_UART_BITS_PER_BYTE / 250000.0;
+  const std::vector<uint8_t> cto = frame(PL455_REQ_BROADCAST_NR, -1, PL455_REG_CTO, {1});  // 100 ms
+  const std::vector<uint8_t> read = frame(PL455_REQ_SINGLE_R, 0, PL455_REG_FAULT_SYS, {0});
+  int trips = 0;
+  for (const double after_s : {0.1 - 1e-9, 0.1 - 1e-12, 0.1, 0.1 + 1e-9, 0.25}) {
+    Rig r(1, 16);
+    r.autoAddress();
+    const double heard_s = r.t + static_cast<double>(cto.size()) * byte_s;  // once its last byte is in
+    r.send(cto);
+    for (int k = 1; k <= 9; ++k) r.wait(heard_s + 0.01 * k - r.t);  // a tick's advances, no frame
+    // The read acts (and the chain advances) once its own last byte is in.
+    r.wait(heard_s + after_s - static_cast<double>(read.size()) * byte_s - r.t);
+    const double readAt_s = r.t + static_cast<double>(read.size()) * byte_s;
+    const bool tripped = readAt_s - heard_s >= 100 * 1e-3 - 1e-12;
+    const std::vector<uint8_t> got = r.send(read, 4);
+    ASSERT_EQ(got.size(), 4u);
+    EXPECT_EQ(got[1] & PL455_FAULT_SYS_CTO, tripped ? PL455_FAULT_SYS_CTO : 0u) << "after " << after_s << " s";
+    trips += tripped ? 1 : 0;
+  }
+  EXPECT_GT(trips, 0);  // both sides of the edge were asked
+  EXPECT_LT(trips, 5);
+}
+
 // The switch mask is each cell's switch, on a device with fewer cells than CBENBL bits
 // (a write above its cells does not switch anything).
 TEST(Bq76pl455a, TheSwitchMaskIsEachCellsSwitch) {

@@ -4,7 +4,8 @@
 // (two cells per SSE2 compare) against its plain loop, takeOverBytes / takeOverDoubles
 // against a compare-and-copy loop, standardNormal (its kept second
 // normal served inline) against Box-Muller written out here on the same engine, ReplySlots
-// (a sample reply's kept slot order) against the bit scan.
+// (a sample reply's kept slot order) against the bit scan, FrameCrcMemo (a repeated short
+// frame's kept CRC) against the CRC computed every time.
 #include <gtest/gtest.h>
 
 #include <cfenv>
@@ -16,8 +17,11 @@
 #include <random>
 #include <vector>
 
+#include <bms/bms_crc.hpp>
+
 #include "core/sim/hw_take_over.hpp"
 #include "models/afe/byte_copy.hpp"
+#include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/reply_slots.hpp"
 #include "models/afe/window_masks.hpp"
 #include "models/random/random.hpp"
@@ -235,6 +239,36 @@ TEST(StandardNormal, IsBoxMullerOnTheSeedsMersenneTwisterBitForBit) {
       ASSERT_EQ(bitsOf(got1), bitsOf(first)) << "seed " << seed << " pair " << k;
       ASSERT_EQ(bitsOf(got2), bitsOf(second)) << "seed " << seed << " pair " << k;
       if (k % 1000 == 0) ASSERT_EQ(rng(), ref()) << "a raw draw between pairs";  // the engines stay in step
+    }
+  }
+}
+
+// Frames of every length around the short-frame limit, each asked again, after a change of
+// one byte anywhere (the overlapping words of the key must all see it), after a longer
+// frame and after one of another length with the same leading bytes: each CRC the same as
+// computing it.
+TEST(FrameCrcMemo, MatchesTheCrcComputedEveryTime) {
+  FrameCrcMemo<uint8_t, bms::crcCrc8> memo8;
+  FrameCrcMemo<uint16_t, bms::crcCrc16> memo16;
+  std::mt19937 gen(3);
+  uint8_t buf[40];
+  auto ask = [&](const uint8_t* p, size_t n) {
+    EXPECT_EQ(memo8.of(p, n), bms::crcCrc8(p, n)) << n;
+    EXPECT_EQ(memo16.of(p, n), bms::crcCrc16(p, n)) << n;
+  };
+  for (int round = 0; round < 200; ++round) {
+    for (uint8_t& b : buf) b = static_cast<uint8_t>(gen());
+    for (size_t n = 0; n <= 20; ++n) {
+      ask(buf, n);
+      ask(buf, n);  // the same frame again: the kept CRC
+      for (size_t i = 0; i < n; ++i) {
+        buf[i] ^= static_cast<uint8_t>(1u << (gen() % 8));  // one bit of one byte
+        ask(buf, n);
+        ask(buf, n);
+      }
+      ask(buf, n + 1);  // the same bytes and one more
+      ask(buf, 30);     // a long frame passes by
+      ask(buf, n);
     }
   }
 }
