@@ -15,12 +15,7 @@ namespace {
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-std::vector<const Event*> rangeEvents(const RunResult& r) {
-  std::vector<const Event*> out;
-  for (const Event& e : r.events)
-    if (e.kind == "cell_model_range") out.push_back(&e);
-  return out;
-}
+std::vector<const Event*> rangeEvents(const RunResult& r) { return test::eventsOf(r, "cell_model_range"); }
 
 // Cell 2 of 3 heated by 30 W with the BMS's over-temperature rule out of the way: it
 // passes 80 C within a minute or so. The event's time is the first recorded tick the

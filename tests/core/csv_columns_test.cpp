@@ -14,10 +14,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path writeCsv(const std::string& name, const std::string& text) {
-  const fs::path dir = test::processTempDir("packsim_csv_columns");
-  fs::create_directories(dir);
-  std::ofstream(dir / name) << text;
-  return dir / name;
+  return test::writeTempFile("packsim_csv_columns", name, text);
 }
 
 Scenario withCsv(const std::string& csvYaml) {

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 
 #include "core/scenario/column_units.hpp"
 #include "core/scenario/scenario_warnings.hpp"
@@ -17,10 +16,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path writeCsv(const std::string& name, const std::string& text) {
-  const fs::path dir = test::processTempDir("packsim_csv_units");
-  fs::create_directories(dir);
-  std::ofstream(dir / name) << text;
-  return dir / name;
+  return test::writeTempFile("packsim_csv_units", name, text);
 }
 
 std::string csvYaml(const std::string& spec) { return test::simpleCellYaml() + "load: {csv: " + spec + "}\n"; }

@@ -17,12 +17,7 @@ namespace {
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
-std::vector<const Event*> limited(const RunResult& r) {
-  std::vector<const Event*> out;
-  for (const Event& e : r.events)
-    if (e.kind == "load_limited") out.push_back(&e);
-  return out;
-}
+std::vector<const Event*> limited(const RunResult& r) { return test::eventsOf(r, "load_limited"); }
 
 // 4s1p of the simple 2 Ah cell (E ~ 16.2 V, R0 4 x 20 mOhm): at most ~820 W. 2000 W
 // from 2 s to 4 s is past it; 50 W around it is not.

@@ -7,6 +7,7 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <fstream>
 #include <stdexcept>
 
 namespace packsim::test {
@@ -79,6 +80,20 @@ double eventTime(const RunResult& r, const std::string& kind, const std::string&
   for (const Event& e : r.events)
     if (e.kind == kind && e.detail.compare(0, detail.size(), detail) == 0) return e.time_s;
   return -1.0;
+}
+
+std::vector<const Event*> eventsOf(const RunResult& r, const std::string& kind) {
+  std::vector<const Event*> out;
+  for (const Event& e : r.events)
+    if (e.kind == kind) out.push_back(&e);
+  return out;
+}
+
+std::filesystem::path writeTempFile(const std::string& folder, const std::string& name, const std::string& text) {
+  const std::filesystem::path dir = processTempDir(folder);
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return dir / name;
 }
 
 size_t sampleAt(const Recording& rec, double t) {

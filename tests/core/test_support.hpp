@@ -32,6 +32,10 @@ std::filesystem::path processTempDir(const std::string& name);
 bool temporaryOfExists(const std::filesystem::path& result);
 // First event of a kind with a detail starting with `detail` (or -1).
 double eventTime(const RunResult& r, const std::string& kind, const std::string& detail = "");
+// Every event of a kind, in the run's order.
+std::vector<const Event*> eventsOf(const RunResult& r, const std::string& kind);
+// `text` written to `name` in processTempDir(folder) (created): its path.
+std::filesystem::path writeTempFile(const std::string& folder, const std::string& name, const std::string& text);
 // Index of the recorded sample at time t (exact tick match).
 size_t sampleAt(const Recording& rec, double t);
 std::string scenarioDir();
