@@ -66,9 +66,6 @@ bool HwSensors::faultLine() const {
   return false;
 }
 
-// A device no fault was scripted for.
-static const MonitorDeviceFault kHealthy{};
-
 void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& unloaded, const HardwareFaults& f,
                        double bus_V, bool relayAux, Rng& rng, bms::Inputs& in) {
   const HardwareConfig& hw = s_.hardware;
@@ -107,7 +104,7 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
       const size_t gd = static_cast<size_t>(b.firstDevice) + d;
       // (a reference to either: a temporary of the ?: was built bytewise on the stack and
       // read back whole, a store-forwarding stall each tick)
-      tr.comm[d] = gd < f.device.size() ? f.device[gd] : kHealthy;
+      tr.comm[d] = gd < f.device.size() ? f.device[gd] : kHealthyDevice;
       if (cutHere && static_cast<int>(d) > cut && f.broken_link_byte >= 0) tr.comm[d].stuck_byte = f.broken_link_byte;
     }
     tr.broken_link_above = cutHere && f.broken_link_byte < 0 ? cut : -1;

@@ -23,9 +23,6 @@ MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint
   bus_.chain->setBrokenLinkAbove(brokenGiven_);
 }
 
-// A device no fault was scripted for.
-static const MonitorDeviceFault kHealthy{};
-
 MonitorTruth MonitorChainPath::makeTruth() const {
   return MonitorTruth(cells_, bus_.chain->deviceCount(), thermistorChannels());
 }
@@ -62,7 +59,7 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
               cfg_.die_rise_C;
     a.current_A = truth.current_A;
     a.host_opens_balancing = truth.host_opens_balancing;
-    giveCommFault(c, d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)] : kHealthy);
+    giveCommFault(c, d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)] : kHealthyDevice);
   }
   if (truth.broken_link_above != brokenGiven_) {
     c.setBrokenLinkAbove(truth.broken_link_above);
@@ -73,7 +70,7 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
 
 void MonitorChainPath::giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
   MonitorDeviceFault& g = commGiven_[static_cast<size_t>(d)];
-  if (g.silent == f.silent && g.crc_error_rate == f.crc_error_rate && g.stuck_byte == f.stuck_byte) return;
+  if (g == f) return;
   g = f;
   c.setCommFault(d, f);
 }
