@@ -73,14 +73,14 @@ double reversibleHeat_W(const CellParams& p, double soc, double i_A, double temp
 
 void derivatives(const CellParams& p, const double* x, double i_A, double* dx, double internal_A, double temp_C) {
   const double eta = i_A < 0.0 ? p.coulombic_efficiency : 1.0;
-  dx[CellLayout::soc] = -(eta * i_A + p.self_discharge_A + internal_A) / (3600.0 * p.capacity_Ah);
+  dx[CellLayout::soc] = socRate(eta, i_A, p.self_discharge_A, internal_A, 3600.0 * p.capacity_Ah);
   for (size_t k = 0; k < p.rc.size(); ++k) {
     const RcPair& rc = p.rc[k];
     if (!rc.variable) {
-      dx[1 + k] = i_A / rc.c_F - x[1 + k] / (rc.r_ohm * rc.c_F);
+      dx[1 + k] = rcRate(i_A, rc.c_F, rc.r_ohm * rc.c_F, x[1 + k]);
     } else {
       const double r = rcR_ohm(rc, p, x[CellLayout::soc], temp_C), c = rcC_F(rc, p, x[CellLayout::soc], temp_C);
-      dx[1 + k] = i_A / c - x[1 + k] / (r * c);
+      dx[1 + k] = rcRate(i_A, c, r * c, x[1 + k]);
     }
   }
   if (p.has_hysteresis) {

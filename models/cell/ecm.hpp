@@ -123,6 +123,13 @@ inline double heatWithParts_W(const CellParams& p, const double* x, double i_A, 
 }
 // Reversible heat alone: -i·T_K·dOCV/dT (0 without a dOCV/dT curve).
 double reversibleHeat_W(const CellParams& p, double soc, double i_A, double temp_C);
+// The SOC's rate: charge into the cell (eta on charging), its leakage and any internal
+// draw, over its charge_As = 3600·capacity_Ah.
+inline double socRate(double eta, double i_A, double self_discharge_A, double internal_A, double charge_As) {
+  return -(eta * i_A + self_discharge_A + internal_A) / charge_As;
+}
+// An RC pair's voltage rate: i/C - v/(R·C), with tau_s = R·C.
+inline double rcRate(double i_A, double c_F, double tau_s, double v) { return i_A / c_F - v / tau_s; }
 // Writes d/dt of the electrical states into dx (same layout as x).
 void derivatives(const CellParams& p, const double* x, double i_A, double* dx, double internal_A = 0.0,
                  double temp_C = kReferenceTemp_C);

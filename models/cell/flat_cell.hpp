@@ -128,8 +128,8 @@ struct FlatCell {
       return;
     }
     const double eta = i_A < 0.0 ? coulombic_efficiency : 1.0;
-    dx[CellLayout::soc] = -(eta * i_A + self_discharge_A + internal_A) / charge_As;
-    for (int k = 0; k < n_rc; ++k) dx[1 + k] = i_A / rc_c_F[k] - x[1 + k] / rc_tau_s[k];
+    dx[CellLayout::soc] = ecm::socRate(eta, i_A, self_discharge_A, internal_A, charge_As);
+    for (int k = 0; k < n_rc; ++k) dx[1 + k] = ecm::rcRate(i_A, rc_c_F[k], rc_tau_s[k], x[1 + k]);
   }
 };
 
