@@ -253,12 +253,17 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
       line += " (" + unrelatedName + fmt(" at %.3f s is not caused by it)", unrelated->time_s);
     o.latencies.push_back(line);
   }
-  // A scripted fault the run never reached (it ended first) did not test anything.
-  int unreached = 0;
+  // A scripted fault the run never reached (it ended first), or one that could not act
+  // (an over-current with the relay open, a weld never commanded open), tested nothing.
+  int unreached = 0, noEffect = 0;
   for (const Event& ev : r.events) {
-    if (ev.kind != "fault_not_reached") continue;
-    ++unreached;
-    if (e.present) fail("scripted fault never happened: " + ev.detail);
+    if (ev.kind == "fault_not_reached") {
+      ++unreached;
+      if (e.present) fail("scripted fault never happened: " + ev.detail);
+    } else if (ev.kind == "fault_no_effect") {
+      ++noEffect;
+      if (e.present) fail("scripted fault had no effect: " + ev.detail);
+    }
   }
   o.verdict = sm.tripped ? fmt("trip at %.3f s (", sm.trip_time_s) + sm.trip_reason + ")" : "no trip";
   if (!e.soc_error_max_below.empty() || !e.soc_error_rms_below.empty() || !e.soc_error_end_below.empty())
@@ -267,6 +272,7 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     o.verdict += fmt(", capacity %.3f Ah (true %.3f Ah)", sm.capacity_estimate_Ah, sm.capacity_true_Ah);
   if (!fwFailure.empty()) o.verdict += "; " + fwFailure;
   if (unreached > 0) o.verdict += ", " + std::to_string(unreached) + " scripted fault" + (unreached > 1 ? "s" : "") + " not reached";
+  if (noEffect > 0) o.verdict += ", " + std::to_string(noEffect) + " scripted fault" + (noEffect > 1 ? "s" : "") + " without effect";
   // Without an expect: block the run is reported, not passed.
   o.nothing_to_check = !e.present && o.failures.empty();
   if (o.nothing_to_check) o.verdict = "ran, nothing to check (" + o.verdict + ")";

@@ -85,11 +85,15 @@ bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, 
     } else if (const double d_s = activeFor_s(inj); d_s > 0.0 && reached(t, tr.start_s + d_s)) {
       tr.active = false;
       tr.done = true;
+      tr.end_s = t;
       changed = true;
       tracker.event(t, "fault_removed", inj.describe());
     }
   }
   if (!changed) return false;
+  watching_ = false;
+  for (size_t i = 0; i < s_.faults.size(); ++i)
+    watching_ = watching_ || (state_[i].active && needsCurrentPath(s_.faults[i]) && !state_[i].seen.acted);
   const HardwareFaults before = faults;
   apply(faults);
   return faults.extra_load_A != before.extra_load_A || faults.cell_heat_W != before.cell_heat_W ||
@@ -110,6 +114,32 @@ void FaultScheduler::reportUnreached(double t_end_s, const std::string& run_end,
     tracker.event(t_end_s, "fault_not_reached",
                   inj.describe() + " (line " + std::to_string(inj.line) + ", " + when + "; the run ended at " + end + ": " +
                       run_end + ")");
+  }
+}
+
+void FaultScheduler::noteEffects(const PathState& p) {
+  watching_ = false;
+  for (size_t i = 0; i < s_.faults.size(); ++i) {
+    Track& tr = state_[i];
+    if (!tr.active || !needsCurrentPath(s_.faults[i]) || tr.seen.acted) continue;
+    noteEffect(s_.faults[i], p, tr.seen);
+    watching_ = watching_ || !tr.seen.acted;
+  }
+}
+
+void FaultScheduler::reportNoEffect(double t_end_s, RunTracker& tracker) const {
+  for (size_t i = 0; i < s_.faults.size(); ++i) {
+    const Track& tr = state_[i];
+    const FaultInjection& inj = s_.faults[i];
+    // Injected at the run's last instant: no time to act, nothing to say.
+    if (tr.start_s < 0.0 || !needsCurrentPath(inj) || tr.seen.acted || !(tr.start_s < t_end_s)) continue;
+    char span[96];
+    if (tr.end_s >= 0.0)
+      std::snprintf(span, sizeof span, "active %.3f-%.3f s", tr.start_s, tr.end_s);
+    else
+      std::snprintf(span, sizeof span, "active from %.3f s to the end", tr.start_s);
+    tracker.event(t_end_s, "fault_no_effect",
+                  inj.describe() + " (line " + std::to_string(inj.line) + ", " + span + "): " + noEffectText(inj, tr.seen));
   }
 }
 

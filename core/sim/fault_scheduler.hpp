@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/scenario/scenario.hpp"
+#include "core/sim/fault_effect.hpp"
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/plant.hpp"
 
@@ -31,6 +32,14 @@ class FaultScheduler {
   // every injection that never started, saying when it was due and why the run ended
   // first (`run_end`: "the run's duration", "the trip stopped it", ...).
   void reportUnreached(double t_end_s, const std::string& run_end, RunTracker& tracker) const;
+  // The current path over the next interval, while an over-current, charger or weld
+  // injection is active and has not yet acted (core/sim/fault_effect.hpp): one branch a
+  // tick otherwise (the caller builds the PathState only when watching()).
+  bool watching() const { return watching_; }
+  void noteEffects(const PathState& p);
+  // At the end of a run: one `fault_no_effect` event for every such injection that
+  // started before t_end_s and never acted.
+  void reportNoEffect(double t_end_s, RunTracker& tracker) const;
 
  private:
   double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;
@@ -41,10 +50,13 @@ class FaultScheduler {
     double start_s = -1.0;
     bool active = false;
     bool done = false;
+    double end_s = -1.0;  // removed at (-1: still active, or never started)
+    EffectSeen seen;
   };
   const Scenario& s_;
   const Plant& plant_;
   std::vector<Track> state_;
+  bool watching_ = false;  // an active injection that needs the current path has not acted yet
 };
 
 }  // namespace packsim

@@ -41,6 +41,18 @@ std::string loadEndText(const LoadProfile& p) {
                 p.laps == 1 ? "" : "s", p.lap_s(), p.quantity == LoadProfile::Quantity::Power_W ? "W" : "A");
   return buf;
 }
+// The current path the plant sees over the next interval, for the scripted faults that
+// act only through it (core/sim/fault_effect.hpp).
+PathState pathState(const Scenario& s, const PlantInputs& in, const HardwareStatus& hw, bool relayPin) {
+  PathState p;
+  p.relayContactClosed = hw.relay_closed;
+  p.mainClosed = in.relay_closed;
+  p.dischargeBlocked = in.discharge_blocked;
+  p.chargeBlocked = in.charge_blocked;
+  p.chargerOn = in.charger_limit_A > 0.0;
+  p.relayCommandedOpen = !relayPin || (s.hardware.fault_line_opens_relay && hw.fault_line);
+  return p;
+}
 }  // namespace
 
 struct SimulationRun::Impl {
@@ -113,6 +125,7 @@ struct SimulationRun::Impl {
   McuFirmware firmware{s, cfg, hw, tracker};  // packsim's core, or the scenario's library
   PinTimeline pins;  // the MCU's output changes not yet in effect (core/firmware/pin_timeline.hpp)
   bms::Outputs act{};  // step 3's scratch: the decisions with other pins in effect
+  bool relayPin = false;  // the relay coil's MCU pin in effect (for FaultScheduler::noteEffects)
   const double tick_s;
   const long recordEvery;
   const double end_s;
@@ -181,6 +194,8 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
     applyPins(act, inEffect);
   }
   const bool relayChanged = hw.actuate(t, pinsDiffer ? act : decision, sg, faults, inputs);
+  relayPin = (pinsDiffer ? act : decision).relayClose;
+  if (scheduler.watching()) scheduler.noteEffects(pathState(s, inputs, hw.status(), relayPin));
   sampled = &sg;
   restartNext = relayChanged || faultChanged;
 
@@ -245,6 +260,7 @@ void SimulationRun::Impl::advance() {
     if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here
       plant.sample(tc, integ.state(), inputs, sig);
       if (scheduler.update(tc, integ.state(), sig, faults, tracker)) restart = true;
+      if (scheduler.watching()) scheduler.noteEffects(pathState(s, inputs, hw.status(), relayPin));
     }
     if (pinInside && reached(tc, pinBreak_s)) {  // the outputs act at the instant they were written
       plant.sample(tc, integ.state(), inputs, sig);
@@ -252,6 +268,8 @@ void SimulationRun::Impl::advance() {
       applyPins(act, pins.at(tc));
       if (hw.actuatePins(tc, t_next, act, sig, faults, inputs)) restart = true;
       tracker.hardwareChanged(tc);
+      relayPin = act.relayClose;
+      if (scheduler.watching()) scheduler.noteEffects(pathState(s, inputs, hw.status(), relayPin));
     }
   }
   if (restart) integ.reset(tc, integ.state());
@@ -290,6 +308,7 @@ RunResult SimulationRun::finish() {
   // Before the run's end event: faults never reached, a power load's last shortfall, the
   // MCU's thermistors the firmware never read.
   m.scheduler.reportUnreached(end_s, m.endReason, m.tracker);
+  m.scheduler.reportNoEffect(end_s, m.tracker);
   m.shortfall.finish(end_s, m.shortfallSink);
   for (const std::string& note : unreadMcuThermistors(m.s, m.hw.boards(), m.firmware.mcuThermistorsRead(), end_s))
     m.tracker.event(end_s, "monitor_unread", note);

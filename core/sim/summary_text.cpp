@@ -309,9 +309,10 @@ const std::vector<SummaryLine> kLines = {
     {"hardware", "", weldedLine},
     {"vehicle", "", [](LineWriter& w, const S&, const R& r) {  // a vehicle on its route (docs/vehicle.md)
        writeVehicleLines(w, r.summary.vehicle); }},
-    {"fault script", "", [](LineWriter& w, const S&, const R& r) {  // scripted faults the run ended before
+    {"fault script", "", [](LineWriter& w, const S&, const R& r) {  // scripted faults that tested nothing
        for (const Event& e : r.events)
-         if (e.kind == "fault_not_reached") w.line("not reached: " + e.detail); }},
+         if (e.kind == "fault_not_reached") w.line("not reached: " + e.detail);
+         else if (e.kind == "fault_no_effect") w.line("no effect: " + e.detail); }},
 };
 // clang-format on
 

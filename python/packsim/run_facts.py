@@ -208,8 +208,8 @@ def verdict(r: Result) -> Verdict:
     """Tripped or not, from the events: the first fault_latched is the trip (the
     protection and when); the contact, fuse and FAULT-line events say what acted; the
     recorded sample at the trip gives the BMS's reading next to the truth.
-    limit_unseen, firmware_fault, fault_not_reached, monitor_unread, cell_model_range, load_limited and
-    load_end events,
+    limit_unseen, firmware_fault, fault_not_reached, fault_no_effect, monitor_unread, cell_model_range,
+    load_limited and load_end events,
     and a relay that never closed, are listed whether or not it tripped."""
     evs = r.events
     latched = [ev for ev in evs if ev["kind"] == "fault_latched"]
@@ -233,8 +233,8 @@ def verdict(r: Result) -> Verdict:
         k = ev["kind"]
         if k in _OPENED and _OPENED[k] in str(ev["detail"]):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')} {ev['detail']}")
-        elif k in ("limit_unseen", "firmware_fault", "fault_not_reached", "monitor_unread", "cell_model_range",
-                   "load_limited", "load_end"):
+        elif k in ("limit_unseen", "firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
+                   "cell_model_range", "load_limited", "load_end"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
     s = r.summary
     if "relay_closed" in s and not int(s["relay_closed"]):  # the summary's `relay` line

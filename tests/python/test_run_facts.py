@@ -92,6 +92,13 @@ def test_a_power_load_the_pack_could_not_give_is_in_the_verdict():
     assert f"15.00 s: load limited: {note}" in text
 
 
+def test_a_scripted_fault_without_effect_is_in_the_verdict():
+    note = ("welded_relay (line 12, active from 10.000 s to the end): the relay contact was open the whole time: "
+            "a weld holds a closed contact, and the relay never closed while welded")
+    text = "\n".join(run_facts.verdict(_result(events=[(60.13, "fault_no_effect", note)])).lines)
+    assert f"60.13 s: fault no effect: {note}" in text
+
+
 def test_margin_sign_place_time_and_time_past_the_limit():
     v = np.full((N, 4), 3.7)
     v[7, 2] = 4.25  # cell 3 = group 2 in a 2s2p pack, past 4.2 V for one sample
