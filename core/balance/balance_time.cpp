@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/scenario/bms_setting_table.hpp"
+#include "core/sim/balance_report.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
 
@@ -17,15 +18,6 @@ namespace packsim {
 namespace {
 
 [[noreturn]] void bad(const std::string& what) { throw std::invalid_argument(what); }
-
-// Charge (Ah) in each series group.
-std::vector<double> groupCharge_Ah(const Plant& plant, const double* x) {
-  const Pack& p = plant.pack();
-  std::vector<double> q(static_cast<size_t>(p.series), 0.0);
-  for (int c = 0; c < p.cellCount(); ++c)
-    q[static_cast<size_t>(c / p.parallel)] += plant.cellStates(x, c)[CellLayout::soc] * p.cells[static_cast<size_t>(c)].capacity_Ah;
-  return q;
-}
 
 // Rest voltage (mean OCV) of each series group.
 std::vector<double> groupOcv_V(const Plant& plant, const double* x) {

@@ -6,12 +6,35 @@
 #include <stdexcept>
 #include <type_traits>
 
+#include <bms/bms_balance.hpp>
 #include <bms/bms_firmware.hpp>
 
 #include "core/firmware/pin_timeline.hpp"
 #include "models/afe/byte_copy.hpp"
 
 namespace packsim {
+
+namespace {
+
+// The pack's balancing status from a member board's and the rest's: each board decides for
+// its own cells (the host shares the pack's range), so the host alone may say "balanced"
+// while a member bleeds. A board balancing makes the pack balancing; else a hot board
+// pauses it; else "balanced" over "not allowed" over "disabled".
+uint8_t packBalanceStatus(uint8_t pack, uint8_t board) {
+  using B = bms::BalanceStatus;
+  const auto rank = [](uint8_t v) {
+    switch (static_cast<B>(v)) {
+      case B::Balancing: return 4;
+      case B::BoardHot: return 3;
+      case B::Balanced: return 2;
+      case B::NotAllowed: return 1;
+      default: return 0;
+    }
+  };
+  return rank(board) > rank(pack) ? board : pack;
+}
+
+}  // namespace
 
 McuFirmware::McuFirmware(const Scenario& s, const bms::Config& cfg, HardwareSim& hw, RunTracker& tracker)
     : tracker_(tracker), hw_(hw), library_(s.bms.firmware.library), nominal_V_(s.hardware.supply_nominal_V),
@@ -155,6 +178,7 @@ const bms::Outputs& McuFirmware::probe(bms::Outputs& out) {
     const bms::Outputs& o = b.index == 0 ? out : bms::coreFirmwareOutputs(h.ram());
     const bms::Telemetry& bt = b.index == 0 ? host : o.telemetry;
     const uint32_t* mask = b.index == 0 ? bms::coreFirmwareOutputs(h.ram()).balanceMask : o.balanceMask;
+    if (b.index != 0) out.balanceStatus = packBalanceStatus(out.balanceStatus, o.balanceStatus);
     for (int i = 0; i < b.cells; ++i) {
       const int g = b.firstCell + i;
       tm.cellVoltage_mV[g] = bt.cellVoltage_mV[i];

@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/sim/balance_summary.hpp"
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/soc_error.hpp"
 #include "core/sim/vehicle_summary.hpp"
@@ -160,6 +161,7 @@ struct Summary {
   // target mode: the same figures by name, the result file's /summary attributes target_*
   std::vector<std::pair<std::string, double>> firmware_target_figures;
   VehicleSummary vehicle;       // `load: {vehicle: ...}`: laps, the pack's limits on the vehicle
+  BalanceSummary balance;       // hardware.balancing: what the resistors bled, when the pack was balanced
 };
 
 struct RunResult {

@@ -12,6 +12,7 @@
 #include "core/sim/comparison.hpp"
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/fast_integrator.hpp"
+#include "core/sim/balance_report.hpp"
 #include "core/sim/fault_scheduler.hpp"
 #include "core/sim/mcu_firmware.hpp"
 #include "core/sim/load_shortfall.hpp"
@@ -313,6 +314,11 @@ RunResult SimulationRun::finish() {
   for (const std::string& note : unreadMcuThermistors(m.s, m.hw.boards(), m.firmware.mcuThermistorsRead(), end_s))
     m.tracker.event(end_s, "monitor_unread", note);
   RunResult r = m.tracker.finish(m.solver->state() + m.plant.stateSize(), m.endReason);
+  if (m.s.hardware.balancing.present) {
+    std::vector<double> x0(static_cast<size_t>(m.plant.stateSize()), 0.0);
+    m.plant.initialState(x0.data());
+    r.summary.balance = summarizeBalancing(m.s, m.plant, x0.data(), m.solver->state(), r.quad, r.events);
+  }
   r.bus_trace = m.hw.takeBusTrace();
   r.can_trace = m.firmware.takeCanTrace();
   r.solver = m.solver->stats();

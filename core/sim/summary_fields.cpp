@@ -8,6 +8,7 @@ namespace {
 
 using S = Summary;
 bool vehicle(const S& m) { return m.vehicle.present; }
+bool balancing(const S& m) { return m.balance.present; }
 
 }  // namespace
 
@@ -53,6 +54,13 @@ const std::vector<SummaryField>& summaryFields() {
       {"limit_unseen_longest",    [](const S& m) { return m.limit_unseen_longest; }},
       {"relay_closed",            [](const S& m) -> long long { return m.relay_closed ? 1 : 0; }},
       {"unmonitored_groups",      [](const S& m) -> long long { return m.unmonitored_groups; }},
+      // Passive balancing (hardware.balancing): a resistor sweep's summary.csv shows what each bled and when it was done.
+      {"balance_bled_Ah",         [](const S& m) { return m.balance.bled_Ah; }, balancing},
+      {"balance_heat_Wh",         [](const S& m) { return m.balance.heat_Wh; }, balancing},
+      {"balance_started_s",       [](const S& m) { return m.balance.started_s; }, balancing},
+      {"balance_balanced_s",      [](const S& m) { return m.balance.balanced_s; }, balancing},
+      {"balance_spread_start_Ah", [](const S& m) { return m.balance.spread_start_Ah; }, balancing},
+      {"balance_spread_end_Ah",   [](const S& m) { return m.balance.spread_end_Ah; }, balancing},
       // A vehicle on its route (docs/vehicle.md): a sweep's summary.csv shows the fastest speed that finishes.
       {"vehicle_distance_km",     [](const S& m) { return m.vehicle.distance_m / 1000.0; }, vehicle},
       {"vehicle_finished",        [](const S& m) -> long long { return m.vehicle.finished ? 1 : 0; }, vehicle},

@@ -112,6 +112,29 @@ void weldedLine(LineWriter& w, const S& s, const R& r) {
          (welded ? " (welded_relay injected at " + fmt("%.2f", welded->time_s) + " s)" : std::string(" (welded?)")));
 }
 
+// Passive balancing: the firmware's balancing events, the resistors' quadratures and the
+// groups' charge spread in the truth (core/sim/balance_report.hpp).
+void balancingLine(LineWriter& w, const S&, const R& r) {
+  const BalanceSummary& b = r.summary.balance;
+  if (!b.present) return;
+  std::string when;
+  if (b.started_s < 0.0) {
+    const Event* last = nullptr;
+    for (const Event& e : r.events)
+      if (e.kind == "balancing") last = &e;
+    when = "the firmware never reported balancing" + (last ? " (its last status: " + last->detail + ")" : std::string()) +
+           (b.bled_Ah > 0.0 ? ", yet" : "");
+  } else {
+    when = "from " + fmt("%.2f", b.started_s) + " s, " +
+           (b.balanced_s >= 0.0 ? "balanced (the firmware's word) at " + fmt("%.2f", b.balanced_s) + " s (" +
+                                      clockText(b.balanced_s) + ")"
+                                : std::string("not balanced by the end"));
+  }
+  w.line(when + "; bled " + fmt("%.3f", b.bled_Ah) + " Ah, " + fmt("%.2f", b.heat_Wh) + " Wh of heat");
+  w.more("series groups' charge spread " + fmt("%.3f", b.spread_start_Ah) + " Ah at the start, " +
+         fmt("%.3f", b.spread_end_Ah) + " Ah at the end (truth)");
+}
+
 // SOC error of each estimator against the truth; the first printed takes the label.
 void socErrorLines(LineWriter& w, const S&, const R& r) {
   const Summary& m = r.summary;
@@ -265,6 +288,8 @@ const std::vector<SummaryLine> kLines = {
                                  : std::string("at the end (no cell reached its limit)")) +
               "; " + fmt("%.2f", m.energy_stranded_Wh) + " Wh (" + fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh) +
               " % of the start) stranded by imbalance"); }},
+    {"balancing", "balance_bled_Ah balance_heat_Wh balance_started_s balance_balanced_s balance_spread_start_Ah "
+                  "balance_spread_end_Ah", balancingLine},
     {"final SOC", "final_soc_min final_soc_max", [](LineWriter& w, const S&, const R& r) {
        w.line(fmt("%.3f", r.summary.final_soc_min) + " .. " + fmt("%.3f", r.summary.final_soc_max)); }},
     {"SOC error", "soc_estimator soc_error_coulomb_max soc_error_coulomb_rms soc_error_coulomb_end soc_error_ekf_max "

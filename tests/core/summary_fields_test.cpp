@@ -48,13 +48,17 @@ TEST(SummaryFields, TheFileHoldsExactlyTheRowsOfTheRun) {
   Summary m;
   const std::set<std::string> plain = writtenNames("eco_marathon_12s.yaml", (dir / "a.h5").string(), &m);
   EXPECT_FALSE(m.vehicle.present);
+  ASSERT_TRUE(m.balance.present);  // system A has passive balancing
   EXPECT_EQ(plain, rowsFor(m));
   EXPECT_EQ(plain.count("vehicle_distance_km"), 0u);
+  EXPECT_EQ(plain.count("balance_bled_Ah"), 1u);
   EXPECT_EQ(plain.count("duration_s"), 1u);
   const std::set<std::string> vehicle = writtenNames("vehicle/solar_car_28s15p_stage.yaml", (dir / "b.h5").string(), &m);
   ASSERT_TRUE(m.vehicle.present);
+  ASSERT_FALSE(m.balance.present);  // system B balances actively, if at all
   EXPECT_EQ(vehicle, rowsFor(m));
-  EXPECT_EQ(vehicle.size(), plain.size() + 7);  // the seven vehicle figures
+  EXPECT_EQ(vehicle.count("balance_bled_Ah"), 0u);
+  EXPECT_EQ(vehicle.size(), plain.size() + 7 - 6);  // the seven vehicle figures, without the six balancing ones
 }
 
 TEST(SummaryFields, NamesAreUniqueAndTheCsvColumnsAreTheRankedRowsInOrder) {

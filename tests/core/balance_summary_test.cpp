@@ -1,0 +1,125 @@
+// The summary's `balancing` line and balance_* figures (core/sim/balance_report.hpp)
+// against the run's truth: at rest, with no load and no self-discharge, the charge the
+// series groups lost is the charge the resistors bled; the spreads are the recorded
+// cells' SOC times capacity; the start is the firmware's `balancing` event. And a pack of
+// monitor boards reports the pack balancing while a member board bleeds.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/scenario/load_scenario.hpp"
+#include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
+#include "test_support.hpp"
+
+namespace packsim {
+namespace {
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+constexpr int kSeries = 4;
+constexpr double kCapacity_Ah = 2.0;
+
+// 4s at rest, group 3 0.1 Ah high, 33 ohm resistors balancing after 5 s of rest.
+Scenario restingPack(double duration_s) {
+  return test::scenarioFromYaml(
+      "name: rest_balance\nseed: 3\n"
+      "pack:\n  series: 4\n  initial_soc: 0.8\n  initial_temp_C: 25\n"
+      "  cell: {capacity_Ah: 2.0, ocv_V: {poly: [0.8, 3.4]}, r0_ohm: 0.02, rc_pairs: [{r_ohm: 0.01, c_F: 1000}],\n"
+      "         heat_capacity_J_per_K: 40, g_ambient_W_per_K: 0.1}\n"
+      "  cells: [{cell: 3, initial_soc: 0.85}]\n"
+      "thermal: {nodes: [{name: board, heat_capacity_J_per_K: 30, g_ambient_W_per_K: 0.05}]}\n"
+      "hardware:\n  cell_adc: {lsb_uV: 100, bits: 16, noise_mV_rms: 0}\n  thermistors: {at_groups: [1]}\n"
+      "  current_sense: {shunt_ohm: 0.001, amp_gain: 20, noise_A_rms: 0}\n"
+      "  balancing: {resistor_ohm: 33, rds_on_ohm: 0, board_node: board}\n"
+      "ambient: {temp_C: 25}\n"
+      "load: {current_A: 0}\nrun: {duration_s: " + std::to_string(duration_s) + "}\n"
+      "bms:\n  tick_ms: 100\n  balance_time_s: 10\n"
+      "  balancing: {when: rest, rest_s: 5, start_delta_mV: 20, stop_delta_mV: 5, min_cell_V: 3.0}\n");
+}
+
+// Highest minus lowest group charge (Ah) at recorded sample i (one cell per group).
+double recordedSpread_Ah(const Recording& rec, size_t i) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (int g = 0; g < kSeries; ++g) {
+    const double q = rec.cell_soc[i * kSeries + static_cast<size_t>(g)] * kCapacity_Ah;
+    lo = std::min(lo, q);
+    hi = std::max(hi, q);
+  }
+  return hi - lo;
+}
+
+// Every group's charge summed (Ah) at recorded sample i.
+double recordedCharge_Ah(const Recording& rec, size_t i) {
+  double q = 0.0;
+  for (int g = 0; g < kSeries; ++g) q += rec.cell_soc[i * kSeries + static_cast<size_t>(g)] * kCapacity_Ah;
+  return q;
+}
+
+TEST(BalanceSummary, BledChargeIsWhatTheGroupsLostAndTheSpreadsAreTheTruths) {
+  const Scenario s = restingPack(1800.0);
+  const RunResult r = runScenario(s);
+  const BalanceSummary& b = r.summary.balance;
+  const Recording& rec = r.rec;
+  ASSERT_TRUE(b.present);
+  const size_t last = rec.time_s.size() - 1;
+  ASSERT_DOUBLE_EQ(rec.time_s[last], r.summary.duration_s);
+  // At rest every coulomb the groups lost went through a resistor (the monitor's bias
+  // current is not modelled on this plain ADC): conservation to rounding.
+  ASSERT_GT(b.bled_Ah, 0.01);
+  EXPECT_NEAR(b.bled_Ah, recordedCharge_Ah(rec, 0) - recordedCharge_Ah(rec, last), 1e-9);
+  EXPECT_NEAR(b.spread_start_Ah, 0.1, 1e-12);
+  EXPECT_NEAR(b.spread_start_Ah, recordedSpread_Ah(rec, 0), 1e-12);
+  EXPECT_NEAR(b.spread_end_Ah, recordedSpread_Ah(rec, last), 1e-12);
+  EXPECT_LT(b.spread_end_Ah, b.spread_start_Ah);
+  EXPECT_GT(b.heat_Wh, 0.0);
+  // The start and the end are the firmware's events.
+  EXPECT_DOUBLE_EQ(b.started_s, test::eventTime(r, "balancing", "balancing"));
+  const std::string text = formatSummary(s, r);
+  char start[64];
+  std::snprintf(start, sizeof start, "balancing       from %.2f s, ", b.started_s);
+  EXPECT_TRUE(has(text, start)) << text;
+  char bled[64];
+  std::snprintf(bled, sizeof bled, "; bled %.3f Ah, ", b.bled_Ah);
+  EXPECT_TRUE(has(text, bled)) << text;
+  if (b.balanced_s >= 0.0) {
+    EXPECT_DOUBLE_EQ(b.balanced_s, test::eventTime(r, "balancing", "balanced"));
+  } else {
+    EXPECT_TRUE(has(text, "not balanced by the end")) << text;
+  }
+}
+
+// No balancing hardware: no line, no figures.
+TEST(BalanceSummary, APackWithoutBalancingHasNoLine) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(2) + test::kSimpleLoadYaml);
+  const RunResult r = runScenario(s);
+  EXPECT_FALSE(r.summary.balance.present);
+  EXPECT_FALSE(has(formatSummary(s, r), "\nbalancing")) << formatSummary(s, r);
+}
+
+// System D at rest: its second monitor board's 36 cells sit 1 Ah high and that board
+// bleeds them, decided on its own MCU. The pack host's own cells are the low ones, so the
+// host alone says "balanced"; the pack's status (recorded and in the events) is
+// "balancing" whenever a switch is on. 700 s: the rest of 600 s, then a minute and more.
+TEST(BalanceSummary, APackOfBoardsIsBalancingWhileAMemberBoardBleeds) {
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/balance/motorcycle_110s_balancing.yaml");
+  s.run.duration_s = 700.0;
+  const RunResult r = runScenario(s);
+  const Recording& rec = r.rec;
+  const size_t groups = static_cast<size_t>(rec.groups);
+  size_t on = 0;
+  for (size_t i = 0; i < rec.time_s.size(); ++i) {
+    bool any = false;
+    for (size_t g = 0; g < groups; ++g) any = any || rec.hw_balancing[i * groups + g] != 0;
+    if (!any) continue;
+    ++on;
+    EXPECT_EQ(rec.balance_status[i], 4) << "at " << rec.time_s[i] << " s";  // balancing
+  }
+  EXPECT_GT(on, 5u);
+  EXPECT_GT(test::eventTime(r, "balancing", "balancing"), 600.0);
+  EXPECT_GT(r.summary.balance.bled_Ah, 0.0);
+}
+
+}  // namespace
+}  // namespace packsim
