@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "core/scenario/load_scenario.hpp"
+#include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/yaml_map.hpp"
 #include "models/random/random.hpp"
@@ -55,6 +56,23 @@ std::vector<YAML::Node> valueList(YamlMap& m, const YAML::Node& v, const std::st
 
 }  // namespace
 
+// One varied value alone on the base scenario: a value the loader refuses (out of range,
+// a wrong type, a key that does not exist) is the sweep's error, at the value's place in
+// the sweep file, before any case runs. A combination of values that fails only together
+// is that case's failure when it runs (the others finish).
+void checkValue(const YamlMap& m, const Sweep& sw, const std::string& key, const YAML::Node& v, const std::string& field) {
+  const std::string dir = fs::path(sw.base_path).parent_path().string();
+  try {
+    loadScenarioWithOverrides(sw.base_text, {{key, flowText(v)}}, sw.base_path, dir.empty() ? "." : dir);
+  } catch (const ScenarioError& e) {
+    const std::string mark = " (after override " + key + " = ";
+    const size_t at = e.message().find(mark);
+    if (at == std::string::npos) return;  // not this value's doing
+    throw m.errorAt(v, field, (e.field().empty() ? "" : e.field() + ": ") + e.message().substr(0, at) +
+                                  " (on the base scenario " + sw.base_path + ")");
+  }
+}
+
 Sweep loadSweepText(const std::string& text, const std::string& file, const std::string& base_dir) {
   const YAML::Node root = parseYaml(text, file);
   if (!root || root.IsNull()) throw ScenarioError(file, 1, 1, "", "the sweep is empty");
@@ -80,8 +98,10 @@ Sweep loadSweepText(const std::string& text, const std::string& file, const std:
     for (auto it = g.begin(); it != g.end(); ++it) {
       checkKey(m, it->first, "grid", sw.keys);
       Axis axis;
-      for (const YAML::Node& v : valueList(m, it->second, "grid." + it->first.Scalar()))
+      for (const YAML::Node& v : valueList(m, it->second, "grid." + it->first.Scalar())) {
+        checkValue(m, sw, it->first.Scalar(), v, "grid." + it->first.Scalar());
         axis.push_back({{it->first.Scalar(), flowText(v)}});
+      }
       axes.push_back(std::move(axis));
     }
   }
@@ -103,7 +123,10 @@ Sweep loadSweepText(const std::string& text, const std::string& file, const std:
         throw m.errorAt(it->second, "zip." + key,
                         "has " + std::to_string(values.size()) + " values but zip." + first + " has " + std::to_string(len));
       }
-      for (size_t i = 0; i < len; ++i) axis[i].push_back({key, flowText(values[i])});
+      for (size_t i = 0; i < len; ++i) {
+        checkValue(m, sw, key, values[i], "zip." + key);
+        axis[i].push_back({key, flowText(values[i])});
+      }
     }
     axes.push_back(std::move(axis));
   }

@@ -13,6 +13,7 @@
 
 #include "core/batch/batch_runner.hpp"
 #include "core/batch/drawn_inputs.hpp"
+#include "core/scenario/scenario_error.hpp"
 #include "core/batch/sweep.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "test_support.hpp"
@@ -174,29 +175,50 @@ TEST(Batch, SummaryTableHasATemporaryOfItsOwn) {
 
 TEST(Batch, FailingCaseIsRecordedAndOthersFinish) {
   Scratch sc;
-  // initial_soc 1.5 is out of range: that case fails at load, the other two run.
+  // Each value is valid on the base, but the second pair is not (v_max_V 3.5 below
+  // v_min_V 3.9): that case fails at load, the other two run.
   Sweep sw = loadSweepFile(sc.write("sweep.yaml", "base: base.yaml\noutput_dir: out\n"
-                                                  "grid: {pack.initial_soc: [0.8, 1.5, 0.6]}\n"));
+                                                  "zip: {pack.cell.v_min_V: [2.8, 3.9, 2.7], pack.cell.v_max_V: [4.3, 3.5, 4.4]}\n"));
   BatchOptions opt;
   opt.progress = nullptr;
   const BatchReport r = runBatch(sw, opt);
   EXPECT_EQ(r.ok, 2);
   EXPECT_EQ(r.failed, 1);
   EXPECT_FALSE(r.cases[1].ok);
-  EXPECT_NE(r.cases[1].error.find("initial_soc"), std::string::npos) << r.cases[1].error;
+  EXPECT_NE(r.cases[1].error.find("v_max_V"), std::string::npos) << r.cases[1].error;
   EXPECT_FALSE(fs::exists(sw.resultPath(sw.cases[1])));
   const std::vector<std::string> csv = lines(readFile(r.csv_path));
   ASSERT_EQ(csv.size(), 4u);
-  EXPECT_EQ(csv[2].rfind("0001,1.5,failed,", 0), 0u) << csv[2];
-  EXPECT_NE(csv[2].find("initial_soc"), std::string::npos);
-  EXPECT_EQ(csv[3].rfind("0002,0.6,ok,", 0), 0u) << csv[3];
+  EXPECT_EQ(csv[2].rfind("0001,3.9,3.5,failed,", 0), 0u) << csv[2];
+  EXPECT_NE(csv[2].find("v_max_V"), std::string::npos);
+  EXPECT_EQ(csv[3].rfind("0002,2.7,4.4,ok,", 0), 0u) << csv[3];
+}
+
+// A varied value the base scenario refuses on its own (out of range) is the sweep's
+// error at the value's line and column, before any case runs (docs/batch.md).
+TEST(Batch, AValueOutOfRangeIsTheSweepsErrorAtItsLine) {
+  Scratch sc;
+  const std::string path = sc.write("sweep.yaml", "base: base.yaml\noutput_dir: out\n"
+                                                  "grid:\n  pack.initial_soc: [0.8, 1.5, 0.6]\n");
+  try {
+    loadSweepFile(path);
+    FAIL() << "expected a ScenarioError";
+  } catch (const ScenarioError& e) {
+    EXPECT_EQ(e.line(), 4);
+    EXPECT_EQ(e.column(), 27);
+    EXPECT_EQ(e.field(), "grid.pack.initial_soc");
+    EXPECT_NE(e.message().find("1.5 is out of range; allowed [0, 1]"), std::string::npos) << e.message();
+  }
+  EXPECT_FALSE(fs::exists(sc.dir / "out"));
 }
 
 TEST(Batch, CliExitStatusSaysSomeFailed) {
   Scratch sc;
   const std::string ok = sc.write("ok.yaml", "base: base.yaml\noutput_dir: out_ok\nmonte_carlo: {samples: 2}\n");
   const std::string bad = sc.write("bad.yaml", "base: base.yaml\noutput_dir: out_bad\n"
-                                               "grid: {pack.initial_soc: [0.8, 1.5]}\n");
+                                               "zip: {pack.cell.v_min_V: [2.8, 3.9], pack.cell.v_max_V: [4.3, 3.5]}\n");
+  const std::string range = sc.write("range.yaml", "base: base.yaml\noutput_dir: out_range\n"
+                                                   "grid: {pack.initial_soc: [0.8, 1.5]}\n");
   const std::string typo = sc.write("typo.yaml", "base: base.yaml\noutput_dir: out_typo\n"
                                                  "grid: {pack.cell.capacty_Ah: [1, 2]}\n");
   auto run = [](const std::string& args) {
@@ -208,6 +230,8 @@ TEST(Batch, CliExitStatusSaysSomeFailed) {
   EXPECT_EQ(run(bad), 1);
   EXPECT_EQ(run(typo), 2);  // checked before anything runs
   EXPECT_FALSE(fs::exists(sc.dir / "out_typo"));
+  EXPECT_EQ(run(range), 2);  // so is a value out of range
+  EXPECT_FALSE(fs::exists(sc.dir / "out_range"));
 }
 
 // A Monte Carlo records each case's drawn cell values (core/batch/drawn_inputs.hpp): in

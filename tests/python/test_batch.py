@@ -139,8 +139,9 @@ def test_resume_skips_complete_results_only(sweep_file, tmp_path):
 
 @pytest.mark.parametrize("engine", ["threads", "dask"])
 def test_a_failing_case_is_recorded_and_the_others_finish(sweep_file, tmp_path, engine):
+    # Each value is valid on the base; the second pair is not (v_max_V below v_min_V).
     sweep = {"name": "soc", "base": str(sweep_file.parent / "base.yaml"),
-             "grid": {"pack.initial_soc": [0.9, 1.5, 0.8]}}
+             "zip": {"pack.cell.v_min_V": [3.0, 3.9, 3.0], "pack.cell.v_max_V": [4.3, 3.5, 4.3]}}
     if engine == "threads":
         res = packsim.batch(sweep, output_dir=tmp_path / "out")
     else:
@@ -151,7 +152,7 @@ def test_a_failing_case_is_recorded_and_the_others_finish(sweep_file, tmp_path, 
     assert list(res.table["status"]) == ["ok", "failed", "ok"]
     assert res.paths[1] is None and res.paths[0] and res.paths[2]
     err = res.errors["0001"]
-    assert "pack.initial_soc" in err and "(sweep soc, case 0001)" in err
+    assert "v_max_V" in err and "(sweep soc, case 0001)" in err
     assert res.table["error"][1] == err
     assert math.isnan(res.table["energy_delivered_Wh"][1])
     with pytest.raises(ValueError, match="case 0001 failed"):
@@ -166,6 +167,10 @@ def test_mistakes_raise_before_anything_runs(sweep_file, tmp_path):
     bad_key = {"base": str(sweep_file.parent / "base.yaml"), "grid": {"pack.cell.capacity_ah": [2.0]}}
     with pytest.raises(packsim.ScenarioError, match="did you mean 'capacity_Ah'"):
         packsim.batch(bad_key, output_dir=tmp_path / "never")
+    assert not (tmp_path / "never").exists()
+    out_of_range = {"base": str(sweep_file.parent / "base.yaml"), "grid": {"pack.initial_soc": [0.9, 1.5]}}
+    with pytest.raises(packsim.ScenarioError, match=r"grid\.pack\.initial_soc: .*1\.5 is out of range; allowed \[0, 1\]"):
+        packsim.batch(out_of_range, output_dir=tmp_path / "never")
     assert not (tmp_path / "never").exists()
     text = SWEEP.replace("grid:", "gird:")
     with pytest.raises(packsim.ScenarioError) as ei:

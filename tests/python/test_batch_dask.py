@@ -127,12 +127,14 @@ def test_a_killed_batch_resumes_with_only_the_rest(sweep_file, tmp_path, client)
 
 
 def test_one_failing_case_is_reported_and_the_others_finish(sweep_file, tmp_path, client):
-    sweep = sweep_file.read_text().replace("[0.9, 0.8]", "[0.9, 1.5]")  # 1.5: out of range in 10 cases
+    # v_max_V below v_min_V in 10 cases (each value alone is valid: the cases fail, not the sweep)
+    sweep = sweep_file.read_text().replace("grid:\n  pack.initial_soc: [0.9, 0.8]",
+                                           "zip: {pack.cell.v_min_V: [3.0, 3.9], pack.cell.v_max_V: [4.3, 3.5]}")
     res = packsim.batch(sweep, client, output_dir=tmp_path / "out", base_dir=sweep_file.parent, max_in_flight=4)
     assert (res.n_ok, res.n_failed) == (10, 10)
     assert list(res.table["status"]) == ["ok"] * 10 + ["failed"] * 10
     for i in range(10, 20):
-        assert "pack.initial_soc" in res.errors[f"{i:04d}"]
+        assert "v_max_V" in res.errors[f"{i:04d}"]
     assert sorted(os.listdir(tmp_path / "out")) == [f"case_{i:04d}.h5" for i in range(10)] + ["summary.csv"]
 
 
