@@ -58,6 +58,8 @@ struct FaultInjection {
   double rate_per_s = 0.0;  // current_sensor_drift: offset growth (A/s) from the start
   bool external = false;    // E-switch: which one
   int line = 0;             // where it was written (for reports)
+  std::string origin;       // set when an override (or a Python dict) wrote it: "faults[1], set by an override"
+  std::string where() const { return origin.empty() ? "line " + std::to_string(line) : origin; }
   std::string describe() const;
   std::string cellText() const;  // "cell 74 (group 19)"; "cell 5" without parallel cells
 };

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/scenario/overrides.hpp"
+#include "core/scenario/provenance.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -94,6 +96,10 @@ FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistor
   const int cells = series * parallel;
   FaultInjection inj;
   inj.line = f.raw().Mark().line + 1;
+  // An injection an override wrote has no line of its own in the file (its node's mark
+  // is the override text's): it is named by its place in the list instead.
+  if (const Provenance* p = Provenance::active(); p && p->overridden(f.path()))
+    inj.origin = f.path() + (p->topFile() == kDictScenarioName ? ", given in the dict" : ", set by an override");
   inj.parallel = parallel;
   std::vector<std::string> names;
   for (const auto& k : kKinds) names.emplace_back(k.name);

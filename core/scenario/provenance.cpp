@@ -68,6 +68,12 @@ std::string Provenance::fileOf(const std::string& key) const {
 
 void Provenance::addOverride(const std::string& field, const std::string& text) { overrides_.emplace_back(field, text); }
 
+bool Provenance::overridden(const std::string& key) const {
+  for (const auto& o : overrides_)
+    if (keyUnder(key, o.first)) return true;
+  return false;
+}
+
 void Provenance::addPresetScope(const std::string& path, const std::string& name, const std::string& file,
                                 const std::vector<std::string>& scenarioKeys) {
   presets_.push_back({path, name, std::filesystem::path(file).filename().string(), scenarioKeys});

@@ -48,6 +48,8 @@ class Provenance {
   std::string fileOf(const std::string& path) const;                   // the file that set `path`
   // An override (--set, Python overrides): `field` is the loader's field name of its key.
   void addOverride(const std::string& field, const std::string& text);
+  // Whether an override set `key` or a mapping or list above it.
+  bool overridden(const std::string& key) const;
   // Keys under `path` not in `scenarioKeys` come from the cell preset `name` (file `file`).
   void addPresetScope(const std::string& path, const std::string& name, const std::string& file,
                       const std::vector<std::string>& scenarioKeys);

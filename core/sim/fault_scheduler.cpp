@@ -112,7 +112,7 @@ void FaultScheduler::reportUnreached(double t_end_s, const std::string& run_end,
     char end[64];
     std::snprintf(end, sizeof end, "%.3f s", t_end_s);
     tracker.event(t_end_s, "fault_not_reached",
-                  inj.describe() + " (line " + std::to_string(inj.line) + ", " + when + "; the run ended at " + end + ": " +
+                  inj.describe() + " (" + inj.where() + ", " + when + "; the run ended at " + end + ": " +
                       run_end + ")");
   }
 }
@@ -139,7 +139,7 @@ void FaultScheduler::reportNoEffect(double t_end_s, RunTracker& tracker) const {
     else
       std::snprintf(span, sizeof span, "active from %.3f s to the end", tr.start_s);
     tracker.event(t_end_s, "fault_no_effect",
-                  inj.describe() + " (line " + std::to_string(inj.line) + ", " + span + "): " + noEffectText(inj, tr.seen));
+                  inj.describe() + " (" + inj.where() + ", " + span + "): " + noEffectText(inj, tr.seen));
   }
 }
 

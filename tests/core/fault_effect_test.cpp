@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "core/check/check.hpp"
+#include "core/scenario/overrides.hpp"
 #include "core/sim/fault_effect.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
@@ -83,6 +84,17 @@ TEST(FaultEffect, OvercurrentWithTheRelayOpenHasNoEffect) {
   const RunResult flowing = runScenario(withFaults("  - {kind: overcurrent, current_A: 4, at_s: 20, duration_s: 10}\n"));
   EXPECT_NEAR(peakCurrent(flowing, 21.0, 29.0), 5.0, 1e-9);
   EXPECT_TRUE(test::eventsOf(flowing, "fault_no_effect").empty());
+}
+
+// A fault an override wrote has no line in the file: the event names its place in the list.
+TEST(FaultEffect, AnOverriddenFaultIsNamedByItsPlaceInTheList) {
+  const std::string text = test::simpleCellYaml(2) + "load: {current_A: 1}\nrun: {duration_s: 30}\n";
+  const Scenario s = loadScenarioWithOverrides(text, {{"faults", "[{kind: key_off, at_s: 2}, {kind: welded_relay, at_s: 5}]"}});
+  const RunResult r = runScenario(s);
+  const auto none = test::eventsOf(r, "fault_no_effect");
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_TRUE(has(none[0]->detail, "welded_relay (faults[1], set by an override, active from 5.000 s to the end)"))
+      << none[0]->detail;
 }
 
 // A regression test whose scripted fault had no effect tests nothing: check fails it.

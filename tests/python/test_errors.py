@@ -53,6 +53,15 @@ def test_dict_scenario_errors_name_the_value_as_given_not_as_an_override():
         packsim.run({"pack": {"series": 2, "cell": {"preset": "lipo_5Ah"}}, "lod": {"current_A": 1}})
 
 
+def test_a_dict_scenarios_fault_is_named_by_its_place_in_the_list_not_a_line():
+    """A fault given in a dict has no file line: the end-of-run event names faults[N]."""
+    r = packsim.run({"pack": {"series": 2, "cell": {"preset": "lipo_5Ah"}}, "load": {"current_A": 1},
+                     "run": {"duration_s": 20},
+                     "faults": [{"kind": "key_off", "at_s": 2}, {"kind": "welded_relay", "at_s": 5}]})
+    details = [e["detail"] for e in r.events if e["kind"] == "fault_no_effect"]
+    assert len(details) == 1 and details[0].startswith("welded_relay (faults[1], given in the dict, active from 5.000 s"), details
+
+
 def test_scenario_error_pickles_with_its_attributes(simple_yaml):
     with pytest.raises(packsim.ScenarioError) as ei:
         packsim.run(simple_yaml.replace("r0_ohm: 0.02", "r0_ohm: low"))
