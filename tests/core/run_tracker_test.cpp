@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -13,6 +14,7 @@
 #include "core/sim/bms_image.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/run_tracker.hpp"
+#include "core/sim/soc_error.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -64,6 +66,23 @@ TEST(RunTracker, CheckFiniteLooksPastAnOverflowingSumAndFindsEveryPosition) {
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("(state " + std::to_string(at) + " is not finite)"), std::string::npos)
           << e.what();
+    }
+  }
+}
+
+// SocErrorTracker keeps its max by a compare instead of std::fmax: the same bits as
+// fmax over errors of every kind (signed zeros, NaN estimates, huge and tiny ones).
+TEST(SocErrorTracker, MaxIsFmaxOfTheAbsoluteErrors) {
+  const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
+  const std::vector<double> estimates = {0.5, -0.0, 0.0, nan, 0.25, 1e-310, -1e300, 0.75, nan, 0.5, inf, 0.1};
+  for (const double truth : {0.0, -0.0, 0.5, 0.3, nan}) {
+    SocErrorTracker tracker;
+    double expected = 0.0;
+    for (const double e : estimates) {
+      tracker.add(e, truth);
+      expected = std::fmax(expected, std::fabs(e - truth));
+      const double got = tracker.stats().max;
+      EXPECT_EQ(std::memcmp(&got, &expected, sizeof got), 0) << e << " against " << truth;
     }
   }
 }
