@@ -80,6 +80,10 @@ class YamlMap {
   std::vector<std::string> declared_;
 };
 
+// A plain decimal number's value (-?D+(.D+)?([eE][-+]?D+)?), the same double as yaml-cpp's
+// as<double>, without its stream; false for any other text (yaml-cpp reads it then).
+bool plainDecimal(const std::string& s, double& v);
+
 // Parses YAML text, turning parser errors into ScenarioError.
 YAML::Node parseYaml(const std::string& text, const std::string& file);
 

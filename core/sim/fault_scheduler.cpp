@@ -10,7 +10,7 @@
 namespace packsim {
 
 FaultScheduler::FaultScheduler(const Scenario& s, const Plant& plant)
-    : s_(s), plant_(plant), state_(s.faults.size()) {}
+    : s_(s), plant_(plant), state_(s.faults.size()), pending_(s.faults.size()) {}
 
 double FaultScheduler::quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const {
   const int cells = plant_.pack().cellCount();
@@ -48,7 +48,7 @@ double FaultScheduler::activeFor_s(const FaultInjection& inj) const {
   return inj.kind == FaultKind::ResetRequest ? s_.bms.tick_s : 0.0;
 }
 
-double FaultScheduler::nextChange_s(double t) const {
+double FaultScheduler::nextPendingChange_s(double t) const {
   double next = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < s_.faults.size(); ++i) {
     const FaultInjection& inj = s_.faults[i];
@@ -68,7 +68,7 @@ double FaultScheduler::nextChange_s(double t) const {
   return next;
 }
 
-bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults,
+bool FaultScheduler::updatePending(double t, const double* x, const PlantSignals& sig, HardwareFaults& faults,
                             RunTracker& tracker) {
   bool changed = false;
   for (size_t i = 0; i < s_.faults.size(); ++i) {
@@ -86,6 +86,7 @@ bool FaultScheduler::update(double t, const double* x, const PlantSignals& sig, 
       tr.active = false;
       tr.done = true;
       tr.end_s = t;
+      --pending_;
       changed = true;
       tracker.event(t, "fault_removed", inj.describe());
     }

@@ -5,10 +5,6 @@
 #include <cmath>
 #include <cstdio>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "core/sim/summary_text.hpp"
 
 namespace packsim {
@@ -124,21 +120,9 @@ LimitWatch::CellExtremes LimitWatch::extremesOf(const std::vector<double>& cell_
 // limit as -lowest > -threshold (negation is exact; a NaN pack current fails both forms).
 bool LimitWatch::anyPast(const CellExtremes& cells, double pack_A, uint32_t faultActive) const {
   const Extremes &volts = cells.volts, &temps = cells.temps;
-#if defined(__SSE2__)
-  // The usual tick first: no quantity above its threshold at all, whatever the fault bits
-  // (two quantities per compare; the high lane's sign flipped is the negation): some 25
-  // instructions less than the row-by-row test below, which decides the rest.
-  static_assert(kVoltsLow == kVoltsHigh + 1 && kTempHigh == 2 && kTempLow == 3 && kPackCharge == kPackDischarge + 1,
-                "LimitWatch: the quantities go in (high, low) pairs");
-  const __m128d negateHigh = _mm_set_pd(-0.0, 0.0);
-  const auto above = [&](double high, double low, int q) {
-    const __m128d v = _mm_xor_pd(_mm_set_pd(low, high), negateHigh);
-    return _mm_movemask_pd(_mm_cmpgt_pd(v, _mm_loadu_pd(threshold_ + q)));
-  };
-  if ((above(volts.hi, volts.lo, kVoltsHigh) | above(temps.hi, temps.lo, kTempHigh) |
-       above(pack_A, pack_A, kPackDischarge)) == 0)
-    return false;
-#endif
+  // The usual tick first (some 25 instructions less than the row-by-row test below,
+  // which decides the rest).
+  if (noneAbove(cells, pack_A)) return false;
   const double highest[kQuantities] = {volts.hi, -volts.lo, temps.hi, -temps.lo, pack_A, -pack_A};
   // Every quantity, unrolled without a branch each (an unwatched one's +inf threshold
   // never passes): about half the instructions of a loop over the watched rows.
@@ -148,8 +132,8 @@ bool LimitWatch::anyPast(const CellExtremes& cells, double pack_A, uint32_t faul
   return past;
 }
 
-void LimitWatch::tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
-                      uint32_t faultActive, const EventSink& sink, const CellExtremes* known) {
+void LimitWatch::tickRows(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+                          uint32_t faultActive, const EventSink& sink, const CellExtremes* known) {
   // The usual tick: no episode open, and no value past a limit whose row is not active
   // (none opens): nothing to do.
   if (openTotal_ == 0) {

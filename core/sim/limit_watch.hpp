@@ -16,6 +16,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/scenario/scenario.hpp"
 
 namespace packsim {
@@ -44,8 +48,13 @@ class LimitWatch {
   };
   // One tick: truth (cell voltages V, temperatures C, pack current A, + discharges) and
   // the BMS's active fault bits; `known`: cell_V's and cell_C's extremes, or null (taken here).
+  // (The usual tick -- no episode open, no value past any watched threshold -- returns
+  // here, inline: the call and anyPast's cost some 45 instructions a tick.)
   void tick(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
-            uint32_t faultActive, const EventSink& sink, const CellExtremes* known = nullptr);
+            uint32_t faultActive, const EventSink& sink, const CellExtremes* known = nullptr) {
+    if (openTotal_ == 0 && known && noneAbove(*known, pack_A)) return;
+    tickRows(t, cell_V, cell_C, pack_A, faultActive, sink, known);
+  }
   // Closes every open episode at the end of the run.
   void finish(double t, const EventSink& sink);
   double longestUnseen_s() const { return longest_s_; }
@@ -82,6 +91,28 @@ class LimitWatch {
   double threshold_[kQuantities] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
   uint32_t faultBit_[kQuantities] = {};
   bool anyPast(const CellExtremes& cells, double pack_A, uint32_t faultActive) const;
+  // No quantity above its threshold at all, whatever the fault bits (anyPast's first
+  // test): then anyPast is false. Two quantities per compare, the high lane's sign
+  // flipped being the negation (without SSE2: false, anyPast decides).
+  bool noneAbove(const CellExtremes& cells, double pack_A) const {
+#if defined(__SSE2__)
+    static_assert(kVoltsLow == kVoltsHigh + 1 && kTempHigh == 2 && kTempLow == 3 && kPackCharge == kPackDischarge + 1,
+                  "LimitWatch: the quantities go in (high, low) pairs");
+    const __m128d negateHigh = _mm_set_pd(-0.0, 0.0);
+    const auto above = [&](double high, double low, int q) {
+      const __m128d v = _mm_xor_pd(_mm_set_pd(low, high), negateHigh);
+      return _mm_movemask_pd(_mm_cmpgt_pd(v, _mm_loadu_pd(threshold_ + q)));
+    };
+    return (above(cells.volts.hi, cells.volts.lo, kVoltsHigh) | above(cells.temps.hi, cells.temps.lo, kTempHigh) |
+            above(pack_A, pack_A, kPackDischarge)) == 0;
+#else
+    (void)cells;
+    (void)pack_A;
+    return false;
+#endif
+  }
+  void tickRows(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
+                uint32_t faultActive, const EventSink& sink, const CellExtremes* known);
   static CellExtremes extremesOf(const std::vector<double>& cell_V, const std::vector<double>& cell_C);
   int parallel_;
   double longest_s_ = 0.0;

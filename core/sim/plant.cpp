@@ -338,6 +338,12 @@ bool anySwitchOn(const std::vector<uint8_t>& on) {
     std::memcpy(&w, p + i, sizeof w);
     any |= w;
   }
+  if (i + 4 <= n) {  // four more in one word (12 groups: one test instead of four)
+    uint32_t w;
+    std::memcpy(&w, p + i, sizeof w);
+    any |= w;
+    i += 4;
+  }
   for (; i < n; ++i) any |= p[i];
   return any != 0;
 }

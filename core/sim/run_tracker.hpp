@@ -22,7 +22,9 @@ class RunTracker {
 
   void tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
   void record(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out);
-  bool stopRequested(double t) const;
+  bool stopRequested(double t) const {  // (inline: asked every tick)
+    return r_.summary.tripped && t >= r_.summary.trip_time_s + s_.run.stop_after_trip_s;
+  }
   bool tripped() const { return r_.summary.tripped; }
   // Throws if the integration produced a non-finite state.
   void checkFinite(double t, const double* x, int n) const;

@@ -128,6 +128,7 @@ struct SimulationRun::Impl {
   bms::Outputs act{};  // step 3's scratch: the decisions with other pins in effect
   bool relayPin = false;  // the relay coil's MCU pin in effect (for FaultScheduler::noteEffects)
   const double tick_s;
+  const int stateCount = ode.size();  // the state checkFinite looks at each tick (no virtual call for it then)
   const long recordEvery;
   const double end_s;
   const long lastTick;
@@ -274,7 +275,7 @@ void SimulationRun::Impl::advance() {
     }
   }
   if (restart) integ.reset(tc, integ.state());
-  tracker.checkFinite(t_next, integ.state(), ode.size());
+  tracker.checkFinite(t_next, integ.state(), stateCount);
   ++k;
   if (++recordPhase == recordEvery) recordPhase = 0;
 }

@@ -17,7 +17,10 @@ class SocErrorTracker {
  public:
   void add(double estimate, double truth) {
     const double e = estimate - truth;
-    st_.max = std::fmax(st_.max, std::fabs(e));
+    // std::fmax's value (max is never NaN: a NaN |e| leaves it, as fmax does) without
+    // fmax's libm call (some 10 instructions, twice a tick)
+    const double a = std::fabs(e);
+    st_.max = a > st_.max ? a : st_.max;
     st_.end = e;
     sumSq_ += e * e;
     ++st_.ticks;
