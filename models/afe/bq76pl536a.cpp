@@ -117,7 +117,13 @@ void Bq76pl536aChain::reset(Device& dv) {
   dv.converting = false;
   dv.resultsValid = false;
   dv.balanceUntil_s = 0.0;
+  dv.blind = comparatorsOff(dv);
   reach_ = reach();  // its address is gone
+}
+
+bool Bq76pl536aChain::comparatorsOff(const Device& dv) {
+  return (dv.reg[BQ536_CONFIG_COV] & BQ536_CONFIG_DISABLE) && (dv.reg[BQ536_CONFIG_CUV] & BQ536_CONFIG_DISABLE) &&
+         dv.reg[BQ536_CONFIG_OT] == 0;
 }
 
 uint8_t Bq76pl536aChain::status(const Device& dv) const {
@@ -323,6 +329,7 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) {
         dv.reg[reg] = value;
         dv.compared = false;  // a threshold may change
+        dv.blind = comparatorsOff(dv);
       } else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
         misuse_.note(t, device, registerName(reg), "protected register written without the SHDW_CTRL key just before");
       else
