@@ -68,10 +68,8 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   bus_.advanceTo(t);
 }
 
-void MonitorChainPath::giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
-  MonitorDeviceFault& g = commGiven_[static_cast<size_t>(d)];
-  if (g == f) return;
-  g = f;
+void MonitorChainPath::handOnCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
+  commGiven_[static_cast<size_t>(d)] = f;
   c.setCommFault(d, f);
 }
 
