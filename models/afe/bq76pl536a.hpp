@@ -84,6 +84,12 @@ class Bq76pl536aChain final : public MonitorChain {
   }
 
  private:
+  struct ComparatorSettings {
+    bool covOn = false, cuvOn = false;
+    double cov_V = 0.0, cuv_V = 0.0;  // bq536_cov_mV / bq536_cuv_mV · 1e-3
+    uint8_t otOn = 0;                 // bit k: input k's CONFIG_OT nibble set
+    double ot_C[BQ536_TEMPS_MAX] = {};  // bq536_ot_C of each nibble
+  };
   struct Device {
     int firstCell = 0, cells = 0;
     std::array<uint8_t, BQ536_REGISTER_COUNT> reg{};
@@ -117,6 +123,9 @@ class Bq76pl536aChain final : public MonitorChain {
     // are 0 for any inputs, so new inputs need no compare (the plain ADC's stack: its
     // secondary off). Kept where those registers change: reset, a protected write.
     bool blind = false;
+    // The comparators' settings decoded from CONFIG_COV / CONFIG_CUV / CONFIG_OT, kept with
+    // blind (readSettings): compare() runs at every tick, the registers seldom change.
+    ComparatorSettings settings;
     // No condition present and every debounce timer at rest: a pass changes nothing
     // (DebounceTimer::held with a false condition), so none is made until one appears.
     bool quiet = false;
@@ -156,6 +165,8 @@ class Bq76pl536aChain final : public MonitorChain {
   // CONFIG_COV and CONFIG_CUV disabled, CONFIG_OT 0 (both inputs off): compare() finds
   // nothing present, whatever the inputs.
   static bool comparatorsOff(const Device& dv);
+  // Device::settings and blind from the registers (at reset and after a protected write).
+  static void readSettings(Device& dv);
   // No pass while the conditions are known (compared) and none is present with the timers
   // at rest (quiet): it would change nothing.
   void runComparators(Device& dv, double t) {

@@ -388,6 +388,16 @@ TEST(Bq76pl536a, AComparatorSwitchedOnAfterAStretchWithAllOffSeesThePinsAtOnce) 
   EXPECT_FALSE(chain.faultLine());
   chain.advance(3.0 + 500e-6);
   EXPECT_TRUE(chain.faultLine());
+  // An over-temperature threshold written later (input 2 only, 65 °C, 100 ms) takes
+  // effect as written: the 99 °C input trips, the other stays off.
+  bus.t = 4.0;
+  bus.protectedWrite(1, BQ536_CONFIG_OTT, 10);
+  bus.protectedWrite(1, BQ536_CONFIG_OT, static_cast<uint8_t>(bq536_ot_code(65) << 4));
+  tick(4.0, 4.2);
+  tick(4.09, 4.2);
+  EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS) & (BQ536_AS_OT1 | BQ536_AS_OT2), 0);
+  tick(4.1, 4.2);
+  EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS) & (BQ536_AS_OT1 | BQ536_AS_OT2), BQ536_AS_OT2);
 }
 
 TEST(Bq76pl536a, BalancingTimerExpiresOnTheDevice) {
