@@ -68,10 +68,8 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   bus_.advanceTo(t);
 }
 
-void MonitorChainPath::giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
-  MonitorDeviceFault& g = commGiven_[static_cast<size_t>(d)];
-  if (g == f) return;
-  g = f;
+void MonitorChainPath::handOnCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
+  commGiven_[static_cast<size_t>(d)] = f;
   c.setCommFault(d, f);
 }
 
@@ -98,10 +96,11 @@ void MonitorChainPath::balancingSwitches(double t0, double t1, uint8_t* on, doub
     const int n = c.cellsOf(d);
     if (mask == 0) {  // the usual device: every switch off, a duty of 1 each (no call per cell)
       // (its run of cells as two plain fills: the loop with both bounds in its test stored
-      // one byte and one double per turn, some 10 instructions a cell)
+      // one byte and one double per turn, some 10 instructions a cell; the switches by
+      // zeroBytes, in place, where fill_n was a memset call)
       const int k = std::min(n, cells_ - cell);
       if (k > 0) {
-        std::fill_n(on + cell, k, uint8_t{0});
+        zeroBytes(on + cell, static_cast<size_t>(k));
         std::fill_n(duty + cell, k, 1.0);
         cell += k;
       }

@@ -59,8 +59,12 @@ class MonitorChainPath {
   // virtual call into the part: handed on only when they differ.
   std::vector<MonitorDeviceFault> commGiven_;
   int brokenGiven_ = -1;
-  // Hands f on to device d unless the chain has it already.
-  void giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f);
+  // Hands f on to device d unless the chain has it already (the test inline: the usual
+  // tick's whole work, a call per device and tick otherwise).
+  void giveCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f) {
+    if (!(commGiven_[static_cast<size_t>(d)] == f)) handOnCommFault(c, d, f);
+  }
+  void handOnCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f);
 };
 
 }  // namespace packsim

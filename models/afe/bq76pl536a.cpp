@@ -117,7 +117,29 @@ void Bq76pl536aChain::reset(Device& dv) {
   dv.converting = false;
   dv.resultsValid = false;
   dv.balanceUntil_s = 0.0;
+  readSettings(dv);
   reach_ = reach();  // its address is gone
+}
+
+void Bq76pl536aChain::readSettings(Device& dv) {
+  ComparatorSettings& c = dv.settings;
+  const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
+  c.covOn = !(covReg & BQ536_CONFIG_DISABLE);
+  c.cuvOn = !(cuvReg & BQ536_CONFIG_DISABLE);
+  c.cov_V = bq536_cov_mV(covReg) * 1e-3;
+  c.cuv_V = bq536_cuv_mV(cuvReg) * 1e-3;
+  c.otOn = 0;
+  for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
+    const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);
+    if (nibble != 0) c.otOn = static_cast<uint8_t>(c.otOn | (1u << k));
+    c.ot_C[k] = bq536_ot_C(nibble);
+  }
+  dv.blind = comparatorsOff(dv);
+}
+
+bool Bq76pl536aChain::comparatorsOff(const Device& dv) {
+  return (dv.reg[BQ536_CONFIG_COV] & BQ536_CONFIG_DISABLE) && (dv.reg[BQ536_CONFIG_CUV] & BQ536_CONFIG_DISABLE) &&
+         dv.reg[BQ536_CONFIG_OT] == 0;
 }
 
 uint8_t Bq76pl536aChain::status(const Device& dv) const {
@@ -143,19 +165,16 @@ void Bq76pl536aChain::settleDue(Device& dv, double t) {
 
 void Bq76pl536aChain::compare(Device& dv) {
   const DeviceAnalog& a = dv.analog;
-  const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
-  const bool covOn = !(covReg & BQ536_CONFIG_DISABLE), cuvOn = !(cuvReg & BQ536_CONFIG_DISABLE);
-  const double cov_V = bq536_cov_mV(covReg) * 1e-3, cuv_V = bq536_cuv_mV(cuvReg) * 1e-3;
+  const ComparatorSettings& c = dv.settings;  // the registers' thresholds (readSettings)
   uint32_t overAll = 0, underAll = 0;  // the pin voltages: comparators are not the ADC
-  windowMasks(a.cell_V.data(), dv.cells, cuv_V, cov_V, overAll, underAll);
+  windowMasks(a.cell_V.data(), dv.cells, c.cuv_V, c.cov_V, overAll, underAll);
   // A disabled comparator sees nothing (masked once, not tested per cell).
-  uint8_t over = static_cast<uint8_t>(covOn ? overAll : 0u), under = static_cast<uint8_t>(cuvOn ? underAll : 0u), hot = 0;
+  uint8_t over = static_cast<uint8_t>(c.covOn ? overAll : 0u), under = static_cast<uint8_t>(c.cuvOn ? underAll : 0u), hot = 0;
   for (size_t k = 0; k < BQ536_TEMPS_MAX; ++k) {
-    const uint8_t nibble = static_cast<uint8_t>((dv.reg[BQ536_CONFIG_OT] >> (4 * k)) & 0x0F);
-    if (nibble != 0 && k < a.therm_C.size()) {
+    if (((c.otOn >> k) & 1u) && k < a.therm_C.size()) {
       // A shorted NTC looks infinitely hot to the comparator; an open one cold.
       const ThermistorFault f = a.therm_fault[k];
-      if (f == ThermistorFault::Short || (f == ThermistorFault::None && a.therm_C[k] > bq536_ot_C(nibble)))
+      if (f == ThermistorFault::Short || (f == ThermistorFault::None && a.therm_C[k] > c.ot_C[k]))
         hot |= static_cast<uint8_t>(1u << k);
     }
   }
@@ -323,6 +342,7 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT && unlocked) {
         dv.reg[reg] = value;
         dv.compared = false;  // a threshold may change
+        readSettings(dv);
       } else if (reg >= BQ536_FUNCTION_CONFIG && reg <= BQ536_CONFIG_OTT)
         misuse_.note(t, device, registerName(reg), "protected register written without the SHDW_CTRL key just before");
       else

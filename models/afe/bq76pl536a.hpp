@@ -50,8 +50,10 @@ class Bq76pl536aChain final : public MonitorChain {
   int cellsOf(int d) const override { return dev_[static_cast<size_t>(d)].cells; }
   DeviceAnalog& analog(int d) override {  // the caller fills it: the comparators look again
     Device& dv = dev_[static_cast<size_t>(d)];
-    dv.compared = false;
-    calm_ = false;
+    if (!dv.blind) {  // (all off: they see nothing whatever the inputs, nothing to look at)
+      dv.compared = false;
+      calm_ = false;
+    }
     return dv.analog;
   }
   void setCommFault(int d, const MonitorDeviceFault& f) override { dev_[static_cast<size_t>(d)].comm = f; }
@@ -82,6 +84,12 @@ class Bq76pl536aChain final : public MonitorChain {
   }
 
  private:
+  struct ComparatorSettings {
+    bool covOn = false, cuvOn = false;
+    double cov_V = 0.0, cuv_V = 0.0;  // bq536_cov_mV / bq536_cuv_mV · 1e-3
+    uint8_t otOn = 0;                 // bit k: input k's CONFIG_OT nibble set
+    double ot_C[BQ536_TEMPS_MAX] = {};  // bq536_ot_C of each nibble
+  };
   struct Device {
     int firstCell = 0, cells = 0;
     std::array<uint8_t, BQ536_REGISTER_COUNT> reg{};
@@ -111,6 +119,13 @@ class Bq76pl536aChain final : public MonitorChain {
     // the inputs change only when filled or a threshold is written.
     bool compared = false;
     uint8_t over = 0, under = 0, hot = 0;
+    // Every comparator disabled by its register (comparatorsOff()): over, under and hot
+    // are 0 for any inputs, so new inputs need no compare (the plain ADC's stack: its
+    // secondary off). Kept where those registers change: reset, a protected write.
+    bool blind = false;
+    // The comparators' settings decoded from CONFIG_COV / CONFIG_CUV / CONFIG_OT, kept with
+    // blind (readSettings): compare() runs at every tick, the registers seldom change.
+    ComparatorSettings settings;
     // No condition present and every debounce timer at rest: a pass changes nothing
     // (DebounceTimer::held with a false condition), so none is made until one appears.
     bool quiet = false;
@@ -147,6 +162,11 @@ class Bq76pl536aChain final : public MonitorChain {
   // Every device's comparators run at t, and calm_ whether all are at rest from then on.
   void runAllComparators(double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
+  // CONFIG_COV and CONFIG_CUV disabled, CONFIG_OT 0 (both inputs off): compare() finds
+  // nothing present, whatever the inputs.
+  static bool comparatorsOff(const Device& dv);
+  // Device::settings and blind from the registers (at reset and after a protected write).
+  static void readSettings(Device& dv);
   // No pass while the conditions are known (compared) and none is present with the timers
   // at rest (quiet): it would change nothing.
   void runComparators(Device& dv, double t) {

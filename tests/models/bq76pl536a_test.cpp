@@ -351,6 +351,55 @@ TEST(Bq76pl536a, OverTemperatureAlertFromEitherInput) {
   EXPECT_FALSE(disabled.faultLine());
 }
 
+// With every comparator off the chain skips them while its pins change tick by tick
+// (they see nothing whatever the inputs); one switched on by a protected write sees the
+// pins as they are from then on, as a chain that looked at every tick does.
+TEST(Bq76pl536a, AComparatorSwitchedOnAfterAStretchWithAllOffSeesThePinsAtOnce) {
+  MonitorConfig cfg = config(1);
+  cfg.secondary.enabled = false;
+  Bq76pl536aChain chain(cfg, 6, 1);
+  Bus bus{chain};
+  bus.addressAll(1);
+  auto tick = [&](double t, double v) {  // the pins filled, as the sensors do each tick
+    for (double& c : chain.analog(0).cell_V) c = v;
+    chain.analog(0).therm_C = {99.0, 99.0};
+    chain.advance(t);
+  };
+  for (int k = 0; k <= 100; ++k) tick(k * 0.01, 3.0 + 0.02 * k);  // up to 5.0 V, 99 °C: nothing
+  EXPECT_FALSE(chain.faultLine());
+  bus.t = 1.0;
+  bus.protectedWrite(1, BQ536_CONFIG_COVT, 5);  // 500 µs
+  bus.protectedWrite(1, BQ536_CONFIG_COV, bq536_cov_code(4350));  // on, at 4.35 V
+  chain.advance(1.0);  // the pins unchanged since the last tick (5.0 V): over from here
+  chain.advance(1.0 + 400e-6);
+  EXPECT_FALSE(chain.faultLine());
+  chain.advance(1.0 + 500e-6);
+  EXPECT_TRUE(chain.faultLine());
+  EXPECT_EQ(chain.peek(0, BQ536_COV_FAULT), 0x3F);
+  EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS) & (BQ536_AS_OT1 | BQ536_AS_OT2), 0);  // OT still off
+  // From now on each tick's pins count: gone, cleared, over again.
+  tick(2.0, 4.2);
+  bus.t = 2.0;
+  bus.write(1, BQ536_FAULT_STATUS, BQ536_FS_COV);
+  bus.write(1, BQ536_FAULT_STATUS, 0);
+  EXPECT_FALSE(chain.faultLine());
+  tick(3.0, 4.4);
+  chain.advance(3.0 + 400e-6);
+  EXPECT_FALSE(chain.faultLine());
+  chain.advance(3.0 + 500e-6);
+  EXPECT_TRUE(chain.faultLine());
+  // An over-temperature threshold written later (input 2 only, 65 °C, 100 ms) takes
+  // effect as written: the 99 °C input trips, the other stays off.
+  bus.t = 4.0;
+  bus.protectedWrite(1, BQ536_CONFIG_OTT, 10);
+  bus.protectedWrite(1, BQ536_CONFIG_OT, static_cast<uint8_t>(bq536_ot_code(65) << 4));
+  tick(4.0, 4.2);
+  tick(4.09, 4.2);
+  EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS) & (BQ536_AS_OT1 | BQ536_AS_OT2), 0);
+  tick(4.1, 4.2);
+  EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS) & (BQ536_AS_OT1 | BQ536_AS_OT2), BQ536_AS_OT2);
+}
+
 TEST(Bq76pl536a, BalancingTimerExpiresOnTheDevice) {
   Bq76pl536aChain chain(config(1), 6, 1);
   Bus bus{chain};
