@@ -292,18 +292,21 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   }
   if (resetPending_ && !bootAfterReset(windowEnd_ns, out)) return;  // (the usual tick: no call)
   if (target_) target_->monitorLine(in.monitorFaultPin, t_ns);  // its edge pends the ALERT interrupt
-  bool due = !started_;
-  for (size_t i = 0; i < nextDue_ns_.size() && !due; ++i) due = nextDue_ns_[i] < windowEnd_ns;
+  // The task due first in this tick, found once for the check below and the loop's first
+  // pass (a scan of the due times a tick saved); -1: none (or not started: none known).
+  int next = started_ ? firstDue(windowEnd_ns) : -1;
   uint64_t irqAt_ns = 0;
-  if (!due && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
+  if (started_ && next < 0 && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
   // A library's calls run under the guard, its handlers installed only around ticks
   // that call into it.
   std::optional<FaultGuard::Scope> handlers;
   if (guard_) handlers.emplace();
   pinsNoted_ = pinsOf(out) == lastPins_;  // the writes below compare with `out` from here on
+  bool known = started_;  // `next` is this pass's (start() or a task changes the due times)
   if (!started_) start(t_s);
   while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots in the tick of its instant
-    const int next = firstDue(windowEnd_ns);
+    if (!known) next = firstDue(windowEnd_ns);
+    known = false;
     // Interrupts due before the task starts (at its instant too) pre-empt the idle loop first.
     if (target_ && !runInterrupts(next < 0 ? windowEnd_ns : std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]) + 1))
       return watchdogReset();
@@ -600,14 +603,16 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
   if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
-  bool* const field = pin < std::size(kOutputPins) ? &(out_->*kOutputPins[pin]) : nullptr;  // null: unconnected
-  const bool on = level != 0;
-  if (field) {
-    if (pinsNoted_ && *field == on) return;  // the level it has: no change to note
-    *field = on;
-  } else if (pinsNoted_) {
+  if (pin >= std::size(kOutputPins)) {  // unconnected
+    if (!pinsNoted_) notePins();
     return;
   }
+  // (A reference, not a pointer that may be null: no test of the field's address, five
+  // writes a tick.)
+  bool& field = out_->*kOutputPins[pin];
+  const bool on = level != 0;
+  if (pinsNoted_ && field == on) return;  // the level it has: no change to note
+  field = on;
   notePins();
 }
 
