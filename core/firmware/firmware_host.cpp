@@ -63,19 +63,23 @@ void serviceVoid(F&& f) {
   if (Guarded) FaultGuard::leaveService();
 }
 
-template <bool G>
+// Pins: the board's port pins and current / bus channels are wired (FirmwareBoard::pins),
+// decided when the host is built: the services of the table skip the test at each call
+// (some 15 calls a tick).
+template <bool G, bool Pins>
 psfw_board_api makeApi() {
   psfw_board_api a{};
   a.abi_version = PSFW_ABI_VERSION;
   a.now_ms = [](psfw_board* b) { return host(b).nowMs(); };
   a.now_us = [](psfw_board* b) { return host(b).nowUs(); };
   a.delay_us = [](psfw_board* b, uint32_t us) { serviceVoid<G>([&] { host(b).delayUs(us); }); };
-  a.bus_transfer = [](psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
+  a.bus_transfer = [](psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx,
+                      uint16_t rxLen) __attribute__((flatten)) {  // busTransfer inline: a call less per transfer
     return service<G, int32_t>([&] { return host(b).busTransfer(bus, tx, txLen, rx, rxLen); });
   };
-  a.adc_read = [](psfw_board* b, uint8_t ch) { return host(b).adcRead(ch); };
-  a.gpio_read = [](psfw_board* b, uint8_t pin) { return host(b).gpioRead(pin); };
-  a.gpio_write = [](psfw_board* b, uint8_t pin, int32_t level) { host(b).gpioWrite(pin, level); };
+  a.adc_read = [](psfw_board* b, uint8_t ch) { return host(b).adcReadOn<Pins>(ch); };
+  a.gpio_read = [](psfw_board* b, uint8_t pin) { return host(b).gpioReadOn<Pins>(pin); };
+  a.gpio_write = [](psfw_board* b, uint8_t pin, int32_t level) { host(b).gpioWriteOn<Pins>(pin, level); };
   a.dac_write = [](psfw_board* b, uint8_t ch, int32_t v) { host(b).dacWrite(ch, v); };
   a.telemetry_send = [](psfw_board* b, const uint8_t* bytes, uint16_t len) {
     serviceVoid<G>([&] { host(b).telemetrySend(bytes, len); });
@@ -134,7 +138,7 @@ FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, doubl
       sink_(sink),
       lib_(s.isTarget() ? nullptr : std::make_unique<FirmwareLibrary>(s.library_path)),
       guard_(s.isTarget() ? nullptr : std::make_unique<FaultGuard>(s.watchdog_s)),
-      api_(makeApi<true>()),
+      api_(board_.pins ? makeApi<true, true>() : makeApi<true, false>()),
       name_(s.library_path) {
   nvm_.fill(0xFF);
   if (s.isTarget())
@@ -149,7 +153,7 @@ FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> con
       tick_ns_(toNs(tick_s)),
       sink_(sink),
       linked_(linked),
-      api_(makeApi<false>()),
+      api_(board_.pins ? makeApi<false, true>() : makeApi<false, false>()),
       name_(linked && linked->name ? linked->name : "(linked firmware)") {
   nvm_.fill(0xFF);
 }
@@ -586,8 +590,13 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
 }
 
 int32_t FirmwareHost::adcRead(uint8_t channel) const {
-  if (board_.pins && channel == PSFW_ADC_CURRENT) return in_->currentCode;
-  if (board_.pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
+  return board_.pins ? adcReadOn<true>(channel) : adcReadOn<false>(channel);
+}
+
+template <bool Pins>
+int32_t FirmwareHost::adcReadOn(uint8_t channel) const {
+  if (Pins && channel == PSFW_ADC_CURRENT) return in_->currentCode;
+  if (Pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
   const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
   if (n >= 0 && n < board_.mcuThermistors) {
     mcuThermistorsRead_ |= uint64_t{1} << n;
@@ -597,12 +606,22 @@ int32_t FirmwareHost::adcRead(uint8_t channel) const {
 }
 
 int32_t FirmwareHost::gpioRead(uint8_t pin) const {
-  if (!board_.pins || pin >= std::size(kInputPins)) return noChannel();
+  return board_.pins ? gpioReadOn<true>(pin) : gpioReadOn<false>(pin);
+}
+
+template <bool Pins>
+int32_t FirmwareHost::gpioReadOn(uint8_t pin) const {
+  if (!Pins || pin >= std::size(kInputPins)) return noChannel();
   return in_->*kInputPins[pin];
 }
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
-  if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
+  if (board_.pins) gpioWriteOn<true>(pin, level);  // a member board's port pins drive nothing of the pack
+}
+
+template <bool Pins>
+void FirmwareHost::gpioWriteOn(uint8_t pin, int32_t level) {
+  if (!Pins) return;
   if (pin >= std::size(kOutputPins)) {  // unconnected
     if (!pinsNoted_) notePins();
     return;

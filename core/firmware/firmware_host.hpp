@@ -135,6 +135,14 @@ class FirmwareHost {
   int32_t adcRead(uint8_t channel) const;
   int32_t gpioRead(uint8_t pin) const;
   void gpioWrite(uint8_t pin, int32_t level);
+  // The same three for a board whose pins are wired (Pins) or not, as the service table
+  // built for the board calls them (board_.pins is tested once, at construction).
+  template <bool Pins>
+  int32_t adcReadOn(uint8_t channel) const;
+  template <bool Pins>
+  int32_t gpioReadOn(uint8_t pin) const;
+  template <bool Pins>
+  void gpioWriteOn(uint8_t pin, int32_t level);
   void dacWrite(uint8_t channel, int32_t value);
   void telemetrySend(const uint8_t* bytes, uint16_t len);
   void firmwareEvent(const char* text);
