@@ -258,8 +258,7 @@ void FirmwareHost::start(double t_s) {
   sink_.event(t_s, "firmware_loaded", "'" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
                                    std::to_string(fw_.instance_bytes) + " bytes RAM, " +
                                    std::to_string(config_.size()) + " bytes configuration)");
-  callStart_ns_ = clock_ns_;
-  callBudget_ns_ = 0;
+  setBudget(clock_ns_, 0);
   inInit_ = true;
   const bool ok = call("init", -1);
   inInit_ = false;
@@ -318,14 +317,13 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     if (next < 0) break;
     const psfw_task& task = fw_.tasks[next];
     clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
-    callStart_ns_ = clock_ns_;
-    callBudget_ns_ = (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u;
+    setBudget(clock_ns_, (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u);
     if (!call("task", next)) return watchdogReset();
     ++runs_[static_cast<size_t>(next)];
     worst_ns_[static_cast<size_t>(next)] = std::max(worst_ns_[static_cast<size_t>(next)], clock_ns_ - callStart_ns_);
     nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
   }
-  callBudget_ns_ = 0;
+  setBudget(callStart_ns_, 0);
 }
 
 // The task due first before end_ns (of several due at once, the first declared); -1: none.
@@ -346,8 +344,7 @@ bool FirmwareHost::runInterrupts(uint64_t before_ns) {
   uint64_t at_ns = 0;
   while (!dead_ && started_ && target_->nextIdleInterrupt(clock_ns_, before_ns, at_ns)) {
     clock_ns_ = std::max(clock_ns_, at_ns);
-    callStart_ns_ = clock_ns_;
-    callBudget_ns_ = 0;
+    setBudget(clock_ns_, 0);
     if (!call("interrupt", TargetFirmware::kInterruptCall)) return false;
   }
   return true;
@@ -481,7 +478,7 @@ void FirmwareHost::watchdogReset() {
   resetPending_ = true;
   resetAt_ns_ = at_ns;
   nextDue_ns_.clear();
-  callBudget_ns_ = 0;
+  setBudget(callStart_ns_, 0);
 }
 
 void FirmwareHost::holdInReset(double t_s, const std::string& why, bms::Outputs& out) {
@@ -507,7 +504,7 @@ void FirmwareHost::holdInReset(double t_s, const std::string& why, bms::Outputs&
   started_ = false;
   resetPending_ = false;
   nextDue_ns_.clear();
-  callBudget_ns_ = 0;
+  setBudget(callStart_ns_, 0);
   clock_ns_ = std::max(clock_ns_, toNs(t_s));
 }
 
