@@ -86,7 +86,11 @@ uint8_t crcCrc8Fixed(const uint8_t* data) {
   for (size_t i = 0; i + 8 <= N; i += 8) crc = crc8Step8(crc, data + i);
   return crc8Tail(crc, data + N / 8 * 8, N % 8);
 }
-template uint8_t crcCrc8Fixed<32>(const uint8_t* data);
+template uint8_t crcCrc8Fixed<32>(const uint8_t* data);  // the telemetry frame
+// A BQ76PL536A read-out's two exchanges (request and registers: the flags' 3 + 4 bytes and
+// the results' 3 + 19), checked at every read-out.
+template uint8_t crcCrc8Fixed<7>(const uint8_t* data);
+template uint8_t crcCrc8Fixed<22>(const uint8_t* data);
 
 // The same steps; the state's low byte meets the next byte, its high byte the one after.
 uint16_t crcCrc16(const uint8_t* data, size_t length) {

@@ -10,8 +10,8 @@
 namespace bms {
 
 uint8_t crcCrc8(const uint8_t* data, size_t length);
-// The same over N bytes, N known at build time (instantiated for N = 32: the telemetry
-// frame).
+// The same over N bytes, N known at build time (instantiated for N = 32, the telemetry
+// frame, and N = 7 and 22, a BQ76PL536A read-out's exchanges: bms_crc.cpp).
 template <size_t N>
 uint8_t crcCrc8Fixed(const uint8_t* data);
 uint16_t crcCrc16(const uint8_t* data, size_t length);

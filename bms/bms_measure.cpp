@@ -35,12 +35,6 @@ void acquisitionReset(AcquisitionState& a) {
   a.fresh = false;
 }
 
-bool acquisitionComplete(const Config& cfg, const AcquisitionState& a) {
-  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d)
-    if (!a.seen[d]) return false;
-  return true;
-}
-
 void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* result, bool full) {
   for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
     a.last[d] = result[d];

@@ -31,8 +31,13 @@ struct AcquisitionState {
 };
 
 void acquisitionReset(AcquisitionState& a);
-// True once every device has answered at least one full read-out.
-bool acquisitionComplete(const Config& cfg, const AcquisitionState& a);
+// True once every device has answered at least one full read-out. (Inline: asked at
+// every control tick.)
+inline bool acquisitionComplete(const Config& cfg, const AcquisitionState& a) {
+  for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d)
+    if (!a.seen[d]) return false;
+  return true;
+}
 
 // The results of one read of the stack: a full read-out (cells, temperatures, flags;
 // full = true) or an alert poll (flags only). The drivers wrote the good readings into

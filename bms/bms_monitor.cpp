@@ -15,11 +15,6 @@ const AfeDriverApi* apiOf(const Config& c) {
 
 bool monitorPartKnown(const Config& c) { return apiOf(c) != nullptr; }
 
-bool monitorHasFets(const Config& c) {
-  const AfeDriverApi* p = apiOf(c);
-  return p != nullptr && p->writeFets != nullptr;
-}
-
 bool monitorInit(const Config& c, MonitorDrivers& m, AcquisitionState& a, psfw_board* b, const psfw_board_api* api) {
   const AfeDriverApi* p = apiOf(c);
   m.configured = p != nullptr && p->init(c, m.data, b, api);

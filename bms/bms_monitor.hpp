@@ -19,6 +19,7 @@
 #pragma once
 #include <cstdint>
 
+#include "bms_afe_driver.hpp"
 #include "bms_config.hpp"
 #include "bms_measure.hpp"
 #include "packsim_fw.h"
@@ -33,7 +34,12 @@ struct MonitorDrivers {
 // Whether Config::afe.part names a registered driver (an image that does not is refused).
 bool monitorPartKnown(const Config& c);
 // Whether the part drives FETs of its own (the core then writes them when they change).
-bool monitorHasFets(const Config& c);
+// (Inline: asked at every control tick.)
+inline bool monitorHasFets(const Config& c) {
+  const AfeDriver* d = afeDriver(c.afe.part);
+  const AfeDriverApi* p = d != nullptr ? d->api : nullptr;
+  return p != nullptr && p->writeFets != nullptr;
+}
 
 bool monitorInit(const Config& c, MonitorDrivers& m, AcquisitionState& a, psfw_board* b, const psfw_board_api* api);
 void monitorReadAll(const Config& c, MonitorDrivers& m, AcquisitionState& a, psfw_board* b, const psfw_board_api* api);

@@ -91,9 +91,8 @@ void protectionUpdate(const Config& cfg, const int32_t quantity[kQuantityCount],
   ps.latched = latched;
 }
 
-// Both below run several times a tick: they look only at the rules of the faults present
-// (none on the usual tick), never walk the whole table.
-uint32_t fatalFaults(const Config& cfg, const ProtectionState& ps, bool driving) {
+// Both below look only at the rules of the faults present, never walk the whole table.
+uint32_t fatalFaultsOfPresent(const Config& cfg, const ProtectionState& ps, bool driving) {
   const uint32_t present = ps.active | ps.latched;
   uint32_t fatal = 0;
   for (uint8_t i = 0; i < kFaultCount && (present >> i) != 0; ++i) {
@@ -103,7 +102,7 @@ uint32_t fatalFaults(const Config& cfg, const ProtectionState& ps, bool driving)
   return fatal;
 }
 
-uint8_t openedActuators(const Config& cfg, const ProtectionState& ps, bool driving) {
+uint8_t openedActuatorsOfPresent(const Config& cfg, const ProtectionState& ps, bool driving) {
   // A fatal rule that only monitors now opens nothing; the lower tiers open what they say.
   const uint32_t present = ps.active | ps.latched;
   uint8_t opens = 0;

@@ -41,7 +41,8 @@ bool write8(const Pl455Config& c, psfw_board* b, const psfw_board_api* api, uint
 
 // One request with response (the frame tx, kPl455RequestLen bytes); checks length,
 // header and CRC of the reply of `count` data bytes into rx (count + 3 bytes).
-FrameResult request(const Pl455Config& c, psfw_board* b, const psfw_board_api* api, const uint8_t* tx, uint8_t count,
+__attribute__((always_inline)) inline FrameResult request(const Pl455Config& c, psfw_board* b,
+                                                          const psfw_board_api* api, const uint8_t* tx, uint8_t count,
                     uint8_t* rx) {
   const uint16_t want = static_cast<uint16_t>(count + PL455_RESPONSE_OVERHEAD);
   const int32_t got = api->bus_transfer(b, c.bus, tx, kPl455RequestLen, rx, want);
@@ -54,7 +55,8 @@ FrameResult request(const Pl455Config& c, psfw_board* b, const psfw_board_api* a
 }
 
 // A request retried on a bad CRC only (the request does not change the device).
-FrameResult requestRetried(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api,
+// Inline: a call and its frame less per read (a read-out makes two a device).
+__attribute__((always_inline)) inline FrameResult requestRetried(const Pl455Config& c, Pl455State& s, psfw_board* b, const psfw_board_api* api,
                            const uint8_t* tx, uint8_t count, uint8_t* rx) {
   FrameResult r = request(c, b, api, tx, count, rx);
   for (uint8_t k = 0; k < c.crcRetries && r == FrameResult::BadCrc; ++k) {

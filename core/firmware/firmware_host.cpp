@@ -63,19 +63,23 @@ void serviceVoid(F&& f) {
   if (Guarded) FaultGuard::leaveService();
 }
 
-template <bool G>
+// Pins: the board's port pins and current / bus channels are wired (FirmwareBoard::pins),
+// decided when the host is built: the services of the table skip the test at each call
+// (some 15 calls a tick).
+template <bool G, bool Pins>
 psfw_board_api makeApi() {
   psfw_board_api a{};
   a.abi_version = PSFW_ABI_VERSION;
   a.now_ms = [](psfw_board* b) { return host(b).nowMs(); };
   a.now_us = [](psfw_board* b) { return host(b).nowUs(); };
   a.delay_us = [](psfw_board* b, uint32_t us) { serviceVoid<G>([&] { host(b).delayUs(us); }); };
-  a.bus_transfer = [](psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx, uint16_t rxLen) {
+  a.bus_transfer = [](psfw_board* b, uint8_t bus, const uint8_t* tx, uint16_t txLen, uint8_t* rx,
+                      uint16_t rxLen) __attribute__((flatten)) {  // busTransfer inline: a call less per transfer
     return service<G, int32_t>([&] { return host(b).busTransfer(bus, tx, txLen, rx, rxLen); });
   };
-  a.adc_read = [](psfw_board* b, uint8_t ch) { return host(b).adcRead(ch); };
-  a.gpio_read = [](psfw_board* b, uint8_t pin) { return host(b).gpioRead(pin); };
-  a.gpio_write = [](psfw_board* b, uint8_t pin, int32_t level) { host(b).gpioWrite(pin, level); };
+  a.adc_read = [](psfw_board* b, uint8_t ch) { return host(b).adcReadOn<Pins>(ch); };
+  a.gpio_read = [](psfw_board* b, uint8_t pin) { return host(b).gpioReadOn<Pins>(pin); };
+  a.gpio_write = [](psfw_board* b, uint8_t pin, int32_t level) { host(b).gpioWriteOn<Pins>(pin, level); };
   a.dac_write = [](psfw_board* b, uint8_t ch, int32_t v) { host(b).dacWrite(ch, v); };
   a.telemetry_send = [](psfw_board* b, const uint8_t* bytes, uint16_t len) {
     serviceVoid<G>([&] { host(b).telemetrySend(bytes, len); });
@@ -134,7 +138,7 @@ FirmwareHost::FirmwareHost(const FirmwareSettings& s, FirmwareBoard board, doubl
       sink_(sink),
       lib_(s.isTarget() ? nullptr : std::make_unique<FirmwareLibrary>(s.library_path)),
       guard_(s.isTarget() ? nullptr : std::make_unique<FaultGuard>(s.watchdog_s)),
-      api_(makeApi<true>()),
+      api_(board_.pins ? makeApi<true, true>() : makeApi<true, false>()),
       name_(s.library_path) {
   nvm_.fill(0xFF);
   if (s.isTarget())
@@ -149,7 +153,7 @@ FirmwareHost::FirmwareHost(const psfw_firmware* linked, std::vector<uint8_t> con
       tick_ns_(toNs(tick_s)),
       sink_(sink),
       linked_(linked),
-      api_(makeApi<false>()),
+      api_(board_.pins ? makeApi<false, true>() : makeApi<false, false>()),
       name_(linked && linked->name ? linked->name : "(linked firmware)") {
   nvm_.fill(0xFF);
 }
@@ -254,8 +258,7 @@ void FirmwareHost::start(double t_s) {
   sink_.event(t_s, "firmware_loaded", "'" + name_ + "' (" + std::to_string(fw_.task_count) + " tasks, " +
                                    std::to_string(fw_.instance_bytes) + " bytes RAM, " +
                                    std::to_string(config_.size()) + " bytes configuration)");
-  callStart_ns_ = clock_ns_;
-  callBudget_ns_ = 0;
+  setBudget(clock_ns_, 0);
   inInit_ = true;
   const bool ok = call("init", -1);
   inInit_ = false;
@@ -292,18 +295,21 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
   }
   if (resetPending_ && !bootAfterReset(windowEnd_ns, out)) return;  // (the usual tick: no call)
   if (target_) target_->monitorLine(in.monitorFaultPin, t_ns);  // its edge pends the ALERT interrupt
-  bool due = !started_;
-  for (size_t i = 0; i < nextDue_ns_.size() && !due; ++i) due = nextDue_ns_[i] < windowEnd_ns;
+  // The task due first in this tick, found once for the check below and the loop's first
+  // pass (a scan of the due times a tick saved); -1: none (or not started: none known).
+  int next = started_ ? firstDue(windowEnd_ns) : -1;
   uint64_t irqAt_ns = 0;
-  if (!due && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
+  if (started_ && next < 0 && !(target_ && target_->nextIdleInterrupt(clock_ns_, windowEnd_ns, irqAt_ns))) return;
   // A library's calls run under the guard, its handlers installed only around ticks
   // that call into it.
   std::optional<FaultGuard::Scope> handlers;
   if (guard_) handlers.emplace();
   pinsNoted_ = pinsOf(out) == lastPins_;  // the writes below compare with `out` from here on
+  bool known = started_;  // `next` is this pass's (start() or a task changes the due times)
   if (!started_) start(t_s);
   while (!dead_ && started_) {  // started_ false: a watchdog reset, the MCU boots in the tick of its instant
-    const int next = firstDue(windowEnd_ns);
+    if (!known) next = firstDue(windowEnd_ns);
+    known = false;
     // Interrupts due before the task starts (at its instant too) pre-empt the idle loop first.
     if (target_ && !runInterrupts(next < 0 ? windowEnd_ns : std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]) + 1))
       return watchdogReset();
@@ -311,14 +317,13 @@ void FirmwareHost::step(double t_s, const bms::Inputs& in, bms::Outputs& out) {
     if (next < 0) break;
     const psfw_task& task = fw_.tasks[next];
     clock_ns_ = std::max(clock_ns_, nextDue_ns_[static_cast<size_t>(next)]);
-    callStart_ns_ = clock_ns_;
-    callBudget_ns_ = (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u;
+    setBudget(clock_ns_, (task.budget_us ? uint64_t{task.budget_us} : uint64_t{task.period_ms} * 1000u) * 1000u);
     if (!call("task", next)) return watchdogReset();
     ++runs_[static_cast<size_t>(next)];
     worst_ns_[static_cast<size_t>(next)] = std::max(worst_ns_[static_cast<size_t>(next)], clock_ns_ - callStart_ns_);
     nextDue_ns_[static_cast<size_t>(next)] += uint64_t{task.period_ms} * 1000000u;
   }
-  callBudget_ns_ = 0;
+  setBudget(callStart_ns_, 0);
 }
 
 // The task due first before end_ns (of several due at once, the first declared); -1: none.
@@ -339,8 +344,7 @@ bool FirmwareHost::runInterrupts(uint64_t before_ns) {
   uint64_t at_ns = 0;
   while (!dead_ && started_ && target_->nextIdleInterrupt(clock_ns_, before_ns, at_ns)) {
     clock_ns_ = std::max(clock_ns_, at_ns);
-    callStart_ns_ = clock_ns_;
-    callBudget_ns_ = 0;
+    setBudget(clock_ns_, 0);
     if (!call("interrupt", TargetFirmware::kInterruptCall)) return false;
   }
   return true;
@@ -474,7 +478,7 @@ void FirmwareHost::watchdogReset() {
   resetPending_ = true;
   resetAt_ns_ = at_ns;
   nextDue_ns_.clear();
-  callBudget_ns_ = 0;
+  setBudget(callStart_ns_, 0);
 }
 
 void FirmwareHost::holdInReset(double t_s, const std::string& why, bms::Outputs& out) {
@@ -500,7 +504,7 @@ void FirmwareHost::holdInReset(double t_s, const std::string& why, bms::Outputs&
   started_ = false;
   resetPending_ = false;
   nextDue_ns_.clear();
-  callBudget_ns_ = 0;
+  setBudget(callStart_ns_, 0);
   clock_ns_ = std::max(clock_ns_, toNs(t_s));
 }
 
@@ -583,8 +587,13 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
 }
 
 int32_t FirmwareHost::adcRead(uint8_t channel) const {
-  if (board_.pins && channel == PSFW_ADC_CURRENT) return in_->currentCode;
-  if (board_.pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
+  return board_.pins ? adcReadOn<true>(channel) : adcReadOn<false>(channel);
+}
+
+template <bool Pins>
+int32_t FirmwareHost::adcReadOn(uint8_t channel) const {
+  if (Pins && channel == PSFW_ADC_CURRENT) return in_->currentCode;
+  if (Pins && channel == PSFW_ADC_BUS_VOLTAGE) return in_->busVoltageCode;
   const int n = static_cast<int>(channel) - PSFW_ADC_THERMISTOR0;
   if (n >= 0 && n < board_.mcuThermistors) {
     mcuThermistorsRead_ |= uint64_t{1} << n;
@@ -594,20 +603,32 @@ int32_t FirmwareHost::adcRead(uint8_t channel) const {
 }
 
 int32_t FirmwareHost::gpioRead(uint8_t pin) const {
-  if (!board_.pins || pin >= std::size(kInputPins)) return noChannel();
+  return board_.pins ? gpioReadOn<true>(pin) : gpioReadOn<false>(pin);
+}
+
+template <bool Pins>
+int32_t FirmwareHost::gpioReadOn(uint8_t pin) const {
+  if (!Pins || pin >= std::size(kInputPins)) return noChannel();
   return in_->*kInputPins[pin];
 }
 
 void FirmwareHost::gpioWrite(uint8_t pin, int32_t level) {
-  if (!board_.pins) return;  // a member board's port pins drive nothing of the pack
-  bool* const field = pin < std::size(kOutputPins) ? &(out_->*kOutputPins[pin]) : nullptr;  // null: unconnected
-  const bool on = level != 0;
-  if (field) {
-    if (pinsNoted_ && *field == on) return;  // the level it has: no change to note
-    *field = on;
-  } else if (pinsNoted_) {
+  if (board_.pins) gpioWriteOn<true>(pin, level);  // a member board's port pins drive nothing of the pack
+}
+
+template <bool Pins>
+void FirmwareHost::gpioWriteOn(uint8_t pin, int32_t level) {
+  if (!Pins) return;
+  if (pin >= std::size(kOutputPins)) {  // unconnected
+    if (!pinsNoted_) notePins();
     return;
   }
+  // (A reference, not a pointer that may be null: no test of the field's address, five
+  // writes a tick.)
+  bool& field = out_->*kOutputPins[pin];
+  const bool on = level != 0;
+  if (pinsNoted_ && field == on) return;  // the level it has: no change to note
+  field = on;
   notePins();
 }
 

@@ -112,7 +112,10 @@ class FirmwareHost {
                                                        : 0.0;
   }
   // Off: a task may run past its budget (a probe that measures what a task needs).
-  void enforceBudgets(bool on) { enforceBudgets_ = on; }
+  void enforceBudgets(bool on) {
+    enforceBudgets_ = on;
+    setBudget(callStart_ns_, callBudget_ns_);
+  }
   // The firmware's RAM (null before init): for a debug probe of a linked-in firmware.
   const void* ram() const { return ram_.get(); }
   // Target mode: the virtual MCU's counts (null in host mode).
@@ -135,6 +138,14 @@ class FirmwareHost {
   int32_t adcRead(uint8_t channel) const;
   int32_t gpioRead(uint8_t pin) const;
   void gpioWrite(uint8_t pin, int32_t level);
+  // The same three for a board whose pins are wired (Pins) or not, as the service table
+  // built for the board calls them (board_.pins is tested once, at construction).
+  template <bool Pins>
+  int32_t adcReadOn(uint8_t channel) const;
+  template <bool Pins>
+  int32_t gpioReadOn(uint8_t pin) const;
+  template <bool Pins>
+  void gpioWriteOn(uint8_t pin, int32_t level);
   void dacWrite(uint8_t channel, int32_t value);
   void telemetrySend(const uint8_t* bytes, uint16_t len);
   void firmwareEvent(const char* text);
@@ -169,8 +180,16 @@ class FirmwareHost {
   void breakContract(const char* fmt, ...) __attribute__((format(printf, 2, 3)));
   // After a bus transfer, delay or NVM write: within the running task's budget (inline:
   // several times a tick), else a contract break (overBudget).
-  bool checkBudget() {
-    return !enforceBudgets_ || callBudget_ns_ == 0 || clock_ns_ - callStart_ns_ <= callBudget_ns_ || overBudget();
+  // (One compare with the running call's deadline: the clock never runs back, so
+  // clock - start <= budget is clock <= start + budget.)
+  bool checkBudget() { return clock_ns_ <= callDeadline_ns_ || overBudget(); }
+  // The running call's start and budget (0: none) and its deadline: the far future without
+  // a budget, with budgets off, or past the clock's range.
+  void setBudget(uint64_t start_ns, uint64_t budget_ns) {
+    callStart_ns_ = start_ns;
+    callBudget_ns_ = budget_ns;
+    const uint64_t never = ~uint64_t{0};
+    callDeadline_ns_ = !enforceBudgets_ || budget_ns == 0 || budget_ns > never - start_ns ? never : start_ns + budget_ns;
   }
   bool overBudget();
   void notePins();  // after a GPIO or DAC write: a change of the levels, at the MCU clock
@@ -201,7 +220,8 @@ class FirmwareHost {
   std::vector<uint64_t> runs_;
   std::vector<uint64_t> worst_ns_;  // per task: the longest call
   bool enforceBudgets_ = true;
-  uint64_t callStart_ns_ = 0, callBudget_ns_ = 0;  // the running task's start and budget (0: none)
+  uint64_t callStart_ns_ = 0, callBudget_ns_ = 0;  // the running task's start and budget (0: none): setBudget
+  uint64_t callDeadline_ns_ = ~uint64_t{0};        // the clock past which it is over budget
   int32_t initResult_ = 0;
   const bms::Inputs* in_ = nullptr;
   bms::Outputs* out_ = nullptr;

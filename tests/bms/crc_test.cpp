@@ -44,6 +44,8 @@ TEST(Crc, TableEqualsBitSerialOnEveryLength) {
     const size_t n = static_cast<size_t>(trial % 65);
     ASSERT_EQ(bms::crcCrc8(buf.data(), n), serial8(buf.data(), n)) << "length " << n;
     ASSERT_EQ(bms::crcCrc8Fixed<32>(buf.data()), serial8(buf.data(), 32));  // the telemetry frame's
+    ASSERT_EQ(bms::crcCrc8Fixed<7>(buf.data()), serial8(buf.data(), 7));    // a BQ76PL536A read-out's
+    ASSERT_EQ(bms::crcCrc8Fixed<22>(buf.data()), serial8(buf.data(), 22));  // two exchanges
     ASSERT_EQ(bms::crcCrc16(buf.data(), n), serial16(buf.data(), n)) << "length " << n;
   }
 }
