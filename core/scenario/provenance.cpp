@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <vector>
 
+#include "core/scenario/decimal_text.hpp"
+
 namespace packsim {
 
 namespace {
@@ -37,25 +39,7 @@ namespace {
 // A scalar the Emitter writes as it stands (plain, no tag): a number -?D+(.D*)?([eE][-+]?D+)?
 // (D: a digit), untagged or quoted in the source (its tag "?" or "!").
 bool plainNumber(const YAML::Node& n) {
-  if (!n.IsScalar() || (n.Tag() != "?" && n.Tag() != "!")) return false;
-  const std::string& s = n.Scalar();
-  size_t i = s.size() > 0 && s[0] == '-' ? 1 : 0;
-  const auto digits = [&] {
-    const size_t from = i;
-    while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
-    return i - from;
-  };
-  if (digits() == 0) return false;
-  if (i < s.size() && s[i] == '.') {
-    ++i;
-    digits();
-  }
-  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
-    ++i;
-    if (i < s.size() && (s[i] == '-' || s[i] == '+')) ++i;
-    if (digits() == 0) return false;
-  }
-  return i == s.size();
+  return n.IsScalar() && (n.Tag() == "?" || n.Tag() == "!") && decimalText(n.Scalar(), false);
 }
 
 // yamlFlowText of a list of such numbers (a curve's points, a load profile's times:

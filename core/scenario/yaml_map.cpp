@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/scenario/provenance.hpp"
+#include "core/scenario/decimal_text.hpp"
 
 namespace packsim {
 
@@ -153,37 +154,12 @@ void YamlMap::noteDefault(const std::string& key, const std::string& valueYaml) 
   if (Provenance* p = Provenance::active()) p->recordDefault(fieldName(key), valueYaml);
 }
 
-namespace {
-
-// Whether s is a plain decimal number: -?D+(.D+)?([eE][-+]?D+)? (D: a digit).
-bool decimalText(const std::string& s) {
-  size_t i = !s.empty() && s[0] == '-' ? 1 : 0;
-  const auto digits = [&] {
-    const size_t from = i;
-    while (i < s.size() && s[i] >= '0' && s[i] <= '9') ++i;
-    return i - from;
-  };
-  if (digits() == 0) return false;
-  if (i < s.size() && s[i] == '.') {
-    ++i;
-    if (digits() == 0) return false;
-  }
-  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
-    ++i;
-    if (i < s.size() && (s[i] == '-' || s[i] == '+')) ++i;
-    if (digits() == 0) return false;
-  }
-  return i == s.size();
-}
-
-}  // namespace
-
 // yaml-cpp's value of a plain decimal number (a stream's >>, strtod: correctly rounded)
 // by std::from_chars (correctly rounded too: the same double), without the stream
 // (~4,700 instructions a number: a long load profile's hundreds of them). Anything else,
 // or out of range, false: yaml-cpp then reads it (its value or its error).
 bool plainDecimal(const std::string& s, double& v) {
-  if (!decimalText(s)) return false;
+  if (!decimalText(s, true)) return false;
   const char* end = s.data() + s.size();
   const std::from_chars_result r = std::from_chars(s.data(), end, v);
   return r.ec == std::errc() && r.ptr == end;
