@@ -38,6 +38,11 @@ IDENTIFIERS = frozenset({"case", "status", "error", "file", "seed", "min_cell", 
 # The prefix of the random inputs a case drew (summary.csv columns; core/batch/drawn_inputs.hpp).
 DRAWN = "drawn_"
 TRIP = "tripped"
+# Times the summary writes as -1 for "never" (balancing never started or never done, no
+# pack limit on the vehicle), and the trip time of a case that did not trip (0): not times
+# of anything, so not plotted (NaN). The cases' table on the page still shows them.
+NEVER = frozenset({"balance_started_s", "balance_balanced_s", "vehicle_limit_time_s"})
+TRIP_TIME = "trip_time_s"
 # Outputs a team looks at first, in this order; the others follow in summary.csv's order.
 FIRST = ("energy_delivered_Wh", "energy_stranded_Wh", "min_cell_V", "max_temp_C", "trip_time_s", "tripped",
          "duration_s", "heat_Wh", "energy_left_Wh")
@@ -63,6 +68,10 @@ class SweepTable:
                 out[i] = float(v)
             except ValueError:
                 pass
+        if name in NEVER:
+            out[out == -1.0] = np.nan
+        elif name == TRIP_TIME and TRIP in self.header:
+            out[~(self.column(TRIP, ok_only) > 0.5)] = np.nan
         return out
 
     def ok_rows(self) -> list[list[str]]:

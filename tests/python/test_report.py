@@ -170,6 +170,20 @@ def test_a_1d_sweep_draws_lines_in_input_order(tmp_path):
     assert list(fig.data[0].x) == [2.8, 3.0, 3.2]
 
 
+def test_a_sweep_does_not_plot_never_as_a_time(tmp_path):
+    """A case that did not trip has trip_time_s 0, one that never balanced
+    balance_balanced_s -1: neither is a time, so neither is plotted (NaN)."""
+    (tmp_path / "summary.csv").write_text(
+        "case,hardware.balancing.resistor_ohm,status,tripped,trip_time_s,balance_balanced_s,energy_delivered_Wh\n"
+        "0000,33,ok,0,0,-1,10.5\n0001,47,ok,1,120.5,5000,9.5\n0002,68,ok,0,0,7000,9.0\n")
+    t = sweep_figure.read(tmp_path)
+    assert np.isnan(t.column("trip_time_s")[[0, 2]]).all() and t.column("trip_time_s")[1] == 120.5
+    bal = t.column("balance_balanced_s")
+    assert np.isnan(bal[0]) and list(bal[1:]) == [5000.0, 7000.0]
+    title, fig = [f for f in sweep_figure.figures(t) if f[0] == "balance_balanced_s vs hardware.balancing.resistor_ohm"][0]
+    assert [y for y in fig.data[0].y if y == y] == [5000.0, 7000.0]  # the -1 is not on the line
+
+
 def test_report_errors_are_clear(cli, tmp_path):
     done = subprocess.run([str(cli), "report", str(tmp_path / "none.h5"), "-o", str(tmp_path / "x.html")],
                           capture_output=True, text=True)
