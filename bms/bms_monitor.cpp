@@ -1,17 +1,6 @@
 #include "bms_monitor.hpp"
 
-#include "bms_afe_driver.hpp"
-
 namespace bms {
-
-namespace {
-
-const AfeDriverApi* apiOf(const Config& c) {
-  const AfeDriver* d = afeDriver(c.afe.part);
-  return d != nullptr ? d->api : nullptr;
-}
-
-}  // namespace
 
 bool monitorPartKnown(const Config& c) { return apiOf(c) != nullptr; }
 

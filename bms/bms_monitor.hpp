@@ -31,13 +31,17 @@ struct MonitorDrivers {
   bool configured;                         // every device took its address and configuration at init
 };
 
+// The registered driver of Config::afe.part (nullptr: none).
+inline const AfeDriverApi* apiOf(const Config& c) {
+  const AfeDriver* d = afeDriver(c.afe.part);
+  return d != nullptr ? d->api : nullptr;
+}
 // Whether Config::afe.part names a registered driver (an image that does not is refused).
 bool monitorPartKnown(const Config& c);
 // Whether the part drives FETs of its own (the core then writes them when they change).
 // (Inline: asked at every control tick.)
 inline bool monitorHasFets(const Config& c) {
-  const AfeDriver* d = afeDriver(c.afe.part);
-  const AfeDriverApi* p = d != nullptr ? d->api : nullptr;
+  const AfeDriverApi* p = apiOf(c);
   return p != nullptr && p->writeFets != nullptr;
 }
 

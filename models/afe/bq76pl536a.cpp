@@ -121,6 +121,8 @@ void Bq76pl536aChain::reset(Device& dv) {
   reach_ = reach();  // its address is gone
 }
 
+static_assert(BQ536_TEMPS_MAX * 4 == 8, "CONFIG_OT: one nibble per temperature input, the whole byte");
+
 void Bq76pl536aChain::readSettings(Device& dv) {
   ComparatorSettings& c = dv.settings;
   const uint8_t covReg = dv.reg[BQ536_CONFIG_COV], cuvReg = dv.reg[BQ536_CONFIG_CUV];
@@ -134,12 +136,9 @@ void Bq76pl536aChain::readSettings(Device& dv) {
     if (nibble != 0) c.otOn = static_cast<uint8_t>(c.otOn | (1u << k));
     c.ot_C[k] = bq536_ot_C(nibble);
   }
-  dv.blind = comparatorsOff(dv);
-}
-
-bool Bq76pl536aChain::comparatorsOff(const Device& dv) {
-  return (dv.reg[BQ536_CONFIG_COV] & BQ536_CONFIG_DISABLE) && (dv.reg[BQ536_CONFIG_CUV] & BQ536_CONFIG_DISABLE) &&
-         dv.reg[BQ536_CONFIG_OT] == 0;
+  // Every comparator off (CONFIG_OT's two nibbles, its whole byte, 0): compare() finds
+  // nothing present, whatever the inputs.
+  dv.blind = !c.covOn && !c.cuvOn && c.otOn == 0;
 }
 
 uint8_t Bq76pl536aChain::status(const Device& dv) const {

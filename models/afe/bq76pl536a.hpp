@@ -119,7 +119,7 @@ class Bq76pl536aChain final : public MonitorChain {
     // the inputs change only when filled or a threshold is written.
     bool compared = false;
     uint8_t over = 0, under = 0, hot = 0;
-    // Every comparator disabled by its register (comparatorsOff()): over, under and hot
+    // Every comparator disabled by its register (readSettings): over, under and hot
     // are 0 for any inputs, so new inputs need no compare (the plain ADC's stack: its
     // secondary off). Kept where those registers change: reset, a protected write.
     bool blind = false;
@@ -162,9 +162,6 @@ class Bq76pl536aChain final : public MonitorChain {
   // Every device's comparators run at t, and calm_ whether all are at rest from then on.
   void runAllComparators(double t);
   void compare(Device& dv);  // the comparators' view of the present inputs
-  // CONFIG_COV and CONFIG_CUV disabled, CONFIG_OT 0 (both inputs off): compare() finds
-  // nothing present, whatever the inputs.
-  static bool comparatorsOff(const Device& dv);
   // Device::settings and blind from the registers (at reset and after a protected write).
   static void readSettings(Device& dv);
   // No pass while the conditions are known (compared) and none is present with the timers
