@@ -58,6 +58,8 @@ class HardwareSim {
   double nextSwitch_s(double t) const { return switchgear_.nextSwitch_s(t); }
 
   const HardwareStatus& status() const { return st_; }
+  // The main relay's coil as last driven (off: commanded open, by the MCU or the FAULT line).
+  bool relayCoil() const { return switchgear_.relayCoil(); }
   // The monitor boards (one unless hardware.afe.devices_per_board), board b's host's
   // buses (its register-level monitor chain) and the thermistors on the pack host's ADC.
   const std::vector<MonitorBoard>& boards() const { return sensors_.boards(); }

@@ -92,9 +92,7 @@ bool FaultScheduler::updatePending(double t, const double* x, const PlantSignals
     }
   }
   if (!changed) return false;
-  watching_ = false;
-  for (size_t i = 0; i < s_.faults.size(); ++i)
-    watching_ = watching_ || (state_[i].active && needsCurrentPath(s_.faults[i]) && !state_[i].seen.acted);
+  watching_ = anyWaitingToAct();
   const HardwareFaults before = faults;
   apply(faults);
   return faults.extra_load_A != before.extra_load_A || faults.cell_heat_W != before.cell_heat_W ||
@@ -118,14 +116,20 @@ void FaultScheduler::reportUnreached(double t_end_s, const std::string& run_end,
   }
 }
 
+bool FaultScheduler::waitingToAct(size_t i) const {
+  return state_[i].active && needsCurrentPath(s_.faults[i]) && !state_[i].seen.acted;
+}
+
+bool FaultScheduler::anyWaitingToAct() const {
+  for (size_t i = 0; i < s_.faults.size(); ++i)
+    if (waitingToAct(i)) return true;
+  return false;
+}
+
 void FaultScheduler::noteEffects(const PathState& p) {
-  watching_ = false;
-  for (size_t i = 0; i < s_.faults.size(); ++i) {
-    Track& tr = state_[i];
-    if (!tr.active || !needsCurrentPath(s_.faults[i]) || tr.seen.acted) continue;
-    noteEffect(s_.faults[i], p, tr.seen);
-    watching_ = watching_ || !tr.seen.acted;
-  }
+  for (size_t i = 0; i < s_.faults.size(); ++i)
+    if (waitingToAct(i)) noteEffect(s_.faults[i], p, state_[i].seen);
+  watching_ = anyWaitingToAct();
 }
 
 void FaultScheduler::reportNoEffect(double t_end_s, RunTracker& tracker) const {

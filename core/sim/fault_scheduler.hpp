@@ -54,6 +54,9 @@ class FaultScheduler {
   double quantity(Quantity q, double t, const double* x, const PlantSignals& sig) const;
   void apply(HardwareFaults& f) const;
   double activeFor_s(const FaultInjection& inj) const;
+  // Injection i is active, acts through the current path, and has not acted yet.
+  bool waitingToAct(size_t i) const;
+  bool anyWaitingToAct() const;
 
   struct Track {
     double start_s = -1.0;
@@ -65,7 +68,7 @@ class FaultScheduler {
   const Scenario& s_;
   const Plant& plant_;
   std::vector<Track> state_;
-  bool watching_ = false;  // an active injection that needs the current path has not acted yet
+  bool watching_ = false;  // anyWaitingToAct(), kept where it can change
   size_t pending_;  // injections not done (to start, or to end): with none, no tick has anything to do
 };
 

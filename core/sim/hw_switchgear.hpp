@@ -57,6 +57,7 @@ class HwSwitchgear {
   void report(const SwitchState& s, const PlantSignals& sig, HardwareStatus& st) const;
 
   bool relayClosed() const { return relay_.closed; }  // the auxiliary contact follows it
+  bool relayCoil() const { return relay_.coil; }       // driven (the MCU's pin, unless the FAULT line opens it)
   double bus_V() const { return bus_V_; }
 
  private:

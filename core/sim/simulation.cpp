@@ -44,14 +44,14 @@ std::string loadEndText(const LoadProfile& p) {
 }
 // The current path the plant sees over the next interval, for the scripted faults that
 // act only through it (core/sim/fault_effect.hpp).
-PathState pathState(const Scenario& s, const PlantInputs& in, const HardwareStatus& hw, bool relayPin) {
+PathState pathState(const PlantInputs& in, const HardwareSim& hw) {
   PathState p;
-  p.relayContactClosed = hw.relay_closed;
+  p.relayContactClosed = hw.status().relay_closed;
   p.mainClosed = in.relay_closed;
   p.dischargeBlocked = in.discharge_blocked;
   p.chargeBlocked = in.charge_blocked;
   p.chargerOn = in.charger_limit_A > 0.0;
-  p.relayCommandedOpen = !relayPin || (s.hardware.fault_line_opens_relay && hw.fault_line);
+  p.relayCommandedOpen = !hw.relayCoil();
   return p;
 }
 }  // namespace
@@ -126,7 +126,6 @@ struct SimulationRun::Impl {
   McuFirmware firmware{s, cfg, hw, tracker};  // packsim's core, or the scenario's library
   PinTimeline pins;  // the MCU's output changes not yet in effect (core/firmware/pin_timeline.hpp)
   bms::Outputs act{};  // step 3's scratch: the decisions with other pins in effect
-  bool relayPin = false;  // the relay coil's MCU pin in effect (for FaultScheduler::noteEffects)
   const double tick_s;
   const int stateCount = ode.size();  // the state checkFinite looks at each tick (no virtual call for it then)
   const long recordEvery;
@@ -196,8 +195,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
     applyPins(act, inEffect);
   }
   const bool relayChanged = hw.actuate(t, pinsDiffer ? act : decision, sg, faults, inputs);
-  relayPin = (pinsDiffer ? act : decision).relayClose;
-  if (scheduler.watching()) scheduler.noteEffects(pathState(s, inputs, hw.status(), relayPin));
+  if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw));
   sampled = &sg;
   restartNext = relayChanged || faultChanged;
 
@@ -262,7 +260,7 @@ void SimulationRun::Impl::advance() {
     if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here
       plant.sample(tc, integ.state(), inputs, sig);
       if (scheduler.update(tc, integ.state(), sig, faults, tracker)) restart = true;
-      if (scheduler.watching()) scheduler.noteEffects(pathState(s, inputs, hw.status(), relayPin));
+      if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw));
     }
     if (pinInside && reached(tc, pinBreak_s)) {  // the outputs act at the instant they were written
       plant.sample(tc, integ.state(), inputs, sig);
@@ -270,8 +268,7 @@ void SimulationRun::Impl::advance() {
       applyPins(act, pins.at(tc));
       if (hw.actuatePins(tc, t_next, act, sig, faults, inputs)) restart = true;
       tracker.hardwareChanged(tc);
-      relayPin = act.relayClose;
-      if (scheduler.watching()) scheduler.noteEffects(pathState(s, inputs, hw.status(), relayPin));
+      if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw));
     }
   }
   if (restart) integ.reset(tc, integ.state());
