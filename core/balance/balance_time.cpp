@@ -29,11 +29,6 @@ std::vector<double> groupOcv_V(const Plant& plant, const double* x) {
   return v;
 }
 
-double spread(const std::vector<double>& q) {
-  const auto [lo, hi] = std::minmax_element(q.begin(), q.end());
-  return *hi - *lo;
-}
-
 std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
   char s[240];
   std::snprintf(s, sizeof s, f, a, b, c);

@@ -12,14 +12,10 @@ std::vector<double> groupCharge_Ah(const Plant& plant, const double* x) {
   return q;
 }
 
-namespace {
-
 double spread(const std::vector<double>& q) {
   const auto [lo, hi] = std::minmax_element(q.begin(), q.end());
   return *hi - *lo;
 }
-
-}  // namespace
 
 BalanceSummary summarizeBalancing(const Scenario& s, const Plant& plant, const double* x0, const double* xEnd,
                                   const double* quad, const std::vector<Event>& events) {

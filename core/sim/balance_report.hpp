@@ -11,6 +11,8 @@ namespace packsim {
 
 // The charge (Ah) each series group holds in state x: its cells' SOC times capacity.
 std::vector<double> groupCharge_Ah(const Plant& plant, const double* x);
+// Highest minus lowest of a per-group figure (charge, voltage).
+double spread(const std::vector<double>& q);
 
 // x0, xEnd: the plant's state at the start and at the end; quad: the run's quadratures
 // (Plant Quadrature order).
