@@ -176,6 +176,10 @@ void Plant::terminalCurrent(double t, const double* x, const PlantInputs& in, Pl
   currentAtTerminals(t, x, in, sig);
 }
 
+void Plant::thevenin(const double* x, const PlantInputs& in, double& e_V, double& r_ohm) const {
+  packThevenin(in, [&](int c) { return cellStates(x, c); }, e_V, r_ohm);
+}
+
 void Plant::evaluate(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const {
   currentAtTerminals(t, x, in, sig);
   evaluateAtCurrent<true>(t, x, in, sig);

@@ -140,6 +140,8 @@ class Plant {
   // everything else for that current. derivativesAtCurrent takes the current already in
   // sig (from terminalCurrent at another state: the Jacobian holds it, plant_ode.hpp).
   void terminalCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  // The pack seen from its terminals at state x: V = E - R·I (what a power load solves on).
+  void thevenin(const double* x, const PlantInputs& in, double& e_V, double& r_ohm) const;
   void derivativesAtCurrent(double t, const double* x, const PlantInputs& in, double* dx, PlantSignals& sig) const;
   // Rates of the quadratures from signals already evaluated at (t, x) (by evaluate/derivatives):
   // they hold all it reads, the reversible heat too.

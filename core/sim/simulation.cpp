@@ -99,8 +99,6 @@ struct SimulationRun::Impl {
     if (s.vehicle.present) {  // a vehicle decides the power load each tick (core/sim/vehicle_run.hpp)
       vehicle = std::make_unique<VehicleRun>(s.vehicle, tick_s, s.bms.image.chargeFullCell_mV / 1000.0);
       tracker.setVehicle(&vehicle->sample());
-      plant.sample(0.0, x.data(), inputs, sig);
-      packV = sig.pack_voltage_V;
     }
   }
 
@@ -138,7 +136,6 @@ struct SimulationRun::Impl {
   const LoadShortfall::Sink shortfallSink = [this](double te, const std::string& d) {
     tracker.event(te, "load_limited", d);
   };
-  double packV = 0.0;                   // pack voltage at the last tick (what the motor controller measures)
   const PlantSignals* sampled = nullptr;  // the signals of the last tick
   bool restartNext = false;               // an input of the plant jumped at the last tick
   long k = 0;
@@ -151,9 +148,12 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   if (ended) return false;
   Integrator& integ = *solver;
   const double t = static_cast<double>(k) * tick_s;
-  if (vehicle)  // the vehicle moves over the last tick and asks its power for the next
-    ext.load_A_or_W = vehicle->tick(t, integ.state()[plant.stateSize() + kQuadLoadEnergy_J], packV,
+  if (vehicle) {  // the vehicle moves over the last tick and asks its power for the next
+    PackSource pack;
+    plant.thevenin(integ.state(), inputs, pack.e_V, pack.r_ohm);
+    ext.load_A_or_W = vehicle->tick(t, integ.state()[plant.stateSize() + kQuadLoadEnergy_J], pack,
                                     decided->state == bms::State::Normal, decided->telemetry.maxCell_mV * 1e-3, tracker);
+  }
   if (ext.applyToPlant(t, inputs)) integ.reset(t, integ.state());  // external inputs, if any
   const double* xs = integ.state();
 
@@ -171,7 +171,6 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   const PlantSignals& sg = *now;  // valid until the plant advances (step 5)
   hw.sample(t, sg, hw.measurementView(t, xs, inputs, sg), faults, rng, in);
   ext.applyToPins(in);
-  packV = sg.pack_voltage_V;
   if (shortfall.watching())  // a power load only: a current load is always given
     shortfall.tick(t, inputs.load.current_A(t), sg.pack_voltage_V * sg.pack_current_A,
                    inputs.relay_closed && !inputs.discharge_blocked, shortfallSink);

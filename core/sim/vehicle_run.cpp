@@ -110,7 +110,7 @@ void VehicleRun::stageEvent(StopEvent ev, double t, double e_J, RunTracker& trac
                                        fmt("%.3f", car_.distance_m() / 1000.0) + " (" + clock(t) + " solar time)");
 }
 
-double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, double maxCell_V, RunTracker& tracker) {
+double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready, double maxCell_V, RunTracker& tracker) {
   if (!first_ && started_) {
     const double t0 = t - dt_;
     const double delivered_W = (e_J - energy_J_) / dt_;
@@ -137,9 +137,9 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, double 
           d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + plan_.array_W)) + " W of the " +
                fmt("%.2f", plan_.drive_W) + " W it asked the pack for";
         else
-          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted (pack " +
-               fmt("%.2f", pack_V) + " V, the controller allowed " + fmt("%.2f", plan_.net_W / std::max(pack_V, 1e-9)) +
-               " A)";
+          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted, " +
+               fmt("%.3g", plan_.wanted_W - plan_.drive_W) + " W short (pack " + fmt("%.2f", plan_.controller_V) +
+               " V, the controller allowed " + fmt("%.2f", plan_.controller_A) + " A)";
         sum_.limit_detail = d;
         tracker.event(t0, "vehicle_limited", d);
       }
@@ -192,8 +192,8 @@ double VehicleRun::tick(double t, double e_J, double pack_V, bool ready, double 
   // (a power load that changed every tick would restart the integrator every tick).
   const double array_W = cfg_.array.power_W(std::floor(t / kArrayHold_s) * kArrayHold_s);
   if (started_) {
-    plan_ = car_.plan(dt_, pack_V, array_W, true);
-    refPlan_ = ref_.plan(dt_, pack_V, array_W, false);
+    plan_ = car_.plan(dt_, pack, array_W, true);
+    refPlan_ = ref_.plan(dt_, pack, array_W, false);
     // The BMS reads its full voltage on the highest module: the array's MPPT charges the
     // pack no more (it still feeds the drive and the auxiliaries) until the vehicle next
     // sets off, as the BMS ends a charger's charge.

@@ -2,7 +2,7 @@
 // it first moves the vehicle over the tick that just ended with the pack power that
 // actually flowed (the pack's load-energy quadrature over the tick: a trip, a blocked
 // FET or a pack that cannot give the power all show there), then plans the next tick
-// from the pack voltage the controller measured, and hands the loop the pack power to
+// on the pack's EMF and resistance at t_k, and hands the loop the pack power to
 // hold until t_k+1 (the plant solves V·I = P for it). A reference vehicle -- the same
 // driver on a pack that never limits it -- runs beside it; the time lost to the pack
 // is the difference of the two.
@@ -22,12 +22,12 @@ class VehicleRun {
   // pack once the BMS reads it on the highest module, until the vehicle next sets off.
   VehicleRun(const VehicleConfig& c, double tick_s, double fullCell_V);
 
-  // At t_k: loadEnergy_J, the pack's energy out so far; pack_V, the pack voltage the
-  // controller measured at the last tick; ready, the BMS was in its normal state at the
+  // At t_k: loadEnergy_J, the pack's energy out so far; pack, its EMF and resistance at
+  // t_k (the controller's limit settles on them); ready, the BMS was in its normal state at the
   // last tick (the dashboard's ready light: the driver sets off at the first one);
   // maxCell_V: the highest cell (module) voltage the BMS reports.
   // Returns the pack power for [t_k, t_k+1) [W].
-  double tick(double t_s, double loadEnergy_J, double pack_V, bool ready, double maxCell_V, RunTracker& tracker);
+  double tick(double t_s, double loadEnergy_J, const PackSource& pack, bool ready, double maxCell_V, RunTracker& tracker);
   // The route is complete, or the vehicle stood still for standstill_end_s.
   // Or the irradiance table (sun.irradiance_csv by run time) ended.
   bool done() const { return car_.finished() || stood_ || sunEnded_; }

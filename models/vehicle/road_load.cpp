@@ -45,4 +45,13 @@ double allowedCurrent_A(const VehicleParams& p, double pack_V) {
   return i;
 }
 
+double allowedCurrentOn_A(const VehicleParams& p, const PackSource& pack) {
+  const double most = allowedCurrent_A(p, std::numeric_limits<double>::infinity());
+  if (!(p.cutoff_start_V > p.cutoff_end_V)) return most;  // no fold-back: the limit alone
+  // I = I_max·(E - R·I - V_end)/ΔV solved for I; beyond [0, I_max] the clamp of
+  // allowedCurrent_A holds (E - R·I_max >= V_start: I_max; E <= V_end: nothing).
+  const double dv = p.cutoff_start_V - p.cutoff_end_V;
+  return std::clamp(most * (pack.e_V - p.cutoff_end_V) / (dv + most * pack.r_ohm), 0.0, most);
+}
+
 }  // namespace packsim

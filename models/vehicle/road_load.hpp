@@ -52,4 +52,17 @@ double drivetrainEfficiency(const VehicleParams& p, double speed_m_per_s, double
 // The pack current the controller allows at pack voltage V (infinite without a limit).
 double allowedCurrent_A(const VehicleParams& p, double pack_V);
 
+// The pack as the controller sees it over a tick: its EMF E behind its resistance R,
+// so the terminals give V = E - R·I (the plant's Thevenin equivalent at the tick's start).
+struct PackSource {
+  double e_V = 0.0;
+  double r_ohm = 0.0;
+};
+// The current where the controller's limit and the pack meet, I = I_allowed(E - R·I)
+// (infinite without a limit). The controller regulates its battery current far faster
+// than a BMS tick, so within a tick it sits at this point: with the fold-back between
+// V_end and V_start (ΔV) that is I = I_max·(E - V_end)/(ΔV + I_max·R), within [0, I_max].
+// With R = 0 it is allowedCurrent_A at V = E.
+double allowedCurrentOn_A(const VehicleParams& p, const PackSource& pack);
+
 }  // namespace packsim

@@ -39,7 +39,7 @@ void Vehicle::paceLap() {
   lapSpeed_ = lapSpeedFor(p_, route_, driver_.lap_energy_J, v_, umax);
 }
 
-VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits) const {
+VehiclePlan Vehicle::plan(double dt, const PackSource& pack, double array_W, bool limits) const {
   VehiclePlan pl;
   if (parked_) {  // parked: no drive; the auxiliaries stay on at a control stop, off between stages
     const RouteStop& st = route_.stops[next_];
@@ -87,11 +87,15 @@ VehiclePlan Vehicle::plan(double dt, double pack_V, double array_W, bool limits)
     };
     cut(p_.max_drive_power_W, DriveLimit::MotorPower);
     if (driver_.power_cap_W > 0.0) cut(driver_.power_cap_W, DriveLimit::DriverCap);
-    if (limits) {
+    if (limits) {  // the controller's current where its limit meets the pack (not a lagged voltage: that rings)
       const double fullI = allowedCurrent_A(p_, std::numeric_limits<double>::infinity());
-      const double i = allowedCurrent_A(p_, pack_V);
-      if (std::isfinite(i)) cut(i * pack_V - p_.aux_power_W + array_W,
-                                i < fullI ? DriveLimit::VoltageFoldback : DriveLimit::ControllerCurrent);
+      const double i = allowedCurrentOn_A(p_, pack);
+      if (std::isfinite(i)) {
+        pl.controller_A = i;
+        pl.controller_V = pack.e_V - pack.r_ohm * i;
+        cut(i * pl.controller_V - p_.aux_power_W + array_W,
+            i < fullI ? DriveLimit::VoltageFoldback : DriveLimit::ControllerCurrent);
+      }
     }
     pl.drive_W = cap;
     if (cap < pl.wanted_W) a = accelerationFor(p_, v_, pl.grade, cap * eta, dt, pl.headwind_m_per_s);

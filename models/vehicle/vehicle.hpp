@@ -5,7 +5,7 @@
 //
 //   plan     the acceleration the driver wants -> wheel power -> pack power, cut back
 //            by the motor's power, the driver's cap and the controller's battery-current
-//            limit at the pack voltage it measures (with its low-voltage fold-back);
+//            limit (with its low-voltage fold-back) where it meets the pack's E - R·I;
 //            where cut back, the acceleration that the remaining power gives
 //   advance  with the pack power that actually flowed over the tick (a trip, a FET
 //            that blocks, a pack that cannot give the power): a shortfall comes off the
@@ -56,6 +56,10 @@ struct VehiclePlan {
   double wanted_W = 0.0;  // drive power the driver wanted before any limit
   double efficiency = 1.0;  // the drivetrain's at the planned speed and wheel force
   DriveLimit limit = DriveLimit::None;
+  // With the controller's limit: the pack current it allows over the tick and the pack
+  // voltage at that current (allowedCurrentOn_A; 0 without a limit).
+  double controller_A = 0.0;
+  double controller_V = 0.0;
 };
 
 // What happened at a stop at the start of a tick (Vehicle::serveStops).
@@ -65,9 +69,10 @@ class Vehicle {
  public:
   Vehicle(const VehicleParams& p, const Route& r, const DriverParams& d);
 
-  // pack_V: the pack voltage the controller measures; limits false: a vehicle whose
-  // pack never limits it (the reference the lost time is measured against).
-  VehiclePlan plan(double dt_s, double pack_V, double array_W, bool limits) const;
+  // pack: the pack's EMF and resistance at the tick's start, on which the controller's
+  // current limit settles; limits false: a vehicle whose pack never limits it (the
+  // reference the lost time is measured against).
+  VehiclePlan plan(double dt_s, const PackSource& pack, double array_W, bool limits) const;
   // Moves the vehicle over dt with the pack power that flowed (average, W); returns the
   // plan's limit, or PackShortfall when the pack gave less than asked.
   DriveLimit advance(const VehiclePlan& plan, double delivered_W, double dt_s);

@@ -86,7 +86,7 @@ TEST(Vehicle, AcceleratesAtItsBoundThenCruisesAtTheTarget) {
   Vehicle v(car(), flat(20.0), d);
   const double dt = 0.01;
   for (int k = 0; k < 500; ++k) {  // 5 s at 1 m/s² (v < 18 m/s: the bound holds)
-    const VehiclePlan p = v.plan(dt, 50.0, 0.0, true);
+    const VehiclePlan p = v.plan(dt, {50.0, 0.0}, 0.0, true);
     v.advance(p, p.net_W, dt);
   }
   EXPECT_NEAR(v.speed_m_per_s(), 5.0, 1e-9);
@@ -99,7 +99,7 @@ TEST(Vehicle, CruisePackPowerIsTheRoadLoadOverEfficiencyPlusAux) {
   Vehicle v(p, flat(10.0, 5000.0), DriverParams{});
   VehiclePlan pl;
   for (int k = 0; k < 6000; ++k) {  // 60 s: settled at 10 m/s
-    pl = v.plan(0.01, 50.0, 0.0, true);
+    pl = v.plan(0.01, {50.0, 0.0}, 0.0, true);
     v.advance(pl, pl.net_W, 0.01);
   }
   EXPECT_NEAR(v.speed_m_per_s(), 10.0, 1e-6);
@@ -117,7 +117,7 @@ TEST(Vehicle, PowerCapGivesTheKineticEnergyOfItsWork) {
   d.response_s = 0.01;  // wants 100 m/s² from the first tick: the cap binds throughout
   Vehicle v(p, flat(50.0, 1e5), d);
   for (int k = 0; k < 1000; ++k) {  // 10 s
-    const VehiclePlan pl = v.plan(0.01, 50.0, 0.0, true);
+    const VehiclePlan pl = v.plan(0.01, {50.0, 0.0}, 0.0, true);
     ASSERT_EQ(pl.limit, DriveLimit::DriverCap);
     v.advance(pl, pl.net_W, 0.01);
   }
@@ -131,23 +131,23 @@ TEST(Vehicle, ControllerLimitsThePackCurrentAndAShortfallSlowsIt) {
   Vehicle v(p, flat(20.0), DriverParams{});
   VehiclePlan pl;
   for (int k = 0; k < 500; ++k) {  // 5 s at 1 m/s² on a pack without limits: 5 m/s, ~730 W
-    pl = v.plan(0.01, 48.0, 0.0, false);
+    pl = v.plan(0.01, {48.0, 0.0}, 0.0, false);
     v.advance(pl, pl.net_W, 0.01);
   }
   // At 48 V the pack may give 480 W: 460 W to the drive, 20 W to the aux.
-  pl = v.plan(0.01, 48.0, 0.0, true);
+  pl = v.plan(0.01, {48.0, 0.0}, 0.0, true);
   EXPECT_EQ(pl.limit, DriveLimit::ControllerCurrent);
   EXPECT_NEAR(pl.net_W, 480.0, 1e-9);
   // The reference vehicle is not limited by the pack.
-  EXPECT_EQ(v.plan(0.01, 48.0, 0.0, false).limit, DriveLimit::None);
+  EXPECT_EQ(v.plan(0.01, {48.0, 0.0}, 0.0, false).limit, DriveLimit::None);
   // Cruising at 10 m/s, the pack gives nothing: the vehicle coasts at -F/m.
   Vehicle c(car(), flat(10.0), DriverParams{});
   for (int k = 0; k < 3000; ++k) {
-    pl = c.plan(0.01, 50.0, 0.0, true);
+    pl = c.plan(0.01, {50.0, 0.0}, 0.0, true);
     c.advance(pl, pl.net_W, 0.01);
   }
   const double v0 = c.speed_m_per_s();
-  pl = c.plan(0.01, 50.0, 0.0, true);
+  pl = c.plan(0.01, {50.0, 0.0}, 0.0, true);
   EXPECT_EQ(c.advance(pl, 0.0, 0.01), DriveLimit::PackShortfall);
   EXPECT_NEAR((c.speed_m_per_s() - v0) / 0.01, -resistanceForce_N(car(), v0, 0.0) / 100.0, 1e-9);
 }
@@ -206,7 +206,7 @@ TEST(Vehicle, StopsAtTheLineWaitsAndSetsOff) {
       arrivedAt_m = v.distance_m();
     }
     if (e == StopEvent::Departed) departed = t;
-    const VehiclePlan pl = v.plan(dt, 50.0, 0.0, true);
+    const VehiclePlan pl = v.plan(dt, {50.0, 0.0}, 0.0, true);
     if (v.parked()) EXPECT_NEAR(pl.net_W, 12.0, 1e-12);
     if (v.distance_m() > 1500.0) peakBrake = std::max(peakBrake, -pl.accel_m_per_s2);
     v.advance(pl, pl.net_W, dt);
@@ -217,7 +217,7 @@ TEST(Vehicle, StopsAtTheLineWaitsAndSetsOff) {
   EXPECT_NEAR(departed - arrived, 60.0, dt + 1e-9);
   // Back to the target afterwards.
   for (int k = 0; k < 600; ++k) {
-    const VehiclePlan pl = v.plan(dt, 50.0, 0.0, true);
+    const VehiclePlan pl = v.plan(dt, {50.0, 0.0}, 0.0, true);
     v.advance(pl, pl.net_W, dt);
   }
   EXPECT_NEAR(v.speed_m_per_s(), 20.0, 1e-3);
@@ -234,7 +234,7 @@ TEST(Vehicle, AStageStartWaitsForItsTime) {
   double t = 0.0, departed = -1.0;
   for (int k = 0; k < 2000 && departed < 0.0; ++k, t += 0.5) {
     if (v.serveStops(t) == StopEvent::Departed) departed = t;
-    const VehiclePlan pl = v.plan(0.5, 50.0, 30.0, true);
+    const VehiclePlan pl = v.plan(0.5, {50.0, 0.0}, 30.0, true);
     if (v.parked()) {
       EXPECT_EQ(pl.net_W, -30.0);  // the array charges the pack; no aux between stages
       EXPECT_EQ(v.distance_m(), 0.0);
@@ -257,7 +257,7 @@ TEST(RoadLoad, AHeadwindRaisesTheAeroPowerByTheSquareOfTheAirSpeed) {
   Vehicle v(car(), r, DriverParams{});
   VehiclePlan pl;
   for (int k = 0; k < 6000; ++k) {
-    pl = v.plan(0.01, 50.0, 0.0, true);
+    pl = v.plan(0.01, {50.0, 0.0}, 0.0, true);
     v.advance(pl, pl.net_W, 0.01);
   }
   EXPECT_NEAR(v.speed_m_per_s(), 10.0, 1e-6);
@@ -308,10 +308,10 @@ TEST(DrivetrainMap, BilinearBetweenItsPointsAndHeldPastItsEdges) {
   EXPECT_NEAR(drivetrainEfficiency(p, 15.0, -f), eta, 1e-12);  // braking: the same map
   Vehicle v(p, flat(15.0, 100000.0), DriverParams{});
   for (int k = 0; k < 600; ++k) {
-    const VehiclePlan step = v.plan(0.1, 0.0, 0.0, false);
+    const VehiclePlan step = v.plan(0.1, {0.0, 0.0}, 0.0, false);
     v.advance(step, step.net_W, 0.1);
   }
   ASSERT_NEAR(v.speed_m_per_s(), 15.0, 1e-6);
-  const VehiclePlan pl = v.plan(0.1, 0.0, 0.0, false);
+  const VehiclePlan pl = v.plan(0.1, {0.0, 0.0}, 0.0, false);
   EXPECT_NEAR(pl.drive_W, f * 15.0 / eta, 1e-3 * f * 15.0 / eta);
 }
