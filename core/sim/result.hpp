@@ -116,7 +116,8 @@ struct Summary {
   std::string scenario;
   double duration_s = 0.0;
   double charge_delivered_Ah = 0.0;
-  double energy_delivered_Wh = 0.0;
+  double energy_delivered_Wh = 0.0;  // net: out at the terminals less in
+  double energy_in_Wh = 0.0;         // in at the terminals (regeneration, a charger), >= 0
   double heat_Wh = 0.0;
   double min_cell_V = 0.0;
   int min_cell = 0;  // 1-based

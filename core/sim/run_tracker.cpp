@@ -401,9 +401,18 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_, &tickExtremes);
   modelRange_.tick(temps.lo, temps.hi, cellTemp_C_, plant_.pack().parallel,
                    [this, t](const std::string& d) { event(t, "cell_model_range", d); });
+  takeEnergyIn(x[plant_.stateSize() + kQuadLoadEnergy_J]);
   first_ = false;
   lastT_ = t;
   lastX_ = x;
+}
+
+// The load energy of one tick flows one way while its current keeps its sign: exact for
+// a constant or stepped load; a ramp through 0 A inside a tick nets its two parts.
+void RunTracker::takeEnergyIn(double loadEnergy_J) {
+  const double step_J = loadEnergy_J - lastLoadEnergy_J_;
+  lastLoadEnergy_J_ = loadEnergy_J;
+  if (step_J < 0.0) energyIn_J_ -= step_J;
 }
 
 void RunTracker::hardwareChanged(double t) {
@@ -486,6 +495,8 @@ RunResult RunTracker::finish(const double* q, const std::string& endReason) {
   for (int i = 0; i < kQuadCount; ++i) r_.quad[i] = q[i];
   sm.charge_delivered_Ah = q[kQuadCharge_As] / 3600.0;
   sm.energy_delivered_Wh = q[kQuadLoadEnergy_J] / 3600.0;
+  takeEnergyIn(q[kQuadLoadEnergy_J]);  // the last tick's, if the run ended after it
+  sm.energy_in_Wh = energyIn_J_ / 3600.0;
   sm.heat_Wh = q[kQuadHeat_J] / 3600.0;
   sm.final_soc_min = INFINITY;
   sm.final_soc_max = -INFINITY;

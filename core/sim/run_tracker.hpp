@@ -61,6 +61,10 @@ class RunTracker {
   std::vector<double> limitSoc_;  // SOC of every cell when the first one hit its limit
   double lastT_ = 0.0;
   const double* lastX_ = nullptr;
+  // Energy into the pack at its terminals (regeneration, a charger): the load-energy
+  // quadrature's falls from tick to tick, and its value at the last tick.
+  double energyIn_J_ = 0.0, lastLoadEnergy_J_ = 0.0;
+  void takeEnergyIn(double loadEnergy_J);
   const HardwareSim* hw_ = nullptr;
   const VehicleSample* vehicle_ = nullptr;
   HardwareStatus lastHw_;

@@ -18,6 +18,7 @@ const std::vector<SummaryField>& summaryFields() {
       {"duration_s",              [](const S& m) { return m.duration_s; }, nullptr, 1},
       {"charge_delivered_Ah",     [](const S& m) { return m.charge_delivered_Ah; }, nullptr, 6},
       {"energy_delivered_Wh",     [](const S& m) { return m.energy_delivered_Wh; }, nullptr, 5},
+      {"energy_in_Wh",            [](const S& m) { return m.energy_in_Wh; }},
       {"heat_Wh",                 [](const S& m) { return m.heat_Wh; }, nullptr, 7},
       {"min_cell_V",              [](const S& m) { return m.min_cell_V; }, nullptr, 8},
       {"min_cell",                [](const S& m) -> long long { return m.min_cell; }, nullptr, 9},

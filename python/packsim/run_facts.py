@@ -245,7 +245,9 @@ def verdict(r: Result) -> Verdict:
 # (summary key, label, what it counts)
 _ENERGY = (
     ("energy_start_Wh", "in the cells at the start", "Σ over cells of capacity × ∫ OCV dSOC from SOC 0"),
-    ("energy_delivered_Wh", "delivered at the terminals", "∫ pack voltage × pack current dt"),
+    ("energy_delivered_Wh", "delivered at the terminals, net", "∫ pack voltage × pack current dt (out less in)"),
+    ("energy_in_Wh", "back in at the terminals",
+     "regeneration and charging: the ticks whose pack current flowed in, their ∫ V·I dt"),
     ("heat_Wh", "heat in the cells", "Joule heat dissipated inside the cells"),
     ("energy_left_Wh", "left in the cells", "Σ over cells of capacity × ∫ OCV dSOC from SOC 0, when the first "
                                             "cell reached its limit (or at the end)"),

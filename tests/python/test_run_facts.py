@@ -146,7 +146,7 @@ def test_latched_time_per_protection_comes_from_the_events():
 def test_energy_account_is_the_summary_and_only_what_it_holds():
     r = _result(summary={"energy_delivered_Wh": 12.5, "energy_stranded_Wh": 0.25})
     rows = run_facts.energy(r)
-    assert [(label, wh) for label, wh, _ in rows] == [("delivered at the terminals", 12.5),
+    assert [(label, wh) for label, wh, _ in rows] == [("delivered at the terminals, net", 12.5),
                                                       ("stranded by imbalance", 0.25)]
 
 
