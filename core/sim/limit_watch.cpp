@@ -31,16 +31,20 @@ LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(p
               {F::OverCurrentDischarge, true, "A", false},
               {F::OverCurrentCharge, true, "A", false}};
   const double latency_s = std::max(s.bms.readout.period_s, s.bms.tick_s) + s.bms.tick_s;
+  // Half the reading step (the firmware's whole mV of the part's code, its 0.1 C): nearer
+  // the limit than this a value may read as the limit itself.
+  const double voltStep = 0.5e-3 + 0.5 * s.hardware.cell_adc.lsb, tempStep = 0.05;
   for (const auto& r : rows) {
     const ProtectionConfig& p = s.bms.protection(r.id);
     if (!p.enabled) continue;
+    const double step = !r.perCell ? 0.0 : r.unit[0] == 'V' ? voltStep : tempStep;
     limits_.push_back({static_cast<int>(r.id), r.above ? "above" : "below", r.above, p.threshold, r.unit, r.perCell,
-                       p.delay_s + latency_s});
+                       p.delay_s + latency_s, step, r.above ? p.threshold + step : p.threshold - step});
     const bool charge = r.id == F::OverCurrentCharge;
     const int quantity = !r.perCell ? (charge ? kPackCharge : kPackDischarge)
                          : r.unit[0] == 'V' ? (r.above ? kVoltsHigh : kVoltsLow)
                                             : (r.above ? kTempHigh : kTempLow);
-    threshold_[quantity] = r.above ? p.threshold : -p.threshold;
+    threshold_[quantity] = r.above ? limits_.back().watchAt : -limits_.back().watchAt;
     faultBit_[quantity] = 1u << static_cast<int>(r.id);
     ep_.emplace_back(static_cast<size_t>(r.perCell ? cells : 1));
     open_.push_back(0);
@@ -67,8 +71,12 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   e.reported_s = unseen_s;
   const bool volts = l.unit[0] == 'V';
   const char* f = volts ? "%.4f" : "%.1f";
-  std::string d = std::string(bms::faultName(static_cast<bms::FaultId>(l.fault))) + ": " + subject(li, c) + " " + l.what +
-                  " the " + num(volts ? "%.3f" : "%g", l.threshold) + " " + l.unit + " limit from " + num("%.2f", from_s) + " s, ";
+  const std::string by = l.step <= 0.0 ? ""
+                         : volts       ? "more than " + num("%.2g", l.step * 1e3) + " mV "
+                                       : "more than " + num("%.2g", l.step) + " C ";
+  std::string d = std::string(bms::faultName(static_cast<bms::FaultId>(l.fault))) + ": " + subject(li, c) + " " + by +
+                  l.what + " the " + num(volts ? "%.3f" : "%g", l.threshold) + " " + l.unit + " limit from " +
+                  num("%.2f", from_s) + " s, ";
   if (seen)
     d += "unseen by the BMS for " + num("%.2f", unseen_s) + " s";
   else if (atEnd)
@@ -153,12 +161,12 @@ void LimitWatch::tickRows(double t, const std::vector<double>& cell_V, const std
     if (open_[li] == 0) {
       if (active) continue;
       bool past = false;
-      for (size_t c = 0; c < n; ++c) past |= l.above ? values[c] > l.threshold : values[c] < l.threshold;
+      for (size_t c = 0; c < n; ++c) past |= l.above ? values[c] > l.watchAt : values[c] < l.watchAt;
       if (!past) continue;
     }
     for (size_t c = 0; c < n; ++c) {
       const double v = values[c];
-      const bool past = l.above ? v > l.threshold : v < l.threshold;
+      const bool past = l.above ? v > l.watchAt : v < l.watchAt;
       Episode& e = ep_[li][c];
       if (e.from_s < 0.0) {
         if (past && !active) {

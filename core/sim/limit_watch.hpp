@@ -3,7 +3,9 @@
 // thresholds each tick. An episode starts when a cell passes a limit while its
 // protection row is not active in the BMS, and ends when the row becomes active (the
 // BMS saw it), when the cell comes back within the limit (never seen) or at the end of
-// the run. An episode the BMS is built to take -- no longer than the protection's own
+// the run. "Past" is past by more than half the BMS's reading step: the firmware reads
+// whole mV of a converter code (and 0.1 C), rounded, so a cell 0.2 mV under 2.500 V reads
+// 2500 mV -- at a 1 mV/s discharge that is a second no BMS of that resolution can see. An episode the BMS is built to take -- no longer than the protection's own
 // delay plus one read-out period and one tick (a 20 ms dip under a 500 ms debounce) --
 // is no miss and is only counted. Each (cell, limit)'s first longer episode and any
 // later longer one become a
@@ -70,6 +72,8 @@ class LimitWatch {
     const char* unit;
     bool perCell;       // false: the pack current (one "cell" slot)
     double allowed_s;   // delay + read-out period + tick: what the BMS takes by design
+    double step;        // the BMS's reading step's half: a value closer to the limit reads as the limit
+    double watchAt;     // threshold past by `step`: where an episode starts
   };
   struct Episode {
     double from_s = -1.0;  // < 0: none open

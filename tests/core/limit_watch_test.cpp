@@ -44,18 +44,52 @@ TEST(LimitWatch, EpisodesOpenCloseAndReportAgainstAHandWrittenTruth) {
   ASSERT_EQ(events.size(), 3u);
   const std::string uv = std::string(bms::faultName(bms::FaultId::CellUnderVoltage)) + ": ";
   EXPECT_DOUBLE_EQ(events[0].first, 5.0);
-  EXPECT_EQ(events[0].second, uv + "cell 2 below the 3.000 V limit from 1.00 s, back within it at 5.00 s, never seen "
+  EXPECT_EQ(events[0].second, uv + "cell 2 more than 0.55 mV below the 3.000 V limit from 1.00 s, back within it at 5.00 s, never seen "
                                    "by the BMS (4.00 s) (min 2.8000 V)");
   EXPECT_DOUBLE_EQ(events[1].first, 8.0);
-  EXPECT_EQ(events[1].second, uv + "cell 1 below the 3.000 V limit from 6.00 s, unseen by the BMS for 2.00 s (min 2.9000 V)");
+  EXPECT_EQ(events[1].second, uv + "cell 1 more than 0.55 mV below the 3.000 V limit from 6.00 s, unseen by the BMS for 2.00 "
+                                   "s (min 2.9000 V)");
   // Below the limit at 9 s too, but the row is active: the next episode opens at 10 s.
   // It is reported for being longer than the one reported before (2 s) for this cell.
   EXPECT_DOUBLE_EQ(events[2].first, 13.0);
-  EXPECT_EQ(events[2].second, uv + "cell 1 below the 3.000 V limit from 10.00 s, unseen by the BMS to the end of the "
-                                   "run (3.00 s) (min 2.9000 V)");
+  EXPECT_EQ(events[2].second, uv + "cell 1 more than 0.55 mV below the 3.000 V limit from 10.00 s, unseen by the BMS to "
+                                   "the end of the run (3.00 s) (min 2.9000 V)");
   EXPECT_EQ(w.shortExcursions(), 1);
   EXPECT_DOUBLE_EQ(w.longestUnseen_s(), 4.0);
   EXPECT_EQ(w.longestUnseen(), events[0].second);
+}
+
+// A value nearer the limit than half the BMS's reading step reads as the limit itself
+// (the firmware's whole mV, rounded, of a 100 uV code: 0.5 + 0.05 mV here; its 0.1 C):
+// a cell 0.5 mV under 3.000 V, or 0.04 C over 60 C, for 3 s is no episode; 0.6 mV under,
+// or 0.06 C over, is. At a slow discharge the truth spends seconds in that band (system
+// C's 0.2C bench discharge: 1 s of a 3 s 'unseen' that the BMS could not have read).
+TEST(LimitWatch, WithinHalfTheReadingStepOfTheLimitIsNoEpisode) {
+  const Scenario s = test::scenarioFromYaml(
+      test::simpleCellYaml(2) +
+      "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
+      "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
+      "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+  for (const bool beyond : {false, true}) {
+    LimitWatch w(s, 2, 1);
+    std::vector<std::pair<double, std::string>> events;
+    const LimitWatch::EventSink sink = [&](double t, const std::string& d) { events.emplace_back(t, d); };
+    for (int k = 0; k <= 40; ++k) {
+      std::vector<double> v = {3.7, 3.7}, temp = {25.0, 25.0};
+      if (k >= 10 && k < 40) {  // 1.0 s .. 4.0 s
+        v[0] = beyond ? 3.0 - 0.6e-3 : 3.0 - 0.5e-3;
+        temp[1] = beyond ? 60.06 : 60.04;
+      }
+      w.tick(k * 0.1, v, temp, 1.0, 0u, sink);
+    }
+    ASSERT_EQ(events.size(), beyond ? 2u : 0u) << beyond;
+    if (beyond) {
+      EXPECT_NE(events[0].second.find("cell 1 more than 0.55 mV below the 3.000 V limit from 1.00 s"), std::string::npos)
+          << events[0].second;
+      EXPECT_NE(events[1].second.find("cell 2 more than 0.05 C above the 60 C limit from 1.00 s"), std::string::npos)
+          << events[1].second;
+    }
+  }
 }
 
 // The scan for a value past a limit (taken as the values' extremes once a tick) skips a
@@ -79,8 +113,8 @@ TEST(LimitWatch, AValuePastTheLimitIsFoundBesideANaN) {
     }
     ASSERT_EQ(events.size(), 2u) << "NaN at cell " << nanAt + 1;
     EXPECT_DOUBLE_EQ(events[0].first, 3.0);
-    EXPECT_NE(events[0].second.find("cell 2 below the 3.000 V limit from 1.00 s"), std::string::npos) << events[0].second;
-    EXPECT_NE(events[1].second.find("cell 2 above the 60 C limit from 1.00 s"), std::string::npos) << events[1].second;
+    EXPECT_NE(events[0].second.find("cell 2 more than 0.55 mV below the 3.000 V limit from 1.00 s"), std::string::npos) << events[0].second;
+    EXPECT_NE(events[1].second.find("cell 2 more than 0.05 C above the 60 C limit from 1.00 s"), std::string::npos) << events[1].second;
   }
 }
 
