@@ -152,6 +152,36 @@ void balanceRange(const Config& cfg, const BalanceState& s, const Telemetry& tm,
   max_mV = averaging ? s.meanMax_mV : tm.maxCell_mV;
 }
 
+namespace {
+
+// The spread's hysteresis at a decision. At or below the stop delta no cell is above
+// min + stopDelta (chooseCells' floor): stopping there too keeps the two in step.
+// Stopping only below it left the policy active with nothing to choose at spread ==
+// stopDelta, reported "balanced", and started again at the next millivolt, far below
+// the start delta.
+void spreadHysteresis(const BalanceConfig& b, BalanceState& s, const Readings& r) {
+  const uint16_t spread = r.max_mV > r.min_mV ? static_cast<uint16_t>(r.max_mV - r.min_mV) : 0;
+  if (spread > b.startDelta_mV) s.active = true;
+  if (spread <= b.stopDelta_mV) s.active = false;
+}
+
+// A tick on which balancing is not allowed (not configured, or the core forbids it):
+// what the general path below does then, without its passes over a mask it has just
+// cleared (the usual tick of a pack that does not balance: some 30 instructions on a
+// host). The mask and the output are cleared, the spread's hysteresis and the decision
+// timer move as they would, the status is Disabled.
+void balanceStopped(const BalanceConfig& b, BalanceState& s, const Readings& r, bool due, uint32_t now_ms,
+                    uint32_t mask[kBalanceWords]) {
+  clearMask(s.mask);
+  clearMask(mask);
+  spreadHysteresis(b, s, r);
+  s.status = BalanceStatus::Disabled;
+  if (due) s.lastDecision_ms = now_ms;
+  s.decided = false;  // decide afresh once it may resume
+}
+
+}  // namespace
+
 void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool permitted, bool charging, bool fresh,
                  uint32_t now_ms, uint32_t mask[kBalanceWords], uint8_t& armCount, const uint16_t* packRange) {
   const BalanceConfig& b = cfg.balance;
@@ -170,18 +200,11 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
     r.max_mV = packRange[1] > r.max_mV ? packRange[1] : r.max_mV;
   }
   const bool due = (!averaging || s.haveMean) && (!s.decided || now_ms - s.lastDecision_ms >= b.period_ms);
-  if (!allowed || s.boardPaused || due) {
+  if (!allowed) return balanceStopped(b, s, r, due, now_ms, mask);
+  if (s.boardPaused || due) {
     clearMask(s.mask);
-    const uint16_t spread = r.max_mV > r.min_mV ? static_cast<uint16_t>(r.max_mV - r.min_mV) : 0;
-    if (spread > b.startDelta_mV) s.active = true;
-    // At or below the stop delta no cell is above min + stopDelta (chooseCells' floor):
-    // stopping there too keeps the two in step. Stopping only below it left the policy
-    // active with nothing to choose at spread == stopDelta, reported "balanced", and
-    // started again at the next millivolt, far below the start delta.
-    if (spread <= b.stopDelta_mV) s.active = false;
-    if (!allowed) {
-      s.status = BalanceStatus::Disabled;
-    } else if (!conditionHolds(b, s, charging, now_ms)) {
+    spreadHysteresis(b, s, r);
+    if (!conditionHolds(b, s, charging, now_ms)) {
       s.status = BalanceStatus::NotAllowed;
     } else if (s.boardPaused) {
       s.status = BalanceStatus::BoardHot;
@@ -198,7 +221,7 @@ void balanceStep(const Config& cfg, BalanceState& s, const Telemetry& tm, bool p
       s.decided = true;
       s.lastDecision_ms = now_ms;
     }
-    if (!allowed || s.boardPaused) s.decided = false;  // decide afresh once it may resume
+    if (s.boardPaused) s.decided = false;  // decide afresh once it may resume
   }
 
   // A board that turned hot stops its own cells at once (the others keep their decision).

@@ -286,12 +286,19 @@ float r0Slope_mOhm(const SocConfig& c, float soc) {
   return c.ocvPoints < 2 ? 0.0f : tableSlope(c, c.ekf.r0_mOhm, soc);
 }
 
+// (The buffer tested once, not per group, and two groups a pass, the sum still added in
+// group order: about 3 instructions a group a tick less on a host.)
 float ekfPackSoc(const EkfState& s, uint16_t groups, uint16_t groupPermille[]) {
   float sum = 0.0f;
-  for (uint16_t g = 0; g < groups; ++g) {
-    const float soc = s.soc[g];
-    sum += soc;
-    if (groupPermille != nullptr) groupPermille[g] = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
+  if (groupPermille == nullptr) {
+    for (uint16_t g = 0; g < groups; ++g) sum += s.soc[g];
+  } else {
+#pragma GCC unroll 2
+    for (uint16_t g = 0; g < groups; ++g) {
+      const float soc = s.soc[g];
+      sum += soc;
+      groupPermille[g] = static_cast<uint16_t>(soc * 1000.0f + 0.5f);
+    }
   }
   if (!s.started || groups == 0) return 0.0f;
   return clamp01(sum / static_cast<float>(groups));

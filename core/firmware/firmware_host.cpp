@@ -22,10 +22,12 @@ constexpr size_t kTelemetryKeep = 256;    // bytes kept of the last telemetry fr
 
 FirmwareHost& host(psfw_board* b) { return *reinterpret_cast<FirmwareHost*>(b); }
 
-// Whether the byte ranges [a, a + an) and [b, b + bn) share a byte.
-bool overlaps(const uint8_t* a, size_t an, const uint8_t* b, size_t bn) {
+// Whether the byte ranges [a, a + an) and [b, b + bn) may share a byte: true when they
+// do; also when b lies in [a, a + an) with bn = 0 (nothing to share, a copy that changes
+// nothing). Two unsigned compares, no tests of the lengths (at every bus transfer).
+bool mayOverlap(const uint8_t* a, size_t an, const uint8_t* b, size_t bn) {
   const auto pa = reinterpret_cast<uintptr_t>(a), pb = reinterpret_cast<uintptr_t>(b);
-  return an > 0 && bn > 0 && pa < pb + bn && pb < pa + an;
+  return pb - pa < an || pa - pb < bn;
 }
 
 // The port pins by number (psfw_gpio_in / psfw_gpio_out): an indexed field instead of
@@ -535,12 +537,14 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
     breakContract("bus_transfer on bus %u, this board has %zu", bus, board_.buses.size());
     return PSFW_BUS_ERROR;
   }
-  if (txLen > PSFW_BUS_MAX_FRAME || rxLen > PSFW_BUS_MAX_FRAME) {
+  // (The two lengths' test as one, the two buffers' without short-circuits: some 4
+  // instructions less a transfer on a host than the tests one by one.)
+  if (std::max(txLen, rxLen) > PSFW_BUS_MAX_FRAME) {
     breakContract("bus_transfer of %u bytes out, %u in: more than PSFW_BUS_MAX_FRAME (%u)", txLen, rxLen,
                   PSFW_BUS_MAX_FRAME);
     return PSFW_BUS_ERROR;
   }
-  if ((txLen > 0 && tx == nullptr) || (rxLen > 0 && rx == nullptr)) {
+  if (static_cast<int>(txLen > 0 && tx == nullptr) | static_cast<int>(rxLen > 0 && rx == nullptr)) {
     breakContract("bus_transfer with a null buffer and a non-zero length");
     return PSFW_BUS_ERROR;
   }
@@ -556,7 +560,7 @@ int32_t FirmwareHost::busTransfer(uint8_t bus, const uint8_t* tx, uint16_t txLen
   // length bounded by the buffers, slow to start for a frame of a few bytes)
   uint8_t txCopy[PSFW_BUS_MAX_FRAME];
   const uint8_t* txIn = tx;
-  if (guard_ || txLen == 0 || overlaps(tx, txLen, rx, rxLen)) {
+  if (guard_ || txLen == 0 || mayOverlap(tx, txLen, rx, rxLen)) {
     if (txLen > 0) copyBytes(txCopy, tx, txLen);
     txIn = txCopy;
   }
