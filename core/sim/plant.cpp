@@ -259,16 +259,25 @@ struct Plant::CellFaults {
 
 namespace {
 
+// A cell's EMF behind R0 and its R0, as cellElectrical stored them.
+struct CellEmf {
+  double emf_V, r0_ohm;
+};
+
 // Cell ci at the state xc, temperature t_C and its group's current i_A (R0's sign): OCV,
-// R0 and the EMF behind R0 into sig.
-[[gnu::always_inline]] inline void cellElectrical(const FlatCell& fc, const CellParams& p, size_t ci, const double* xc,
-                                                  double t_C, double i_A, PlantSignals& sig) {
+// R0 and the EMF behind R0 into sig; returns the last two (a one-cell group's voltage
+// from them, not from the signals just stored).
+[[gnu::always_inline]] inline CellEmf cellElectrical(const FlatCell& fc, const CellParams& p, size_t ci,
+                                                     const double* xc, double t_C, double i_A, PlantSignals& sig) {
   CellHints& h = sig.cell_hints[ci];
   const double soc = xc[CellLayout::soc];
   const double ocv = fc.ocv_V(p, soc, t_C, h);
   sig.cell_ocv_V[ci] = ocv;
-  sig.cell_r0_ohm[ci] = fc.r0_ohm(soc, t_C, i_A, h);
-  sig.cell_emf_V[ci] = fc.emf_V(xc, ocv, i_A);
+  const double r0 = fc.r0_ohm(soc, t_C, i_A, h);
+  sig.cell_r0_ohm[ci] = r0;
+  const double emf = fc.emf_V(xc, ocv, i_A);
+  sig.cell_emf_V[ci] = emf;
+  return {emf, r0};
 }
 
 // Cell ci's heat at its current (split already): Joule, reversible and hysteresis heat,
@@ -310,8 +319,9 @@ template <bool kHeat>
     const CellParams& p = pack_.cells[ci];
     const double* xc = cellStates(x, g);
     const double t_C = fc.temp_C(xc, slot);
-    cellElectrical(fc, p, ci, xc, t_C, i_A, sig);
-    const double v = pack_.splitGroup(g, i_A, sig.cell_emf_V.data(), sig.cell_r0_ohm.data(), sig.cell_current_A.data());
+    const CellEmf e = cellElectrical(fc, p, ci, xc, t_C, i_A, sig);
+    sig.cell_current_A[ci] = i_A;  // Pack::splitGroup's one-cell case, on the values at hand
+    const double v = Pack::singleCellVoltage(i_A, e.emf_V, e.r0_ohm);
     if constexpr (kHeat) cellHeat(fc, p, ci, xc, t_C, f, sig);
     sig.node_temp_C[ci] = xc[slot];
     return v;
