@@ -192,8 +192,10 @@ class Plant {
   // temperatures into sig (curves once per cell); returns the group voltage.
   template <bool kHeat>
   double evaluateGroup(int g, const double* x, double i_A, const CellFaults& f, PlantSignals& sig) const;
+  // Always inlined (plant.cpp; said here, where GCC takes it for every call).
   template <bool kHeat>
-  void evaluateAtCurrent(double t, const double* x, const PlantInputs& in, PlantSignals& sig) const;
+  [[gnu::always_inline]] void evaluateAtCurrent(double t, const double* x, const PlantInputs& in,
+                                                PlantSignals& sig) const;
   void rates(const double* x, double* dx, PlantSignals& sig) const;  // from evaluated signals
 
   Pack pack_;

@@ -158,6 +158,13 @@ bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardwa
   return anyRowChanged(out, last, hardware, balancing, std::make_index_sequence<kOutputEdgeCount>{});
 }
 
+// The index of the first of the values equal to v (v is one of them).
+int firstCellAt(const double* values, double v) {
+  int c = 0;
+  while (!(values[c] == v)) ++c;
+  return c;
+}
+
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
@@ -176,8 +183,12 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   r_.summary.soc_estimator = settingChoice("soc.estimator", s.bms.image);
   for (const auto& cell : plant.pack().cells) r_.summary.capacity_true_Ah += cell.capacity_Ah;
   r_.summary.capacity_true_Ah /= plant.pack().series;
-  for (const auto& cell : plant.pack().cells) cellMin_V_.push_back(cell.v_min_V);
+  for (const auto& cell : plant.pack().cells) {
+    cellMin_V_.push_back(cell.v_min_V);
+    if (cell.v_min_V > highestMin_V_) highestMin_V_ = cell.v_min_V;  // (a NaN limit, which no voltage reaches, left out)
+  }
   const std::vector<double> state(static_cast<size_t>(plant.stateSize()));  // where cellStates points, as an index
+  cellTemp_C_.assign(static_cast<size_t>(plant.pack().cellCount()), 0.0);  // filled by each tick
   for (int c = 0; c < plant.pack().cellCount(); ++c) {
     cellTempIndex_.push_back(static_cast<size_t>(plant.tempIndex(c)));
     cellSocIndex_.push_back(static_cast<size_t>(&plant.cellStates(state.data(), c)[CellLayout::soc] - state.data()));
@@ -320,52 +331,48 @@ void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
 
 void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const bms::Outputs& out) {
   Summary& sm = r_.summary;
-  const int cells = plant_.pack().cellCount();
-  cellTemp_C_.resize(static_cast<size_t>(cells));
-  // The extremes kept in locals over the cells (noteLimit and noteSocRange neither read
-  // nor write them, nor the index vectors) and stored once. The same pass takes the
-  // tick's extremes of the voltages and temperatures for limits_ (which then reads
-  // neither again), in locals too: the calls in the loop keep anything whose address
-  // escapes in memory.
+  const size_t n = cellTemp_C_.size();  // the cells
+  // One pass over the cells takes the tick's extremes of the voltages and temperatures
+  // (for limits_, which then reads neither again, and for the summary below) and looks at
+  // each SOC; the summary's lowest cell, hottest cell and first cell at its limit follow
+  // from those extremes, with a second look at the cells only on the rare tick one of
+  // them moves (the per-cell tests of each, some 15 instructions a cell, every tick).
   const double* cell_V = sig.cell_voltage_V.data();
   double* cell_C = cellTemp_C_.data();
   const size_t *tempIndex = cellTempIndex_.data(), *socIndex = cellSocIndex_.data();
-  const double* cellMin_V = cellMin_V_.data();
-  double minV = sm.min_cell_V, minV_s = sm.min_cell_time_s, maxT = sm.max_temp_C, maxT_s = sm.hottest_time_s;
-  int minCell = sm.min_cell, hottest = sm.hottest_cell;
-  bool limitReached = sm.limit_reached;
   LimitWatch::Extremes volts, temps;
-  for (int c = 0; c < cells; ++c) {
-    const size_t ci = static_cast<size_t>(c);
-    const double v = cell_V[ci];
+  for (size_t ci = 0; ci < n; ++ci) {
     const double T = x[tempIndex[ci]];
     cell_C[ci] = T;
-    volts.take(v);
+    volts.take(cell_V[ci]);
     temps.take(T);
-    if (v < minV) {
-      minV = v;
-      minCell = c + 1;
-      minV_s = t;
-    }
-    if (!limitReached && v <= cellMin_V[ci]) {
-      noteLimit(t, x, c);
-      limitReached = true;  // as noteLimit set it
-    }
     const double soc = x[socIndex[ci]];
-    if ((soc < 0.0) | (soc > 1.0)) noteSocRange(t, x, c);  // one branch for the usual in-range SOC
-    if (T > maxT) {
-      maxT = T;
-      hottest = c + 1;
-      maxT_s = t;
-    }
+    if ((soc < 0.0) | (soc > 1.0)) noteSocRange(t, x, static_cast<int>(ci));  // one branch for the usual in-range SOC
+  }
+  // A new lowest (hottest) is the first cell at the tick's lowest (highest) value: the
+  // cell a scan in order with a strict comparison keeps (Extremes skips a NaN, as that
+  // comparison does).
+  if (volts.lo < sm.min_cell_V) {
+    sm.min_cell_V = volts.lo;
+    sm.min_cell = firstCellAt(cell_V, volts.lo) + 1;
+    sm.min_cell_time_s = t;
+  }
+  if (temps.hi > sm.max_temp_C) {
+    sm.max_temp_C = temps.hi;
+    sm.hottest_cell = firstCellAt(cell_C, temps.hi) + 1;
+    sm.hottest_time_s = t;
+  }
+  // The first cell at or below its v_min_V, once: none can be while the tick's lowest
+  // voltage is above the highest v_min_V.
+  if (!sm.limit_reached && volts.lo <= highestMin_V_) {
+    const double* cellMin_V = cellMin_V_.data();
+    for (size_t ci = 0; ci < n; ++ci)
+      if (cell_V[ci] <= cellMin_V[ci]) {
+        noteLimit(t, x, static_cast<int>(ci));
+        break;
+      }
   }
   const LimitWatch::CellExtremes tickExtremes{volts, temps};
-  sm.min_cell_V = minV;
-  sm.min_cell = minCell;
-  sm.min_cell_time_s = minV_s;
-  sm.max_temp_C = maxT;
-  sm.hottest_cell = hottest;
-  sm.hottest_time_s = maxT_s;
 
   const bool outputsMoved = first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing);
   if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command

@@ -91,6 +91,7 @@ class RunTracker {
   std::string misuseDetail(int board, const RegisterMisuse& m) const;
   std::vector<double> cellTemp_C_;
   std::vector<double> cellMin_V_;  // each cell's v_min_V, in a row for the per-tick scan
+  double highestMin_V_ = -INFINITY;  // the highest of them
   // Each cell's temperature and SOC in the state (Plant::tempIndex, cellStates), likewise
   std::vector<size_t> cellTempIndex_, cellSocIndex_;
 };

@@ -44,6 +44,10 @@ struct Pack {
     const bool uses = ci < uses_temp.size() ? uses_temp[ci] != 0 : cells[ci].usesTemperature();
     return uses ? x[layout.size()] : kReferenceTemp_C;
   }
+  // A group of one cell (parallel = 1): the cell carries the group's current i_A, and
+  // its terminal voltage is the group's (splitGroup's case, for a caller that has the
+  // cell's EMF and R0 at hand).
+  static double singleCellVoltage(double i_A, double emf_V, double r0_ohm) { return emf_V - i_A * r0_ohm; }
   // Thevenin equivalent of group g: EMF (V) and resistance (Ω); i_sign_A < 0 selects
   // the charge R0.
   template <typename CellStates>
@@ -56,7 +60,7 @@ struct Pack {
     const int first = g * parallel;
     if (parallel == 1) {  // the cell carries the group's current
       i_cell[first] = i_group_A;
-      return emf_cell[first] - i_group_A * r0_cell[first];
+      return singleCellVoltage(i_group_A, emf_cell[first], r0_cell[first]);
     }
     double sum_e_over_r = 0.0, sum_g = 0.0;
     for (int i = first; i < first + parallel; ++i) {

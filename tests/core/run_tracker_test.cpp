@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <stdexcept>
@@ -77,6 +78,54 @@ TEST(RunTracker, CheckFiniteLooksPastAnOverflowingSumAndFindsEveryPosition) {
 
 // SocErrorTracker keeps its max by a compare instead of std::fmax: the same bits as
 // fmax over errors of every kind (signed zeros, NaN estimates, huge and tiny ones).
+// RunTracker::tick's summary extremes (run_tracker.cpp) follow from each tick's lowest
+// voltage and highest temperature: the same cells, values and times as the plain scan of
+// the cells in order with strict comparisons, ties included (each tick's values drawn
+// from two levels that step down, or up, every 20 ticks: several cells reach a new
+// extreme in the same tick), and the same first cell at or below its v_min.
+TEST(RunTracker, SummaryExtremesMatchTheInOrderScan) {
+  constexpr int kCells = 4;
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(kCells) + test::kSimpleLoadYaml);
+  const Plant plant(s);
+  const bms::Config cfg = makeBmsConfig(s);
+  RunTracker tracker(s, plant, cfg);
+  PlantSignals sig = plant.makeSignals();
+  std::vector<double> x(static_cast<size_t>(plant.stateSize() + kQuadCount), 0.0);
+  plant.initialState(x.data());
+  const bms::Outputs out{};
+  const double vMin = plant.pack().cells[0].v_min_V;
+  double minV = INFINITY, minV_s = 0.0, maxT = -INFINITY, maxT_s = 0.0, limit_s = 0.0;
+  int minCell = 0, hottest = 0, limitCell = 0;
+  uint32_t draw = 7;
+  for (int k = 0; k < 300; ++k) {
+    const double t = 0.01 * k;
+    for (int c = 0; c < kCells; ++c) {
+      draw = draw * 1664525u + 1013904223u;
+      const double step = static_cast<double>(k / 20);
+      const double v = vMin + 0.3 - 0.05 * step + ((draw >> 16) & 1 ? 0.05 : 0.0);
+      const double T = 24.0 + 0.5 * step - ((draw >> 8) & 1 ? 0.5 : 0.0);
+      sig.cell_voltage_V[static_cast<size_t>(c)] = v;
+      x[static_cast<size_t>(plant.tempIndex(c))] = T;
+      if (v < minV) minV = v, minCell = c + 1, minV_s = t;
+      if (T > maxT) maxT = T, hottest = c + 1, maxT_s = t;
+      if (limitCell == 0 && v <= plant.pack().cells[static_cast<size_t>(c)].v_min_V) limitCell = c + 1, limit_s = t;
+    }
+    tracker.tick(t, x.data(), sig, out);
+  }
+  ASSERT_NE(limitCell, 0);
+  const RunResult r = tracker.finish(x.data() + plant.stateSize(), "test");
+  const Summary& sm = r.summary;
+  EXPECT_EQ(sm.min_cell_V, minV);
+  EXPECT_EQ(sm.min_cell, minCell);
+  EXPECT_EQ(sm.min_cell_time_s, minV_s);
+  EXPECT_EQ(sm.max_temp_C, maxT);
+  EXPECT_EQ(sm.hottest_cell, hottest);
+  EXPECT_EQ(sm.hottest_time_s, maxT_s);
+  EXPECT_TRUE(sm.limit_reached);
+  EXPECT_EQ(sm.limit_cell, limitCell);
+  EXPECT_EQ(sm.limit_time_s, limit_s);
+}
+
 TEST(SocErrorTracker, MaxIsFmaxOfTheAbsoluteErrors) {
   const double nan = std::nan(""), inf = std::numeric_limits<double>::infinity();
   const std::vector<double> estimates = {0.5, -0.0, 0.0, nan, 0.25, 1e-310, -1e300, 0.75, nan, 0.5, inf, 0.1};
