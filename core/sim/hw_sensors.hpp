@@ -68,6 +68,7 @@ class HwSensors {
   std::vector<MonitorBoard> boards_;
   std::vector<std::unique_ptr<MonitorChainPath>> chains_;  // per board
   std::vector<MonitorTruth> truths_;                       // per board, filled each tick
+  std::vector<std::vector<ChannelError>> channelsGiven_;    // per board: the channel errors its truth holds
   std::vector<size_t> thermNode_;  // per thermistor channel: the thermal node it reads
   AdcChannel currentAdc_;          // the current sense's converter (hardware.current_sense), built once
   std::vector<BusTraceRow> busTrace_;  // the chains' TracedChain write here (output.bus_trace)

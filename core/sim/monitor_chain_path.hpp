@@ -65,6 +65,9 @@ class MonitorChainPath {
     if (!(commGiven_[static_cast<size_t>(d)] == f)) handOnCommFault(c, d, f);
   }
   void handOnCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f);
+  // The last update handed every device its injected channel errors (the truth's cells
+  // reached them): a truth whose errors are unchanged since then needs none handed on.
+  bool errorsGiven_ = false;
 };
 
 }  // namespace packsim
