@@ -13,6 +13,7 @@ MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint
     : cfg_(cfg), cells_(cellCount) {
   bus_.chain = monitorPart(cfg.model).make_chain(cfg, cellCount, seed);  // its register-level model
   part_ = bus_.chain.get();
+  fetDrivers_ = part_->hasFetDrivers();
   int first = 0;
   for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
     firstCell_.push_back(first);
