@@ -18,7 +18,26 @@ HwSwitchgear::HwSwitchgear(const HardwareConfig& hw) : hw_(hw) {
     }
 }
 
+unsigned HwSwitchgear::gatesKey(const SwitchDrive& d, bool welded) const {
+  return static_cast<unsigned>(d.relayPin) | static_cast<unsigned>(d.prechargePin) << 1 |
+         static_cast<unsigned>(d.dischargePin) << 2 | static_cast<unsigned>(d.chargePin) << 3 |
+         static_cast<unsigned>(d.afeDischarge) << 4 | static_cast<unsigned>(d.afeCharge) << 5 |
+         static_cast<unsigned>(d.faultLine) << 6 | static_cast<unsigned>(welded) << 7 |
+         static_cast<unsigned>(fuse_.blown) << 8;
+}
+
 SwitchState HwSwitchgear::gates(double t, const SwitchDrive& d, const HardwareFaults& f) {
+  const unsigned key = gatesKey(d, f.relay_welded);
+  if (gatesKept_ && key == gatesKey_) return gates_;
+  gates_ = gatesAnew(t, d, f);
+  gatesKey_ = key;
+  // Both relays where their coils take them: the same lines step neither (relayStep's
+  // settled test), and the gates and paths follow from the lines and the fuse alone.
+  gatesKept_ = relay_.closed == relay_.coil && precharge_.closed == precharge_.coil;
+  return gates_;
+}
+
+SwitchState HwSwitchgear::gatesAnew(double t, const SwitchDrive& d, const HardwareFaults& f) {
   // The monitor FAULT line sits in series with the relay drive: it opens the relay
   // whatever the MCU commands.
   const bool drive = !(hw_.fault_line_opens_relay && d.faultLine);

@@ -61,7 +61,17 @@ class HwSwitchgear {
   double bus_V() const { return bus_V_; }
 
  private:
+  // The relays stepped to t and the FET gates and paths as the lines set them. Every tick
+  // and pin change, and mostly with the lines as before and the relays at rest: then what
+  // it gave last time (gatesAnew would change nothing and give the same), no relay step,
+  // gate or path decided again.
   SwitchState gates(double t, const SwitchDrive& d, const HardwareFaults& f);
+  SwitchState gatesAnew(double t, const SwitchDrive& d, const HardwareFaults& f);
+  // The lines in, the weld fault and the fuse: all gatesAnew reads besides the relays.
+  unsigned gatesKey(const SwitchDrive& d, bool welded) const;
+  SwitchState gates_;          // its last answer, for gatesKey_
+  unsigned gatesKey_ = 0;
+  bool gatesKept_ = false;     // the relays at rest since: gates_ stands for that key
 
   const HardwareConfig& hw_;
   // Whether the FET pair passes discharge / charge current, [discharge gate on][charge
