@@ -85,11 +85,8 @@ class ThermistorCodeCache {
   }
 
  private:
-  int64_t convert(const Thermistor& ntc, double temp_C, Rng& noise) {
-    const int64_t c = ntc.codeOf(ideal(ntc, temp_C), noise);
-    if (ntc.noise_codes_rms == 0.0) range_ = ThermistorCodeRange::around(ntc, temp_C, c);  // (noise: no draw skipped)
-    return c;
-  }
+  // Out of line: the conversion and the new range, seldom; code() and its callers inline.
+  int64_t convert(const Thermistor& ntc, double temp_C, Rng& noise);
 
   double temp_C_ = std::numeric_limits<double>::quiet_NaN();  // NaN: nothing kept
   double code_ = 0.0;
