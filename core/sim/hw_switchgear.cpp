@@ -1,7 +1,9 @@
 #include "core/sim/hw_switchgear.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "core/sim/hw_status.hpp"
 #include "core/sim/same_instant.hpp"
@@ -18,19 +20,17 @@ HwSwitchgear::HwSwitchgear(const HardwareConfig& hw) : hw_(hw) {
     }
 }
 
-unsigned HwSwitchgear::gatesKey(const SwitchDrive& d, bool welded) const {
-  return static_cast<unsigned>(d.relayPin) | static_cast<unsigned>(d.prechargePin) << 1 |
-         static_cast<unsigned>(d.dischargePin) << 2 | static_cast<unsigned>(d.chargePin) << 3 |
-         static_cast<unsigned>(d.afeDischarge) << 4 | static_cast<unsigned>(d.afeCharge) << 5 |
-         static_cast<unsigned>(d.faultLine) << 6 | static_cast<unsigned>(welded) << 7 |
-         static_cast<unsigned>(fuse_.blown) << 8;
-}
+// The lines compared as their bytes (one or two loads, not a key built bit by bit).
+static_assert(std::has_unique_object_representations_v<SwitchDrive>, "SwitchDrive's bytes are its lines");
 
 SwitchState HwSwitchgear::gates(double t, const SwitchDrive& d, const HardwareFaults& f) {
-  const unsigned key = gatesKey(d, f.relay_welded);
-  if (gatesKept_ && key == gatesKey_) return gates_;
+  const bool same = std::memcmp(&d, &gatesDrive_, sizeof d) == 0 && f.relay_welded == gatesWelded_ &&
+                    fuse_.blown == gatesBlown_;
+  if (gatesKept_ && same) return gates_;
   gates_ = gatesAnew(t, d, f);
-  gatesKey_ = key;
+  gatesDrive_ = d;
+  gatesWelded_ = f.relay_welded;
+  gatesBlown_ = fuse_.blown;
   // Both relays where their coils take them: the same lines step neither (relayStep's
   // settled test), and the gates and paths follow from the lines and the fuse alone.
   gatesKept_ = relay_.closed == relay_.coil && precharge_.closed == precharge_.coil;

@@ -67,11 +67,12 @@ class HwSwitchgear {
   // gate or path decided again.
   SwitchState gates(double t, const SwitchDrive& d, const HardwareFaults& f);
   SwitchState gatesAnew(double t, const SwitchDrive& d, const HardwareFaults& f);
-  // The lines in, the weld fault and the fuse: all gatesAnew reads besides the relays.
-  unsigned gatesKey(const SwitchDrive& d, bool welded) const;
-  SwitchState gates_;          // its last answer, for gatesKey_
-  unsigned gatesKey_ = 0;
-  bool gatesKept_ = false;     // the relays at rest since: gates_ stands for that key
+  // Its last answer, and what gatesAnew read for it besides the relays: the lines in, the
+  // weld fault and the fuse.
+  SwitchState gates_;
+  SwitchDrive gatesDrive_;
+  bool gatesWelded_ = false, gatesBlown_ = false;
+  bool gatesKept_ = false;     // the relays at rest since: gates_ stands for those
 
   const HardwareConfig& hw_;
   // Whether the FET pair passes discharge / charge current, [discharge gate on][charge
