@@ -55,6 +55,7 @@ HwSensors::HwSensors(const Scenario& s, const Plant& plant)
     channelsGiven_.emplace_back();
     if (s.output.bus_trace) chains_.back()->traceInto(busTrace_, b.index);
   }
+  mcuTherm_.resize(boards_.front().mcuChannels.size());
   // The node each thermistor channel reads: its group's first cell, the FETs' node, its
   // balancing board's node.
   for (const ThermistorChannel& ch : s.hardware.thermistors.channels) {
@@ -161,7 +162,7 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     const ThermistorFault sf = thermFault(k);
     const int64_t code = sf == ThermistorFault::Open    ? hw.thermistor.fullScaleCode()
                          : sf == ThermistorFault::Short ? 0
-                                                    : hw.thermistor.code(thermTemp(k), rng);
+                                                    : mcuTherm_[j].code(hw.thermistor, thermTemp(k), rng);
     in.mcuThermistorCode[j] = static_cast<uint16_t>(code);
   }
   const double senseOffset_A = f.current_sensor_offset_A + f.current_sensor_drift_A_per_s * t;
