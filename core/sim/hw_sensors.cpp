@@ -2,11 +2,45 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <type_traits>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "models/random/random.hpp"
 #include "models/sensors/round_half_away.hpp"
 
 namespace packsim {
+
+namespace {
+
+static_assert(sizeof(ChannelError) == 2 * sizeof(double) && std::is_trivially_copyable_v<ChannelError>,
+              "ChannelError compared as its bytes: its two doubles, no padding");
+
+// Whether a board's `injected` channel errors from `now` (of its `cells`) are, bit for bit,
+// those `given` holds (the last tick's; -0.0 and 0.0 differ here: both reach the channel's
+// sums, where they need not give the same bits). Fewer than all cells named: never.
+bool sameChannelErrors(const std::vector<ChannelError>& given, const ChannelError* now, size_t injected, size_t cells) {
+  if (injected != cells || given.size() != cells) return false;
+  // (a cell's 16 bytes per step, no early exit: a few cells, where memcmp's call and a
+  // loop of words each cost more)
+  const unsigned char* a = reinterpret_cast<const unsigned char*>(given.data());
+  const unsigned char* b = reinterpret_cast<const unsigned char*>(now);
+  const size_t bytes = cells * sizeof(ChannelError);
+#if defined(__SSE2__)
+  __m128i diff = _mm_setzero_si128();
+  for (size_t i = 0; i < bytes; i += 16)
+    diff = _mm_or_si128(diff, _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(a + i)),
+                                            _mm_loadu_si128(reinterpret_cast<const __m128i*>(b + i))));
+  return _mm_movemask_epi8(_mm_cmpeq_epi8(diff, _mm_setzero_si128())) == 0xFFFF;
+#else
+  return bytes == 0 || std::memcmp(a, b, bytes) == 0;
+#endif
+}
+
+}  // namespace
 
 HwSensors::HwSensors(const Scenario& s, const Plant& plant)
     : s_(s), plant_(plant), boards_(monitorBoards(s.hardware, s.pack.series)), currentAdc_(s.hardware.current_sense.channel()) {
@@ -18,8 +52,10 @@ HwSensors::HwSensors(const Scenario& s, const Plant& plant)
     const uint64_t seed = b.index == 0 ? s.run.seed : deriveSeed(s.run.seed, static_cast<uint64_t>(RngStream::MonitorBoard) + static_cast<uint64_t>(b.index));
     chains_.push_back(std::make_unique<MonitorChainPath>(a, b.cells, seed));
     truths_.push_back(chains_.back()->makeTruth());
+    channelsGiven_.emplace_back();
     if (s.output.bus_trace) chains_.back()->traceInto(busTrace_, b.index);
   }
+  mcuTherm_.resize(boards_.front().mcuChannels.size());
   // The node each thermistor channel reads: its group's first cell, the FETs' node, its
   // balancing board's node.
   for (const ThermistorChannel& ch : s.hardware.thermistors.channels) {
@@ -82,13 +118,20 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     const size_t first = static_cast<size_t>(b.firstCell), cells = static_cast<size_t>(b.cells);
     tr.cell_V = sig.group_voltage_V.data() + first;  // views: the devices copy them into their pins
     tr.cell_unloaded_V = unloaded.group_voltage_V.data() + first;
-    // Injected channel errors where the faults name the channel (none: 0).
+    // Injected channel errors where the faults name the channel (none: 0). The same bits
+    // as the last tick's (the usual tick): the truth holds them already, and says so (the
+    // chain hands them on only when they change).
     const size_t injected = f.cell_channel.size() > first ? std::min(cells, f.cell_channel.size() - first) : 0;
-    for (size_t i = 0; i < injected; ++i) {
-      tr.cell_gain_error[i] = f.cell_channel[first + i].gain_error;
-      tr.cell_offset_V[i] = f.cell_channel[first + i].offset_V;
+    std::vector<ChannelError>& given = channelsGiven_[static_cast<size_t>(b.index)];
+    tr.channel_errors_unchanged = sameChannelErrors(given, f.cell_channel.data() + first, injected, cells);
+    if (!tr.channel_errors_unchanged) {
+      for (size_t i = 0; i < injected; ++i) {
+        tr.cell_gain_error[i] = f.cell_channel[first + i].gain_error;
+        tr.cell_offset_V[i] = f.cell_channel[first + i].offset_V;
+      }
+      for (size_t i = injected; i < cells; ++i) tr.cell_gain_error[i] = tr.cell_offset_V[i] = 0.0;
+      given.assign(f.cell_channel.data() + first, f.cell_channel.data() + first + injected);
     }
-    for (size_t i = injected; i < cells; ++i) tr.cell_gain_error[i] = tr.cell_offset_V[i] = 0.0;
     for (size_t d = 0; d < tr.board_C.size(); ++d) {
       const int node = plant_.boardNodeOfGroup(b.firstCell + static_cast<int>(d) * hw.afe.cells_per_device);
       tr.board_C[d] = node >= 0 ? sig.node_temp_C[static_cast<size_t>(node)] : sig.ambient_C;
@@ -119,7 +162,7 @@ void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& un
     const ThermistorFault sf = thermFault(k);
     const int64_t code = sf == ThermistorFault::Open    ? hw.thermistor.fullScaleCode()
                          : sf == ThermistorFault::Short ? 0
-                                                    : hw.thermistor.code(thermTemp(k), rng);
+                                                    : mcuTherm_[j].code(hw.thermistor, thermTemp(k), rng);
     in.mcuThermistorCode[j] = static_cast<uint16_t>(code);
   }
   const double senseOffset_A = f.current_sensor_offset_A + f.current_sensor_drift_A_per_s * t;

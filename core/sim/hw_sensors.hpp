@@ -20,6 +20,7 @@
 #include "core/sim/hardware_faults.hpp"
 #include "core/sim/monitor_chain_path.hpp"
 #include "core/sim/plant.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/sensors/adc.hpp"
 
 namespace packsim {
@@ -68,7 +69,11 @@ class HwSensors {
   std::vector<MonitorBoard> boards_;
   std::vector<std::unique_ptr<MonitorChainPath>> chains_;  // per board
   std::vector<MonitorTruth> truths_;                       // per board, filled each tick
+  std::vector<std::vector<ChannelError>> channelsGiven_;    // per board: the channel errors its truth holds
   std::vector<size_t> thermNode_;  // per thermistor channel: the thermal node it reads
+  // Per thermistor on the pack host's ADC: its conversion's kept ideal code and code range
+  // (Thermistor::code without an exp while the node stays within a code, cell_conversion.hpp).
+  std::vector<ThermistorCodeCache> mcuTherm_;
   AdcChannel currentAdc_;          // the current sense's converter (hardware.current_sense), built once
   std::vector<BusTraceRow> busTrace_;  // the chains' TracedChain write here (output.bus_trace)
 };

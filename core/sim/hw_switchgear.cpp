@@ -1,7 +1,9 @@
 #include "core/sim/hw_switchgear.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "core/sim/hw_status.hpp"
 #include "core/sim/same_instant.hpp"
@@ -18,7 +20,24 @@ HwSwitchgear::HwSwitchgear(const HardwareConfig& hw) : hw_(hw) {
     }
 }
 
+// The lines compared as their bytes (one or two loads, not a key built bit by bit).
+static_assert(std::has_unique_object_representations_v<SwitchDrive>, "SwitchDrive's bytes are its lines");
+
 SwitchState HwSwitchgear::gates(double t, const SwitchDrive& d, const HardwareFaults& f) {
+  const bool same = std::memcmp(&d, &gatesDrive_, sizeof d) == 0 && f.relay_welded == gatesWelded_ &&
+                    fuse_.blown == gatesBlown_;
+  if (gatesKept_ && same) return gates_;
+  gates_ = gatesAnew(t, d, f);
+  gatesDrive_ = d;
+  gatesWelded_ = f.relay_welded;
+  gatesBlown_ = fuse_.blown;
+  // Both relays where their coils take them: the same lines step neither (relayStep's
+  // settled test), and the gates and paths follow from the lines and the fuse alone.
+  gatesKept_ = relay_.closed == relay_.coil && precharge_.closed == precharge_.coil;
+  return gates_;
+}
+
+SwitchState HwSwitchgear::gatesAnew(double t, const SwitchDrive& d, const HardwareFaults& f) {
   // The monitor FAULT line sits in series with the relay drive: it opens the relay
   // whatever the MCU commands.
   const bool drive = !(hw_.fault_line_opens_relay && d.faultLine);

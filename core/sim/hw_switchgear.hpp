@@ -61,7 +61,18 @@ class HwSwitchgear {
   double bus_V() const { return bus_V_; }
 
  private:
+  // The relays stepped to t and the FET gates and paths as the lines set them. Every tick
+  // and pin change, and mostly with the lines as before and the relays at rest: then what
+  // it gave last time (gatesAnew would change nothing and give the same), no relay step,
+  // gate or path decided again.
   SwitchState gates(double t, const SwitchDrive& d, const HardwareFaults& f);
+  SwitchState gatesAnew(double t, const SwitchDrive& d, const HardwareFaults& f);
+  // Its last answer, and what gatesAnew read for it besides the relays: the lines in, the
+  // weld fault and the fuse.
+  SwitchState gates_;
+  SwitchDrive gatesDrive_;
+  bool gatesWelded_ = false, gatesBlown_ = false;
+  bool gatesKept_ = false;     // the relays at rest since: gates_ stands for those
 
   const HardwareConfig& hw_;
   // Whether the FET pair passes discharge / charge current, [discharge gate on][charge

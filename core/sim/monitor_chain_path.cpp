@@ -13,6 +13,7 @@ MonitorChainPath::MonitorChainPath(const MonitorConfig& cfg, int cellCount, uint
     : cfg_(cfg), cells_(cellCount) {
   bus_.chain = monitorPart(cfg.model).make_chain(cfg, cellCount, seed);  // its register-level model
   part_ = bus_.chain.get();
+  fetDrivers_ = part_->hasFetDrivers();
   int first = 0;
   for (int d = 0; d < bus_.chain->deviceCount(); ++d) {
     firstCell_.push_back(first);
@@ -31,20 +32,30 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
   MonitorChain& c = *bus_.chain;
   const int perDevice = cfg_.thermistors_per_device;
   const bool unloaded = truth.cell_V != nullptr && truth.cell_unloaded_V != nullptr;
+  // The unloaded view is the loaded one itself (no balancing switch on: HardwareSim's
+  // measurementView): a device covered whole keeps no second copy (cellsSeen reads
+  // cell_V when cell_unloaded_V is empty), one pass over its cells less a tick.
+  const bool sameView = unloaded && truth.cell_unloaded_V == truth.cell_V;
+  // The injected channel errors as the devices hold them already (the usual tick): not
+  // copied again, two passes over the cells less a tick.
+  const bool errorsHeld = truth.channel_errors_unchanged && errorsGiven_;
   const size_t truthCells = truth.cell_V != nullptr ? static_cast<size_t>(cells_) : 0;  // the truth is made for cells_
   const int devices = static_cast<int>(firstCell_.size());  // c.deviceCount(), without the virtual call
   for (int d = 0; d < devices; ++d) {
     DeviceAnalog& a = c.analog(d);
     const size_t first = static_cast<size_t>(firstCell_[static_cast<size_t>(d)]);
-    a.cell_unloaded_V.resize(unloaded ? a.cell_V.size() : 0);
     // Its cells in the truth (all of them in a stack as built), each array in one pass.
     const size_t n = first < truthCells ? std::min(a.cell_V.size(), truthCells - first) : 0;
+    const bool ownUnloaded = unloaded && !(sameView && n == a.cell_V.size());
+    a.cell_unloaded_V.resize(ownUnloaded ? a.cell_V.size() : 0);
     if (n > 0) {
       // (copyValues: a cell or two by assignment, not four library calls a tick)
       copyValues(a.cell_V.data(), truth.cell_V + first, n);
-      if (unloaded) copyValues(a.cell_unloaded_V.data(), truth.cell_unloaded_V + first, n);
-      copyValues(a.cell_gain_error.data(), truth.cell_gain_error.data() + first, std::min(n, a.cell_gain_error.size()));
-      copyValues(a.cell_offset_V.data(), truth.cell_offset_V.data() + first, std::min(n, a.cell_offset_V.size()));
+      if (ownUnloaded) copyValues(a.cell_unloaded_V.data(), truth.cell_unloaded_V + first, n);
+      if (!errorsHeld) {
+        copyValues(a.cell_gain_error.data(), truth.cell_gain_error.data() + first, std::min(n, a.cell_gain_error.size()));
+        copyValues(a.cell_offset_V.data(), truth.cell_offset_V.data() + first, std::min(n, a.cell_offset_V.size()));
+      }
     }
     // Its thermistor channels in the truth (those it has inputs for), each array in one pass.
     const size_t base = static_cast<size_t>(d) * static_cast<size_t>(std::max(perDevice, 0));
@@ -61,6 +72,7 @@ void MonitorChainPath::update(double t, const MonitorTruth& truth) {
     a.host_opens_balancing = truth.host_opens_balancing;
     giveCommFault(c, d, static_cast<size_t>(d) < truth.comm.size() ? truth.comm[static_cast<size_t>(d)] : kHealthyDevice);
   }
+  errorsGiven_ = truthCells > 0;
   if (truth.broken_link_above != brokenGiven_) {
     c.setBrokenLinkAbove(truth.broken_link_above);
     brokenGiven_ = truth.broken_link_above;

@@ -34,8 +34,9 @@ class MonitorChainPath {
   double thermistorBias_A(int d) const;
   int topCell(int d) const { return firstCell_[static_cast<size_t>(d)] + bus_.chain->cellsOf(d) - 1; }
   int devices() const { return bus_.chain->deviceCount(); }
-  bool dischargeAllowed() const { return bus_.chain->dischargeFetOn(); }
-  bool chargeAllowed() const { return bus_.chain->chargeFetOn(); }
+  // (a part without FET drivers: always, no virtual call a tick)
+  bool dischargeAllowed() const { return !fetDrivers_ || part_->dischargeFetOn(); }
+  bool chargeAllowed() const { return !fetDrivers_ || part_->chargeFetOn(); }
   std::string fetOffCause(bool discharge) const { return bus_.chain->fetOffCause(discharge); }
   const RegisterMisuseLog& misuse() const { return part_->misuse(); }  // writes the part ignored
   // What the MCU has read of each device so far (monitor_part.hpp), device d's cell
@@ -53,6 +54,7 @@ class MonitorChainPath {
   int cells_;
   MonitorBus bus_;
   const MonitorChain* part_;  // the part's chain (bus_.chain, or what a trace wraps)
+  bool fetDrivers_ = false;   // part_->hasFetDrivers()
   std::vector<int> firstCell_;  // per device: its bottom cell's series position
   // The comm faults (per device) and broken link the chain was last given, healthy and
   // intact from the start. They change only when the scenario scripts one, and each is a
@@ -65,6 +67,9 @@ class MonitorChainPath {
     if (!(commGiven_[static_cast<size_t>(d)] == f)) handOnCommFault(c, d, f);
   }
   void handOnCommFault(MonitorChain& c, int d, const MonitorDeviceFault& f);
+  // The last update handed every device its injected channel errors (the truth's cells
+  // reached them): a truth whose errors are unchanged since then needs none handed on.
+  bool errorsGiven_ = false;
 };
 
 }  // namespace packsim

@@ -70,6 +70,7 @@ class Bq76952Chain : public MonitorChain {
   double balancingDuty(int d, int cell, double t0, double t1) const override;
   bool dischargeFetOn() const override;
   bool chargeFetOn() const override;
+  bool hasFetDrivers() const override { return true; }
   std::string fetOffCause(bool discharge) const override;
 
   // Inspection for tests (not part of the bus).

@@ -63,10 +63,12 @@ double thermCodeIdeal(const Thermistor& th, double temp_C, ThermistorFault f) {
   if (f == ThermistorFault::Short) return 0.0;
   return th.idealCode(temp_C);
 }
-double thermCodeIdeal(const Thermistor& th, double temp_C, ThermistorFault f, ThermistorCodeCache& kept) {
-  if (f == ThermistorFault::Open) return static_cast<double>(th.fullScaleCode());
-  if (f == ThermistorFault::Short) return 0.0;
-  return kept.ideal(th, temp_C);
+// Whether that code lies below `hotCode` (the input's hot comparator), its noiseless code
+// kept in `kept` (ThermistorCodeCache::idealBelow: mostly no exp).
+bool thermCodeBelow(const Thermistor& th, double temp_C, ThermistorFault f, double hotCode, ThermistorCodeCache& kept) {
+  if (f == ThermistorFault::Open) return static_cast<double>(th.fullScaleCode()) < hotCode;
+  if (f == ThermistorFault::Short) return 0.0 < hotCode;
+  return kept.idealBelow(th, temp_C, hotCode);
 }
 
 // A register's data-sheet name (multi-byte registers by their first byte).
@@ -195,8 +197,8 @@ void Bq76pl455aChain::compare(Device& dv, int d) {
   const int nt = std::min(cfg_.thermistors_per_device, static_cast<int>(PL455_AUX_INPUTS));
   for (int k = 0; k < nt; ++k) {
     const size_t ks = static_cast<size_t>(k);
-    const double code = thermCodeIdeal(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks], dv.thermCode[k]);
-    if (code < dv.hotCode[k]) hot = static_cast<uint16_t>(hot | (1u << k));
+    if (thermCodeBelow(cfg_.thermistor, dv.analog.therm_C[ks], dv.analog.therm_fault[ks], dv.hotCode[k], dv.thermCode[k]))
+      hot = static_cast<uint16_t>(hot | (1u << k));
   }
   dv.over = over;
   dv.under = under;

@@ -418,7 +418,7 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   if (inFile > 0) copyBytes(frame + 3, target->reg.data() + first, inFile);
   if (inFile < count) zeroBytes(frame + 3 + inFile, count - inFile);
   if (first == BQ536_DEVICE_STATUS && count > 0) frame[3] = status(*target);
-  frame[3 + count] = target->replyCrc.of(frame, 3 + count);
+  frame[3 + count] = replyCrc(*target, frame, 3 + count);
   uint8_t* reply = frame + 3;
   const size_t replyLen = count + 1;
   corruptReply(target->comm, commRng_, reply, replyLen);

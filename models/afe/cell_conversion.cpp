@@ -20,6 +20,12 @@ double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noi
   return v;
 }
 
+int64_t ThermistorCodeCache::convert(const Thermistor& ntc, double temp_C, Rng& noise) {
+  const int64_t c = ntc.codeOf(ideal(ntc, temp_C), noise);
+  if (ntc.noise_codes_rms == 0.0) range_ = ThermistorCodeRange::around(ntc, temp_C, c);  // (noise: no draw skipped)
+  return c;
+}
+
 int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, double temp_C, Rng& noise) {
   if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
   if (fault == ThermistorFault::Short) return 0;

@@ -22,6 +22,7 @@
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
 #include "models/sensors/thermistor.hpp"
+#include "models/sensors/thermistor_range.hpp"
 
 namespace packsim {
 
@@ -52,6 +53,12 @@ double moduleVoltage(const std::vector<double>& cell_V, double noise_V, Rng& noi
 // A thermistor input's noiseless code (Thermistor::idealCode, an exp) for the last
 // temperature asked: the inputs change once per tick, while a chain looks at them at
 // every transfer (its comparators) and conversion. The same value as computing it anew.
+//
+// And its conversion without noise (noise_codes_rms 0, the usual thermistor): a code
+// spans some 0.025 K at 25 °C, while a node's temperature moves by a small part of that
+// in a tick, yet moves every tick (an exp a tick and input). So the temperatures that
+// convert to the code last made are kept as a range [lo, hi] (thermistor_range.hpp): a
+// temperature within it converts to that code, no exp.
 class ThermistorCodeCache {
  public:
   double ideal(const Thermistor& ntc, double temp_C) {
@@ -59,9 +66,31 @@ class ThermistorCodeCache {
     return code_;
   }
 
+  // ideal(ntc, temp_C) < x, the comparator's question: where the kept range holds temp_C
+  // and x lies outside its code's window (code - 0.5, code + 0.5), the range answers it
+  // (ThermistorCodeRange::bounded), no exp; else the ideal code is compared.
+  bool idealBelow(const Thermistor& ntc, double temp_C, double x) {
+    if (range_.bounded && range_.holds(temp_C)) {
+      const double c = static_cast<double>(range_.code);
+      if (x >= c + 0.5) return true;
+      if (x <= c - 0.5) return false;
+    }
+    return ideal(ntc, temp_C) < x;
+  }
+
+  // Thermistor::codeOf(ideal(ntc, temp_C), noise): the conversion, noise and all.
+  int64_t code(const Thermistor& ntc, double temp_C, Rng& noise) {
+    if (ntc.noise_codes_rms == 0.0 && range_.holds(temp_C)) return range_.code;
+    return convert(ntc, temp_C, noise);
+  }
+
  private:
+  // Out of line: the conversion and the new range, seldom; code() and its callers inline.
+  int64_t convert(const Thermistor& ntc, double temp_C, Rng& noise);
+
   double temp_C_ = std::numeric_limits<double>::quiet_NaN();  // NaN: nothing kept
   double code_ = 0.0;
+  ThermistorCodeRange range_;
 };
 
 // A thermistor input's code: open reads full scale, shorted reads 0.
@@ -72,7 +101,7 @@ inline int64_t thermistorCode(const Thermistor& ntc, ThermistorFault fault, doub
                               Rng& noise) {
   if (fault == ThermistorFault::Open) return ntc.fullScaleCode();
   if (fault == ThermistorFault::Short) return 0;
-  return ntc.codeOf(kept.ideal(ntc, temp_C), noise);
+  return kept.code(ntc, temp_C, noise);
 }
 
 }  // namespace packsim

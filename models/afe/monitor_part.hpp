@@ -101,6 +101,9 @@ class MonitorChain {
   virtual double balancingDuty(int /*d*/, int /*cell*/, double /*t0*/, double /*t1*/) const { return 1.0; }
   virtual bool dischargeFetOn() const { return true; }  // BQ76952 FETs; others: not in the path
   virtual bool chargeFetOn() const { return true; }
+  // Whether the part drives FETs at all (else both calls above are always true): asked
+  // once, so that the hardware need not ask those every tick.
+  virtual bool hasFetDrivers() const { return false; }
   // Why that FET driver is off now, in the part's own words ("" when on, or a part without).
   virtual std::string fetOffCause(bool /*discharge*/) const { return ""; }
   // Whether device d's thermistor inputs are biased (their divider draws current from

@@ -17,6 +17,9 @@ struct MonitorTruth {
   const double* cell_unloaded_V = nullptr;  // the same with every balancing switch open (nullptr: as cell_V)
   std::vector<double> cell_gain_error;   // injected per channel (added to the part's)
   std::vector<double> cell_offset_V;
+  // true: those two hold, bit for bit, what they held at the chain's last update (the
+  // usual tick: no channel fault comes or goes), so there is nothing to hand on again.
+  bool channel_errors_unchanged = false;
   std::vector<double> board_C;           // per device: the board it sits on (its die = this + die_rise_C)
   std::vector<double> therm_C;           // per AFE thermistor channel
   std::vector<ThermistorFault> therm_fault;

@@ -384,5 +384,43 @@ TEST(Monitor, AReadOutLongerThanItsPeriodGetsTheShortestPeriodThatHoldsIt) {
   EXPECT_NE(e.find("the shortest period that holds it is 4 ms"), std::string::npos) << e;
 }
 
+// MonitorChainPath hands the devices no injected channel errors when the truth says they
+// are unchanged since its last update, and no second copy of the cells when the unloaded
+// view is the loaded one itself (no balancing switch on). Against a path given plain
+// truths (errors always read, the unloaded cells in their own array): the same result
+// registers, bit for bit, through errors coming, changing and going and a switch going on.
+TEST(Monitor, HeldChannelErrorsAndASharedUnloadedViewConvertAsTheirCopies) {
+  Rig plain("bq76pl536a", 12), quick("bq76pl536a", 12);
+  std::vector<double> plainUnloaded = plain.cells, quickUnloaded = quick.cells;
+  for (Rig* r : {&plain, &quick}) r->truth.host_opens_balancing = true;
+  plain.truth.cell_unloaded_V = plainUnloaded.data();
+  quick.truth.cell_unloaded_V = quick.cells.data();  // the same view
+  ASSERT_TRUE(plain.init());
+  ASSERT_TRUE(quick.init());
+  const auto& a = dynamic_cast<const Bq76pl536aChain&>(*plain.path.buses()[0]->chain);
+  const auto& b = dynamic_cast<const Bq76pl536aChain&>(*quick.path.buses()[0]->chain);
+  for (int tick = 1; tick <= 40; ++tick) {
+    // An error named on two channels from tick 10, changed at 20, gone at 30.
+    const double g = tick >= 10 && tick < 30 ? (tick >= 20 ? -0.004 : 0.003) : 0.0;
+    for (Rig* r : {&plain, &quick}) {
+      r->truth.cell_gain_error[4] = g;
+      r->truth.cell_offset_V[7] = 0.5 * g;
+      for (size_t i = 0; i < r->cells.size(); ++i) r->cells[i] = 3.6 + 0.001 * static_cast<double>((tick * 7 + i * 3) % 50);
+    }
+    quick.truth.channel_errors_unchanged = tick != 10 && tick != 20 && tick != 30;
+    // From tick 25 a switch is on: the unloaded cells are their own.
+    for (size_t i = 0; i < plain.cells.size(); ++i) plainUnloaded[i] = quickUnloaded[i] = plain.cells[i] + (tick >= 25 ? 0.002 : 0.0);
+    if (tick >= 25) quick.truth.cell_unloaded_V = quickUnloaded.data();
+    for (Rig* r : {&plain, &quick}) {
+      r->wait(0.01);
+      r->readAll();
+    }
+    quick.truth.channel_errors_unchanged = true;  // (readAll's update: nothing changed since wait's)
+    for (int d = 0; d < a.deviceCount(); ++d)
+      for (uint8_t reg = BQ536_GPAI; reg < BQ536_TEMPERATURE1; ++reg)
+        ASSERT_EQ(a.peek(d, reg), b.peek(d, reg)) << "tick " << tick << " device " << d << " register " << int(reg);
+  }
+}
+
 }  // namespace
 }  // namespace packsim

@@ -46,9 +46,9 @@ class PlainPauses {
 };
 
 // Conversions every tick_s lasting conv_s (some cut short by the next, some restarted
-// a little earlier), asked every ask_every ticks (0: never) over a window that may
-// reach back before earlier pauses.
-void expectSameAsPlainList(uint32_t seed, int ticks, int ask_every) {
+// a little earlier from tick `early_from` on), asked every ask_every ticks (0: never)
+// over a window that may reach back before earlier pauses.
+void expectSameAsPlainList(uint32_t seed, int ticks, int ask_every, int early_from = 0) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   BalancePauses ring;
@@ -56,7 +56,8 @@ void expectSameAsPlainList(uint32_t seed, int ticks, int ask_every) {
   double t = 0.0;
   for (int i = 0; i < ticks; ++i) {
     const double tick_s = 0.01 * (0.5 + u(rng));
-    const double from = t - (u(rng) < 0.1 ? 0.02 * u(rng) : 0.0);  // now and then before the last one ended
+    const double early = u(rng) < 0.1 ? 0.02 * u(rng) : 0.0;
+    const double from = t - (i >= early_from ? early : 0.0);  // now and then before the last one ended
     const double to = from + (u(rng) < 0.05 ? 0.0 : 0.004 + 0.02 * u(rng));  // some empty
     const uint32_t cells = u(rng) < 0.05 ? 0u : static_cast<uint32_t>(rng()) & 0xFFFu;
     ring.add(from, to, cells);
@@ -79,6 +80,18 @@ TEST(BalancePauses, SameShareAsThePlainListWhenAskedNowAndThen) {
 }
 
 TEST(BalancePauses, NeverAskedKeepsTheLastMaxPausesLikeThePlainList) { expectSameAsPlainList(5, 2000, 0); }
+
+// Pauses added in time order (the host's conversions, each at or after the one before):
+// the ring drops the ended ones from its front alone. The same shares as the plain list,
+// and still after the first pause that begins before the last one (out of order: every
+// pause looked at again from then on).
+TEST(BalancePauses, InTimeOrderSameShareAsThePlainList) {
+  for (int every : {1, 3, 300, 0}) expectSameAsPlainList(static_cast<uint32_t>(10 + every), 3000, every, 3000);
+}
+
+TEST(BalancePauses, OutOfOrderAfterALongInOrderRunSameShareAsThePlainList) {
+  for (int every : {1, 5, 0}) expectSameAsPlainList(static_cast<uint32_t>(20 + every), 3000, every, 1500);
+}
 
 TEST(BalancePauses, APauseFullyBeforeTheWindowDoesNotCount) {
   BalancePauses p;

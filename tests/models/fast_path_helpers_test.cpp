@@ -5,7 +5,8 @@
 // against a compare-and-copy loop, standardNormal (its kept second
 // normal served inline) against Box-Muller written out here on the same engine, ReplySlots
 // (a sample reply's kept slot order) against the bit scan, FrameCrcMemo (a repeated short
-// frame's kept CRC) against the CRC computed every time.
+// frame's kept CRC) against the CRC computed every time, ThermistorCodeCache (a kept code
+// range) against the conversion computed every time.
 #include <gtest/gtest.h>
 
 #include <cfenv>
@@ -21,6 +22,7 @@
 
 #include "core/sim/hw_take_over.hpp"
 #include "models/afe/byte_copy.hpp"
+#include "models/afe/cell_conversion.hpp"
 #include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/reply_slots.hpp"
 #include "models/afe/window_masks.hpp"
@@ -270,6 +272,59 @@ TEST(FrameCrcMemo, MatchesTheCrcComputedEveryTime) {
       ask(buf, 30);     // a long frame passes by
       ask(buf, n);
     }
+  }
+}
+
+// A thermistor input's conversion through its cache (the last ideal code, and without
+// noise the range of temperatures its last code spans) against Thermistor::code computed
+// every time, and its comparator's answer (idealBelow) against idealCode's: slow drifts through many codes both ways (a node warming and cooling),
+// steps walking across a rounding point in ulps, jumps, the rails, NaN and the pole at
+// -273.15 °C, for several dividers; with noise, the same draws from the same stream.
+TEST(ThermistorCodeCache, ConvertsAsTheThermistorEveryTime) {
+  std::vector<Thermistor> ntcs(4);
+  ntcs[1].beta_K = 3950.0, ntcs[1].pullup_ohm = 4700.0;
+  ntcs[2].bits = 16, ntcs[2].r25_ohm = 100000.0, ntcs[2].beta_K = 4250.0;
+  ntcs[3].noise_codes_rms = 0.7;
+  std::mt19937_64 gen(12);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const Thermistor& ntc : ntcs) {
+    ThermistorCodeCache kept;
+    Rng a(5), b(5);
+    auto expectSame = [&](double temp_C) {
+      ASSERT_EQ(kept.code(ntc, temp_C, a), ntc.code(temp_C, b)) << temp_C << " bits " << ntc.bits;
+      // The comparator's question at thresholds around the code (its window's edges and
+      // just inside and outside them), far off, and NaN.
+      const double x = ntc.idealCode(temp_C), c = std::nearbyint(x);
+      for (double thr : {c - 0.5, c + 0.5, std::nextafter(c - 0.5, 0.0), std::nextafter(c + 0.5, 1e9),
+                         std::nextafter(c - 0.5, 1e9), std::nextafter(c + 0.5, 0.0), c, x, c - 7.0, c + 7.0,
+                         std::numeric_limits<double>::quiet_NaN()})
+        ASSERT_EQ(kept.idealBelow(ntc, temp_C, thr), x < thr) << temp_C << " threshold " << thr;
+    };
+    double t = 25.0;
+    for (int k = 0; k < 200000; ++k) {  // drifts of 1e-5 .. 1e-3 K a step, turning now and then
+      const double step = (k / 20000 % 2 ? -1.0 : 1.0) * std::pow(10.0, -5.0 + 2.0 * u(gen));
+      t += step;
+      expectSame(t);
+    }
+    for (int k = 0; k < 2000; ++k) expectSame(-60.0 + 200.0 * u(gen));  // jumps
+    // Across a rounding point in ulps: the temperature where the code is c + 0.5, found by
+    // bisection, and the doubles around it.
+    for (int c : {100, 2047, 3000}) {
+      if (c >= ntc.fullScaleCode()) continue;
+      double lo = -80.0, hi = 200.0;  // code(lo) > c + 0.5 > code(hi)
+      for (int i = 0; i < 200; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        (ntc.idealCode(mid) > c + 0.5 ? lo : hi) = mid;
+      }
+      double x = lo;
+      for (int i = 0; i < 64; ++i) x = std::nextafter(x, -1e9);
+      for (int i = 0; i < 128; ++i, x = std::nextafter(x, 1e9)) expectSame(x);
+      for (int i = 0; i < 128; ++i, x = std::nextafter(x, -1e9)) expectSame(x);
+    }
+    for (double x : {-273.15, std::nextafter(-273.15, 0.0), -273.0, -300.0, 1e6, -1e6, 25.0,
+                     std::numeric_limits<double>::quiet_NaN(), 25.0, std::numeric_limits<double>::infinity(), 25.0})
+      expectSame(x);
+    ASSERT_EQ(a(), b()) << "the noise streams stay in step";
   }
 }
 
