@@ -13,6 +13,7 @@ scenario switched off has no attribute and no row). Nothing is re-simulated.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -204,6 +205,45 @@ def _reading_at(r: Result, fault: str, i: int) -> str | None:
 _OPENED = {"relay_contact": "opened", "fuse": "blown", "monitor_fault_line": "asserted"}
 
 
+_CELL_IN_GROUP = re.compile(r"\bcell (\d+) \(group (\d+)\)")
+
+
+def _cells_text(cells: list[int], group: str) -> str:
+    """'cells 37-40 (group 10)' for a run of numbers, else 'cells 37, 39 (group 10)'."""
+    run = cells == list(range(cells[0], cells[0] + len(cells)))
+    listed = f"{cells[0]}-{cells[-1]}" if run else ", ".join(str(c) for c in cells)
+    return f"cells {listed} (group {group})"
+
+
+def _merged_unseen(evs) -> dict[int, str]:
+    """The limit_unseen events' lines by event index: the cells of one parallel group whose
+    events say the same thing at the same time (a group's cells share its voltage) as one
+    line at the first of them naming them all; the others are left out."""
+    first: dict[tuple[float, str], int] = {}
+    cells: dict[int, list[int]] = {}
+    lines: dict[int, str] = {}
+    for i, ev in enumerate(evs):
+        if ev["kind"] != "limit_unseen":
+            continue
+        d = str(ev["detail"])
+        lines[i] = d
+        m = _CELL_IN_GROUP.search(d)
+        if not m:
+            continue
+        key = (float(ev["time_s"]), _CELL_IN_GROUP.sub(f"cell # (group {m.group(2)})", d, count=1))
+        if key in first:
+            cells[first[key]].append(int(m.group(1)))
+            del lines[i]
+        else:
+            first[key] = i
+            cells[i] = [int(m.group(1))]
+    for i, cs in cells.items():
+        if len(cs) > 1:
+            m = _CELL_IN_GROUP.search(lines[i])
+            lines[i] = lines[i][:m.start()] + _cells_text(sorted(cs), m.group(2)) + lines[i][m.end():]
+    return lines
+
+
 def verdict(r: Result) -> Verdict:
     """Tripped or not, from the events: the first fault_latched is the trip (the
     protection and when); the contact, fuse and FAULT-line events say what acted; the
@@ -229,11 +269,15 @@ def verdict(r: Result) -> Verdict:
             lines.append(f"then latched at {ev['time_s']:.2f} s: {ev['detail']}")
     else:
         v = Verdict(False, "NO TRIP: no protection latched", None, None, lines)
-    for ev in evs:
+    unseen = _merged_unseen(evs)
+    for i, ev in enumerate(evs):
         k = ev["kind"]
         if k in _OPENED and _OPENED[k] in str(ev["detail"]):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')} {ev['detail']}")
-        elif k in ("limit_unseen", "firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
+        elif k == "limit_unseen":  # one line per group of parallel cells saying the same
+            if i in unseen:
+                lines.append(f"{ev['time_s']:.2f} s: limit unseen: {unseen[i]}")
+        elif k in ("firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
                    "cell_model_range", "load_limited", "load_end"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
     s = r.summary

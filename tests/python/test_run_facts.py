@@ -166,3 +166,27 @@ def test_display_decimation_keeps_every_spike():
     assert idx.size <= 2 * 1000 + 2
     assert 123_457 in idx and 7 in idx and idx[0] == 0 and idx[-1] == y.size - 1
     assert np.array_equal(display_indices(np.arange(50.0), 1000), np.arange(50))
+
+
+def test_unseen_limits_of_one_parallel_group_are_one_verdict_line():
+    # A 4p group's cells share its voltage: their four identical limit_unseen events (but
+    # the cell number) are one line naming cells 37-40; another group's, another time's
+    # and a temperature event (its own cell) stay lines of their own, in the run's order.
+    def uv(cell, group, t_from="1700.16"):
+        return (f"cell_undervoltage: cell {cell} (group {group}) more than 0.55 mV below the 3.000 V limit "
+                f"from {t_from} s, unseen by the BMS for 4.65 s (min 2.9981 V)")
+    events = [(1704.81, "limit_unseen", uv(c, 10)) for c in (37, 38, 39, 40)]
+    events += [(1704.81, "limit_unseen", uv(45, 12)),
+               (1710.0, "limit_unseen", uv(37, 10, "1705.00")),
+               (1720.0, "limit_unseen", "overtemperature: cell 5 (group 2) more than 0.05 C above the 60 C limit "
+                                        "from 1700.00 s, unseen by the BMS to the end of the run (20.00 s) (max 61.0 C)"),
+               (1720.0, "limit_unseen", "overtemperature: cell 7 (group 2) more than 0.05 C above the 60 C limit "
+                                        "from 1700.00 s, unseen by the BMS to the end of the run (20.00 s) (max 62.0 C)")]
+    lines = [line for line in run_facts.verdict(_result(events=events)).lines if "limit unseen" in line]
+    assert lines == [
+        "1704.81 s: limit unseen: " + uv(37, 10).replace("cell 37 (group 10)", "cells 37-40 (group 10)"),
+        "1704.81 s: limit unseen: " + uv(45, 12),
+        "1710.00 s: limit unseen: " + uv(37, 10, "1705.00"),
+        "1720.00 s: limit unseen: " + events[-2][2],
+        "1720.00 s: limit unseen: " + events[-1][2],
+    ]
