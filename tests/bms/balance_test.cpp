@@ -136,6 +136,31 @@ TEST(BalancePolicy, OnlyWhileChargingOrAtRestAsConfigured) {
   EXPECT_EQ(p.tick(false), (V{0, 0})) << "a fault (not permitted) stops it at once";
 }
 
+// A tick on which balancing is not permitted (its own short path in balanceStep): the
+// mask and the output clear at once, the status is Disabled, the monitor timer is not
+// re-armed, the spread's hysteresis still moves (a spread that fell to the stop delta
+// meanwhile ends the episode), and once permitted again the policy decides on that very
+// tick, not a decision period later.
+TEST(BalancePolicy, ANotPermittedTickClearsAtOnceAndTheNextPermittedTickDecides) {
+  Policy p(2);
+  p.cfg.balanceTime_s = 10;
+  p.cfg.balance.period_ms = 5000;  // decisions 5 s apart while permitted
+  p.cells({3700, 3800});
+  EXPECT_EQ(p.tick(), (V{0, 1}));
+  const uint8_t armed = p.arms;
+  EXPECT_EQ(p.tick(false), (V{0, 0}));
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Disabled);
+  EXPECT_EQ(p.arms, armed) << "nothing balances: no re-arm";
+  EXPECT_TRUE(p.st.active) << "the spread is still 100 mV";
+  p.cells({3700, 3705});           // the spread fell below the stop delta while not permitted
+  EXPECT_EQ(p.tick(false), (V{0, 0}));
+  EXPECT_FALSE(p.st.active) << "the hysteresis moves on a not-permitted tick too";
+  EXPECT_EQ(p.arms, armed);
+  p.cells({3700, 3800});           // permitted again 3 s after the last decision
+  EXPECT_EQ(p.tick(), (V{0, 1})) << "decides at once, not at the 5 s period";
+  EXPECT_EQ(p.st.status, bms::BalanceStatus::Balancing);
+}
+
 TEST(BalancePolicy, HoldsTheMaskBetweenDecisionsAndReArmsTheTimerEveryHalfPeriod) {
   Policy p(2);
   p.cfg.balanceTime_s = 10;  // re-arm every 5 s
