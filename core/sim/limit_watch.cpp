@@ -39,12 +39,12 @@ LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(p
     if (!p.enabled) continue;
     const double step = !r.perCell ? 0.0 : r.unit[0] == 'V' ? voltStep : tempStep;
     limits_.push_back({static_cast<int>(r.id), r.above ? "above" : "below", r.above, p.threshold, r.unit, r.perCell,
-                       p.delay_s + latency_s, step, r.above ? p.threshold + step : p.threshold - step});
+                       p.delay_s + latency_s, step});
     const bool charge = r.id == F::OverCurrentCharge;
     const int quantity = !r.perCell ? (charge ? kPackCharge : kPackDischarge)
                          : r.unit[0] == 'V' ? (r.above ? kVoltsHigh : kVoltsLow)
                                             : (r.above ? kTempHigh : kTempLow);
-    threshold_[quantity] = r.above ? limits_.back().watchAt : -limits_.back().watchAt;
+    threshold_[quantity] = r.above ? limits_.back().watchAt() : -limits_.back().watchAt();
     faultBit_[quantity] = 1u << static_cast<int>(r.id);
     ep_.emplace_back(static_cast<size_t>(r.perCell ? cells : 1));
     open_.push_back(0);
@@ -156,17 +156,18 @@ void LimitWatch::tickRows(double t, const std::vector<double>& cell_V, const std
     const double packValue = charge ? -pack_A : pack_A;
     const double* values = !l.perCell ? &packValue : l.unit[0] == 'V' ? cell_V.data() : cell_C.data();
     const size_t n = ep_[li].size();
+    const double at = l.watchAt();
     // No episode open: one opens only where a value is past the limit while the row is
     // not active.
     if (open_[li] == 0) {
       if (active) continue;
       bool past = false;
-      for (size_t c = 0; c < n; ++c) past |= l.above ? values[c] > l.watchAt : values[c] < l.watchAt;
+      for (size_t c = 0; c < n; ++c) past |= l.above ? values[c] > at : values[c] < at;
       if (!past) continue;
     }
     for (size_t c = 0; c < n; ++c) {
       const double v = values[c];
-      const bool past = l.above ? v > l.watchAt : v < l.watchAt;
+      const bool past = l.above ? v > at : v < at;
       Episode& e = ep_[li][c];
       if (e.from_s < 0.0) {
         if (past && !active) {

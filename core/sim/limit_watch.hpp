@@ -73,7 +73,8 @@ class LimitWatch {
     bool perCell;       // false: the pack current (one "cell" slot)
     double allowed_s;   // delay + read-out period + tick: what the BMS takes by design
     double step;        // the BMS's reading step's half: a value closer to the limit reads as the limit
-    double watchAt;     // threshold past by `step`: where an episode starts
+    // The threshold passed by `step`: where an episode starts.
+    double watchAt() const { return above ? threshold + step : threshold - step; }
   };
   struct Episode {
     double from_s = -1.0;  // < 0: none open

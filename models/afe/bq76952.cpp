@@ -47,10 +47,7 @@ uint8_t crcOf(std::initializer_list<uint8_t> bytes) {
 uint16_t thermistor_dK(const Thermistor& th, int64_t code) {
   if (code <= 0) return 0xFFFF;
   if (code >= th.fullScaleCode()) return 0;
-  const double ratio = static_cast<double>(code) / static_cast<double>(th.fullScaleCode());
-  const double r = th.pullup_ohm * ratio / (1.0 - ratio);
-  const double T_K = 1.0 / (1.0 / 298.15 + std::log(r / th.r25_ohm) / th.beta_K);
-  return u16(T_K * 10.0);
+  return u16(th.temperatureAt_K(static_cast<double>(code)) * 10.0);
 }
 
 // A direct command's name (the data sheet's, for the ones the part has).

@@ -13,4 +13,10 @@ double Thermistor::idealCode(double temp_C) const {
   return static_cast<double>(fullScaleCode()) * r / (pullup_ohm + r);
 }
 
+double Thermistor::temperatureAt_K(double code) const {
+  const double ratio = code / static_cast<double>(fullScaleCode());
+  const double r = pullup_ohm * ratio / (1.0 - ratio);
+  return 1.0 / (1.0 / 298.15 + std::log(r / r25_ohm) / beta_K);
+}
+
 }  // namespace packsim

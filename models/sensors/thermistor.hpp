@@ -22,6 +22,8 @@ struct Thermistor {
   // The divider's noiseless code (unrounded) at temp_C, and a conversion of it: code(T)
   // is codeOf(idealCode(T)), so a caller may keep idealCode for an unchanged T.
   double idealCode(double temp_C) const;
+  // Its inverse: the temperature (K) whose divider code is `code`, 0 < code < full scale.
+  double temperatureAt_K(double code) const;
   // Inline: the monitor models convert their thermistor inputs several times per tick.
   int64_t codeOf(double ideal_code, Rng& rng) const {
     AdcChannel adc;

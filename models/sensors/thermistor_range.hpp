@@ -3,7 +3,8 @@
 // (noise_codes_rms 0: no draw), bit for bit as computing it.
 //
 //   around(ntc, T, c)   the range of code c, found from T (whose code is c): its two edges
-//                       from the inverse of the divider (T at the codes c ± 0.5), each
+//                       from the divider's inverse (Thermistor::temperatureAt_K at the
+//                       codes c ± 0.5), each
 //                       moved kInset_K inwards, then checked forwards
 //   holds(T)            lo_C <= T <= hi_C (NaN: never)
 //   bounded             the range was checked (not T alone): every T in it has its
@@ -41,8 +42,8 @@ struct ThermistorCodeRange {
     ThermistorCodeRange r{temp_C, temp_C, c, false};
     if (!(ntc.beta_K > 0.0 && ntc.r25_ohm > 0.0 && ntc.pullup_ohm > 0.0) || c < 1 || c >= ntc.fullScaleCode()) return r;
     // Higher codes at lower temperatures: code c from T(c + 0.5) up to T(c - 0.5).
-    const double lo = temperatureAt(ntc, static_cast<double>(c) + 0.5) + kInset_K;
-    const double hi = temperatureAt(ntc, static_cast<double>(c) - 0.5) - kInset_K;
+    const double lo = ntc.temperatureAt_K(static_cast<double>(c) + 0.5) - 273.15 + kInset_K;
+    const double hi = ntc.temperatureAt_K(static_cast<double>(c) - 0.5) - 273.15 - kInset_K;
     if (!(lo > -273.15 && lo <= temp_C && temp_C <= hi) || !convertsClear(ntc, lo, c) || !convertsClear(ntc, hi, c))
       return r;
     r.lo_C = lo;
@@ -52,12 +53,6 @@ struct ThermistorCodeRange {
   }
 
  private:
-  // The temperature whose (exact) divider code is x, 0 < x < full scale.
-  static double temperatureAt(const Thermistor& ntc, double x) {
-    const double fs = static_cast<double>(ntc.fullScaleCode());
-    const double r = ntc.pullup_ohm * x / (fs - x);
-    return 1.0 / (std::log(r / ntc.r25_ohm) / ntc.beta_K + 1.0 / 298.15) - 273.15;
-  }
   // T's computed code rounds to c, more than kMargin from a rounding point.
   static bool convertsClear(const Thermistor& ntc, double temp_C, int64_t c) {
     const double x = ntc.idealCode(temp_C);

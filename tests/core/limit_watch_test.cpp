@@ -17,6 +17,15 @@
 namespace packsim {
 namespace {
 
+// `cells` simple cells at a 100 ms tick, their under-voltage (3.0 V) and over-temperature
+// (60 C) rows without a delay.
+Scenario undelayedLimits(int cells) {
+  return test::scenarioFromYaml(test::simpleCellYaml(cells) +
+                                "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
+                                "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
+                                "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+}
+
 TEST(LimitWatch, EpisodesOpenCloseAndReportAgainstAHandWrittenTruth) {
   const Scenario s = test::scenarioFromYaml(
       test::simpleCellYaml(3) +
@@ -65,11 +74,7 @@ TEST(LimitWatch, EpisodesOpenCloseAndReportAgainstAHandWrittenTruth) {
 // or 0.06 C over, is. At a slow discharge the truth spends seconds in that band (system
 // C's 0.2C bench discharge: 1 s of a 3 s 'unseen' that the BMS could not have read).
 TEST(LimitWatch, WithinHalfTheReadingStepOfTheLimitIsNoEpisode) {
-  const Scenario s = test::scenarioFromYaml(
-      test::simpleCellYaml(2) +
-      "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
-      "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
-      "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+  const Scenario s = undelayedLimits(2);
   for (const bool beyond : {false, true}) {
     LimitWatch w(s, 2, 1);
     std::vector<std::pair<double, std::string>> events;
@@ -96,11 +101,7 @@ TEST(LimitWatch, WithinHalfTheReadingStepOfTheLimitIsNoEpisode) {
 // NaN as the comparison with the threshold does: a cell past the limit beside a NaN one,
 // before or after it in the list, still opens its episode; overtemperature too.
 TEST(LimitWatch, AValuePastTheLimitIsFoundBesideANaN) {
-  const Scenario s = test::scenarioFromYaml(
-      test::simpleCellYaml(3) +
-      "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
-      "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
-      "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+  const Scenario s = undelayedLimits(3);
   for (int nanAt : {0, 2}) {
     LimitWatch w(s, 3, 1);
     std::vector<std::pair<double, std::string>> events;
@@ -135,11 +136,7 @@ TEST(LimitWatch, ExtremesTakenOneByOneMatchTheVectorPass) {
 // A tick given the cells' extremes (RunTracker::tick takes them in its own pass) raises
 // the same events at the same times as one that takes them itself.
 TEST(LimitWatch, KnownExtremesGiveTheSameEpisodes) {
-  const Scenario s = test::scenarioFromYaml(
-      test::simpleCellYaml(3) +
-      "bms: {tick_ms: 100, protections: {cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}, "
-      "overtemperature: {threshold_C: 60, delay_ms: 0}}}\n"
-      "load: {current_A: 1}\nrun: {duration_s: 20}\n");
+  const Scenario s = undelayedLimits(3);
   LimitWatch plain(s, 3, 1), given(s, 3, 1);
   std::vector<std::pair<double, std::string>> a, b;
   const LimitWatch::EventSink sinkA = [&](double t, const std::string& d) { a.emplace_back(t, d); };
