@@ -260,14 +260,12 @@ const std::vector<SummaryLine> kLines = {
     {"duration", "duration_s", durationLine},
     {"energy out", "energy_delivered_Wh charge_delivered_Ah heat_Wh energy_in_Wh", [](LineWriter& w, const S&, const R& r) {
        const Summary& m = r.summary;
-       const std::string heat = fmt("%.2f", m.heat_Wh) + " Wh heat in cells)";
-       if (fmt("%.2f", m.energy_in_Wh) == "0.00") {  // nothing flowed in: out is the net
-         w.line(fmt("%.2f", m.energy_delivered_Wh) + " Wh  (" + fmt("%.3f", m.charge_delivered_Ah) + " Ah, " + heat);
-         return;
-       }
-       w.line(fmt("%.2f", m.energy_delivered_Wh) + " Wh net  (" + fmt("%.2f", m.energy_delivered_Wh + m.energy_in_Wh) +
-              " Wh out, " + fmt("%.2f", m.energy_in_Wh) + " Wh back in; " + fmt("%.3f", m.charge_delivered_Ah) +
-              " Ah net, " + heat); }},
+       const bool back = fmt("%.2f", m.energy_in_Wh) != "0.00";  // else nothing flowed in: out is the net
+       const std::string split = back ? " Wh net  (" + fmt("%.2f", m.energy_delivered_Wh + m.energy_in_Wh) + " Wh out, " +
+                                            fmt("%.2f", m.energy_in_Wh) + " Wh back in; "
+                                      : " Wh  (";
+       w.line(fmt("%.2f", m.energy_delivered_Wh) + split + fmt("%.3f", m.charge_delivered_Ah) + (back ? " Ah net, " : " Ah, ") +
+              fmt("%.2f", m.heat_Wh) + " Wh heat in cells)"); }},
     {"load", "", loadEndLine},
     {"firmware", "", [](LineWriter& w, const S&, const R& r) {
        if (!r.summary.firmware_status.empty()) w.line(r.summary.firmware_status); }},
