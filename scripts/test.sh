@@ -49,6 +49,13 @@ slowest_tests() {  # slowest_tests BUILD_DIR: the ten longest tests of its last 
     sort -rn | awk 'NR <= 10'  # (awk reads to the end: `head` could stop sort with SIGPIPE)
 }
 
+# The builds (build/, build-asan/, build-fuzz/) and the tests' files take about 4.5 GB: on a
+# fuller disk the suite fails late, as writes that fail in unrelated tests, so say it first.
+free_kb=$(df -Pk . "${TMPDIR:-/tmp}" | awk 'NR > 1 { if (min == "" || $4 < min) min = $4 } END { print min }')
+if [ -n "$free_kb" ] && [ "$free_kb" -lt 4718592 ]; then
+  echo "warning: $((free_kb / 1048576)) GB free on this checkout's or the temp folder's disk; a full test run needs about 4.5 GB" >&2
+fi
+
 stage "build and C++ tests"
 BUILD_DIR=build scripts/build.sh -DPACKSIM_BUILD_TESTS=ON
 ctest --test-dir build -j2 --output-on-failure --timeout 600

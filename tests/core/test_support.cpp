@@ -7,6 +7,7 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 
@@ -52,9 +53,41 @@ std::string fileErrorOf(const std::filesystem::path& file) {
   return scenarioErrorOf([&] { loadScenarioFile(file.string()); });
 }
 
+namespace {
+
+// The folders processTempDir made, removed when the test process exits normally, so a
+// suite run leaves nothing in the temp folder (thousands of folders a day otherwise).
+// Only the process that made them removes them (a forked child that exits keeps its
+// parent's), and PACKSIM_KEEP_TEST_FILES keeps them for a look after a failure.
+class MadeFolders {
+ public:
+  void add(const std::filesystem::path& d) {
+    for (const auto& f : folders_)
+      if (f == d) return;
+    folders_.push_back(d);
+  }
+  ~MadeFolders() {
+    if (::getpid() != owner_ || std::getenv("PACKSIM_KEEP_TEST_FILES") != nullptr) return;
+    std::error_code ec;
+    for (const auto& f : folders_) std::filesystem::remove_all(f, ec);
+  }
+
+ private:
+  pid_t owner_ = ::getpid();
+  std::vector<std::filesystem::path> folders_;
+};
+
+MadeFolders& madeFolders() {
+  static MadeFolders made;
+  return made;
+}
+
+}  // namespace
+
 std::filesystem::path processTempDir(const std::string& name) {
   const std::filesystem::path d = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()));
   std::filesystem::create_directories(d);
+  madeFolders().add(d);
   return d;
 }
 

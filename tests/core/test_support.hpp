@@ -23,10 +23,12 @@ std::string scenarioErrorOf(const std::function<void()>& load);
 std::string yamlErrorOf(const std::string& yaml);
 // The message of the ScenarioError loading a scenario file, or "<no error>".
 std::string fileErrorOf(const std::filesystem::path& file);
-// An empty folder `prefix` + `name` under the system temp folder (removed first if there).
+// An empty folder `prefix` + `name` under the system temp folder (removed first if there;
+// a processTempDir, so removed at exit too).
 std::filesystem::path freshTempDir(const std::string& prefix, const std::string& name);
 // A folder of this test process under the system temp folder (created, not emptied):
 // <tmp>/<name>_<pid>, so concurrent test runs (ctest -j, a sanitizer build) never share one.
+// Removed when the process exits normally (kept if PACKSIM_KEEP_TEST_FILES is set).
 std::filesystem::path processTempDir(const std::string& name);
 // Whether a temporary file of the result `result` (<result>.tmp...) is left in its folder.
 bool temporaryOfExists(const std::filesystem::path& result);
