@@ -24,8 +24,9 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
   const std::string high = std::to_string(r.high_cells) + (r.parallel > 1 ? " high series group" : " high cell") +
                            (r.high_cells == 1 ? "" : "s") +
                            (r.parallel > 1 ? " (" + std::to_string(r.parallel) + " cells in parallel each)" : "");
-  std::snprintf(line, sizeof line, "balance-time  %s: %.3f Ah to remove, cells at %.3f V, %s, true target %.1f mV\n",
-                r.scenario.c_str(), r.delta_Ah, r.cell_V, high.c_str(), r.target_mV);
+  std::snprintf(line, sizeof line, "balance-time  %s: %.3f Ah to remove%s, cells at %.3f V, %s, true target %.1f mV\n",
+                r.scenario.c_str(), r.delta_Ah, r.delta_given ? "" : " (the scenario's highest group)", r.cell_V,
+                high.c_str(), r.target_mV);
   os << line;
   os << "firmware as configured (bms.balancing.when: " << r.when << (r.when_overridden ? ", set by --when" : "")
      << ")" << (r.during_charge ? ", on the scenario's charger" : ", at rest") << "\n";
@@ -74,6 +75,9 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
      << (r.resistor_rating_W > 0 ? num(r.resistor_rating_W, "%.3g") + " W" : std::string("its rating (not stated)"))
      << "); ! resistor_W above the rating.\n"
         "cell_I_mA: bleed current of one cell at V_cell; board_W: the most loaded board, its high cells balancing.\n";
+  if (!r.delta_given)
+    os << "(the scenario's imbalance: delta is the most charge a group holds above the lowest group's rest voltage;\n"
+          "a high cell is one resting more than the firmware's stop_delta_mV above the lowest.)\n";
   if (r.parallel > 1)
     os << "(" << r.parallel << " cells in parallel: a cell here is a series group, one resistor bleeding all "
        << r.parallel << ", and delta is the group's.)\n";
@@ -82,8 +86,8 @@ std::string balanceTimeTable(const BalanceTimeResult& r) {
         "dQ / OCV(Q) to the same target; true_h: simulated, when the true rest voltages came within the target;\n"
         "firmware_h: when the firmware (as configured) declared balanced. board_steady_C: T_amb + board_W / G of the\n"
         "board node; peak_board_C: simulated peak. resistor_W at the cell's v_max_V. paused_%: time paused on board\n"
-        "temperature. pack_useful_Ah: summed over cells, what each bled up to its charge above the lowest;\n"
-        "pack_wasted_Ah: summed over cells, the rest; pack_heat_Wh: all branch heat.\n";
+        "temperature. pack_useful_Ah: summed over cells, what each bled up to its charge above the lowest group's\n"
+        "rest voltage; pack_wasted_Ah: summed over cells, the rest; pack_heat_Wh: all branch heat.\n";
   if (r.during_charge)
     for (const BalanceTimeRow& w : r.rows)
       os << "  " << num(w.resistor_ohm, "%.1f") << " ohm: the charger delivers until " << num(w.charge_h, "%.2f")

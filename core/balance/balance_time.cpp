@@ -19,15 +19,8 @@ namespace {
 
 [[noreturn]] void bad(const std::string& what) { throw std::invalid_argument(what); }
 
-// Rest voltage (mean OCV) of each series group.
-std::vector<double> groupOcv_V(const Plant& plant, const double* x) {
-  const Pack& p = plant.pack();
-  std::vector<double> v(static_cast<size_t>(p.series), 0.0);
-  for (int c = 0; c < p.cellCount(); ++c)
-    v[static_cast<size_t>(c / p.parallel)] +=
-        ecm::ocv(p.cells[static_cast<size_t>(c)], plant.cellStates(x, c)[CellLayout::soc]) / p.parallel;
-  return v;
-}
+// Rest voltage (mean OCV) of each series group in state x.
+std::vector<double> groupOcv_V(const Plant& plant, const double* x) { return groupOcv_V(plant.pack(), cellSoc(plant, x)); }
 
 std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
   char s[240];
@@ -158,10 +151,8 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   const Plant plant(s);
   std::vector<double> x0(static_cast<size_t>(plant.stateSize()), 0.0);
   plant.initialState(x0.data());
-  const std::vector<double> q0 = groupCharge_Ah(plant, x0.data());
-  const double lowest = *std::min_element(q0.begin(), q0.end());
-  std::vector<double> need(q0.size()), bled(q0.size(), 0.0);
-  for (size_t g = 0; g < q0.size(); ++g) need[g] = q0[g] - lowest;
+  const std::vector<double> need = groupExcess_Ah(plant.pack(), cellSoc(plant, x0.data()));
+  std::vector<double> bled(need.size(), 0.0);
 
   const Policy b = policyOf(s);
   const double tick_s = s.bms.tick_s;
@@ -269,16 +260,14 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   row.pack_useful_Ah = std::min(useful_As / 3600.0, row.bled_Ah);
   row.pack_wasted_Ah = row.bled_Ah - row.pack_useful_Ah;
   row.needed_Ah = needed_As / 3600.0;
-  // Final spread from the recorded SOC of the last sample.
+  // Final spread and imbalance from the recorded SOC of the last sample.
   const Recording& rec = r.rec;
-  const size_t n = rec.samples();
-  if (n > 0) {
-    std::vector<double> q(static_cast<size_t>(plant.pack().series), 0.0);
-    for (int c = 0; c < rec.cells; ++c)
-      q[static_cast<size_t>(c / plant.pack().parallel)] +=
-          rec.cell_soc[(n - 1) * static_cast<size_t>(rec.cells) + static_cast<size_t>(c)] *
-          plant.pack().cells[static_cast<size_t>(c)].capacity_Ah;
-    row.final_spread_Ah = spread(q);
+  if (const size_t n = rec.samples(); n > 0) {
+    const auto last = rec.cell_soc.begin() + static_cast<std::ptrdiff_t>((n - 1) * static_cast<size_t>(rec.cells));
+    const std::vector<double> soc(last, last + rec.cells);
+    row.final_spread_Ah = spread(groupCharge_Ah(plant.pack(), soc));
+    const std::vector<double> excess = groupExcess_Ah(plant.pack(), soc);
+    row.final_imbalance_Ah = *std::max_element(excess.begin(), excess.end());
   }
 }
 
@@ -291,6 +280,40 @@ void markFastest(BalanceTimeResult& res) {
     if (w.within_limits && (!best || w.true_h < best->true_h)) best = &w;
   }
   if (best) best->fastest = true;
+}
+
+// The scenario's own imbalance at the start: what each series group holds above the lowest
+// group's rest voltage, the group holding most, and the groups the firmware bleeds once it
+// starts (more than its stop threshold above the lowest, bms chooseCells' rule), in all and
+// on the board that has most of them.
+struct ScenarioImbalance {
+  std::vector<double> excess_Ah, soc;  // per group; soc: charge over capacity
+  int highest = 0;
+  double lowest_V = 0.0;
+  int high_groups = 0, high_on_one_board = 0;
+};
+ScenarioImbalance scenarioImbalance(const Plant& plant, const double* x0, const PassiveBalancerConfig& hw,
+                                    double stop_delta_V) {
+  const Pack& p = plant.pack();
+  const std::vector<double> soc = cellSoc(plant, x0);
+  const std::vector<double> v = groupOcv_V(p, soc), q = groupCharge_Ah(p, soc);
+  ScenarioImbalance m;
+  m.excess_Ah = groupExcess_Ah(p, soc);
+  m.highest = static_cast<int>(std::max_element(m.excess_Ah.begin(), m.excess_Ah.end()) - m.excess_Ah.begin());
+  m.lowest_V = *std::min_element(v.begin(), v.end());
+  std::vector<int> perBoard(static_cast<size_t>(hw.boardOf(p.series - 1) + 1), 0);
+  for (int g = 0; g < p.series; ++g) {
+    double capacity_Ah = 0.0;
+    for (int k = 0; k < p.parallel; ++k) capacity_Ah += p.cells[static_cast<size_t>(g * p.parallel + k)].capacity_Ah;
+    m.soc.push_back(q[static_cast<size_t>(g)] / capacity_Ah);
+    if (v[static_cast<size_t>(g)] - m.lowest_V <= stop_delta_V) continue;
+    ++m.high_groups;
+    m.high_on_one_board = std::max(m.high_on_one_board, ++perBoard[static_cast<size_t>(hw.boardOf(g))]);
+  }
+  // The analytic columns bleed the highest group at least, whatever the firmware's threshold.
+  m.high_groups = std::max(1, m.high_groups);
+  m.high_on_one_board = std::max(1, m.high_on_one_board);
+  return m;
 }
 
 // The balancing board node's conductance to its surroundings: to ambient, to the cells
@@ -314,7 +337,6 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   checkOptions(base, o);
   BalanceTimeResult res;
   res.scenario = base.name;
-  res.high_cells = o.delta_Ah ? o.high_cells : 1;
   res.parallel = base.pack.parallel;
   // Default target: half again the firmware's stop threshold. The firmware leaves each cell
   // up to that threshold above the lowest reading, so the truth settles about there, a
@@ -332,24 +354,25 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   const Plant basePlant(base);
   std::vector<double> x0(static_cast<size_t>(basePlant.stateSize()), 0.0);
   basePlant.initialState(x0.data());
-  const std::vector<double> q = groupCharge_Ah(basePlant, x0.data());
+  const ScenarioImbalance imb = scenarioImbalance(basePlant, x0.data(), base.hardware.balancing, policy.stop_delta_V);
+  const PassiveBalancerConfig& hw = base.hardware.balancing;
   const int parallel = basePlant.pack().parallel;
-  const int highest = static_cast<int>(std::max_element(q.begin(), q.end()) - q.begin());
-  const int lowest = static_cast<int>(std::min_element(q.begin(), q.end()) - q.begin());
-  const auto socOf = [&](int g) { return basePlant.cellStates(x0.data(), g * parallel)[CellLayout::soc]; };
-  res.delta_Ah = o.delta_Ah ? *o.delta_Ah : spread(q);
-  res.cell_V = o.cell_V ? *o.cell_V : ecm::ocv(base.pack.cell, o.delta_Ah ? base.pack.initial_soc : socOf(highest));
-  if (!(res.delta_Ah > 0.0)) bad("the scenario's cells hold equal charge: give --delta-Ah");
+  res.delta_given = o.delta_Ah.has_value();
+  res.delta_Ah = o.delta_Ah ? *o.delta_Ah : imb.excess_Ah[static_cast<size_t>(imb.highest)];
+  if (!(res.delta_Ah > 0.0)) bad("the scenario's series groups rest at equal voltages: give --delta-Ah");
+  res.cell_V = o.cell_V ? *o.cell_V : ecm::ocv(base.pack.cell, o.delta_Ah ? base.pack.initial_soc : imb.soc[static_cast<size_t>(imb.highest)]);
   // The high group's charge range for the droop form.
-  const CellParams& cell = o.delta_Ah ? base.pack.cell : basePlant.pack().cells[static_cast<size_t>(highest * parallel)];
+  const CellParams& cell = o.delta_Ah ? base.pack.cell : basePlant.pack().cells[static_cast<size_t>(imb.highest * parallel)];
   const double group_Ah = cell.capacity_Ah * parallel;
-  const double socHigh = o.delta_Ah ? socAtOcv(cell, res.cell_V) : socOf(highest);
-  const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : socOf(lowest);
+  const double socHigh = o.delta_Ah ? socAtOcv(cell, res.cell_V) : imb.soc[static_cast<size_t>(imb.highest)];
+  const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : socAtOcv(cell, imb.lowest_V);
   // Bleeding ends (in the droop form) when the high group's OCV is within the target of the low one's.
   const double socTarget = std::min(socHigh, socAtOcv(cell, ecm::ocv(cell, socLow) + res.target_mV * 1e-3));
-  // Cells on the most loaded board: the high cells sit on the first groups.
-  const PassiveBalancerConfig& hw = base.hardware.balancing;
-  const int perBoard = hw.cells_per_board > 0 ? std::min(res.high_cells, hw.cells_per_board) : res.high_cells;
+  // Cells on the most loaded board: given, the high cells sit on the first groups; from the
+  // scenario, the groups the firmware bleeds at the start.
+  res.high_cells = o.delta_Ah ? o.high_cells : imb.high_groups;
+  const int perBoard = o.delta_Ah ? (hw.cells_per_board > 0 ? std::min(o.high_cells, hw.cells_per_board) : o.high_cells)
+                                  : imb.high_on_one_board;
   const double boardG = boardConductance_W_per_K(base);
 
   std::vector<double> resistors = o.resistors_ohm;

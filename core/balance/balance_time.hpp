@@ -24,10 +24,12 @@
 //
 // The imbalance is either given (delta_Ah: `high_cells` series cells start at cell_V,
 // the others delta_Ah lower; the scenario's spread is not used) or the scenario's own
-// initial state (delta = largest minus smallest series-group charge).
+// initial state (delta = the most charge a series group holds above the lowest group's
+// rest voltage: core/sim/balance_report.hpp groupExcess_Ah; the high cells = the groups
+// more than the firmware's stop threshold above the lowest).
 //
 // Honest columns: the charge each group needed to lose is its charge above the lowest
-// group's at the start; what a group bled up to that is useful, beyond it (or from a
+// group's rest voltage at the start; what a group bled up to that is useful, beyond it (or from a
 // group that needed nothing) wasted. Heat is every joule the branches dissipated.
 //
 // Plain structs in and out, no CLI types: the CLI (`packsim balance-time`) and the
@@ -78,11 +80,12 @@ struct BalanceTimeRow {
   std::vector<double> board_peak_C;   // per monitor board
   double paused_fraction = 0.0;       // of the run up to true_h (or its end), paused on board temperature
   double bled_Ah = 0.0;               // Σ over groups of ∫ I_bal dt
-  double pack_useful_Ah = 0.0;        // Σ over groups of what each bled up to the charge it had above the lowest
+  double pack_useful_Ah = 0.0;        // Σ over groups of what each bled up to the charge it had above the lowest group's rest voltage
   double pack_wasted_Ah = 0.0;        // Σ over groups of what each bled beyond that (bled - useful)
-  double needed_Ah = 0.0;             // Σ of the charge above the lowest group at the start
+  double needed_Ah = 0.0;             // Σ of the charge above the lowest group's rest voltage at the start
   double pack_heat_Wh = 0.0;          // Σ over the balancing branches of their heat
   double final_spread_Ah = 0.0;       // largest minus smallest series-group charge at the end
+  double final_imbalance_Ah = 0.0;    // the most charge a group holds above the lowest group's rest voltage at the end
   bool tripped = false;               // a protection tripped during the run
   bool within_limits = false;         // reached the target, no trip, resistor within its rating
   bool fastest = false;               // the smallest true_h among rows within limits
@@ -97,6 +100,7 @@ struct BalanceTimeRow {
 struct BalanceTimeResult {
   std::string scenario;
   double delta_Ah = 0.0;
+  bool delta_given = false;  // delta_Ah and high_cells as given; else the scenario's own (its highest group)
   double cell_V = 0.0;
   int high_cells = 1;
   int parallel = 1;  // cells in parallel in a series group (a "high cell" is a group of them)

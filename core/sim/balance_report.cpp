@@ -2,13 +2,36 @@
 
 #include <algorithm>
 
+#include "core/balance/balance_analytic.hpp"
+
 namespace packsim {
 
-std::vector<double> groupCharge_Ah(const Plant& plant, const double* x) {
-  const Pack& p = plant.pack();
+std::vector<double> groupCharge_Ah(const Pack& p, const std::vector<double>& soc) {
   std::vector<double> q(static_cast<size_t>(p.series), 0.0);
-  for (int c = 0; c < p.cellCount(); ++c)
-    q[static_cast<size_t>(c / p.parallel)] += plant.cellStates(x, c)[CellLayout::soc] * p.cells[static_cast<size_t>(c)].capacity_Ah;
+  for (size_t c = 0; c < soc.size(); ++c) q[c / static_cast<size_t>(p.parallel)] += soc[c] * p.cells[c].capacity_Ah;
+  return q;
+}
+
+std::vector<double> cellSoc(const Plant& plant, const double* x) {
+  std::vector<double> soc(static_cast<size_t>(plant.pack().cellCount()));
+  for (size_t c = 0; c < soc.size(); ++c) soc[c] = plant.cellStates(x, static_cast<int>(c))[CellLayout::soc];
+  return soc;
+}
+
+std::vector<double> groupOcv_V(const Pack& p, const std::vector<double>& soc) {
+  std::vector<double> v(static_cast<size_t>(p.series), 0.0);
+  for (size_t c = 0; c < soc.size(); ++c)
+    v[c / static_cast<size_t>(p.parallel)] += ecm::ocv(p.cells[c], soc[c]) / p.parallel;
+  return v;
+}
+
+std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc) {
+  const std::vector<double> v = groupOcv_V(p, soc);
+  const double lowest_V = *std::min_element(v.begin(), v.end());
+  std::vector<double> q(static_cast<size_t>(p.series), 0.0);
+  for (size_t c = 0; c < soc.size(); ++c)
+    q[c / static_cast<size_t>(p.parallel)] += (soc[c] - socAtOcv(p.cells[c], lowest_V)) * p.cells[c].capacity_Ah;
+  for (double& g : q) g = std::max(0.0, g);
   return q;
 }
 
@@ -29,8 +52,13 @@ BalanceSummary summarizeBalancing(const Scenario& s, const Plant& plant, const d
     if (e.detail == "balancing" && b.started_s < 0.0) b.started_s = e.time_s;
     if (e.detail == "balanced" && b.started_s >= 0.0 && b.balanced_s < 0.0) b.balanced_s = e.time_s;
   }
-  b.spread_start_Ah = spread(groupCharge_Ah(plant, x0));
-  b.spread_end_Ah = spread(groupCharge_Ah(plant, xEnd));
+  const std::vector<double> socStart = cellSoc(plant, x0), socEnd = cellSoc(plant, xEnd);
+  b.spread_start_Ah = spread(groupCharge_Ah(plant.pack(), socStart));
+  b.spread_end_Ah = spread(groupCharge_Ah(plant.pack(), socEnd));
+  const std::vector<double> excessStart = groupExcess_Ah(plant.pack(), socStart);
+  const std::vector<double> excessEnd = groupExcess_Ah(plant.pack(), socEnd);
+  b.imbalance_start_Ah = *std::max_element(excessStart.begin(), excessStart.end());
+  b.imbalance_end_Ah = *std::max_element(excessEnd.begin(), excessEnd.end());
   return b;
 }
 

@@ -9,8 +9,19 @@
 
 namespace packsim {
 
-// The charge (Ah) each series group holds in state x: its cells' SOC times capacity.
-std::vector<double> groupCharge_Ah(const Plant& plant, const double* x);
+// The charge (Ah) each series group holds: its cells' SOC (`soc`: one per cell) times capacity.
+std::vector<double> groupCharge_Ah(const Pack& p, const std::vector<double>& soc);
+// Rest voltage of each series group: the mean OCV of its cells (`soc`: one per cell).
+std::vector<double> groupOcv_V(const Pack& p, const std::vector<double>& soc);
+// The charge (Ah) each series group holds above the lowest group's rest voltage: what
+// balancing must take from it for every group to rest at that voltage. Each cell counts
+// its SOC less the SOC at which its OCV is the lowest group's rest voltage, times its
+// capacity (a group's sum, at least 0). With alike cells this is the group's charge less
+// the lowest group's; with capacities that differ a larger group holds more charge at the
+// same voltage, which is no imbalance and which no balancing removes.
+std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc);
+// Every cell's SOC in state x.
+std::vector<double> cellSoc(const Plant& plant, const double* x);
 // Highest minus lowest of a per-group figure (charge, voltage).
 double spread(const std::vector<double>& q);
 

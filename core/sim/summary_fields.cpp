@@ -62,6 +62,8 @@ const std::vector<SummaryField>& summaryFields() {
       {"balance_balanced_s",      [](const S& m) { return m.balance.balanced_s; }, balancing},
       {"balance_spread_start_Ah", [](const S& m) { return m.balance.spread_start_Ah; }, balancing},
       {"balance_spread_end_Ah",   [](const S& m) { return m.balance.spread_end_Ah; }, balancing},
+      {"balance_imbalance_start_Ah", [](const S& m) { return m.balance.imbalance_start_Ah; }, balancing},
+      {"balance_imbalance_end_Ah",   [](const S& m) { return m.balance.imbalance_end_Ah; }, balancing},
       // A vehicle on its route (docs/vehicle.md): a sweep's summary.csv shows the fastest speed that finishes.
       {"vehicle_distance_km",     [](const S& m) { return m.vehicle.distance_m / 1000.0; }, vehicle},
       {"vehicle_finished",        [](const S& m) -> long long { return m.vehicle.finished ? 1 : 0; }, vehicle},

@@ -113,7 +113,8 @@ void weldedLine(LineWriter& w, const S& s, const R& r) {
 }
 
 // Passive balancing: the firmware's balancing events, the resistors' quadratures and the
-// groups' charge spread in the truth (core/sim/balance_report.hpp).
+// groups' imbalance (and charge spread, where it differs) in the truth
+// (core/sim/balance_report.hpp).
 void balancingLine(LineWriter& w, const S&, const R& r) {
   const BalanceSummary& b = r.summary.balance;
   if (!b.present) return;
@@ -131,8 +132,15 @@ void balancingLine(LineWriter& w, const S&, const R& r) {
                                 : std::string("not balanced by the end"));
   }
   w.line(when + "; bled " + fmt("%.3f", b.bled_Ah) + " Ah, " + fmt("%.2f", b.heat_Wh) + " Wh of heat");
-  w.more("series groups' charge spread " + fmt("%.3f", b.spread_start_Ah) + " Ah at the start, " +
-         fmt("%.3f", b.spread_end_Ah) + " Ah at the end (truth)");
+  w.more("series groups' imbalance " + fmt("%.3f", b.imbalance_start_Ah) + " Ah at the start, " +
+         fmt("%.3f", b.imbalance_end_Ah) + " Ah at the end (truth: the most charge a group held above the lowest "
+         "group's rest voltage)");
+  // The charge spread says the same with alike cells; where the capacities differ it
+  // also counts charge that no balancing removes, so it is printed, and why.
+  const auto shown = [](double ah) { return std::lround(ah * 1e3); };
+  if (shown(b.spread_start_Ah) != shown(b.imbalance_start_Ah) || shown(b.spread_end_Ah) != shown(b.imbalance_end_Ah))
+    w.more("charge spread " + fmt("%.3f", b.spread_start_Ah) + " Ah at the start, " + fmt("%.3f", b.spread_end_Ah) +
+           " Ah at the end: it also counts the groups' capacities, which differ");
 }
 
 // SOC error of each estimator against the truth; the first printed takes the label.
@@ -293,7 +301,7 @@ const std::vector<SummaryLine> kLines = {
               "; " + fmt("%.2f", m.energy_stranded_Wh) + " Wh (" + fmt("%.2f", 100.0 * m.energy_stranded_Wh / m.energy_start_Wh) +
               " % of the start) stranded by imbalance"); }},
     {"balancing", "balance_bled_Ah balance_heat_Wh balance_started_s balance_balanced_s balance_spread_start_Ah "
-                  "balance_spread_end_Ah", balancingLine},
+                  "balance_spread_end_Ah balance_imbalance_start_Ah balance_imbalance_end_Ah", balancingLine},
     {"final SOC", "final_soc_min final_soc_max", [](LineWriter& w, const S&, const R& r) {
        w.line(fmt("%.3f", r.summary.final_soc_min) + " .. " + fmt("%.3f", r.summary.final_soc_max)); }},
     {"SOC error", "soc_estimator soc_error_coulomb_max soc_error_coulomb_rms soc_error_coulomb_end soc_error_ekf_max "

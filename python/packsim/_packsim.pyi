@@ -112,7 +112,7 @@ def balance_time(source: str, is_file: bool, overrides: list[tuple[str, str]], r
                  max_hours: float, simulate: bool, when: Optional[str], during_charge: bool,
                  file_name: str = "<scenario>", base_dir: str = ".") -> dict[str, Any]:
     """Time to balance per resistor as ``packsim balance-time`` (GIL released).
-    {scenario, delta_Ah, cell_V, high_cells, target_mV, resistor_rating_W, board_max_C, when,
+    {scenario, delta_Ah, delta_given, cell_V, high_cells, target_mV, resistor_rating_W, board_max_C, when,
     when_overridden, during_charge, warnings, text (the CLI's table), rows: [one dict per resistor
     with the fields of packsim.balance.BalanceTimeRow]}. ValueError for a bad option."""
 

@@ -52,11 +52,12 @@ class BalanceTimeRow:
     board_peak_C: tuple        # per monitor board
     paused_fraction: float     # time paused on board temperature (to true_h)
     bled_Ah: float             # every coulomb through the resistors
-    pack_useful_Ah: float      # Σ over cells of what each bled up to its charge above the lowest
+    pack_useful_Ah: float      # Σ over cells of what each bled up to its charge above the lowest group's rest voltage
     pack_wasted_Ah: float      # Σ over cells of what each bled beyond that
     needed_Ah: float
     pack_heat_Wh: float        # Σ over the balancing branches
-    final_spread_Ah: float
+    final_spread_Ah: float     # largest minus smallest series-group charge at the end
+    final_imbalance_Ah: float  # the most charge a group holds above the lowest group's rest voltage at the end
     tripped: bool
     within_limits: bool        # target reached, no trip, resistor within its rating
     fastest: bool              # the fastest row within limits
@@ -68,9 +69,10 @@ class BalanceTimeRow:
 @dataclass(frozen=True)
 class BalanceTimeResult:
     scenario: str
-    delta_Ah: float            # imbalance to remove per high cell
+    delta_Ah: float            # imbalance to remove per high cell (given), or the scenario's highest group's
+    delta_given: bool          # delta_Ah and high_cells given; else the scenario's own imbalance
     cell_V: float
-    high_cells: int
+    high_cells: int            # high series groups (given, or those the firmware bleeds at the start)
     target_mV: float
     resistor_rating_W: float   # 0: not stated
     board_max_C: float

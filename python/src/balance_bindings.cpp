@@ -46,6 +46,7 @@ py::dict rowDict(const BalanceTimeRow& w) {
   d["needed_Ah"] = w.needed_Ah;
   d["pack_heat_Wh"] = w.pack_heat_Wh;
   d["final_spread_Ah"] = w.final_spread_Ah;
+  d["final_imbalance_Ah"] = w.final_imbalance_Ah;
   d["tripped"] = w.tripped;
   d["within_limits"] = w.within_limits;
   d["fastest"] = w.fastest;
@@ -81,6 +82,7 @@ void bindBalance(py::module_& m) {
         d["delta_Ah"] = r.delta_Ah;
         d["cell_V"] = r.cell_V;
         d["high_cells"] = r.high_cells;
+        d["delta_given"] = r.delta_given;
         d["target_mV"] = r.target_mV;
         d["resistor_rating_W"] = r.resistor_rating_W;
         d["board_max_C"] = r.board_max_C;
@@ -97,7 +99,7 @@ void bindBalance(py::module_& m) {
       py::arg("when"), py::arg("during_charge"),
       py::arg("file_name") = "<scenario>", py::arg("base_dir") = ".",
       "Time to balance per resistor as `packsim balance-time` (GIL released): a scenario file (is_file) or YAML "
-      "text with (dotted key, YAML value) overrides; a dict {scenario, delta_Ah, cell_V, high_cells, target_mV, "
+      "text with (dotted key, YAML value) overrides; a dict {scenario, delta_Ah, delta_given, cell_V, high_cells, target_mV, "
       "resistor_rating_W, board_max_C, when, when_overridden, during_charge, warnings, text, rows}. A bad option raises ValueError.");
   m.def("preset_path", &presetPath, py::arg("name"),
         "Path of a bundled scenario by name (scenarios/NAME.yaml or scenarios/balance/NAME.yaml), as "

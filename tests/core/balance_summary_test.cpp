@@ -73,6 +73,9 @@ TEST(BalanceSummary, BledChargeIsWhatTheGroupsLostAndTheSpreadsAreTheTruths) {
   EXPECT_NEAR(b.spread_start_Ah, recordedSpread_Ah(rec, 0), 1e-12);
   EXPECT_NEAR(b.spread_end_Ah, recordedSpread_Ah(rec, last), 1e-12);
   EXPECT_LT(b.spread_end_Ah, b.spread_start_Ah);
+  // Alike cells: the imbalance is the charge spread, and the line gives it alone.
+  EXPECT_NEAR(b.imbalance_start_Ah, b.spread_start_Ah, 1e-9);
+  EXPECT_NEAR(b.imbalance_end_Ah, b.spread_end_Ah, 1e-9);
   EXPECT_GT(b.heat_Wh, 0.0);
   // The start and the end are the firmware's events.
   EXPECT_DOUBLE_EQ(b.started_s, test::eventTime(r, "balancing", "balancing"));
@@ -88,6 +91,41 @@ TEST(BalanceSummary, BledChargeIsWhatTheGroupsLostAndTheSpreadsAreTheTruths) {
   } else {
     EXPECT_TRUE(has(text, "not balanced by the end")) << text;
   }
+}
+
+// Group 1 a 2.6 Ah cell at the others' SOC: it holds 0.48 Ah more than they do at the same
+// rest voltage, which is no imbalance. The imbalance is group 3's 0.05 x 2 Ah = 0.1 Ah
+// above the lowest rest voltage (its OCV curve is the others', so that is SOC 0.8);
+// the charge spread, 0.8 x 2.6 - 0.8 x 2 = 0.48 Ah, gets its own line, which says why.
+// At the end, each group's excess from the recorded SOC: (SOC - the lowest SOC) x capacity.
+TEST(BalanceSummary, ABiggerCellAtTheSameRestVoltageIsNoImbalance) {
+  Scenario s = restingPack(1800.0);
+  CellOverride big;
+  big.cell = 0;
+  big.capacity_Ah = 2.6;
+  s.pack.cell_overrides.push_back(big);
+  const RunResult r = runScenario(s);
+  const BalanceSummary& b = r.summary.balance;
+  const Recording& rec = r.rec;
+  EXPECT_NEAR(b.imbalance_start_Ah, 0.1, 1e-9);
+  EXPECT_NEAR(b.spread_start_Ah, 0.48, 1e-9);
+  const size_t last = rec.time_s.size() - 1;
+  const auto socAt = [&](int g) { return rec.cell_soc[last * kSeries + static_cast<size_t>(g)]; };
+  double lowest = 1.0, excess = 0.0;
+  for (int g = 0; g < kSeries; ++g) lowest = std::min(lowest, socAt(g));
+  for (int g = 0; g < kSeries; ++g) excess = std::max(excess, (socAt(g) - lowest) * (g == 0 ? 2.6 : kCapacity_Ah));
+  EXPECT_NEAR(b.imbalance_end_Ah, excess, 1e-9);
+  EXPECT_LT(b.imbalance_end_Ah, 0.05);
+  const std::string text = formatSummary(s, r);
+  char line[200];
+  std::snprintf(line, sizeof line, "series groups' imbalance 0.100 Ah at the start, %.3f Ah at the end (truth: ",
+                b.imbalance_end_Ah);
+  EXPECT_TRUE(has(text, line)) << text;
+  std::snprintf(line, sizeof line, "charge spread 0.480 Ah at the start, %.3f Ah at the end: it also counts the groups' "
+                "capacities, which differ", b.spread_end_Ah);
+  EXPECT_TRUE(has(text, line)) << text;
+  EXPECT_FALSE(has(formatSummary(restingPack(10.0), runScenario(restingPack(10.0))), "charge spread"))
+      << "alike cells: no charge-spread line";
 }
 
 // No balancing hardware: no line, no figures.

@@ -10,6 +10,7 @@
 #include "core/balance/balance_table.hpp"
 #include "core/balance/balance_time.hpp"
 #include "core/scenario/load_scenario.hpp"
+#include "models/cell/ecm.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -76,6 +77,55 @@ TEST(TimeToBalanceSmallPack, AParallelPackCountsSeriesGroupsNotCells) {
   EXPECT_NE(table.find("a cell here is a series group, one resistor bleeding all 2"), std::string::npos) << table;
   ASSERT_EQ(two.rows.size(), 1u);
   EXPECT_NEAR(two.rows[0].const_I_all_h, 2.0 * one.rows[0].const_I_all_h, 1e-9);
+}
+
+// From the scenario's own state (no --delta-Ah) the imbalance is what each group holds
+// above the lowest group's rest voltage, and the high cells are every group the firmware
+// bleeds at the start. System C with cell 3 a 3.4 Ah cell at SOC 0.731 (the others 3.1 Ah
+// at 0.55) and cell 5 at 0.60: cell 3 must lose 0.181 x 3.4 = 0.6154 Ah, cell 5
+// 0.05 x 3.1 = 0.155 Ah (their OCV curve is the others', so "at the lowest rest voltage"
+// means at SOC 0.55). The charge spread, 0.731 x 3.4 - 0.55 x 3.1 = 0.7804 Ah, would count
+// 0.165 Ah of capacity that no balancing removes. Both high cells are far above the
+// 10 mV stop threshold, so the board carries two resistors at the high cell's voltage;
+// on boards of three cells each carries one.
+TEST(TimeToBalanceSmallPack, TheScenariosImbalanceIsChargeAboveTheLowestRestVoltageOnEveryHighCell) {
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/balance/bench_6s_balancing.yaml");
+  s.pack.cell_overrides.clear();
+  CellOverride high;
+  high.cell = 2;  // cell 3
+  high.capacity_Ah = 3.4;
+  high.initial_soc = 0.731;
+  CellOverride second;
+  second.cell = 4;  // cell 5
+  second.initial_soc = 0.60;
+  s.pack.cell_overrides = {high, second};
+  BalanceTimeOptions o;
+  o.simulate = false;
+  const BalanceTimeResult r = balanceTime(s, o);
+  EXPECT_FALSE(r.delta_given);
+  EXPECT_NEAR(r.delta_Ah, 0.181 * 3.4, 1e-9);
+  EXPECT_EQ(r.high_cells, 2);
+  const double v = ecm::ocv(s.pack.cell, 0.731);
+  EXPECT_NEAR(r.cell_V, v, 1e-12);
+  ASSERT_EQ(r.rows.size(), 1u);
+  EXPECT_NEAR(r.rows[0].board_power_W, 2.0 * v * v / 47.0, 1e-9);
+  const std::string table = balanceTimeTable(r);
+  EXPECT_NE(table.find("0.615 Ah to remove (the scenario's highest group), cells at"), std::string::npos) << table;
+  EXPECT_NE(table.find(", 2 high cells, "), std::string::npos) << table;
+
+  s.hardware.balancing.cells_per_board = 3;  // cells 1-3 and 4-6: one high cell on each board
+  s.hardware.balancing.boards = 2;
+  const BalanceTimeResult boards = balanceTime(s, o);
+  EXPECT_EQ(boards.high_cells, 2);
+  EXPECT_NEAR(boards.rows[0].board_power_W, v * v / 47.0, 1e-9);
+
+  // The simulation's needed charge is the same per-group excess, summed.
+  s.hardware.balancing.cells_per_board = 0;
+  s.hardware.balancing.boards = 1;
+  o.simulate = true;
+  o.max_hours = 0.05;
+  const BalanceTimeResult run = balanceTime(s, o);
+  EXPECT_NEAR(run.rows[0].needed_Ah, 0.181 * 3.4 + 0.05 * 3.1, 1e-9);
 }
 
 }  // namespace
