@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/sim/balance_summary.hpp"
+#include "core/sim/charge_summary.hpp"
 #include "core/sim/cvode_integrator.hpp"
 #include "core/sim/soc_error.hpp"
 #include "core/sim/vehicle_summary.hpp"
@@ -163,6 +164,7 @@ struct Summary {
   std::vector<std::pair<std::string, double>> firmware_target_figures;
   VehicleSummary vehicle;       // `load: {vehicle: ...}`: laps, the pack's limits on the vehicle
   BalanceSummary balance;       // hardware.balancing: what the resistors bled, when the pack was balanced
+  ChargeSummary charge;         // load.charger: when the BMS enabled the charger and switched it off
 };
 
 struct RunResult {

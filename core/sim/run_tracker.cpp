@@ -178,6 +178,7 @@ RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config&
   rec.has_balancing = s.hardware.balancing.present;
   rec.has_active_balancer = s.hardware.active_balancer.present;
   rec.has_charger = s.charger.present;
+  r_.summary.charge.present = s.charger.present;
   rec.has_board = plant.boardNode() >= 0;
   r_.summary.scenario = s.name;
   r_.summary.soc_estimator = settingChoice("soc.estimator", s.bms.image);
@@ -293,6 +294,30 @@ const std::vector<EdgeRun>& edgeRuns() {
 
 }  // namespace
 
+void RunTracker::noteCharger(double t, const double* x, const PlantSignals& sig, bool on) {
+  ChargeSummary& c = r_.summary.charge;
+  chargerOn_ = on;
+  if (on) {
+    if (c.on_s < 0.0) c.on_s = t;
+    c.off_s = -1.0;
+    event(t, "charger", "enabled by the BMS");
+    return;
+  }
+  const std::vector<double>& v = sig.cell_voltage_V;
+  const int highest = static_cast<int>(std::max_element(v.begin(), v.end()) - v.begin());
+  double soc = 0.0;
+  for (size_t index : cellSocIndex_) soc += x[index];
+  c.off_s = t;
+  c.off_cell = highest + 1;
+  c.off_cell_V = v[static_cast<size_t>(highest)];
+  c.off_current_A = -sig.pack_current_A;
+  c.off_soc_mean = soc / static_cast<double>(cellSocIndex_.size());
+  char d[200];
+  std::snprintf(d, sizeof d, "disabled by the BMS: the highest cell, %s, at %.3f V under %.2f A of charge, mean SOC %.3f (truth)",
+                cellName(c.off_cell, plant_.pack().parallel).c_str(), c.off_cell_V, c.off_current_A, c.off_soc_mean);
+  event(t, "charger", d);
+}
+
 void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
   static_assert(kOutputEdgeCount <= sizeof lastOutput_ / sizeof lastOutput_[0], "RunTracker::lastOutput_ holds every row");
   uint64_t now[kOutputEdgeCount];  // each row's field, read once
@@ -376,6 +401,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
 
   const bool outputsMoved = first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing);
   if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
+  if (out.chargerEnable != chargerOn_ && r_.rec.has_charger) noteCharger(t, x, sig, out.chargerEnable);
   // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
   // had closed it before or, as after a failed precharge, never got that far).
   if (!out.relayClose && out.faultLatched != 0 && !sm.tripped) {

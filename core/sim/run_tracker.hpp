@@ -49,6 +49,8 @@ class RunTracker {
   void outputEvents(double t, const bms::Outputs& out, bool report);
   void noteLimit(double t, const double* x, int cell, bool byTrip = false);
   void noteSocRange(double t, const double* x, int cell);
+  // The BMS switched the charger on or off this tick: its event, with the truth when off.
+  void noteCharger(double t, const double* x, const PlantSignals& sig, bool on);
   // State estimation against the truth (issue 17).
   void judgeEstimates(const double* x, const PlantSignals& sig, const bms::Outputs& out);
 
@@ -58,6 +60,7 @@ class RunTracker {
   RunResult r_;
   bool first_ = true;
   uint64_t lastOutput_[8] = {};  // per row of kOutputEdges: its field at the last tick
+  bool chargerOn_ = false;       // the BMS's charger enable at the last tick (runs with a charger)
   std::vector<double> limitSoc_;  // SOC of every cell when the first one hit its limit
   double lastT_ = 0.0;
   const double* lastX_ = nullptr;

@@ -9,6 +9,7 @@ namespace {
 using S = Summary;
 bool vehicle(const S& m) { return m.vehicle.present; }
 bool balancing(const S& m) { return m.balance.present; }
+bool charger(const S& m) { return m.charge.present; }
 
 }  // namespace
 
@@ -64,6 +65,13 @@ const std::vector<SummaryField>& summaryFields() {
       {"balance_spread_end_Ah",   [](const S& m) { return m.balance.spread_end_Ah; }, balancing},
       {"balance_imbalance_start_Ah", [](const S& m) { return m.balance.imbalance_start_Ah; }, balancing},
       {"balance_imbalance_end_Ah",   [](const S& m) { return m.balance.imbalance_end_Ah; }, balancing},
+      // A charger (load.charger): when the BMS enabled it and switched it off for good, with the truth then.
+      {"charge_on_s",             [](const S& m) { return m.charge.on_s; }, charger},
+      {"charge_off_s",            [](const S& m) { return m.charge.off_s; }, charger},
+      {"charge_off_cell",         [](const S& m) -> long long { return m.charge.off_cell; }, charger},
+      {"charge_off_cell_V",       [](const S& m) { return m.charge.off_cell_V; }, charger},
+      {"charge_off_current_A",    [](const S& m) { return m.charge.off_current_A; }, charger},
+      {"charge_off_soc_mean",     [](const S& m) { return m.charge.off_soc_mean; }, charger},
       // A vehicle on its route (docs/vehicle.md): a sweep's summary.csv shows the fastest speed that finishes.
       {"vehicle_distance_km",     [](const S& m) { return m.vehicle.distance_m / 1000.0; }, vehicle},
       {"vehicle_finished",        [](const S& m) -> long long { return m.vehicle.finished ? 1 : 0; }, vehicle},

@@ -143,6 +143,29 @@ void balancingLine(LineWriter& w, const S&, const R& r) {
            " Ah at the end: it also counts the groups' capacities, which differ");
 }
 
+// A run on a charger: what the BMS did with it (core/sim/charge_summary.hpp), and the
+// charger's own end at its taper current (its `charger` event).
+void chargeLine(LineWriter& w, const S& s, const R& r) {
+  const ChargeSummary& c = r.summary.charge;
+  if (!c.present) return;
+  if (c.on_s < 0.0) {
+    w.line("the BMS never enabled the charger");
+    return;
+  }
+  const std::string on = "enabled by the BMS at " + fmt("%.2f", c.on_s) + " s";
+  if (c.off_s >= 0.0) {
+    w.line(on + ", switched off at " + fmt("%.2f", c.off_s) + " s (" + clockText(c.off_s) + ") and kept off");
+    w.more("then the highest cell, " + cellName(c.off_cell, s.pack.parallel) + ", was at " + fmt("%.3f", c.off_cell_V) +
+           " V under " + fmt("%.2f", c.off_current_A) + " A of charge; mean SOC " + fmt("%.3f", c.off_soc_mean) + " (truth)");
+    return;
+  }
+  const Event* done = nullptr;
+  for (const Event& e : r.events)
+    if (e.kind == "charger" && e.detail.rfind("done", 0) == 0 && e.time_s >= c.on_s) done = &e;
+  w.line(on + (done ? "; the charger ended at its taper end current at " + fmt("%.2f", done->time_s) + " s"
+                    : std::string(", on at the end of the run")));
+}
+
 // SOC error of each estimator against the truth; the first printed takes the label.
 void socErrorLines(LineWriter& w, const S&, const R& r) {
   const Summary& m = r.summary;
@@ -302,6 +325,8 @@ const std::vector<SummaryLine> kLines = {
               " % of the start) stranded by imbalance"); }},
     {"balancing", "balance_bled_Ah balance_heat_Wh balance_started_s balance_balanced_s balance_spread_start_Ah "
                   "balance_spread_end_Ah balance_imbalance_start_Ah balance_imbalance_end_Ah", balancingLine},
+    {"charge", "charge_on_s charge_off_s charge_off_cell charge_off_cell_V charge_off_current_A charge_off_soc_mean",
+     chargeLine},
     {"final SOC", "final_soc_min final_soc_max", [](LineWriter& w, const S&, const R& r) {
        w.line(fmt("%.3f", r.summary.final_soc_min) + " .. " + fmt("%.3f", r.summary.final_soc_max)); }},
     {"SOC error", "soc_estimator soc_error_coulomb_max soc_error_coulomb_rms soc_error_coulomb_end soc_error_ekf_max "
