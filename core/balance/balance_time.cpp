@@ -287,26 +287,28 @@ void markFastest(BalanceTimeResult& res) {
 // starts (more than its stop threshold above the lowest, bms chooseCells' rule), in all and
 // on the board that has most of them.
 struct ScenarioImbalance {
-  std::vector<double> excess_Ah, soc;  // per group; soc: charge over capacity
+  std::vector<double> excess_Ah, soc;  // per group (groupExcess_Ah, groupSoc)
   int highest = 0;
-  double lowest_V = 0.0;
+  double highest_Ah = 0.0;  // its capacity
+  double lowest_soc = 0.0;
   int high_groups = 0, high_on_one_board = 0;
 };
 ScenarioImbalance scenarioImbalance(const Plant& plant, const double* x0, const PassiveBalancerConfig& hw,
                                     double stop_delta_V) {
   const Pack& p = plant.pack();
   const std::vector<double> soc = cellSoc(plant, x0);
-  const std::vector<double> v = groupOcv_V(p, soc), q = groupCharge_Ah(p, soc);
   ScenarioImbalance m;
+  m.soc = groupSoc(p, soc);
   m.excess_Ah = groupExcess_Ah(p, soc);
   m.highest = static_cast<int>(std::max_element(m.excess_Ah.begin(), m.excess_Ah.end()) - m.excess_Ah.begin());
-  m.lowest_V = *std::min_element(v.begin(), v.end());
+  m.highest_Ah = groupCapacity_Ah(p)[static_cast<size_t>(m.highest)];
+  m.lowest_soc = *std::min_element(m.soc.begin(), m.soc.end());
+  // Rest voltages: every cell has the pack's OCV curve.
+  const CellParams& cell = p.cells[0];
+  const double lowest_V = ecm::ocv(cell, m.lowest_soc);
   std::vector<int> perBoard(static_cast<size_t>(hw.boardOf(p.series - 1) + 1), 0);
   for (int g = 0; g < p.series; ++g) {
-    double capacity_Ah = 0.0;
-    for (int k = 0; k < p.parallel; ++k) capacity_Ah += p.cells[static_cast<size_t>(g * p.parallel + k)].capacity_Ah;
-    m.soc.push_back(q[static_cast<size_t>(g)] / capacity_Ah);
-    if (v[static_cast<size_t>(g)] - m.lowest_V <= stop_delta_V) continue;
+    if (ecm::ocv(cell, m.soc[static_cast<size_t>(g)]) - lowest_V <= stop_delta_V) continue;
     ++m.high_groups;
     m.high_on_one_board = std::max(m.high_on_one_board, ++perBoard[static_cast<size_t>(hw.boardOf(g))]);
   }
@@ -363,9 +365,9 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   res.cell_V = o.cell_V ? *o.cell_V : ecm::ocv(base.pack.cell, o.delta_Ah ? base.pack.initial_soc : imb.soc[static_cast<size_t>(imb.highest)]);
   // The high group's charge range for the droop form.
   const CellParams& cell = o.delta_Ah ? base.pack.cell : basePlant.pack().cells[static_cast<size_t>(imb.highest * parallel)];
-  const double group_Ah = cell.capacity_Ah * parallel;
+  const double group_Ah = o.delta_Ah ? cell.capacity_Ah * parallel : imb.highest_Ah;
   const double socHigh = o.delta_Ah ? socAtOcv(cell, res.cell_V) : imb.soc[static_cast<size_t>(imb.highest)];
-  const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : socAtOcv(cell, imb.lowest_V);
+  const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : imb.lowest_soc;
   // Bleeding ends (in the droop form) when the high group's OCV is within the target of the low one's.
   const double socTarget = std::min(socHigh, socAtOcv(cell, ecm::ocv(cell, socLow) + res.target_mV * 1e-3));
   // Cells on the most loaded board: given, the high cells sit on the first groups; from the

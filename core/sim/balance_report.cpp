@@ -2,8 +2,6 @@
 
 #include <algorithm>
 
-#include "core/balance/balance_analytic.hpp"
-
 namespace packsim {
 
 std::vector<double> groupCharge_Ah(const Pack& p, const std::vector<double>& soc) {
@@ -25,14 +23,25 @@ std::vector<double> groupOcv_V(const Pack& p, const std::vector<double>& soc) {
   return v;
 }
 
-std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc) {
-  const std::vector<double> v = groupOcv_V(p, soc);
-  const double lowest_V = *std::min_element(v.begin(), v.end());
-  std::vector<double> q(static_cast<size_t>(p.series), 0.0);
-  for (size_t c = 0; c < soc.size(); ++c)
-    q[c / static_cast<size_t>(p.parallel)] += (soc[c] - socAtOcv(p.cells[c], lowest_V)) * p.cells[c].capacity_Ah;
-  for (double& g : q) g = std::max(0.0, g);
+std::vector<double> groupCapacity_Ah(const Pack& p) {
+  std::vector<double> capacity(static_cast<size_t>(p.series), 0.0);
+  for (size_t c = 0; c < p.cells.size(); ++c) capacity[c / static_cast<size_t>(p.parallel)] += p.cells[c].capacity_Ah;
+  return capacity;
+}
+
+std::vector<double> groupSoc(const Pack& p, const std::vector<double>& soc) {
+  std::vector<double> q = groupCharge_Ah(p, soc);
+  const std::vector<double> capacity = groupCapacity_Ah(p);
+  for (size_t g = 0; g < q.size(); ++g) q[g] /= capacity[g];
   return q;
+}
+
+std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc) {
+  const std::vector<double> s = groupSoc(p, soc), capacity = groupCapacity_Ah(p);
+  const double lowest = *std::min_element(s.begin(), s.end());
+  std::vector<double> excess(s.size());
+  for (size_t g = 0; g < s.size(); ++g) excess[g] = (s[g] - lowest) * capacity[g];
+  return excess;
 }
 
 double spread(const std::vector<double>& q) {

@@ -13,10 +13,15 @@ namespace packsim {
 std::vector<double> groupCharge_Ah(const Pack& p, const std::vector<double>& soc);
 // Rest voltage of each series group: the mean OCV of its cells (`soc`: one per cell).
 std::vector<double> groupOcv_V(const Pack& p, const std::vector<double>& soc);
+// Each series group's capacity: its cells' summed.
+std::vector<double> groupCapacity_Ah(const Pack& p);
+// Each series group's SOC once its parallel cells share their charge (they rest at one
+// voltage): its charge over its capacity.
+std::vector<double> groupSoc(const Pack& p, const std::vector<double>& soc);
 // The charge (Ah) each series group holds above the lowest group's rest voltage: what
-// balancing must take from it for every group to rest at that voltage. Each cell counts
-// its SOC less the SOC at which its OCV is the lowest group's rest voltage, times its
-// capacity (a group's sum, at least 0). With alike cells this is the group's charge less
+// balancing must take from it for every group to rest at that voltage. Every cell of a
+// pack has the same OCV curve, so that is (its SOC - the lowest group's SOC) x its
+// capacity, with each group at groupSoc. With alike cells this is the group's charge less
 // the lowest group's; with capacities that differ a larger group holds more charge at the
 // same voltage, which is no imbalance and which no balancing removes.
 std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc);

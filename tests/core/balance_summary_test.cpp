@@ -128,6 +128,22 @@ TEST(BalanceSummary, ABiggerCellAtTheSameRestVoltageIsNoImbalance) {
       << "alike cells: no charge-spread line";
 }
 
+// With cells in parallel a group rests at one voltage once its cells share their charge:
+// its SOC is its charge over its capacity. 4s2p, one cell of group 3 at 0.85 and its
+// neighbour at the others' 0.8: the group sits at 0.825, 0.025 x 4 Ah = 0.1 Ah above.
+TEST(BalanceSummary, AParallelGroupsImbalanceIsItsChargeOverItsCapacity) {
+  Scenario s = restingPack(10.0);
+  s.pack.parallel = 2;
+  s.pack.cell_overrides.clear();
+  CellOverride high;
+  high.cell = 4;  // cell 5: group 3's first
+  high.initial_soc = 0.85;
+  s.pack.cell_overrides.push_back(high);
+  const RunResult r = runScenario(s);
+  EXPECT_NEAR(r.summary.balance.imbalance_start_Ah, 0.1, 1e-9);
+  EXPECT_NEAR(r.summary.balance.spread_start_Ah, 0.1, 1e-9);
+}
+
 // No balancing hardware: no line, no figures.
 TEST(BalanceSummary, APackWithoutBalancingHasNoLine) {
   const Scenario s = test::scenarioFromYaml(test::simpleCellYaml(2) + test::kSimpleLoadYaml);
