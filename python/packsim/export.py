@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from .result import Result, _need, load
+from .result import NotAResultError, Result, _need, load
 
 __all__ = ["export", "FORMATS"]
 
@@ -98,6 +98,26 @@ def _to_mat(r: Result, out: str) -> list[str]:
     return [out]
 
 
+# Parquet keeps key-value metadata in the file's footer, which readers decode whole:
+# Arrow (pyarrow, pandas, Polars, DuckDB's Arrow path) refuses a footer whose strings
+# exceed 100 MB ("Couldn't deserialize thrift: ... Exceeded size limit"). A long run's
+# monitor-bus trace as JSON passes that (a 40-minute race: 185 MB), and the file
+# written would be one no reader opens. Below this, with room for the schema's own text.
+_PARQUET_METADATA_LIMIT = 90_000_000
+
+
+def _metadata_too_big(meta: dict[bytes, bytes], tables: dict[str, np.ndarray]) -> str | None:
+    """The error text when the footer's metadata would pass what readers accept, else None."""
+    total = sum(len(k) + len(v) for k, v in meta.items())
+    if total <= _PARQUET_METADATA_LIMIT:
+        return None
+    rows = ", ".join(f"{path} ({len(a):,} rows)" for path, a in tables.items())
+    return (f"the metadata of this result ({total / 1e6:,.0f} MB as JSON"
+            + (f"; its tables: {rows}" if rows else "") + ") is more than a Parquet footer holds for its "
+            f"readers ({_PARQUET_METADATA_LIMIT / 1e6:,.0f} MB; Arrow refuses a larger one): nothing written; "
+            "export it as csv (one file per table) or mat")
+
+
 def _to_parquet(r: Result, out: str) -> list[str]:
     _need("pyarrow")
     import pyarrow as pa
@@ -107,8 +127,12 @@ def _to_parquet(r: Result, out: str) -> list[str]:
     meta[b"packsim.attrs"] = json.dumps(r.attrs.get("", {}), default=_json_default).encode()
     meta[b"packsim.summary"] = json.dumps(r.summary, default=_json_default).encode()
     meta[b"packsim.events"] = json.dumps(r.events, default=_json_default).encode()
-    tables = {path: [dict(zip(a.dtype.names, row)) for row in a.tolist()] for path, a in _tables(r).items()}
+    others = _tables(r)
+    tables = {path: [dict(zip(a.dtype.names, row)) for row in a.tolist()] for path, a in others.items()}
     meta[b"packsim.tables"] = json.dumps(tables, default=_json_default).encode()
+    too_big = _metadata_too_big(meta, others)
+    if too_big:
+        raise ValueError(too_big)
     pq.write_table(table.replace_schema_metadata(meta), out)
     return [out]
 
@@ -148,8 +172,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--format", required=True, choices=FORMATS)
     ap.add_argument("-o", "--output", help="output file (mat, parquet) or folder (csv)")
     a = ap.parse_args(argv)
+    if not os.path.isfile(a.result):
+        print(f"packsim export: error: {a.result}: no such result file", file=sys.stderr)
+        return 2
     try:
         files = export(a.result, a.format, a.output)
+    except NotAResultError as e:  # bad input: exit 2, as every command
+        print(f"packsim export: error: {e}", file=sys.stderr)
+        return 2
     except (ImportError, OSError, ValueError) as e:
         print(f"packsim export: error: {e}", file=sys.stderr)
         return 1

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from ._plot_marks import draw_limits, mark_events
-from .result import Result, load
+from .result import NotAResultError, Result, load
 
 __all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "vehicle", "balance_time", "plot_all",
            "main", "LINE_LIMIT", "timeline_rows", "run_figure"]
@@ -538,8 +538,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         r = load(a.result)
-    except (OSError, KeyError) as e:
-        print(f"packsim plot: error: {a.result}: not a packsim result file ({e})", file=sys.stderr)
+    except NotAResultError as e:
+        print(f"packsim plot: error: {e}", file=sys.stderr)
         return 2
     for path in plot_all(r, a.output, dpi=a.dpi):
         print(path)

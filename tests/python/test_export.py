@@ -139,3 +139,59 @@ def test_every_table_is_exported_in_each_format(with_tables, path, tmp_path):
     tables = json.loads(pq.read_schema(tmp_path / "t.parquet").metadata[b"packsim.tables"])
     assert list(tables) == [path]
     _same_table({n: [row[n] for row in tables[path]] for n in want.dtype.names}, want, "parquet")
+
+
+@pytest.fixture(scope="module")
+def not_results(tmp_path_factory):
+    """Files a user may hand to export/plot/report by mistake: a CSV (not HDF5) and an
+    HDF5 file packsim did not write (no /time_s, no packsim_version)."""
+    h5py = pytest.importorskip("h5py")
+    d = tmp_path_factory.mktemp("not_results")
+    (d / "summary.csv").write_text("name,value\nduration_s,1\n")
+    with h5py.File(d / "other.h5", "w") as f:
+        f.create_dataset("x", data=[1.0, 2.0])
+    return [d / "summary.csv", d / "other.h5"]
+
+
+def test_a_file_that_is_no_result_is_one_error_naming_it(not_results):
+    # Was: the CSV an OSError without the file's name ("file signature not found"), the
+    # other HDF5 file loaded as an empty Result whose export died in a KeyError 'time_s'.
+    for path in not_results:
+        with pytest.raises(packsim.NotAResultError, match=f"{path.name}: not a packsim result file"):
+            packsim.load(path)
+        with pytest.raises(ValueError, match=f"{path.name}: not a packsim result file"):
+            packsim.export(path, "csv", path.parent / "out")
+        assert not (path.parent / "out").exists()
+
+
+@pytest.mark.parametrize("command", [["export", "--format", "csv"], ["plot"]])
+def test_the_commands_refuse_a_file_that_is_no_result_with_exit_2(cli, not_results, command, tmp_path):
+    # Was: export exited 1 (a CSV) or 1 with a Python traceback (another HDF5 file); plot
+    # printed a traceback for the HDF5 file.
+    for path in not_results:
+        args = [str(cli), command[0], str(path), *command[1:], "-o", str(tmp_path / "out")]
+        done = subprocess.run(args, capture_output=True, text=True, env=_env())
+        assert done.returncode == 2, (command, path.name, done.stderr)
+        assert f"{path}: not a packsim result file" in done.stderr, done.stderr
+        assert "Traceback" not in done.stderr, done.stderr
+        assert not (tmp_path / "out").exists()
+
+
+def test_parquet_refuses_a_table_too_big_for_its_footer(with_tables, tmp_path, monkeypatch):
+    # The tables go into the Parquet footer as JSON, which Arrow refuses beyond 100 MB:
+    # a 40-minute race's bus trace (eco_marathon_12s_circuit, output.bus_trace) made a
+    # 432 MB file that pyarrow could not open ("Couldn't deserialize thrift: ...
+    # Exceeded size limit"), with exit 0. The limit is lowered here so the 2-s trace
+    # passes it; the export must then say so and write nothing.
+    export_module = sys.modules["packsim.export"]  # packsim.export is the function
+    pq = pytest.importorskip("pyarrow.parquet")
+    stored = with_tables["bus_trace"]
+    out = tmp_path / "t.parquet"
+    packsim.export(stored, "parquet", out)  # as it is: within the limit, and readable
+    footer = sum(len(k) + len(v) for k, v in pq.read_schema(out).metadata.items())
+    out.unlink()
+    monkeypatch.setattr(export_module, "_PARQUET_METADATA_LIMIT", footer // 2, raising=False)
+    rows = len(packsim.load(stored).datasets["bus_trace"])
+    with pytest.raises(ValueError, match=rf"bus_trace \({rows:,} rows\).*nothing written; export it as csv"):
+        packsim.export(stored, "parquet", out)
+    assert sorted(os.listdir(tmp_path)) == []
