@@ -144,10 +144,14 @@ def export(result: Result | str | os.PathLike, format: str, output: str | os.Pat
     """Write a result (a Result or a result HDF5 file) as csv, mat or parquet; returns
     the files written. output: the file (mat, parquet) or folder (csv); default next
     to the result file (or named after the scenario for a run not saved)."""
+    from . import _path_arg
     if format not in _WRITERS:
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, not {format!r}")
+    if not isinstance(result, (Result, str, os.PathLike)):
+        raise TypeError(f"result must be a packsim.Result or a result file path, got {type(result).__name__}")
+    output = _path_arg("output", output)
     r = result if isinstance(result, Result) else load(result)
-    out = os.fspath(output) if output is not None else _default_output(r.source, r.scenario_name, format)
+    out = output if output is not None else _default_output(r.source, r.scenario_name, format)
     parent = os.path.dirname(os.path.abspath(out))
     os.makedirs(parent, exist_ok=True)
     # Written under a temporary name and renamed when complete: a failed export leaves

@@ -486,7 +486,12 @@ def vehicle(r: Result | str | os.PathLike):
 
 def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, dpi: int = 120) -> list[str]:
     """Every figure of the result as PNG in outdir; returns the written paths."""
+    from . import _int_arg, _path_arg
     r = _result(r)
+    outdir = _path_arg("outdir", outdir)
+    if outdir is None:
+        raise TypeError("outdir must be a path, got NoneType")
+    _int_arg("dpi", dpi, 1)
     os.makedirs(outdir, exist_ok=True)
     figures: list[tuple[str, Any]] = [
         ("cell_voltages", cells(r, "voltage")),

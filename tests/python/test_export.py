@@ -80,6 +80,11 @@ def test_bad_format_and_missing_file_are_clear_errors(cli, stored, tmp_path):
     assert done.returncode == 2 and "no such result file" in done.stderr
     with pytest.raises(ValueError, match="csv, mat, parquet"):
         packsim.export(stored, "xlsx")
+    # Was "expected str, bytes or os.PathLike object, not int": which argument?
+    with pytest.raises(TypeError, match="output must be a path, got int"):
+        packsim.export(stored, "csv", 3)
+    with pytest.raises(TypeError, match="result must be a packsim.Result or a result file path, got int"):
+        packsim.export(5, "csv")
     assert not [p for p in tmp_path.iterdir()]
 
 
