@@ -7,13 +7,16 @@
 csv      a folder: samples.csv (one row per sample, column per 1-D dataset and per
          channel of 2-D ones, ``truth/cell_voltage_V[3]`` 1-based), events.csv,
          summary.csv (name, value) and one file per other table of the result
-         (``bus_trace.csv``, ``vehicle_laps.csv``, ``vehicle_stages.csv``, ...)
+         (``bus_trace.csv``, ``vehicle_laps.csv``, ``vehicle_stages.csv``, ...) and
+         per group of datasets over another axis (``inputs.csv``: a batch case's
+         drawn cell values, one row per cell)
 mat      one variable per dataset, named by path with "/" -> "_"
          (``truth_cell_voltage_V``, [samples, channels]); ``events``, ``summary`` and
          every other table as structs of columns, ``attrs`` with the file's attributes
          (scenario_yaml, seed, ...)
 parquet  the samples table (columns as in csv); the file's attributes, the summary,
-         the events and the other tables as JSON in the schema's key-value metadata
+         the events and the other tables (``inputs`` too) as JSON in the schema's
+         key-value metadata
 
 Values are exported as stored (firmware units stay mV, 0.1 degC, ... as in their names).
 """
@@ -53,6 +56,26 @@ def _tables(r: Result) -> dict[str, np.ndarray]:
     return {path: a for path, a in r.datasets.items() if a.dtype.names and path != "events"}
 
 
+def _axis_tables(r: Result) -> dict[str, dict[str, np.ndarray]]:
+    """Datasets over an axis other than time -- a batch case's drawn cell values,
+    /inputs/cell_capacity_Ah ... on `cell` (docs/results.md) -- as tables, one per group
+    and axis, one row per element: the axis (1-based, named as its dimension scale), then
+    each dataset by name. The samples table holds only channels over time, so without
+    these they would be left out of csv and parquet. A table is named by its group
+    (``inputs``), or group_axis where a group has datasets on several axes."""
+    by_axis: dict[tuple[str, str], dict[str, np.ndarray]] = {}
+    for path, a in r.datasets.items():
+        if a.dtype.names or a.ndim != 1 or "/" not in path or r._on_time(path, a):
+            continue
+        group, name = path.rsplit("/", 1)
+        axis = (r._file_dims(path) or ("",))[0] or f"{name}_index"
+        cols = by_axis.setdefault((group, axis), {axis: np.arange(1, a.shape[0] + 1, dtype=np.int32)})
+        cols[name] = a  # one axis, one length: the dimension scale's
+    groups = [g for g, _ in by_axis]
+    return {(g if groups.count(g) == 1 else f"{g}_{axis}").replace("/", "_"): cols
+            for (g, axis), cols in by_axis.items()}
+
+
 def _table_name(path: str) -> str:
     return path.replace("/", "_")
 
@@ -72,6 +95,9 @@ def _to_csv(r: Result, out: str) -> list[str]:
     for path, a in _tables(r).items():
         files.append(os.path.join(out, _table_name(path) + ".csv"))
         pd.DataFrame(_columns(a)).to_csv(files[-1], index=False)
+    for name, cols in _axis_tables(r).items():
+        files.append(os.path.join(out, name + ".csv"))
+        pd.DataFrame(cols).to_csv(files[-1], index=False)
     return files
 
 
@@ -129,6 +155,8 @@ def _to_parquet(r: Result, out: str) -> list[str]:
     meta[b"packsim.events"] = json.dumps(r.events, default=_json_default).encode()
     others = _tables(r)
     tables = {path: [dict(zip(a.dtype.names, row)) for row in a.tolist()] for path, a in others.items()}
+    for name, cols in _axis_tables(r).items():
+        tables[name] = [dict(zip(cols, row)) for row in zip(*(c.tolist() for c in cols.values()))]
     meta[b"packsim.tables"] = json.dumps(tables, default=_json_default).encode()
     too_big = _metadata_too_big(meta, others)
     if too_big:

@@ -384,7 +384,7 @@ class Result:
         if kind == "samples":
             cols: dict[str, np.ndarray] = {}
             for path, a in self._datasets.items():
-                if path == "time_s" or a.dtype.names or a.ndim == 0 or a.shape[0] != n:
+                if path == "time_s" or not self._on_time(path, a):
                     continue
                 if a.ndim == 1:
                     cols[path] = a
@@ -400,6 +400,16 @@ class Result:
                     cols[name] = a.reshape(-1)
             return pd.DataFrame(cols)
         raise ValueError(f"kind must be 'samples', 'cells', 'events' or 'bus_trace', not {kind!r}")
+
+    def _on_time(self, path: str, a: np.ndarray) -> bool:
+        """Whether a dataset is a channel over the samples (its first axis is /time_s).
+        By the file's dimension scales where there are any: a batch case's per-cell
+        /inputs (axis `cell`) have as many rows as samples when cells == samples, and
+        must not become a column of the samples then."""
+        if a.dtype.names or a.ndim == 0 or a.shape[0] != self.time_s.shape[0]:
+            return False
+        dims = self._file_dims(path)
+        return not dims or dims[0] in ("time_s", "")
 
     def _file_dims(self, path: str) -> tuple[str, ...]:
         if self._complete is not None:

@@ -200,3 +200,42 @@ def test_parquet_refuses_a_table_too_big_for_its_footer(with_tables, tmp_path, m
     with pytest.raises(ValueError, match=rf"bus_trace \({rows:,} rows\).*nothing written; export it as csv"):
         packsim.export(stored, "parquet", out)
     assert sorted(os.listdir(tmp_path)) == []
+
+
+@pytest.fixture(scope="module")
+def batch_case(tmp_path_factory):
+    """A batch case's file, which holds the drawn cell values (/inputs, on the `cell`
+    axis), recorded for 11 s at 1 s: 12 samples of a 12-cell pack."""
+    d = tmp_path_factory.mktemp("export_inputs")
+    res = packsim.batch({"base": packsim.default_scenario(), "grid": {"run.duration_s": [11]}}, output_dir=d)
+    r = packsim.load(res.paths[0])
+    assert r.n_samples == r.n_cells == 12  # the case: as many samples as cells
+    return res.paths[0]
+
+
+def test_a_batch_cases_drawn_inputs_are_exported_per_cell_not_as_samples(batch_case, tmp_path):
+    # Was: csv and parquet left /inputs out (the samples table takes channels over time
+    # only) -- and with as many samples as cells, wrote each per-cell value as a column
+    # over time ('inputs/cell_capacity_Ah' at t = 0, 1, 2 ... s).
+    r = packsim.load(batch_case)
+    inputs = {k.split("/", 1)[1]: a for k, a in r.datasets.items() if k.startswith("inputs/")}
+    assert sorted(inputs) == ["cell_capacity_Ah", "cell_initial_soc", "cell_r0_scale", "cell_self_discharge_A"]
+    assert not [c for c in r.to_dataframe("samples").columns if c.startswith("inputs")]
+
+    files = packsim.export(batch_case, "csv", tmp_path / "csv")
+    assert os.path.basename(files[-1]) == "inputs.csv"
+    samples = pd.read_csv(tmp_path / "csv" / "samples.csv")
+    assert not [c for c in samples.columns if c.startswith("inputs")]
+    got = pd.read_csv(tmp_path / "csv" / "inputs.csv")
+    assert list(got.columns) == ["cell", *sorted(inputs)]
+    np.testing.assert_array_equal(got["cell"], np.arange(1, 13))
+    for name, a in inputs.items():
+        np.testing.assert_array_equal(got[name].to_numpy(), a, err_msg=name)
+
+    pq = pytest.importorskip("pyarrow.parquet")
+    packsim.export(batch_case, "parquet", tmp_path / "t.parquet")
+    assert not [c for c in pq.read_schema(tmp_path / "t.parquet").names if c.startswith("inputs")]
+    rows = json.loads(pq.read_schema(tmp_path / "t.parquet").metadata[b"packsim.tables"])["inputs"]
+    assert [row["cell"] for row in rows] == list(range(1, 13))
+    for name, a in inputs.items():
+        assert [row[name] for row in rows] == a.tolist(), name
