@@ -25,11 +25,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import sys
 from typing import Any
 
 import numpy as np
 
+from ._export_output import ExportOutputError, check_output, temporary_name
 from .result import NotAResultError, Result, _need, load
 
 __all__ = ["export", "FORMATS"]
@@ -182,17 +184,17 @@ def export(result: Result | str | os.PathLike, format: str, output: str | os.Pat
     out = output if output is not None else _default_output(r.source, r.scenario_name, format)
     parent = os.path.dirname(os.path.abspath(out))
     os.makedirs(parent, exist_ok=True)
-    # Written under a temporary name and renamed when complete: a failed export leaves
-    # nothing half-written behind.
-    tmp = out + ".tmp"
+    check_output(out, format, r.source)
+    # Written under a temporary name of its own and renamed when complete: a failed
+    # export leaves nothing half-written behind. An earlier CSV export (check_output: only
+    # that) is replaced whole.
+    tmp = temporary_name(out, format)
     try:
         written = _WRITERS[format](r, tmp)
         if format == "csv" and os.path.isdir(out):
-            import shutil
             shutil.rmtree(out)
         os.replace(tmp, out)
     except BaseException:
-        import shutil
         shutil.rmtree(tmp, ignore_errors=True) if os.path.isdir(tmp) else (os.path.exists(tmp) and os.remove(tmp))
         raise
     return [out + f[len(tmp):] for f in written]
@@ -209,7 +211,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         files = export(a.result, a.format, a.output)
-    except NotAResultError as e:  # bad input: exit 2, as every command
+    except (NotAResultError, ExportOutputError) as e:  # bad input: exit 2, as every command
         print(f"packsim export: error: {e}", file=sys.stderr)
         return 2
     except (ImportError, OSError, ValueError) as e:

@@ -239,3 +239,56 @@ def test_a_batch_cases_drawn_inputs_are_exported_per_cell_not_as_samples(batch_c
     assert [row["cell"] for row in rows] == list(range(1, 13))
     for name, a in inputs.items():
         assert [row[name] for row in rows] == a.tolist(), name
+
+
+def test_a_csv_export_never_deletes_the_users_files(cli, stored, tmp_path):
+    # Was: a CSV export replaced whatever folder -o named, whole: `-o data` deleted
+    # data/notes.txt and data/logs/, and `-o .` deleted the current folder's files, the
+    # result file among them, then failed ("Invalid argument: '.'", exit 1).
+    data = tmp_path / "data"
+    (data / "logs").mkdir(parents=True)
+    (data / "notes.txt").write_text("mine")
+    (data / "logs" / "cycler.csv").write_text("time_s,current_A\n")
+    done = subprocess.run([str(cli), "export", str(stored), "--format", "csv", "-o", str(data)],
+                          capture_output=True, text=True, env=_env())
+    assert done.returncode == 2, done.stderr
+    assert "is not an earlier CSV export (it holds logs, notes.txt): nothing written" in done.stderr, done.stderr
+    assert sorted(p.name for p in data.rglob("*")) == ["cycler.csv", "logs", "notes.txt"]
+
+    here = tmp_path / "here"
+    here.mkdir()
+    result = here / "race.h5"
+    result.write_bytes(stored.read_bytes())
+    (here / "notes.txt").write_text("mine")
+    done = subprocess.run([str(cli), "export", "race.h5", "--format", "csv", "-o", "."], cwd=here,
+                          capture_output=True, text=True, env=_env())
+    assert done.returncode == 2 and "is the current folder or holds it" in done.stderr, done.stderr
+    assert sorted(p.name for p in here.iterdir()) == ["notes.txt", "race.h5"]
+    assert result.read_bytes() == stored.read_bytes()
+
+    # A folder of other CSV files (a user's cycler logs) is no export either.
+    with pytest.raises(ValueError, match=r"logs exists and is not an earlier CSV export \(no samples.csv, events.csv, summary.csv\)"):
+        packsim.export(stored, "csv", data / "logs")
+    assert sorted(p.name for p in (data / "logs").iterdir()) == ["cycler.csv"]
+
+
+def test_an_earlier_csv_export_is_replaced_whole(stored, tmp_path):
+    out = tmp_path / "csv"
+    packsim.export(stored, "csv", out)
+    (out / "bus_trace.csv").write_text("from another run\n")  # a table this result lacks
+    packsim.export(stored, "csv", out)
+    assert sorted(p.name for p in out.iterdir()) == ["events.csv", "samples.csv", "summary.csv"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["csv"]  # no temporary left
+
+
+def test_an_export_never_replaces_the_result_file(stored, tmp_path):
+    # Was: `packsim export race.h5 --format mat -o race.h5` wrote the .mat over the result.
+    result = tmp_path / "race.h5"
+    result.write_bytes(stored.read_bytes())
+    for fmt in ("mat", "parquet"):
+        with pytest.raises(ValueError, match="the output is the result file itself"):
+            packsim.export(result, fmt, result)
+    assert result.read_bytes() == stored.read_bytes()
+    with pytest.raises(ValueError, match="is a folder: a mat export is one file"):
+        packsim.export(result, "mat", tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["race.h5"]
