@@ -11,6 +11,8 @@ from __future__ import annotations
 import os
 import tempfile
 
+from ._inputs_kept import refuse_overwriting
+
 __all__ = ["ExportOutputError", "check_output", "temporary_name", "CSV_EXPORT_FILES"]
 
 # What every CSV export folder holds (export._to_csv); its other files are .csv tables.
@@ -34,10 +36,9 @@ def _not_a_csv_export(folder: str) -> tuple[list[str], list[str]]:
 def check_output(out: str, fmt: str, source: str | None) -> None:
     """ExportOutputError when writing `out` would replace the result file, a folder that
     is not an earlier CSV export, a file with a folder or a folder with a file."""
+    refuse_overwriting({"-o": out}, [source] if source else [], ExportOutputError)
     if not os.path.lexists(out):
         return
-    if source is not None and os.path.exists(source) and os.path.samefile(out, source):
-        raise ExportOutputError(f"{out}: the output is the result file itself: give another name")
     if fmt != "csv":
         if os.path.isdir(out):
             raise ExportOutputError(f"{out} is a folder: a {fmt} export is one file: give a file name")

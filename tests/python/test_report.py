@@ -199,6 +199,26 @@ def test_a_sweep_does_not_plot_the_run_end_as_the_time_a_limit_was_reached(tmp_p
     assert [y for y in fig.data[0].y if y == y] == [3000.5, 6000.0]
 
 
+def test_a_report_never_writes_over_what_it_reads(cli, tmp_path):
+    # Was: `packsim report r.h5 -o r.h5` wrote the page over the result file, exit 0.
+    import shutil
+    src = tmp_path / "r.h5"
+    packsim.run("bench_6s_ncr18650_2C", {"run.duration_s": 5}).save(src)
+    kept = src.read_bytes()
+    done = subprocess.run([str(cli), "report", str(src), "-o", str(src)], capture_output=True, text=True,
+                          env=dict(os.environ, PACKSIM_PYTHON=sys.executable))
+    assert done.returncode == 2 and "is an input" in done.stderr, done.stderr
+    assert src.read_bytes() == kept
+    sweep = tmp_path / "sweep"
+    sweep.mkdir()
+    shutil.copy(src, sweep / "case_0000.h5")
+    (sweep / "summary.csv").write_text("case,status,energy_delivered_Wh\n0000,ok,1.0\n")
+    for target in ("summary.csv", "case_0000.h5"):
+        with pytest.raises(ValueError, match="is an input"):
+            packsim.report(sweep, sweep / target)
+    assert (sweep / "case_0000.h5").read_bytes() == kept
+
+
 def test_report_errors_are_clear(cli, tmp_path):
     done = subprocess.run([str(cli), "report", str(tmp_path / "none.h5"), "-o", str(tmp_path / "x.html")],
                           capture_output=True, text=True)
