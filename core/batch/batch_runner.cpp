@@ -13,6 +13,7 @@
 #include <mutex>
 #include <thread>
 
+#include "core/batch/case_inputs.hpp"
 #include "core/batch/case_processes.hpp"
 #include "core/batch/drawn_inputs.hpp"
 #include "core/io/hdf5_writer.hpp"
@@ -139,23 +140,25 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
   const std::string path = sw.resultPath(c);
   const std::string errFile = sw.base_path + " (sweep " + sw.name + ", case " + c.id + ")";
   try {
-    const std::string text = applyOverrides(sw.base_text, c.params, errFile);
+    const std::string dir = fs::path(sw.base_path).parent_path().string();
+    const Scenario s = loadScenarioWithOverrides(sw.base_text, c.params, errFile, dir.empty() ? "." : dir);
     if (resume && fs::exists(path)) {
       std::string stored;
       auto summary = readResultSummary(path, &stored);
-      // Complete, this very scenario, and its drawn inputs recorded (a file of an older
-      // packsim without /inputs runs again, so summary.csv has them for every case).
+      // Complete, this very scenario -- the text the run stores, a base's extends: chain
+      // merged in (the base's own text never matched that, so such a batch never resumed)
+      // -- written after every file the case reads changed (an edited load CSV ran
+      // again, core/batch/case_inputs.hpp), and its drawn inputs recorded (a file of an
+      // older packsim without /inputs runs again, so summary.csv has them for every case).
       const bool drawn = std::any_of(summary.begin(), summary.end(),
                                      [](const auto& kv) { return kv.first.rfind("drawn_", 0) == 0; });
-      if (!summary.empty() && stored == text && drawn) {
+      if (!summary.empty() && stored == s.text && drawn && newerThanInputs(path, caseInputFiles(sw, c, s))) {
         o.ok = o.skipped = true;
         o.summary = std::move(summary);
         return o;
       }
     }
     const auto t0 = Clock::now();
-    const std::string dir = fs::path(sw.base_path).parent_path().string();
-    const Scenario s = loadScenarioWithOverrides(sw.base_text, c.params, errFile, dir.empty() ? "." : dir);
     // A stop signal (packsim batch only, core/sim/stop_signal.hpp) ends the case at the next tick, unwritten.
     const RunResult r =
         runScenario(s, [](double, const double*, const PlantSignals&, const bms::Outputs&) { return stopSignal() != 0; });

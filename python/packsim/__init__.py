@@ -31,7 +31,7 @@ from .check import CheckOutcome, CheckReport, FaultLatency, check
 from .fit import FitError, FitResult, FitWarning, fit, from_bpx, from_pybamm
 from .export import export
 from .report import report
-from .result import Result, load
+from .result import NotAResultError, Result, load
 
 # An installed wheel carries the bundled scenarios inside the package.
 _WHEEL_SCENARIOS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "scenarios")
@@ -59,7 +59,7 @@ except ImportError as _e:  # results can still be loaded and plotted without it
 __all__ = ["run", "show", "load", "Result", "ScenarioError", "apply_overrides", "bundled_scenarios", "bundled_scenario_dir",
            "default_scenario", "check", "CheckReport", "CheckOutcome", "FaultLatency", "batch", "BatchResult",
            "load_sweep", "monte_carlo_seed", "balance_time", "BalanceTimeResult", "BalanceTimeRow", "export", "report", "list_bundled", "__version__"]
-__all__ += ["fit", "from_bpx", "from_pybamm", "FitResult", "FitError", "FitWarning"]
+__all__ += ["fit", "from_bpx", "from_pybamm", "FitResult", "FitError", "FitWarning", "NotAResultError"]
 
 
 def __getattr__(name: str):
@@ -171,14 +171,18 @@ def _scenario_args(scenario: Any, pairs: list[tuple[str, str]],
     raise TypeError(f"scenario must be a path, YAML text or a dict, not {type(scenario).__name__}")
 
 
+_SEED_MAX = 2**63 - 1
+
+
 def _validate_seed(seed: Any) -> int | None:
     if seed is None:
         return None
     if isinstance(seed, bool) or not isinstance(seed, int) and not hasattr(seed, "__index__"):
         raise TypeError(f"seed must be an int, got {type(seed).__name__}")
     seed = int(seed.__index__())
-    if not 0 <= seed <= 2**63 - 1:
-        raise ValueError(f"seed must be >= 0, got {seed}")
+    if not 0 <= seed <= _SEED_MAX:
+        # The result file stores the seed as a signed 64-bit attribute.
+        raise ValueError(f"seed must be in [0, {_SEED_MAX}] (2**63 - 1), got {seed}")
     return seed
 
 

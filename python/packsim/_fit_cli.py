@@ -81,9 +81,12 @@ def main(argv: list[str]) -> int:
         print(f"packsim fit: error: needs Python 3 with the packsim package, NumPy and SciPy (pip install numpy scipy): {e}",
               file=sys.stderr)
         return 2
+    from ._inputs_kept import refuse_overwriting
     from .fit import FitError, fit
     n = len(args.data)
     try:
+        refuse_overwriting({"-o": args.output, "--report": args.report, "--bpx": args.bpx},
+                           list(args.data) + list(args.validate or []), FitError)
         for path in filter(None, (args.output, args.report, args.bpx)):  # fail before a long fit, not after it
             folder = os.path.dirname(os.path.abspath(path))
             if not os.path.isdir(folder):

@@ -7,13 +7,16 @@
 csv      a folder: samples.csv (one row per sample, column per 1-D dataset and per
          channel of 2-D ones, ``truth/cell_voltage_V[3]`` 1-based), events.csv,
          summary.csv (name, value) and one file per other table of the result
-         (``bus_trace.csv``, ``vehicle_laps.csv``, ``vehicle_stages.csv``, ...)
+         (``bus_trace.csv``, ``vehicle_laps.csv``, ``vehicle_stages.csv``, ...) and
+         per group of datasets over another axis (``inputs.csv``: a batch case's
+         drawn cell values, one row per cell)
 mat      one variable per dataset, named by path with "/" -> "_"
          (``truth_cell_voltage_V``, [samples, channels]); ``events``, ``summary`` and
          every other table as structs of columns, ``attrs`` with the file's attributes
          (scenario_yaml, seed, ...)
 parquet  the samples table (columns as in csv); the file's attributes, the summary,
-         the events and the other tables as JSON in the schema's key-value metadata
+         the events and the other tables (``inputs`` too) as JSON in the schema's
+         key-value metadata
 
 Values are exported as stored (firmware units stay mV, 0.1 degC, ... as in their names).
 """
@@ -22,12 +25,14 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import sys
 from typing import Any
 
 import numpy as np
 
-from .result import Result, _need, load
+from ._export_output import ExportOutputError, check_output, temporary_name
+from .result import NotAResultError, Result, _need, load
 
 __all__ = ["export", "FORMATS"]
 
@@ -53,6 +58,26 @@ def _tables(r: Result) -> dict[str, np.ndarray]:
     return {path: a for path, a in r.datasets.items() if a.dtype.names and path != "events"}
 
 
+def _axis_tables(r: Result) -> dict[str, dict[str, np.ndarray]]:
+    """Datasets over an axis other than time -- a batch case's drawn cell values,
+    /inputs/cell_capacity_Ah ... on `cell` (docs/results.md) -- as tables, one per group
+    and axis, one row per element: the axis (1-based, named as its dimension scale), then
+    each dataset by name. The samples table holds only channels over time, so without
+    these they would be left out of csv and parquet. A table is named by its group
+    (``inputs``), or group_axis where a group has datasets on several axes."""
+    by_axis: dict[tuple[str, str], dict[str, np.ndarray]] = {}
+    for path, a in r.datasets.items():
+        if a.dtype.names or a.ndim != 1 or "/" not in path or r._on_time(path, a):
+            continue
+        group, name = path.rsplit("/", 1)
+        axis = (r._file_dims(path) or ("",))[0] or f"{name}_index"
+        cols = by_axis.setdefault((group, axis), {axis: np.arange(1, a.shape[0] + 1, dtype=np.int32)})
+        cols[name] = a  # one axis, one length: the dimension scale's
+    groups = [g for g, _ in by_axis]
+    return {(g if groups.count(g) == 1 else f"{g}_{axis}").replace("/", "_"): cols
+            for (g, axis), cols in by_axis.items()}
+
+
 def _table_name(path: str) -> str:
     return path.replace("/", "_")
 
@@ -72,6 +97,9 @@ def _to_csv(r: Result, out: str) -> list[str]:
     for path, a in _tables(r).items():
         files.append(os.path.join(out, _table_name(path) + ".csv"))
         pd.DataFrame(_columns(a)).to_csv(files[-1], index=False)
+    for name, cols in _axis_tables(r).items():
+        files.append(os.path.join(out, name + ".csv"))
+        pd.DataFrame(cols).to_csv(files[-1], index=False)
     return files
 
 
@@ -98,6 +126,26 @@ def _to_mat(r: Result, out: str) -> list[str]:
     return [out]
 
 
+# Parquet keeps key-value metadata in the file's footer, which readers decode whole:
+# Arrow (pyarrow, pandas, Polars, DuckDB's Arrow path) refuses a footer whose strings
+# exceed 100 MB ("Couldn't deserialize thrift: ... Exceeded size limit"). A long run's
+# monitor-bus trace as JSON passes that (a 40-minute race: 185 MB), and the file
+# written would be one no reader opens. Below this, with room for the schema's own text.
+_PARQUET_METADATA_LIMIT = 90_000_000
+
+
+def _metadata_too_big(meta: dict[bytes, bytes], tables: dict[str, np.ndarray]) -> str | None:
+    """The error text when the footer's metadata would pass what readers accept, else None."""
+    total = sum(len(k) + len(v) for k, v in meta.items())
+    if total <= _PARQUET_METADATA_LIMIT:
+        return None
+    rows = ", ".join(f"{path} ({len(a):,} rows)" for path, a in tables.items())
+    return (f"the metadata of this result ({total / 1e6:,.0f} MB as JSON"
+            + (f"; its tables: {rows}" if rows else "") + ") is more than a Parquet footer holds for its "
+            f"readers ({_PARQUET_METADATA_LIMIT / 1e6:,.0f} MB; Arrow refuses a larger one): nothing written; "
+            "export it as csv (one file per table) or mat")
+
+
 def _to_parquet(r: Result, out: str) -> list[str]:
     _need("pyarrow")
     import pyarrow as pa
@@ -107,8 +155,14 @@ def _to_parquet(r: Result, out: str) -> list[str]:
     meta[b"packsim.attrs"] = json.dumps(r.attrs.get("", {}), default=_json_default).encode()
     meta[b"packsim.summary"] = json.dumps(r.summary, default=_json_default).encode()
     meta[b"packsim.events"] = json.dumps(r.events, default=_json_default).encode()
-    tables = {path: [dict(zip(a.dtype.names, row)) for row in a.tolist()] for path, a in _tables(r).items()}
+    others = _tables(r)
+    tables = {path: [dict(zip(a.dtype.names, row)) for row in a.tolist()] for path, a in others.items()}
+    for name, cols in _axis_tables(r).items():
+        tables[name] = [dict(zip(cols, row)) for row in zip(*(c.tolist() for c in cols.values()))]
     meta[b"packsim.tables"] = json.dumps(tables, default=_json_default).encode()
+    too_big = _metadata_too_big(meta, others)
+    if too_big:
+        raise ValueError(too_big)
     pq.write_table(table.replace_schema_metadata(meta), out)
     return [out]
 
@@ -120,23 +174,27 @@ def export(result: Result | str | os.PathLike, format: str, output: str | os.Pat
     """Write a result (a Result or a result HDF5 file) as csv, mat or parquet; returns
     the files written. output: the file (mat, parquet) or folder (csv); default next
     to the result file (or named after the scenario for a run not saved)."""
+    from . import _path_arg
     if format not in _WRITERS:
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, not {format!r}")
+    if not isinstance(result, (Result, str, os.PathLike)):
+        raise TypeError(f"result must be a packsim.Result or a result file path, got {type(result).__name__}")
+    output = _path_arg("output", output)
     r = result if isinstance(result, Result) else load(result)
-    out = os.fspath(output) if output is not None else _default_output(r.source, r.scenario_name, format)
+    out = output if output is not None else _default_output(r.source, r.scenario_name, format)
     parent = os.path.dirname(os.path.abspath(out))
     os.makedirs(parent, exist_ok=True)
-    # Written under a temporary name and renamed when complete: a failed export leaves
-    # nothing half-written behind.
-    tmp = out + ".tmp"
+    check_output(out, format, r.source)
+    # Written under a temporary name of its own and renamed when complete: a failed
+    # export leaves nothing half-written behind. An earlier CSV export (check_output: only
+    # that) is replaced whole.
+    tmp = temporary_name(out, format)
     try:
         written = _WRITERS[format](r, tmp)
         if format == "csv" and os.path.isdir(out):
-            import shutil
             shutil.rmtree(out)
         os.replace(tmp, out)
     except BaseException:
-        import shutil
         shutil.rmtree(tmp, ignore_errors=True) if os.path.isdir(tmp) else (os.path.exists(tmp) and os.remove(tmp))
         raise
     return [out + f[len(tmp):] for f in written]
@@ -148,8 +206,14 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--format", required=True, choices=FORMATS)
     ap.add_argument("-o", "--output", help="output file (mat, parquet) or folder (csv)")
     a = ap.parse_args(argv)
+    if not os.path.isfile(a.result):
+        print(f"packsim export: error: {a.result}: no such result file", file=sys.stderr)
+        return 2
     try:
         files = export(a.result, a.format, a.output)
+    except (NotAResultError, ExportOutputError) as e:  # bad input: exit 2, as every command
+        print(f"packsim export: error: {e}", file=sys.stderr)
+        return 2
     except (ImportError, OSError, ValueError) as e:
         print(f"packsim export: error: {e}", file=sys.stderr)
         return 1

@@ -425,16 +425,22 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
     fit_warnings: list[str] = []
     if capacity_Ah is None:
         # a test from initial_soc s to empty removes s·Q
-        removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) / max(s0, 1e-9) for t, s0 in zip(tests, socs0)]
-        best = int(np.argmax(removed_Ah))
-        capacity_Ah = removed_Ah[best]
+        removed_Ah = [float(np.max(1.0 - soc_trace(t, 1.0, 1.0))) for t in tests]
+        per_soc = [q / max(s0, 1e-9) for q, s0 in zip(removed_Ah, socs0)]
+        best = int(np.argmax(per_soc))
+        capacity_Ah = per_soc[best]
         capacity_source = f"measured: the most charge one test removed, {tests[best].name}"
+        if socs0[best] != 1.0:  # the capacity is not the charge removed: say both
+            capacity_source = (f"measured: the most charge one test removed over its initial SOC, {tests[best].name}: "
+                               f"{removed_Ah[best]:.4g} Ah from SOC {socs0[best]:g}")
         if not capacity_Ah > 0:
             raise FitError("no test discharges the cell: give capacity_Ah (or a full constant-current discharge)")
         _check_measured_capacity(tests[best], capacity_Ah)
         if not _is_full_discharge(tests[best]):
             fit_warnings.append(
-                f"the capacity {capacity_Ah:.4g} Ah is the charge {tests[best].name} removed, but no test is a full "
+                f"the capacity {capacity_Ah:.4g} Ah is from the charge {tests[best].name} removed"
+                + (f" ({removed_Ah[best]:.4g} Ah from its initial SOC {socs0[best]:g})" if socs0[best] != 1.0 else "")
+                + ", but no test is a full "
                 "discharge to the cut-off (one uninterrupted discharge removing most of the charge and ending at "
                 "the test's lowest voltage; an HPPC stops short of empty), so it is likely too low: give "
                 "--capacity-Ah / capacity_Ah, or add a full constant-current discharge")

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 from ._plot_marks import draw_limits, mark_events
-from .result import Result, load
+from .result import NotAResultError, Result, load
 
 __all__ = ["cells", "current_soc", "bms_timeline", "measured_vs_truth", "balancing", "vehicle", "balance_time", "plot_all",
            "main", "LINE_LIMIT", "timeline_rows", "run_figure"]
@@ -109,7 +109,7 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
                 ax.plot(t, a[:, j], color="0.65", lw=0.7, label="other cells" if j == min(set(range(n)) - set(marked),
                                                                                           default=-1) else None)
         for k, (j, why) in enumerate(marked.items()):
-            ax.plot(t, a[:, j], color=f"C{k}", lw=1.6, label=f"cell {j + 1} ({why})")
+            ax.plot(t, a[:, j], color=f"C{k}", lw=1.6, label=_marked_label(r, j, why))
         draw_limits(ax, r, [lim for lim in _LIMITS.get(quantity, []) if _near(lim, r, a)])
         ax.legend(fontsize="small", loc="lower left")
         ax.set_ylabel(label)
@@ -121,7 +121,7 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
         fig.colorbar(im, ax=ax, label=label)
         ax.set_ylabel("cell")
         for j, why in _highlighted_cells(r, a).items():
-            ax.annotate(f"cell {j + 1} ({why})", (1.0, j + 1), xycoords=("axes fraction", "data"), xytext=(-4, 0),
+            ax.annotate(_marked_label(r, j, why), (1.0, j + 1), xycoords=("axes fraction", "data"), xytext=(-4, 0),
                         textcoords="offset points", ha="right", va="center", fontsize=7, color="w")
     ax.set_xlabel(tlabel)
     ax.set_title(_title(r, f"{quantity} of {n} cells"))
@@ -129,6 +129,14 @@ def cells(r: Result | str | os.PathLike, quantity: str = "voltage", *, line_limi
         ax.grid(alpha=0.3)
     mark_events(ax, r, _time(r)[2])
     return fig
+
+
+def _marked_label(r: Result, j: int, why: str) -> str:
+    """'cell 5 (min)', or in a parallel pack 'cell 21 (group 11, min)': the cell named as
+    the summary and the events name it (run_facts.cell_name)."""
+    from .run_facts import cell_name
+    name = cell_name(r, j)
+    return f"{name[:-1]}, {why})" if name.endswith(")") else f"{name} ({why})"
 
 
 def _near(lim: tuple[str, str, float], r: Result, a: np.ndarray) -> bool:
@@ -486,7 +494,12 @@ def vehicle(r: Result | str | os.PathLike):
 
 def plot_all(r: Result | str | os.PathLike, outdir: str | os.PathLike = ".", *, dpi: int = 120) -> list[str]:
     """Every figure of the result as PNG in outdir; returns the written paths."""
+    from . import _int_arg, _path_arg
     r = _result(r)
+    outdir = _path_arg("outdir", outdir)
+    if outdir is None:
+        raise TypeError("outdir must be a path, got NoneType")
+    _int_arg("dpi", dpi, 1)
     os.makedirs(outdir, exist_ok=True)
     figures: list[tuple[str, Any]] = [
         ("cell_voltages", cells(r, "voltage")),
@@ -538,8 +551,8 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         r = load(a.result)
-    except (OSError, KeyError) as e:
-        print(f"packsim plot: error: {a.result}: not a packsim result file ({e})", file=sys.stderr)
+    except NotAResultError as e:
+        print(f"packsim plot: error: {e}", file=sys.stderr)
         return 2
     for path in plot_all(r, a.output, dpi=a.dpi):
         print(path)

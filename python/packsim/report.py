@@ -24,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from ._atomic import replaced_when_done
+from ._inputs_kept import refuse_overwriting
 from .result import Result, load
 
 __all__ = ["report", "result_html", "batch_html"]
@@ -325,13 +326,25 @@ def _sensitivity_html(t) -> str:
             + f"<tbody>{''.join(rows)}</tbody></table></div>")
 
 
+def _input_files(source: Result | str | os.PathLike, is_batch: bool) -> list[str]:
+    """The files a report reads: the result file, or a batch folder's summary.csv and cases."""
+    if isinstance(source, Result):
+        return [source.source] if source.source else []
+    if not is_batch:
+        return [os.fspath(source)]
+    import glob
+    folder = os.fspath(source)
+    return [os.path.join(folder, "summary.csv")] + glob.glob(os.path.join(folder, "*.h5"))
+
+
 def report(source: Result | str | os.PathLike, output: str | os.PathLike) -> str:
     """Write the HTML page of a result (a Result or a result file) or of a batch folder
     (holding summary.csv) to output; returns its path. Written under a temporary name
     and renamed when complete."""
     is_batch = not isinstance(source, Result) and os.path.isdir(os.fspath(source))
-    page = batch_html(source) if is_batch else result_html(source)
     output = os.fspath(output)
+    refuse_overwriting({"-o": output}, _input_files(source, is_batch))
+    page = batch_html(source) if is_batch else result_html(source)
     os.makedirs(os.path.dirname(os.path.abspath(output)), exist_ok=True)
     with replaced_when_done(output) as tmp, open(tmp, "w", encoding="utf-8") as f:
         f.write(page)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ._atomic import replaced_when_done
 
-__all__ = ["Result", "load"]
+__all__ = ["Result", "load", "NotAResultError"]
 
 EVENTS = "events"
 _EVENT_DTYPE = np.dtype([("time_s", "<f8"), ("kind", object), ("detail", object)])
@@ -125,12 +125,33 @@ def _dim_names(ds) -> tuple[str, ...]:
     return tuple(out)
 
 
+# What every file `packsim run` writes has (docs/results.md): without them a file is
+# some other HDF5 (or no HDF5 at all), and reading on would fail later, far from here,
+# with a KeyError naming a dataset rather than the file.
+_RESULT_ROOT_ATTR = "packsim_version"
+_RESULT_DATASETS = ("time_s",)
+
+
+class NotAResultError(ValueError):
+    """The file exists but is not a packsim result file (not HDF5, or not packsim's layout)."""
+
+
 def load(path: str | os.PathLike) -> "Result":
-    """Read a result HDF5 file written by ``packsim run`` or ``Result.save``."""
+    """Read a result HDF5 file written by ``packsim run`` or ``Result.save``.
+
+    FileNotFoundError when there is no such file; NotAResultError (a ValueError) naming
+    the file when it is not HDF5 or not a packsim result."""
     path = os.fspath(path)
     if not os.path.isfile(path):
         raise FileNotFoundError(f"no such result file: {path}")
-    datasets, attrs, dims = _read_h5(path)
+    try:
+        datasets, attrs, dims = _read_h5(path)
+    except OSError as e:  # h5py: not an HDF5 file, truncated, unreadable
+        raise NotAResultError(f"{path}: not a packsim result file (HDF5 could not open it: {e})") from e
+    missing = [d for d in _RESULT_DATASETS if d not in datasets]
+    if _RESULT_ROOT_ATTR not in attrs.get("", {}) or missing:
+        what = (f"no /{', /'.join(missing)}" if missing else f"no root attribute {_RESULT_ROOT_ATTR}")
+        raise NotAResultError(f"{path}: not a packsim result file ({what}; an HDF5 file that packsim run did not write)")
     return Result(datasets, attrs, source=path, dims=dims)
 
 
@@ -363,7 +384,7 @@ class Result:
         if kind == "samples":
             cols: dict[str, np.ndarray] = {}
             for path, a in self._datasets.items():
-                if path == "time_s" or a.dtype.names or a.ndim == 0 or a.shape[0] != n:
+                if path == "time_s" or not self._on_time(path, a):
                     continue
                 if a.ndim == 1:
                     cols[path] = a
@@ -379,6 +400,16 @@ class Result:
                     cols[name] = a.reshape(-1)
             return pd.DataFrame(cols)
         raise ValueError(f"kind must be 'samples', 'cells', 'events' or 'bus_trace', not {kind!r}")
+
+    def _on_time(self, path: str, a: np.ndarray) -> bool:
+        """Whether a dataset is a channel over the samples (its first axis is /time_s).
+        By the file's dimension scales where there are any: a batch case's per-cell
+        /inputs (axis `cell`) have as many rows as samples when cells == samples, and
+        must not become a column of the samples then."""
+        if a.dtype.names or a.ndim == 0 or a.shape[0] != self.time_s.shape[0]:
+            return False
+        dims = self._file_dims(path)
+        return not dims or dims[0] in ("time_s", "")
 
     def _file_dims(self, path: str) -> tuple[str, ...]:
         if self._complete is not None:

@@ -43,6 +43,11 @@ TRIP = "tripped"
 # of anything, so not plotted (NaN). The cases' table on the page still shows them.
 NEVER = frozenset({"balance_started_s", "balance_balanced_s", "vehicle_limit_time_s"})
 TRIP_TIME = "trip_time_s"
+# Times that are times of something only where a flag says it happened: the trip time of
+# a case that tripped; the time the first cell reached its limit (limit_reached 1) -- a
+# case whose cells never did carries the run's end there (the summary accounts the
+# energy left at the end), which is no time the limit was reached.
+WHEN_FLAG = {TRIP_TIME: TRIP, "limit_time_s": "limit_reached"}
 # Outputs a team looks at first, in this order; the others follow in summary.csv's order.
 FIRST = ("energy_delivered_Wh", "energy_stranded_Wh", "min_cell_V", "max_temp_C", "trip_time_s", "tripped",
          "duration_s", "heat_Wh", "energy_left_Wh")
@@ -70,8 +75,8 @@ class SweepTable:
                 pass
         if name in NEVER:
             out[out == -1.0] = np.nan
-        elif name == TRIP_TIME and TRIP in self.header:
-            out[~(self.column(TRIP, ok_only) > 0.5)] = np.nan
+        elif name in WHEN_FLAG and WHEN_FLAG[name] in self.header:
+            out[~(self.column(WHEN_FLAG[name], ok_only) > 0.5)] = np.nan
         return out
 
     def ok_rows(self) -> list[list[str]]:

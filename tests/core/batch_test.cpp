@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -154,6 +155,56 @@ TEST(Batch, RunsEveryCaseWritesCsvAndResumes) {
   const BatchReport third = runBatch(changed, opt);
   EXPECT_EQ(third.skipped, 2);  // cases 0 and 1 are unchanged
   EXPECT_EQ(third.ok, 4);
+}
+
+// A base that extends another scenario stores the merged text; the resume check compared
+// the base's own text with it, so such a batch never resumed (every case ran again).
+TEST(Batch, ABaseThatExtendsAnotherResumes) {
+  Scratch sc;
+  sc.write("child.yaml", "extends: base.yaml\nname: child\n");
+  Sweep sw = loadSweepFile(sc.write("sweep.yaml", "base: child.yaml\noutput_dir: out\ngrid:\n  load.current_A: [2, 3]\n"));
+  BatchOptions opt;
+  opt.progress = nullptr;
+  EXPECT_EQ(runBatch(sw, opt).ok, 2);
+  const BatchReport again = runBatch(sw, opt);
+  EXPECT_EQ(again.skipped, 2);
+  EXPECT_EQ(again.ok, 2);
+}
+
+// The scenario text names its load CSV; the CSV's content is not in it. Edited after the
+// results were written, a resumed batch took them as done and reported the old run's
+// summary. Now a result older than a file the case reads -- the load CSV, a file of the
+// extends: chain, a CSV a grid names -- runs again.
+TEST(Batch, AResultOlderThanTheLoadCsvRunsAgain) {
+  Scratch sc;
+  sc.write("lap.csv", "time_s,current_A\n0,1\n20,1\n");
+  sc.write("other.csv", "time_s,current_A\n0,1\n20,1\n");
+  sc.write("csvbase.yaml", test::simpleCellYaml(4) + "load: {csv: lap.csv}\nrun: {duration_s: 20}\n");
+  Sweep sw = loadSweepFile(sc.write("sweep.yaml", "base: csvbase.yaml\noutput_dir: out\n"
+                                                  "grid:\n  pack.cell.capacity_Ah: [1.5]\n"));
+  Sweep byGrid = loadSweepFile(sc.write("sweep2.yaml", "base: csvbase.yaml\noutput_dir: out2\n"
+                                                       "grid:\n  load.csv: [other.csv]\n"));
+  BatchOptions opt;
+  opt.progress = nullptr;
+  const BatchReport first = runBatch(sw, opt);
+  ASSERT_EQ(first.ok, 1);
+  ASSERT_EQ(runBatch(byGrid, opt).ok, 1);
+  const double charge1 = std::stod(field(first.cases[0], "charge_delivered_Ah"));
+  EXPECT_EQ(runBatch(sw, opt).skipped, 1);  // nothing changed
+  EXPECT_EQ(runBatch(byGrid, opt).skipped, 1);
+
+  // The load doubles; the files are marked as changed after the results were written.
+  const auto later = fs::last_write_time(sw.resultPath(sw.cases[0])) + std::chrono::seconds(2);
+  sc.write("lap.csv", "time_s,current_A\n0,2\n20,2\n");
+  fs::last_write_time(sc.dir / "lap.csv", later);
+  const BatchReport again = runBatch(sw, opt);
+  EXPECT_EQ(again.skipped, 0);
+  ASSERT_EQ(again.ok, 1);
+  EXPECT_NEAR(std::stod(field(again.cases[0], "charge_delivered_Ah")), 2 * charge1, 1e-6 + 1e-3 * charge1);
+
+  sc.write("other.csv", "time_s,current_A\n0,2\n20,2\n");
+  fs::last_write_time(sc.dir / "other.csv", later);
+  EXPECT_EQ(runBatch(byGrid, opt).skipped, 0);
 }
 
 // summary.csv is written under a temporary name of this process (uniqueTemporaryName),

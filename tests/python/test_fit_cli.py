@@ -60,6 +60,23 @@ def test_cli_missing_output_folder_exits_2_before_fitting(cli, tmp_path):
     assert p.returncode == 2 and "no such folder" in p.stderr
 
 
+@pytest.mark.parametrize("flags", [["-o", "{data}"], ["-o", "{out}", "--report", "{data}"],
+                                   ["-o", "{out}", "--validate", "{held}", "--bpx", "{held}"],
+                                   ["-o", "{out}", "--report", "{out}"]])
+def test_cli_never_writes_over_its_own_test_data(cli, tmp_path, flags):
+    # Was: `packsim fit pulses.csv -o pulses.csv` replaced the test with the preset and
+    # `--report pulses.csv` with a PNG, exit 0; two options naming one file, the later won.
+    data = _pulse_csv(tmp_path / "pulses.csv")
+    held = _pulse_csv(tmp_path / "held.csv")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    names = {"data": data, "held": held, "out": str(tmp_path / "cell.yaml")}
+    p = subprocess.run([str(cli), "fit", data, "--capacity-Ah", "2", "--rc-pairs", "1",
+                        *[f.format(**names) for f in flags]], capture_output=True, text=True)
+    assert p.returncode == 2, p.stderr
+    assert "is an input" in p.stderr or "name the same file" in p.stderr, p.stderr
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
 def test_cli_argument_errors_exit_2(cli, tmp_path):
     p = subprocess.run([str(cli), "fit", "-o", str(tmp_path / "x.yaml")], capture_output=True, text=True)
     assert p.returncode == 2 and "required: data" in p.stderr

@@ -54,7 +54,7 @@ def test_milliamperes_under_an_ampere_name_are_caught_by_magnitude(hppc_and_cc, 
 
 def test_hppc_alone_warns_that_the_capacity_is_undetermined(hppc_and_cc):
     hppc, _ = hppc_and_cc
-    with pytest.warns(packsim.FitWarning, match=r"the capacity 4\.\d+ Ah is the charge .*hppc\.csv removed, but no "
+    with pytest.warns(packsim.FitWarning, match=r"the capacity 4\.\d+ Ah is from the charge .*hppc\.csv removed, but no "
                                                 r"test is a full discharge.*give --capacity-Ah / capacity_Ah"):
         f = packsim.fit(hppc, rc_pairs=1)
     assert f.capacity_Ah == pytest.approx(0.9 * 5.0, rel=0.02)  # nine 10 % steps: 10 % short
@@ -68,6 +68,21 @@ def test_a_full_discharge_measures_the_capacity_without_warning(hppc_and_cc):
         f = packsim.fit([hppc, cc], rc_pairs=1)
     assert f.capacity_Ah == pytest.approx(0.98 * 5.0, rel=0.005)
     assert f.warnings == [] and cc in f.capacity_source
+
+
+def test_a_capacity_from_a_test_not_started_full_says_what_was_removed(hppc_and_cc):
+    # Was: with initial_soc 0.5 the line read "capacity 9.8 Ah (measured: the most charge
+    # one test removed, cc.csv)" though the test removed 4.9 Ah: the capacity is that
+    # charge over the initial SOC, and the line now says both.
+    _, cc = hppc_and_cc
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        f = packsim.fit(cc, rc_pairs=1, initial_soc=0.5)
+    removed = 0.98 * 5.0
+    assert f.capacity_Ah == pytest.approx(removed / 0.5, rel=0.005)
+    assert f.capacity_source.endswith(f"over its initial SOC, {cc}: {f.capacity_Ah * 0.5:.4g} Ah from SOC 0.5"), \
+        f.capacity_source
+    assert f"capacity {f.capacity_Ah:.4g} Ah ({f.capacity_source})" in f.summary()
 
 
 def test_cli_prints_the_warning(cli, hppc_and_cc, tmp_path):

@@ -27,6 +27,15 @@ def test_plot_all_writes_pngs(race, tmp_path):
     assert any(p.endswith("_bms_timeline.png") for p in paths), names
 
 
+def test_plot_all_names_a_bad_argument(race):
+    # Was "expected str, bytes or os.PathLike object, not int" for the folder, and a dpi
+    # of 0 reached matplotlib.
+    with pytest.raises(TypeError, match="outdir must be a path, got int"):
+        plot.plot_all(race, 5)
+    with pytest.raises(ValueError, match="dpi must be >= 1, got 0"):
+        plot.plot_all(race, ".", dpi=0)
+
+
 def test_lines_for_small_packs_heatmap_for_large(race, simple_yaml):
     fig = plot.cells(race, "voltage")
     ax = fig.axes[0]

@@ -89,3 +89,17 @@ def test_extreme_and_faulted_cells_stand_out():
     assert hottest == 5  # the scenario heats cell 5
     assert any(lbl.startswith("cell 5 (fault injected") and "max" in lbl for lbl in labels), labels
     assert any(lbl.endswith("(min)") for lbl in labels) and "other cells" in labels
+
+
+def test_a_parallel_packs_marked_cells_are_named_with_their_group():
+    # The summary and the events name a cell of a parallel pack with its group, "cell 74
+    # (group 19)"; the plot said "cell 21 (min)" for a 12s2p pack, leaving the reader to
+    # work out which series group -- the unit the BMS measures -- it sits in.
+    r = packsim.run("eco_marathon_12s", {"pack.parallel": 2, "load.laps": 1})
+    v = r["truth/cell_voltage_V"]
+    lo, hi = int(np.argmin(v.min(axis=0))), int(np.argmax(v.max(axis=0)))
+    labels = plot.cells(r, "voltage").axes[0].get_legend_handles_labels()[1]
+    assert f"cell {lo + 1} (group {lo // 2 + 1}, min)" in labels, labels
+    assert f"cell {hi + 1} (group {hi // 2 + 1}, max)" in labels, labels
+    heat = plot.cells(r, "voltage", line_limit=4)  # the heat-map's annotations
+    assert f"cell {lo + 1} (group {lo // 2 + 1}, min)" in [t.get_text() for t in heat.axes[0].texts]

@@ -184,6 +184,41 @@ def test_a_sweep_does_not_plot_never_as_a_time(tmp_path):
     assert [y for y in fig.data[0].y if y == y] == [5000.0, 7000.0]  # the -1 is not on the line
 
 
+def test_a_sweep_does_not_plot_the_run_end_as_the_time_a_limit_was_reached(tmp_path):
+    """A case whose cells never reached their limit (limit_reached 0) carries the run's
+    end in limit_time_s (the energy left is accounted there): not a time the limit was
+    reached, so not plotted. Was: plotted at the run's end (7200 s in a resistor sweep of
+    2-hour charges, none reaching a limit), reading as 'reached at 7200 s'."""
+    (tmp_path / "summary.csv").write_text(
+        "case,pack.cell.capacity_Ah,status,limit_reached,limit_time_s,energy_delivered_Wh\n"
+        "0000,4,ok,1,3000.5,10.5\n0001,5,ok,0,7200,11.5\n0002,6,ok,1,6000,12.0\n")
+    t = sweep_figure.read(tmp_path)
+    got = t.column("limit_time_s")
+    assert got[0] == 3000.5 and np.isnan(got[1]) and got[2] == 6000.0
+    title, fig = [f for f in sweep_figure.figures(t) if f[0] == "limit_time_s vs pack.cell.capacity_Ah"][0]
+    assert [y for y in fig.data[0].y if y == y] == [3000.5, 6000.0]
+
+
+def test_a_report_never_writes_over_what_it_reads(cli, tmp_path):
+    # Was: `packsim report r.h5 -o r.h5` wrote the page over the result file, exit 0.
+    import shutil
+    src = tmp_path / "r.h5"
+    packsim.run("bench_6s_ncr18650_2C", {"run.duration_s": 5}).save(src)
+    kept = src.read_bytes()
+    done = subprocess.run([str(cli), "report", str(src), "-o", str(src)], capture_output=True, text=True,
+                          env=dict(os.environ, PACKSIM_PYTHON=sys.executable))
+    assert done.returncode == 2 and "is an input" in done.stderr, done.stderr
+    assert src.read_bytes() == kept
+    sweep = tmp_path / "sweep"
+    sweep.mkdir()
+    shutil.copy(src, sweep / "case_0000.h5")
+    (sweep / "summary.csv").write_text("case,status,energy_delivered_Wh\n0000,ok,1.0\n")
+    for target in ("summary.csv", "case_0000.h5"):
+        with pytest.raises(ValueError, match="is an input"):
+            packsim.report(sweep, sweep / target)
+    assert (sweep / "case_0000.h5").read_bytes() == kept
+
+
 def test_report_errors_are_clear(cli, tmp_path):
     done = subprocess.run([str(cli), "report", str(tmp_path / "none.h5"), "-o", str(tmp_path / "x.html")],
                           capture_output=True, text=True)

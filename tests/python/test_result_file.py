@@ -16,3 +16,21 @@ def test_save_refuses_the_scenario_file(tmp_path, simple_yaml):
     assert scenario.read_text() == simple_yaml
     r.save(tmp_path / "out.h5")
     assert packsim.load(tmp_path / "out.h5").summary["duration_s"] == r.summary["duration_s"]
+
+
+def test_a_value_within_one_step_of_zero_is_stored_as_zero(tmp_path):
+    """docs/results.md, "Storage and resolution": a float channel reads back within half
+    its step of the simulated value, but for values within one step of 0, which read back
+    as exactly 0 (HDF5's scale-offset filter stores its fill value, 0, for them). The
+    documentation said "within half a step" for every value: a 7 µA load (0.7 of the
+    10 µA step) reads back as 0 A, 7 µA off."""
+    import h5py
+    r = packsim.run("name: tiny\npack: {series: 2, cell: {preset: lipo_5Ah}}\n"
+                    "load: {current_A: 0.000007}\nrun: {duration_s: 5}\n")
+    r.save(tmp_path / "tiny.h5")
+    held = r["truth/pack_current_A"]
+    with h5py.File(tmp_path / "tiny.h5") as f:
+        stored = f["truth/pack_current_A"][()]
+        step = f["truth/pack_current_A"].attrs["resolution"]
+    assert step == 1e-5 and held.max() == 7e-6
+    assert (stored == 0.0).all()  # not 1e-5: more than half a step off where held is 7 µA
