@@ -1,5 +1,8 @@
 #include "core/cli/cli_errors.hpp"
 
+#include <charconv>
+#include <cstdint>
+
 #include <cmath>
 #include <iostream>
 #include <vector>
@@ -106,5 +109,17 @@ int reportParseError(CLI::App& app, const CLI::ParseError& e) {
 CLI::Validator nonNegativeNumber() { return boundedNumber([](double v) { return v >= 0.0; }, ">= 0"); }
 
 CLI::Validator positiveNumber() { return boundedNumber([](double v) { return v > 0.0; }, "> 0"); }
+
+CLI::Validator seedNumber() {
+  return CLI::Validator(
+      [](std::string& text) {
+        uint64_t v = 0;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+        if (ec != std::errc() || end != text.data() + text.size() || v > kMaxSeed)
+          return "expected a whole number in [0, " + std::to_string(kMaxSeed) + "] (a scenario's seed: range), got " + text;
+        return std::string();
+      },
+      "INT in [0, " + std::to_string(kMaxSeed) + "]");
+}
 
 }  // namespace packsim

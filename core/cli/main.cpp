@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
                                               "default: eco_marathon_12s)");
   runCmd->add_option("--set", run.set, "override a scenario value, e.g. --set pack.cell.capacity_Ah=4.5 (repeatable)");
   runCmd->add_option("-o,--output", run.output, "result HDF5 file (default: packsim-results/<name>.h5)");
-  runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(packsim::nonNegativeNumber());
+  runCmd->add_option("--seed", run.seed, "override the scenario's random seed")->check(packsim::seedNumber());
   runCmd->add_flag("-q,--quiet", run.quiet, "print nothing but errors");
   runCmd->add_option("--target", run.target, "run packsim's core as ARM code on a virtual MCU (target mode)")
       ->check(CLI::IsMember({"cortex-m4"}));

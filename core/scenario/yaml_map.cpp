@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <filesystem>
+#include <iomanip>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -26,8 +27,11 @@ bool Range::contains(double v) const {
 }
 
 std::string Range::describe() const {
+  // A whole bound in all its digits: 6 significant digits printed the seed's 2147483647 as
+  // 2.14748e+09, a bound no value could be near.
   auto fmt = [](double v) {
     std::ostringstream os;
+    if (v == std::floor(v) && std::fabs(v) < 1e15) os << std::fixed << std::setprecision(0);
     os << v;
     return os.str();
   };

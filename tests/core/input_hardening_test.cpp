@@ -232,12 +232,19 @@ TEST(CliErrors, MistypedOptionSuggestsTheClosest) {
   EXPECT_NE(r.err.find("packsim run: error: unknown option '--seeed'; did you mean '--seed'?"), std::string::npos) << r.err;
 }
 
-TEST(CliErrors, NegativeSeedIsOneShortLine) {
-  const CliResult r = runCli("run --seed -1");
-  EXPECT_EQ(r.status, 2);
-  EXPECT_EQ(lines(r.err), 1u) << r.err;
-  EXPECT_NE(r.err.find("must be >= 0, got -1"), std::string::npos) << r.err;
-  EXPECT_LT(r.err.size(), 120u) << r.err;
+// A seed is a scenario's `seed:`, [0, 2147483647]: one short line for what is not, never a
+// wrapped value (18446744073709551616 ran as seed 2^64 - 1, stored as -1, exit 0).
+TEST(CliErrors, ASeedOutsideTheScenarioRangeIsOneShortLine) {
+  for (const char* seed : {"-1", "2147483648", "18446744073709551616", "1.5"}) {
+    const CliResult r = runCli(std::string("run --seed ") + seed);
+    EXPECT_EQ(r.status, 2) << seed;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find(std::string("--seed: expected a whole number in [0, 2147483647] (a scenario's seed: range), got ") +
+                         seed),
+              std::string::npos)
+        << r.err;
+    EXPECT_LT(r.err.size(), 160u) << r.err;
+  }
 }
 
 TEST(CliErrors, EveryArgumentErrorExitsTwo) {

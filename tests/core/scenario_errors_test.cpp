@@ -40,6 +40,15 @@ TEST(ScenarioErrors, ASingleDevicePartUnderALongerStringNamesTheModelKey) {
   EXPECT_NE(e.find("use a stacked part (bq76pl536a, bq76pl455a, ltc6811 or ltc6813)"), std::string::npos) << e;
 }
 
+// A whole-number bound is printed in all its digits: the seed's 2147483647 read
+// "allowed [0, 2.14748e+09]", a bound 2147483648 is no nearer than 2147483647.
+TEST(ScenarioErrors, AWholeBoundIsPrintedInAllItsDigits) {
+  std::string yaml = test::simpleCellYaml(2) + test::kSimpleLoadYaml;
+  yaml.replace(yaml.find("seed: 3"), 7, "seed: 2147483648");
+  const std::string err = errorOf(yaml);
+  EXPECT_NE(err.find("seed: 2147483648 is out of range; allowed [0, 2147483647]"), std::string::npos) << err;
+}
+
 TEST(ScenarioErrors, UnknownTopLevelSection) {
   const std::string e = errorOf(test::simpleCellYaml() + kLoad + "outptu: {interval_s: 1}\n");
   EXPECT_NE(e.find("outptu: unknown key; did you mean 'output'?"), std::string::npos) << e;
