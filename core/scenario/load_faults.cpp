@@ -1,4 +1,5 @@
 // Reads `faults:` (scripted injections) and `expect:` (assertions) strictly.
+#include <algorithm>
 #include <cmath>
 #include <bms/bms_faults.hpp>
 #include <cstdio>
@@ -92,7 +93,9 @@ Condition parseCondition(YamlMap& m, const std::string& key) {
   return c;
 }
 
-FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistors, int boards) {
+FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistors, const MonitorConfig& afe) {
+  const int perBoard = afe.devices_per_board > 0 ? afe.devices_per_board : afe.devices;
+  const int boards = (afe.devices + perBoard - 1) / perBoard;
   const int cells = series * parallel;
   FaultInjection inj;
   inj.line = f.raw().Mark().line + 1;
@@ -125,7 +128,16 @@ FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistor
                                   std::to_string(series) + ")");
     return static_cast<int>(f.integer("group", 1, series)) - 1;
   };
-  auto device = [&](const char* key) { return static_cast<int>(f.integer(key, 1, 64)) - 1; };
+  // The pack's own monitor devices: a device it does not have would be a fault on nothing
+  // (it was taken up to 64 and ran as "injected" with no effect).
+  auto device = [&](const char* key) {
+    const long d = f.integer(key, -1000000, 1000000);
+    if (d < 1 || d > afe.devices)
+      throw f.errorAt(key, std::to_string(d) + " is not a device of this pack: it has " + std::to_string(afe.devices) + " monitor device" +
+                               (afe.devices > 1 ? "s" : "") + " (hardware.afe: " + std::to_string(afe.cells_per_device) +
+                               " series groups a device); allowed [1, " + std::to_string(afe.devices) + "]");
+    return static_cast<int>(d) - 1;
+  };
   switch (inj.kind) {
     case FaultKind::Overcurrent: inj.value = f.number("current_A", Range::symmetric(limits::kMaxCurrent_A)); break;
     case FaultKind::HotCell:
@@ -151,6 +163,12 @@ FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistor
     }
     case FaultKind::BrokenLink: {
       inj.index = device("above_device");
+      // It cuts off the devices above it on its own board: the top device of a board has none.
+      const int bottom = inj.index / perBoard * perBoard + 1, top = std::min(afe.devices, bottom + perBoard - 1);
+      if (inj.index + 1 == top)
+        throw f.errorAt("above_device", "device " + std::to_string(top) + " is the top device of its " +
+                                            (boards > 1 ? "board" : "stack") + " (devices " + std::to_string(bottom) + "-" +
+                                            std::to_string(top) + "): a broken link above it cuts off nothing");
       // A broken link silences the devices above it; a bad joint whose line floats
       // reads 0xFF (or 0x00) from them instead.
       inj.value = -1.0;
@@ -275,10 +293,10 @@ std::string FaultInjection::describe() const {
   return buf;
 }
 
-std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards) {
+std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, const MonitorConfig& afe) {
   std::vector<FaultInjection> out;
   if (!root.has("faults")) return out;
-  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, series, parallel, thermistors, boards));
+  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, series, parallel, thermistors, afe));
   return out;
 }
 
