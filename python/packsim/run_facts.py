@@ -244,6 +244,30 @@ def _merged_unseen(evs) -> dict[int, str]:
     return lines
 
 
+def _contact_stayed_closed(r: Result, t: float) -> str | None:
+    """The line for a trip whose relay contact was closed and never opened from then on
+    (a welded relay): the summary's TRIP line says so, and a page that listed only what
+    opened read as if the trip had isolated the pack. None otherwise."""
+    closed = False
+    for ev in r.events:
+        if ev["kind"] != "relay_contact":
+            continue
+        if ev["time_s"] < t - 1e-9:
+            closed = str(ev["detail"]) == "closed"
+        elif str(ev["detail"]) == "opened":
+            return None
+    if not closed:
+        return None
+    end = float(r.time_s[-1])
+    weld = next((ev for ev in r.events if ev["kind"] == "fault_injected"
+                 and str(ev["detail"]).startswith("welded_relay")), None)
+    why = f" (welded_relay injected at {weld['time_s']:.2f} s)" if weld is not None else ""
+    line = f"the relay contact stayed closed after the trip, to the run's end at {end:.2f} s{why}"
+    if "truth/pack_current_A" in r:
+        line += f"; the pack current at the end: {float(r['truth/pack_current_A'][-1]):.3g} A"
+    return line
+
+
 def verdict(r: Result) -> Verdict:
     """Tripped or not, from the events: the first fault_latched is the trip (the
     protection and when); the contact, fuse and FAULT-line events say what acted; the
@@ -267,6 +291,9 @@ def verdict(r: Result) -> Verdict:
             lines.append(f"at the trip {reading}")
         for ev in latched[1:]:
             lines.append(f"then latched at {ev['time_s']:.2f} s: {ev['detail']}")
+        stayed = _contact_stayed_closed(r, t)
+        if stayed:
+            lines.append(stayed)
     else:
         v = Verdict(False, "NO TRIP: no protection latched", None, None, lines)
     unseen = _merged_unseen(evs)

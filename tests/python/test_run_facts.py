@@ -190,3 +190,20 @@ def test_unseen_limits_of_one_parallel_group_are_one_verdict_line():
         "1720.00 s: limit unseen: " + events[-2][2],
         "1720.00 s: limit unseen: " + events[-1][2],
     ]
+
+
+def test_a_trip_whose_relay_contact_never_opened_says_so():
+    """A welded relay: the trip latched but the contact stayed closed and the load went on
+    drawing. The page listed only what opened, so it read as an isolated pack; the
+    summary's TRIP line said "the relay contact stayed closed to the end"."""
+    cur = np.full(N, 9.0)
+    events = [(0.02, "relay_contact", "closed"), (2.0, "fault_injected", "welded_relay"),
+              (2.21, "fault_active", "overcurrent_discharge: current 33.978 A > 30.000 A for 200 ms"),
+              (2.21, "fault_latched", "overcurrent_discharge"), (2.21, "relay", "open")]
+    text = "\n".join(run_facts.verdict(_result(events=events, **{"truth/pack_current_A": cur})).lines)
+    assert ("the relay contact stayed closed after the trip, to the run's end at 10.00 s "
+            "(welded_relay injected at 2.00 s); the pack current at the end: 9 A") in text
+    opened = events + [(2.22, "relay_contact", "opened")]
+    assert not any("stayed closed" in line for line in run_facts.verdict(_result(events=opened)).lines)
+    never_closed = [e for e in events if e[1] != "relay_contact"]  # open before the trip: nothing stayed closed
+    assert not any("stayed closed" in line for line in run_facts.verdict(_result(events=never_closed)).lines)
