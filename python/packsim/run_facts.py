@@ -286,9 +286,15 @@ def verdict(r: Result) -> Verdict:
         for ev in evs:
             if ev["kind"] == "fault_active" and str(ev["detail"]).startswith(fault) and ev["time_s"] <= t:
                 lines.append(f"the BMS's reason: {ev['detail']}")
-        reading = _reading_at(r, fault, _sample(r, t))
+        i = _sample(r, t)
+        reading = _reading_at(r, fault, i)
         if reading:
-            lines.append(f"at the trip {reading}")
+            # Samples are output.interval_s apart: the one before the trip may predate
+            # what tripped it (a fault injected since), so its time is said.
+            ts = float(r.time_s[i])
+            when = ("at the trip" if abs(ts - t) < 1e-6 else
+                    f"at the last recorded sample before the trip ({ts:.2f} s, {t - ts:.2f} s earlier)")
+            lines.append(f"{when} {reading}")
         for ev in latched[1:]:
             lines.append(f"then latched at {ev['time_s']:.2f} s: {ev['detail']}")
         stayed = _contact_stayed_closed(r, t)

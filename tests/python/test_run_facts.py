@@ -207,3 +207,16 @@ def test_a_trip_whose_relay_contact_never_opened_says_so():
     assert not any("stayed closed" in line for line in run_facts.verdict(_result(events=opened)).lines)
     never_closed = [e for e in events if e[1] != "relay_contact"]  # open before the trip: nothing stayed closed
     assert not any("stayed closed" in line for line in run_facts.verdict(_result(events=never_closed)).lines)
+
+
+def test_a_trip_between_two_samples_names_the_sample_it_quotes():
+    """Samples 1 s apart, an over-current injected at 5.005 s trips at 5.21 s: the sample
+    at 5 s predates it, and was quoted as "at the trip the BMS measured highest pack
+    current 9.998 A" against a 40 A limit."""
+    events = [(5.005, "fault_injected", "overcurrent +35 A"),
+              (5.21, "fault_active", "overcurrent_discharge: current 45.002 A > 30.000 A for 200 ms"),
+              (5.21, "fault_latched", "overcurrent_discharge"), (5.22, "relay_contact", "opened")]
+    text = "\n".join(run_facts.verdict(_result(events=events)).lines)
+    assert "at the trip" not in text
+    assert ("at the last recorded sample before the trip (5.00 s, 0.21 s earlier) the BMS measured highest pack "
+            "current 2 A; the truth was 2 A; limit 30 A") in text
