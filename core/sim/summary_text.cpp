@@ -112,6 +112,27 @@ void weldedLine(LineWriter& w, const S& s, const R& r) {
          (welded ? " (welded_relay injected at " + fmt("%.2f", welded->time_s) + " s)" : std::string(" (welded?)")));
 }
 
+// A hung pack host (host_dead without a board, or board 1): the BMS decided nothing
+// from then on, so "no trip" (or a first trip before it) says nothing of the rest of the
+// run. Its outputs held their last levels; the contact's state is the events' word.
+void hostDeadLines(LineWriter& w, const R& r) {
+  const std::string name = "host_dead";
+  for (size_t i = 0; i < r.events.size(); ++i) {
+    const Event& e = r.events[i];
+    if (e.kind != "fault_injected" || e.detail.compare(0, name.size(), name) != 0 ||
+        !(e.detail.size() == name.size() || e.detail.compare(name.size(), 7, " (when ") == 0))
+      continue;
+    double until_s = -1.0;
+    for (size_t j = i + 1; j < r.events.size() && until_s < 0.0; ++j)
+      if (r.events[j].kind == "fault_removed" && r.events[j].detail == name) until_s = r.events[j].time_s;
+    w.more("  " + fmt("%.2f", e.time_s) + " s  the pack host's MCU hung (host_dead" +
+           (until_s < 0.0 ? "): no BMS decision from then to the end (" : "): no BMS decision until " +
+                                                                               fmt("%.2f", until_s) + " s (") +
+           fmt("%.2f", (until_s < 0.0 ? r.summary.duration_s : until_s) - e.time_s) + " s); its outputs held their last levels (the relay contact " +
+           (contactClosedBefore(r, e.time_s + 1e-6) ? "closed" : "open") + " then)");
+  }
+}
+
 // Passive balancing: the firmware's balancing events, the resistors' quadratures and the
 // groups' imbalance (and charge spread, where it differs) in the truth
 // (core/sim/balance_report.hpp).
@@ -316,11 +337,15 @@ const std::vector<SummaryLine> kLines = {
               std::to_string(r.summary.display_bars_extra_max) + " above what the true OCV would show"); }},
     {"BMS", "tripped trip_time_s trip_reason", [](LineWriter& w, const S&, const R& r) {
        const Summary& m = r.summary;
-       if (!m.tripped) return w.line("no trip");
-       // What the contact did is the relay_contact events' word, not the command's.
-       w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
-       for (const Event& e : r.events)
-         if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail); }},
+       if (!m.tripped) {
+         w.line("no trip");
+       } else {
+         // What the contact did is the relay_contact events' word, not the command's.
+         w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
+         for (const Event& e : r.events)
+           if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail);
+       }
+       hostDeadLines(w, r); }},
     {"relay", "relay_closed", [](LineWriter& w, const S& s, const R& r) {  // a run whose load never got current
        const std::string line = relayNeverClosed(s, r);
        if (!line.empty()) w.line(line); }},

@@ -220,3 +220,11 @@ def test_a_trip_between_two_samples_names_the_sample_it_quotes():
     assert "at the trip" not in text
     assert ("at the last recorded sample before the trip (5.00 s, 0.21 s earlier) the BMS measured highest pack "
             "current 2 A; the truth was 2 A; limit 30 A") in text
+
+
+def test_a_hung_host_is_in_the_verdict():
+    """NO TRIP from a pack host that hung at 10 s says nothing of the rest of the run."""
+    events = [(10.0, "fault_injected", "host_dead"), (12.0, "fault_injected", "host_dead board 2")]
+    text = "\n".join(run_facts.verdict(_result(events=events)).lines)
+    assert "10.00 s: the pack host's MCU hung (host_dead): no BMS decision after it while it lasted" in text
+    assert "12.00 s" not in text  # a monitor board's MCU: the host's comm loss says it
