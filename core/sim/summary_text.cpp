@@ -45,9 +45,19 @@ std::string contactFrom(const RunResult& r, double t) {
     if (e.time_s < t - 1e-9) lastBefore = &e;
     else if (!openedFrom && e.detail == "opened") openedFrom = &e;
   }
-  if (!lastBefore) return "the relay contact was open (never closed before)";
-  if (lastBefore->detail == "opened") return "the relay contact had opened at " + fmt("%.2f", lastBefore->time_s) + " s";
-  if (openedFrom) return "the relay contact opened at " + fmt("%.2f", openedFrom->time_s) + " s";
+  // A reset (or the firmware itself) may close it again after: the load then ran on,
+  // which "opened at" alone would hide.
+  auto closedAgain = [&](double from_s, const char* word) {
+    for (const Event& e : r.events)
+      if (e.kind == "relay_contact" && e.time_s > from_s + 1e-9 && e.detail == "closed")
+        return std::string("; ") + word + " at " + fmt("%.2f", e.time_s) + " s";
+    return std::string();
+  };
+  if (!lastBefore) return "the relay contact was open (never closed before)" + closedAgain(t - 1e-9, "it closed");
+  if (lastBefore->detail == "opened")
+    return "the relay contact had opened at " + fmt("%.2f", lastBefore->time_s) + " s" + closedAgain(t - 1e-9, "closed again");
+  if (openedFrom)
+    return "the relay contact opened at " + fmt("%.2f", openedFrom->time_s) + " s" + closedAgain(openedFrom->time_s, "closed again");
   return "the relay contact stayed closed to the end";
 }
 

@@ -59,6 +59,25 @@ TEST(SummaryText, WeldedContactIsReportedFromTheContactNotTheCommand) {
   EXPECT_TRUE(has(text, expect)) << text;
 }
 
+// An over-current trips at 10.1 s, a reset at 15 s closes the relay again and the load
+// runs on: the TRIP line said only "the relay contact opened at 10.11 s", as if the pack
+// stayed isolated (found on a 24s4p pack with a reset between two over-currents).
+TEST(SummaryText, ARelayClosedAgainAfterTheTripIsOnTheTripLine) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 30}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10, duration_s: 1}\n"
+                                            "  - {kind: reset_request, at_s: 15}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped);
+  const auto contacts = test::eventsOf(r, "relay_contact");
+  ASSERT_EQ(contacts.size(), 3u);  // closed at the start, opened by the trip, closed after the reset
+  ASSERT_EQ(contacts[2]->detail, "closed");
+  ASSERT_GT(contacts[2]->time_s, 15.0);
+  char expect[128];
+  std::snprintf(expect, sizeof expect, "(overcurrent_discharge): the relay contact opened at %.2f s; closed again at %.2f s",
+                contacts[1]->time_s, contacts[2]->time_s);
+  EXPECT_TRUE(has(formatSummary(s, r), expect)) << formatSummary(s, r);
+}
+
 // The pack host hangs at 10 s and a 40 A over-current follows at 20 s: nothing trips, as
 // nothing decides. The summary said "BMS  no trip" and nothing else (found on a 14s2p
 // LTC6811 pack on its charger); the BMS line now says from when the host decided nothing.
