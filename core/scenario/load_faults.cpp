@@ -250,17 +250,20 @@ std::string FaultInjection::cellText() const {
   return t;
 }
 
+// The values as written, to six significant digits and with their own sign: "%.3g" with a
+// "+" in front printed a charging over-current as "overcurrent +-30 A", 1000 A/h as
+// "+1e+03 A/h" and 12.345 A as "+12.3 A".
 std::string FaultInjection::describe() const {
   char buf[160];
   switch (kind) {
-    case FaultKind::Overcurrent: std::snprintf(buf, sizeof buf, "overcurrent +%.3g A", value); break;
-    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell %s, %.3g W", cellText().c_str(), value); break;
+    case FaultKind::Overcurrent: std::snprintf(buf, sizeof buf, "overcurrent %+.6g A", value); break;
+    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell %s, %.6g W", cellText().c_str(), value); break;
     case FaultKind::InternalShort:
-      std::snprintf(buf, sizeof buf, "internal_short %s, %.3g ohm", cellText().c_str(), value);
+      std::snprintf(buf, sizeof buf, "internal_short %s, %.6g ohm", cellText().c_str(), value);
       break;
     case FaultKind::EStop: std::snprintf(buf, sizeof buf, "estop %s pulled", external ? "external" : "internal"); break;
     case FaultKind::DeviceSilent: std::snprintf(buf, sizeof buf, "device_silent device %d", index + 1); break;
-    case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.3g", index + 1, value); break;
+    case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.6g", index + 1, value); break;
     case FaultKind::DeviceStuck: std::snprintf(buf, sizeof buf, "device_stuck device %d, 0x%02X", index + 1, static_cast<int>(value)); break;
     case FaultKind::BrokenLink:
       if (value >= 0.0)
@@ -275,11 +278,11 @@ std::string FaultInjection::describe() const {
     case FaultKind::WeldedRelay: std::snprintf(buf, sizeof buf, "welded_relay"); break;
     case FaultKind::CurrentSensorDrift:
       if (rate_per_s != 0.0)
-        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A %+.3g A/h", value, rate_per_s * 3600.0);
+        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.6g A %+.6g A/h", value, rate_per_s * 3600.0);
       else
-        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value);
+        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.6g A", value);
       break;
-    case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
+    case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.6g V", value); break;
     case FaultKind::HostDead:
       if (index > 0)
         std::snprintf(buf, sizeof buf, "host_dead board %d", index + 1);
@@ -288,7 +291,7 @@ std::string FaultInjection::describe() const {
       break;
     case FaultKind::ResetRequest: std::snprintf(buf, sizeof buf, "reset_request"); break;
     case FaultKind::KeyOff: std::snprintf(buf, sizeof buf, "key_off"); break;
-    case FaultKind::SupplyBrownout: std::snprintf(buf, sizeof buf, "supply_brownout to %.3g V", value); break;
+    case FaultKind::SupplyBrownout: std::snprintf(buf, sizeof buf, "supply_brownout to %.6g V", value); break;
   }
   return buf;
 }
