@@ -247,7 +247,18 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     // The relay opening counts for this injection when it followed its own detection
     // (or the monitor's FAULT line it caused).
     const double causeAt_s = std::min(det ? det->time_s : INFINITY, line_ ? line_->time_s : INFINITY);
-    const Event* open = std::isfinite(causeAt_s) ? firstAfter(r, causeAt_s, "relay_contact", "opened") : nullptr;
+    // A contact already open when the fault was raised (an earlier trip, a precharge not
+    // yet done) did not open on it: its next opening, after a re-close, is another story.
+    // (Without a cause, the contact as the injection found it.)
+    const double refAt_s = std::isfinite(causeAt_s) ? causeAt_s : inj.time_s;
+    const Event* openSince = nullptr;  // the contact's last event before then: open when "opened" or none
+    bool closedThen = false;
+    for (const Event& e : r.events)
+      if (e.kind == "relay_contact" && e.time_s < refAt_s - 1e-9) {
+        closedThen = e.detail == "closed";
+        openSince = closedThen ? nullptr : &e;
+      }
+    const Event* open = std::isfinite(causeAt_s) && closedThen ? firstAfter(r, causeAt_s, "relay_contact", "opened") : nullptr;
     if (det) {
       fl.detected_fault = detName;
       fl.detection_latency_s = det->time_s - inj.time_s;
@@ -260,8 +271,10 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
       line += fmt(", monitor FAULT line after %.3f s", line_->time_s - inj.time_s);
     if (open) {
       line += fmt(", relay open after %.3f s", open->time_s - inj.time_s);
+    } else if (const Event* other = firstAfter(r, inj.time_s, "relay_contact", "opened");
+               !closedThen && (std::isfinite(causeAt_s) || !other)) {
+      line += openSince ? fmt(", relay already open (since %.3f s)", openSince->time_s) : std::string(", relay not closed yet");
     } else {
-      const Event* other = firstAfter(r, inj.time_s, "relay_contact", "opened");
       line += other ? fmt(", relay opened at %.3f s but not on a fault this injection causes", other->time_s)
                     : std::string(", relay not opened");
     }

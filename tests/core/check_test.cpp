@@ -163,6 +163,27 @@ TEST(Check, OverlappingInjectionsBothKeepTheFault) {
   EXPECT_EQ(c.fault_latencies[1].detected_fault, "overtemperature") << c.latencies[1];
 }
 
+// An open thermistor at 20 s, after an over-current trip had opened the relay at 10 s: the
+// thermistor fault "did not open the relay" (it said "relay not opened", as if the BMS had
+// failed to act); the contact was open already. Found on a 14s2p LTC6811 pack.
+TEST(Check, AFaultRaisedWithTheRelayAlreadyOpenSaysSo) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 30}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10, duration_s: 1}\n"
+                                            "  - {kind: thermistor_open, thermistor: 1, at_s: 20}\n");
+  const RunResult r = runScenario(s);
+  const auto contacts = test::eventsOf(r, "relay_contact");
+  ASSERT_EQ(contacts.size(), 2u);  // closed at the start, opened by the trip
+  ASSERT_EQ(contacts[1]->detail, "opened");
+  ASSERT_LT(contacts[1]->time_s, 11.0);
+  const CheckOutcome c = judge(s, r);
+  ASSERT_EQ(c.fault_latencies.size(), 2u);
+  EXPECT_EQ(c.fault_latencies[1].detected_fault, "thermistor_fault") << c.latencies[1];
+  EXPECT_LT(c.fault_latencies[1].relay_open_latency_s, 0.0);
+  char expect[64];
+  std::snprintf(expect, sizeof expect, ", relay already open (since %.3f s)", contacts[1]->time_s);
+  EXPECT_NE(c.latencies[1].find(expect), std::string::npos) << c.latencies[1];
+}
+
 // An expected injection the run never reached (it stopped 60 s after an earlier trip)
 // fails the check with that reason.
 TEST(Check, UnreachedScriptedFaultFails) {
