@@ -313,9 +313,9 @@ def verdict(r: Result) -> Verdict:
         elif k in ("firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
                    "cell_model_range", "load_limited", "load_end"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
-    for ev in evs:  # the pack host hung: nothing decided from then on (the summary's BMS line)
-        d = str(ev["detail"])
-        if ev["kind"] == "fault_injected" and (d == "host_dead" or d.startswith("host_dead (when ")):
+        elif k == "fault_injected" and (str(ev["detail"]) == "host_dead"
+                                        or str(ev["detail"]).startswith("host_dead (when ")):
+            # the pack host hung: nothing decided from then on (the summary's BMS line)
             lines.append(f"{ev['time_s']:.2f} s: the pack host's MCU hung (host_dead): "
                          "no BMS decision after it while it lasted")
     s = r.summary
