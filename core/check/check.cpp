@@ -178,11 +178,15 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
 
   // Detection latency of every injected fault: to the first BMS fault this injection can
   // cause (core/check/fault_causes), not to whatever fault came next.
-  for (const Event& inj : r.events) {
-    if (inj.kind != "fault_injected") continue;
+  // A fault raised after an injection was removed, once a later injection that can cause
+  // it too had started, is the later one's (a 0.1 s over-current that tripped nothing is
+  // not credited with the trip of another one 10 s later).
+  const std::vector<InjectionSpan> spans = injectionSpans(r.events);
+  for (const InjectionSpan& span : spans) {
+    const Event& inj = *span.injected;
     std::string line = inj.detail + fmt(" @%.3f s: ", inj.time_s);
-    FaultKind kind = FaultKind::Overcurrent;
-    const bool known = faultKindOfDetail(inj.detail, kind);
+    const FaultKind kind = span.kind;
+    const bool known = span.known;
     const std::vector<std::string>& causes = known ? faultsCausedBy(kind) : std::vector<std::string>{};
     auto causedHere = [&](const std::string& name) { return std::find(causes.begin(), causes.end(), name) != causes.end(); };
     FaultLatency fl;
@@ -211,6 +215,9 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     std::string detName;
     const Event* unrelated = nullptr;  // the first fault after it that it cannot cause
     std::string unrelatedName;
+    const Event* taken = nullptr;  // the first it could cause that a later injection caused
+    const InjectionSpan* takenBy = nullptr;
+    std::string takenName;
     for (const Event& e : r.events) {
       if (e.time_s < inj.time_s - 1e-9) continue;
       std::string name;
@@ -218,6 +225,14 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
       else if (e.kind == "firmware" && startsWith(e.detail, "trip: ")) name = e.detail.substr(6, e.detail.find_first_of(" ,(:", 6) - 6);
       else continue;
       if (causedHere(name)) {
+        if (const InjectionSpan* later = laterCause(spans, span, name, e.time_s)) {
+          if (!taken) {
+            taken = &e;
+            takenBy = later;
+            takenName = name;
+          }
+          continue;
+        }
         det = &e;
         detName = e.kind == "firmware" ? e.detail.substr(6) : name;
         break;
@@ -228,10 +243,22 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
       }
     }
     const Event* line_ = causedHere("monitor_fault") ? firstAfter(r, inj.time_s, "monitor_fault_line", "asserted") : nullptr;
+    if (line_ && laterCause(spans, span, "monitor_fault", line_->time_s)) line_ = nullptr;
     // The relay opening counts for this injection when it followed its own detection
     // (or the monitor's FAULT line it caused).
     const double causeAt_s = std::min(det ? det->time_s : INFINITY, line_ ? line_->time_s : INFINITY);
-    const Event* open = std::isfinite(causeAt_s) ? firstAfter(r, causeAt_s, "relay_contact", "opened") : nullptr;
+    // A contact already open when the fault was raised (an earlier trip, a precharge not
+    // yet done) did not open on it: its next opening, after a re-close, is another story.
+    // (Without a cause, the contact as the injection found it.)
+    const double refAt_s = std::isfinite(causeAt_s) ? causeAt_s : inj.time_s;
+    const Event* openSince = nullptr;  // the contact's last event before then: open when "opened" or none
+    bool closedThen = false;
+    for (const Event& e : r.events)
+      if (e.kind == "relay_contact" && e.time_s < refAt_s - 1e-9) {
+        closedThen = e.detail == "closed";
+        openSince = closedThen ? nullptr : &e;
+      }
+    const Event* open = std::isfinite(causeAt_s) && closedThen ? firstAfter(r, causeAt_s, "relay_contact", "opened") : nullptr;
     if (det) {
       fl.detected_fault = detName;
       fl.detection_latency_s = det->time_s - inj.time_s;
@@ -244,13 +271,19 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
       line += fmt(", monitor FAULT line after %.3f s", line_->time_s - inj.time_s);
     if (open) {
       line += fmt(", relay open after %.3f s", open->time_s - inj.time_s);
+    } else if (const Event* other = firstAfter(r, inj.time_s, "relay_contact", "opened");
+               !closedThen && (std::isfinite(causeAt_s) || !other)) {
+      line += openSince ? fmt(", relay already open (since %.3f s)", openSince->time_s) : std::string(", relay not closed yet");
     } else {
-      const Event* other = firstAfter(r, inj.time_s, "relay_contact", "opened");
       line += other ? fmt(", relay opened at %.3f s but not on a fault this injection causes", other->time_s)
                     : std::string(", relay not opened");
     }
     if (!det && unrelated)
       line += " (" + unrelatedName + fmt(" at %.3f s is not caused by it)", unrelated->time_s);
+    if (!det && taken)
+      line += fmt(" (removed at %.3f s; ", span.end_s) + takenName +
+              fmt(" at %.3f s followed ", taken->time_s) + takenBy->injected->detail +
+              fmt(" injected at %.3f s)", takenBy->start_s);
     o.latencies.push_back(line);
   }
   // A scripted fault the run never reached (it ended first), or one that could not act

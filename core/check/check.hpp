@@ -1,6 +1,6 @@
 // Scenarios as regression tests: runs a scenario and judges its `expect:` block, and
-// measures the detection latency of every injected fault (first BMS fault after the
-// injection, and when the relay opened).
+// measures the detection latency of every injected fault (the first BMS fault after the
+// injection that it can cause, and when the relay opened on it).
 #pragma once
 #include <string>
 #include <vector>
@@ -14,9 +14,10 @@ namespace packsim {
 struct FaultLatency {
   std::string injected;              // the fault_injected event's detail
   double injected_at_s = 0.0;
-  std::string detected_fault;        // first BMS fault raised at or after the injection ("" if none)
-  double detection_latency_s = -1.0; // < 0: no BMS fault followed
-  double relay_open_latency_s = -1.0;  // < 0: the relay did not open
+  std::string detected_fault;        // first BMS fault at or after the injection that it can cause and no
+                                     // later injection took (core/check/fault_causes.hpp); "" if none
+  double detection_latency_s = -1.0; // < 0: no such BMS fault followed
+  double relay_open_latency_s = -1.0;  // < 0: the relay did not open on it (also: it was already open)
 };
 
 struct CheckOutcome {

@@ -1,5 +1,8 @@
 #include "core/check/fault_causes.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace packsim {
 
 namespace {
@@ -61,6 +64,41 @@ bool faultKindOfDetail(const std::string& detail, FaultKind& kind) {
       return true;
     }
   return false;
+}
+
+std::vector<InjectionSpan> injectionSpans(const std::vector<Event>& events) {
+  std::vector<InjectionSpan> spans;
+  for (const Event& e : events) {
+    if (e.kind == "fault_injected") {
+      InjectionSpan sp;
+      sp.injected = &e;
+      sp.start_s = e.time_s;
+      sp.end_s = INFINITY;
+      sp.known = faultKindOfDetail(e.detail, sp.kind);
+      spans.push_back(sp);
+    } else if (e.kind == "fault_removed") {
+      // The earliest injection of this detail still in place (a `when:` injection's
+      // detail carries its condition, its removal does not).
+      for (InjectionSpan& sp : spans)
+        if (std::isinf(sp.end_s) && sp.injected->detail.compare(0, e.detail.size(), e.detail) == 0 &&
+            (sp.injected->detail.size() == e.detail.size() || sp.injected->detail.compare(e.detail.size(), 7, " (when ") == 0)) {
+          sp.end_s = e.time_s;
+          break;
+        }
+    }
+  }
+  return spans;
+}
+
+const InjectionSpan* laterCause(const std::vector<InjectionSpan>& spans, const InjectionSpan& own,
+                                const std::string& name, double t_s) {
+  if (std::isinf(own.end_s)) return nullptr;
+  for (const InjectionSpan& sp : spans) {
+    if (&sp == &own || !sp.known || sp.start_s < own.end_s - 1e-9 || sp.start_s > t_s + 1e-9) continue;
+    const std::vector<std::string>& causes = faultsCausedBy(sp.kind);
+    if (std::find(causes.begin(), causes.end(), name) != causes.end()) return &sp;
+  }
+  return nullptr;
 }
 
 }  // namespace packsim

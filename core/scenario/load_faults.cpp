@@ -1,4 +1,5 @@
 // Reads `faults:` (scripted injections) and `expect:` (assertions) strictly.
+#include <algorithm>
 #include <cmath>
 #include <bms/bms_faults.hpp>
 #include <cstdio>
@@ -92,7 +93,9 @@ Condition parseCondition(YamlMap& m, const std::string& key) {
   return c;
 }
 
-FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistors, int boards) {
+FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistors, const MonitorConfig& afe) {
+  const int perBoard = afe.devices_per_board > 0 ? afe.devices_per_board : afe.devices;
+  const int boards = (afe.devices + perBoard - 1) / perBoard;
   const int cells = series * parallel;
   FaultInjection inj;
   inj.line = f.raw().Mark().line + 1;
@@ -125,7 +128,16 @@ FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistor
                                   std::to_string(series) + ")");
     return static_cast<int>(f.integer("group", 1, series)) - 1;
   };
-  auto device = [&](const char* key) { return static_cast<int>(f.integer(key, 1, 64)) - 1; };
+  // The pack's own monitor devices: a device it does not have would be a fault on nothing
+  // (it was taken up to 64 and ran as "injected" with no effect).
+  auto device = [&](const char* key) {
+    const long d = f.integer(key, -1000000, 1000000);
+    if (d < 1 || d > afe.devices)
+      throw f.errorAt(key, std::to_string(d) + " is not a device of this pack: it has " + std::to_string(afe.devices) + " monitor device" +
+                               (afe.devices > 1 ? "s" : "") + " (hardware.afe: " + std::to_string(afe.cells_per_device) +
+                               " series groups a device); allowed [1, " + std::to_string(afe.devices) + "]");
+    return static_cast<int>(d) - 1;
+  };
   switch (inj.kind) {
     case FaultKind::Overcurrent: inj.value = f.number("current_A", Range::symmetric(limits::kMaxCurrent_A)); break;
     case FaultKind::HotCell:
@@ -151,6 +163,12 @@ FaultInjection readInjection(YamlMap f, int series, int parallel, int thermistor
     }
     case FaultKind::BrokenLink: {
       inj.index = device("above_device");
+      // It cuts off the devices above it on its own board: the top device of a board has none.
+      const int bottom = inj.index / perBoard * perBoard + 1, top = std::min(afe.devices, bottom + perBoard - 1);
+      if (inj.index + 1 == top)
+        throw f.errorAt("above_device", "device " + std::to_string(top) + " is the top device of its " +
+                                            (boards > 1 ? "board" : "stack") + " (devices " + std::to_string(bottom) + "-" +
+                                            std::to_string(top) + "): a broken link above it cuts off nothing");
       // A broken link silences the devices above it; a bad joint whose line floats
       // reads 0xFF (or 0x00) from them instead.
       inj.value = -1.0;
@@ -232,17 +250,20 @@ std::string FaultInjection::cellText() const {
   return t;
 }
 
+// The values as written, to six significant digits and with their own sign: "%.3g" with a
+// "+" in front printed a charging over-current as "overcurrent +-30 A", 1000 A/h as
+// "+1e+03 A/h" and 12.345 A as "+12.3 A".
 std::string FaultInjection::describe() const {
   char buf[160];
   switch (kind) {
-    case FaultKind::Overcurrent: std::snprintf(buf, sizeof buf, "overcurrent +%.3g A", value); break;
-    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell %s, %.3g W", cellText().c_str(), value); break;
+    case FaultKind::Overcurrent: std::snprintf(buf, sizeof buf, "overcurrent %+.6g A", value); break;
+    case FaultKind::HotCell: std::snprintf(buf, sizeof buf, "hot_cell %s, %.6g W", cellText().c_str(), value); break;
     case FaultKind::InternalShort:
-      std::snprintf(buf, sizeof buf, "internal_short %s, %.3g ohm", cellText().c_str(), value);
+      std::snprintf(buf, sizeof buf, "internal_short %s, %.6g ohm", cellText().c_str(), value);
       break;
     case FaultKind::EStop: std::snprintf(buf, sizeof buf, "estop %s pulled", external ? "external" : "internal"); break;
     case FaultKind::DeviceSilent: std::snprintf(buf, sizeof buf, "device_silent device %d", index + 1); break;
-    case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.3g", index + 1, value); break;
+    case FaultKind::CrcErrors: std::snprintf(buf, sizeof buf, "crc_errors device %d, rate %.6g", index + 1, value); break;
     case FaultKind::DeviceStuck: std::snprintf(buf, sizeof buf, "device_stuck device %d, 0x%02X", index + 1, static_cast<int>(value)); break;
     case FaultKind::BrokenLink:
       if (value >= 0.0)
@@ -257,11 +278,11 @@ std::string FaultInjection::describe() const {
     case FaultKind::WeldedRelay: std::snprintf(buf, sizeof buf, "welded_relay"); break;
     case FaultKind::CurrentSensorDrift:
       if (rate_per_s != 0.0)
-        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A %+.3g A/h", value, rate_per_s * 3600.0);
+        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.6g A %+.6g A/h", value, rate_per_s * 3600.0);
       else
-        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.3g A", value);
+        std::snprintf(buf, sizeof buf, "current_sensor_drift %+.6g A", value);
       break;
-    case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.3g V", value); break;
+    case FaultKind::ChargerOvervoltage: std::snprintf(buf, sizeof buf, "charger_overvoltage +%.6g V", value); break;
     case FaultKind::HostDead:
       if (index > 0)
         std::snprintf(buf, sizeof buf, "host_dead board %d", index + 1);
@@ -270,15 +291,15 @@ std::string FaultInjection::describe() const {
       break;
     case FaultKind::ResetRequest: std::snprintf(buf, sizeof buf, "reset_request"); break;
     case FaultKind::KeyOff: std::snprintf(buf, sizeof buf, "key_off"); break;
-    case FaultKind::SupplyBrownout: std::snprintf(buf, sizeof buf, "supply_brownout to %.3g V", value); break;
+    case FaultKind::SupplyBrownout: std::snprintf(buf, sizeof buf, "supply_brownout to %.6g V", value); break;
   }
   return buf;
 }
 
-std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards) {
+std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, const MonitorConfig& afe) {
   std::vector<FaultInjection> out;
   if (!root.has("faults")) return out;
-  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, series, parallel, thermistors, boards));
+  for (YamlMap f : root.mapList("faults")) out.push_back(readInjection(f, series, parallel, thermistors, afe));
   return out;
 }
 

@@ -404,9 +404,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     s.output.bus_trace = o->boolean("bus_trace", false);
     o->finish();
   }
-  const MonitorConfig& afe = s.hardware.afe;
-  const int boards = afe.devices_per_board > 0 ? (afe.devices + afe.devices_per_board - 1) / afe.devices_per_board : 1;
-  s.faults = readFaults(m, s.pack.series, s.pack.parallel, s.hardware.thermistors.count(), boards);
+  s.faults = readFaults(m, s.pack.series, s.pack.parallel, s.hardware.thermistors.count(), s.hardware.afe);
   // An over-current fault draws at most what the pack drives into a dead short: more
   // would put the cells' terminals far below 0 V (a 100 kA fault on a 12s pack: -840 V).
   for (size_t k = 0; k < s.faults.size(); ++k) {

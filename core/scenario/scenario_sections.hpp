@@ -34,8 +34,9 @@ double shortCircuitCurrent_A(const PackConfig& pack);
 RunConfig readRun(std::optional<YamlMap> m, uint64_t seed);
 // load_vehicle.cpp: `load: {vehicle, route, driver, sun, standstill_end_s}` (the caller finishes `load`)
 VehicleConfig readVehicle(YamlMap& load, const PackConfig& pack, const std::string& baseDir);
-// boards: the monitor boards (each with its MCU) a host_dead may name.
-std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, int boards);
+// afe: the monitor devices a device fault may name, and the boards (each with its MCU)
+// a host_dead may name.
+std::vector<FaultInjection> readFaults(YamlMap& root, int series, int parallel, int thermistors, const MonitorConfig& afe);
 Expectations readExpect(std::optional<YamlMap> m);
 // load_balancing.cpp
 PassiveBalancerConfig readPassiveBalancer(YamlMap m);

@@ -108,7 +108,9 @@ ScenarioError YamlMap::errorAt(const YAML::Node& n, const std::string& field, co
       const std::string base = std::filesystem::path(setBy).filename().string();
       const std::string child = std::filesystem::path(self).filename().string();
       const std::string key = field.substr(0, field.find('['));  // a list is given whole
-      where = " (the value comes from " + base + "; " + key + " given in " + child + " replaces it)";
+      // Where to change it, not a claim that the child gave it ("given in f15.yaml replaces
+      // it" read as if f15.yaml had, when its bms.tick_ms made the base's interval invalid).
+      where = " (the value comes from " + base + "; give " + key + " in " + child + " to replace it)";
     }
   }
   return ScenarioError(file, known ? m.line + 1 : 0, known ? m.column + 1 : 0, field, message + where);

@@ -45,9 +45,19 @@ std::string contactFrom(const RunResult& r, double t) {
     if (e.time_s < t - 1e-9) lastBefore = &e;
     else if (!openedFrom && e.detail == "opened") openedFrom = &e;
   }
-  if (!lastBefore) return "the relay contact was open (never closed before)";
-  if (lastBefore->detail == "opened") return "the relay contact had opened at " + fmt("%.2f", lastBefore->time_s) + " s";
-  if (openedFrom) return "the relay contact opened at " + fmt("%.2f", openedFrom->time_s) + " s";
+  // A reset (or the firmware itself) may close it again after: the load then ran on,
+  // which "opened at" alone would hide.
+  auto closedAgain = [&](double from_s, const char* word) {
+    for (const Event& e : r.events)
+      if (e.kind == "relay_contact" && e.time_s > from_s + 1e-9 && e.detail == "closed")
+        return std::string("; ") + word + " at " + fmt("%.2f", e.time_s) + " s";
+    return std::string();
+  };
+  if (!lastBefore) return "the relay contact was open (never closed before)" + closedAgain(t - 1e-9, "it closed");
+  if (lastBefore->detail == "opened")
+    return "the relay contact had opened at " + fmt("%.2f", lastBefore->time_s) + " s" + closedAgain(t - 1e-9, "closed again");
+  if (openedFrom)
+    return "the relay contact opened at " + fmt("%.2f", openedFrom->time_s) + " s" + closedAgain(openedFrom->time_s, "closed again");
   return "the relay contact stayed closed to the end";
 }
 
@@ -110,6 +120,27 @@ void weldedLine(LineWriter& w, const S& s, const R& r) {
   w.line("relay contact still closed at the end, " + fmt("%.2f", m.duration_s - lastCommand->time_s) +
          " s after the open command at " + fmt("%.2f", lastCommand->time_s) + " s" +
          (welded ? " (welded_relay injected at " + fmt("%.2f", welded->time_s) + " s)" : std::string(" (welded?)")));
+}
+
+// A hung pack host (host_dead without a board, or board 1): the BMS decided nothing
+// from then on, so "no trip" (or a first trip before it) says nothing of the rest of the
+// run. Its outputs held their last levels; the contact's state is the events' word.
+void hostDeadLines(LineWriter& w, const R& r) {
+  const std::string name = "host_dead";
+  for (size_t i = 0; i < r.events.size(); ++i) {
+    const Event& e = r.events[i];
+    if (e.kind != "fault_injected" || e.detail.compare(0, name.size(), name) != 0 ||
+        !(e.detail.size() == name.size() || e.detail.compare(name.size(), 7, " (when ") == 0))
+      continue;
+    double until_s = -1.0;
+    for (size_t j = i + 1; j < r.events.size() && until_s < 0.0; ++j)
+      if (r.events[j].kind == "fault_removed" && r.events[j].detail == name) until_s = r.events[j].time_s;
+    w.more("  " + fmt("%.2f", e.time_s) + " s  the pack host's MCU hung (host_dead" +
+           (until_s < 0.0 ? "): no BMS decision from then to the end (" : "): no BMS decision until " +
+                                                                               fmt("%.2f", until_s) + " s (") +
+           fmt("%.2f", (until_s < 0.0 ? r.summary.duration_s : until_s) - e.time_s) + " s); its outputs held their last levels (the relay contact " +
+           (contactClosedBefore(r, e.time_s + 1e-6) ? "closed" : "open") + " then)");
+  }
 }
 
 // Passive balancing: the firmware's balancing events, the resistors' quadratures and the
@@ -341,11 +372,15 @@ const std::vector<SummaryLine> kLines = {
               std::to_string(r.summary.display_bars_extra_max) + " above what the true OCV would show"); }},
     {"BMS", "tripped trip_time_s trip_reason", [](LineWriter& w, const S&, const R& r) {
        const Summary& m = r.summary;
-       if (!m.tripped) return w.line("no trip");
-       // What the contact did is the relay_contact events' word, not the command's.
-       w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
-       for (const Event& e : r.events)
-         if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail); }},
+       if (!m.tripped) {
+         w.line("no trip");
+       } else {
+         // What the contact did is the relay_contact events' word, not the command's.
+         w.line("TRIP at " + fmt("%.2f", m.trip_time_s) + " s  (" + m.trip_reason + "): " + contactFrom(r, m.trip_time_s));
+         for (const Event& e : r.events)
+           if (e.kind == "fault_active") w.more("  " + fmt("%.2f", e.time_s) + " s  " + e.detail);
+       }
+       hostDeadLines(w, r); }},
     {"relay", "relay_closed", [](LineWriter& w, const S& s, const R& r) {  // a run whose load never got current
        const std::string line = relayNeverClosed(s, r);
        if (!line.empty()) w.line(line); }},

@@ -244,6 +244,30 @@ def _merged_unseen(evs) -> dict[int, str]:
     return lines
 
 
+def _contact_stayed_closed(r: Result, t: float) -> str | None:
+    """The line for a trip whose relay contact was closed and never opened from then on
+    (a welded relay): the summary's TRIP line says so, and a page that listed only what
+    opened read as if the trip had isolated the pack. None otherwise."""
+    closed = False
+    for ev in r.events:
+        if ev["kind"] != "relay_contact":
+            continue
+        if ev["time_s"] < t - 1e-9:
+            closed = str(ev["detail"]) == "closed"
+        elif str(ev["detail"]) == "opened":
+            return None
+    if not closed:
+        return None
+    end = float(r.time_s[-1])
+    weld = next((ev for ev in r.events if ev["kind"] == "fault_injected"
+                 and str(ev["detail"]).startswith("welded_relay")), None)
+    why = f" (welded_relay injected at {weld['time_s']:.2f} s)" if weld is not None else ""
+    line = f"the relay contact stayed closed after the trip, to the run's end at {end:.2f} s{why}"
+    if "truth/pack_current_A" in r:
+        line += f"; the pack current at the end: {float(r['truth/pack_current_A'][-1]):.3g} A"
+    return line
+
+
 def verdict(r: Result) -> Verdict:
     """Tripped or not, from the events: the first fault_latched is the trip (the
     protection and when); the contact, fuse and FAULT-line events say what acted; the
@@ -262,11 +286,20 @@ def verdict(r: Result) -> Verdict:
         for ev in evs:
             if ev["kind"] == "fault_active" and str(ev["detail"]).startswith(fault) and ev["time_s"] <= t:
                 lines.append(f"the BMS's reason: {ev['detail']}")
-        reading = _reading_at(r, fault, _sample(r, t))
+        i = _sample(r, t)
+        reading = _reading_at(r, fault, i)
         if reading:
-            lines.append(f"at the trip {reading}")
+            # Samples are output.interval_s apart: the one before the trip may predate
+            # what tripped it (a fault injected since), so its time is said.
+            ts = float(r.time_s[i])
+            when = ("at the trip" if abs(ts - t) < 1e-6 else
+                    f"at the last recorded sample before the trip ({ts:.2f} s, {t - ts:.2f} s earlier)")
+            lines.append(f"{when} {reading}")
         for ev in latched[1:]:
             lines.append(f"then latched at {ev['time_s']:.2f} s: {ev['detail']}")
+        stayed = _contact_stayed_closed(r, t)
+        if stayed:
+            lines.append(stayed)
     else:
         v = Verdict(False, "NO TRIP: no protection latched", None, None, lines)
     unseen = _merged_unseen(evs)
@@ -280,6 +313,11 @@ def verdict(r: Result) -> Verdict:
         elif k in ("firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
                    "cell_model_range", "load_limited", "load_end"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
+        elif k == "fault_injected" and (str(ev["detail"]) == "host_dead"
+                                        or str(ev["detail"]).startswith("host_dead (when ")):
+            # the pack host hung: nothing decided from then on (the summary's BMS line)
+            lines.append(f"{ev['time_s']:.2f} s: the pack host's MCU hung (host_dead): "
+                         "no BMS decision after it while it lasted")
     s = r.summary
     if "relay_closed" in s and not int(s["relay_closed"]):  # the summary's `relay` line
         lines.append(f"the relay never closed in the run: {float(s.get('charge_delivered_Ah', 0.0)):.3f} Ah delivered")

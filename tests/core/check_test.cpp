@@ -125,6 +125,65 @@ TEST(Check, TheCausingFaultIsFoundPastAnUnrelatedOne) {
   EXPECT_NEAR(c.fault_latencies[0].detection_latency_s, ot - 10.0, 1e-9);
 }
 
+// A 50 ms over-current (shorter than the 100 ms debounce) that tripped nothing, then a
+// lasting one at 20 s: the trip at 20.1 s is the second's alone. It was credited to the
+// first as well ("overcurrent_discharge after 10.100 s"), found on a 24s4p pack with
+// three over-currents and a reset between them.
+TEST(Check, AFaultAfterAnInjectionEndedIsALaterInjectionsOfTheSameKind) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 30}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10, duration_s: 0.05}\n"
+                                            "  - {kind: overcurrent, current_A: 40, at_s: 20}\n");
+  const RunResult r = runScenario(s);
+  const double trip = test::eventTime(r, "fault_active", "overcurrent_discharge");
+  ASSERT_NEAR(trip, 20.1, 1e-9);  // the first never tripped: one over-current, at the second
+  const CheckOutcome c = judge(s, r);
+  ASSERT_EQ(c.fault_latencies.size(), 2u);
+  EXPECT_EQ(c.fault_latencies[0].detected_fault, "") << c.latencies[0];
+  EXPECT_LT(c.fault_latencies[0].detection_latency_s, 0.0);
+  EXPECT_LT(c.fault_latencies[0].relay_open_latency_s, 0.0);
+  EXPECT_NE(c.latencies[0].find("no BMS fault it can cause"), std::string::npos) << c.latencies[0];
+  EXPECT_NE(c.latencies[0].find("(removed at 10.050 s; overcurrent_discharge at 20.100 s followed overcurrent +40 A "
+                                "injected at 20.000 s)"),
+            std::string::npos)
+      << c.latencies[0];
+  EXPECT_EQ(c.fault_latencies[1].detected_fault, "overcurrent_discharge");
+  EXPECT_NEAR(c.fault_latencies[1].detection_latency_s, trip - 20.0, 1e-9);
+}
+
+// Two hot cells at once: neither can be told from the other, so both keep the
+// over-temperature (the rule above takes a fault from an injection only once it has ended).
+TEST(Check, OverlappingInjectionsBothKeepTheFault) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 900}\n"
+                                            "faults:\n  - {kind: hot_cell, cell: 1, heat_W: 8, at_s: 10}\n"
+                                            "  - {kind: hot_cell, cell: 1, heat_W: 1, at_s: 20}\n");
+  const RunResult r = runScenario(s);
+  const CheckOutcome c = judge(s, r);
+  ASSERT_EQ(c.fault_latencies.size(), 2u);
+  EXPECT_EQ(c.fault_latencies[0].detected_fault, "overtemperature") << c.latencies[0];
+  EXPECT_EQ(c.fault_latencies[1].detected_fault, "overtemperature") << c.latencies[1];
+}
+
+// An open thermistor at 20 s, after an over-current trip had opened the relay at 10 s: the
+// thermistor fault "did not open the relay" (it said "relay not opened", as if the BMS had
+// failed to act); the contact was open already. Found on a 14s2p LTC6811 pack.
+TEST(Check, AFaultRaisedWithTheRelayAlreadyOpenSaysSo) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 30}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10, duration_s: 1}\n"
+                                            "  - {kind: thermistor_open, thermistor: 1, at_s: 20}\n");
+  const RunResult r = runScenario(s);
+  const auto contacts = test::eventsOf(r, "relay_contact");
+  ASSERT_EQ(contacts.size(), 2u);  // closed at the start, opened by the trip
+  ASSERT_EQ(contacts[1]->detail, "opened");
+  ASSERT_LT(contacts[1]->time_s, 11.0);
+  const CheckOutcome c = judge(s, r);
+  ASSERT_EQ(c.fault_latencies.size(), 2u);
+  EXPECT_EQ(c.fault_latencies[1].detected_fault, "thermistor_fault") << c.latencies[1];
+  EXPECT_LT(c.fault_latencies[1].relay_open_latency_s, 0.0);
+  char expect[64];
+  std::snprintf(expect, sizeof expect, ", relay already open (since %.3f s)", contacts[1]->time_s);
+  EXPECT_NE(c.latencies[1].find(expect), std::string::npos) << c.latencies[1];
+}
+
 // An expected injection the run never reached (it stopped 60 s after an earlier trip)
 // fails the check with that reason.
 TEST(Check, UnreachedScriptedFaultFails) {

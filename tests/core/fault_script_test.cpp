@@ -102,3 +102,25 @@ TEST(FaultScript, InternalShortDrainsOnlyThatCell) {
 
 }  // namespace
 }  // namespace packsim
+
+namespace packsim {
+namespace {
+
+// The fault_injected event gives each value as written, with its own sign: a charging
+// over-current read "overcurrent +-30 A" (found on a 24s4p pack), a drift of 1000 A/h
+// "+1e+03 A/h", 12.345 A "+12.3 A".
+TEST(FaultScript, AnInjectionsEventGivesItsValuesAsWritten) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 2}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: -30, at_s: 0.5}\n"
+                                            "  - {kind: overcurrent, current_A: 12.345, at_s: 0.5}\n"
+                                            "  - {kind: current_sensor_drift, offset_A: -0.5, drift_A_per_h: 1000, at_s: 0.5}\n"
+                                            "  - {kind: hot_cell, cell: 1, heat_W: 1250, at_s: 0.5}\n");
+  ASSERT_EQ(s.faults.size(), 4u);
+  EXPECT_EQ(s.faults[0].describe(), "overcurrent -30 A");
+  EXPECT_EQ(s.faults[1].describe(), "overcurrent +12.345 A");
+  EXPECT_EQ(s.faults[2].describe(), "current_sensor_drift -0.5 A +1000 A/h");
+  EXPECT_EQ(s.faults[3].describe(), "hot_cell cell 1, 1250 W");
+}
+
+}  // namespace
+}  // namespace packsim

@@ -186,7 +186,7 @@ TEST(InputHardening, AnErrorOnABaseKeyAfterMergingNamesTheBaseFile) {
   EXPECT_NE(e.find("base.yaml:8:29: hardware.thermistors.at_groups[0]: 30 is out of range; allowed [1, 20]"),
             std::string::npos) << e;
   EXPECT_GT(e.find("child.yaml"), e.find("(the value comes from ")) << e;  // the location is the base's
-  EXPECT_NE(e.find(" (the value comes from base.yaml; hardware.thermistors.at_groups given in child.yaml replaces it)"),
+  EXPECT_NE(e.find(" (the value comes from base.yaml; give hardware.thermistors.at_groups in child.yaml to replace it)"),
             std::string::npos) << e;
   // The child's own keys still name the child.
   write(d / "child2.yaml", "extends: base.yaml\nname: child\npack: {series: 40, initial_soc: 2}\n");

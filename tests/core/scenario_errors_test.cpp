@@ -369,6 +369,37 @@ TEST(ScenarioErrors, FaultCurrentBeyondTheShortCircuitCurrent) {
   EXPECT_NE(c.find("load.charger.current_A: 500 A is 250C"), std::string::npos) << c;
 }
 
+// A device fault names one of the pack's own monitor devices. `device: 2` on a 16s pack of
+// one BQ76952 (here: 3 on two BQ76PL536A) was taken (anything up to 64), ran as "injected device_silent device 2" and
+// did nothing; a broken link above a stack's (or board's) top device cuts off nothing.
+TEST(ScenarioErrors, ADeviceFaultNamesADeviceOfThePack) {
+  auto withAfe = [](int series, const std::string& afe) {
+    std::string y = test::simpleCellYaml(series) + kLoad;
+    return y.replace(y.find("hardware:\n"), 10, "hardware:\n  afe: " + afe + "\n");
+  };
+  const std::string y = withAfe(12, "{model: bq76pl536a, cells_per_device: 6}");
+  const std::string e = errorOf(y + "faults:\n  - {kind: device_silent, device: 3, at_s: 1}\n");
+  EXPECT_NE(e.find("faults[0].device: 3 is not a device of this pack: it has 2 monitor devices (hardware.afe: 6 series "
+                   "groups a device); allowed [1, 2]"),
+            std::string::npos)
+      << e;
+  EXPECT_NE(errorOf(y + "faults:\n  - {kind: crc_errors, device: 0, rate: 0.5, at_s: 1}\n").find("allowed [1, 2]"),
+            std::string::npos);
+  EXPECT_EQ(errorOf(y + "faults:\n  - {kind: device_stuck, device: 2, byte: 255, at_s: 1}\n"), "<no error>");
+  const std::string top = errorOf(y + "faults:\n  - {kind: broken_link, above_device: 2, at_s: 1}\n");
+  EXPECT_NE(top.find("faults[0].above_device: device 2 is the top device of its stack (devices 1-2): a broken link "
+                     "above it cuts off nothing"),
+            std::string::npos)
+      << top;
+  EXPECT_EQ(errorOf(y + "faults:\n  - {kind: broken_link, above_device: 1, at_s: 1}\n"), "<no error>");
+  // Boards of two BQ76PL536A devices: device 2 tops board 1, device 3 sits under device 4.
+  const std::string boards = withAfe(24, "{model: bq76pl536a, cells_per_device: 6, devices_per_board: 2}");
+  EXPECT_NE(errorOf(boards + "faults:\n  - {kind: broken_link, above_device: 2, at_s: 1}\n")
+                .find("device 2 is the top device of its board (devices 1-2)"),
+            std::string::npos);
+  EXPECT_EQ(errorOf(boards + "faults:\n  - {kind: broken_link, above_device: 3, at_s: 1}\n"), "<no error>");
+}
+
 // The CLI turns a bad scenario into exit status 2 and leaves no result file.
 TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
   const fs::path dir = test::processTempDir("packsim_cli_bad");

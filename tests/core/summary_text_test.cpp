@@ -59,6 +59,48 @@ TEST(SummaryText, WeldedContactIsReportedFromTheContactNotTheCommand) {
   EXPECT_TRUE(has(text, expect)) << text;
 }
 
+// An over-current trips at 10.1 s, a reset at 15 s closes the relay again and the load
+// runs on: the TRIP line said only "the relay contact opened at 10.11 s", as if the pack
+// stayed isolated (found on a 24s4p pack with a reset between two over-currents).
+TEST(SummaryText, ARelayClosedAgainAfterTheTripIsOnTheTripLine) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 3}\nrun: {duration_s: 30}\n"
+                                            "faults:\n  - {kind: overcurrent, current_A: 40, at_s: 10, duration_s: 1}\n"
+                                            "  - {kind: reset_request, at_s: 15}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped);
+  const auto contacts = test::eventsOf(r, "relay_contact");
+  ASSERT_EQ(contacts.size(), 3u);  // closed at the start, opened by the trip, closed after the reset
+  ASSERT_EQ(contacts[2]->detail, "closed");
+  ASSERT_GT(contacts[2]->time_s, 15.0);
+  char expect[128];
+  std::snprintf(expect, sizeof expect, "(overcurrent_discharge): the relay contact opened at %.2f s; closed again at %.2f s",
+                contacts[1]->time_s, contacts[2]->time_s);
+  EXPECT_TRUE(has(formatSummary(s, r), expect)) << formatSummary(s, r);
+}
+
+// The pack host hangs at 10 s and a 40 A over-current follows at 20 s: nothing trips, as
+// nothing decides. The summary said "BMS  no trip" and nothing else (found on a 14s2p
+// LTC6811 pack on its charger); the BMS line now says from when the host decided nothing.
+TEST(SummaryText, AHungHostIsOnTheBmsLine) {
+  const Scenario s = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 30}\n"
+                                            "faults:\n  - {kind: host_dead, at_s: 10}\n"
+                                            "  - {kind: overcurrent, current_A: 40, at_s: 20}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_FALSE(r.summary.tripped);
+  ASSERT_LT(test::eventTime(r, "fault_active", ""), 0.0);  // no BMS fault: none decided
+  const std::string text = formatSummary(s, r);
+  EXPECT_TRUE(has(text, "BMS             no trip\n                  10.00 s  the pack host's MCU hung (host_dead): no BMS "
+                        "decision from then to the end (20.00 s); its outputs held their last levels (the relay contact "
+                        "closed then)"))
+      << text;
+  // A hang of a given length, and none at all: no such line.
+  const Scenario sd = test::scenarioFromYaml(test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 30}\n"
+                                             "faults:\n  - {kind: host_dead, at_s: 10, duration_s: 5}\n");
+  EXPECT_TRUE(has(formatSummary(sd, runScenario(sd)), "no BMS decision until 15.00 s (5.00 s)"));
+  const Scenario none = test::scenarioFromYaml(test::simpleCellYaml() + test::kSimpleLoadYaml);
+  EXPECT_FALSE(has(formatSummary(none, runScenario(none)), "hung"));
+}
+
 // System A's host dies at 300 s; its monitor's FAULT line opens the relay on its own. The
 // same pack with the FAULT line wired to the MCU only: the contact stays closed, and the
 // line must not say the FAULT line opened it.

@@ -190,3 +190,41 @@ def test_unseen_limits_of_one_parallel_group_are_one_verdict_line():
         "1720.00 s: limit unseen: " + events[-2][2],
         "1720.00 s: limit unseen: " + events[-1][2],
     ]
+
+
+def test_a_trip_whose_relay_contact_never_opened_says_so():
+    """A welded relay: the trip latched but the contact stayed closed and the load went on
+    drawing. The page listed only what opened, so it read as an isolated pack; the
+    summary's TRIP line said "the relay contact stayed closed to the end"."""
+    cur = np.full(N, 9.0)
+    events = [(0.02, "relay_contact", "closed"), (2.0, "fault_injected", "welded_relay"),
+              (2.21, "fault_active", "overcurrent_discharge: current 33.978 A > 30.000 A for 200 ms"),
+              (2.21, "fault_latched", "overcurrent_discharge"), (2.21, "relay", "open")]
+    text = "\n".join(run_facts.verdict(_result(events=events, **{"truth/pack_current_A": cur})).lines)
+    assert ("the relay contact stayed closed after the trip, to the run's end at 10.00 s "
+            "(welded_relay injected at 2.00 s); the pack current at the end: 9 A") in text
+    opened = events + [(2.22, "relay_contact", "opened")]
+    assert not any("stayed closed" in line for line in run_facts.verdict(_result(events=opened)).lines)
+    never_closed = [e for e in events if e[1] != "relay_contact"]  # open before the trip: nothing stayed closed
+    assert not any("stayed closed" in line for line in run_facts.verdict(_result(events=never_closed)).lines)
+
+
+def test_a_trip_between_two_samples_names_the_sample_it_quotes():
+    """Samples 1 s apart, an over-current injected at 5.005 s trips at 5.21 s: the sample
+    at 5 s predates it, and was quoted as "at the trip the BMS measured highest pack
+    current 9.998 A" against a 40 A limit."""
+    events = [(5.005, "fault_injected", "overcurrent +35 A"),
+              (5.21, "fault_active", "overcurrent_discharge: current 45.002 A > 30.000 A for 200 ms"),
+              (5.21, "fault_latched", "overcurrent_discharge"), (5.22, "relay_contact", "opened")]
+    text = "\n".join(run_facts.verdict(_result(events=events)).lines)
+    assert "at the trip" not in text
+    assert ("at the last recorded sample before the trip (5.00 s, 0.21 s earlier) the BMS measured highest pack "
+            "current 2 A; the truth was 2 A; limit 30 A") in text
+
+
+def test_a_hung_host_is_in_the_verdict():
+    """NO TRIP from a pack host that hung at 10 s says nothing of the rest of the run."""
+    events = [(10.0, "fault_injected", "host_dead"), (12.0, "fault_injected", "host_dead board 2")]
+    text = "\n".join(run_facts.verdict(_result(events=events)).lines)
+    assert "10.00 s: the pack host's MCU hung (host_dead): no BMS decision after it while it lasted" in text
+    assert "12.00 s" not in text  # a monitor board's MCU: the host's comm loss says it
