@@ -59,8 +59,10 @@ struct DeviceReading {
 
 // How a driver's read of one device ended. Timeout: nothing answered; BadLength,
 // BadHeader, BadCrc: an answer that failed the driver's checks (a stuck 0x00 / 0xFF
-// line shows as a bad header or CRC).
-enum class FrameResult : uint8_t { Ok = 0, Timeout, BadLength, BadHeader, BadCrc };
+// line shows as a bad header or CRC). NotRead: the driver spent this call on something
+// else (recovering the chain) and read nothing: the device's standing, good or bad, is
+// as it was, and no reading is new.
+enum class FrameResult : uint8_t { Ok = 0, Timeout, BadLength, BadHeader, BadCrc, NotRead };
 
 // A cell ADC code in mV (rounded, clamped to 0..65535) at the flashed LSB. Inline: the
 // drivers convert every cell of every read-out with it.

@@ -36,7 +36,10 @@ void acquisitionReset(AcquisitionState& a) {
 }
 
 void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* result, bool full) {
+  bool read = false;
   for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
+    if (result[d] == FrameResult::NotRead) continue;  // as it was: nothing new, nothing failed
+    read = true;
     a.last[d] = result[d];
     if (result[d] == FrameResult::Ok) {
       a.bad[d] = 0;
@@ -45,7 +48,7 @@ void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* r
       ++a.bad[d];
     }
   }
-  if (full) a.fresh = true;
+  if (full && read) a.fresh = true;
 }
 
 bool measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,

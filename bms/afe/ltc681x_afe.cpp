@@ -59,6 +59,7 @@ bool init(const Config& c, void* data, psfw_board* b, const psfw_board_api* api)
   m.cfg.cellsPerDevice = c.afe.cellsPerDevice;
   m.cfg.cellCount = c.cellCount;
   m.cfg.thermistorsPerDevice = c.afe.thermistorsPerDevice;
+  m.cfg.period_us = c.readout.period_ms * 1000u;
   return ltcInit(m.cfg, m.state, b, api);
 }
 

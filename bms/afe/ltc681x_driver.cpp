@@ -210,6 +210,7 @@ uint32_t ltcConversionTime_us(const LtcConfig& c, enum ltc681x_conversion kind) 
 bool ltcInit(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api) {
   s.woken = false;
   s.recover = false;
+  s.readout_us = 0;
   s.configured = 0;
   s.sleepWakeups = s.idleWakeups = s.readouts = 0;
   for (uint8_t d = 0; d < kLtcMaxDevices; ++d) s.pecErrors[d] = 0;
@@ -246,6 +247,23 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
     for (uint8_t d = 0; d < n; ++d) res[d] = FrameResult::BadHeader;
     return;
   }
+  if (s.recover) {
+    // A device failed the last read-out: it may have reset and lost its configuration.
+    // Waking the chain, writing the configuration and waiting for the references takes
+    // about as long as a read-out (5 ms of 7 at 7 kHz). Both in one call overran a 10 ms
+    // read-out period on every call while a device stayed silent, and the firmware missed
+    // its deadline instead of counting the device lost: the call reads as well only where
+    // the last good read-out's length still fits the period, else it reads nothing and a
+    // device still silent fails the next read-out.
+    const uint32_t start_us = api->now_us(b);
+    ensureAwake(c, s, b, api);
+    const uint32_t spent_us = api->now_us(b) - start_us;
+    if (s.readout_us == 0 || spent_us + s.readout_us > c.period_us) {
+      for (uint8_t d = 0; d < n; ++d) res[d] = FrameResult::NotRead;
+      return;
+    }
+  }
+  const uint32_t readStart_us = api->now_us(b);
   const uint8_t md = c.adcMode;
   convertAndWait(c, s, b, api, ltc681x_adcv(md, c.dischargePermitted ? 1u : 0u, LTC681X_CH_ALL), LTC681X_CONV_CELLS);
   readCells(c, s, b, api, out, res);
@@ -297,6 +315,7 @@ void ltcReadAll(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board
     }
   }
   for (uint8_t d = 0; d < n; ++d) s.recover = s.recover || res[d] != FrameResult::Ok;
+  if (!s.recover) s.readout_us = api->now_us(b) - readStart_us;
 }
 
 void ltcPollFlags(const LtcConfig& c, LtcState& s, psfw_board* b, const psfw_board_api* api, LtcReading* out,

@@ -56,6 +56,7 @@ struct LtcConfig {
   uint16_t ov_mV;                // the devices' UV / OV comparators (CFGRA VOV, VUV)
   uint16_t uv_mV;
   uint8_t readRetries;           // extra reads of a group whose PEC failed on some device
+  uint32_t period_us;            // the read-out's period: a recovery reads as well only within it (0: never)
 };
 
 // One device's results as its registers hold them (100 uV codes unless noted).
@@ -81,6 +82,7 @@ struct LtcState {
   uint32_t idleWakeups;      // wake-ups of the isoSPI ports
   uint32_t readouts;
   bool recover;              // the last read-out lost a device: wake the whole chain from SLEEP first
+  uint32_t readout_us;       // how long the last read-out without a failure took (0: none yet)
   // One frame's scratch, in the firmware's RAM rather than on its stack (a full chain's slots).
   uint8_t tx[LTC681X_CMD_LEN + LTC681X_SLOT_BYTES * kLtcMaxDevices];
   uint8_t rx[LTC681X_SLOT_BYTES * kLtcMaxDevices];

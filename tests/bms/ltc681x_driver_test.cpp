@@ -40,6 +40,7 @@ bms::LtcConfig driverConfig(const Ltc681xConfig& m, int cells) {
   c.ov_mV = 4200;
   c.uv_mV = 2800;
   c.readRetries = 3;
+  c.period_us = 100000;  // a 100 ms read-out: a recovery and a read-out fit in one call
   return c;
 }
 
@@ -198,6 +199,8 @@ TEST(LtcDriver, WatchdogSleepResetsTheConfigurationAndTheDriverRestoresIt) {
 TEST(LtcDriver, BrokenLinkSilencesTheDevicesBeyondAndCountsTheirPecErrors) {
   Rig r(modelConfig(Ltc681xPart::Ltc6813, 4), 72);
   ASSERT_TRUE(r.init());
+  r.readAll();  // a good read-out first: the recovery after the repair reads within its period
+  ASSERT_GT(r.st.readout_us, 0u);
   r.chain.setBrokenLinkAbove(1);
   r.readAll();
   EXPECT_EQ(r.res[0], bms::FrameResult::Ok);
@@ -212,6 +215,38 @@ TEST(LtcDriver, BrokenLinkSilencesTheDevicesBeyondAndCountsTheirPecErrors) {
   r.chain.setBrokenLinkAbove(-1);
   r.readAll();
   for (int d = 0; d < 4; ++d) EXPECT_EQ(r.res[d], bms::FrameResult::Ok) << d;
+}
+
+// The call after a failed read-out recovers the chain (wake, configuration, the
+// references' power-up). Where that and the last good read-out's length fit the period
+// it reads as well; where they do not (10 ms, with a 7.5 ms read-out), it reads nothing
+// -- every device NotRead, in less than the period -- and the next call reads.
+TEST(LtcDriver, ARecoveryReadsInTheSameCallOnlyWhereThePeriodHoldsBoth) {
+  for (const uint32_t period_us : {100000u, 10000u}) {
+    Rig r(modelConfig(Ltc681xPart::Ltc6811, 2), 24);
+    r.cfg.period_us = period_us;
+    ASSERT_TRUE(r.init());
+    r.readAll();  // a good read-out: its length is known
+    ASSERT_EQ(r.res[1], bms::FrameResult::Ok);
+    ASSERT_GT(r.st.readout_us, 0u);
+    r.chain.setBrokenLinkAbove(0);
+    r.board.wait(0.1);
+    r.readAll();
+    ASSERT_EQ(r.res[1], bms::FrameResult::Timeout);
+    r.chain.setBrokenLinkAbove(-1);
+    r.board.wait(0.1);
+    const double start_s = r.board.t_s;
+    r.readAll();
+    if (period_us == 100000u) {
+      for (int d = 0; d < 2; ++d) EXPECT_EQ(r.res[d], bms::FrameResult::Ok) << d;
+    } else {
+      for (int d = 0; d < 2; ++d) EXPECT_EQ(r.res[d], bms::FrameResult::NotRead) << d;
+      EXPECT_LT(r.board.t_s - start_s, 0.010) << "the recovery alone fits the period";
+      r.board.wait(0.01);
+      r.readAll();
+      for (int d = 0; d < 2; ++d) EXPECT_EQ(r.res[d], bms::FrameResult::Ok) << d;
+    }
+  }
 }
 
 TEST(LtcDriver, PecErrorsAreCountedPerDeviceAndRetried) {

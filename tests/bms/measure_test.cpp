@@ -184,4 +184,31 @@ TEST(Measure, SetThermCodesClearsOnlyTheChangedInputs) {
   EXPECT_EQ(r.thermCode[0], 0);
 }
 
+
+// A call that read nothing (FrameResult::NotRead: the driver recovered its chain instead)
+// leaves each device's standing as it was -- its bad-read count, its last result, whether
+// it was ever seen -- and makes no reading new; a read of one device alone is a read.
+TEST(Measure, ACallThatReadNothingChangesNoDevicesStanding) {
+  bms::Config cfg = bms::defaultConfig(4, 2);
+  cfg.afe.deviceCount = 2;
+  bms::AcquisitionState a{};
+  bms::acquisitionReset(a);
+  bms::FrameResult res[bms::kMaxDevices] = {bms::FrameResult::Ok, bms::FrameResult::Timeout};
+  bms::acquireResults(cfg, a, res, true);
+  a.fresh = false;
+  const bms::FrameResult none[bms::kMaxDevices] = {bms::FrameResult::NotRead, bms::FrameResult::NotRead};
+  bms::acquireResults(cfg, a, none, true);
+  EXPECT_FALSE(a.fresh);
+  EXPECT_EQ(a.bad[0], 0);
+  EXPECT_EQ(a.bad[1], 1);
+  EXPECT_EQ(a.last[0], bms::FrameResult::Ok);
+  EXPECT_EQ(a.last[1], bms::FrameResult::Timeout);
+  EXPECT_TRUE(a.seen[0]);
+  EXPECT_FALSE(a.seen[1]);
+  const bms::FrameResult one[bms::kMaxDevices] = {bms::FrameResult::NotRead, bms::FrameResult::Timeout};
+  bms::acquireResults(cfg, a, one, true);
+  EXPECT_TRUE(a.fresh);
+  EXPECT_EQ(a.bad[1], 2);
+}
+
 }  // namespace

@@ -121,6 +121,35 @@ TEST(Ltc681xPart, BrokenIsoSpiLinkSilencesTheDevicesBeyondAndTheBmsTrips) {
   }
 }
 
+// A device that stops answering on a 10 ms read-out: the chain's recovery (wake pulses,
+// the configuration written again, the references' 4.4 ms power-up) and a read-out
+// (7.5 ms for two LTC6811s at 7 kHz) do not both fit the period, so the driver recovers
+// on one call and reads on the next. Before, it did both on every call while the device
+// stayed silent: 10.8 ms of a 10 ms period, and packsim's own firmware died on its
+// deadline ("contract break") instead of tripping. Now every fault of the device trips
+// on comm_loss after its 5 bad read-outs, every other call: within 10 periods and a tick.
+TEST(Ltc681xPart, ADeviceLostOnATenMillisecondReadoutTripsOnCommLossWithinItsPeriod) {
+  for (const char* fault : {"{kind: device_silent, device: 2, at_s: 5.0007}",
+                            "{kind: crc_errors, device: 2, rate: 1, at_s: 5.0007}",
+                            "{kind: device_stuck, device: 2, byte: 255, at_s: 5.0007}"}) {
+    const Scenario s = test::scenarioFromYaml(
+        "name: ltc10ms\nseed: 5\n"
+        "pack: {series: 14, parallel: 2, initial_soc: 0.7, cell: {preset: ncr18650_3p1Ah}}\n"
+        "hardware:\n  afe: {model: ltc6811, cells_per_device: 7, thermistors_per_device: 2}\n"
+        "  thermistors: {at_groups: [1, 7, 8, 14]}\n"
+        "bms: {tick_ms: 10, protections: {overcurrent_discharge: {threshold_A: 20, delay_ms: 200}}}\n"
+        "load: {current_A: 8}\nrun: {duration_s: 6}\n"
+        "faults: [" + std::string(fault) + "]\n");
+    const RunResult r = runScenario(s);
+    EXPECT_EQ(test::eventsOf(r, "firmware_fault").size(), 0u) << fault;
+    const double lost = test::eventTime(r, "comm_lost", "device 2");
+    EXPECT_GT(lost, 5.0007) << fault;
+    EXPECT_LE(lost, 5.0007 + 0.11) << fault;
+    EXPECT_EQ(test::eventTime(r, "comm_lost", "device 1"), -1.0) << fault;
+    EXPECT_EQ(r.summary.trip_reason, "comm_loss") << fault;
+  }
+}
+
 // Passive balancing through the DCC bits: an LTC6813 pair on a charger, cells 5 and 16
 // (CFGRA's DCC5 on device 1, CFGRB's DCC16 on device 1) and 30 (device 2) start high;
 // the switches that are on are exactly the cells the BMS commanded, the high ones among
