@@ -12,6 +12,7 @@
 
 #include "core/parts/monitor_parts.hpp"
 #include "core/scenario/derived_defaults.hpp"
+#include "core/scenario/part_current_limits.hpp"
 #include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/provenance.hpp"
 #include "core/scenario/scenario_warnings.hpp"
@@ -441,6 +442,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   checkBalancing(m, s);  // also checks the FETs' thermal nodes, which the next check relies on
   checkThermistorNodes(m, s);
   applyDerivedDefaults(root, s);  // hardware derived from what the scenario states (before the range check)
+  warnPartCurrentLimits(root, s);
   if (s.hardware.fet_paths == FetPaths::Separate && !s.load.i_A.empty() &&
       *std::min_element(s.load.i_A.begin(), s.load.i_A.end()) < 0.0)
     throw m.errorAt("load", "the load sits on the one-way discharge path (hardware.fet_paths: separate): it cannot "

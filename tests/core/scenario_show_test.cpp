@@ -247,6 +247,32 @@ TEST(ScenarioWarnings, LimitNearOrBeyondTheSensor) {
             std::string::npos);
 }
 
+// A BQ76952 judges its own current across its shunt. Its data-sheet defaults (OCD1 8 mV,
+// OCC 4 mV) are 1.6 A and 0.8 A on a 5 mOhm shunt: below a 10 A BMS limit and a 3 A load,
+// the pack tripped on the part's FAULT line at 0.07 s with nothing naming the part's
+// threshold. Each such threshold is a warning with its amps and what it undercuts; a
+// stated threshold above both is none.
+TEST(ScenarioWarnings, AMonitorPartsCurrentLimitBelowTheBmsOrTheLoad) {
+  const std::string pack =
+      "name: p16s\npack: {series: 16, initial_soc: 0.7, cell: {preset: ncr18650_3p1Ah}}\n"
+      "bms: {protections: {overcurrent_discharge: {threshold_A: 10}, overcurrent_charge: {threshold_A: 3}}}\n"
+      "load: {current_A: 3}\nrun: {duration_s: 1}\n";
+  const Scenario defaults = test::scenarioFromYaml(pack + "hardware: {afe: {model: bq76952, cells_per_device: 16}}\n");
+  EXPECT_EQ(warningsWith(defaults, "hardware.afe.protection.ocd1_mV = 8 (the part's default): 1.6 A on the 5 mOhm shunt, "
+                                   "below bms.protections.overcurrent_discharge.threshold_A 10 A and the load's peak 3 A: "
+                                   "the BQ76952 trips the pack first"), 1u) << allWarnings(defaults);
+  EXPECT_EQ(warningsWith(defaults, "hardware.afe.protection.occ_mV = 4 (the part's default): 0.8 A on the 5 mOhm shunt, "
+                                   "below bms.protections.overcurrent_charge.threshold_A 3 A:"), 1u) << allWarnings(defaults);
+  EXPECT_EQ(warningsWith(defaults, "scd_mV"), 0u) << "100 mV is 20 A: above both";
+  const Scenario stated = test::scenarioFromYaml(
+      pack + "hardware: {afe: {model: bq76952, cells_per_device: 16, protection: {ocd1_mV: 60, occ_mV: 20}}}\n");
+  EXPECT_EQ(warningsWith(stated, "trips the pack first"), 0u) << allWarnings(stated);
+  const Scenario low = test::scenarioFromYaml(
+      pack + "hardware: {afe: {model: bq76952, cells_per_device: 16, protection: {ocd1_mV: 40, occ_mV: 20}}}\n");
+  EXPECT_EQ(warningsWith(low, "hardware.afe.protection.ocd1_mV = 40: 8 A on the 5 mOhm shunt, below "
+                              "bms.protections.overcurrent_discharge.threshold_A 10 A:"), 1u) << allWarnings(low);
+}
+
 // userPack's 24 groups with one cell each.
 std::string userString(const std::string& extra) {
   std::string y = userPack(extra);
