@@ -273,7 +273,7 @@ def verdict(r: Result) -> Verdict:
     protection and when); the contact, fuse and FAULT-line events say what acted; the
     recorded sample at the trip gives the BMS's reading next to the truth.
     limit_unseen, firmware_fault, fault_not_reached, fault_no_effect, monitor_unread, cell_model_range,
-    load_limited and load_end events,
+    load_limited and load_end events, the BMS switching a charger off,
     and a relay that never closed, are listed whether or not it tripped."""
     evs = r.events
     latched = [ev for ev in evs if ev["kind"] == "fault_latched"]
@@ -313,6 +313,9 @@ def verdict(r: Result) -> Verdict:
         elif k in ("firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
                    "cell_model_range", "load_limited", "load_end"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
+        elif k == "charger" and str(ev["detail"]).startswith("disabled by the BMS"):
+            # the charge ended by the BMS, with the truth then (the summary's `charge` line)
+            lines.append(f"{ev['time_s']:.2f} s: charger {ev['detail']}")
         elif k == "fault_injected" and (str(ev["detail"]) == "host_dead"
                                         or str(ev["detail"]).startswith("host_dead (when ")):
             # the pack host hung: nothing decided from then on (the summary's BMS line)

@@ -86,6 +86,16 @@ def test_a_cell_beyond_the_cell_model_is_in_the_verdict():
     assert not any("cell model range" in line for line in run_facts.verdict(_result()).lines)
 
 
+def test_a_charge_the_bms_ended_is_in_the_verdict_with_the_truth_then():
+    note = ("disabled by the BMS: the highest cell, cell 5 (group 3), at 4.149 V under 4.00 A of charge, "
+            "mean SOC 0.728 (truth)")
+    r = _result(events=[(0.4, "charger", "enabled by the BMS"), (667.2, "charger", note)])
+    lines = run_facts.verdict(r).lines
+    assert f"667.20 s: charger {note}" in lines
+    assert not any("enabled by the BMS" in line for line in lines)
+    assert not any("charger" in line for line in run_facts.verdict(_result()).lines)
+
+
 def test_a_power_load_the_pack_could_not_give_is_in_the_verdict():
     note = "10.00-15.00 s: the pack gave less power than the load asked (at most 2101 W while up to 9000 W was asked)"
     text = "\n".join(run_facts.verdict(_result(events=[(15.0, "load_limited", note)])).lines)
