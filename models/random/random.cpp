@@ -29,15 +29,15 @@ inline void normalsOf(const Polar& p, double& first, double& second) {
 
 // r·x's bracket for x within kApproxSinCosBound of approx (r > 0: u1 < 1). Rounding is
 // monotonic: x - bound <= x <= x + bound, so each product rounds to its side of r·x.
-LazyNormal bracket(const Polar& p, double approx, bool second) {
-  return LazyNormal{p.r * (approx - kApproxSinCosBound), p.r * (approx + kApproxSinCosBound), p.r, p.a, second, false};
+NormalBracket bracket(double r, double approx) {
+  return NormalBracket{r * (approx - kApproxSinCosBound), r * (approx + kApproxSinCosBound)};
 }
 
 }  // namespace
 
-double LazyNormal::exactOfPair() const {
+double lazyPairNormal(const Rng& rng, bool second) {
   double first, sec;
-  normalsOf(Polar{r, a}, first, sec);
+  normalsOf(Polar{rng.pairR_, rng.pairA_}, first, sec);
   return second ? sec : first;
 }
 
@@ -56,13 +56,14 @@ double standardNormalPair(Rng& rng) {
 #if defined(__GNUC__)
 __attribute__((flatten))
 #endif
-LazyNormal lazyNormalPair(Rng& rng) {
+NormalBracket lazyNormalPair(Rng& rng) {
   const Polar p = polarOf(rng);
   double s, c;
   approxSinCos(p.a, s, c);
-  rng.pending_ = bracket(p, s, true);
+  rng.pairR_ = p.r, rng.pairA_ = p.a;
+  rng.pending_ = bracket(p.r, s);
   rng.hasPending_ = true;
-  return bracket(p, c, false);
+  return bracket(p.r, c);
 }
 
 uint64_t deriveSeed(uint64_t seed, uint64_t stream) {

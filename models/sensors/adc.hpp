@@ -27,7 +27,7 @@ struct AdcChannel {
   int64_t convertWith(double gainError, double offsetIn, double x, Rng& rng) const {
     const double v = x * (1.0 + gainError) + offsetIn;
     if (!(noise_rms > 0.0)) return codeOf(v);
-    return noisyCodeOf(v, standardNormalLazy(rng));
+    return noisyCodeOf(v, standardNormalLazy(rng), rng);
   }
 
   // The code of v at the input.
@@ -38,11 +38,11 @@ struct AdcChannel {
   // its sign): where the ends of n's bracket round to one value, n's own value rounds to
   // it too, and the libm's sincos is not needed (nearly every draw: the bracket spans
   // some 1e-12 of the noise, a code some 1e-3). The same code as drawing n with
-  // standardNormal. (NaN at an end: the exact path.)
-  int64_t noisyCodeOf(double v, const LazyNormal& n) const {
+  // standardNormal. (NaN at an end: the exact path; n just drawn from rng.)
+  int64_t noisyCodeOf(double v, const NormalBracket& n, const Rng& rng) const {
     const double lo = roundHalfEven((v + noise_rms * n.lo) / lsb);
-    if (n.known || lo == roundHalfEven((v + noise_rms * n.hi) / lsb)) return clampedCode(lo);
-    return codeOf(v + noise_rms * n.exact());
+    if (lo == roundHalfEven((v + noise_rms * n.hi) / lsb)) return clampedCode(lo);
+    return codeOf(v + noise_rms * lazyNormalValue(rng, n));
   }
 
   // A rounded quotient as a code, saturating at the rails.
