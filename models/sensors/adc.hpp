@@ -5,6 +5,7 @@
 //   code = clamp(round((x·(1 + gain_error) + offset + noise) / lsb), code_min, code_max)
 //   noise ~ N(0, noise_rms)
 #pragma once
+#include <cmath>
 #include <cstdint>
 
 #include "models/random/random.hpp"  // Rng, standardNormalLazy
@@ -33,15 +34,18 @@ struct AdcChannel {
   // The code of v at the input.
   int64_t codeOf(double v) const { return clampedCode(roundHalfEven(v / lsb)); }
 
-  // codeOf(v + noise_rms·n), noise_rms > 0. The rounded quotient is monotonic in n (each
-  // step rounds monotonically; the division by lsb keeps or reverses the order, whatever
-  // its sign): where the ends of n's bracket round to one value, n's own value rounds to
-  // it too, and the libm's sincos is not needed (nearly every draw: the bracket spans
-  // some 1e-12 of the noise, a code some 1e-3). The same code as drawing n with
-  // standardNormal. (NaN at an end: the exact path; n just drawn from rng.)
+  // codeOf(v + noise_rms·n), noise_rms > 0, n just drawn from rng. The quotient is
+  // monotonic in n (each step rounds monotonically; the division by lsb keeps or reverses
+  // the order, whatever its sign), and so is its rounding: where both ends of n's bracket
+  // round to one value q, n's own value rounds to q too, and the libm's sincos is not
+  // needed (nearly every draw: the bracket spans some 1e-12 of the noise, a code some
+  // 1e-3). The other end rounds to q where it lies within half a code of q: its distance
+  // rounds to below 0.5 only if it is below 0.5 (a subtraction and a compare, not a
+  // second rounding). Else (a tie, NaN, or the bracket across a code's edge) the normal's
+  // value decides. The same code as drawing n with standardNormal.
   int64_t noisyCodeOf(double v, const NormalBracket& n, const Rng& rng) const {
     const double lo = roundHalfEven((v + noise_rms * n.lo) / lsb);
-    if (lo == roundHalfEven((v + noise_rms * n.hi) / lsb)) return clampedCode(lo);
+    if (std::fabs((v + noise_rms * n.hi) / lsb - lo) < 0.5) return clampedCode(lo);
     return codeOf(v + noise_rms * lazyNormalValue(rng, n));
   }
 
