@@ -11,6 +11,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
 #include "test_support.hpp"
+#include "tests/bits_of.hpp"
 
 namespace packsim {
 namespace {
@@ -106,11 +107,7 @@ TEST(PackTopology, GroupLevelSpreadIsSharedWithinAGroup) {
 }
 
 
-uint64_t bits(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
+using test::bitsOf;
 
 // The plant evaluates each cell's curves once, from its flattened copy of them with
 // remembered table segments (models/cell/flat_cell.hpp), and keeps the reversible heat
@@ -163,20 +160,20 @@ TEST(PackTopology, PlantSignalsAreTheEcmFunctionsBitForBit) {
         const double* xc = x.data() + c * stride;
         const double t_C = pk.cellTemp_C(c, xc);
         const double ocv = ecm::ocv(p, xc[0], t_C), r0 = ecm::r0(p, xc[0], t_C, iPack);
-        ASSERT_EQ(bits(warm.cell_ocv_V[ci]), bits(ocv)) << cell << " cell " << c;
-        ASSERT_EQ(bits(warm.cell_r0_ohm[ci]), bits(r0)) << cell << " cell " << c;
+        ASSERT_EQ(bitsOf(warm.cell_ocv_V[ci]), bitsOf(ocv)) << cell << " cell " << c;
+        ASSERT_EQ(bitsOf(warm.cell_r0_ohm[ci]), bitsOf(r0)) << cell << " cell " << c;
         const double emf = ecm::emf(p, xc, ocv) + ecm::instantHysteresis_V(p, iPack);
         const double v_g = warm.group_voltage_V[ci / 3];
-        ASSERT_EQ(bits(warm.cell_current_A[ci]), bits((emf - v_g) / r0)) << cell << " cell " << c;
+        ASSERT_EQ(bitsOf(warm.cell_current_A[ci]), bitsOf((emf - v_g) / r0)) << cell << " cell " << c;
         const double i = warm.cell_current_A[ci];
-        ASSERT_EQ(bits(warm.heat_W[ci]), bits(ecm::heatWithR0_W(p, xc, i, r0, t_C))) << cell << " cell " << c;
+        ASSERT_EQ(bitsOf(warm.heat_W[ci]), bitsOf(ecm::heatWithR0_W(p, xc, i, r0, t_C))) << cell << " cell " << c;
         chem += ocv * (i + warm.internal_A[ci]);
         if (p.has_entropic) chem += ecm::reversibleHeat_W(p, xc[0], i, t_C);
       }
-      ASSERT_EQ(bits(dq[kQuadChemEnergy_J]), bits(chem)) << cell;
-      for (int q = 0; q < kQuadCount; ++q) ASSERT_EQ(bits(dq[static_cast<size_t>(q)]), bits(dqFresh[static_cast<size_t>(q)]));
+      ASSERT_EQ(bitsOf(dq[kQuadChemEnergy_J]), bitsOf(chem)) << cell;
+      for (int q = 0; q < kQuadCount; ++q) ASSERT_EQ(bitsOf(dq[static_cast<size_t>(q)]), bitsOf(dqFresh[static_cast<size_t>(q)]));
       for (int c = 0; c < n; ++c)
-        ASSERT_EQ(bits(warm.cell_current_A[static_cast<size_t>(c)]), bits(fresh.cell_current_A[static_cast<size_t>(c)]));
+        ASSERT_EQ(bitsOf(warm.cell_current_A[static_cast<size_t>(c)]), bitsOf(fresh.cell_current_A[static_cast<size_t>(c)]));
     }
   }
 }
@@ -189,7 +186,7 @@ TEST(PackTopology, SampleIsEvaluateWithoutTheHeatBitForBit) {
   const auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
     if (a.size() != b.size()) return false;
     for (size_t i = 0; i < a.size(); ++i)
-      if (bits(a[i]) != bits(b[i])) return false;
+      if (bitsOf(a[i]) != bitsOf(b[i])) return false;
     return true;
   };
   std::mt19937_64 rng(11);

@@ -1,5 +1,6 @@
 #include "models/cell/curve.hpp"
 #include "models/cell/flat_curve.hpp"
+#include "tests/bits_of.hpp"
 
 #include <gtest/gtest.h>
 
@@ -109,11 +110,7 @@ TEST(Curve, PointAboveWithAHintIsPointAbove) {
   EXPECT_GT(hits, checked / 2);  // the walks mostly stay in their segment
 }
 
-uint64_t bitsOf(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
+using test::bitsOf;
 
 // FlatCurve::eval is Curve::eval to the bit, for every kind and axis, with and without an
 // Arrhenius factor, inside, at and beyond the table ends and the 2-D grid, with one hint

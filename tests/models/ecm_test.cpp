@@ -1,5 +1,6 @@
 #include "models/cell/ecm.hpp"
 #include "models/cell/flat_cell.hpp"
+#include "tests/bits_of.hpp"
 
 #include <gtest/gtest.h>
 
@@ -40,11 +41,7 @@ TEST(Ecm, TerminalVoltageAndHeat) {
 }
 
 
-uint64_t bits(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
+using test::bitsOf;
 
 // FlatCell's OCV, R0 and reversible heat are ecm::ocv, ecm::r0 and ecm::reversibleHeat_W
 // to the bit, with the hints carried from call to call: SOC inside, at and beyond 0…1
@@ -77,9 +74,9 @@ TEST(Ecm, FlatCellIsTheEcmFunctionsBitForBit) {
       soc = u(rng) < 0.05 ? -0.2 + 1.4 * u(rng) : soc - 0.002 * u(rng);
       if (soc < -0.2) soc = 1.1;
       const double t_C = -20.0 + 80.0 * u(rng), i_A = -5.0 + 15.0 * u(rng);
-      ASSERT_EQ(bits(f.ocv_V(p, soc, t_C, h)), bits(ecm::ocv(p, soc, t_C))) << soc << " " << t_C;
-      ASSERT_EQ(bits(f.r0_ohm(soc, t_C, i_A, h)), bits(ecm::r0(p, soc, t_C, i_A))) << soc << " " << i_A;
-      ASSERT_EQ(bits(f.reversibleHeat_W(soc, i_A, t_C, h)), bits(ecm::reversibleHeat_W(p, soc, i_A, t_C)));
+      ASSERT_EQ(bitsOf(f.ocv_V(p, soc, t_C, h)), bitsOf(ecm::ocv(p, soc, t_C))) << soc << " " << t_C;
+      ASSERT_EQ(bitsOf(f.r0_ohm(soc, t_C, i_A, h)), bitsOf(ecm::r0(p, soc, t_C, i_A))) << soc << " " << i_A;
+      ASSERT_EQ(bitsOf(f.reversibleHeat_W(soc, i_A, t_C, h)), bitsOf(ecm::reversibleHeat_W(p, soc, i_A, t_C)));
     }
   }
 }
@@ -129,17 +126,17 @@ TEST(Ecm, FlatCellEmfHeatAndTemperatureAreTheEcmFunctionsBitForBit) {
       x[static_cast<size_t>(slot)] = -20.0 + 80.0 * u(rng);
       const double r = u(rng), i_A = r < 0.1 ? 0.0 : r < 0.2 ? -0.0 : -5.0 + 15.0 * u(rng);
       const double t_C = f.temp_C(x.data(), slot);
-      EXPECT_EQ(bits(t_C), bits(p.usesTemperature() ? x[static_cast<size_t>(slot)] : kReferenceTemp_C));
+      EXPECT_EQ(bitsOf(t_C), bitsOf(p.usesTemperature() ? x[static_cast<size_t>(slot)] : kReferenceTemp_C));
       const double ocv = ecm::ocv(p, x[0], t_C), r0 = ecm::r0(p, x[0], t_C, i_A);
-      ASSERT_EQ(bits(f.emf_V(x.data(), ocv, i_A)), bits(ecm::emf(p, x.data(), ocv) + ecm::instantHysteresis_V(p, i_A)));
+      ASSERT_EQ(bitsOf(f.emf_V(x.data(), ocv, i_A)), bitsOf(ecm::emf(p, x.data(), ocv) + ecm::instantHysteresis_V(p, i_A)));
       const double rev = ecm::reversibleHeat_W(p, x[0], i_A, t_C);
-      ASSERT_EQ(bits(f.heat_W(p, x.data(), i_A, r0, rev, t_C)), bits(ecm::heatWithParts_W(p, x.data(), i_A, r0, rev, t_C)));
-      ASSERT_EQ(bits(f.reversibleHeat_W(x[0], i_A, t_C, h)), bits(rev));
+      ASSERT_EQ(bitsOf(f.heat_W(p, x.data(), i_A, r0, rev, t_C)), bitsOf(ecm::heatWithParts_W(p, x.data(), i_A, r0, rev, t_C)));
+      ASSERT_EQ(bitsOf(f.reversibleHeat_W(x[0], i_A, t_C, h)), bitsOf(rev));
       const double internal_A = n % 3 == 0 ? 0.0 : 0.01 * u(rng);
       std::vector<double> dxFlat(x.size(), -1.0), dxEcm(x.size(), -1.0);
       f.derivatives(p, x.data(), i_A, dxFlat.data(), internal_A, t_C);
       ecm::derivatives(p, x.data(), i_A, dxEcm.data(), internal_A, t_C);
-      for (size_t j = 0; j < x.size(); ++j) ASSERT_EQ(bits(dxFlat[j]), bits(dxEcm[j])) << j;
+      for (size_t j = 0; j < x.size(); ++j) ASSERT_EQ(bitsOf(dxFlat[j]), bitsOf(dxEcm[j])) << j;
     }
   }
 }

@@ -29,15 +29,12 @@
 #include "models/random/random.hpp"
 #include "models/sensors/round_even.hpp"
 #include "models/sensors/round_half_away.hpp"
+#include "tests/bits_of.hpp"
 
 namespace packsim {
 namespace {
 
-uint64_t bitsOf(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
+using test::bitsOf;
 
 // Same bits as std::nearbyint (NaN: a NaN).
 void expectSameAsNearbyint(double v) {

@@ -15,15 +15,12 @@
 #include "models/random/random.hpp"
 #include "models/sensors/adc.hpp"
 #include "models/sensors/round_even.hpp"
+#include "tests/bits_of.hpp"
 
 namespace packsim {
 namespace {
 
-uint64_t bitsOf(double v) {
-  uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
+using test::bitsOf;
 
 void expectWithinBound(double u2) {
   const double a = 6.283185307179586 * u2;  // as the draws form it
