@@ -8,6 +8,7 @@
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
+#include "core/scenario/value_ranges.hpp"
 #include "core/scenario/yaml_map.hpp"
 #include "models/random/random.hpp"
 
@@ -16,7 +17,7 @@ namespace packsim {
 namespace fs = std::filesystem;
 
 uint64_t monteCarloSeed(uint64_t master_seed, uint64_t sample) {
-  return deriveSeed(master_seed, sample) & 0x7FFFFFFFull;  // the scenario's seed range
+  return deriveSeed(master_seed, sample) & static_cast<uint64_t>(limits::kMaxSeed);  // the scenario's seed range
 }
 
 std::string Sweep::resultPath(const SweepCase& c) const { return (fs::path(output_dir) / ("case_" + c.id + ".h5")).string(); }
@@ -132,7 +133,7 @@ Sweep loadSweepText(const std::string& text, const std::string& file, const std:
   }
   if (auto mc = m.optionalMap("monte_carlo")) {
     const long samples = mc->integer("samples", 1, 1000000);
-    const uint64_t master = static_cast<uint64_t>(mc->integer("master_seed", 0, 0, 2147483647L));
+    const uint64_t master = static_cast<uint64_t>(mc->integer("master_seed", 0, 0, limits::kMaxSeed));
     mc->finish();
     if (std::find(sw.keys.begin(), sw.keys.end(), "seed") != sw.keys.end())
       throw m.errorAt("monte_carlo", "monte_carlo sets `seed`; do not also vary it in grid or zip");

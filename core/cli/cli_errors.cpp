@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/scenario/scenario_error.hpp"  // closestMatch
+#include "core/scenario/value_ranges.hpp"
 
 namespace packsim {
 
@@ -111,15 +112,16 @@ CLI::Validator nonNegativeNumber() { return boundedNumber([](double v) { return 
 CLI::Validator positiveNumber() { return boundedNumber([](double v) { return v > 0.0; }, "> 0"); }
 
 CLI::Validator seedNumber() {
+  const std::string range = "[0, " + std::to_string(limits::kMaxSeed) + "]";
   return CLI::Validator(
-      [](std::string& text) {
+      [range](std::string& text) {
         uint64_t v = 0;
         const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-        if (ec != std::errc() || end != text.data() + text.size() || v > kMaxSeed)
-          return "expected a whole number in [0, " + std::to_string(kMaxSeed) + "] (a scenario's seed: range), got " + text;
+        if (ec != std::errc() || end != text.data() + text.size() || v > static_cast<uint64_t>(limits::kMaxSeed))
+          return "expected a whole number in " + range + " (a scenario's seed: range), got " + text;
         return std::string();
       },
-      "INT in [0, " + std::to_string(kMaxSeed) + "]");
+      "INT in " + range);
 }
 
 }  // namespace packsim

@@ -1,7 +1,6 @@
 // Command-line argument errors: one short line on stderr, exit status 2, and the
 // closest valid subcommand or option when a name is mistyped.
 #pragma once
-#include <cstdint>
 #include <CLI/CLI.hpp>
 
 #include <string>
@@ -21,9 +20,8 @@ int reportParseError(CLI::App& app, const CLI::ParseError& e);
 // whole double range).
 CLI::Validator nonNegativeNumber();
 CLI::Validator positiveNumber();
-// The --seed options: a whole number in a scenario's `seed:` range [0, kMaxSeed] (a batch's
-// Monte Carlo seeds are drawn in it too), so a value is never wrapped or cut.
-constexpr uint64_t kMaxSeed = 2147483647;
+// The --seed options: a whole number in a scenario's `seed:` range [0, limits::kMaxSeed]
+// (a batch's Monte Carlo seeds are drawn in it too), so a value is never wrapped or cut.
 CLI::Validator seedNumber();
 
 }  // namespace packsim

@@ -314,7 +314,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   }
   s.name = m.string("name", fs::path(file).stem().string());
   s.description = m.string("description", "");
-  const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, 2147483647L));
+  const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, limits::kMaxSeed));
   s.pack = readPack(m.map("pack"), base_dir);
   s.hardware = readHardware(m.optionalMap("hardware"), s.pack);
   if (PassiveBalancerConfig& b = s.hardware.balancing; b.cells_per_board > 0) {

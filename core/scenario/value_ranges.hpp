@@ -27,6 +27,9 @@ constexpr double kMaxConductance_W_per_K = 1.0e4;
 constexpr double kMaxHeatCapacity_J_per_K = 1.0e12;
 // A resistor of the hardware (pull-up, precharge, leakage): 1 GOhm is an open circuit.
 constexpr double kMaxResistor_ohm = 1.0e9;
+// A scenario's `seed:` (and --seed, a batch's master_seed and Monte Carlo seeds): the
+// non-negative int32 range, which YAML, the result file's attribute and Python all hold.
+constexpr long kMaxSeed = 2147483647L;
 // Temperatures of a cell, a node, the ambient or a coolant.
 constexpr double kMinTemp_C = -60.0;
 constexpr double kMaxTemp_C = 150.0;
