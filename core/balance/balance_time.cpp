@@ -12,6 +12,7 @@
 #include "core/sim/balance_report.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
 
@@ -21,12 +22,6 @@ namespace {
 
 // Rest voltage (mean OCV) of each series group in state x.
 std::vector<double> groupOcv_V(const Plant& plant, const double* x) { return groupOcv_V(plant.pack(), cellSoc(plant, x)); }
-
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
-  char s[240];
-  std::snprintf(s, sizeof s, f, a, b, c);
-  return s;
-}
 
 void checkOptions(const Scenario& s, const BalanceTimeOptions& o) {
   for (double r : o.resistors_ohm)
@@ -266,8 +261,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
     const auto last = rec.cell_soc.begin() + static_cast<std::ptrdiff_t>((n - 1) * static_cast<size_t>(rec.cells));
     const std::vector<double> soc(last, last + rec.cells);
     row.final_spread_Ah = spread(groupCharge_Ah(plant.pack(), soc));
-    const std::vector<double> excess = groupExcess_Ah(plant.pack(), soc);
-    row.final_imbalance_Ah = *std::max_element(excess.begin(), excess.end());
+    row.final_imbalance_Ah = imbalance_Ah(plant.pack(), soc);
   }
 }
 

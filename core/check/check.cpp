@@ -13,6 +13,7 @@
 #include "core/scenario/target_switch.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
 
@@ -20,11 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string fmt(const char* f, double a, double b = 0.0, double c = 0.0) {
-  char buf[128];
-  std::snprintf(buf, sizeof buf, f, a, b, c);
-  return buf;
-}
 
 bool startsWith(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
 

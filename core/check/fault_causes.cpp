@@ -80,8 +80,7 @@ std::vector<InjectionSpan> injectionSpans(const std::vector<Event>& events) {
       // The earliest injection of this detail still in place (a `when:` injection's
       // detail carries its condition, its removal does not).
       for (InjectionSpan& sp : spans)
-        if (std::isinf(sp.end_s) && sp.injected->detail.compare(0, e.detail.size(), e.detail) == 0 &&
-            (sp.injected->detail.size() == e.detail.size() || sp.injected->detail.compare(e.detail.size(), 7, " (when ") == 0)) {
+        if (std::isinf(sp.end_s) && injectionDetailIs(sp.injected->detail, e.detail)) {
           sp.end_s = e.time_s;
           break;
         }

@@ -61,7 +61,14 @@ struct FaultInjection {
   std::string origin;       // set when an override (or a Python dict) wrote it: "faults[1], set by an override"
   std::string where() const { return origin.empty() ? "line " + std::to_string(line) : origin; }
   std::string describe() const;
+  // Its fault_injected event's detail: describe(), and a `when:` injection's condition
+  // after it (its fault_removed event's detail is describe() alone).
+  std::string injectedDetail() const;
   std::string cellText() const;  // "cell 74 (group 19)"; "cell 5" without parallel cells
 };
+
+// Whether a fault_injected event's detail is that of an injection described as
+// `described` (FaultInjection::describe(): with or without a `when:` condition after it).
+bool injectionDetailIs(const std::string& injectedDetail, const std::string& described);
 
 }  // namespace packsim

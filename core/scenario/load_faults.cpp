@@ -14,6 +14,9 @@ namespace packsim {
 
 namespace {
 
+// What follows a `when:` injection's description in its fault_injected detail.
+const std::string kWhenPrefix = " (when ";
+
 struct KindInfo {
   const char* name;
   FaultKind kind;
@@ -253,6 +256,16 @@ std::string FaultInjection::cellText() const {
 // The values as written, to six significant digits and with their own sign: "%.3g" with a
 // "+" in front printed a charging over-current as "overcurrent +-30 A", 1000 A/h as
 // "+1e+03 A/h" and 12.345 A as "+12.3 A".
+std::string FaultInjection::injectedDetail() const {
+  return describe() + (hasCondition ? kWhenPrefix + when.text + ")" : "");
+}
+
+bool injectionDetailIs(const std::string& injectedDetail, const std::string& described) {
+  const std::string& d = injectedDetail;
+  return d.compare(0, described.size(), described) == 0 &&
+         (d.size() == described.size() || d.compare(described.size(), kWhenPrefix.size(), kWhenPrefix) == 0);
+}
+
 std::string FaultInjection::describe() const {
   char buf[160];
   switch (kind) {

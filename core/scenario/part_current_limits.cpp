@@ -1,21 +1,16 @@
 #include "core/scenario/part_current_limits.hpp"
 
-#include <cstdio>
 #include <string>
 
 #include "core/scenario/derived_defaults.hpp"
 #include "core/scenario/provenance.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
 
 namespace {
 
-std::string number(const char* f, double v) {
-  char s[32];
-  std::snprintf(s, sizeof s, f, v);
-  return s;
-}
-std::string amps(double a) { return number("%.3g A", a); }
+std::string amps(double a) { return fmt("%.3g A", a); }
 
 // Whether the scenario states hardware.afe.protection.<key> (else it is the part's default).
 bool stated(const YAML::Node& root, const char* key) {
@@ -56,9 +51,9 @@ void warnPartCurrentLimits(const YAML::Node& root, const Scenario& s) {
     std::string why;
     if (belowBms) why = "below bms.protections." + std::string(r.bmsKey) + ".threshold_A " + amps(r.bms.threshold);
     if (belowLoad) why += std::string(belowBms ? " and " : "below ") + "the load's peak " + amps(r.load_A);
-    prov->warn("hardware.afe.protection." + std::string(r.key) + " = " + number("%g", r.mV) +
+    prov->warn("hardware.afe.protection." + std::string(r.key) + " = " + fmt("%g", r.mV) +
                (stated(root, r.key) ? "" : " (the part's default)") + ": " + amps(a) + " on the " +
-               number("%g", shunt_mOhm) + " mOhm shunt, " + why +
+               fmt("%g", shunt_mOhm) + " mOhm shunt, " + why +
                ": the BQ76952 trips the pack first, on its FAULT line; state the part's threshold for this shunt");
   }
 }

@@ -44,6 +44,11 @@ std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc
   return excess;
 }
 
+double imbalance_Ah(const Pack& p, const std::vector<double>& soc) {
+  const std::vector<double> excess = groupExcess_Ah(p, soc);
+  return *std::max_element(excess.begin(), excess.end());
+}
+
 double spread(const std::vector<double>& q) {
   const auto [lo, hi] = std::minmax_element(q.begin(), q.end());
   return *hi - *lo;
@@ -64,10 +69,8 @@ BalanceSummary summarizeBalancing(const Scenario& s, const Plant& plant, const d
   const std::vector<double> socStart = cellSoc(plant, x0), socEnd = cellSoc(plant, xEnd);
   b.spread_start_Ah = spread(groupCharge_Ah(plant.pack(), socStart));
   b.spread_end_Ah = spread(groupCharge_Ah(plant.pack(), socEnd));
-  const std::vector<double> excessStart = groupExcess_Ah(plant.pack(), socStart);
-  const std::vector<double> excessEnd = groupExcess_Ah(plant.pack(), socEnd);
-  b.imbalance_start_Ah = *std::max_element(excessStart.begin(), excessStart.end());
-  b.imbalance_end_Ah = *std::max_element(excessEnd.begin(), excessEnd.end());
+  b.imbalance_start_Ah = imbalance_Ah(plant.pack(), socStart);
+  b.imbalance_end_Ah = imbalance_Ah(plant.pack(), socEnd);
   return b;
 }
 

@@ -25,6 +25,8 @@ std::vector<double> groupSoc(const Pack& p, const std::vector<double>& soc);
 // the lowest group's; with capacities that differ a larger group holds more charge at the
 // same voltage, which is no imbalance and which no balancing removes.
 std::vector<double> groupExcess_Ah(const Pack& p, const std::vector<double>& soc);
+// The pack's imbalance: the most any group holds above the lowest (groupExcess_Ah).
+double imbalance_Ah(const Pack& p, const std::vector<double>& soc);
 // Every cell's SOC in state x.
 std::vector<double> cellSoc(const Plant& plant, const double* x);
 // Highest minus lowest of a per-group figure (charge, voltage).

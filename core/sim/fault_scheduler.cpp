@@ -81,7 +81,7 @@ bool FaultScheduler::updatePending(double t, const double* x, const PlantSignals
       tr.active = true;
       tr.start_s = t;
       changed = true;
-      tracker.event(t, "fault_injected", inj.describe() + (inj.hasCondition ? " (when " + inj.when.text + ")" : ""));
+      tracker.event(t, "fault_injected", inj.injectedDetail());
     } else if (const double d_s = activeFor_s(inj); d_s > 0.0 && reached(t, tr.start_s + d_s)) {
       tr.active = false;
       tr.done = true;

@@ -6,16 +6,9 @@
 #include <cstdio>
 
 #include "core/sim/summary_text.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
-
-namespace {
-std::string num(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
-}  // namespace
 
 LimitWatch::LimitWatch(const Scenario& s, int cells, int parallel) : parallel_(parallel) {
   if (s.bms.firmware.library) return;
@@ -72,18 +65,18 @@ void LimitWatch::close(size_t li, size_t c, double t, bool seen, bool atEnd, con
   const bool volts = l.unit[0] == 'V';
   const char* f = volts ? "%.4f" : "%.1f";
   const std::string by = l.step <= 0.0 ? ""
-                         : volts       ? "more than " + num("%.2g", l.step * 1e3) + " mV "
-                                       : "more than " + num("%.2g", l.step) + " C ";
+                         : volts       ? "more than " + fmt("%.2g", l.step * 1e3) + " mV "
+                                       : "more than " + fmt("%.2g", l.step) + " C ";
   std::string d = std::string(bms::faultName(static_cast<bms::FaultId>(l.fault))) + ": " + subject(li, c) + " " + by +
-                  l.what + " the " + num(volts ? "%.3f" : "%g", l.threshold) + " " + l.unit + " limit from " +
-                  num("%.2f", from_s) + " s, ";
+                  l.what + " the " + fmt(volts ? "%.3f" : "%g", l.threshold) + " " + l.unit + " limit from " +
+                  fmt("%.2f", from_s) + " s, ";
   if (seen)
-    d += "unseen by the BMS for " + num("%.2f", unseen_s) + " s";
+    d += "unseen by the BMS for " + fmt("%.2f", unseen_s) + " s";
   else if (atEnd)
-    d += "unseen by the BMS to the end of the run (" + num("%.2f", unseen_s) + " s)";
+    d += "unseen by the BMS to the end of the run (" + fmt("%.2f", unseen_s) + " s)";
   else
-    d += "back within it at " + num("%.2f", t) + " s, never seen by the BMS (" + num("%.2f", unseen_s) + " s)";
-  d += std::string(" (") + (l.above ? "max " : "min ") + num(f, e.extreme) + " " + l.unit + ")";
+    d += "back within it at " + fmt("%.2f", t) + " s, never seen by the BMS (" + fmt("%.2f", unseen_s) + " s)";
+  d += std::string(" (") + (l.above ? "max " : "min ") + fmt(f, e.extreme) + " " + l.unit + ")";
   if (unseen_s > longest_s_) {
     longest_s_ = unseen_s;
     longest_ = d;

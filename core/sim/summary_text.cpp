@@ -9,6 +9,7 @@
 #include "core/sim/run_end.hpp"
 #include "core/sim/summary_lines.hpp"
 #include "core/sim/vehicle_text.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
 
@@ -21,11 +22,6 @@ std::string clockText(double s) {
 
 namespace {
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 
 // The relay contact as the events record it: open until a relay_contact event says otherwise.
 bool contactClosedBefore(const RunResult& r, double t) {
@@ -129,9 +125,7 @@ void hostDeadLines(LineWriter& w, const R& r) {
   const std::string name = "host_dead";
   for (size_t i = 0; i < r.events.size(); ++i) {
     const Event& e = r.events[i];
-    if (e.kind != "fault_injected" || e.detail.compare(0, name.size(), name) != 0 ||
-        !(e.detail.size() == name.size() || e.detail.compare(name.size(), 7, " (when ") == 0))
-      continue;
+    if (e.kind != "fault_injected" || !injectionDetailIs(e.detail, name)) continue;
     double until_s = -1.0;
     for (size_t j = i + 1; j < r.events.size() && until_s < 0.0; ++j)
       if (r.events[j].kind == "fault_removed" && r.events[j].detail == name) until_s = r.events[j].time_s;

@@ -5,16 +5,12 @@
 #include <cstdio>
 
 #include "core/sim/run_tracker.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
 
 namespace {
 constexpr double kArrayHold_s = 1.0;
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 }  // namespace
 
 VehicleRun::VehicleRun(const VehicleConfig& c, double tick_s, double fullCell_V)

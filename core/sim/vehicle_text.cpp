@@ -1,6 +1,7 @@
 #include "core/sim/vehicle_text.hpp"
 
 #include "core/sim/summary_lines.hpp"
+#include "core/text_fmt.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,11 +10,6 @@
 namespace packsim {
 
 namespace {
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
 std::string km(double m) { return fmt("%.3f", m / 1000.0) + " km"; }
 
 using V = VehicleSummary;
