@@ -55,6 +55,15 @@ struct DeviceReading {
   uint8_t thermConverted;
   int32_t current_mA;  // a part with a current input: its reading
   int32_t charge_mAs;  // ... and its accumulated charge
+  // A part that measures in a loop of its own (not on the host's command) sets these:
+  // sameLoop, its loop has not run since the previous read-out (the cells are the ones
+  // read before: no new sample for the estimators); loopCurrent, current_mA was
+  // measured in the same loop as cell_mV (the current those cells were under; false
+  // where the part's current register sat at its rail). A reading built afresh, or by a
+  // part that converts on command (the cells are this read-out's, under the MCU's
+  // current of this tick), has both clear.
+  bool sameLoop;
+  bool loopCurrent;
 };
 
 // How a driver's read of one device ended. Timeout: nothing answered; BadLength,

@@ -166,6 +166,7 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   // with them once; between read-outs they only predict with the current.
   const bool fresh = complete && s.acq.fresh;
   s.acq.fresh = false;
+  s.acq.readOut = false;
   const uint16_t meanCell = static_cast<uint16_t>(cfg.cellCount > 0 ? tm.packVoltage_mV / cfg.cellCount : 0u);
   const bool member = packMember(cfg);
   if (member)
@@ -173,8 +174,11 @@ void step(const Config& cfg, CoreState& s, const Inputs& in, Outputs& out) {
   else if (cfg.pack.boards > 1)
     packMerge(cfg, s.pack, in.now_ms, tm, s.quantity);
   socUpdate(cfg.soc, s.soc, fresh, meanCell, tm.packCurrent_mA, in.now_ms);
+  // A part measuring in a loop of its own: its cells go with the current of that loop.
+  int32_t loop_mA = 0;
+  const bool paired = loopCurrent(cfg, s.acq, loop_mA);
   ekfUpdate(cfg.soc, cfg.therm, s.ekf, cfg.cellCount, fresh, tm.cellVoltage_mV, tm.packCurrent_mA, tm.temperature_dC,
-            in.now_ms, !tempsMoved);
+            in.now_ms, !tempsMoved, paired ? &loop_mA : nullptr);
   historyQuantities(cfg, s, in, tm, s.quantity);
   if (!member) protectionUpdate(cfg, s.quantity, in.now_ms, driving(s), s.protection);  // a member has no relay
 

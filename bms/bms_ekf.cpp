@@ -124,7 +124,7 @@ struct TickTerms {
   float v1Drive_mV;  // the RC voltage the current drives in the tick
   float qSoc, qV1;   // process noise over the tick
   float r;           // the reading's variance
-  float i_A;
+  float i_A;         // the current the reading was measured under
   float perUnitSoc;  // table segments per unit SOC
   int lastSegment;   // the same as an int: the segment index stays below it
 };
@@ -305,7 +305,9 @@ float ekfPackSoc(const EkfState& s, uint16_t groups, uint16_t groupPermille[]) {
 }
 
 void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
-               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms, bool tempsAsBefore) {
+               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms, bool tempsAsBefore,
+               const int32_t* readingCurrent_mA) {
+  const int32_t reading_mA = readingCurrent_mA != nullptr ? *readingCurrent_mA : current_mA;
   const uint32_t dt_ms = now_ms - s.last_ms;
   s.last_ms = now_ms;
   if (c.ocvPoints < 2) return;  // no table, no model
@@ -319,7 +321,7 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
     s.r0Held = true;
   }
   if (!s.started) {
-    if (valid) start(c, s, groups, cell_mV, current_mA);
+    if (valid) start(c, s, groups, cell_mV, reading_mA);
     return;
   }
   const EkfConfig& k = c.ekf;
@@ -333,7 +335,7 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
   const float r = k.voltageSd_mV * k.voltageSd_mV;
   const int lastSegment = c.ocvPoints - 1;  // table segments; segment() keeps i below this
   const float perUnitSoc = static_cast<float>(lastSegment);  // table segments per unit SOC
-  const float i_A = i_mA * 1e-3f;
+  const float i_A = static_cast<float>(reading_mA) * 1e-3f;
   const TickTerms t{a, dSoc, v1Drive_mV, qSoc, qV1, r, i_A, perUnitSoc, lastSegment};
   size_t g = 0;
   for (; g + kLanes <= groups; g += kLanes) tick<kLanes>(c, t, valid, cell_mV, s, g);

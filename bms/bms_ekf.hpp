@@ -45,9 +45,14 @@ void ekfReset(EkfState& s);
 // none, R0 at r0RefTemp_C), `therm` where each channel sits. tempsAsBefore: the caller
 // knows temp_dC reads as at the previous call (the same array, every value the same),
 // so R0's factors computed since then still hold (bms_core passes measure()'s answer);
-// false recomputes them at every complete reading.
+// false recomputes them at every complete reading. current_mA is the tick's (the
+// prediction moves with it); readingCurrent_mA, where given, is the current the cells
+// of cell_mV were measured under, which the update and the start pair with them (a
+// part measuring in a loop of its own reads its cells up to a loop before the tick:
+// across a load step the tick's current is not theirs). nullptr: the tick's.
 void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint16_t groups, bool valid, const uint16_t cell_mV[],
-               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms, bool tempsAsBefore = false);
+               int32_t current_mA, const int16_t temp_dC[], uint32_t now_ms, bool tempsAsBefore = false,
+               const int32_t* readingCurrent_mA = nullptr);
 // R0's temperature factor exp(r0ArrheniusK · (1/T_K - 1/T_ref_K)) at temp_C (held within
 // -55…125 °C); exactly 1 when r0ArrheniusK = 0.
 float ekfR0Factor(const EkfConfig& k, float temp_C);

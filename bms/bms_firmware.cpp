@@ -64,7 +64,7 @@ void readoutTask(void* ram, psfw_board* b, const psfw_board_api* api) {
 // A poll due with a read-out (which has just read the same flags) is skipped.
 void alertTask(void* ram, psfw_board* b, const psfw_board_api* api) {
   CoreFirmwareRam& r = ramOf(ram);
-  if (r.core.acq.fresh && api->now_ms(b) - r.readoutDue_ms < r.cfg.readout.alertPeriod_ms) return;
+  if (r.core.acq.readOut && api->now_ms(b) - r.readoutDue_ms < r.cfg.readout.alertPeriod_ms) return;
   monitorPollAlerts(r.cfg, r.monitors, r.core.acq, b, api);
 }
 
@@ -76,12 +76,12 @@ void controlTask(void* ram, psfw_board* b, const psfw_board_api* api) {
   // instructions a tick).
   const bool severalBoards = r.cfg.pack.boards > 1;
   if (severalBoards) packReceive(r.cfg, r.core.pack, r.in.now_ms, b, api);
-  const bool fresh = r.core.acq.fresh;
+  const bool readOut = r.core.acq.readOut;  // a member reports each read-out, good or bad
   step(r.cfg, r.core, r.in, r.out);
   if (severalBoards) {
     uint16_t range[2];
     balanceRange(r.cfg, r.core.balance, r.out.telemetry, range[0], range[1]);
-    packSend(r.cfg, r.core.pack, r.out, r.core.balancePermitted, r.out.state == State::Charge, fresh, r.core.quantity,
+    packSend(r.cfg, r.core.pack, r.out, r.core.balancePermitted, r.out.state == State::Charge, readOut, r.core.quantity,
              range, b, api);
   }
   writePins(r.out, b, api);

@@ -32,23 +32,48 @@ void acquisitionReset(AcquisitionState& a) {
     a.last[d] = FrameResult::Timeout;
     a.device[d].thermConverted = 0;  // no conversion is held yet
   }
+  a.newCells = 0;
   a.fresh = false;
+  a.readOut = false;
 }
 
 void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* result, bool full) {
-  bool read = false;
+  bool arrived = false;  // a device's new cells came with this read-out
   for (uint8_t d = 0; d < cfg.afe.deviceCount; ++d) {
     if (result[d] == FrameResult::NotRead) continue;  // as it was: nothing new, nothing failed
-    read = true;
+    if (full) a.readOut = true;
     a.last[d] = result[d];
     if (result[d] == FrameResult::Ok) {
       a.bad[d] = 0;
+      // A device's first cells are new to the estimators whichever loop they are from.
+      const bool first = !a.seen[d];
       if (full) a.seen[d] = true;
+      if (full && (first || !a.device[d].sameLoop)) {
+        a.newCells |= uint64_t{1} << d;
+        arrived = true;
+      }
     } else if (a.bad[d] < 255) {
       ++a.bad[d];
     }
   }
-  if (full && read) a.fresh = true;
+  const uint8_t n = cfg.afe.deviceCount;
+  const uint64_t every = n >= 64 ? ~uint64_t{0} : (uint64_t{1} << n) - 1;
+  if (arrived && (a.newCells & every) == every) {
+    a.fresh = true;
+    a.newCells = 0;
+  }
+}
+
+bool loopCurrent(const Config& cfg, const AcquisitionState& a, int32_t& mA) {
+  const uint8_t n = cfg.afe.deviceCount;
+  if (n == 0) return false;
+  int64_t sum = 0;
+  for (uint8_t d = 0; d < n; ++d) {
+    if (!a.device[d].loopCurrent) return false;
+    sum += a.device[d].current_mA;
+  }
+  mA = static_cast<int32_t>(sum / n);
+  return true;
 }
 
 bool measure(const Config& cfg, const Inputs& in, AcquisitionState& a, Telemetry& tm,

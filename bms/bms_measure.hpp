@@ -27,7 +27,15 @@ struct AcquisitionState {
   bool seen[kMaxDevices];             // at least one good full read-out so far
   uint8_t bad[kMaxDevices];           // consecutive bad reads (saturates at 255)
   FrameResult last[kMaxDevices];      // how the last read of each device ended
-  bool fresh;                         // a full read-out arrived since the last control tick
+  // Bit d: device d has delivered cells measured since the estimators last took a
+  // reading (a good full read-out that is not its part's previous loop again).
+  uint64_t newCells;
+  // Every device's cells are new since the estimators last took a reading, and some of
+  // them arrived since the last control tick (the core takes it and clears it).
+  bool fresh;
+  // A full read-out ran since the last control tick, whatever it brought (the core
+  // clears it with fresh): an alert poll due in the same tick has nothing to add.
+  bool readOut;
 };
 
 void acquisitionReset(AcquisitionState& a);
@@ -41,8 +49,16 @@ inline bool acquisitionComplete(const Config& cfg, const AcquisitionState& a) {
 
 // The results of one read of the stack: a full read-out (cells, temperatures, flags;
 // full = true) or an alert poll (flags only). The drivers wrote the good readings into
-// a.device already; this counts good and bad reads per device.
+// a.device already; this counts good and bad reads per device and marks the reading
+// fresh once every device has new cells: a device that failed, or whose part's loop had
+// not run again, holds a reading the estimators have used already.
 void acquireResults(const Config& cfg, AcquisitionState& a, const FrameResult* result, bool full);
+
+// The current the devices' cells were measured under, where their part measures both in
+// one loop of its own (DeviceReading::loopCurrent on every device; their mean, rounded
+// toward zero): true and `mA` set. False where the cells were read on the host's command
+// (the MCU's current of the tick is theirs) or a device's loop current is not known.
+bool loopCurrent(const Config& cfg, const AcquisitionState& a, int32_t& mA);
 
 // One control tick: the held readings plus the MCU's own inputs (current, bus voltage,
 // MCU thermistors, GPIO) into telemetry (voltages, temperatures, current, bus, comm

@@ -168,7 +168,7 @@ bool packBalanceRange(const Config& c, const PackState& p, uint16_t range[2]) {
   return any;
 }
 
-void packSend(const Config& c, PackState& p, const Outputs& out, bool balancePermitted, bool charging, bool fresh,
+void packSend(const Config& c, PackState& p, const Outputs& out, bool balancePermitted, bool charging, bool readOut,
               const int32_t quantity[kQuantityCount], const uint16_t balanceRange[2], psfw_board* b,
               const psfw_board_api* api) {
   if (c.pack.boards <= 1) return;
@@ -190,7 +190,7 @@ void packSend(const Config& c, PackState& p, const Outputs& out, bool balancePer
     api->can_send(b, kPackCan, kCanShareFlags, d, 2);
     return;
   }
-  if (!fresh) return;
+  if (!readOut) return;
   const int32_t maxT = q(quantity, Quantity::MaxTemp_dC), minT = q(quantity, Quantity::MinTemp_dC);
   put16(d, sat16(q(quantity, Quantity::MinCell_mV)));
   put16(d + 2, sat16(q(quantity, Quantity::MaxCell_mV)));

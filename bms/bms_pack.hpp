@@ -77,9 +77,10 @@ void packApplyShare(const PackState& p, Telemetry& tm, int32_t quantity[kQuantit
 // The other boards' balancing range {min, max}: a member's from the share, the pack
 // host's from the members' frames; false when there is none yet.
 bool packBalanceRange(const Config& c, const PackState& p, uint16_t range[2]);
-// After step(): the pack host's share, a member's status after a fresh read-out.
+// After step(): the pack host's share, a member's status after each read-out (readOut:
+// one ran since the last tick, whether its devices answered or not).
 // balanceRange: this board's own {min, max} as its balancing compares them.
-void packSend(const Config& c, PackState& p, const Outputs& out, bool balancePermitted, bool charging, bool fresh,
+void packSend(const Config& c, PackState& p, const Outputs& out, bool balancePermitted, bool charging, bool readOut,
               const int32_t quantity[kQuantityCount], const uint16_t balanceRange[2], psfw_board* b,
               const psfw_board_api* api);
 

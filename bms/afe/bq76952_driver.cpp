@@ -314,6 +314,11 @@ FrameResult bq952Read(Bq952Driver& drv, const Bq952DriverConfig& c, uint8_t d, D
   out.die_dC = kelvinToDc(le16(t));
   const int16_t cc2 = static_cast<int16_t>(le16(v + (BQ952_CC2_CURRENT - BQ952_CELL_VOLTAGE(1))));
   out.current_mA = -static_cast<int32_t>(cc2) * static_cast<int32_t>(userA_tenths_mA) / 10;
+  // The cells and CC2 are one loop's; a loop that has not run since the last read-out
+  // (FULLSCAN clear) is the same sample again. CC2 at an int16 rail is a current beyond
+  // the register at this USER_AMPS, not the one the cells were under.
+  out.sameLoop = (le16(alarm) & BQ952_AL_FULLSCAN) == 0;
+  out.loopCurrent = cc2 != INT16_MAX && cc2 != INT16_MIN;
   // userAh (integer + 32-bit fraction) -> mA·s, positive in discharge
   const int64_t perUserAh_mAs = static_cast<int64_t>(userA_tenths_mA) * 360;
   const int64_t charge = static_cast<int64_t>(static_cast<int32_t>(le32(q))) * perUserAh_mAs +

@@ -12,7 +12,9 @@
 //               FULLSCAN) if asked, then three block reads (cells + stack + CC2,
 //               safety alerts/status, temperatures + FET status); FULLSCAN cleared.
 //               A bad CRC is retried `crcRetries` times; the result per device is a
-//               bms::FrameResult and a bms::DeviceReading in firmware units.
+//               bms::FrameResult and a bms::DeviceReading in firmware units, whose
+//               sameLoop says FULLSCAN was clear (the loop read before, again) and
+//               loopCurrent that CC2 is the current of the cells' loop.
 //   poll:       Safety Alert/Status A..C and FET_STATUS only (between read-outs).
 //   faults:     write 1s to Alarm Status (latched bits clear once their condition is gone).
 //   balancing:  CB_ACTIVE_CELLS with the mask; the device ends balancing on its own one

@@ -131,6 +131,33 @@ TEST(Bq76952Driver, WaitsForAFreshMeasurementLoop) {
   EXPECT_EQ(r.cell_mV[0], 3300);
 }
 
+// Without waiting for a loop, a read-out between two loops is the previous loop again
+// (FULLSCAN clear: sameLoop), and CC2 is the current of the loop the cells are from;
+// a CC2 at its int16 rail (beyond 327.67 A at 10 mA units) is no such current.
+TEST(Bq76952Driver, SaysWhetherTheLoopIsNewAndItsCurrentIsKnown) {
+  Rig rig(modelConfig(false), 8);
+  rig.cfg.waitForScan = false;
+  ASSERT_EQ(bms::bq952Configure(rig.drv, rig.cfg, 0), bms::FrameResult::Ok);
+  rig.run(0.1);
+  bms::DeviceReading r{};
+  ASSERT_EQ(rig.read(r), bms::FrameResult::Ok);
+  EXPECT_FALSE(r.sameLoop);
+  EXPECT_TRUE(r.loopCurrent);
+  EXPECT_EQ(r.current_mA, 12340);
+  rig.dev.analog(0).current_A = 2.0;  // after the loop: the registers still hold 12.34 A
+  ASSERT_EQ(rig.read(r), bms::FrameResult::Ok);
+  EXPECT_TRUE(r.sameLoop);
+  EXPECT_EQ(r.current_mA, 12340);
+  rig.run(0.07);  // a loop (60 ms) has run
+  ASSERT_EQ(rig.read(r), bms::FrameResult::Ok);
+  EXPECT_FALSE(r.sameLoop);
+  EXPECT_EQ(r.current_mA, 2000);
+  rig.dev.analog(0).current_A = 400.0;
+  rig.run(0.07);
+  ASSERT_EQ(rig.read(r), bms::FrameResult::Ok);
+  EXPECT_FALSE(r.loopCurrent);
+}
+
 TEST(Bq76952Driver, SilentOrStuckDevicesNeverGiveAReading) {
   for (bool crc : {true, false}) {
     Rig rig(modelConfig(crc), 8);

@@ -207,8 +207,63 @@ TEST(Measure, ACallThatReadNothingChangesNoDevicesStanding) {
   EXPECT_FALSE(a.seen[1]);
   const bms::FrameResult one[bms::kMaxDevices] = {bms::FrameResult::NotRead, bms::FrameResult::Timeout};
   bms::acquireResults(cfg, a, one, true);
-  EXPECT_TRUE(a.fresh);
   EXPECT_EQ(a.bad[1], 2);
+  EXPECT_FALSE(a.fresh);  // device 1 has not delivered cells yet
+  const bms::FrameResult other[bms::kMaxDevices] = {bms::FrameResult::NotRead, bms::FrameResult::Ok};
+  bms::acquireResults(cfg, a, other, true);
+  EXPECT_TRUE(a.fresh);  // device 0's cells of the first call are still new to the estimators
+}
+
+// The estimators take a reading once every device's cells are new since they last took
+// one: a device that failed holds the cells they used, and so does a part whose own
+// measurement loop has not run again since the previous read-out (sameLoop).
+TEST(Measure, AReadingIsFreshOnceEveryDeviceHasNewCells) {
+  bms::Config cfg = bms::defaultConfig(4, 2);
+  cfg.afe.deviceCount = 2;
+  bms::AcquisitionState a{};
+  bms::acquisitionReset(a);
+  using R = bms::FrameResult;
+  const auto take = [&](R r0, R r1) {
+    const R res[bms::kMaxDevices] = {r0, r1};
+    bms::acquireResults(cfg, a, res, true);
+    const bool fresh = a.fresh;
+    a.fresh = false;  // the core takes it
+    return fresh;
+  };
+  a.device[0].sameLoop = true;  // the first cells a device gives are new, whichever loop
+  EXPECT_TRUE(take(R::Ok, R::Ok));
+  a.device[0].sameLoop = false;
+  EXPECT_FALSE(take(R::Ok, R::BadCrc));  // device 1's cells are the ones taken
+  EXPECT_TRUE(take(R::Timeout, R::Ok));  // device 0's of the call before are new
+  a.device[0].sameLoop = true;           // its part's loop has not run again
+  EXPECT_FALSE(take(R::Ok, R::Ok));
+  a.device[0].sameLoop = false;
+  EXPECT_TRUE(take(R::Ok, R::NotRead));  // device 1's of the call before are new
+  EXPECT_TRUE(take(R::Ok, R::Ok));  // a part converting on command: every read-out is new
+  EXPECT_TRUE(take(R::Ok, R::Ok));
+  // An alert poll brings no cells.
+  const R ok[bms::kMaxDevices] = {R::Ok, R::Ok};
+  bms::acquireResults(cfg, a, ok, false);
+  EXPECT_FALSE(a.fresh);
+}
+
+// The current the cells were measured under: every device's loop current (their mean),
+// else none (the MCU's current of the tick is theirs).
+TEST(Measure, TheLoopCurrentIsKnownOnlyWhereEveryDeviceMeasuredOne) {
+  bms::Config cfg = bms::defaultConfig(4, 2);
+  cfg.afe.deviceCount = 2;
+  bms::AcquisitionState a{};
+  bms::acquisitionReset(a);
+  int32_t mA = 12345;
+  EXPECT_FALSE(bms::loopCurrent(cfg, a, mA));
+  EXPECT_EQ(mA, 12345);
+  a.device[0].loopCurrent = a.device[1].loopCurrent = true;
+  a.device[0].current_mA = 3000;
+  a.device[1].current_mA = 3011;
+  ASSERT_TRUE(bms::loopCurrent(cfg, a, mA));
+  EXPECT_EQ(mA, 3005);
+  a.device[1].loopCurrent = false;  // its register at a rail
+  EXPECT_FALSE(bms::loopCurrent(cfg, a, mA));
 }
 
 }  // namespace

@@ -91,6 +91,11 @@ TEST(ReferenceSystemD, ABadJointSilencesOnlyTheDevicesAboveItOnItsBoard) {
   for (int d = 0; d < devices; ++d)
     EXPECT_EQ(r.rec.comm_bad[k * static_cast<size_t>(devices) + static_cast<size_t>(d)] > 0, d >= 9 && d <= 11)
         << "device " << d + 1;
+  // Board 2 reports each read-out over CAN, its bad ones too: the pack host trips on
+  // the report after the 2nd bad one (the read-out holds board 2's host ~25 ms, then its
+  // status goes out; the pack host acts at its next tick). A member that reported only
+  // read-outs with new cells left the pack host to trip on the silence, at 601.03 s.
+  EXPECT_NEAR(test::eventTime(r, "fault_active", "comm_loss"), 601.05, 1e-6);
 }
 
 // Balancing across boards: board 2's 36 cells sit 1 Ah above the rest, uniform among
