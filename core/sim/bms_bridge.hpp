@@ -76,6 +76,7 @@ class HardwareSim {
   std::vector<BusTraceRow> takeBusTrace() { return sensors_.takeBusTrace(); }
   // Any board's FAULT line (the lines are wired together).
   bool faultLine() const { return sensors_.faultLine(); }
+  std::string faultLineCause() const { return sensors_.faultLineCause(); }
   // The plant at t with every balancing switch open: what a conversion sees of a cell
   // whose switch is held open for it (the part's own pause, or the host's with
   // bms.balancing.measure_paused), without its I_bal·R0 drop (the state does not change

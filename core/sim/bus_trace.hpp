@@ -25,6 +25,7 @@ class TracedChain final : public MonitorChain {
   void advance(double t) override { part_->advance(t); }
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override { return part_->faultLine(); }
+  std::string faultCause() const override { return part_->faultCause(); }
   bool balancing(int d, int cell) const override { return part_->balancing(d, cell); }
   double balancingDuty(int d, int cell, double t0, double t1) const override {
     return part_->balancingDuty(d, cell, t0, t1);

@@ -102,6 +102,17 @@ bool HwSensors::faultLine() const {
   return false;
 }
 
+std::string HwSensors::faultLineCause() const {
+  std::string out;
+  for (size_t b = 0; b < chains_.size(); ++b) {
+    const std::string why = chains_[b]->faultLine() ? chains_[b]->faultCause() : "";
+    if (why.empty()) continue;
+    const std::string board = chains_.size() > 1 ? "board " + std::to_string(b + 1) + " " : "";
+    out += (out.empty() ? "" : "; ") + board + why;
+  }
+  return out;
+}
+
 void HwSensors::sample(double t, const PlantSignals& sig, const PlantSignals& unloaded, const HardwareFaults& f,
                        double bus_V, bool relayAux, Rng& rng, bms::Inputs& in) {
   const HardwareConfig& hw = s_.hardware;

@@ -52,6 +52,9 @@ class HwSensors {
   void balancingSwitches(double t0, double t1, uint8_t* on, double* duty) const;
   // Any board's FAULT line (the lines are wired together).
   bool faultLine() const;
+  // What holds the FAULT line, by each asserting stack's part (monitor boards named when
+  // there are several): "" when released or the parts cannot say.
+  std::string faultLineCause() const;
   // The monitor part's own FET drivers (a part with FETs: one board; others: always on).
   bool afeDischargeOn() const { return chains_.front()->dischargeAllowed(); }
   bool afeChargeOn() const { return chains_.front()->chargeAllowed(); }

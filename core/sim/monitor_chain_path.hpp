@@ -38,6 +38,7 @@ class MonitorChainPath {
   bool dischargeAllowed() const { return !fetDrivers_ || part_->dischargeFetOn(); }
   bool chargeAllowed() const { return !fetDrivers_ || part_->chargeFetOn(); }
   std::string fetOffCause(bool discharge) const { return bus_.chain->fetOffCause(discharge); }
+  std::string faultCause() const { return bus_.chain->faultCause(); }
   const RegisterMisuseLog& misuse() const { return part_->misuse(); }  // writes the part ignored
   // What the MCU has read of each device so far (monitor_part.hpp), device d's cell
   // count and its bottom cell's position in this chain.

@@ -460,6 +460,11 @@ void RunTracker::hardwareChanged(double t) {
     if (now && !before) event(t, e.kind, e.rising);
     if (!now && before && e.falling) event(t, e.kind, e.falling);
   }
+  // Why the monitor's line went up, as its parts report it (their latched protections).
+  if (h.fault_line && !lastHw_.fault_line) {
+    const std::string why = hw_->faultLineCause();
+    if (!why.empty()) event(t, "monitor_protection", why);
+  }
   if (h.active_safe_state != lastHw_.active_safe_state || h.active_isolated != lastHw_.active_isolated)
     event(t, "active_balancer", !h.active_safe_state ? "converters enabled"
                                 : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"

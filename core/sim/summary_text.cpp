@@ -239,6 +239,13 @@ void socRangeLines(LineWriter& w, const S&, const R& r) {
   }
 }
 
+// What the part says holds its FAULT line, from the event at the line's rising edge.
+std::string protectionAt(const R& r, double t) {
+  for (const Event& e : r.events)
+    if (e.kind == "monitor_protection" && e.time_s == t) return ": " + e.detail;
+  return "";
+}
+
 // What the switching hardware did on its own, and configuration warnings, in event order.
 void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
   for (const Event& e : r.events) {
@@ -246,7 +253,7 @@ void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
       w.line("hardware", fmt("%.2f", e.time_s) + " s  monitor FAULT line asserted (" +
                              (s.hardware.fault_line_opens_relay ? "it opens the relay without the MCU"
                                                                 : "it does not drive the relay here") +
-                             "); " + contactFrom(r, e.time_s));
+                             ")" + protectionAt(r, e.time_s) + "; " + contactFrom(r, e.time_s));
     if (e.kind == "fuse") w.line("hardware", fmt("%.2f", e.time_s) + " s  fuse " + e.detail);
     if (e.kind == "config_warning") w.line("warning", e.detail);
     if (e.kind == "register_misuse") w.line("bus misuse", fmt("%.4f", e.time_s) + " s  " + e.detail);

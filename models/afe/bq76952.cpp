@@ -509,6 +509,36 @@ uint16_t Bq76952Chain::alarmRaw() const {
 
 bool Bq76952Chain::faultLine() const { return (alarmStatus_ & alarmEnable_) != 0; }
 
+std::string Bq76952Chain::faultCause() const {
+  if (!faultLine()) return "";
+  struct Bit {
+    const uint8_t* status;
+    uint8_t mask;
+    const char* name;
+  };
+  // Safety Status A, B, C (TRM): OTC and UTC are judged whether or not a charge flows.
+  const Bit bits[] = {
+      {&statusA_, BQ952_SA_COV, "COV (cell over-voltage)"},
+      {&statusA_, BQ952_SA_CUV, "CUV (cell under-voltage)"},
+      {&statusA_, BQ952_SA_OCC, "OCC (over-current in charge)"},
+      {&statusA_, BQ952_SA_OCD1, "OCD1 (over-current in discharge)"},
+      {&statusA_, BQ952_SA_OCD2, "OCD2 (over-current in discharge, second level)"},
+      {&statusA_, BQ952_SA_SCD, "SCD (short circuit in discharge)"},
+      {&statusB_, BQ952_SB_OTC, "OTC (over-temperature in charge, judged at any current)"},
+      {&statusB_, BQ952_SB_OTD, "OTD (over-temperature in discharge)"},
+      {&statusB_, BQ952_SB_OTF, "OTF (FET over-temperature)"},
+      {&statusB_, BQ952_SB_OTINT, "OTINT (die over-temperature)"},
+      {&statusB_, BQ952_SB_UTC, "UTC (under-temperature in charge, judged at any current)"},
+      {&statusB_, BQ952_SB_UTD, "UTD (under-temperature in discharge)"},
+      {&statusB_, BQ952_SB_UTINT, "UTINT (die under-temperature)"},
+      {&statusC_, BQ952_SC_OCD3, "OCD3 (sustained over-current in discharge)"},
+  };
+  std::string out;
+  for (const Bit& b : bits)
+    if (*b.status & b.mask) out += (out.empty() ? "" : ", ") + std::string(b.name);
+  return out.empty() ? "" : "Safety Status " + out;
+}
+
 bool Bq76952Chain::balancing(int d, int cell) const {
   return d == 0 && cell >= 0 && cell < cells_ && !cfgUpdate_ && ((balanceMask_ | autoMask_) & (1u << cell)) != 0;
 }

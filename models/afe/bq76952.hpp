@@ -66,6 +66,7 @@ class Bq76952Chain : public MonitorChain {
 
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool faultLine() const override;
+  std::string faultCause() const override;
   bool balancing(int d, int cell) const override;
   double balancingDuty(int d, int cell, double t0, double t1) const override;
   bool dischargeFetOn() const override;

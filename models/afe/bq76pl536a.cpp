@@ -444,6 +444,23 @@ bool Bq76pl536aChain::faultLine() const {
   return false;
 }
 
+std::string Bq76pl536aChain::faultCause() const {
+  std::string out;
+  for (size_t d = 0; d < dev_.size(); ++d) {
+    const uint8_t fs = dev_[d].reg[BQ536_FAULT_STATUS], as = dev_[d].reg[BQ536_ALERT_STATUS];
+    std::string why;
+    const auto add = [&](bool on, const char* name) {
+      if (on) why += (why.empty() ? "" : ", ") + std::string(name);
+    };
+    add(fs & BQ536_FS_COV, "COV (cell over-voltage)");
+    add(fs & BQ536_FS_CUV, "CUV (cell under-voltage)");
+    add(as & BQ536_AS_OT1, "OT1 (over-temperature on TS1)");
+    add(as & BQ536_AS_OT2, "OT2 (over-temperature on TS2)");
+    if (!why.empty()) out += (out.empty() ? "" : "; ") + ("device " + std::to_string(d + 1) + ": " + why);
+  }
+  return out;
+}
+
 bool Bq76pl536aChain::thermistorBias(int d) const {
   return (dev_[static_cast<size_t>(d)].reg[BQ536_IO_CONTROL] & (BQ536_IO_TS1 | BQ536_IO_TS2)) != 0;
 }

@@ -85,6 +85,10 @@ class MonitorChain {
 
   // Pins and switches the rest of the hardware sees.
   virtual bool faultLine() const = 0;
+  // What holds the FAULT line now, in the part's own words: its latched protections by
+  // their data-sheet names ("" when the line is released, or for a part that cannot say).
+  // Asked at the line's rising edge only.
+  virtual std::string faultCause() const { return ""; }
   virtual bool balancing(int d, int cell) const = 0;  // cell index within device d
   // Device d's switches at once: bit c is balancing(d, c), for each of its cells (none
   // above). The hardware asks every tick for every cell; a part answers from its switch

@@ -129,6 +129,27 @@ TEST(SummaryText, FaultLineSaysWhatItIsWiredToAndWhatTheContactDid) {
   }
 }
 
+// A BQ76952 pack discharging at 57 °C: the part's OTC (55 °C by default; TI judges it
+// whether or not a charge flows) latches after its 2 s and asserts the FAULT line. The
+// `hardware` line says which protection holds the line, from the part's status
+// registers, not only that it went up.
+TEST(SummaryText, TheFaultLineSaysWhichProtectionOfThePartHoldsIt) {
+  const Scenario s = test::scenarioFromYaml(
+      "name: hot_bq\npack: {series: 4, initial_soc: 0.8, initial_temp_C: 57, cell: {preset: ncr18650_3p1Ah}}\n"
+      "ambient: {temp_C: 57}\nhardware: {afe: {model: bq76952}, current_sense: {shunt_ohm: 0.001}}\n"
+      "bms: {protections: {overtemperature: {threshold_C: 70}}}\n"
+      "load: {current_A: 2}\nrun: {duration_s: 10}\n");
+  const RunResult r = runScenario(s);
+  const double line_s = test::eventTime(r, "monitor_fault_line", "asserted");
+  EXPECT_NEAR(line_s, 2.0, 0.1);
+  EXPECT_EQ(test::eventTime(r, "monitor_protection", "Safety Status OTC (over-temperature in charge, judged at any current)"),
+            line_s);
+  const std::string text = formatSummary(s, r);
+  EXPECT_TRUE(has(text, "monitor FAULT line asserted (it opens the relay without the MCU): Safety Status OTC "
+                        "(over-temperature in charge, judged at any current); the relay contact opened at"))
+      << text;
+}
+
 // Two laps of a 20 s profile in a 60 s run: the load ends at 40 s. A load_end event and a
 // `load` line say so, on both integrators, and the truth agrees: the recorded pack current
 // is zero from then on and the charge delivered is the profile's integral from the relay

@@ -450,6 +450,7 @@ TEST(Bq76952, ProtectionsOpenAndRecloseTheirFetsAfterTheirDelays) {
       {"OTD", 3.7, 0.0, 62, 25, true, true, 3.0, 5.0},  // 62 C is above OTC's 55 C too
       {"OTF", 3.7, 0.0, 25, 85, true, true, 3.0, 5.0},
       {"UT", 3.7, 0.0, -5, 25, true, true, 3.0, 5.0},   // UTC (CHG) and UTD (DSG)
+      {"OTC (over-temperature in charge, judged at any current), OTD", 3.7, 0.0, 62, 25, true, true, 3.0, 5.0},
   };
   for (const Case& k : cases) {
     MonitorConfig c = config(false);
@@ -459,6 +460,7 @@ TEST(Bq76952, ProtectionsOpenAndRecloseTheirFetsAfterTheirDelays) {
     h.sub(BQ952_SUB_FET_ENABLE);
     double when[2][2];  // [chg/dsg][open/close]
     for (auto& w : when) w[0] = w[1] = -1.0;
+    std::string cause;  // what holds the FAULT line at 4 s, the protections by name
     const double dt = 0.01;
     for (int i = 1; i <= 1400; ++i) {
       const double t = i * dt;
@@ -469,12 +471,15 @@ TEST(Bq76952, ProtectionsOpenAndRecloseTheirFetsAfterTheirDelays) {
       a.therm_C = {on ? k.ts1_C : 25.0, 25.0, on ? k.ts3_C : 25.0};
       dev.advance(t);
       const bool state[2] = {dev.chargeFetOn(), dev.dischargeFetOn()};
+      if (!dev.faultLine()) EXPECT_EQ(dev.faultCause(), "") << k.name;
+      if (t == 4.0) cause = dev.faultCause().substr(std::string("Safety Status ").size());
       for (int f = 0; f < 2; ++f) {
         if (!state[f] && when[f][0] < 0) when[f][0] = t;
         if (state[f] && when[f][0] >= 0 && when[f][1] < 0) when[f][1] = t;
       }
     }
     const bool expect[2] = {k.chg, k.dsg};
+    EXPECT_NE(cause.find(k.name), std::string::npos) << k.name << ": the FAULT line holds for " << cause;
     const double slack = c.measurement_period_s + dt + 1e-9;
     for (int f = 0; f < 2; ++f) {
       const char* fet = f == 0 ? "CHG" : "DSG";

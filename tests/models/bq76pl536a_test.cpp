@@ -269,8 +269,10 @@ TEST(Bq76pl536a, CovLatchesAfterItsDelayAndClearsOnlyWhenGone) {
   chain.advance(10.0);
   chain.advance(10.99);
   EXPECT_FALSE(chain.faultLine());
+  EXPECT_EQ(chain.faultCause(), "");
   chain.advance(11.0);  // held for the programmed 1 s
   EXPECT_TRUE(chain.faultLine());
+  EXPECT_EQ(chain.faultCause(), "device 1: COV (cell over-voltage)");
   bus.t = 11.0;
   EXPECT_EQ(bus.reg(1, BQ536_FAULT_STATUS), BQ536_FS_COV);
   EXPECT_EQ(bus.reg(1, BQ536_COV_FAULT), 0x04);
