@@ -12,6 +12,7 @@
 #include "core/sim/balance_report.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
 #include "core/text_fmt.hpp"
 
 namespace packsim {
@@ -61,7 +62,11 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
   }
   bms::BalanceConfig& policy = s.bms.image.balance;
   if (o.when) policy.when = static_cast<bms::BalanceWhen>(settingChoiceIndex("balancing.when", *o.when));
-  s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (docs/reference-systems.md D)
+  // Decisions at 1 Hz are ample (docs/reference-systems.md D), but no slower than the
+  // monitor's link supervision allows: a BQ76PL455A with a 100 ms communication timeout
+  // latched its FAULT line at the first 1 s tick, and every row "tripped" at 0.00 h.
+  const double commTimeout_s = s.hardware.afe.secondary.comm_timeout_s;
+  s.bms.tick_s = std::max(s.bms.tick_s, commTimeout_s > 0.0 ? std::min(1.0, 0.5 * commTimeout_s) : 1.0);
   s.output.interval_s = std::max(60.0, s.bms.tick_s);
   s.run.duration_s = o.max_hours * 3600.0;
   s.run.stop_after_trip_s = 0.0;
@@ -141,6 +146,21 @@ std::string stoppedWhy(const Scenario& s, const RunResult& r) {
   return "stopped short of the target (its readings within the stop threshold) and never declared";
 }
 
+// A charge the BMS ended itself (core/sim/charge_summary.hpp): when, on what, and the
+// imbalance it left -- "" when the charger ran to its own end or was on at the end.
+std::string bmsChargeEndText(const Scenario& s, const RunResult& r, double imbalanceLeft_Ah, double end_s) {
+  const ChargeSummary& c = r.summary.charge;
+  if (c.off_s < 0.0) return "";
+  const uint16_t full_mV = s.bms.image.chargeFullCell_mV;
+  std::string text = fmt("the BMS ended the charge at %.2f h and kept it off: the highest cell, ", c.off_s / 3600.0) +
+                     cellName(c.off_cell, s.pack.parallel) +
+                     fmt(", at %.3f V under %.2f A of charge, mean SOC %.3f (truth)", c.off_cell_V, c.off_current_A,
+                         c.off_soc_mean);
+  if (full_mV > 0) text += fmt(", its bms.charge_full_cell_V %.3f V", full_mV * 1e-3);
+  text += fmt("; %.3f Ah of imbalance left at %.2f h (truth)", imbalanceLeft_Ah, end_s / 3600.0);
+  return text;
+}
+
 void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTimeRow& row,
               std::vector<std::string>& warnings) {
   const Plant plant(s);
@@ -159,6 +179,8 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   double declaredAt = -1.0, trueAt = -1.0, quietSince = -1.0, lastT = 0.0, paused_s = 0.0, pausedToTrue_s = 0.0;
   double lowestSpread_mV = INFINITY, lastOcvSpread_V = NAN, lastCharging_s = 0.0;
   std::vector<double> peak(static_cast<size_t>(plant.boardCount()), -INFINITY);
+  double chargeOff_s = -1.0;  // the BMS switched the charger off then and has kept it off
+  bool chargeOn = false;
   std::string reason = "time_limit";
   auto finish = [&](const char* why) {
     reason = why;
@@ -171,6 +193,12 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
     // The bleed current of the interval just ended (the switches held since the last tick).
     for (size_t g = 0; g < bled.size(); ++g) bled[g] += sig.balance_current_A[g] * tick_s;
     if (sig.pack_current_A < -s.charger.end_current_A) lastCharging_s = t;
+    if (out.chargerEnable) {
+      chargeOn = true;
+      chargeOff_s = -1.0;
+    } else if (chargeOn && chargeOff_s < 0.0) {
+      chargeOff_s = t;
+    }
     const auto status = static_cast<bms::BalanceStatus>(out.balanceStatus);
     if (status == bms::BalanceStatus::BoardHot) paused_s += tick_s;
     if (status == bms::BalanceStatus::Balancing) {
@@ -189,7 +217,16 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       pausedToTrue_s = paused_s;
     }
     if (declaredAt >= 0.0 && trueAt >= 0.0 && t - declaredAt >= settle_s) return finish("both_known");
-    if (duringCharge) return false;  // top balancing starts late; the charge's end ends the run
+    if (duringCharge) {
+      // Top balancing starts late; the charge's end ends the run. The charger's own end
+      // stops the run; a BMS that ends the charge itself (its first full cell) leaves the
+      // charger on standby, and the run went on to --max-hours: once it has kept the
+      // charger off and its balancing has stopped too, nothing changes any more.
+      const bool bmsEnded = chargeOff_s >= 0.0 && t - chargeOff_s >= settle_s;
+      if (bmsEnded && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && t - quietSince >= settle_s)
+        return finish("charge_ended_by_bms");
+      return false;
+    }
     if (started && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && t - quietSince >= settle_s &&
         trueAt < 0.0)
       return finish("firmware_stopped");
@@ -236,6 +273,8 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
                           (started ? "while it was still balancing" : "before it started balancing");
     else if (reason == "firmware_stopped")
       row.firmware_note = stoppedWhy(s, r);
+    else if (reason == "charge_ended_by_bms")
+      row.firmware_note = started ? "never declared: it stopped balancing" : "never declared: it never balanced";
     else
       row.firmware_note = fmt("never declared: still balancing at %.2f h; its readings' max-min stayed >= the %.0f mV "
                               "stop threshold (lowest seen %.0f mV)",
@@ -262,6 +301,9 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
     const std::vector<double> soc(last, last + rec.cells);
     row.final_spread_Ah = spread(groupCharge_Ah(plant.pack(), soc));
     row.final_imbalance_Ah = imbalance_Ah(plant.pack(), soc);
+    if (duringCharge && !row.tripped)
+      if (const std::string ended = bmsChargeEndText(s, r, row.final_imbalance_Ah, rec.time_s[n - 1]); !ended.empty())
+        row.firmware_note += (row.firmware_note.empty() ? "" : "; ") + ended;
   }
 }
 

@@ -8,6 +8,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/balance/noise_floor.hpp"
+#include "core/text_fmt.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -171,6 +172,58 @@ TEST(BalanceTime, DuringChargeAddsTheTimeTheBleedCurrentCosts) {
   EXPECT_NEAR(w.charge_added_h, added_h, 0.1 * added_h);
   EXPECT_GT(w.firmware_h, w.charge_h) << "top balancing goes on after the charge, on the charger";
   EXPECT_FALSE(w.within_rating) << "4.2 V across 47 ohm is 0.375 W > the scenario's 0.25 W resistors";
+}
+
+// A BMS that ends the charge itself (bms.charge_full_cell_V) leaves the charger on
+// standby, not done: the run went on to --max-hours and ended "time_limit" (bench_6s at
+// 100 ohm: still balancing at 3 h) or, balancing declared, ran on idle. Now the row says
+// when the BMS ended the charge, on what, and the imbalance left; and once the charger is
+// off and the firmware has stopped balancing, the run ends: charge_ended_by_bms.
+TEST(BalanceTime, DuringChargeABmsThatEndsTheChargeSaysSoAndWhatWasLeft) {
+  const Scenario s = preset("balance/bench_6s_balancing.yaml");
+  BalanceTimeOptions o;
+  o.resistors_ohm = {100.0};
+  o.during_charge = true;
+  o.max_hours = 3.0;
+  const BalanceTimeRow w = balanceTime(s, o).rows[0];
+  EXPECT_EQ(w.end_reason, "time_limit");
+  // The charger delivers until the BMS switches it off (charge_h, its last tick above the
+  // end current): the note's time is that one, and the imbalance left the row's own.
+  EXPECT_NE(w.firmware_note.find(fmt("the BMS ended the charge at %.2f h and kept it off: the highest cell, cell 3", w.charge_h)),
+            std::string::npos) << w.firmware_note;
+  EXPECT_NE(w.firmware_note.find("its bms.charge_full_cell_V 4.180 V"), std::string::npos) << w.firmware_note;
+  EXPECT_NE(w.firmware_note.find(fmt("; %.3f Ah of imbalance left at 3.00 h (truth)", w.final_imbalance_Ah)), std::string::npos)
+      << w.firmware_note;
+  EXPECT_LT(w.charge_h, 1.0);
+
+  // System A's firmware declares balanced at 3.65 h, an hour and a half after its charge
+  // end at 1.18 h, and then stops: the run ends there, not at --max-hours.
+  const Scenario a = preset("balance/eco_marathon_12s_charging.yaml");
+  BalanceTimeOptions oa;
+  oa.during_charge = true;
+  oa.max_hours = 10.0;
+  const BalanceTimeRow wa = balanceTime(a, oa).rows[0];
+  EXPECT_FALSE(wa.tripped) << wa.firmware_note;
+  EXPECT_EQ(wa.end_reason, "charge_ended_by_bms") << wa.firmware_note;
+  EXPECT_FALSE(std::isnan(wa.firmware_h));
+  EXPECT_GT(wa.firmware_h, wa.charge_h);
+  EXPECT_NE(wa.firmware_note.find(fmt("the BMS ended the charge at %.2f h", wa.charge_h)), std::string::npos) << wa.firmware_note;
+  EXPECT_NE(wa.firmware_note.find("Ah of imbalance left at 3.6"), std::string::npos) << wa.firmware_note;
+}
+
+// balance-time raises the BMS tick to 1 s; a BQ76PL455A whose link supervision times out
+// after 100 ms (system A) latched its FAULT line at the first such tick, and every row of
+// the bundled eco_marathon_12s_charging "tripped: monitor_fault at 0.00 h" -- a run of the
+// scenario itself never trips. The tick now stays within half the timeout.
+TEST(BalanceTime, TheRaisedTickKeepsWithinTheMonitorsCommTimeout) {
+  const Scenario a = preset("balance/eco_marathon_12s_charging.yaml");
+  ASSERT_DOUBLE_EQ(a.hardware.afe.secondary.comm_timeout_s, 0.1);
+  BalanceTimeOptions o;
+  o.max_hours = 0.05;
+  o.when = "always";
+  const BalanceTimeRow w = balanceTime(a, o).rows[0];
+  EXPECT_FALSE(w.tripped) << w.firmware_note;
+  EXPECT_NE(w.end_reason, "tripped") << w.firmware_note;
 }
 
 // docs/reference-systems.md D: 1 Ah at 70 mA is about 14 h; 36 resistors on at 3.6 V dissipate 9.92 W.
