@@ -151,6 +151,34 @@ TEST(FaultEffect, ChargerOvervoltageWhileCurrentLimitedHasNoEffect) {
   EXPECT_GT(moreCharge_A, 0.1);
 }
 
+// Cell 1 starts at SOC 0.97, cell 2 at 0.8: on the 8.4 V charger cell 1 trips
+// cell_overvoltage at 65.7 s with the pack at 8.37 V, below the charger's own setpoint, so
+// a charger overvoltage from 5 s changed nothing. check's line for the injection credited it
+// with that trip ("cell_overvoltage after 60.690 s, relay open after 60.690 s") beside the
+// failure saying it had no effect; it now says it had none, and its latency names no fault.
+TEST(FaultEffect, CheckCreditsNoDetectionToAFaultWithoutEffect) {
+  std::string yaml = test::simpleCellYaml(2);
+  yaml.insert(yaml.find("  cell:\n"), "  cells:\n    - {cell: 1, initial_soc: 0.97}\n");
+  const Scenario s = test::scenarioFromYaml(yaml +
+                                            "load: {charger: {current_A: 2, voltage_V: 8.4, end_current_A: 0.1}}\n"
+                                            "run: {duration_s: 600}\n"
+                                            "faults:\n  - {kind: charger_overvoltage, overvoltage_V: 0.5, at_s: 5}\n"
+                                            "expect: {trip_reason: cell_overvoltage}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped);
+  ASSERT_EQ(r.summary.trip_reason, "cell_overvoltage");
+  ASSERT_EQ(test::eventsOf(r, "fault_no_effect").size(), 1u);
+  const CheckOutcome o = judge(s, r);
+  ASSERT_EQ(o.latencies.size(), 1u);
+  EXPECT_TRUE(has(o.latencies[0], "charger_overvoltage +0.5 V @5.000 s: no effect: the charger stayed current-limited"))
+      << o.latencies[0];
+  EXPECT_FALSE(has(o.latencies[0], "cell_overvoltage after")) << o.latencies[0];
+  ASSERT_EQ(o.fault_latencies.size(), 1u);
+  EXPECT_EQ(o.fault_latencies[0].detected_fault, "");
+  EXPECT_LT(o.fault_latencies[0].detection_latency_s, 0.0);
+  EXPECT_LT(o.fault_latencies[0].relay_open_latency_s, 0.0);
+}
+
 // The rule per kind: an extra charge current needs the charge direction, a charger's
 // overvoltage a connected charger; other kinds always act.
 TEST(FaultEffect, EachKindNeedsItsOwnPath) {
