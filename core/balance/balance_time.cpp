@@ -78,13 +78,7 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
     const PackConfig& p = s.pack;
     const double groupAh = p.cell.capacity_Ah * p.parallel;
     const double high = socAtOcv(p.cell, cellV);
-    const double low = high - *o.delta_Ah / groupAh;
-    if (low < 0.0) {
-      std::ostringstream os;
-      os << "--delta-Ah: " << *o.delta_Ah << " Ah below a cell at " << cellV << " V (SOC " << high
-         << ") empties it; at most " << high * groupAh << " Ah";
-      bad(os.str());
-    }
+    const double low = high - *o.delta_Ah / groupAh;  // >= 0: checked in balanceTime
     s.pack.spread = CellSpread{};
     s.pack.cell_overrides.clear();
     s.pack.initial_soc = low;
@@ -404,6 +398,14 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   const double group_Ah = o.delta_Ah ? cell.capacity_Ah * parallel : imb.highest_Ah;
   const double socHigh = o.delta_Ah ? socAtOcv(cell, res.cell_V) : imb.soc[static_cast<size_t>(imb.highest)];
   const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : imb.lowest_soc;
+  // Checked for the analytic rows too: with --analytic-only a delta beyond the cell's
+  // charge was taken (SOC below 0, the OCV table held flat there) and printed as given.
+  if (socLow < 0.0) {
+    std::ostringstream os;
+    os << "--delta-Ah: " << res.delta_Ah << " Ah below a cell at " << res.cell_V << " V (SOC " << socHigh
+       << ") empties it; at most " << socHigh * group_Ah << " Ah";
+    bad(os.str());
+  }
   // Bleeding ends (in the droop form) when the high group's OCV is within the target of the low one's.
   const double socTarget = std::min(socHigh, socAtOcv(cell, ecm::ocv(cell, socLow) + res.target_mV * 1e-3));
   // Cells on the most loaded board: given, the high cells sit on the first groups; from the

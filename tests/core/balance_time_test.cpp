@@ -258,6 +258,20 @@ TEST(BalanceTime, BadOptionsNameTheOptionAndItsRange) {
   o.delta_Ah = 3.0;
   o.cell_V = 3.6;
   EXPECT_THROW(balanceTime(s, o), std::invalid_argument);  // 3 Ah below 3.6 V empties the cell
+  // The same for the analytic rows alone: they printed "5.000 Ah to remove" from 3.1 Ah
+  // cells at SOC 0.55, with to-target times of a low cell held at SOC 0.
+  o.simulate = false;
+  o.delta_Ah = 5.0;
+  o.cell_V.reset();
+  try {
+    balanceTime(s, o);
+    FAIL() << "5 Ah below a 3.1 Ah cell at SOC 0.55 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--delta-Ah: 5 Ah below a cell at"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(SOC 0.55) empties it; at most 1.705 Ah"), std::string::npos) << e.what();
+  }
+  o.delta_Ah = 1.7;  // within the 0.55 × 3.1 Ah the high cell holds
+  EXPECT_NO_THROW(balanceTime(s, o));
 }
 
 // Two cells, linear OCV a + b·soc, no RC pairs: the high cell's balancing current is
