@@ -29,6 +29,14 @@ void checkOptions(const Scenario& s, const BalanceTimeOptions& o) {
     if (!(r >= 1.0 && r <= 10000.0)) bad("--resistor: each value must be within 1 .. 10000 ohm (got " + std::to_string(r) + ")");
   if (o.delta_Ah && !(*o.delta_Ah > 0.0 && *o.delta_Ah <= 1000.0)) bad("--delta-Ah: must be within (0, 1000] Ah");
   if (o.cell_V && !(*o.cell_V >= 0.5 && *o.cell_V <= 5.0)) bad("--cell-V: must be within 0.5 .. 5 V");
+  // A cell rests only within its OCV curve: 4.6 V on a 4.2 V cell was taken, its bleed
+  // current at 4.6 V and its SOC held at 1 for the rest.
+  if (o.cell_V) {
+    const double lo = ecm::ocv(s.pack.cell, 0.0), hi = ecm::ocv(s.pack.cell, 1.0);
+    if (*o.cell_V < lo || *o.cell_V > hi)
+      bad(fmt("--cell-V: %.4g V is outside the cell's rest voltages, %.4g .. %.4g V (its OCV at SOC 0 and 1)", *o.cell_V,
+              lo, hi));
+  }
   if (o.high_cells < 1 || o.high_cells > s.pack.series)
     bad("--high-cells: must be within 1 .. " + std::to_string(s.pack.series) + " (the pack's series cells)");
   if (o.target_mV && !(*o.target_mV >= 0.1 && *o.target_mV <= 500.0)) bad("--target-mV: must be within 0.1 .. 500 mV");

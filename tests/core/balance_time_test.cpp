@@ -272,6 +272,20 @@ TEST(BalanceTime, BadOptionsNameTheOptionAndItsRange) {
   }
   o.delta_Ah = 1.7;  // within the 0.55 × 3.1 Ah the high cell holds
   EXPECT_NO_THROW(balanceTime(s, o));
+  // A cell at rest above its OCV at SOC 1 was taken, its bleed current at that voltage.
+  o.delta_Ah = 0.5;
+  o.cell_V = 4.6;
+  const double top = ecm::ocv(s.pack.cell, 1.0);
+  try {
+    balanceTime(s, o);
+    FAIL() << "a cell resting at 4.6 V accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(fmt("--cell-V: 4.6 V is outside the cell's rest voltages, %.4g", ecm::ocv(s.pack.cell, 0.0)) +
+                                         fmt(" .. %.4g V", top)),
+              std::string::npos) << e.what();
+  }
+  o.cell_V = top;
+  EXPECT_NO_THROW(balanceTime(s, o));
 }
 
 // Two cells, linear OCV a + b·soc, no RC pairs: the high cell's balancing current is
