@@ -12,6 +12,7 @@
 #include "core/sim/balance_report.hpp"
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
+#include "core/sim/summary_text.hpp"
 #include "core/text_fmt.hpp"
 
 namespace packsim {
@@ -28,6 +29,14 @@ void checkOptions(const Scenario& s, const BalanceTimeOptions& o) {
     if (!(r >= 1.0 && r <= 10000.0)) bad("--resistor: each value must be within 1 .. 10000 ohm (got " + std::to_string(r) + ")");
   if (o.delta_Ah && !(*o.delta_Ah > 0.0 && *o.delta_Ah <= 1000.0)) bad("--delta-Ah: must be within (0, 1000] Ah");
   if (o.cell_V && !(*o.cell_V >= 0.5 && *o.cell_V <= 5.0)) bad("--cell-V: must be within 0.5 .. 5 V");
+  // A cell rests only within its OCV curve: 4.6 V on a 4.2 V cell was taken, its bleed
+  // current at 4.6 V and its SOC held at 1 for the rest.
+  if (o.cell_V) {
+    const double lo = ecm::ocv(s.pack.cell, 0.0), hi = ecm::ocv(s.pack.cell, 1.0);
+    if (*o.cell_V < lo || *o.cell_V > hi)
+      bad(fmt("--cell-V: %.4g V is outside the cell's rest voltages, %.4g .. %.4g V (its OCV at SOC 0 and 1)", *o.cell_V,
+              lo, hi));
+  }
   if (o.high_cells < 1 || o.high_cells > s.pack.series)
     bad("--high-cells: must be within 1 .. " + std::to_string(s.pack.series) + " (the pack's series cells)");
   if (o.target_mV && !(*o.target_mV >= 0.1 && *o.target_mV <= 500.0)) bad("--target-mV: must be within 0.1 .. 500 mV");
@@ -61,7 +70,11 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
   }
   bms::BalanceConfig& policy = s.bms.image.balance;
   if (o.when) policy.when = static_cast<bms::BalanceWhen>(settingChoiceIndex("balancing.when", *o.when));
-  s.bms.tick_s = std::max(s.bms.tick_s, 1.0);  // decisions at 1 Hz are ample (docs/reference-systems.md D)
+  // Decisions at 1 Hz are ample (docs/reference-systems.md D), but no slower than the
+  // monitor's link supervision allows: a BQ76PL455A with a 100 ms communication timeout
+  // latched its FAULT line at the first 1 s tick, and every row "tripped" at 0.00 h.
+  const double commTimeout_s = s.hardware.afe.secondary.comm_timeout_s;
+  s.bms.tick_s = std::max(s.bms.tick_s, commTimeout_s > 0.0 ? std::min(1.0, 0.5 * commTimeout_s) : 1.0);
   s.output.interval_s = std::max(60.0, s.bms.tick_s);
   s.run.duration_s = o.max_hours * 3600.0;
   s.run.stop_after_trip_s = 0.0;
@@ -73,13 +86,7 @@ Scenario experiment(const Scenario& base, const BalanceTimeOptions& o, double ce
     const PackConfig& p = s.pack;
     const double groupAh = p.cell.capacity_Ah * p.parallel;
     const double high = socAtOcv(p.cell, cellV);
-    const double low = high - *o.delta_Ah / groupAh;
-    if (low < 0.0) {
-      std::ostringstream os;
-      os << "--delta-Ah: " << *o.delta_Ah << " Ah below a cell at " << cellV << " V (SOC " << high
-         << ") empties it; at most " << high * groupAh << " Ah";
-      bad(os.str());
-    }
+    const double low = high - *o.delta_Ah / groupAh;  // >= 0: checked in balanceTime
     s.pack.spread = CellSpread{};
     s.pack.cell_overrides.clear();
     s.pack.initial_soc = low;
@@ -141,6 +148,21 @@ std::string stoppedWhy(const Scenario& s, const RunResult& r) {
   return "stopped short of the target (its readings within the stop threshold) and never declared";
 }
 
+// A charge the BMS ended itself (core/sim/charge_summary.hpp): when, on what, and the
+// imbalance it left -- "" when the charger ran to its own end or was on at the end.
+std::string bmsChargeEndText(const Scenario& s, const RunResult& r, double imbalanceLeft_Ah, double end_s) {
+  const ChargeSummary& c = r.summary.charge;
+  if (c.off_s < 0.0) return "";
+  const uint16_t full_mV = s.bms.image.chargeFullCell_mV;
+  std::string text = fmt("the BMS ended the charge at %.2f h and kept it off: the highest cell, ", c.off_s / 3600.0) +
+                     cellName(c.off_cell, s.pack.parallel) +
+                     fmt(", at %.3f V under %.2f A of charge, mean SOC %.3f (truth)", c.off_cell_V, c.off_current_A,
+                         c.off_soc_mean);
+  if (full_mV > 0) text += fmt(", its bms.charge_full_cell_V %.3f V", full_mV * 1e-3);
+  text += fmt("; %.3f Ah of imbalance left at %.2f h (truth)", imbalanceLeft_Ah, end_s / 3600.0);
+  return text;
+}
+
 void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTimeRow& row,
               std::vector<std::string>& warnings) {
   const Plant plant(s);
@@ -159,6 +181,8 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
   double declaredAt = -1.0, trueAt = -1.0, quietSince = -1.0, lastT = 0.0, paused_s = 0.0, pausedToTrue_s = 0.0;
   double lowestSpread_mV = INFINITY, lastOcvSpread_V = NAN, lastCharging_s = 0.0;
   std::vector<double> peak(static_cast<size_t>(plant.boardCount()), -INFINITY);
+  double chargeOff_s = -1.0;  // the BMS switched the charger off then and has kept it off
+  bool chargeOn = false;
   std::string reason = "time_limit";
   auto finish = [&](const char* why) {
     reason = why;
@@ -171,6 +195,12 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
     // The bleed current of the interval just ended (the switches held since the last tick).
     for (size_t g = 0; g < bled.size(); ++g) bled[g] += sig.balance_current_A[g] * tick_s;
     if (sig.pack_current_A < -s.charger.end_current_A) lastCharging_s = t;
+    if (out.chargerEnable) {
+      chargeOn = true;
+      chargeOff_s = -1.0;
+    } else if (chargeOn && chargeOff_s < 0.0) {
+      chargeOff_s = t;
+    }
     const auto status = static_cast<bms::BalanceStatus>(out.balanceStatus);
     if (status == bms::BalanceStatus::BoardHot) paused_s += tick_s;
     if (status == bms::BalanceStatus::Balancing) {
@@ -189,7 +219,16 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       pausedToTrue_s = paused_s;
     }
     if (declaredAt >= 0.0 && trueAt >= 0.0 && t - declaredAt >= settle_s) return finish("both_known");
-    if (duringCharge) return false;  // top balancing starts late; the charge's end ends the run
+    if (duringCharge) {
+      // Top balancing starts late; the charge's end ends the run. The charger's own end
+      // stops the run; a BMS that ends the charge itself (its first full cell) leaves the
+      // charger on standby, and the run went on to --max-hours: once it has kept the
+      // charger off and its balancing has stopped too, nothing changes any more.
+      const bool bmsEnded = chargeOff_s >= 0.0 && t - chargeOff_s >= settle_s;
+      if (bmsEnded && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && t - quietSince >= settle_s)
+        return finish("charge_ended_by_bms");
+      return false;
+    }
     if (started && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && t - quietSince >= settle_s &&
         trueAt < 0.0)
       return finish("firmware_stopped");
@@ -236,6 +275,8 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
                           (started ? "while it was still balancing" : "before it started balancing");
     else if (reason == "firmware_stopped")
       row.firmware_note = stoppedWhy(s, r);
+    else if (reason == "charge_ended_by_bms")
+      row.firmware_note = started ? "never declared: it stopped balancing" : "never declared: it never balanced";
     else
       row.firmware_note = fmt("never declared: still balancing at %.2f h; its readings' max-min stayed >= the %.0f mV "
                               "stop threshold (lowest seen %.0f mV)",
@@ -262,6 +303,9 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
     const std::vector<double> soc(last, last + rec.cells);
     row.final_spread_Ah = spread(groupCharge_Ah(plant.pack(), soc));
     row.final_imbalance_Ah = imbalance_Ah(plant.pack(), soc);
+    if (duringCharge && !row.tripped)
+      if (const std::string ended = bmsChargeEndText(s, r, row.final_imbalance_Ah, rec.time_s[n - 1]); !ended.empty())
+        row.firmware_note += (row.firmware_note.empty() ? "" : "; ") + ended;
   }
 }
 
@@ -362,6 +406,14 @@ BalanceTimeResult balanceTime(const Scenario& base, const BalanceTimeOptions& o)
   const double group_Ah = o.delta_Ah ? cell.capacity_Ah * parallel : imb.highest_Ah;
   const double socHigh = o.delta_Ah ? socAtOcv(cell, res.cell_V) : imb.soc[static_cast<size_t>(imb.highest)];
   const double socLow = o.delta_Ah ? socHigh - res.delta_Ah / group_Ah : imb.lowest_soc;
+  // Checked for the analytic rows too: with --analytic-only a delta beyond the cell's
+  // charge was taken (SOC below 0, the OCV table held flat there) and printed as given.
+  if (socLow < 0.0) {
+    std::ostringstream os;
+    os << "--delta-Ah: " << res.delta_Ah << " Ah below a cell at " << res.cell_V << " V (SOC " << socHigh
+       << ") empties it; at most " << socHigh * group_Ah << " Ah";
+    bad(os.str());
+  }
   // Bleeding ends (in the droop form) when the high group's OCV is within the target of the low one's.
   const double socTarget = std::min(socHigh, socAtOcv(cell, ecm::ocv(cell, socLow) + res.target_mV * 1e-3));
   // Cells on the most loaded board: given, the high cells sit on the first groups; from the

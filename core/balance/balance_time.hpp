@@ -10,7 +10,8 @@
 //                 the scenario configures it: start/stop thresholds, decision period,
 //                 `when`, `no_adjacent`, minimum cell voltage, board pause, averaging,
 //                 the monitor's balancing timer. Only the BMS tick is raised to at least
-//                 1 s (decisions at 1 Hz are ample; docs/reference-systems.md D). Two times come out:
+//                 1 s (decisions at 1 Hz are ample; docs/reference-systems.md D), within
+//                 half a monitor's link timeout. Two times come out:
 //       firmware_h  when the firmware declared balanced (its status went to Balanced
 //                   after balancing and stayed there); NaN if it never did, with why
 //       true_h      when the true rest voltages (OCV) of all series groups first came
@@ -19,7 +20,9 @@
 //                 The run ends once both are known, when the firmware has stopped for
 //                 good without reaching the target, or after max_hours.
 //   during charge on the scenario's charger (CC-CV) from the same state: top balancing
-//                 while the charger holds CV; the run ends when the charge ends, and a
+//                 while the charger holds CV; the run ends when the charge ends (the
+//                 charger's own end; or the BMS switched it off, kept it off, and stopped
+//                 balancing: the note says when, on what, and the imbalance left), and a
 //                 second run without balancing gives the charge time balancing adds.
 //
 // The imbalance is either given (delta_Ah: `high_cells` series cells start at cell_V,
@@ -75,7 +78,8 @@ struct BalanceTimeRow {
   std::string firmware_note;
   double true_h = 0.0;                // NaN: the rest voltages never came within target_mV
   std::string end_reason;             // both_known | firmware_overran | firmware_stopped | not_started | tripped |
-                                      // charge_done | charge_done_unbalanced | time_limit
+                                      // charge_done | charge_done_unbalanced | charge_ended_by_bms |
+                                      // time_limit
   double peak_board_C = 0.0;          // the hottest board's peak; NaN without a board thermal node
   std::vector<double> board_peak_C;   // per monitor board
   double paused_fraction = 0.0;       // of the run up to true_h (or its end), paused on board temperature

@@ -152,7 +152,7 @@ CaseOutcome runSweepCase(const Sweep& sw, const SweepCase& c, bool resume) {
       // older packsim without /inputs runs again, so summary.csv has them for every case).
       const bool drawn = std::any_of(summary.begin(), summary.end(),
                                      [](const auto& kv) { return kv.first.rfind("drawn_", 0) == 0; });
-      if (!summary.empty() && stored == s.text && drawn && newerThanInputs(path, caseInputFiles(sw, c, s))) {
+      if (!summary.empty() && stored == s.text && drawn && newerThanInputs(path, caseInputFiles(sw, s))) {
         o.ok = o.skipped = true;
         o.summary = std::move(summary);
         return o;

@@ -1,5 +1,6 @@
 #include "core/batch/case_inputs.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <system_error>
 
@@ -9,21 +10,16 @@ namespace packsim {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> caseInputFiles(const Sweep& sw, const SweepCase& c, const Scenario& s) {
-  // The case was loaded from text (its name says which sweep and case); the base file on
-  // disk gives the extends: chain and the load CSV as the base names them.
+std::vector<std::string> caseInputFiles(const Sweep& sw, const Scenario& s) {
+  // The case was loaded from text (its name says which sweep and case): the base file on
+  // disk gives the base itself, its compare: scenario and firmware library; every file the
+  // load read -- the extends: chain, cell presets, load, route and irradiance CSVs, a
+  // varied value naming a file -- is the loader's own list (core/scenario/files_read.hpp).
   Scenario asFile = s;
   asFile.file = sw.base_path;
   std::vector<std::string> files = scenarioInputFiles(asFile);
-  const fs::path dir = fs::path(sw.base_path).parent_path();
-  for (const auto& kv : c.params) {
-    std::string v = kv.second;  // flow YAML: a plain or quoted scalar names a file
-    if (v.size() >= 2 && (v.front() == '"' || v.front() == '\'') && v.back() == v.front()) v = v.substr(1, v.size() - 2);
-    if (v.empty() || v.find_first_of("{}[]\n") != std::string::npos) continue;
-    std::error_code ec;
-    const fs::path p = fs::path(v).is_relative() ? dir / v : fs::path(v);
-    if (fs::is_regular_file(p, ec)) files.push_back(p.string());
-  }
+  for (const std::string& f : s.files_read)
+    if (std::find(files.begin(), files.end(), f) == files.end()) files.push_back(f);
   return files;
 }
 

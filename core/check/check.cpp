@@ -68,6 +68,20 @@ void judgeEstimates(const Expectations& e, const Summary& sm, const std::functio
   }
 }
 
+// The fault_no_effect event of the injection `inj` (its fault_injected event), if any: its
+// detail is the injection's description, " (", its place, ", active <start>...".
+const Event* noEffectOf(const RunResult& r, const Event& inj) {
+  for (const Event& e : r.events) {
+    if (e.kind != "fault_no_effect") continue;
+    const size_t open = e.detail.find(" (");
+    if (open == std::string::npos || !injectionDetailIs(inj.detail, e.detail.substr(0, open))) continue;
+    if (e.detail.find(fmt("active %.3f-", inj.time_s)) != std::string::npos ||
+        e.detail.find(fmt("active from %.3f s", inj.time_s)) != std::string::npos)
+      return &e;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 CheckOutcome judge(const Scenario& s, const RunResult& r) {
@@ -195,6 +209,16 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
         line += fmt("the MCU reset at %.3f s (no BMS fault expected)", reset->time_s);
       else
         line += "above the brown-out threshold, the MCU rode it through (no BMS fault expected)";
+      o.fault_latencies.push_back(fl);
+      o.latencies.push_back(line);
+      continue;
+    }
+    // An injection that never acted (its fault_no_effect event, core/sim/fault_effect.hpp)
+    // caused nothing: a BMS fault after it came from elsewhere, and crediting it with one
+    // (a charger overvoltage "detected" by the trip an imbalanced cell causes anyway) is
+    // a test result that did not happen.
+    if (const Event* none = noEffectOf(r, inj)) {
+      line += "no effect: " + none->detail.substr(none->detail.find("): ") + 3);
       o.fault_latencies.push_back(fl);
       o.latencies.push_back(line);
       continue;

@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/scenario/csv_text.hpp"
+#include "core/scenario/files_read.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/value_ranges.hpp"
 
@@ -21,6 +22,7 @@ CsvProfile readProfileCsv(const std::string& path, const CsvColumns& want) {
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw ScenarioError(path, 0, 0, "", "not a CSV file (it is a folder or a device)");
+  noteFileRead(path);
   std::ifstream in(path, std::ios::binary);  // binary: a CR of CRLF line ends is trimmed below
   if (!in) throw ScenarioError(path, 0, 0, "", "cannot open CSV file");
   CsvProfile p;

@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <sstream>
 
+#include "core/scenario/files_read.hpp"
 
 namespace packsim::csv {
 
 TableReader::TableReader(const std::string& path) : path_(path) {
+  noteFileRead(path);
   std::error_code ec;
   if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
     throw ScenarioError(path, 0, 0, "", "not a CSV file (it is a folder or a device)");

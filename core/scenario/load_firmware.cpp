@@ -34,6 +34,7 @@
 #include "core/firmware/config_schema.hpp"
 #include "core/firmware/elf_image.hpp"
 #include "core/io/install_paths.hpp"
+#include "core/scenario/files_read.hpp"
 #include "core/scenario/provenance.hpp"  // numberText
 #include "core/scenario/scenario_sections.hpp"
 
@@ -185,6 +186,7 @@ std::vector<uint8_t> configFileBytes(YamlMap& fw, const std::string& baseDir) {
   if (!fs::is_regular_file(p, ec)) throw fw.errorAt("config_file", "file not found: " + p.string());
   if (fs::file_size(p, ec) > kMaxConfigBytes)
     throw fw.errorAt("config_file", "larger than " + std::to_string(kMaxConfigBytes) + " bytes: " + p.string());
+  noteFileRead(p.string());
   std::ifstream in(p, std::ios::binary);
   return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }

@@ -12,6 +12,7 @@
 
 #include "core/parts/monitor_parts.hpp"
 #include "core/scenario/derived_defaults.hpp"
+#include "core/scenario/files_read.hpp"
 #include "core/scenario/part_current_limits.hpp"
 #include "core/scenario/monitor_boards.hpp"
 #include "core/scenario/provenance.hpp"
@@ -258,21 +259,25 @@ void checkBalancing(YamlMap& root, const Scenario& s) {
 }  // namespace
 
 Scenario loadScenarioText(const std::string& text, const std::string& file, const std::string& base_dir) {
+  FilesReadScope reads;
   const std::shared_ptr<Provenance> prov = Provenance::active() ? nullptr : std::make_shared<Provenance>(file);
   Provenance::Scope scope(prov ? prov.get() : Provenance::active());
   std::vector<std::string> chain{chainKey(file)};
   Scenario s = loadScenarioChain(text, file, base_dir, chain);
   if (prov) attachProvenance(s, prov);
+  if (reads.outermost()) s.files_read = reads.files();
   return s;
 }
 
 Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const std::string& file,
                           const std::string& base_dir) {
+  FilesReadScope reads;
   const std::shared_ptr<Provenance> prov = Provenance::active() ? nullptr : std::make_shared<Provenance>(file);
   Provenance::Scope scope(prov ? prov.get() : Provenance::active());
   std::vector<std::string> chain{chainKey(file)};
   Scenario s = loadScenarioTreeChain(tree, text, file, base_dir, chain);
   if (prov) attachProvenance(s, prov);
+  if (reads.outermost()) s.files_read = reads.files();
   return s;
 }
 
@@ -467,6 +472,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
 }  // namespace
 
 std::string readScenarioText(const std::string& path, const std::string& what) {
+  noteFileRead(path);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ScenarioError(path, 0, 0, "", "cannot open " + what);
   std::ostringstream os;
@@ -475,9 +481,12 @@ std::string readScenarioText(const std::string& path, const std::string& what) {
 }
 
 Scenario loadScenarioFile(const std::string& path) {
+  FilesReadScope reads;  // the file itself among them
   const std::string text = readScenarioText(path);
   const std::string dir = fs::path(path).parent_path().string();
-  return loadScenarioText(text, path, dir.empty() ? "." : dir);
+  Scenario s = loadScenarioText(text, path, dir.empty() ? "." : dir);
+  s.files_read = reads.files();
+  return s;
 }
 
 // A vehicle ends its own run (route finished, or standing still): at most 30 days.

@@ -185,6 +185,9 @@ struct Scenario {
   std::string description;
   std::string file;   // path it was loaded from ("" for inline text)
   std::string text;   // the YAML as given, stored with the results
+  // Every file the loader read for it (the given file itself only when it read that:
+  // loadScenarioFile; core/scenario/files_read.hpp)
+  std::vector<std::string> files_read;
   PackConfig pack;
   HardwareConfig hardware;
   BmsSettings bms;

@@ -1,5 +1,9 @@
 #include "core/sim/fault_effect.hpp"
 
+#include <algorithm>
+
+#include "core/text_fmt.hpp"
+
 namespace packsim {
 
 bool needsCurrentPath(const FaultInjection& inj) {
@@ -14,7 +18,14 @@ void noteEffect(const FaultInjection& inj, const PathState& p, EffectSeen& seen)
       seen.acted = seen.acted || (p.mainClosed && !(inj.value >= 0.0 ? p.dischargeBlocked : p.chargeBlocked));
       break;
     case FaultKind::ChargerOvervoltage:
-      seen.acted = seen.acted || (p.mainClosed && p.chargerOn && !p.chargeBlocked);
+      if (p.mainClosed && p.chargerOn && !p.chargeBlocked) {
+        seen.peakTerminal_V = seen.chargerReached ? std::max(seen.peakTerminal_V, p.terminal_V) : p.terminal_V;
+        seen.chargerReached = true;
+        seen.chargerSetpoint_V = p.chargerSetpoint_V;
+        // Above its own setpoint a sound charger would cut the current; below it the
+        // charger is current-limited either way (fault_effect.hpp).
+        seen.acted = seen.acted || p.terminal_V > p.chargerSetpoint_V;
+      }
       break;
     case FaultKind::WeldedRelay:
       seen.acted = seen.acted || (p.relayContactClosed && p.relayCommandedOpen);
@@ -30,6 +41,10 @@ std::string noEffectText(const FaultInjection& inj, const EffectSeen& seen) {
                  ? std::string("no extra current flowed: the FETs (or a blown fuse) blocked its direction the whole time")
                  : std::string("no extra current flowed: the relay contact was open (or the fuse blown) the whole time");
     case FaultKind::ChargerOvervoltage:
+      if (seen.chargerReached)
+        return fmt("the charger stayed current-limited (CC) the whole time: the pack's terminal voltage peaked at "
+                   "%.3f V, below the charger's own setpoint of %.3f V, so a raised setpoint changed nothing",
+                   seen.peakTerminal_V, seen.chargerSetpoint_V);
       return "the charger's output never reached the pack: the charger was off, or the main path open or "
              "blocked, the whole time";
     case FaultKind::WeldedRelay:

@@ -3,7 +3,11 @@
 //   overcurrent          its extra current flows only while the main path is closed and
 //                        conducts its direction (relay contact closed, fuse whole, FETs on)
 //   charger_overvoltage  the charger's output reaches the pack only while the charger is
-//                        on and connected
+//                        on and connected, and its raised setpoint changes that output only
+//                        once the pack's terminal voltage is above the charger's own setpoint
+//                        (load.charger.voltage_V): below it the charger is current-limited
+//                        (CC) with or without the fault, V = E + R·I_lim < V_set, and the
+//                        current min(I_lim, (V_set - E)/R) is I_lim either way
 //   welded_relay         a weld shows only when it holds a closed contact against an open
 //                        command (the MCU's, or the monitor FAULT line's)
 // A script can inject one where it cannot act -- a weld after a trip opened the relay, an
@@ -26,12 +30,19 @@ struct PathState {
   bool chargeBlocked = false;
   bool chargerOn = false;         // the charger is enabled (its current limit > 0)
   bool relayCommandedOpen = false;  // the coil drive is off (MCU pin or FAULT line)
+  double terminal_V = 0.0;        // the pack's terminal voltage now
+  double chargerSetpoint_V = 0.0; // the charger's own setpoint, without any fault (load.charger.voltage_V)
 };
 
 // What an injection saw while it was active.
 struct EffectSeen {
   bool contactClosed = false;  // the relay contact was closed at some moment
   bool acted = false;          // its effect reached the plant at some moment
+  // charger_overvoltage: the charger was on and connected at some moment, and the highest
+  // terminal voltage then (against the charger's own setpoint, for the no-effect text)
+  bool chargerReached = false;
+  double peakTerminal_V = 0.0;
+  double chargerSetpoint_V = 0.0;
 };
 
 // Whether this kind of injection needs the current path at all (the others always act).

@@ -44,8 +44,10 @@ std::string loadEndText(const LoadProfile& p) {
 }
 // The current path the plant sees over the next interval, for the scripted faults that
 // act only through it (core/sim/fault_effect.hpp).
-PathState pathState(const PlantInputs& in, const HardwareSim& hw) {
+PathState pathState(const PlantInputs& in, const HardwareSim& hw, const PlantSignals& sig, const Scenario& s) {
   PathState p;
+  p.terminal_V = sig.pack_voltage_V;
+  p.chargerSetpoint_V = s.charger.voltage_V;
   p.relayContactClosed = hw.status().relay_closed;
   p.mainClosed = in.relay_closed;
   p.dischargeBlocked = in.discharge_blocked;
@@ -194,7 +196,7 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
     applyPins(act, inEffect);
   }
   const bool relayChanged = hw.actuate(t, pinsDiffer ? act : decision, sg, faults, inputs);
-  if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw));
+  if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw, sg, s));
   sampled = &sg;
   restartNext = relayChanged || faultChanged;
 
@@ -259,7 +261,7 @@ void SimulationRun::Impl::advance() {
     if (faultInside && reached(tc, faultBreak_s)) {  // a timed fault starts or ends here
       plant.sample(tc, integ.state(), inputs, sig);
       if (scheduler.update(tc, integ.state(), sig, faults, tracker)) restart = true;
-      if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw));
+      if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw, sig, s));
     }
     if (pinInside && reached(tc, pinBreak_s)) {  // the outputs act at the instant they were written
       plant.sample(tc, integ.state(), inputs, sig);
@@ -267,7 +269,7 @@ void SimulationRun::Impl::advance() {
       applyPins(act, pins.at(tc));
       if (hw.actuatePins(tc, t_next, act, sig, faults, inputs)) restart = true;
       tracker.hardwareChanged(tc);
-      if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw));
+      if (scheduler.watching()) scheduler.noteEffects(pathState(inputs, hw, sig, s));
     }
   }
   if (restart) integ.reset(tc, integ.state());

@@ -50,6 +50,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--temp-C", type=_numbers, help="temperature of each test (default: its first temp_C value)")
     p.add_argument("--columns", type=_columns, help="column names in the files, e.g. time_s=Time,voltage_V=U")
     p.add_argument("--invert-current", action="store_true", help="the files log discharge current as negative")
+    p.add_argument("--steps-on-samples", action="store_true",
+                   help="the files log each current step at the sample it happens at, that sample reading the "
+                        "new current (packsim results, cyclers logging each step's start); default: steps fall "
+                        "between samples (docs/fit.md)")
     p.add_argument("--max-evaluations", type=int, default=400,
                    help="model evaluations before the fit counts as not converged (default 400)")
     p.add_argument("--temperature-law", choices=("arrhenius", "table"), default="arrhenius",
@@ -102,7 +106,8 @@ def main(argv: list[str]) -> int:
                     validate=args.validate,
                     validate_initial_soc=(args.validate_initial_soc * len(args.validate or [])
                                           if len(args.validate_initial_soc) == 1 else args.validate_initial_soc),
-                    smoothing=args.smoothing, ocv_temperature=False if args.no_ocv_temperature else None)
+                    smoothing=args.smoothing, ocv_temperature=False if args.no_ocv_temperature else None,
+                    steps_on_samples=args.steps_on_samples)
         if args.report:
             try:
                 f.plot(args.report)

@@ -53,6 +53,10 @@ class CellTest:
     rows: list[str]          # where each sample is: "file:line" or "<DataFrame k>: row n"
     current_column: str = "current_A"   # the name of the current's column in the data
     reader: str = ""         # a cycler export: its format, and how its sign and units were read
+    # Current steps logged at the sample they happen at, that sample reading the new current
+    # (packsim's own results; a cycler logging each step's start): the current of a sample is
+    # held over the interval after it. Else the mean of the interval's ends (_fit_ecm.held_current).
+    steps_on_samples: bool = False
 
     @property
     def start_temp_C(self) -> float | None:

@@ -104,12 +104,22 @@ class LinearFit:
 
 def soc_trace(test: CellTest, soc0: float, capacity_Ah: float) -> np.ndarray:
     """Coulomb-counted SOC at every sample (the held current: trapezoidal charge)."""
-    dq_Ah = held_current(test.current_A)[:-1] * np.diff(test.time_s) / 3600.0
+    dq_Ah = held_current(test.current_A, test.steps_on_samples)[:-1] * np.diff(test.time_s) / 3600.0
     return soc0 - np.concatenate(([0.0], np.cumsum(dq_Ah))) / capacity_Ah
 
 
-def held_current(current_A: np.ndarray) -> np.ndarray:
-    """The current held over each interval: the mean of its two ends (the last sample's own)."""
+def held_current(current_A: np.ndarray, steps_on_samples: bool = False) -> np.ndarray:
+    """The current held over each interval: the mean of its two ends (the last sample's own),
+    or with steps_on_samples the current of the sample that starts it.
+
+    A step inside an interval at a fraction phi of it puts (1 - phi)·ΔI of charge-weighted
+    current there; the mean assumes phi = 1/2, exact on average over steps at random phase
+    (and for a current linear between samples). A step logged at the sample it happens at
+    (phi = 1 for the interval before it) is off by ΔI/2 over that interval: the model's RC
+    voltages at the step sample are too large by Σ_j (1 - exp(-Δt/τ_j))·R_j·ΔI/2, which the
+    fit takes out of R0 (docs/fit.md "Where the current steps")."""
+    if steps_on_samples:
+        return np.array(current_A, dtype=float, copy=True)
     u = np.empty_like(current_A)
     u[:-1] = 0.5 * (current_A[1:] + current_A[:-1])
     u[-1] = current_A[-1]
@@ -131,7 +141,7 @@ def prepare(test: CellTest, soc0: float, layout: Layout, temp_C: np.ndarray | No
     from scipy.sparse import csr_matrix
     soc = soc_trace(test, soc0, layout.capacity_Ah)
     w = _weights(soc, layout.soc_grid)
-    u = held_current(test.current_A)
+    u = held_current(test.current_A, test.steps_on_samples)
     if layout.form == "poly":
         r0_basis = csr_matrix(np.vander((1.0 - soc) * layout.capacity_Ah, layout.poly_order + 1))
     else:

@@ -318,7 +318,7 @@ def _is_full_discharge(test) -> bool:
     on = i > REST_REL * peak
     if not on.any():
         return False
-    u = held_current(i)
+    u = held_current(i, test.steps_on_samples)
     dq = u[:-1] * np.diff(test.time_s)
     removed = float(np.max(np.cumsum(dq))) if dq.size else 0.0
     best_q, best_end = 0.0, 0
@@ -371,7 +371,7 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
         temps_C: Any = None, columns: dict[str, str] | None = None, invert_current: bool = False,
         max_evaluations: int = 400, temperature_law: str = "arrhenius", validate: Any = None,
         validate_initial_soc: Any = 1.0, smoothing: float | None = None,
-        ocv_temperature: bool | None = None) -> FitResult:
+        ocv_temperature: bool | None = None, steps_on_samples: bool = False) -> FitResult:
     """Fit a cell preset to test data.
 
     data:          a CSV path or pandas DataFrame, or a list of them
@@ -398,6 +398,12 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
                    None (default) fits it when rests lie at temperatures more than 3 °C
                    apart (only a rest tells the OCV at a temperature), True requires it,
                    False leaves it out (one OCV for every temperature)
+    steps_on_samples: the data log each current step at the sample it happens at, that
+                   sample reading the new current (packsim's own result files; a cycler that
+                   logs every step's start): each sample's current is held over the interval
+                   after it. Default False: the mean of each interval's two ends, right for
+                   steps at random points between samples; on data with steps on the samples
+                   it biases R0 low by about Σ_j R_j·(1 - exp(-Δt/τ_j))/2 (docs/fit.md)
 
     Raises FitError (a ValueError) naming the file and line, or the reason.
     """
@@ -414,7 +420,11 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
                                     or not 0 < capacity_Ah < 1e5):
         raise FitError(f"capacity_Ah: {capacity_Ah!r} is not a number in (0, 1e5)")
     grid = DEFAULT_SOC_GRID if soc_grid is None else parse_soc_grid(soc_grid)
+    if not isinstance(steps_on_samples, (bool, np.bool_)):
+        raise FitError(f"steps_on_samples: {steps_on_samples!r} is not True or False")
     tests = [read_test(src, k, columns, invert_current) for k, src in enumerate(tests_in)]
+    for t in tests:
+        t.steps_on_samples = steps_on_samples
     socs0 = _per_file("initial_soc", initial_soc, len(tests), 0.0, 1.0)
     if any(s is None for s in socs0):
         raise FitError("initial_soc: every test needs a starting SOC")
@@ -462,6 +472,8 @@ def fit(data: Any, *, capacity_Ah: float | None = None, rc_pairs: int = 2, soc_g
     if ocv_temps is not None:
         layout = replace(layout, ocv_dT=True, dT_scale_K=max(ocv_temps[1] - ocv_temps[0], 1.0))
     held_out = [read_test(src, len(tests) + k, columns, invert_current) for k, src in enumerate(validate or [])]
+    for t in held_out:
+        t.steps_on_samples = steps_on_samples
     held_socs0 = _per_file("validate_initial_soc", validate_initial_soc, len(held_out), 0.0, 1.0)
     for t, s0 in zip(held_out, held_socs0):
         _check_soc_range(t, soc_trace(t, s0, layout.capacity_Ah))
@@ -582,7 +594,8 @@ def _file_errors(result: FitResult, tests: list, socs0: list, temps: list[np.nda
     files = []
     for test, soc0, temp in zip(tests, socs0, temps):
         try:
-            model = simulate_cell(text, test.time_s, test.current_A, held_current(test.current_A), temp, soc0)
+            model = simulate_cell(text, test.time_s, test.current_A,
+                                  held_current(test.current_A, test.steps_on_samples), temp, soc0)
         except ValueError as e:  # packsim.ScenarioError: the loader refuses the fitted values
             raise FitError(f"the fitted preset is not a valid cell ({e}): the tests do not determine it; "
                            "check capacity_Ah and the current's unit and sign") from None

@@ -8,6 +8,7 @@
 #include "core/sim/plant.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/balance/noise_floor.hpp"
+#include "core/text_fmt.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -173,6 +174,58 @@ TEST(BalanceTime, DuringChargeAddsTheTimeTheBleedCurrentCosts) {
   EXPECT_FALSE(w.within_rating) << "4.2 V across 47 ohm is 0.375 W > the scenario's 0.25 W resistors";
 }
 
+// A BMS that ends the charge itself (bms.charge_full_cell_V) leaves the charger on
+// standby, not done: the run went on to --max-hours and ended "time_limit" (bench_6s at
+// 100 ohm: still balancing at 3 h) or, balancing declared, ran on idle. Now the row says
+// when the BMS ended the charge, on what, and the imbalance left; and once the charger is
+// off and the firmware has stopped balancing, the run ends: charge_ended_by_bms.
+TEST(BalanceTime, DuringChargeABmsThatEndsTheChargeSaysSoAndWhatWasLeft) {
+  const Scenario s = preset("balance/bench_6s_balancing.yaml");
+  BalanceTimeOptions o;
+  o.resistors_ohm = {100.0};
+  o.during_charge = true;
+  o.max_hours = 3.0;
+  const BalanceTimeRow w = balanceTime(s, o).rows[0];
+  EXPECT_EQ(w.end_reason, "time_limit");
+  // The charger delivers until the BMS switches it off (charge_h, its last tick above the
+  // end current): the note's time is that one, and the imbalance left the row's own.
+  EXPECT_NE(w.firmware_note.find(fmt("the BMS ended the charge at %.2f h and kept it off: the highest cell, cell 3", w.charge_h)),
+            std::string::npos) << w.firmware_note;
+  EXPECT_NE(w.firmware_note.find("its bms.charge_full_cell_V 4.180 V"), std::string::npos) << w.firmware_note;
+  EXPECT_NE(w.firmware_note.find(fmt("; %.3f Ah of imbalance left at 3.00 h (truth)", w.final_imbalance_Ah)), std::string::npos)
+      << w.firmware_note;
+  EXPECT_LT(w.charge_h, 1.0);
+
+  // System A's firmware declares balanced at 3.65 h, an hour and a half after its charge
+  // end at 1.18 h, and then stops: the run ends there, not at --max-hours.
+  const Scenario a = preset("balance/eco_marathon_12s_charging.yaml");
+  BalanceTimeOptions oa;
+  oa.during_charge = true;
+  oa.max_hours = 10.0;
+  const BalanceTimeRow wa = balanceTime(a, oa).rows[0];
+  EXPECT_FALSE(wa.tripped) << wa.firmware_note;
+  EXPECT_EQ(wa.end_reason, "charge_ended_by_bms") << wa.firmware_note;
+  EXPECT_FALSE(std::isnan(wa.firmware_h));
+  EXPECT_GT(wa.firmware_h, wa.charge_h);
+  EXPECT_NE(wa.firmware_note.find(fmt("the BMS ended the charge at %.2f h", wa.charge_h)), std::string::npos) << wa.firmware_note;
+  EXPECT_NE(wa.firmware_note.find("Ah of imbalance left at 3.6"), std::string::npos) << wa.firmware_note;
+}
+
+// balance-time raises the BMS tick to 1 s; a BQ76PL455A whose link supervision times out
+// after 100 ms (system A) latched its FAULT line at the first such tick, and every row of
+// the bundled eco_marathon_12s_charging "tripped: monitor_fault at 0.00 h" -- a run of the
+// scenario itself never trips. The tick now stays within half the timeout.
+TEST(BalanceTime, TheRaisedTickKeepsWithinTheMonitorsCommTimeout) {
+  const Scenario a = preset("balance/eco_marathon_12s_charging.yaml");
+  ASSERT_DOUBLE_EQ(a.hardware.afe.secondary.comm_timeout_s, 0.1);
+  BalanceTimeOptions o;
+  o.max_hours = 0.05;
+  o.when = "always";
+  const BalanceTimeRow w = balanceTime(a, o).rows[0];
+  EXPECT_FALSE(w.tripped) << w.firmware_note;
+  EXPECT_NE(w.end_reason, "tripped") << w.firmware_note;
+}
+
 // docs/reference-systems.md D: 1 Ah at 70 mA is about 14 h; 36 resistors on at 3.6 V dissipate 9.92 W.
 TEST(BalanceTime, SystemDMaintenanceBalancingAndBoardPower) {
   BalanceTimeOptions o;
@@ -205,6 +258,34 @@ TEST(BalanceTime, BadOptionsNameTheOptionAndItsRange) {
   o.delta_Ah = 3.0;
   o.cell_V = 3.6;
   EXPECT_THROW(balanceTime(s, o), std::invalid_argument);  // 3 Ah below 3.6 V empties the cell
+  // The same for the analytic rows alone: they printed "5.000 Ah to remove" from 3.1 Ah
+  // cells at SOC 0.55, with to-target times of a low cell held at SOC 0.
+  o.simulate = false;
+  o.delta_Ah = 5.0;
+  o.cell_V.reset();
+  try {
+    balanceTime(s, o);
+    FAIL() << "5 Ah below a 3.1 Ah cell at SOC 0.55 accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("--delta-Ah: 5 Ah below a cell at"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(SOC 0.55) empties it; at most 1.705 Ah"), std::string::npos) << e.what();
+  }
+  o.delta_Ah = 1.7;  // within the 0.55 × 3.1 Ah the high cell holds
+  EXPECT_NO_THROW(balanceTime(s, o));
+  // A cell at rest above its OCV at SOC 1 was taken, its bleed current at that voltage.
+  o.delta_Ah = 0.5;
+  o.cell_V = 4.6;
+  const double top = ecm::ocv(s.pack.cell, 1.0);
+  try {
+    balanceTime(s, o);
+    FAIL() << "a cell resting at 4.6 V accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(fmt("--cell-V: 4.6 V is outside the cell's rest voltages, %.4g", ecm::ocv(s.pack.cell, 0.0)) +
+                                         fmt(" .. %.4g V", top)),
+              std::string::npos) << e.what();
+  }
+  o.cell_V = top;
+  EXPECT_NO_THROW(balanceTime(s, o));
 }
 
 // Two cells, linear OCV a + b·soc, no RC pairs: the high cell's balancing current is

@@ -13,9 +13,10 @@
 #include <sstream>
 
 #include "core/batch/batch_runner.hpp"
+#include "core/batch/case_inputs.hpp"
 #include "core/batch/drawn_inputs.hpp"
-#include "core/scenario/scenario_error.hpp"
 #include "core/batch/sweep.hpp"
+#include "core/scenario/overrides.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "test_support.hpp"
 
@@ -205,6 +206,57 @@ TEST(Batch, AResultOlderThanTheLoadCsvRunsAgain) {
   sc.write("other.csv", "time_s,current_A\n0,2\n20,2\n");
   fs::last_write_time(sc.dir / "other.csv", later);
   EXPECT_EQ(runBatch(byGrid, opt).skipped, 0);
+}
+
+// A cell preset beside the base (cells/NAME.yaml), a route CSV and an irradiance CSV are
+// read by the load but were not among the files a resumed batch compared with the result:
+// an edited preset kept the old result. Now the case's files are the loader's own list
+// (Scenario::files_read): the preset with its capacity doubled runs again, and the charge
+// 3 A over 20 s (0.0167 Ah) now takes half the SOC from each cell.
+TEST(Batch, AResultOlderThanACellPresetRouteOrIrradianceFileRunsAgain) {
+  Scratch sc;
+  fs::create_directories(sc.dir / "cells");
+  const std::string cell = "ocv_V: {poly: [0.8, 3.4]}\nr0_ohm: 0.02\nrc_pairs: [{r_ohm: 0.01, c_F: 1000}]\n"
+                           "heat_capacity_J_per_K: 40\ng_ambient_W_per_K: 0.1\n";
+  sc.write("cells/mine.yaml", "capacity_Ah: 2.0\n" + cell);
+  std::string base = test::simpleCellYaml(4);
+  const size_t at = base.find("  cell:\n");
+  base = base.substr(0, at) + "  cell: {preset: mine}\nhardware:" + base.substr(base.find("hardware:") + 9);
+  sc.write("presetbase.yaml", base + "load: {current_A: 3}\nrun: {duration_s: 20}\n");
+  Sweep sw = loadSweepFile(sc.write("sweep.yaml", "base: presetbase.yaml\noutput_dir: out\n"
+                                                  "grid:\n  pack.initial_soc: [0.8]\n"));
+  BatchOptions opt;
+  opt.progress = nullptr;
+  const BatchReport first = runBatch(sw, opt);
+  ASSERT_EQ(first.ok, 1) << first.cases[0].error;
+  EXPECT_EQ(runBatch(sw, opt).skipped, 1);  // nothing changed
+  const double drop1 = 0.8 - std::stod(field(first.cases[0], "final_soc_min"));
+  EXPECT_NEAR(drop1, 3.0 * 20.0 / 3600.0 / 2.0, 0.01 * drop1);  // 3 A for 20 s from 2 Ah
+
+  const auto later = fs::last_write_time(sw.resultPath(sw.cases[0])) + std::chrono::seconds(2);
+  sc.write("cells/mine.yaml", "capacity_Ah: 4.0\n" + cell);
+  fs::last_write_time(sc.dir / "cells/mine.yaml", later);
+  const BatchReport again = runBatch(sw, opt);
+  EXPECT_EQ(again.skipped, 0);
+  ASSERT_EQ(again.ok, 1);
+  EXPECT_NEAR(0.8 - std::stod(field(again.cases[0], "final_soc_min")), drop1 / 2.0, 0.01 * drop1);
+
+  // A route and an irradiance table (a vehicle base, not run here): both among the files.
+  sc.write("circuit.csv", "distance_km,grade_percent,speed_kmh\n0,0,27\n1.6,0,27\n");
+  sc.write("sun.csv", "time_s,ghi_W_per_m2\n0,200\n3000,300\n");
+  const std::string car = sc.write(
+      "car.yaml", "extends: " + test::scenarioDir() + "/vehicle/eco_marathon_12s_circuit.yaml\n"
+                  "load:\n  route: {csv: circuit.csv, segments: [], laps: 1}\n"
+                  "  sun: {array_area_m2: 0.5, efficiency: 0.2, mppt_efficiency: 0.95, start_solar_hour: 10, "
+                  "irradiance_csv: sun.csv}\nexpect: {}\n");
+  Sweep cars = loadSweepFile(sc.write("cars.yaml", "base: car.yaml\noutput_dir: cars\ngrid:\n  pack.initial_soc: [0.9]\n"));
+  const Scenario s = loadScenarioWithOverrides(cars.base_text, cars.cases[0].params, "case", sc.dir.string());
+  const std::vector<std::string> files = caseInputFiles(cars, s);
+  for (const char* name : {"circuit.csv", "sun.csv", "car.yaml"}) {
+    bool listed = false;
+    for (const std::string& f : files) listed = listed || fs::equivalent(f, sc.dir / name);
+    EXPECT_TRUE(listed) << name;
+  }
 }
 
 // summary.csv is written under a temporary name of this process (uniqueTemporaryName),

@@ -111,6 +111,74 @@ TEST(FaultEffect, CheckFailsAScenarioWhoseFaultHadNoEffect) {
   EXPECT_TRUE(has(o.verdict, "1 scripted fault without effect")) << o.verdict;
 }
 
+// A 2-cell pack on a CC-CV charger (8.4 V, 2 A). A charger overvoltage during the CC
+// phase (the terminal voltage some 8.25 V) leaves the charger current-limited: the
+// recorded current is the run's without it, and the run says so. The same
+// overvoltage in the CV phase raises the current the charger delivers, and is no
+// fault_no_effect. (It was none in both: the charger was on, so the fault counted as acted.)
+TEST(FaultEffect, ChargerOvervoltageWhileCurrentLimitedHasNoEffect) {
+  const std::string base = test::simpleCellYaml(2) +
+                           "load: {charger: {current_A: 2, voltage_V: 8.4, end_current_A: 0.1}}\n"
+                           "run: {duration_s: 700}\n";
+  const RunResult clean = runScenario(test::scenarioFromYaml(base));
+  const Scenario s = test::scenarioFromYaml(base +
+                                            "faults:\n  - {kind: charger_overvoltage, overvoltage_V: 0.05, at_s: 10, "
+                                            "duration_s: 100}\n");
+  const RunResult cc = runScenario(s);
+  ASSERT_EQ(cc.rec.samples(), clean.rec.samples());
+  // Equal while the fault is active; after it, the integrator's restarts at 10 and 110 s
+  // leave differences within its tolerance (where the taper starts, ~1e-4 A).
+  for (size_t i = 0; i < cc.rec.samples(); ++i) {
+    if (cc.rec.time_s[i] <= 110.0) ASSERT_EQ(cc.rec.pack_current_A[i], clean.rec.pack_current_A[i]) << i;
+    ASSERT_NEAR(cc.rec.pack_current_A[i], clean.rec.pack_current_A[i], 1e-3) << i;
+  }
+  const auto none = test::eventsOf(cc, "fault_no_effect");
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_TRUE(has(none[0]->detail, "charger_overvoltage +0.05 V (line 22, active 10.000-110.000 s): the charger stayed "
+                                   "current-limited (CC) the whole time"))
+      << none[0]->detail;
+  EXPECT_TRUE(has(none[0]->detail, "below the charger's own setpoint of 8.400 V")) << none[0]->detail;
+  EXPECT_TRUE(has(formatSummary(s, cc), "fault script    no effect: " + none[0]->detail));
+
+  const RunResult cv = runScenario(test::scenarioFromYaml(
+      base + "faults:\n  - {kind: charger_overvoltage, overvoltage_V: 0.05, at_s: 500, duration_s: 100}\n"));
+  EXPECT_TRUE(test::eventsOf(cv, "fault_no_effect").empty());
+  ASSERT_EQ(cv.rec.samples(), clean.rec.samples());
+  double moreCharge_A = 0.0;  // the raised setpoint holds the charge current above the clean run's
+  for (size_t i = 0; i < cv.rec.samples(); ++i)
+    if (cv.rec.time_s[i] > 510.0 && cv.rec.time_s[i] < 600.0)
+      moreCharge_A = std::max(moreCharge_A, clean.rec.pack_current_A[i] - cv.rec.pack_current_A[i]);
+  EXPECT_GT(moreCharge_A, 0.1);
+}
+
+// Cell 1 starts at SOC 0.97, cell 2 at 0.8: on the 8.4 V charger cell 1 trips
+// cell_overvoltage at 65.7 s with the pack at 8.37 V, below the charger's own setpoint, so
+// a charger overvoltage from 5 s changed nothing. check's line for the injection credited it
+// with that trip ("cell_overvoltage after 60.690 s, relay open after 60.690 s") beside the
+// failure saying it had no effect; it now says it had none, and its latency names no fault.
+TEST(FaultEffect, CheckCreditsNoDetectionToAFaultWithoutEffect) {
+  std::string yaml = test::simpleCellYaml(2);
+  yaml.insert(yaml.find("  cell:\n"), "  cells:\n    - {cell: 1, initial_soc: 0.97}\n");
+  const Scenario s = test::scenarioFromYaml(yaml +
+                                            "load: {charger: {current_A: 2, voltage_V: 8.4, end_current_A: 0.1}}\n"
+                                            "run: {duration_s: 600}\n"
+                                            "faults:\n  - {kind: charger_overvoltage, overvoltage_V: 0.5, at_s: 5}\n"
+                                            "expect: {trip_reason: cell_overvoltage}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.tripped);
+  ASSERT_EQ(r.summary.trip_reason, "cell_overvoltage");
+  ASSERT_EQ(test::eventsOf(r, "fault_no_effect").size(), 1u);
+  const CheckOutcome o = judge(s, r);
+  ASSERT_EQ(o.latencies.size(), 1u);
+  EXPECT_TRUE(has(o.latencies[0], "charger_overvoltage +0.5 V @5.000 s: no effect: the charger stayed current-limited"))
+      << o.latencies[0];
+  EXPECT_FALSE(has(o.latencies[0], "cell_overvoltage after")) << o.latencies[0];
+  ASSERT_EQ(o.fault_latencies.size(), 1u);
+  EXPECT_EQ(o.fault_latencies[0].detected_fault, "");
+  EXPECT_LT(o.fault_latencies[0].detection_latency_s, 0.0);
+  EXPECT_LT(o.fault_latencies[0].relay_open_latency_s, 0.0);
+}
+
 // The rule per kind: an extra charge current needs the charge direction, a charger's
 // overvoltage a connected charger; other kinds always act.
 TEST(FaultEffect, EachKindNeedsItsOwnPath) {
@@ -137,6 +205,13 @@ TEST(FaultEffect, EachKindNeedsItsOwnPath) {
   noteEffect(cv, p, off);
   EXPECT_FALSE(off.acted);  // the charger is off
   p.chargerOn = true;
+  p.chargerSetpoint_V = 8.4;
+  p.terminal_V = 8.3;  // current-limited: a raised setpoint changes nothing
+  noteEffect(cv, p, off);
+  EXPECT_FALSE(off.acted);
+  EXPECT_TRUE(has(noEffectText(cv, off), "peaked at 8.300 V, below the charger's own setpoint of 8.400 V"))
+      << noEffectText(cv, off);
+  p.terminal_V = 8.41;  // above its own setpoint: a sound charger would cut the current
   noteEffect(cv, p, off);
   EXPECT_TRUE(off.acted);
 
