@@ -18,6 +18,7 @@
 #include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
+#include "core/scenario/yaml_layers.hpp"
 
 namespace packsim {
 
@@ -40,7 +41,15 @@ void deepMerge(YAML::Node base, const YAML::Node& child, const std::string& pref
     // Const lookups: a non-const one would add an undefined entry for a missing key,
     // which then shadows the one inserted below.
     const YAML::Node existing = static_cast<const YAML::Node&>(base)[key];
+    // `key: null` removes the base's key (yaml_layers.hpp): the key is then as if the
+    // chain never gave it.
+    if (removesKey(it->second)) {
+      if (existing) base.remove(key);
+      if (prov) prov->eraseUnder(path);
+      continue;
+    }
     if (key != "expect" && it->second.IsMap() && existing && existing.IsMap()) {
+      dropReplacedAlternatives(base[key], it->second, path);
       deepMerge(base[key], it->second, path, childFile);
       continue;
     }

@@ -171,8 +171,17 @@ bool plainDecimal(const std::string& s, double& v) {
   return r.ec == std::errc() && r.ptr == end;
 }
 
+bool quotedScalar(const YAML::Node& n) {
+  return n.IsScalar() && (n.Tag() == "!" || n.Tag() == "tag:yaml.org,2002:str");
+}
+
+std::string quotedValueMessage(const YAML::Node& n, const std::string& expected) {
+  return expected + ", got the text \"" + n.Scalar() + "\" (quoted, so YAML reads it as text): write it without quotes";
+}
+
 double YamlMap::toNumber(const YAML::Node& n, const std::string& field, Range r) const {
   if (!n.IsScalar()) throw errorAt(n, field, "expected a number");
+  if (quotedScalar(n)) throw errorAt(n, field, quotedValueMessage(n, "expected a number"));
   double v = 0.0;
   try {
     if (!plainDecimal(n.Scalar(), v)) v = n.as<double>();
@@ -217,6 +226,7 @@ bool YamlMap::boolean(const std::string& key, bool fallback) {
     return fallback;
   }
   const YAML::Node n = node_[key];
+  if (quotedScalar(n)) throw errorAt(n, fieldName(key), quotedValueMessage(n, "expected true or false"));
   try {
     if (n.IsScalar()) {
       const bool v = n.as<bool>();
