@@ -143,5 +143,43 @@ TEST(ScenarioLayers, CurveOverA2dPresetWithoutRowsSaysWhatToWrite) {
   EXPECT_NEAR(r0(s.pack.cell, 0.5, -20.0), 0.0015, 1e-15);
 }
 
+
+TEST(ScenarioLayers, ALayerChangesOneUseOfAnAliasNotTheOther) {
+  // `cell_undervoltage: *slow` is the node anchored at cell_overvoltage: a child's (or a
+  // --set's) change of cell_overvoltage.delay_ms changed it too -- 100 ms under-voltage
+  // delay, shown as the base's line, where the base says 2000.
+  const fs::path d = test::freshTempDir("packsim_layers_", "alias");
+  write(d / "base.yaml", test::simpleCellYaml() +
+                             "bms:\n  protections:\n    cell_overvoltage: &slow {delay_ms: 2000}\n"
+                             "    cell_undervoltage: *slow\n"
+                             "load: {current_A: 1}\nrun: {duration_s: 10}\n");
+  write(d / "child.yaml", "extends: base.yaml\nbms: {protections: {cell_overvoltage: {delay_ms: 100}}}\n");
+  const auto delays = [](const Scenario& s) {
+    return std::make_pair(s.bms.protection(bms::FaultId::CellOverVoltage).delay_s,
+                          s.bms.protection(bms::FaultId::CellUnderVoltage).delay_s);
+  };
+  EXPECT_EQ(delays(loadScenarioFile((d / "base.yaml").string())), std::make_pair(2.0, 2.0));
+  EXPECT_EQ(delays(loadScenarioFile((d / "child.yaml").string())), std::make_pair(0.1, 2.0));
+  const Scenario o = loadScenarioFileWithOverrides((d / "base.yaml").string(), {{"bms.protections.cell_overvoltage.delay_ms", "100"}});
+  EXPECT_EQ(delays(o), std::make_pair(0.1, 2.0));
+  // A scalar alias alike, and the entries after it keep their lines (an error still names one).
+  write(d / "scalar.yaml", test::simpleCellYaml() +
+                               "bms:\n  protections:\n    cell_overvoltage: {delay_ms: &d 2000}\n"
+                               "    cell_undervoltage: {delay_ms: *d, threshold_V: 9}\n"
+                               "load: {current_A: 1}\nrun: {duration_s: 10}\n");
+  const std::string e = test::fileErrorOf(d / "scalar.yaml");
+  EXPECT_NE(e.find("scalar.yaml:22:52: bms.protections.cell_undervoltage.threshold_V"), std::string::npos) << e;
+  const Scenario so = loadScenarioFileWithOverrides((d / "scalar.yaml").string(),
+      {{"bms.protections.cell_overvoltage.delay_ms", "100"}, {"bms.protections.cell_undervoltage.threshold_V", "2.9"}});
+  EXPECT_EQ(delays(so), std::make_pair(0.1, 2.0));
+  // A YAML merge key is named as such (was "unknown key (valid keys: ...)").
+  write(d / "merge.yaml", test::simpleCellYaml() +
+                              "bms:\n  protections:\n    cell_overvoltage: &s {delay_ms: 2000}\n"
+                              "    cell_undervoltage: {<<: *s, threshold_V: 2.9}\n"
+                              "load: {current_A: 1}\nrun: {duration_s: 10}\n");
+  const std::string m = test::fileErrorOf(d / "merge.yaml");
+  EXPECT_NE(m.find("bms.protections.cell_undervoltage.<<: YAML merge keys ('<<: *anchor') are not supported"), std::string::npos) << m;
+}
+
 }  // namespace
 }  // namespace packsim
