@@ -130,6 +130,22 @@ void unshareAliases(YAML::Node n, std::unordered_set<size_t>& seen) {
   }
 }
 
+// YAML indents with spaces only; yaml-cpp's message for a tab ("illegal map value",
+// "end of map not found") names no tab. The first line indented with one is named.
+std::string tabHint(const std::string& text) {
+  size_t line = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      continue;
+    }
+    if (text[i] == '\t' && (i == 0 || text.find_last_not_of(" \t", i) == std::string::npos ||
+                             text[text.find_last_not_of(" \t", i)] == '\n'))
+      return " (line " + std::to_string(line) + " is indented with a tab; YAML indents with spaces)";
+  }
+  return "";
+}
+
 }  // namespace
 
 YAML::Node parseYaml(const std::string& text, const std::string& file) {
@@ -137,7 +153,7 @@ YAML::Node parseYaml(const std::string& text, const std::string& file) {
   try {
     root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
-    throw ScenarioError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+    throw ScenarioError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg + tabHint(text));
   }
   size_t visited = 0;
   rejectDuplicateKeys(root, file, 0, visited);
