@@ -242,6 +242,12 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
     for (const char* k : kinds) childKind = childKind || root["load"][k];
     // A vehicle extending a vehicle: its keys (mass, route, driver ...) merge.
     if (root["load"]["vehicle"] && cbase["load"]["vehicle"]) childKind = false;
+    // A CSV mapping without a `file` changes the base's CSV mapping (`csv: {scale: -1}`
+    // flips the inherited log's sign); one with a `file` is a new log, read as written
+    // (the base's columns and scale do not carry over to it).
+    const YAML::Node childCsv = root["load"]["csv"];
+    if (childCsv && childCsv.IsMap() && !childCsv["file"] && cbase["load"]["csv"] && cbase["load"]["csv"].IsMap())
+      childKind = false;
     if (childKind) {
       base.remove("load");
       if (Provenance* p = Provenance::active()) p->eraseUnder("load");

@@ -54,5 +54,23 @@ TEST(ExtendsPaths, ABasesFirmwareFilesAreItsFoldersFiles) {
   EXPECT_EQ(s.bms.firmware.config, (std::vector<uint8_t>{'A', 'B', 'C', 'D'}));
 }
 
+TEST(ExtendsPaths, AChildChangesTheInheritedCsvMappingOrGivesANewLog) {
+  const fs::path d = test::freshTempDir("packsim_extends_paths_", "csv");
+  write(d / "lib" / "logs" / "drive.csv", "t,amps\n0,-5\n10,-8\n20,-2\n");
+  write(d / "lib" / "base.yaml", test::simpleCellYaml() +
+                                     "load: {csv: {file: logs/drive.csv, time_column: t, current_column: amps}}\n");
+  // The logger counts discharge negative: the child flips the inherited log's sign.
+  // Was: "load.csv: missing required key 'file' (given: scale)".
+  write(d / "work" / "flip.yaml", "extends: ../lib/base.yaml\nload: {csv: {scale: -1}}\n");
+  const fs::path flip = d / "work" / "flip.yaml";
+  Scenario s;
+  ASSERT_NO_THROW(s = loadScenarioFile(flip.string())) << test::fileErrorOf(flip);
+  EXPECT_EQ(s.load.i_A, (std::vector<double>{5, 8, 2}));
+  // A child's own log is read as written: the base's column names do not carry over.
+  write(d / "work" / "own.csv", "time_s,current_A\n0,1\n10,1\n");
+  write(d / "work" / "own.yaml", "extends: ../lib/base.yaml\nload: {csv: {file: own.csv}}\n");
+  EXPECT_EQ(loadScenarioFile((d / "work" / "own.yaml").string()).load.i_A, (std::vector<double>{1, 1}));
+}
+
 }  // namespace
 }  // namespace packsim
