@@ -45,7 +45,8 @@ void packCellPreset(const YAML::Node& cell, const fs::path& baseDir, FmuResource
 }  // namespace
 
 FmuResources collectFmuResources(const std::string& scenarioPath) {
-  YAML::Node root = YAML::Load(resolvedScenarioText(scenarioPath));  // `extends:` merged in
+  std::string presetDir;  // a base's own cells/ preset is found in the base's folder
+  YAML::Node root = YAML::Load(resolvedScenarioText(scenarioPath, &presetDir));  // `extends:` merged in
   const fs::path baseDir = fs::path(scenarioPath).parent_path();
   if (root["compare"]) {
     const std::string why = "packsim fmu cannot pack a scenario with a `compare:` reference run; remove it for the FMU";
@@ -56,7 +57,7 @@ FmuResources collectFmuResources(const std::string& scenarioPath) {
   FmuResources out;
   if (root["load"] && root["load"].IsMap() && root["load"]["csv"]) packLoadCsv(root["load"], baseDir, out);
   if (root["pack"] && root["pack"]["cell"] && root["pack"]["cell"].IsMap() && root["pack"]["cell"]["preset"])
-    packCellPreset(root["pack"]["cell"], baseDir, out);
+    packCellPreset(root["pack"]["cell"], presetDir, out);
   YAML::Emitter e;
   e << root;
   out["scenario.yaml"] = std::string(e.c_str()) + "\n";

@@ -75,6 +75,7 @@ void appendInt32(std::vector<uint8_t>& blob, int32_t v) {
 void appendNumber(const YamlMap& fw, const YAML::Node& n, const std::string& field, std::vector<uint8_t>& blob) {
   const std::string expect = "expected an integer in [-2147483648, 2147483647] (each becomes a little-endian int32)";
   if (!n.IsScalar()) throw fw.errorAt(n, field, expect);
+  if (quotedScalar(n)) throw fw.errorAt(n, field, quotedValueMessage(n, expect));
   long long v = 0;
   try {
     size_t used = 0;
@@ -127,6 +128,7 @@ void appendField(std::vector<uint8_t>& blob, const ConfigField& f, double v) {
 double schemaNumber(const YamlMap& c, const YAML::Node& n, const std::string& field, const ConfigField& f) {
   const std::string expect = "expected " + allowed(f);
   if (!n.IsScalar()) throw c.errorAt(n, field, expect);
+  if (quotedScalar(n)) throw c.errorAt(n, field, quotedValueMessage(n, expect));
   double v = 0.0;
   try {
     size_t used = 0;

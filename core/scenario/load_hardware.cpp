@@ -59,6 +59,7 @@ void refuseOtherPartsKeys(YamlMap& afe, const MonitorPart& part) {
 
 // A CAN identifier or data byte: a whole number, decimal or 0x-hex, in [lo, hi].
 uint32_t canInteger(const YamlMap& m, const YAML::Node& n, const std::string& field, unsigned long hi) {
+  if (quotedScalar(n)) throw m.errorAt(n, field, quotedValueMessage(n, "expected a whole number (decimal or 0x hex)"));
   const std::string text = n.IsScalar() ? n.Scalar() : "";
   const bool hex = text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X');
   char* end = nullptr;

@@ -12,6 +12,7 @@
 #include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
+#include "core/scenario/yaml_layers.hpp"
 
 namespace packsim {
 
@@ -36,7 +37,10 @@ Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
   const CurveAxis axis = axisName == "soc" ? CurveAxis::Soc : CurveAxis::Discharged_Ah;
   Curve c;
   if (m.has("poly")) {
-    if (m.has("x") || m.has("y") || m.has("temp_C")) throw m.error("give either poly or an x/y table, not both");
+    if (m.has("temp_C"))
+      throw m.errorAt("temp_C", "a polynomial has no temp_C rows (those are a 2-D table's): give arrhenius_K and "
+                                "ref_temp_C for its temperature law (arrhenius_K: 0 for none), or a 2-D table");
+    if (m.has("x") || m.has("y")) throw m.error("give either poly or an x/y table, not both");
     c = Curve::polynomial(m.numbers("poly", kCoefficients), axis);
   } else if (m.has("x") || m.has("y")) {
     std::vector<double> xs = m.numbers("x", kAxis, 2);
@@ -48,7 +52,9 @@ Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
         if (!(temps[i] > temps[i - 1])) throw m.errorAt("temp_C", "values must increase strictly");
       const YAML::Node rowsNode = m.node("y");
       if (!rowsNode.IsSequence() || rowsNode.size() != temps.size())
-        throw m.errorAt("y", "a 2-D table needs one row of y per temp_C value (" + std::to_string(temps.size()) + " rows)");
+        throw m.errorAt("y", "a 2-D table needs one row of y per temp_C value (" + std::to_string(temps.size()) +
+                                 " rows); for a curve over x alone state its temperature law instead of the rows "
+                                 "(arrhenius_K and ref_temp_C; arrhenius_K: 0 for none)");
       const std::string yField = m.path().empty() ? "y" : m.path() + ".y";
       std::vector<std::vector<double>> rows;
       for (size_t j = 0; j < rowsNode.size(); ++j) {
@@ -60,6 +66,8 @@ Curve readCurve(YamlMap& parent, const std::string& key, Range yRange) {
         std::vector<double> r;
         for (const YAML::Node& v : row) {
           double d = 0.0;
+          if (quotedScalar(v))
+            throw m.errorAt(v, yField, std::string(rowName) + ": " + quotedValueMessage(v, "expected a number"));
           if (!v.IsScalar() || !YAML::convert<double>::decode(v, d) || !std::isfinite(d))
             throw m.errorAt(v, yField, std::string(rowName) + ": expected a finite number");
           if (!yRange.contains(d))
@@ -168,25 +176,13 @@ std::vector<std::string> presetDirs(const std::string& baseDir, const std::strin
   return cellPresetDirs(baseDir);
 }
 
-// An override of a preset's curve that states a temperature dependence of its own
-// (arrhenius_K / ref_temp_C, or a 2-D table over temp_C) replaces the preset's whole.
-bool givesItsOwnTemperatureLaw(const YAML::Node& given) {
-  return given.IsMap() && (given["arrhenius_K"] || given["ref_temp_C"] || given["temp_C"]);
-}
-
-// An override without one is the value at the reference temperature: the preset's
-// temperature law still applies to it. Arrhenius: the same factor (same arrhenius_K and
-// ref_temp_C) on the new curve. A 2-D table over temp_C: a single value v becomes the
-// preset's table scaled so that it reads v at 25 C at every x (each row keeps its ratio
-// to the 25 C value); a 1-D curve over x cannot carry the table's temperature rows and
-// is refused with what to write instead.
+// A single value given for a preset's curve is the value at the reference temperature:
+// the preset's temperature law still applies to it. Arrhenius: the same factor (same
+// arrhenius_K and ref_temp_C). A 2-D table over temp_C: the preset's table scaled so that
+// it reads v at 25 C at every x (each row keeps its ratio to the 25 C value). (A curve
+// given as a mapping was merged onto the preset's, law included: yaml_layers.hpp.)
 Curve withPresetTemperatureLaw(const Curve& preset, const Curve& given) {
   if (preset.kind != Curve::Kind::Table2D) return given.withArrhenius(preset.arrhenius_K, preset.ref_temp_C);
-  if (given.kind != Curve::Kind::Constant)
-    throw std::invalid_argument(
-        "the preset's curve is a table over temp_C; a curve over x alone would drop its temperature dependence: "
-        "give a single value (the value at 25 C; the preset's temperature ratios are kept), a 2-D table "
-        "(x, temp_C, y rows), or state the law (arrhenius_K and ref_temp_C; arrhenius_K: 0 for none)");
   const double v = given.coeffs()[0];
   for (const double x : preset.xs())
     if (preset.at(x, kReferenceTemp_C) == 0.0)
@@ -254,28 +250,71 @@ CellParams readCellWithPreset(YamlMap m, const std::string& baseDir) {
   // A second parse, not YAML::Clone (which loses the lines) nor the tree just read (whose
   // lookups of absent keys left entries that would shadow an inserted key).
   YAML::Node merged = parseYaml(presetText, path);
+  const YAML::Node& cmerged = merged;  // const: a lookup must not add the key
   Provenance* prov = Provenance::active();
+  // The fields the scenario gives, for `show`: a curve given over the preset's names its
+  // parts (`ocv_V.y`), so what the preset's curve keeps (its x grid, its law) is shown
+  // as the preset's.
   std::vector<std::string> given;
-  for (auto it = m.raw().begin(); it != m.raw().end(); ++it) given.push_back(it->first.Scalar());
+  for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
+    const std::string key = it->first.Scalar();
+    if (it->second.IsMap() && isCurveMapping(cmerged[key])) {
+      for (auto part = it->second.begin(); part != it->second.end(); ++part)
+        given.push_back(key + "." + part->first.Scalar());
+    } else {
+      given.push_back(key);
+    }
+  }
   if (prov) prov->addPresetScope(m.path(), name, path, given);
   for (auto it = m.raw().begin(); it != m.raw().end(); ++it) {
     const std::string key = it->first.Scalar();
     if (key == "preset") continue;
+    // `field: null` removes the preset's field (its default applies; yaml_layers.hpp).
+    if (removesKey(it->second)) {
+      if (cmerged[key]) merged.remove(key);
+      continue;
+    }
+    // A curve given as a mapping over the preset's curve changes the parts it gives and
+    // keeps the rest (`ocv_V: {y: [...]}` keeps the preset's x grid, axis and temperature
+    // law); one that states its form or law replaces those (yaml_layers.hpp).
+    if (it->second.IsMap() && isCurveMapping(cmerged[key])) {
+      YAML::Node curve = merged[key];
+      dropReplacedAlternatives(curve, it->second, m.path() + "." + key);
+      for (auto part = it->second.begin(); part != it->second.end(); ++part) {
+        const std::string partKey = part->first.Scalar();
+        if (removesKey(part->second)) curve.remove(partKey);
+        else if (static_cast<const YAML::Node&>(curve)[partKey]) curve[partKey] = part->second;
+        else curve.force_insert(part->first, part->second);
+      }
+      continue;
+    }
     // The scenario's own value node (and key node, for a key the preset lacks), so an
     // error keeps its line and column.
-    if (static_cast<const YAML::Node&>(merged)[key]) merged[key] = it->second;  // const: a lookup must not add the key
+    if (cmerged[key]) merged[key] = it->second;
     else merged.force_insert(it->first, it->second);
   }
-  // Curves over discharged Ah keep meaning the preset's discharged charge, even where
-  // the scenario gives this cell another capacity.
-  CellParams cell = readCell(YamlMap(merged, m.file(), m.path()), nominal.capacity_Ah);
   const std::pair<const char*, Curve CellParams::*> curves[] = {{"ocv_V", &CellParams::ocv_V},
                                                                 {"r0_ohm", &CellParams::r0_ohm},
                                                                 {"r0_charge_ohm", &CellParams::r0_charge_ohm},
                                                                 {"docv_dT_V_per_K", &CellParams::docv_dT_V_per_K}};
+  // A new curve over x alone (its form, no law) cannot carry a 2-D preset's temp_C rows.
   for (const auto& [key, member] : curves) {
     const YAML::Node stated = m.raw()[key];
-    if (!stated || givesItsOwnTemperatureLaw(stated) || !(nominal.*member).dependsOnTemperature()) continue;
+    if ((nominal.*member).kind == Curve::Kind::Table2D && stated && stated.IsMap() &&
+        (stated["poly"] || stated["x"]) && !stated["temp_C"] && !stated["arrhenius_K"] && !stated["ref_temp_C"])
+      throw m.errorAt(key, "the preset's curve is a table over temp_C; a curve over x alone would drop its temperature "
+                           "dependence: give a single value (the value at 25 C; the preset's temperature ratios are "
+                           "kept), a 2-D table (x, temp_C, y rows), or state the law (arrhenius_K and ref_temp_C; "
+                           "arrhenius_K: 0 for none) (preset " + name + ")");
+  }
+  // Curves over discharged Ah keep meaning the preset's discharged charge, even where
+  // the scenario gives this cell another capacity.
+  CellParams cell = readCell(YamlMap(merged, m.file(), m.path()), nominal.capacity_Ah);
+  for (const auto& [key, member] : curves) {
+    const YAML::Node stated = m.raw()[key];
+    // A mapping was merged onto the preset's curve above: it keeps the preset's law
+    // unless it states its own.
+    if (!stated || stated.IsMap() || !(nominal.*member).dependsOnTemperature()) continue;
     try {
       cell.*member = withPresetTemperatureLaw(nominal.*member, cell.*member);
     } catch (const std::invalid_argument& e) {

@@ -19,6 +19,7 @@
 #include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_sections.hpp"
 #include "core/scenario/value_ranges.hpp"
+#include "core/scenario/yaml_layers.hpp"
 
 namespace packsim {
 
@@ -41,7 +42,15 @@ void deepMerge(YAML::Node base, const YAML::Node& child, const std::string& pref
     // Const lookups: a non-const one would add an undefined entry for a missing key,
     // which then shadows the one inserted below.
     const YAML::Node existing = static_cast<const YAML::Node&>(base)[key];
+    // `key: null` removes the base's key (yaml_layers.hpp): the key is then as if the
+    // chain never gave it.
+    if (removesKey(it->second)) {
+      if (existing) base.remove(key);
+      if (prov) prov->eraseUnder(path);
+      continue;
+    }
     if (key != "expect" && it->second.IsMap() && existing && existing.IsMap()) {
+      dropReplacedAlternatives(base[key], it->second, path);
       deepMerge(base[key], it->second, path, childFile);
       continue;
     }
@@ -103,35 +112,66 @@ std::string chainKey(const std::string& file) {
   return ec ? file : p.string();
 }
 
-// A base's relative paths (its CSV load, in either form, and its compare scenario) name
-// files in the base's folder: re-expressed relative to the extending file's folder, so
-// the merged scenario reads the same files wherever the two files sit.
+// A base's relative paths name files in the base's folder: re-expressed relative to the
+// extending file's folder, so the merged scenario reads the same files wherever the two
+// files sit. A firmware `library` / `elf` is a path only with a folder in it (a bare name
+// is searched for: next to the scenario, $PACKSIM_FIRMWARE_PATH, next to packsim).
+struct FileKey {
+  const char* path[3];  // nullptr after the last step
+  bool bareNameIsASearch;
+};
+const FileKey kFileKeys[] = {
+    {{"load", "csv"}, false},           {{"load", "csv", "file"}, false},
+    {{"load", "route", "csv"}, false},  {{"load", "sun", "irradiance_csv"}, false},
+    {{"compare", "scenario"}, false},   {{"bms", "firmware", "config_file"}, false},
+    {{"bms", "firmware", "library"}, true}, {{"bms", "firmware", "elf"}, true},
+};
+
 void rebaseRelativePaths(YAML::Node base, const std::string& fromDir, const std::string& toDir) {
-  auto rebase = [&](YAML::Node holder, const char* key) {
-    const YAML::Node& view = holder;  // const: a lookup must not add the key
-    if (!view[key] || !view[key].IsScalar()) return;
-    const fs::path given(view[key].Scalar());
-    if (given.empty() || !given.is_relative()) return;
+  for (const FileKey& k : kFileKeys) {
+    YAML::Node holder;
+    holder.reset(base);
+    const char* last = nullptr;
+    bool found = true;
+    for (const char* step : k.path) {
+      if (!step) break;
+      if (last) {
+        const YAML::Node& view = holder;  // const: a lookup must not add the key
+        if (!view[last] || !view[last].IsMap()) {
+          found = false;
+          break;
+        }
+        YAML::Node next = holder[last];
+        holder.reset(next);
+      }
+      last = step;
+    }
+    const YAML::Node& view = holder;
+    if (!found || !holder.IsMap() || !view[last] || !view[last].IsScalar() || view[last].IsNull()) continue;
+    const fs::path given(view[last].Scalar());
+    if (given.empty() || !given.is_relative() || (k.bareNameIsASearch && !given.has_parent_path())) continue;
     std::error_code ec;
     const fs::path here = fs::weakly_canonical(toDir.empty() ? fs::path(".") : fs::path(toDir), ec);
     const fs::path file = fs::weakly_canonical(fs::path(fromDir) / given, ec);
     // The node is edited in place: its line and column (for errors) stay the base's.
-    YAML::Node n = holder[key];
+    YAML::Node n = holder[last];
     n = file.lexically_relative(here).string();
-  };
-  const YAML::Node& cbase = base;
-  if (cbase["load"] && cbase["load"].IsMap() && cbase["load"]["csv"]) {
-    if (cbase["load"]["csv"].IsMap()) rebase(base["load"]["csv"], "file");
-    else rebase(base["load"], "csv");
   }
-  if (cbase["load"] && cbase["load"].IsMap() && cbase["load"]["route"] && cbase["load"]["route"].IsMap() &&
-      cbase["load"]["route"]["csv"])
-    rebase(base["load"]["route"], "csv");
-  if (cbase["compare"] && cbase["compare"].IsMap()) rebase(base["compare"], "scenario");
 }
 
+// Whether a scenario's own text names the cell preset (pack.cell.preset).
+bool namesPreset(const YAML::Node& root) {
+  const YAML::Node& r = root;
+  return r.IsMap() && r["pack"] && r["pack"].IsMap() && r["pack"]["cell"] && r["pack"]["cell"].IsMap() &&
+         r["pack"]["cell"]["preset"];
+}
+
+// `presetDir`: the folder a preset name is looked up from (cells/NAME.yaml there, then the
+// bundled ones): that of the file of the chain that names it, as the base's CSV paths are
+// its own folder's -- a base's own cells/ preset was "unknown" from a child elsewhere.
 YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const std::string& base_dir,
-                          std::vector<std::string>& chain) {
+                          std::vector<std::string>& chain, std::string& presetDir) {
+  presetDir = base_dir;
   if (!root.IsMap() || !root["extends"]) {
     if (Provenance* p = Provenance::active()) p->resetFiles(file);
     return root;
@@ -186,7 +226,10 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
     loadScenarioChain(baseText, path.string(), baseDir.empty() ? "." : baseDir, chain);
   }
   // Freshly parsed, so merged in place (YAML::Clone would lose the nodes' lines).
-  YAML::Node base = resolveExtends(parseYaml(baseText, path.string()), path.string(), baseDir, chain);
+  std::string basePresetDir;
+  YAML::Node base = resolveExtends(parseYaml(baseText, path.string()), path.string(), baseDir.empty() ? "." : baseDir,
+                                   chain, basePresetDir);
+  if (!namesPreset(root)) presetDir = basePresetDir;
   chain.pop_back();
   // Reads through a const view: a non-const lookup of a missing key adds an undefined
   // entry that would shadow the child's key inserted by deepMerge.
@@ -200,6 +243,12 @@ YAML::Node resolveExtends(const YAML::Node& root, const std::string& file, const
     for (const char* k : kinds) childKind = childKind || root["load"][k];
     // A vehicle extending a vehicle: its keys (mass, route, driver ...) merge.
     if (root["load"]["vehicle"] && cbase["load"]["vehicle"]) childKind = false;
+    // A CSV mapping without a `file` changes the base's CSV mapping (`csv: {scale: -1}`
+    // flips the inherited log's sign); one with a `file` is a new log, read as written
+    // (the base's columns and scale do not carry over to it).
+    const YAML::Node childCsv = root["load"]["csv"];
+    if (childCsv && childCsv.IsMap() && !childCsv["file"] && cbase["load"]["csv"] && cbase["load"]["csv"].IsMap())
+      childKind = false;
     if (childKind) {
       base.remove("load");
       if (Provenance* p = Provenance::active()) p->eraseUnder("load");
@@ -286,11 +335,13 @@ void attachProvenance(Scenario& s, const std::shared_ptr<Provenance>& prov) {
   s.warnings = scenarioWarnings(s);
 }
 
-std::string resolvedScenarioText(const std::string& path) {
+std::string resolvedScenarioText(const std::string& path, std::string* presetDirOut) {
   const std::string dir = fs::path(path).parent_path().string();
   std::vector<std::string> chain{chainKey(path)};
+  std::string presetDir;
   const YAML::Node root =
-      resolveExtends(parseYaml(readScenarioText(path), path), path, dir.empty() ? "." : dir, chain);
+      resolveExtends(parseYaml(readScenarioText(path), path), path, dir.empty() ? "." : dir, chain, presetDir);
+  if (presetDirOut) *presetDirOut = presetDir;
   YAML::Emitter out;
   out << root;
   return std::string(out.c_str()) + "\n";
@@ -306,7 +357,8 @@ Scenario loadScenarioChain(const std::string& text, const std::string& file, con
 Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text, const std::string& file,
                                const std::string& base_dir, std::vector<std::string>& chain) {
   if (!given || given.IsNull()) throw ScenarioError(file, 1, 1, "", "the scenario is empty");
-  const YAML::Node root = resolveExtends(given, file, base_dir, chain);
+  std::string presetDir;
+  const YAML::Node root = resolveExtends(given, file, base_dir, chain, presetDir);
   YamlMap m(root, file, "");
   m.has("extends");
   Scenario s;
@@ -320,7 +372,7 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   s.name = m.string("name", fs::path(file).stem().string());
   s.description = m.string("description", "");
   const uint64_t seed = static_cast<uint64_t>(m.integer("seed", 1, 0, limits::kMaxSeed));
-  s.pack = readPack(m.map("pack"), base_dir);
+  s.pack = readPack(m.map("pack"), presetDir);
   s.hardware = readHardware(m.optionalMap("hardware"), s.pack);
   if (PassiveBalancerConfig& b = s.hardware.balancing; b.cells_per_board > 0) {
     b.boards = (s.pack.series + b.cells_per_board - 1) / b.cells_per_board;

@@ -29,7 +29,9 @@ Scenario loadScenarioTree(const YAML::Node& tree, const std::string& text, const
 // The file's YAML with its `extends:` chain merged in, as the loader reads it (relative
 // CSV paths of a base re-expressed against this file's folder): one self-contained
 // text for `packsim fmu`. Call after loading the file (errors are the loader's).
-std::string resolvedScenarioText(const std::string& path);
+// `presetDir`, when given, receives the folder its cell preset is looked up from: that of
+// the file of the chain that names it.
+std::string resolvedScenarioText(const std::string& path, std::string* presetDir = nullptr);
 // Keeps `prov` (what the load recorded) with the scenario and computes its warnings
 // (core/scenario/scenario_warnings.hpp). The load functions above do this themselves
 // unless a caller made its own Provenance active (core/scenario/overrides.cpp).

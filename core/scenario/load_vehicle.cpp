@@ -77,6 +77,7 @@ DrivetrainMap readEfficiencyMap(YamlMap m) {
     for (size_t j = 0; j < nt; ++j) {
       const std::string cell = field + "[" + std::to_string(j) + "]";
       double e = 0.0;
+      if (quotedScalar(row[j])) throw m.errorAt(row[j], cell, quotedValueMessage(row[j], "expected a number"));
       try {
         e = row[j].as<double>();
       } catch (const YAML::Exception&) {

@@ -10,6 +10,7 @@
 #include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/yaml_map.hpp"
+#include "core/scenario/yaml_layers.hpp"
 
 namespace packsim {
 
@@ -132,9 +133,18 @@ void applyOne(YAML::Node& root, const std::string& key, const std::string& value
                                               ", not a mapping: cannot set '" + s.key + "' inside it");
       if (last) {
         const YAML::Node before = static_cast<const YAML::Node&>(cur)[s.key];  // const: must not add the key
+        // `--set KEY=null` removes the key (yaml_layers.hpp): its default applies, or
+        // the other key of a choice can be given.
+        if (removesKey(v)) {
+          if (before) cur.remove(s.key);
+          return;
+        }
         if (Provenance* p = Provenance::active(); p && before && (before.IsMap() || before.IsSequence()) && v.IsScalar())
           p->warn(dependenceRemovedWarning(loaderFieldName(steps), before, nodePlace(Provenance::displayName(file), before), v,
                                           "--set " + key + "=" + value));
+        YAML::Node layer(YAML::NodeType::Map);
+        layer[s.key] = v;
+        dropReplacedAlternatives(cur, layer, here);  // `--set ambient.profile=...` drops ambient.temp_C
         cur[s.key] = v;
         return;
       }

@@ -118,9 +118,10 @@ void Provenance::addPresetScope(const std::string& path, const std::string& name
 const Provenance::PresetScope* Provenance::presetFor(const std::string& key) const {
   for (auto p = presets_.rbegin(); p != presets_.rend(); ++p) {
     if (!keyUnder(key, p->path) || key == p->path) continue;
-    std::string rest = key.substr(p->path.size() + 1);
-    rest = rest.substr(0, rest.find_first_of(".["));
-    if (std::find(p->scenarioKeys.begin(), p->scenarioKeys.end(), rest) != p->scenarioKeys.end()) return nullptr;
+    // A scenario key is a field (`r0_ohm`) or a part of a curve given in part (`ocv_V.y`).
+    const std::string rest = key.substr(p->path.size() + 1);
+    for (const std::string& given : p->scenarioKeys)
+      if (keyUnder(rest, given)) return nullptr;
     return &*p;
   }
   return nullptr;

@@ -8,6 +8,7 @@
 #include "core/scenario/derived_defaults.hpp"
 #include "core/scenario/number_ranges.hpp"
 #include "core/scenario/provenance.hpp"
+#include "core/scenario/start_voltage_warning.hpp"
 
 namespace packsim {
 
@@ -244,6 +245,7 @@ const std::vector<WarningCheck>& warningChecks() {
       {"balancing_board", checkBalancingBoard},
       {"run_end", checkRunEnd},
       {"load_sign", checkLoadSign},
+      {"start_voltage", checkStartVoltage},
   };
   return checks;
 }

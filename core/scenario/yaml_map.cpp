@@ -7,6 +7,9 @@
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
+#include <unordered_set>
+#include <utility>
+#include <vector>
 
 #include "core/scenario/provenance.hpp"
 #include "core/scenario/decimal_text.hpp"
@@ -70,6 +73,79 @@ void rejectDuplicateKeys(const YAML::Node& n, const std::string& file, int depth
   }
 }
 
+// A fresh copy of `n` (its scalars' tags kept: a quoted "5" stays text), sharing no node
+// with it; the copy has no line and column.
+YAML::Node copyTree(const YAML::Node& n) {
+  if (n.IsMap()) {
+    YAML::Node m(YAML::NodeType::Map);
+    for (auto it = n.begin(); it != n.end(); ++it) m.force_insert(copyTree(it->first), copyTree(it->second));
+    return m;
+  }
+  if (n.IsSequence()) {
+    YAML::Node q(YAML::NodeType::Sequence);
+    for (const YAML::Node& e : n) q.push_back(copyTree(e));
+    return q;
+  }
+  if (!n.IsScalar()) return YAML::Node(YAML::NodeType::Null);
+  YAML::Node v(n.Scalar());
+  v.SetTag(n.Tag());
+  return v;
+}
+
+// An alias (`*slow`) is the anchored node itself, not a copy: yaml-cpp edits a node in
+// place, so a child's `cell_overvoltage: {delay_ms: 100}` or a --set of it changed the
+// `cell_undervoltage: *slow` beside it too, silently. Every use after the first becomes
+// a copy of its own. Distinct nodes of a parsed document start at distinct places, so a
+// value at a place already seen is an alias of the node there. (A null has no text of
+// its own to tell; changing it in place replaces only its own entry.) The entries after
+// the replaced one are re-added in order, so every other node keeps its line and column.
+void unshareAliases(YAML::Node n, std::unordered_set<size_t>& seen) {
+  const auto repeat = [&](const YAML::Node& v) {
+    if (v.IsNull() || v.Mark().pos < 0) return false;
+    return !seen.insert(static_cast<size_t>(v.Mark().pos)).second;
+  };
+  if (n.IsMap()) {
+    std::vector<std::pair<YAML::Node, YAML::Node>> entries;
+    for (auto it = n.begin(); it != n.end(); ++it) entries.emplace_back(it->first, it->second);
+    for (size_t i = 0; i < entries.size(); ++i) {
+      if (!repeat(entries[i].second)) {
+        unshareAliases(entries[i].second, seen);
+        continue;
+      }
+      for (size_t j = i; j < entries.size(); ++j) n.remove(entries[j].first);
+      entries[i].second.reset(copyTree(entries[i].second));  // reset: operator= would write through the alias
+      for (size_t j = i; j < entries.size(); ++j) n.force_insert(entries[j].first, entries[j].second);
+    }
+  } else if (n.IsSequence()) {
+    std::vector<YAML::Node> items(n.begin(), n.end());
+    for (size_t i = 0; i < items.size(); ++i) {
+      if (!repeat(items[i])) {
+        unshareAliases(items[i], seen);
+        continue;
+      }
+      for (size_t j = items.size(); j-- > i;) n.remove(j);
+      items[i].reset(copyTree(items[i]));
+      for (size_t j = i; j < items.size(); ++j) n.push_back(items[j]);
+    }
+  }
+}
+
+// YAML indents with spaces only; yaml-cpp's message for a tab ("illegal map value",
+// "end of map not found") names no tab. The first line indented with one is named.
+std::string tabHint(const std::string& text) {
+  size_t line = 1;
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      continue;
+    }
+    if (text[i] == '\t' && (i == 0 || text.find_last_not_of(" \t", i) == std::string::npos ||
+                             text[text.find_last_not_of(" \t", i)] == '\n'))
+      return " (line " + std::to_string(line) + " is indented with a tab; YAML indents with spaces)";
+  }
+  return "";
+}
+
 }  // namespace
 
 YAML::Node parseYaml(const std::string& text, const std::string& file) {
@@ -77,10 +153,12 @@ YAML::Node parseYaml(const std::string& text, const std::string& file) {
   try {
     root = YAML::Load(text);
   } catch (const YAML::ParserException& e) {
-    throw ScenarioError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg);
+    throw ScenarioError(file, e.mark.line + 1, e.mark.column + 1, "", "YAML syntax error: " + e.msg + tabHint(text));
   }
   size_t visited = 0;
   rejectDuplicateKeys(root, file, 0, visited);
+  std::unordered_set<size_t> seen;
+  unshareAliases(root, seen);
   return root;
 }
 
@@ -171,8 +249,17 @@ bool plainDecimal(const std::string& s, double& v) {
   return r.ec == std::errc() && r.ptr == end;
 }
 
+bool quotedScalar(const YAML::Node& n) {
+  return n.IsScalar() && (n.Tag() == "!" || n.Tag() == "tag:yaml.org,2002:str");
+}
+
+std::string quotedValueMessage(const YAML::Node& n, const std::string& expected) {
+  return expected + ", got the text \"" + n.Scalar() + "\" (quoted, so YAML reads it as text): write it without quotes";
+}
+
 double YamlMap::toNumber(const YAML::Node& n, const std::string& field, Range r) const {
   if (!n.IsScalar()) throw errorAt(n, field, "expected a number");
+  if (quotedScalar(n)) throw errorAt(n, field, quotedValueMessage(n, "expected a number"));
   double v = 0.0;
   try {
     if (!plainDecimal(n.Scalar(), v)) v = n.as<double>();
@@ -217,6 +304,7 @@ bool YamlMap::boolean(const std::string& key, bool fallback) {
     return fallback;
   }
   const YAML::Node n = node_[key];
+  if (quotedScalar(n)) throw errorAt(n, fieldName(key), quotedValueMessage(n, "expected true or false"));
   try {
     if (n.IsScalar()) {
       const bool v = n.as<bool>();
@@ -307,8 +395,12 @@ void YamlMap::finish() const {
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     const std::string key = it->first.Scalar();
     if (std::find(declared_.begin(), declared_.end(), key) != declared_.end()) continue;
-    const std::string near = closestMatch(key, declared_);
     const YAML::Mark m = it->first.Mark();
+    if (key == "<<")  // YAML 1.1's merge key, which yaml-cpp reads as a key named "<<"
+      throw ScenarioError(file_, m.line + 1, m.column + 1, fieldName(key),
+                          "YAML merge keys ('<<: *anchor') are not supported: write the keys out, or give the whole "
+                          "value as an alias ('key: *anchor'), or put the shared values in a base scenario (extends:)");
+    const std::string near = closestMatch(key, declared_);
     std::string valid;
     for (const auto& d : declared_) valid += (valid.empty() ? "" : ", ") + d;
     throw ScenarioError(file_, m.line + 1, m.column + 1, fieldName(key),

@@ -84,6 +84,13 @@ class YamlMap {
 // as<double>, without its stream; false for any other text (yaml-cpp reads it then).
 bool plainDecimal(const std::string& s, double& v);
 
+// A quoted scalar ("5", '5', or one tagged !!str) is text in YAML, not a number or a
+// true/false: where one of those belongs it is refused with this message, naming the
+// field, instead of read as one. (Accepting "5" would make a JSON string from a script or
+// a spreadsheet cell a silent number; every number-taking key refuses it alike.)
+bool quotedScalar(const YAML::Node& n);
+std::string quotedValueMessage(const YAML::Node& n, const std::string& expected);
+
 // Parses YAML text, turning parser errors into ScenarioError.
 YAML::Node parseYaml(const std::string& text, const std::string& file);
 

@@ -419,5 +419,13 @@ TEST(CliErrors, BadScenarioExitsTwoAndWritesNothing) {
   fs::remove_all(dir);
 }
 
+TEST(ScenarioErrors, ATabIndentIsNamed) {
+  // Was: "test.yaml:2:8: YAML syntax error: illegal map value", naming no tab.
+  const std::string e = errorOf("pack:\n\tseries: 4\n");
+  EXPECT_NE(e.find("test.yaml:2:8: YAML syntax error: illegal map value (line 2 is indented with a tab; YAML indents "
+                   "with spaces)"),
+            std::string::npos) << e;
+}
+
 }  // namespace
 }  // namespace packsim
