@@ -39,6 +39,7 @@
 #include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
+#include "models/sensors/round_even.hpp"
 
 namespace packsim {
 
