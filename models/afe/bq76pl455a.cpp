@@ -348,7 +348,8 @@ void Bq76pl455aChain::clearWritten(Device& dv, uint8_t addr, uint8_t bits) {
 
 // Sample the selected channels now; the result is held once the conversion time
 // has passed. Noise draws in a fixed order: cells bottom up, module, AUX inputs.
-void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
+template <class Round>
+[[gnu::always_inline]] inline void Bq76pl455aChain::startSampleWith(Device& dv, int d, double t) {
   const uint32_t ch = get32(dv.reg, PL455_REG_CHANNELS);
   const int samples = 1 << std::min<unsigned>(dv.reg[PL455_REG_OVERSMPL] & PL455_OVERSMPL_LOG2_MASK, PL455_OVERSMPL_MAX_LOG2);
   dv.replySlots.select(ch);  // the reply's order, made here: its count is the channels selected
@@ -366,7 +367,7 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
     if ((ch & PL455_CH_CELL(static_cast<unsigned>(c + 1))) == 0) continue;
     const size_t cell = static_cast<size_t>(first + c), cs = static_cast<size_t>(c);
     dv.pending[static_cast<size_t>(16 + c)] =
-        static_cast<uint16_t>(errors_.convert(base, cell, dv.analog, cs, cell_V[cs], noise_));
+        static_cast<uint16_t>(errors_.convert<Round>(base, cell, dv.analog, cs, cell_V[cs], noise_));
   }
   if (ch & PL455_CH_MODULE) {
     const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
@@ -385,6 +386,12 @@ void Bq76pl455aChain::startSample(Device& dv, int d, double t) {
   dv.ready_s = t + selected * samples * cfg_.conversion_s_per_channel;
   if (dv.analog.host_opens_balancing) dv.pauses.add(t, dv.ready_s, (1u << n) - 1u);
   dv.reg[PL455_REG_STATUS] = static_cast<uint8_t>(dv.reg[PL455_REG_STATUS] & ~PL455_STATUS_DRDY);
+}
+
+// The SSE4.1 build of startSample (round_even.hpp): the same body, its cells' rounding and
+// the module's and die temperature's std::nearbyint the one instruction roundsd.
+__attribute__((target("sse4.1"))) void Bq76pl455aChain::startSampleNative(Device& dv, int d, double t) {
+  startSampleWith<RoundNearbyint>(dv, d, t);
 }
 
 void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool takesAddress) {

@@ -43,6 +43,7 @@
 #include "models/afe/monitor_part.hpp"
 #include "models/afe/reply_slots.hpp"
 #include "models/sensors/adc.hpp"
+#include "models/sensors/round_even.hpp"
 
 namespace packsim {
 
@@ -178,7 +179,15 @@ class Bq76pl455aChain final : public MonitorChain {
   }
   void write(Device& dv, int d, const Frame& f, double t, bool takesAddress);
   void clearWritten(Device& dv, uint8_t addr, uint8_t bits);
-  void startSample(Device& dv, int d, double t);
+  // Two builds of one body (startSampleWith): the SSE4.1 one, its rounding one instruction
+  // (round_even.hpp), where the CPU has it (nativeRounding), else the plain one.
+  void startSample(Device& dv, int d, double t) {
+    if (nativeRounding()) startSampleNative(dv, d, t);
+    else startSampleWith<RoundHalfEven>(dv, d, t);
+  }
+  void startSampleNative(Device& dv, int d, double t);
+  template <class Round>
+  void startSampleWith(Device& dv, int d, double t);
   uint16_t faultSummary(const Device& dv) const;
   // One device's reply to f (data read or sample) into out (size 0: no reply); ready_s:
   // when it can start sending.

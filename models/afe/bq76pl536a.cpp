@@ -231,7 +231,8 @@ void Bq76pl536aChain::advance(double t) {
   if (!calm_) runAllComparators(t);
 }
 
-void Bq76pl536aChain::startConversion(Device& dv, double t) {
+template <class Round>
+[[gnu::always_inline]] inline void Bq76pl536aChain::startConversionWith(Device& dv, double t) {
   const uint8_t sel = dv.reg[BQ536_ADC_CONTROL];
   const int nCells = std::min<int>((sel & BQ536_AC_CELL_SEL_MASK) + 1, BQ536_CELLS_MAX);
   // The channels it does not convert keep their results.
@@ -246,7 +247,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
   if (sel & BQ536_AC_GPAI) {
     const double module_V = moduleVoltage(cell_V, cfg_.module_noise_V, noise_);
     const double lsb = BQ536_GPAI_CELL_LSBS * cfg_.cell_adc.lsb;
-    put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(roundHalfEven(module_V / lsb)), 0,
+    put(BQ536_GPAI, code16(std::clamp<int64_t>(static_cast<int64_t>(Round::of(module_V / lsb)), 0,
                                                cfg_.cell_adc.code_max)));
     ++channels;
   }
@@ -256,7 +257,7 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
       continue;
     }
     const size_t i = static_cast<size_t>(c), cell = static_cast<size_t>(dv.firstCell + c);
-    put(BQ536_VCELL(c), code16(errors_.convert(cfg_.cell_adc, cell, a, i, cell_V[i], noise_)));
+    put(BQ536_VCELL(c), code16(errors_.convert<Round>(cfg_.cell_adc, cell, a, i, cell_V[i], noise_)));
   }
   const uint8_t tsSel[BQ536_TEMPS_MAX] = {BQ536_AC_TS1, BQ536_AC_TS2};
   const uint8_t tsBias[BQ536_TEMPS_MAX] = {BQ536_IO_TS1, BQ536_IO_TS2};
@@ -273,6 +274,11 @@ void Bq76pl536aChain::startConversion(Device& dv, double t) {
   dv.readyAt_s = t + channels * cfg_.conversion_s_per_channel;
   if (a.host_opens_balancing) dv.pauses.add(t, dv.readyAt_s, (1u << dv.cells) - 1u);
   settle(dv, t);  // a zero conversion time lands at once
+}
+
+// The SSE4.1 build of startConversion (round_even.hpp): the same body, its rounding roundsd.
+__attribute__((target("sse4.1"))) void Bq76pl536aChain::startConversionNative(Device& dv, double t) {
+  startConversionWith<RoundNearbyint>(dv, t);
 }
 
 void Bq76pl536aChain::clearLatches(Device& dv, uint8_t reg, uint8_t falling) {

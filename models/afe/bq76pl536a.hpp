@@ -39,6 +39,7 @@
 #include "models/afe/frame_crc_memo.hpp"
 #include "models/afe/monitor_part.hpp"
 #include "models/sensors/adc.hpp"
+#include "models/sensors/round_even.hpp"
 
 namespace packsim {
 
@@ -176,7 +177,16 @@ class Bq76pl536aChain final : public MonitorChain {
   uint8_t status(const Device& dv) const;
   void write(Device& dv, double t, uint8_t reg, uint8_t value);
   void clearLatches(Device& dv, uint8_t reg, uint8_t falling);
-  void startConversion(Device& dv, double t);
+  // ADC_CONVERT: every selected channel converted, its codes pending until the results
+  // land. Two builds of one body (startConversionWith): the SSE4.1 one, its rounding one
+  // instruction (round_even.hpp), where the CPU has it (nativeRounding), else the plain one.
+  void startConversion(Device& dv, double t) {
+    if (nativeRounding()) startConversionNative(dv, t);
+    else startConversionWith<RoundHalfEven>(dv, t);
+  }
+  void startConversionNative(Device& dv, double t);
+  template <class Round>
+  void startConversionWith(Device& dv, double t);
   // A reply frame's CRC. The results read (request and GPAI .. TEMPERATURE2, every tick,
   // its bytes new each time) through the CRC unrolled for its length, as the firmware
   // checks it (some 30 instructions less than crcCrc8's loop and tail); others through

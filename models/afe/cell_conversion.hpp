@@ -34,11 +34,12 @@ class CellChannelErrors {
   double offset_V(int cell) const { return offset_[static_cast<size_t>(cell)]; }
 
   // The code of stack cell `cell`, input `k` of the device whose pins `pins` are, for
-  // v_V across the input. Inline: one call per cell and conversion, for a few additions
-  // around the ADC's own (inline) conversion.
-  int64_t convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k, double v_V,
-                  Rng& noise) const {
-    return adc.convertWith(adc.gain_error + (gain_[cell] + pins.cell_gain_error[k]),
+  // v_V across the input, rounded by Round (round_even.hpp). Inline: one call per cell
+  // and conversion, for a few additions around the ADC's own (inline) conversion.
+  template <class Round = RoundHalfEven>
+  [[gnu::always_inline]] int64_t convert(const AdcChannel& adc, size_t cell, const DeviceAnalog& pins, size_t k,
+                                         double v_V, Rng& noise) const {
+    return adc.convertWith<Round>(adc.gain_error + (gain_[cell] + pins.cell_gain_error[k]),
                            adc.offset + (offset_[cell] + pins.cell_offset_V[k]), v_V, noise);
   }
 

@@ -99,7 +99,11 @@ struct FlatCell {
   // x: the cell's states (layout: soc, v_rc…, h).
   double emf_V(const double* x, double ocv_V, double i_A) const {
     double v = ocv_V;
-    for (int k = 0; k < n_rc; ++k) v -= x[1 + k];
+    switch (n_rc) {  // the usual cell's one or two pairs without the loop's count and branches
+      case 1: v -= x[1]; break;
+      case 2: v -= x[1]; v -= x[2]; break;
+      default: for (int k = 0; k < n_rc; ++k) v -= x[1 + k];
+    }
     if (has_hysteresis) v += x[1 + n_rc];
     return v + instantHysteresis_V(i_A);
   }

@@ -24,15 +24,18 @@ struct AdcChannel {
   int64_t convert(double x, Rng& rng) const { return convertWith(gain_error, offset, x, rng); }
   // The same conversion with this gain error and offset instead of the channel's own
   // (a monitor input's: the part's plus the channel's drawn and injected errors), without
-  // copying the channel. Inline: several conversions per tick and cell.
-  int64_t convertWith(double gainError, double offsetIn, double x, Rng& rng) const {
+  // copying the channel. Inline (always: also into a part's SSE4.1 build, whose rounding
+  // is Round, round_even.hpp): several conversions per tick and cell.
+  template <class Round = RoundHalfEven>
+  [[gnu::always_inline]] int64_t convertWith(double gainError, double offsetIn, double x, Rng& rng) const {
     const double v = x * (1.0 + gainError) + offsetIn;
-    if (!(noise_rms > 0.0)) return codeOf(v);
-    return noisyCodeOf(v, standardNormalLazy(rng), rng);
+    if (!(noise_rms > 0.0)) return codeOf<Round>(v);
+    return noisyCodeOf<Round>(v, standardNormalLazy(rng), rng);
   }
 
   // The code of v at the input.
-  int64_t codeOf(double v) const { return clampedCode(roundHalfEven(v / lsb)); }
+  template <class Round = RoundHalfEven>
+  [[gnu::always_inline]] int64_t codeOf(double v) const { return clampedCode(Round::of(v / lsb)); }
 
   // codeOf(v + noise_rms·n), noise_rms > 0, n just drawn from rng. The quotient is
   // monotonic in n (each step rounds monotonically; the division by lsb keeps or reverses
@@ -43,10 +46,11 @@ struct AdcChannel {
   // rounds to below 0.5 only if it is below 0.5 (a subtraction and a compare, not a
   // second rounding). Else (a tie, NaN, or the bracket across a code's edge) the normal's
   // value decides. The same code as drawing n with standardNormal.
-  int64_t noisyCodeOf(double v, const NormalBracket& n, const Rng& rng) const {
-    const double lo = roundHalfEven((v + noise_rms * n.lo) / lsb);
+  template <class Round = RoundHalfEven>
+  [[gnu::always_inline]] int64_t noisyCodeOf(double v, const NormalBracket& n, const Rng& rng) const {
+    const double lo = Round::of((v + noise_rms * n.lo) / lsb);
     if (std::fabs((v + noise_rms * n.hi) / lsb - lo) < 0.5) return clampedCode(lo);
-    return codeOf(v + noise_rms * lazyNormalValue(rng, n));
+    return codeOf<Round>(v + noise_rms * lazyNormalValue(rng, n));
   }
 
   // A rounded quotient as a code, saturating at the rails.

@@ -19,4 +19,28 @@ inline double roundHalfEven(double v) {
   return std::copysign((a + kTwo52) - kTwo52, v);
 }
 
+// The same rounding as a policy, for conversion code built twice (AdcChannel's
+// conversions, a part's startConversion): RoundHalfEven is the formula above, for any
+// x86-64; RoundNearbyint is std::nearbyint itself, which GCC makes the one instruction
+// roundsd (current mode, no inexact flag) inside a function built for SSE4.1
+// (target("sse4.1")), some 10 instructions less a conversion than the formula;
+// elsewhere it is libm's call. Both give the same bits.
+struct RoundHalfEven {
+  [[gnu::always_inline]] static double of(double v) { return roundHalfEven(v); }
+};
+struct RoundNearbyint {
+  [[gnu::always_inline]] static double of(double v) { return std::nearbyint(v); }
+};
+
+namespace detail {
+extern bool gNativeRounding;  // round_even.cpp
+}
+
+// Whether code with both builds takes its SSE4.1 one (RoundNearbyint): the CPU has
+// SSE4.1, asked once at start-up. Inline: read at every conversion.
+inline bool nativeRounding() { return detail::gNativeRounding; }
+// Tests: the SSE4.1 builds off (false) or back on where the CPU has them; returns the
+// setting before.
+bool useNativeRounding(bool on);
+
 }  // namespace packsim

@@ -598,6 +598,40 @@ TEST(Bq76pl455a, TransactionTimeFollowsTheBaudRateAndTheTimeout) {
   EXPECT_NEAR(r.last.duration_s, 6 * 40e-6 + Bq76pl455aChain::kResponseTimeout_s, 1e-12);
 }
 
+// The sample's SSE4.1 build (its rounding roundsd, where the CPU has it) and the plain one
+// answer the same bytes: noisy and noiseless cells across many codes (ties included),
+// the module, the die temperature, every channel selected.
+TEST(Bq76pl455a, TheSamplesSse41BuildAnswersAsThePlainOne) {
+  auto run = [](bool native, double noise_V) {
+    const bool was = useNativeRounding(native);
+    Rig r(2, 16, 5, noise_V);
+    r.autoAddress();
+    r.writeAll(PL455_REG_CHANNELS, {0xFF, 0xFF, 0xFF, 0xFF});
+    std::vector<uint8_t> all;
+    const double lsb = 5.0 / 65535.0;
+    for (int k = 0; k < 200; ++k) {
+      for (int d = 0; d < 2; ++d) {
+        DeviceAnalog& a = r.chain.analog(d);
+        for (size_t c = 0; c < a.cell_V.size(); ++c)  // half codes (ties) and codes between
+          a.cell_V[c] = ((k * 11 + static_cast<int>(c) * 97 + d * 31) % 60000 + (k % 2 ? 0.5 : 0.29)) * lsb;
+        a.die_C = 20.0 + 0.05 * k + (k % 3 ? 0.005 : 0.0);  // tenths of a degree: ties too
+      }
+      for (int d = 0; d < 2; ++d) {
+        const std::vector<uint8_t> rep = r.send(frame(PL455_REQ_SINGLE_R, d, PL455_REG_CMD, {PL455_CMD_SAMPLE}), 80);
+        all.insert(all.end(), rep.begin(), rep.end());
+      }
+      r.wait(0.01);
+    }
+    useNativeRounding(was);
+    return all;
+  };
+  for (double noise_V : {0.0, 0.5e-3}) {
+    const std::vector<uint8_t> plain = run(false, noise_V);
+    EXPECT_EQ(run(true, noise_V), plain) << "noise " << noise_V;
+    EXPECT_GT(plain.size(), 200u * 2u * 35u);
+  }
+}
+
 TEST(Bq76pl455a, SameSeedGivesTheSameBytes) {
   auto run = [](uint64_t seed) {
     MonitorConfig c = pl455Config(2, 16);

@@ -138,8 +138,14 @@ TEST(Curve, FlatCurveIsCurveEvalBitForBit) {
       Curve::polynomial(kRint, CurveAxis::Discharged_Ah),
       Curve::polynomial(kRint, CurveAxis::Discharged_Ah).withArrhenius(2250.0, 20.0),
       Curve::polynomial({0.8, 3.4}),
-      // FlatCurve's Horner goes two coefficients a round: whole rounds only, rounds and a last one
+      // FlatCurve's Horner is unrolled up to eight coefficients, a loop past them: every
+      // count from one to eight, and nine
+      Curve::polynomial({0.0123}),
+      Curve::polynomial({-0.2, 3.7, 0.0123}),
       Curve::polynomial({-0.457, 0.1991, 0.0695, 3.1}),
+      Curve::polynomial({0.4481, -0.457, 0.1991, 0.0695, 3.3}),
+      Curve::polynomial({-0.1914, 0.4481, -0.457, 0.1991, 0.0695, 3.3, -1e-3}, CurveAxis::Discharged_Ah),
+      Curve::polynomial({0.0292, -0.1914, 0.4481, -0.457, 0.1991, 0.0695, 3.3, -1e-3}).withArrhenius(1800.0, 25.0),
       Curve::polynomial({1e-3, -0.02, 0.0292, -0.1914, 0.4481, -0.457, 0.1991, 0.0695, 3.3}, CurveAxis::Discharged_Ah),
       Curve::table(xs, ys),
       Curve::table(xs, ys).withArrhenius(-1500.0, 30.0),

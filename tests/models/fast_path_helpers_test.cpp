@@ -1,6 +1,6 @@
 // The per-tick helpers that replace a library call on the read-out path must give what
-// the call gave, bit for bit: roundHalfEven against std::nearbyint (the default rounding
-// mode), roundHalfAway against std::llround, copyBytes / zeroBytes / copyValues against a plain loop, windowMasks
+// the call gave, bit for bit: roundHalfEven and the SSE4.1 build's roundsd
+// (RoundNearbyint) against std::nearbyint (the default rounding mode), roundHalfAway against std::llround, copyBytes / zeroBytes / copyValues against a plain loop, windowMasks
 // (two cells per SSE2 compare) against its plain loop, takeOverBytes / takeOverDoubles
 // against a compare-and-copy loop, standardNormal (its kept second
 // normal served inline) against Box-Muller written out here on the same engine, ReplySlots
@@ -36,14 +36,21 @@ namespace {
 
 using test::bitsOf;
 
-// Same bits as std::nearbyint (NaN: a NaN).
+// RoundNearbyint as a part's SSE4.1 build takes it (the instruction roundsd).
+__attribute__((target("sse4.1"))) double roundNative(double v) { return RoundNearbyint::of(v); }
+const bool kHasSse41 = __builtin_cpu_supports("sse4.1") != 0;
+
+// Same bits as std::nearbyint (NaN: a NaN): roundHalfEven, and RoundNearbyint's SSE4.1
+// build where the CPU has it.
 void expectSameAsNearbyint(double v) {
-  const double want = std::nearbyint(v), got = roundHalfEven(v);
+  const double want = std::nearbyint(v), got = roundHalfEven(v), native = kHasSse41 ? roundNative(v) : want;
   if (std::isnan(want)) {
     EXPECT_TRUE(std::isnan(got)) << v;
+    EXPECT_TRUE(std::isnan(native)) << v;
     return;
   }
   EXPECT_EQ(bitsOf(got), bitsOf(want)) << std::hexfloat << v << " -> " << got << ", nearbyint " << want;
+  EXPECT_EQ(bitsOf(native), bitsOf(want)) << std::hexfloat << v << " -> " << native << " (roundsd), nearbyint " << want;
 }
 
 TEST(RoundHalfEven, MatchesNearbyintOnTiesEdgesAndSpecials) {
