@@ -18,6 +18,7 @@
 #include "core/scenario/provenance.hpp"
 #include "core/scenario/scenario_warnings.hpp"
 #include "core/scenario/scenario_sections.hpp"
+#include "core/scenario/text_file_kind.hpp"
 #include "core/scenario/value_ranges.hpp"
 #include "core/scenario/yaml_layers.hpp"
 
@@ -529,7 +530,10 @@ std::string readScenarioText(const std::string& path, const std::string& what) {
   if (!in) throw ScenarioError(path, 0, 0, "", "cannot open " + what);
   std::ostringstream os;
   os << in.rdbuf();
-  return os.str();
+  std::string text = os.str();
+  const std::string notText = notYamlText(text);
+  if (!notText.empty()) throw ScenarioError(path, 0, 0, "", "this " + what + " is " + notText);
+  return text;
 }
 
 Scenario loadScenarioFile(const std::string& path) {

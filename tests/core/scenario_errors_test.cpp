@@ -427,5 +427,31 @@ TEST(ScenarioErrors, ATabIndentIsNamed) {
             std::string::npos) << e;
 }
 
+// A result file, an FMU, a firmware library or other binary data given where a scenario
+// belongs (`packsim check r.h5`) is named for what it is; it read as a YAML syntax error
+// at some line of its bytes ("r.h5:3:6: YAML syntax error: unknown escape character").
+TEST(ScenarioErrors, AFileThatIsNoTextSaysWhatItIs) {
+  const fs::path dir = test::processTempDir("packsim_not_text");
+  fs::create_directories(dir);
+  // A real result: a short run written as packsim writes it.
+  const fs::path result = dir / "r.h5";
+  const std::string cmd = std::string(PACKSIM_BINARY) + " run " + test::scenarioDir() +
+                          "/eco_marathon_12s.yaml --set run.duration_s=1 -q -o " + result.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  EXPECT_NE(test::fileErrorOf(result).find("r.h5: this scenario file is an HDF5 file (a packsim result?), not a "
+                                           "scenario, which is YAML text: read a result with `packsim report FILE`"),
+            std::string::npos)
+      << test::fileErrorOf(result);
+  const auto bytes = [&](const std::string& name, const std::string& data) {
+    std::ofstream(dir / name, std::ios::binary) << data;
+    return test::fileErrorOf(dir / name);
+  };
+  EXPECT_NE(bytes("m.fmu", std::string("PK\x03\x04rest", 8)).find("a ZIP archive (an FMU?)"), std::string::npos);
+  EXPECT_NE(bytes("fw.so", std::string("\x7f" "ELF\x02\x01", 6)).find("shared library (a firmware?)"), std::string::npos);
+  EXPECT_NE(bytes("x.yaml", std::string("name: x\n\0zz", 10)).find("binary data (a NUL byte at byte 9)"),
+            std::string::npos);
+  EXPECT_EQ(bytes("ok.yaml", "name: x\n").find("binary"), std::string::npos);  // text reads as YAML
+}
+
 }  // namespace
 }  // namespace packsim
