@@ -572,6 +572,29 @@ TEST(Bq76pl536a, TransactionTimeFollowsTheSpiClock) {
   EXPECT_DOUBLE_EQ(bus.last.duration_s, 4 * 8 / 1e6);
 }
 
+// A two-device stack addressed and set to convert every cell and both thermistors (once,
+// at its first call), its cells set to cellV(device, cell), one conversion, and both
+// devices' result registers appended to `all`.
+template <class CellV>
+void convertAndRead(Bus& bus, Bq76pl536aChain& chain, CellV cellV, std::vector<uint8_t>& all) {
+  if (bus.t == 0.0) {
+    bus.addressAll(2);
+    bus.write(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, 3);
+    bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONTROL, 0x3D);
+  }
+  for (int d = 0; d < 2; ++d) {
+    std::vector<double>& v = chain.analog(d).cell_V;
+    for (size_t i = 0; i < v.size(); ++i) v[i] = cellV(d, i);
+  }
+  bus.t += 0.1;
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, 1);
+  bus.t += 1e-3;
+  for (uint8_t a = 1; a <= 2; ++a) {
+    const std::vector<uint8_t> v = bus.read(a, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
+    all.insert(all.end(), v.begin(), v.end());
+  }
+}
+
 TEST(Bq76pl536a, NoiseAndChannelErrorsAreDrawnFromTheSeed) {
   MonitorConfig cfg = config(2);
   cfg.cell_adc.noise_rms = 2e-3;
@@ -582,21 +605,9 @@ TEST(Bq76pl536a, NoiseAndChannelErrorsAreDrawnFromTheSeed) {
   auto readout = [&](uint64_t seed) {
     Bq76pl536aChain chain(cfg, 12, seed);
     Bus bus{chain};
-    bus.addressAll(2);
-    bus.write(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, 3);
-    bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONTROL, 0x3D);
     std::vector<uint8_t> all;
-    for (int k = 0; k < 3; ++k) {
-      for (int d = 0; d < 2; ++d)
-        for (double& v : chain.analog(d).cell_V) v = 3.6;
-      bus.t += 0.1;
-      bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, 1);
-      bus.t += 1e-3;
-      for (uint8_t a = 1; a <= 2; ++a) {
-        const std::vector<uint8_t> v = bus.read(a, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
-        all.insert(all.end(), v.begin(), v.end());
-      }
-    }
+    for (int k = 0; k < 3; ++k)
+      convertAndRead(bus, chain, [](int, size_t) { return 3.6; }, all);
     return all;
   };
   EXPECT_EQ(readout(7), readout(7));
@@ -616,24 +627,11 @@ TEST(Bq76pl536a, TheConversionsSse41BuildReadsAsThePlainOne) {
     cfg.module_noise_V = noise_V > 0.0 ? 5e-3 : 0.0;
     Bq76pl536aChain chain(cfg, 12, 11);
     Bus bus{chain};
-    bus.addressAll(2);
-    bus.write(BQ536_ADDR_BROADCAST, BQ536_IO_CONTROL, 3);
-    bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONTROL, 0x3D);
     std::vector<uint8_t> all;
-    for (int k = 0; k < 400; ++k) {
-      for (int d = 0; d < 2; ++d) {
-        std::vector<double>& v = chain.analog(d).cell_V;
-        for (size_t i = 0; i < v.size(); ++i)  // half codes (ties), codes between, past both rails
-          v[i] = ((k * 7 + static_cast<int>(i) * 13 + d * 29) % 16500 + (k % 2 ? 0.5 : 0.37)) * kLsb_V - (k % 9 == 0 ? 0.1 : 0.0);
-      }
-      bus.t += 0.1;
-      bus.write(BQ536_ADDR_BROADCAST, BQ536_ADC_CONVERT, 1);
-      bus.t += 1e-3;
-      for (uint8_t a = 1; a <= 2; ++a) {
-        const std::vector<uint8_t> v = bus.read(a, BQ536_RESULTS_FIRST, BQ536_RESULTS_LEN);
-        all.insert(all.end(), v.begin(), v.end());
-      }
-    }
+    for (int k = 0; k < 400; ++k)  // half codes (ties), codes between, past both rails
+      convertAndRead(bus, chain, [k](int d, size_t i) {
+        return ((k * 7 + static_cast<int>(i) * 13 + d * 29) % 16500 + (k % 2 ? 0.5 : 0.37)) * kLsb_V - (k % 9 == 0 ? 0.1 : 0.0);
+      }, all);
     useNativeRounding(was);
     return all;
   };
