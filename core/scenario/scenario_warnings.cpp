@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/parts/monitor_parts.hpp"
 #include "core/scenario/derived_defaults.hpp"
 #include "core/scenario/number_ranges.hpp"
 #include "core/scenario/provenance.hpp"
@@ -140,6 +141,20 @@ void checkBalancingBoard(const Scenario& s, const Provenance& p, std::vector<std
                 "temperature is simulated and bms.balancing.board_max_C can never act");
 }
 
+// Balancing resistors that nothing switches: packsim's core balances only with a
+// bms.balancing section, and no part balances on its own here. A resistor sweep over
+// such a base gives identical rows.
+void checkBalancingUnused(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
+  const PassiveBalancerConfig& b = s.hardware.balancing;
+  if (!b.present || s.bms.firmware.library || s.bms.image.balance.enabled) return;
+  const MonitorPart& part = monitorPart(s.hardware.afe.model);
+  if (part.balances_on_its_own != nullptr && part.balances_on_its_own(s.hardware.afe)) return;
+  out.push_back(p.describe("hardware.balancing.resistor_ohm", numberText(b.resistor_ohm)) +
+                ": no balancing policy switches these resistors (packsim's core balances only with a bms.balancing "
+                "section, and the " + s.hardware.afe.model + " does not balance on its own here): the run never "
+                "balances, and a sweep over the resistor gives the same result for every value");
+}
+
 // A run ends at a BMS tick (the last one at or before its end time): an end time between
 // two ticks is cut short, which the summary's duration shows but does not explain.
 void checkRunEnd(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
@@ -243,6 +258,7 @@ const std::vector<WarningCheck>& warningChecks() {
       {"thermistor_reach", checkThermistorReach},
       {"load_magnitude", checkLoadMagnitude},
       {"balancing_board", checkBalancingBoard},
+      {"balancing_unused", checkBalancingUnused},
       {"run_end", checkRunEnd},
       {"load_sign", checkLoadSign},
       {"start_voltage", checkStartVoltage},

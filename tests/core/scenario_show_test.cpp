@@ -273,6 +273,32 @@ TEST(ScenarioWarnings, AMonitorPartsCurrentLimitBelowTheBmsOrTheLoad) {
                               "bms.protections.overcurrent_discharge.threshold_A 10 A:"), 1u) << allWarnings(low);
 }
 
+// Balancing resistors with no policy to switch them: packsim's core balances only with
+// a bms.balancing section. The warning's claim is checked: two resistor values give the
+// same run. With the policy, or a BQ76952 balancing on its own, there is no warning.
+TEST(ScenarioWarnings, BalancingResistorsThatNothingSwitches) {
+  const std::string pack =
+      "name: p6s\npack: {series: 6, initial_soc: 0.7, cell: {preset: ncr18650_3p1Ah}, spread: {initial_soc_sd: 0.05}}\n"
+      "load: {current_A: 0}\nrun: {duration_s: 30}\n";
+  const std::string said = "no balancing policy switches these resistors";
+  const auto with = [&](const std::string& extra) { return test::scenarioFromYaml(pack + extra); };
+  const Scenario none = with("hardware: {balancing: {resistor_ohm: 33}}\n");
+  EXPECT_EQ(warningsWith(none, "hardware.balancing.resistor_ohm = 33 (test.yaml:5): no balancing policy"), 1u) << allWarnings(none);
+  EXPECT_EQ(warningsWith(none, said), 1u) << allWarnings(none);
+  const RunResult a = runScenario(none), b = runScenario(with("hardware: {balancing: {resistor_ohm: 100}}\n"));
+  EXPECT_EQ(a.rec.soc_truth_mean, b.rec.soc_truth_mean);
+  EXPECT_EQ(a.rec.cell_soc, b.rec.cell_soc);
+  const Scenario policy = with("hardware: {balancing: {resistor_ohm: 33}}\nbms: {balancing: {when: always}}\n");
+  EXPECT_EQ(warningsWith(policy, said), 0u) << allWarnings(policy);
+  const RunResult c = runScenario(policy);
+  EXPECT_NE(a.rec.cell_soc, c.rec.cell_soc) << "with the policy the resistors bleed";
+  const Scenario own = test::scenarioFromYaml(
+      "name: p6s\npack: {series: 6, initial_soc: 0.7, cell: {preset: ncr18650_3p1Ah}}\n"
+      "hardware: {afe: {model: bq76952, autonomous_balancing: {when: charging}}, balancing: {resistor_ohm: 33}}\n"
+      "load: {current_A: 0}\nrun: {duration_s: 1}\n");
+  EXPECT_EQ(warningsWith(own, said), 0u) << allWarnings(own);
+}
+
 // userPack's 24 groups with one cell each.
 std::string userString(const std::string& extra) {
   std::string y = userPack(extra);
