@@ -308,6 +308,39 @@ bool Bq76pl455aChain::faultLine() const {
   return false;
 }
 
+// Each device's summary bits routed to the FAULT output (FO_CTRL), by the data sheet's
+// names; a system fault names the communication timeout where that is what it holds.
+std::string Bq76pl455aChain::faultCause() const {
+  static const struct {
+    uint16_t bit;
+    const char* name;
+  } kBits[] = {
+      {PL455_FAULT_SUM_UV, "UV (cell under-voltage)"},
+      {PL455_FAULT_SUM_OV, "OV (cell over-voltage)"},
+      {PL455_FAULT_SUM_AUXUV, "AUXUV (an AUX input below its limit: an NTC over temperature)"},
+      {PL455_FAULT_SUM_AUXOV, "AUXOV (an AUX input above its limit: an NTC cold or open)"},
+      {PL455_FAULT_SUM_CMPUV, "CMPUV (comparator under-voltage)"},
+      {PL455_FAULT_SUM_CMPOV, "CMPOV (comparator over-voltage)"},
+      {PL455_FAULT_SUM_COMM, "COMM (communication fault)"},
+      {PL455_FAULT_SUM_SYS, "SYS (system fault)"},
+      {PL455_FAULT_SUM_CHIP, "CHIP (device fault)"},
+      {PL455_FAULT_SUM_GPI, "GPI (a GPIO fault input)"},
+  };
+  std::string out;
+  for (size_t d = 0; d < dev_.size(); ++d) {
+    const Device& dv = dev_[d];
+    const uint16_t on = faultSummary(dv) & get16(dv.reg, PL455_REG_FO_CTRL);
+    std::string why;
+    for (const auto& b : kBits) {
+      if (!(on & b.bit)) continue;
+      const bool cto = b.bit == PL455_FAULT_SUM_SYS && (dv.reg[PL455_REG_FAULT_SYS] & PL455_FAULT_SYS_CTO);
+      why += (why.empty() ? "" : ", ") + std::string(cto ? "SYS (communication timeout: no valid frame from the host within it)" : b.name);
+    }
+    if (!why.empty()) out += (out.empty() ? "" : "; ") + ("device " + std::to_string(d + 1) + ": " + why);
+  }
+  return out;
+}
+
 bool Bq76pl455aChain::balancing(int d, int cell) const {
   return (get16(dev_[static_cast<size_t>(d)].reg, PL455_REG_CBENBL) >> cell) & 1u;
 }

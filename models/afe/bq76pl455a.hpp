@@ -64,6 +64,7 @@ class Bq76pl455aChain final : public MonitorChain {
   void advance(double t) override;
   BusTransfer transfer(double t, const uint8_t* tx, size_t txLen, uint8_t* rx, size_t rxLen) override;
   bool faultLine() const override;
+  std::string faultCause() const override;
   bool balancing(int d, int cell) const override;
   uint32_t balancingMask(int d) const override;
   double balancingDuty(int d, int cell, double t0, double t1) const override {

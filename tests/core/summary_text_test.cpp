@@ -117,11 +117,14 @@ TEST(SummaryText, FaultLineSaysWhatItIsWiredToAndWhatTheContactDid) {
     ASSERT_NE(contact, nullptr);
     if (opens) {
       EXPECT_EQ(contact->detail, "opened");
-      EXPECT_TRUE(has(text, "monitor FAULT line asserted (it opens the relay without the MCU); the relay contact opened at"))
+      // The BQ76PL455A says why: no valid frame from the dead host within its timeout.
+      EXPECT_TRUE(has(text, "monitor FAULT line asserted (it opens the relay without the MCU): device 1: SYS "
+                            "(communication timeout: no valid frame from the host within it); the relay contact opened at"))
           << text;
     } else {
       EXPECT_EQ(contact->detail, "closed");
-      EXPECT_TRUE(has(text, "monitor FAULT line asserted (it does not drive the relay here); the relay contact stayed "
+      EXPECT_TRUE(has(text, "monitor FAULT line asserted (it does not drive the relay here): device 1: SYS "
+                            "(communication timeout: no valid frame from the host within it); the relay contact stayed "
                             "closed to the end"))
           << text;
       EXPECT_FALSE(has(text, "opens the relay")) << text;
