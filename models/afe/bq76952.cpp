@@ -511,32 +511,38 @@ bool Bq76952Chain::faultLine() const { return (alarmStatus_ & alarmEnable_) != 0
 
 std::string Bq76952Chain::faultCause() const {
   if (!faultLine()) return "";
+  const std::string latched = latchedProtections(0xFF, 0xFF, 0xFF);
+  return latched.empty() ? "" : "Safety Status " + latched;
+}
+
+std::string Bq76952Chain::latchedProtections(uint8_t maskA, uint8_t maskB, uint8_t maskC) const {
   struct Bit {
     const uint8_t* status;
-    uint8_t mask;
+    const uint8_t* mask;
+    uint8_t bit;
     const char* name;
   };
   // Safety Status A, B, C (TRM): OTC and UTC are judged whether or not a charge flows.
   const Bit bits[] = {
-      {&statusA_, BQ952_SA_COV, "COV (cell over-voltage)"},
-      {&statusA_, BQ952_SA_CUV, "CUV (cell under-voltage)"},
-      {&statusA_, BQ952_SA_OCC, "OCC (over-current in charge)"},
-      {&statusA_, BQ952_SA_OCD1, "OCD1 (over-current in discharge)"},
-      {&statusA_, BQ952_SA_OCD2, "OCD2 (over-current in discharge, second level)"},
-      {&statusA_, BQ952_SA_SCD, "SCD (short circuit in discharge)"},
-      {&statusB_, BQ952_SB_OTC, "OTC (over-temperature in charge, judged at any current)"},
-      {&statusB_, BQ952_SB_OTD, "OTD (over-temperature in discharge)"},
-      {&statusB_, BQ952_SB_OTF, "OTF (FET over-temperature)"},
-      {&statusB_, BQ952_SB_OTINT, "OTINT (die over-temperature)"},
-      {&statusB_, BQ952_SB_UTC, "UTC (under-temperature in charge, judged at any current)"},
-      {&statusB_, BQ952_SB_UTD, "UTD (under-temperature in discharge)"},
-      {&statusB_, BQ952_SB_UTINT, "UTINT (die under-temperature)"},
-      {&statusC_, BQ952_SC_OCD3, "OCD3 (sustained over-current in discharge)"},
+      {&statusA_, &maskA, BQ952_SA_COV, "COV (cell over-voltage)"},
+      {&statusA_, &maskA, BQ952_SA_CUV, "CUV (cell under-voltage)"},
+      {&statusA_, &maskA, BQ952_SA_OCC, "OCC (over-current in charge)"},
+      {&statusA_, &maskA, BQ952_SA_OCD1, "OCD1 (over-current in discharge)"},
+      {&statusA_, &maskA, BQ952_SA_OCD2, "OCD2 (over-current in discharge, second level)"},
+      {&statusA_, &maskA, BQ952_SA_SCD, "SCD (short circuit in discharge)"},
+      {&statusB_, &maskB, BQ952_SB_OTC, "OTC (over-temperature in charge, judged at any current)"},
+      {&statusB_, &maskB, BQ952_SB_OTD, "OTD (over-temperature in discharge)"},
+      {&statusB_, &maskB, BQ952_SB_OTF, "OTF (FET over-temperature)"},
+      {&statusB_, &maskB, BQ952_SB_OTINT, "OTINT (die over-temperature)"},
+      {&statusB_, &maskB, BQ952_SB_UTC, "UTC (under-temperature in charge, judged at any current)"},
+      {&statusB_, &maskB, BQ952_SB_UTD, "UTD (under-temperature in discharge)"},
+      {&statusB_, &maskB, BQ952_SB_UTINT, "UTINT (die under-temperature)"},
+      {&statusC_, &maskC, BQ952_SC_OCD3, "OCD3 (sustained over-current in discharge)"},
   };
   std::string out;
   for (const Bit& b : bits)
-    if (*b.status & b.mask) out += (out.empty() ? "" : ", ") + std::string(b.name);
-  return out.empty() ? "" : "Safety Status " + out;
+    if (*b.status & *b.mask & b.bit) out += (out.empty() ? "" : ", ") + std::string(b.name);
+  return out;
 }
 
 bool Bq76952Chain::balancing(int d, int cell) const {
@@ -571,7 +577,9 @@ std::string Bq76952Chain::fetOffCause(bool discharge) const {
   if (cfgUpdate_) return "in CONFIG_UPDATE mode";
   if (discharge ? hostDsgOff_ : hostChgOff_)
     return discharge ? "turned off by the host: DSG_PDSG_OFF or ALL_FETS_OFF" : "turned off by the host: CHG_PCHG_OFF or ALL_FETS_OFF";
-  return "a protection in Safety Status A/B/C";
+  const std::string latched = discharge ? latchedProtections(s_.dsgFetA, s_.dsgFetB, s_.dsgFetC)
+                                        : latchedProtections(s_.chgFetA, s_.chgFetB, 0);
+  return "a protection in Safety Status" + (latched.empty() ? std::string(" A/B/C") : ": " + latched);
 }
 
 uint8_t Bq76952Chain::fetStatus() const {

@@ -67,6 +67,8 @@ class Bq76952Chain : public MonitorChain {
   std::string describe(const uint8_t* tx, size_t txLen, size_t rxLen) const override;
   bool faultLine() const override;
   std::string faultCause() const override;
+  // The latched protections among the masked bits of Safety Status A, B, C, by name.
+  std::string latchedProtections(uint8_t maskA, uint8_t maskB, uint8_t maskC) const;
   bool balancing(int d, int cell) const override;
   double balancingDuty(int d, int cell, double t0, double t1) const override;
   bool dischargeFetOn() const override;

@@ -493,6 +493,26 @@ TEST(Bq76952, ProtectionsOpenAndRecloseTheirFetsAfterTheirDelays) {
   }
 }
 
+// At 62 °C both OTC and OTD latch: each FET's driver is off for the protections the part
+// routes to it (OTC to CHG, OTD to DSG), and says which.
+TEST(Bq76952, EachFetSaysWhichProtectionHoldsItOff) {
+  MonitorConfig c = config(false);
+  c.measurement_period_s = 0.06;
+  Bq76952Chain dev(c, 4, 1);
+  Host h{dev, false};
+  h.sub(BQ952_SUB_FET_ENABLE);
+  EXPECT_EQ(dev.fetOffCause(true), "");
+  for (int i = 1; i <= 400; ++i) {
+    DeviceAnalog& a = dev.analog(0);
+    for (int n = 0; n < 4; ++n) a.cell_V[n] = 3.7;
+    a.therm_C = {62.0, 25.0, 25.0};
+    dev.advance(i * 0.01);
+  }
+  EXPECT_EQ(dev.fetOffCause(true), "a protection in Safety Status: OTD (over-temperature in discharge)");
+  EXPECT_EQ(dev.fetOffCause(false),
+            "a protection in Safety Status: OTC (over-temperature in charge, judged at any current)");
+}
+
 // OCD3, the slow discharge limit on the coulomb counter (Safety C): a current above its
 // threshold in user amps for its whole seconds opens DSG; off unless configured.
 TEST(Bq76952, Ocd3OpensTheDischargeFetAfterWholeSeconds) {
