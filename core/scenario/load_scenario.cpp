@@ -489,6 +489,11 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
   m.finish();
 
   // Cross-field checks, reported at the field a user would change.
+  if (s.charger.present && s.run.duration_s <= 0.0 && !s.vehicle.present)
+    throw m.errorAt("load", std::string("a charger needs run.duration_s: the longest the charge may run (") +
+                                (s.charger.stop_run_when_done ? "the run ends earlier once the charger ends its taper"
+                                                              : "load.charger.stop_run_when_done is false: the run goes on "
+                                                                "after the charge") + ")");
   if (s.load.isConstant() && s.run.duration_s <= 0.0 && !s.vehicle.present)
     throw m.errorAt("load", "a constant load needs run.duration_s");
   if (s.run.duration_s <= 0.0 && s.load.duration_s() > limits::kMaxTime_s && !s.vehicle.present) {

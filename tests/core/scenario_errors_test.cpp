@@ -427,6 +427,21 @@ TEST(ScenarioErrors, ATabIndentIsNamed) {
             std::string::npos) << e;
 }
 
+// A charger without run.duration_s was "a constant load needs run.duration_s": a user
+// whose run is a charge read that as a different mistake. Now the message says a charger
+// needs the longest the charge may run, and when the run ends before it.
+TEST(ScenarioErrors, AChargerWithoutADurationSaysWhatTheDurationIs) {
+  const std::string pack = "pack: {series: 4, initial_soc: 0.3, cell: {preset: ncr18650_3p1Ah}}\n";
+  EXPECT_NE(errorOf(pack + "load: {charger: {current_A: 2, voltage_V: 16.8}}\n")
+                .find("load: a charger needs run.duration_s: the longest the charge may run (the run ends earlier "
+                      "once the charger ends its taper)"),
+            std::string::npos);
+  EXPECT_NE(errorOf(pack + "load: {charger: {current_A: 2, voltage_V: 16.8, stop_run_when_done: false}}\n")
+                .find("stop_run_when_done is false: the run goes on after the charge"),
+            std::string::npos);
+  EXPECT_NE(errorOf(pack + "load: {current_A: 2}\n").find("a constant load needs run.duration_s"), std::string::npos);
+}
+
 // A result file, an FMU, a firmware library or other binary data given where a scenario
 // belongs (`packsim check r.h5`) is named for what it is; it read as a YAML syntax error
 // at some line of its bytes ("r.h5:3:6: YAML syntax error: unknown escape character").
