@@ -535,6 +535,39 @@ TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
   EXPECT_NE(num.find("not a finite number"), std::string::npos) << num;
 }
 
+TEST(VehicleRace, LapsOfARouteThatDoesNotCloseAreRefused) {
+  // A GPS log of one lap (odd spacing, a descent) whose last altitude is 3 m above its
+  // first: driven for 3 laps each lap climbed 3 m that no lap descended, m·g·h/η =
+  // 150·9.80665·3/0.8 J = 1.53 Wh a lap more than the circuit costs (16 % of its
+  // 9.5 Wh), and no word. Now refused, naming the laps key and the net climb; the same
+  // log closed (last row at the first's height) loads, as does the open one driven once.
+  const auto dir = test::processTempDir("route_csv_open");
+  auto table = [&](const std::string& name, double lastElevation_m) {
+    const auto csv = dir / name;
+    std::ofstream out(csv);
+    out << "distance_m,elevation_m,speed_kmh\n0,100,30\n37.4,100.2,30\n412,104,30\n731.7,99,25\n1400,"
+        << lastElevation_m << ",30\n";
+    return csv.string();
+  };
+  auto load = [&](const std::string& route) {
+    return loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.route", route}});
+  };
+  const std::string open = table("open.csv", 103.0);
+  const std::string e = test::scenarioErrorOf([&] { load("{csv: " + open + ", segments: [], laps: 3}"); });
+  EXPECT_NE(e.find("load.route.laps"), std::string::npos) << e;
+  EXPECT_NE(e.find("climb a net 3 m"), std::string::npos) << e;
+  EXPECT_NE(e.find("9 m in all"), std::string::npos) << e;
+  EXPECT_NO_THROW(load("{csv: " + open + ", segments: [], laps: 1}"));
+  const Scenario closed = load("{csv: " + table("closed.csv", 100.0) + ", segments: [], laps: 3}");
+  double rise_m = 0.0;
+  for (const RouteSegment& g : closed.vehicle.route.segments) rise_m += g.length_m * g.grade;
+  EXPECT_NEAR(rise_m, 0.0, 1e-9);
+  // Segments likewise: a climb with no descent, twice round, descends nowhere.
+  const std::string seg = test::scenarioErrorOf(
+      [&] { load("{segments: [{length_m: 500, speed_kmh: 27}, {length_m: 250, grade_percent: 2, speed_kmh: 27}], laps: 2}"); });
+  EXPECT_NE(seg.find("climb a net 5 m"), std::string::npos) << seg;
+}
+
 TEST(VehicleRace, WindByDirectionIsItsComponentAgainstTheHeading) {
   // 20 km/h from 60° on a road heading 0°: a headwind of 20·cos 60° = 10 km/h.
   const auto dir = test::processTempDir("route_csv_dir");
