@@ -139,6 +139,39 @@ TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   EXPECT_NE(text.find("when the run ended (the route not finished)"), std::string::npos) << text;
 }
 
+TEST(VehicleRace, AShortfallLineGivesWhatThePackWasAskedAndGave) {
+  // The E-switch at 30 s with a 1 m² array at noon: the relay open, the array alone feeds
+  // the bus. The line said "the drive got 185.25 W of the 188.85 W it asked the pack for",
+  // but the pack was asked the drive + 8 W aux less the array (/vehicle/pack_request_W):
+  // 6.51 W. Now each figure is the record's: what the pack was asked at that tick and
+  // gave (the relay opening inside the tick), and what the drive got (that and the
+  // array, less the auxiliaries).
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"faults", "[{kind: estop, switch: internal, at_s: 30}]"},
+       {"load.sun", "{array_area_m2: 1, efficiency: 0.2, latitude_deg: 45, day_of_year: 172, start_solar_hour: 12}"},
+       {"bms.charge_full_cell_V", "null"}, {"output.interval_s", "0.01"}, {"run.stop_after_trip_s", "10"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.limited);
+  ASSERT_EQ(v.limit_detail.rfind("pack_shortfall", 0), 0u) << v.limit_detail;
+  const size_t at = v.limit_detail.find("the drive got ");
+  ASSERT_NE(at, std::string::npos) << v.limit_detail;
+  double got = 0, wanted = 0, gave = -1, asked = 0;
+  ASSERT_EQ(std::sscanf(v.limit_detail.c_str() + at,
+                        "the drive got %lf W of the %lf W it asked for (the pack gave %lf W of the %lf W asked of it)", &got,
+                        &wanted, &gave, &asked),
+            4)
+      << v.limit_detail;
+  const size_t k = test::sampleAt(r.rec, v.limit_time_s);  // the plan for the tick the limit acted in
+  EXPECT_NEAR(asked, r.rec.vehicle_pack_request_W[k], 0.01) << v.limit_detail;
+  const double array_W = r.rec.vehicle_array_W[k];
+  ASSERT_GT(array_W, 100.0);
+  EXPECT_NEAR(asked, wanted + 8.0 - array_W, 0.01) << v.limit_detail;  // drive + aux - array
+  EXPECT_LT(gave, asked - 1.0) << v.limit_detail;                      // the relay opened in the tick
+  EXPECT_NEAR(got, gave + array_W - 8.0, 0.01) << v.limit_detail;      // pack + array less the aux
+}
+
 TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
   // A 0.5 m² array at 20 % through a 95 % MPPT on the eco car, 45° N on day 172 from
   // 11:00 solar time: its energy is the integral of the clear-sky formula over the race,
