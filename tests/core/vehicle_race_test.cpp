@@ -557,7 +557,12 @@ TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
   EXPECT_NE(grade.find("[-100, 100] %"), std::string::npos) << grade;
   const std::string order = errorOf("order.csv", "distance_km,grade_percent,speed_kmh\n0,0,27\n1,0,27\n0.5,0,27\n");
   EXPECT_NE(order.find("order.csv:4:"), std::string::npos) << order;
-  EXPECT_NE(order.find("increase strictly"), std::string::npos) << order;
+  EXPECT_NE(order.find("increase strictly: 0.5 after 1 on line 3"), std::string::npos) << order;
+  // A GPS log's repeated point (the vehicle stood): the message said "412 after the
+  // previous row's", naming neither that row nor its distance.
+  const std::string rep = errorOf("rep.csv", "distance_m,elevation_m,speed_kmh\n0,100,27\n412,104,27\n412,104,27\n1600,100,27\n");
+  EXPECT_NE(rep.find("rep.csv:4:"), std::string::npos) << rep;
+  EXPECT_NE(rep.find("412 after 412 on line 3 (a repeated point"), std::string::npos) << rep;
   const std::string head = errorOf("head.csv", "distance_km,grade_percent,sped_kmh\n0,0,27\n1,0,27\n");
   EXPECT_NE(head.find("head.csv:1:"), std::string::npos) << head;
   EXPECT_NE(head.find("speed_kmh"), std::string::npos) << head;
