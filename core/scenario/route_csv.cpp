@@ -59,8 +59,13 @@ std::vector<RouteSegment> readRouteCsv(const std::string& path) {
     if (rows.empty() && r.distance_m != 0.0)
       throw csv.errorAt(dcol, "the first point must be at distance 0");
     if (!rows.empty() && !(r.distance_m > rows.back().distance_m)) {
+      // Name the row it repeats or undercuts: a GPS log repeats its distance while the
+      // vehicle stands (drop such rows), and a log joined from two files restarts at 0.
       std::ostringstream os;
-      os << "distance must increase strictly: " << csv.cell(dcol).text << " after the previous row's";
+      os.precision(10);
+      os << "distance must increase strictly: " << csv.cell(dcol).text << " after "
+         << (distKm ? rows.back().distance_m / 1000.0 : rows.back().distance_m) << " on line " << rows.back().line
+         << (r.distance_m == rows.back().distance_m ? " (a repeated point: drop one of the two rows)" : "");
       throw csv.errorAt(dcol, os.str());
     }
     if (grade) r.grade = csv.value(*grade, -kMaxGrade_percent, kMaxGrade_percent, "%") / 100.0;

@@ -129,9 +129,12 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
         std::string d = std::string(driveLimitName(lim)) + " at km " + fmt("%.3f", s0 / 1000.0) + " (lap " +
                         std::to_string(sum_.limit_lap) + "), " + fmt("%.1f", car_.speed_m_per_s() * 3.6) +
                         " km/h: the drive got ";
+        // The drive asked the bus for drive_W; the pack was asked net_W (drive + aux - array:
+        // /vehicle/pack_request_W) and gave delivered_W; the array's taken power fed the rest.
         if (lim == DriveLimit::PackShortfall)
-          d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + plan_.array_W)) + " W of the " +
-               fmt("%.2f", plan_.drive_W) + " W it asked the pack for";
+          d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + taken_W)) + " W of the " +
+               fmt("%.2f", plan_.drive_W) + " W it asked for (the pack gave " + fmt("%.2f", delivered_W) + " W of the " +
+               fmt("%.2f", plan_.net_W) + " W asked of it)";
         else
           d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted, " +
                fmt("%.3g", plan_.wanted_W - plan_.drive_W) + " W short (pack " + fmt("%.2f", plan_.controller_V) +

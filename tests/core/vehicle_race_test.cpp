@@ -139,6 +139,39 @@ TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   EXPECT_NE(text.find("when the run ended (the route not finished)"), std::string::npos) << text;
 }
 
+TEST(VehicleRace, AShortfallLineGivesWhatThePackWasAskedAndGave) {
+  // The E-switch at 30 s with a 1 m² array at noon: the relay open, the array alone feeds
+  // the bus. The line said "the drive got 185.25 W of the 188.85 W it asked the pack for",
+  // but the pack was asked the drive + 8 W aux less the array (/vehicle/pack_request_W):
+  // 6.51 W. Now each figure is the record's: what the pack was asked at that tick and
+  // gave (the relay opening inside the tick), and what the drive got (that and the
+  // array, less the auxiliaries).
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("eco_marathon_12s_circuit"),
+      {{"faults", "[{kind: estop, switch: internal, at_s: 30}]"},
+       {"load.sun", "{array_area_m2: 1, efficiency: 0.2, latitude_deg: 45, day_of_year: 172, start_solar_hour: 12}"},
+       {"bms.charge_full_cell_V", "null"}, {"output.interval_s", "0.01"}, {"run.stop_after_trip_s", "10"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.limited);
+  ASSERT_EQ(v.limit_detail.rfind("pack_shortfall", 0), 0u) << v.limit_detail;
+  const size_t at = v.limit_detail.find("the drive got ");
+  ASSERT_NE(at, std::string::npos) << v.limit_detail;
+  double got = 0, wanted = 0, gave = -1, asked = 0;
+  ASSERT_EQ(std::sscanf(v.limit_detail.c_str() + at,
+                        "the drive got %lf W of the %lf W it asked for (the pack gave %lf W of the %lf W asked of it)", &got,
+                        &wanted, &gave, &asked),
+            4)
+      << v.limit_detail;
+  const size_t k = test::sampleAt(r.rec, v.limit_time_s);  // the plan for the tick the limit acted in
+  EXPECT_NEAR(asked, r.rec.vehicle_pack_request_W[k], 0.01) << v.limit_detail;
+  const double array_W = r.rec.vehicle_array_W[k];
+  ASSERT_GT(array_W, 100.0);
+  EXPECT_NEAR(asked, wanted + 8.0 - array_W, 0.01) << v.limit_detail;  // drive + aux - array
+  EXPECT_LT(gave, asked - 1.0) << v.limit_detail;                      // the relay opened in the tick
+  EXPECT_NEAR(got, gave + array_W - 8.0, 0.01) << v.limit_detail;      // pack + array less the aux
+}
+
 TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
   // A 0.5 m² array at 20 % through a 95 % MPPT on the eco car, 45° N on day 172 from
   // 11:00 solar time: its energy is the integral of the clear-sky formula over the race,
@@ -524,7 +557,12 @@ TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
   EXPECT_NE(grade.find("[-100, 100] %"), std::string::npos) << grade;
   const std::string order = errorOf("order.csv", "distance_km,grade_percent,speed_kmh\n0,0,27\n1,0,27\n0.5,0,27\n");
   EXPECT_NE(order.find("order.csv:4:"), std::string::npos) << order;
-  EXPECT_NE(order.find("increase strictly"), std::string::npos) << order;
+  EXPECT_NE(order.find("increase strictly: 0.5 after 1 on line 3"), std::string::npos) << order;
+  // A GPS log's repeated point (the vehicle stood): the message said "412 after the
+  // previous row's", naming neither that row nor its distance.
+  const std::string rep = errorOf("rep.csv", "distance_m,elevation_m,speed_kmh\n0,100,27\n412,104,27\n412,104,27\n1600,100,27\n");
+  EXPECT_NE(rep.find("rep.csv:4:"), std::string::npos) << rep;
+  EXPECT_NE(rep.find("412 after 412 on line 3 (a repeated point"), std::string::npos) << rep;
   const std::string head = errorOf("head.csv", "distance_km,grade_percent,sped_kmh\n0,0,27\n1,0,27\n");
   EXPECT_NE(head.find("head.csv:1:"), std::string::npos) << head;
   EXPECT_NE(head.find("speed_kmh"), std::string::npos) << head;
@@ -533,6 +571,39 @@ TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
   const std::string num = errorOf("num.csv", "distance_km,grade_percent,speed_kmh\n0,0,27\n1,x,27\n");
   EXPECT_NE(num.find("num.csv:3:"), std::string::npos) << num;
   EXPECT_NE(num.find("not a finite number"), std::string::npos) << num;
+}
+
+TEST(VehicleRace, LapsOfARouteThatDoesNotCloseAreRefused) {
+  // A GPS log of one lap (odd spacing, a descent) whose last altitude is 3 m above its
+  // first: driven for 3 laps each lap climbed 3 m that no lap descended, m·g·h/η =
+  // 150·9.80665·3/0.8 J = 1.53 Wh a lap more than the circuit costs (16 % of its
+  // 9.5 Wh), and no word. Now refused, naming the laps key and the net climb; the same
+  // log closed (last row at the first's height) loads, as does the open one driven once.
+  const auto dir = test::processTempDir("route_csv_open");
+  auto table = [&](const std::string& name, double lastElevation_m) {
+    const auto csv = dir / name;
+    std::ofstream out(csv);
+    out << "distance_m,elevation_m,speed_kmh\n0,100,30\n37.4,100.2,30\n412,104,30\n731.7,99,25\n1400,"
+        << lastElevation_m << ",30\n";
+    return csv.string();
+  };
+  auto load = [&](const std::string& route) {
+    return loadScenarioFileWithOverrides(race("eco_marathon_12s_circuit"), {{"load.route", route}});
+  };
+  const std::string open = table("open.csv", 103.0);
+  const std::string e = test::scenarioErrorOf([&] { load("{csv: " + open + ", segments: [], laps: 3}"); });
+  EXPECT_NE(e.find("load.route.laps"), std::string::npos) << e;
+  EXPECT_NE(e.find("climb a net 3 m"), std::string::npos) << e;
+  EXPECT_NE(e.find("9 m in all"), std::string::npos) << e;
+  EXPECT_NO_THROW(load("{csv: " + open + ", segments: [], laps: 1}"));
+  const Scenario closed = load("{csv: " + table("closed.csv", 100.0) + ", segments: [], laps: 3}");
+  double rise_m = 0.0;
+  for (const RouteSegment& g : closed.vehicle.route.segments) rise_m += g.length_m * g.grade;
+  EXPECT_NEAR(rise_m, 0.0, 1e-9);
+  // Segments likewise: a climb with no descent, twice round, descends nowhere.
+  const std::string seg = test::scenarioErrorOf(
+      [&] { load("{segments: [{length_m: 500, speed_kmh: 27}, {length_m: 250, grade_percent: 2, speed_kmh: 27}], laps: 2}"); });
+  EXPECT_NE(seg.find("climb a net 5 m"), std::string::npos) << seg;
 }
 
 TEST(VehicleRace, WindByDirectionIsItsComponentAgainstTheHeading) {
