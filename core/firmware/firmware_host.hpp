@@ -212,6 +212,7 @@ class FirmwareHost {
   std::unique_ptr<std::max_align_t[]> ram_;
   std::string name_;
   bool started_ = false, dead_ = false, inInit_ = false;
+  bool tripTextWarned_ = false;  // a firmware event that reads as a trip but is not "trip: " was named
   std::string cause_;
   double faultTime_s_ = 0.0;
   char breakCause_[160] = {0};  // set before a longjmp out of a service

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <exception>
 
 #include "core/firmware/firmware_host.hpp"
 #include "core/firmware/target_memory_map.hpp"
@@ -213,6 +214,20 @@ bool TargetFirmware::call(const char* what, int task) {
     args = {desc_, static_cast<uint32_t>(task), ram_};
   }
   mcu_->paintStack();
+  // A call that ends without returning (a fault, a contract break, a watchdog reset)
+  // used its stack too: its depth joins the high-water on the way out (the summary said
+  // "stack high-water 0" for an init that crashed). The return path scans below.
+  struct StackOnExit {
+    TargetFirmware& t;
+    bool scanned = false;
+    ~StackOnExit() {
+      if (scanned) return;
+      try {
+        t.stackHighWater_ = std::max(t.stackHighWater_, t.mcu_->stackUsed_bytes());
+      } catch (const std::exception&) {  // the emulator's read failed: the figure stays as it was
+      }
+    }
+  } stackOnExit{*this};
   callStartCycles_ = syncedCycles_ = mcu_->cycles();
   callStartMin_ = mcu_->cyclesMin();
   callStartMax_ = mcu_->cyclesMax();
@@ -303,6 +318,7 @@ bool TargetFirmware::call(const char* what, int task) {
     setDeadline();
     r = mcu_->resume(*this);
   }
+  stackOnExit.scanned = true;
   const uint32_t stack = mcu_->stackUsed_bytes();
   stackHighWater_ = std::max(stackHighWater_, stack);
   if (stack >= mcu_->stackBytes()) {  // the paint is gone to the last word: it ran past the bottom

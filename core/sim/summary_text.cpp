@@ -140,14 +140,14 @@ void hostDeadLines(LineWriter& w, const R& r) {
 // Passive balancing: the firmware's balancing events, the resistors' quadratures and the
 // groups' imbalance (and charge spread, where it differs) in the truth
 // (core/sim/balance_report.hpp).
-void balancingLine(LineWriter& w, const S&, const R& r) {
+void balancingLine(LineWriter& w, const S& s, const R& r) {
   const BalanceSummary& b = r.summary.balance;
   if (!b.present) return;
   std::string when;
   if (b.started_s < 0.0) {
-    const Event* last = nullptr;
+    const Event* last = nullptr;  // packsim's core's status; a user's firmware has none ("disabled" was the channel's first value)
     for (const Event& e : r.events)
-      if (e.kind == "balancing") last = &e;
+      if (e.kind == "balancing" && !s.bms.firmware.library) last = &e;
     when = "the firmware never reported balancing" + (last ? " (its last status: " + last->detail + ")" : std::string()) +
            (b.bled_Ah > 0.0 ? ", yet" : "");
   } else {
@@ -277,9 +277,13 @@ std::string relayNeverClosed(const Scenario& s, const RunResult& r) {
   if (s.charger.present && s.charger.current_A > 0.0)
     asked += (asked.empty() ? "" : ", ") + fmt("%.2f", s.charger.current_A) + " A from the charger";
   if (asked.empty()) return "";  // nothing asked for current
-  std::string state;  // the BMS's last state (packsim's core reports it; a library firmware may not)
-  for (const Event& e : r.events)
-    if (e.kind == "bms_state") state = e.detail.substr(e.detail.rfind(' ') + 1);
+  // The BMS's last state: packsim's core's. A user's firmware keeps its own state, which
+  // packsim does not see: the run's bms_state channel stays at its first value ("init")
+  // there, which named a state the firmware was not in.
+  std::string state;
+  if (!s.bms.firmware.library)
+    for (const Event& e : r.events)
+      if (e.kind == "bms_state") state = e.detail.substr(e.detail.rfind(' ') + 1);
   return "never closed in the run's " + fmt("%.2f", r.summary.duration_s) + " s: the load asked for up to " +
          asked + " and drew " + fmt("%.3f", r.summary.charge_delivered_Ah) + " Ah" +
          (state.empty() ? std::string() : "; the BMS's last state: " + state);

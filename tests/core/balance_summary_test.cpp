@@ -152,6 +152,20 @@ TEST(BalanceSummary, APackWithoutBalancingHasNoLine) {
   EXPECT_FALSE(has(formatSummary(s, r), "\nbalancing")) << formatSummary(s, r);
 }
 
+// A user's firmware on a board with balancing resistors: packsim does not see its
+// balancing decision, and the run's balancing channel (packsim's core's) keeps its first
+// value. The line said "(its last status: disabled)", a status the firmware never gave.
+TEST(BalanceSummary, AUserFirmwareIsNotGivenPacksimsCoresBalancingStatus) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: firmware/c_example_firmware.yaml\nrun: {duration_s: 2}\n"
+      "hardware: {balancing: {resistor_ohm: 33}}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_TRUE(r.summary.balance.present);
+  const std::string text = formatSummary(s, r);
+  EXPECT_TRUE(has(text, "\nbalancing       the firmware never reported balancing; bled 0.000 Ah")) << text;
+  EXPECT_FALSE(has(text, "its last status")) << text;
+}
+
 // System D at rest: its second monitor board's 36 cells sit 1 Ah high and that board
 // bleeds them, decided on its own MCU. The pack host's own cells are the low ones, so the
 // host alone says "balanced"; the pack's status (recorded and in the events) is

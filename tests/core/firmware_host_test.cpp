@@ -59,7 +59,7 @@ struct Log : FirmwareSink {
   }
 };
 
-enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS };
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS, TRIP_TEXTS };
 
 FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
   FirmwareSettings s;
@@ -301,6 +301,27 @@ TEST(FirmwareHost, ATripEventReachesTheSinkAsATrip) {
   EXPECT_EQ(b.log.trips[0].detail, "overcurrent_discharge");
   EXPECT_DOUBLE_EQ(b.log.trips[0].t, 0.020);
   EXPECT_FALSE(b.host.dead());
+}
+
+// A user's trip report in another spelling ("TRIP x", "trip:x") is not the run's trip,
+// and was not a word either: the summary said "no trip" while the firmware had opened
+// the relay. It is named once, as a config_warning (which packsim check prints); the
+// exact "trip: " still counts, another word ("tripped") is no trip report.
+TEST(FirmwareHost, AnEventThatReadsAsATripButIsNotTripColonIsNamedOnce) {
+  Bench b(probe(TRIP_TEXTS, 20));
+  b.run(5);
+  ASSERT_EQ(b.log.trips.size(), 1u);
+  EXPECT_EQ(b.log.trips[0].detail, "comm_loss");
+  std::vector<std::string> warnings;  // (the probe's 15 ms task has its own config_warning)
+  for (const std::string& w : b.log.of("config_warning"))
+    if (w.find("reads as a trip") != std::string::npos) warnings.push_back(w);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0].rfind("firmware event 'TRIP cell_overvoltage' at 0.020000 s reads as a trip report but is "
+                              "not counted as one: a trip is an event that starts exactly with 'trip: '",
+                              0),
+            0u)
+      << warnings[0];
+  EXPECT_EQ(b.log.of("firmware").size(), 4u);  // every text still in the event log
 }
 
 }  // namespace

@@ -52,6 +52,20 @@ TEST(RelayNeverClosed, APowerProfileIsNamedInWattsAndAChargerByItsCurrent) {
       << formatSummary(c, rc);
 }
 
+// A user's firmware keeps its own state: the example firmware without a run request
+// waits in its STANDBY (its telemetry's first byte, 0), while packsim's bms_state
+// channel stays at its first value. The line named "the BMS's last state: init"; it
+// names no state of packsim's core for a firmware that is not packsim's core.
+TEST(RelayNeverClosed, AUserFirmwaresStateIsNotNamedFromPacksimsCore) {
+  const Scenario s = test::scenarioFromYaml("extends: firmware/c_example_firmware.yaml\nbms: {run_request: false}\n"
+                                            "run: {duration_s: 2}\n");
+  const RunResult r = runScenario(s);
+  ASSERT_EQ(r.summary.charge_delivered_Ah, 0.0);
+  EXPECT_EQ(relayLine(formatSummary(s, r)),
+            "relay           never closed in the run's 2.00 s: the load asked for up to 5.90 A discharge and drew "
+            "0.000 Ah");
+}
+
 TEST(RelayNeverClosed, AnOrdinaryRunHasNoRelayLine) {
   const Scenario s = test::scenarioFromYaml("extends: bench_6s_ncr18650_2C.yaml\nrun: {duration_s: 5}\n");
   const RunResult r = runScenario(s);

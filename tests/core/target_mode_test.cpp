@@ -276,6 +276,25 @@ TEST(TargetMode, AFaultOnTheMcuIsAFirmwareFailureWithItsPc) {
       << overflow;
 }
 
+// A task that fills 4 KiB of its stack and then faults never returns: its stack counts
+// in the run's high-water all the same. Before, only calls that returned were scanned,
+// and the summary said the firmware had used the few hundred bytes of its healthy calls.
+TEST(TargetMode, AFaultingCallsStackCountsInTheHighWater) {
+  REQUIRE_ARM_TOOLCHAIN();
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {target: cortex-m4, elf: " PACKSIM_TARGET_FAULT_FW_OR_EMPTY
+      ", config: {mode: 4, at_ms: 300}}}\n"
+      "run: {duration_s: 0.5}\n");
+  const RunResult r = runScenario(s);
+  EXPECT_NE(firmwareFailure(s, r).find("fault in task 0 (period 10 ms): write to unmapped memory"), std::string::npos);
+  double highWater = -1.0;
+  for (const auto& [name, value] : r.summary.firmware_target_figures)
+    if (name == "target_stack_high_water_bytes") highWater = value;
+  EXPECT_GE(highWater, 4096.0);  // the block alone
+  EXPECT_LT(highWater, 8192.0);  // within the stack: no overflow
+}
+
 // The cost model on single Thumb-2 instructions (hand-assembled, little-endian
 // halfwords) against the Cortex-M4 TRM's cycle table: the model's figure and the
 // table's range. Needs no toolchain.

@@ -26,6 +26,9 @@
  *              variable, and reports "boot <NVM count before> static <static count before>
  *              ram <task runs in RAM>"; task 0 counts its runs in the instance RAM and
  *              reports "ram <runs>" (what an MCU reset clears and what it keeps)
+ *   TRIP_TEXTS task 0 reports, once, texts that read as trips but are not "trip: "
+ *              ("TRIP cell_overvoltage", "trip:estop"), one that is another word
+ *              ("tripped count 0") and the real "trip: comm_loss"
  * Built as probe_fw (contract version 3) and probe_fw_v2 (PROBE_ABI=2: the same code
  * declaring version 2).
  * Every mode but PROBE closes the relay and the FETs at init, so a dead MCU leaves
@@ -43,7 +46,7 @@
 #endif
 #define PROBE_NO_CHANNEL (PROBE_ABI >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2)
 
-enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS };
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS, TRIP_TEXTS };
 
 typedef struct probe_ram {
   int32_t mode, at_ms;
@@ -102,6 +105,14 @@ static void task0(void* ram, psfw_board* b, const psfw_board_api* api) {
       api->event(b, text);
       break;
     }
+    case TRIP_TEXTS:
+      if (r->tripped) break;
+      r->tripped = 1;
+      api->event(b, "TRIP cell_overvoltage");
+      api->event(b, "trip:estop");
+      api->event(b, "tripped count 0");
+      api->event(b, "trip: comm_loss");
+      break;
     case BOOTS: {
       char text[32];
       snprintf(text, sizeof text, "ram %ld", (long)++r->tripped);

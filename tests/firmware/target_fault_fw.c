@@ -6,6 +6,8 @@
  *   1  executes an undefined instruction (UDF)
  *   2  hands bus_transfer a receive buffer in flash
  *   3  recurses with 1 KiB on the stack per level until it runs past the stack's bottom
+ *   4  fills 4 KiB on the stack, then writes through a null pointer (a call that uses
+ *      its stack and never returns)
  */
 #include <stdint.h>
 #include <string.h>
@@ -23,6 +25,13 @@ static uint32_t tf_deep(uint32_t level) {
   return level == 0 ? block[7] : tf_deep(level - 1) + block[level % sizeof block];
 }
 
+/* 4 KiB live on the stack, then the null write (noinline: its own frame). */
+static __attribute__((noinline)) void tf_deep_fault(uint32_t seed) {
+  volatile uint8_t block[4096];
+  for (uint32_t i = 0; i < sizeof block; ++i) block[i] = (uint8_t)(seed + i);
+  *(volatile uint32_t*)0 = block[seed % sizeof block];
+}
+
 static void tf_task(void* ram, psfw_board* b, const psfw_board_api* api) {
   tf_ram* r = (tf_ram*)ram;
   static const uint8_t frame[4] = {1, 2, 3, 4};
@@ -31,6 +40,7 @@ static void tf_task(void* ram, psfw_board* b, const psfw_board_api* api) {
     case 0: *(volatile uint32_t*)0 = 1u; break;
     case 1: __asm volatile("udf #0"); break;
     case 3: api->event(b, tf_deep(12) ? "deep" : "deep 0"); break;
+    case 4: tf_deep_fault((uint32_t)r->at_ms); break;
     default: api->bus_transfer(b, PSFW_BUS_MONITOR(0), frame, 4, (uint8_t*)frame, 4); break;
   }
 }
