@@ -8,6 +8,7 @@
 
 #include "core/check/fault_causes.hpp"
 #include "core/sim/firmware_failure.hpp"
+#include "core/sim/relay_contact_text.hpp"
 #include "core/scenario/load_scenario.hpp"
 #include "core/scenario/scenario_error.hpp"
 #include "core/scenario/target_switch.hpp"
@@ -92,13 +93,18 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     else if (ev.kind == "cell_model_range") o.warnings.push_back("beyond the cell model: " + ev.detail);
     else if (ev.kind == "load_limited") o.warnings.push_back("load not met: " + ev.detail);
   if (const std::string never = relayNeverClosed(s, r); !never.empty()) o.warnings.push_back("the relay " + never);
+  // A trip is judged by what the BMS decided; whether it isolated the pack is the contact's.
+  if (r.summary.tripped && !contactOpenFrom(r, r.summary.trip_time_s))
+    o.warnings.push_back("the BMS tripped at " + fmt("%.3f s", r.summary.trip_time_s) + " (" + r.summary.trip_reason +
+                         ") but " + contactFrom(r, r.summary.trip_time_s) + ": the trip did not isolate the pack");
   o.target = r.summary.firmware_target;
   const Expectations& e = s.expect;
   const Summary& sm = r.summary;
   auto fail = [&](const std::string& m) { o.failures.push_back(m); };
 
   if (e.no_trip && *e.no_trip && sm.tripped)
-    fail("expected no trip, but the relay opened at " + fmt("%.3f s", sm.trip_time_s) + " (" + sm.trip_reason + ")");
+    fail("expected no trip, but the BMS tripped at " + fmt("%.3f s", sm.trip_time_s) + " (" + sm.trip_reason +
+         "): " + contactFrom(r, sm.trip_time_s));
   if (e.no_trip && !*e.no_trip && !sm.tripped) fail("expected a trip, but the BMS never opened the relay on a fault");
   if (e.trip_reason) {
     if (!sm.tripped)

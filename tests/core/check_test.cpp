@@ -2,6 +2,7 @@
 // broken scenario still runs the others and reports the failure.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -25,8 +26,39 @@ TEST(Check, UnmetExpectationsFailWithReasons) {
   const CheckOutcome c = judge(s, runScenario(s));
   EXPECT_FALSE(c.passed);
   ASSERT_EQ(c.failures.size(), 2u);
-  EXPECT_NE(c.failures[0].find("expected no trip, but the relay opened at 10.100 s (overcurrent_discharge)"), std::string::npos) << c.failures[0];
+  EXPECT_NE(c.failures[0].find("expected no trip, but the BMS tripped at 10.100 s (overcurrent_discharge): the relay "
+                               "contact opened at 10.10 s"),
+            std::string::npos)
+      << c.failures[0];
   EXPECT_NE(c.failures[1].find("is not below 20.00 C"), std::string::npos) << c.failures[1];
+}
+
+// A trip whose relay contact never opened (welded here) is no isolation: the no-trip
+// failure says what the contact did instead of "the relay opened", and a passing check
+// warns. (Found with a user's firmware that tripped without opening the relay.)
+TEST(Check, ATripThatDidNotIsolateIsSaidSo) {
+  const std::string welded = test::simpleCellYaml() + kTripping + "  - {kind: welded_relay, at_s: 0}\n";
+  const Scenario s = test::scenarioFromYaml(welded + "expect: {no_trip: true}\n");
+  const CheckOutcome c = judge(s, runScenario(s));
+  ASSERT_EQ(c.failures.size(), 1u);
+  EXPECT_NE(c.failures[0].find("expected no trip, but the BMS tripped at 10.100 s (overcurrent_discharge): the relay "
+                               "contact stayed closed to the end"),
+            std::string::npos)
+      << c.failures[0];
+  const Scenario p = test::scenarioFromYaml(welded + "expect: {trip_reason: overcurrent_discharge}\n");
+  const CheckOutcome d = judge(p, runScenario(p));
+  EXPECT_TRUE(d.passed);
+  const auto isolation = [](const CheckOutcome& o) {
+    return std::count_if(o.warnings.begin(), o.warnings.end(),
+                         [](const std::string& w) { return w.find("did not isolate") != std::string::npos; });
+  };
+  EXPECT_EQ(isolation(d), 1);
+  EXPECT_NE(std::find(d.warnings.begin(), d.warnings.end(),
+                      "the BMS tripped at 10.100 s (overcurrent_discharge) but the relay contact stayed closed to the "
+                      "end: the trip did not isolate the pack"),
+            d.warnings.end());
+  const Scenario ok = test::scenarioFromYaml(test::simpleCellYaml() + kTripping);
+  EXPECT_EQ(isolation(judge(ok, runScenario(ok))), 0) << "a trip that opened the contact: no warning";
 }
 
 TEST(Check, MetExpectationsPass) {

@@ -94,7 +94,8 @@ def test_result_text_dict_and_overrides(simple_yaml):
     faults = yaml.safe_load(OVERCURRENT)
     tripped = packsim.check(y, faults)[0]
     assert not tripped.passed
-    assert tripped.failures[0].startswith("expected no trip, but the relay opened at 100.2")
+    assert tripped.failures[0].startswith("expected no trip, but the BMS tripped at 100.2")
+    assert "the relay contact opened at 100.2" in tripped.failures[0]
     assert "overcurrent_discharge" in tripped.failures[0]
     # A bad scenario in text is an error outcome, as for a file.
     err = packsim.check(y.replace("series: 3", "series: -3"))[0]
