@@ -22,7 +22,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-
 bool startsWith(const std::string& s, const std::string& p) { return s.compare(0, p.size(), p) == 0; }
 
 // First event of `kind` at or after t whose detail starts with `prefix`; -1 if none.

@@ -128,34 +128,36 @@ const FileKey kFileKeys[] = {
     {{"bms", "firmware", "library"}, true}, {{"bms", "firmware", "elf"}, true},
 };
 
+// The map that holds `path`'s last key in `root` (each earlier step a map), or an invalid
+// node; `key` is set to that last key.
+YAML::Node holderOf(YAML::Node root, const char* const (&path)[3], const char*& key) {
+  YAML::Node holder;
+  holder.reset(root);
+  size_t n = 0;
+  while (n < 3 && path[n]) ++n;
+  for (size_t i = 0; i + 1 < n; ++i) {
+    const YAML::Node& view = holder;  // const: a lookup must not add the key
+    if (!view.IsMap() || !view[path[i]] || !view[path[i]].IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+    YAML::Node next = holder[path[i]];
+    holder.reset(next);
+  }
+  key = path[n - 1];
+  return holder;
+}
+
 void rebaseRelativePaths(YAML::Node base, const std::string& fromDir, const std::string& toDir) {
   for (const FileKey& k : kFileKeys) {
-    YAML::Node holder;
-    holder.reset(base);
-    const char* last = nullptr;
-    bool found = true;
-    for (const char* step : k.path) {
-      if (!step) break;
-      if (last) {
-        const YAML::Node& view = holder;  // const: a lookup must not add the key
-        if (!view[last] || !view[last].IsMap()) {
-          found = false;
-          break;
-        }
-        YAML::Node next = holder[last];
-        holder.reset(next);
-      }
-      last = step;
-    }
+    const char* key = nullptr;
+    YAML::Node holder = holderOf(base, k.path, key);
     const YAML::Node& view = holder;
-    if (!found || !holder.IsMap() || !view[last] || !view[last].IsScalar() || view[last].IsNull()) continue;
-    const fs::path given(view[last].Scalar());
+    if (!holder.IsDefined() || !holder.IsMap() || !view[key] || !view[key].IsScalar() || view[key].IsNull()) continue;
+    const fs::path given(view[key].Scalar());
     if (given.empty() || !given.is_relative() || (k.bareNameIsASearch && !given.has_parent_path())) continue;
     std::error_code ec;
     const fs::path here = fs::weakly_canonical(toDir.empty() ? fs::path(".") : fs::path(toDir), ec);
     const fs::path file = fs::weakly_canonical(fs::path(fromDir) / given, ec);
     // The node is edited in place: its line and column (for errors) stay the base's.
-    YAML::Node n = holder[last];
+    YAML::Node n = holder[key];
     n = file.lexically_relative(here).string();
   }
 }

@@ -107,8 +107,7 @@ std::string HwSensors::faultLineCause() const {
   for (size_t b = 0; b < chains_.size(); ++b) {
     const std::string why = chains_[b]->faultLine() ? chains_[b]->faultCause() : "";
     if (why.empty()) continue;
-    const std::string board = chains_.size() > 1 ? "board " + std::to_string(b + 1) + " " : "";
-    out += (out.empty() ? "" : "; ") + board + why;
+    appendListed(out, (chains_.size() > 1 ? "board " + std::to_string(b + 1) + " " : std::string()) + why, "; ");
   }
   return out;
 }

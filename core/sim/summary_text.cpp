@@ -23,8 +23,6 @@ std::string clockText(double s) {
 
 namespace {
 
-
-
 // Cells past a protection limit before the BMS saw it (the limit_unseen events): per
 // limit the longest episode, and how many cells had one.
 void unseenLimitLines(LineWriter& w, const RunResult& r) {
@@ -113,9 +111,12 @@ void balancingLine(LineWriter& w, const S& s, const R& r) {
   if (!b.present) return;
   std::string when;
   if (b.started_s < 0.0) {
-    const Event* last = nullptr;  // packsim's core's status; a user's firmware has none ("disabled" was the channel's first value)
-    for (const Event& e : r.events)
-      if (e.kind == "balancing" && !s.bms.firmware.library) last = &e;
+    // packsim's core's last status; a user's firmware reports none ("disabled" is the
+    // channel's first value there).
+    const Event* last = nullptr;
+    if (!s.bms.firmware.library)
+      for (const Event& e : r.events)
+        if (e.kind == "balancing") last = &e;
     when = "the firmware never reported balancing" + (last ? " (its last status: " + last->detail + ")" : std::string()) +
            (b.bled_Ah > 0.0 ? ", yet" : "");
   } else {

@@ -516,32 +516,33 @@ std::string Bq76952Chain::faultCause() const {
 }
 
 std::string Bq76952Chain::latchedProtections(uint8_t maskA, uint8_t maskB, uint8_t maskC) const {
-  struct Bit {
-    const uint8_t* status;
-    const uint8_t* mask;
+  // Safety Status A, B, C (TRM), by register: OTC and UTC are judged whether or not a
+  // charge flows.
+  const uint8_t latched[3] = {static_cast<uint8_t>(statusA_ & maskA), static_cast<uint8_t>(statusB_ & maskB),
+                              static_cast<uint8_t>(statusC_ & maskC)};
+  static const struct {
+    int reg;  // 0: A, 1: B, 2: C
     uint8_t bit;
     const char* name;
-  };
-  // Safety Status A, B, C (TRM): OTC and UTC are judged whether or not a charge flows.
-  const Bit bits[] = {
-      {&statusA_, &maskA, BQ952_SA_COV, "COV (cell over-voltage)"},
-      {&statusA_, &maskA, BQ952_SA_CUV, "CUV (cell under-voltage)"},
-      {&statusA_, &maskA, BQ952_SA_OCC, "OCC (over-current in charge)"},
-      {&statusA_, &maskA, BQ952_SA_OCD1, "OCD1 (over-current in discharge)"},
-      {&statusA_, &maskA, BQ952_SA_OCD2, "OCD2 (over-current in discharge, second level)"},
-      {&statusA_, &maskA, BQ952_SA_SCD, "SCD (short circuit in discharge)"},
-      {&statusB_, &maskB, BQ952_SB_OTC, "OTC (over-temperature in charge, judged at any current)"},
-      {&statusB_, &maskB, BQ952_SB_OTD, "OTD (over-temperature in discharge)"},
-      {&statusB_, &maskB, BQ952_SB_OTF, "OTF (FET over-temperature)"},
-      {&statusB_, &maskB, BQ952_SB_OTINT, "OTINT (die over-temperature)"},
-      {&statusB_, &maskB, BQ952_SB_UTC, "UTC (under-temperature in charge, judged at any current)"},
-      {&statusB_, &maskB, BQ952_SB_UTD, "UTD (under-temperature in discharge)"},
-      {&statusB_, &maskB, BQ952_SB_UTINT, "UTINT (die under-temperature)"},
-      {&statusC_, &maskC, BQ952_SC_OCD3, "OCD3 (sustained over-current in discharge)"},
+  } kBits[] = {
+      {0, BQ952_SA_COV, "COV (cell over-voltage)"},
+      {0, BQ952_SA_CUV, "CUV (cell under-voltage)"},
+      {0, BQ952_SA_OCC, "OCC (over-current in charge)"},
+      {0, BQ952_SA_OCD1, "OCD1 (over-current in discharge)"},
+      {0, BQ952_SA_OCD2, "OCD2 (over-current in discharge, second level)"},
+      {0, BQ952_SA_SCD, "SCD (short circuit in discharge)"},
+      {1, BQ952_SB_OTC, "OTC (over-temperature in charge, judged at any current)"},
+      {1, BQ952_SB_OTD, "OTD (over-temperature in discharge)"},
+      {1, BQ952_SB_OTF, "OTF (FET over-temperature)"},
+      {1, BQ952_SB_OTINT, "OTINT (die over-temperature)"},
+      {1, BQ952_SB_UTC, "UTC (under-temperature in charge, judged at any current)"},
+      {1, BQ952_SB_UTD, "UTD (under-temperature in discharge)"},
+      {1, BQ952_SB_UTINT, "UTINT (die under-temperature)"},
+      {2, BQ952_SC_OCD3, "OCD3 (sustained over-current in discharge)"},
   };
   std::string out;
-  for (const Bit& b : bits)
-    if (*b.status & *b.mask & b.bit) out += (out.empty() ? "" : ", ") + std::string(b.name);
+  for (const auto& b : kBits)
+    if (latched[b.reg] & b.bit) appendListed(out, b.name);
   return out;
 }
 

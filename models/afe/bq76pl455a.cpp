@@ -330,13 +330,14 @@ std::string Bq76pl455aChain::faultCause() const {
   for (size_t d = 0; d < dev_.size(); ++d) {
     const Device& dv = dev_[d];
     const uint16_t on = faultSummary(dv) & get16(dv.reg, PL455_REG_FO_CTRL);
+    const bool cto = (dv.reg[PL455_REG_FAULT_SYS] & PL455_FAULT_SYS_CTO) != 0;
     std::string why;
-    for (const auto& b : kBits) {
-      if (!(on & b.bit)) continue;
-      const bool cto = b.bit == PL455_FAULT_SUM_SYS && (dv.reg[PL455_REG_FAULT_SYS] & PL455_FAULT_SYS_CTO);
-      why += (why.empty() ? "" : ", ") + std::string(cto ? "SYS (communication timeout: no valid frame from the host within it)" : b.name);
-    }
-    if (!why.empty()) out += (out.empty() ? "" : "; ") + ("device " + std::to_string(d + 1) + ": " + why);
+    for (const auto& b : kBits)
+      if (on & b.bit)
+        appendListed(why, b.bit == PL455_FAULT_SUM_SYS && cto
+                              ? "SYS (communication timeout: no valid frame from the host within it)"
+                              : b.name);
+    if (!why.empty()) appendListed(out, "device " + std::to_string(d + 1) + ": " + why, "; ");
   }
   return out;
 }

@@ -455,14 +455,11 @@ std::string Bq76pl536aChain::faultCause() const {
   for (size_t d = 0; d < dev_.size(); ++d) {
     const uint8_t fs = dev_[d].reg[BQ536_FAULT_STATUS], as = dev_[d].reg[BQ536_ALERT_STATUS];
     std::string why;
-    const auto add = [&](bool on, const char* name) {
-      if (on) why += (why.empty() ? "" : ", ") + std::string(name);
-    };
-    add(fs & BQ536_FS_COV, "COV (cell over-voltage)");
-    add(fs & BQ536_FS_CUV, "CUV (cell under-voltage)");
-    add(as & BQ536_AS_OT1, "OT1 (over-temperature on TS1)");
-    add(as & BQ536_AS_OT2, "OT2 (over-temperature on TS2)");
-    if (!why.empty()) out += (out.empty() ? "" : "; ") + ("device " + std::to_string(d + 1) + ": " + why);
+    if (fs & BQ536_FS_COV) appendListed(why, "COV (cell over-voltage)");
+    if (fs & BQ536_FS_CUV) appendListed(why, "CUV (cell under-voltage)");
+    if (as & BQ536_AS_OT1) appendListed(why, "OT1 (over-temperature on TS1)");
+    if (as & BQ536_AS_OT2) appendListed(why, "OT2 (over-temperature on TS2)");
+    if (!why.empty()) appendListed(out, "device " + std::to_string(d + 1) + ": " + why, "; ");
   }
   return out;
 }

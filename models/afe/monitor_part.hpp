@@ -28,6 +28,14 @@
 
 namespace packsim {
 
+// Appends `item` to a list in words ("COV (...), OT1 (...)"; per device "device 1: ...;
+// device 2: ..."): the parts' FAULT-line causes and the hardware's join of them.
+inline void appendListed(std::string& list, const std::string& item, const char* separator = ", ") {
+  if (item.empty()) return;
+  if (!list.empty()) list += separator;
+  list += item;
+}
+
 // What one device's pins see at t.
 struct DeviceAnalog {
   std::vector<double> cell_V;           // its cells, bottom first (truth at the pins)
