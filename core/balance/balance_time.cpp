@@ -154,10 +154,8 @@ std::string bmsChargeEndText(const Scenario& s, const RunResult& r, double imbal
   const ChargeSummary& c = r.summary.charge;
   if (c.off_s < 0.0) return "";
   const uint16_t full_mV = s.bms.image.chargeFullCell_mV;
-  std::string text = fmt("the BMS ended the charge at %.2f h and kept it off: the highest cell, ", c.off_s / 3600.0) +
-                     cellName(c.off_cell, s.pack.parallel) +
-                     fmt(", at %.3f V under %.2f A of charge, mean SOC %.3f (truth)", c.off_cell_V, c.off_current_A,
-                         c.off_soc_mean);
+  std::string text =
+      fmt("the BMS ended the charge at %.2f h and kept it off: ", c.off_s / 3600.0) + chargeOffText(c, s.pack.parallel);
   if (full_mV > 0) text += fmt(", its bms.charge_full_cell_V %.3f V", full_mV * 1e-3);
   text += fmt("; %.3f Ah of imbalance left at %.2f h (truth)", imbalanceLeft_Ah, end_s / 3600.0);
   return text;

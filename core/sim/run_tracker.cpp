@@ -312,10 +312,7 @@ void RunTracker::noteCharger(double t, const double* x, const PlantSignals& sig,
   c.off_cell_V = v[static_cast<size_t>(highest)];
   c.off_current_A = -sig.pack_current_A;
   c.off_soc_mean = soc / static_cast<double>(cellSocIndex_.size());
-  char d[200];
-  std::snprintf(d, sizeof d, "disabled by the BMS: the highest cell, %s, at %.3f V under %.2f A of charge, mean SOC %.3f (truth)",
-                cellName(c.off_cell, plant_.pack().parallel).c_str(), c.off_cell_V, c.off_current_A, c.off_soc_mean);
-  event(t, "charger", d);
+  event(t, "charger", "disabled by the BMS: " + chargeOffText(c, plant_.pack().parallel));
 }
 
 void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {

@@ -14,6 +14,11 @@
 
 namespace packsim {
 
+std::string chargeOffText(const ChargeSummary& c, int parallel) {
+  return "the highest cell, " + cellName(c.off_cell, parallel) +
+         fmt(", at %.3f V under %.2f A of charge, mean SOC %.3f (truth)", c.off_cell_V, c.off_current_A, c.off_soc_mean);
+}
+
 std::string clockText(double s) {
   char buf[32];
   const long t = static_cast<long>(s + 0.5);

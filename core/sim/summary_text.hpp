@@ -23,6 +23,10 @@ std::string formatSummary(const Scenario& s, const RunResult& r);
 // "cell N" (1-based over every cell), with its series group in a pack of parallel cells:
 // "cell 74 (group 19)" in a 24s4p pack.
 std::string cellName(int cell, int parallel);
+// The truth when the BMS switched the charger off (ChargeSummary): "the highest cell,
+// cell 5 (group 3), at 4.149 V under 3.00 A of charge, mean SOC 0.838 (truth)" -- its
+// `charger` event and balance-time's note.
+std::string chargeOffText(const ChargeSummary& c, int parallel);
 // "never closed in the run's 60.00 s: the load asked for up to 5.90 A discharge and drew
 // 0.000 Ah; the BMS's last state: standby" when the relay never closed (Summary::relay_closed:
 // no relay_contact event said it did) while the load or charger asked for current; ""
