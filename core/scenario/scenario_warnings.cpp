@@ -64,7 +64,36 @@ void checkSensorRange(const Scenario& s, const Provenance& p, std::vector<std::s
                   ": the BMS reads the rail, not the current");
 }
 
-// A cell further than kThermistorReachLinks cell-to-cell conductances from every cell a
+}  // namespace
+
+int thermistorReachLinks(const Scenario& s) {
+  const double g = s.thermal.cell_to_cell_W_per_K;
+  if (g <= 0.0) return 0;
+  double loss = s.pack.cell.g_ambient_W_per_K + s.thermal.g_coolant_W_per_K;
+  for (const ThermalNodeConfig& n : s.thermal.nodes) loss += n.g_each_cell_W_per_K;
+  if (loss <= 0.0) return kThermistorReachLinks;
+  // A cell n links from the hot one, at steady state on a long chain: g (T[n+1] - 2 T[n] +
+  // T[n-1]) = loss T[n], so T[n] = T[0] r^n with r + 1/r = 2 + loss/g (the root below 1).
+  const double a = loss / g;
+  const double r = 1.0 / (1.0 + 0.5 * a + std::sqrt(a + 0.25 * a * a));
+  const double links = std::floor(std::log(kThermistorSeenFraction) / std::log(r));
+  return links < kThermistorReachLinks ? static_cast<int>(links) : kThermistorReachLinks;
+}
+
+namespace {
+
+// Why the reach is short of kThermistorReachLinks, for the warning.
+std::string reachReason(const Scenario& s, const Provenance& p, int reach) {
+  if (reach >= kThermistorReachLinks) return "";
+  const std::string g = p.describe("thermal.cell_to_cell_W_per_K", numberText(s.thermal.cell_to_cell_W_per_K));
+  if (reach == 0 && s.thermal.cell_to_cell_W_per_K <= 0.0)
+    return "; " + g + ": no heat flows from cell to cell, so a thermistor sees only the cell it sits on";
+  return "; " + g + " against each cell's own losses (ambient, coolant, nodes): even at steady state a hot cell lifts a cell " +
+         std::to_string(reach + 1) + " links away by less than " + fmt(100.0 * kThermistorSeenFraction) +
+         " % of its own rise";
+}
+
+// A cell further than thermistorReachLinks cell-to-cell conductances from every cell a
 // thermistor sits on. The cells are linked in storage order, group by group, and a
 // thermistor sits on its group's first cell: with parallel cells a group's others are 1 ..
 // parallel-1 links from it, so the reach counts cells, not groups.
@@ -78,24 +107,29 @@ void checkThermistorReach(const Scenario& s, const Provenance& p, std::vector<st
     out.push_back(where + ": no thermistor sits on a cell; no cell temperature is measured");
     return;
   }
+  const int reach = thermistorReachLinks(s);
   std::vector<int> far;  // 1-based cells (series groups without parallel cells)
   for (int c = 0; c < s.pack.series * parallel; ++c) {
     int links = s.pack.series * parallel;
     for (const ThermistorChannel& ch : therm.channels)
       if (ch.site == ThermSite::Cell) links = std::min(links, std::abs(ch.group * parallel - c));
-    if (links > kThermistorReachLinks) far.push_back(c + 1);
+    if (links > reach) far.push_back(c + 1);
   }
   if (far.empty()) return;
   std::ostringstream os;
   os << where << ": " << (parallel > 1 ? "cell" : "series group") << (far.size() > 1 ? "s " : " ") << numberRanges(far);
   const char* verb = far.size() > 1 ? "are" : "is";
   if (parallel > 1)
-    os << " (1-based, " << parallel << " to a group; each thermistor sits on its group's first cell) " << verb
-       << " more than " << kThermistorReachLinks
-       << " cells from every thermistor along the cell-to-cell conductances: a hot cell there goes unseen";
+    os << " (1-based, " << parallel << " to a group; each thermistor sits on its group's first cell) ";
   else
-    os << " (1-based) " << verb << " more than " << kThermistorReachLinks
-       << " groups from every thermistor: a hot cell there goes unseen";
+    os << " (1-based) ";
+  const char* unit = parallel > 1 ? " cell" : " group";
+  if (reach == 0)
+    os << (far.size() > 1 ? "carry" : "carries") << " no thermistor";
+  else
+    os << verb << " more than " << reach << unit << (reach == 1 ? "" : "s") << " from every thermistor"
+       << (parallel > 1 ? " along the cell-to-cell conductances" : "");
+  os << reachReason(s, p, reach) << ": a hot cell there goes unseen";
   out.push_back(os.str());
 }
 

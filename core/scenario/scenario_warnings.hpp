@@ -21,6 +21,16 @@ class Provenance;
 // are linked in storage order (a group's parallel cells one after the other), and a
 // thermistor sits on its group's first cell.
 constexpr int kThermistorReachLinks = 4;
+// Fewer links where the conductances are weak against each cell's own losses: a cell
+// counts as watched only if, even at steady state, its temperature rise lifts the
+// thermistor's cell by at least this fraction of it (a cell 75 K above ambient that moves
+// its thermistor by under 7.5 K reads as a normal cell).
+constexpr double kThermistorSeenFraction = 0.1;
+
+// The links within which a hot cell is watched: kThermistorReachLinks, or fewer where a
+// hot cell's steady rise falls below kThermistorSeenFraction sooner along the chain of
+// cell-to-cell conductances (0 when they are 0: each thermistor sees only its own cell).
+int thermistorReachLinks(const Scenario& s);
 // A load above these C-rates per cell is implausible for the pack when its cell states
 // no max_discharge_C / max_charge_C (often a unit slip: mA or W read as A).
 constexpr double kImplausibleDischargeC = 20.0;

@@ -52,6 +52,7 @@ std::string examplePack(int cells) {
   return "extends: bench_6s_ncr18650_2C.yaml\n"
          "pack: {series: 12}\n"
          "hardware: {afe: {model: bq76pl536a, cells_per_device: 6, devices: 2}, thermistors: {at_groups: [1, 2, 7, 8]}}\n"
+         "thermal: {cell_to_cell_W_per_K: 1.0}\n"  // every cell within reach of a thermistor: no warning
          "load: {current_A: 1}\n"
          "run: {duration_s: 3}\n"
          "bms: {tick_ms: 10, firmware: {library: packsim_example_bms, config: {cell_count: " +

@@ -308,11 +308,12 @@ std::string userString(const std::string& extra) {
 
 TEST(ScenarioWarnings, SeriesGroupFarFromEveryThermistor) {
   // 24 groups, the default four thermistors at groups 1, 7, 13, 19: group 24 is 5 away.
-  const Scenario far = test::scenarioFromYaml(userString("load: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  const std::string linked = "thermal: {cell_to_cell_W_per_K: 0.5}\n";  // reach 4 against 0.04 W/K to ambient
+  const Scenario far = test::scenarioFromYaml(userString(linked + "load: {current_A: 10}\nrun: {duration_s: 1}\n"));
   EXPECT_EQ(warningsWith(far, "hardware.thermistors.at_groups = [1, 7, 13, 19] (default (up to 4 spread over the "
                               "string)): series group 24 (1-based) is more than 4 groups"), 1u) << allWarnings(far);
   const Scenario covered = test::scenarioFromYaml(
-      userString("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+      userString(linked + "hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
   EXPECT_EQ(warningsWith(covered, "thermistor"), 0u) << allWarnings(covered);
 }
 
@@ -321,11 +322,54 @@ TEST(ScenarioWarnings, SeriesGroupFarFromEveryThermistor) {
 // the four thermistors; a cell more than 4 links from all of them is unseen, although
 // every group is within 4 groups of one).
 TEST(ScenarioWarnings, ParallelCellsFarFromEveryThermistorsCell) {
-  const Scenario s = test::scenarioFromYaml(
-      userPack("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  const Scenario s = test::scenarioFromYaml(userPack("thermal: {cell_to_cell_W_per_K: 0.5}\n"
+                                                     "hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\n"
+                                                     "load: {current_A: 10}\nrun: {duration_s: 1}\n"));
   EXPECT_EQ(warningsWith(s, ": cells 6-24, 34-56, 66-88 (1-based, 4 to a group; each thermistor sits on its group's "
                             "first cell) are more than 4 cells from every thermistor"), 1u) << allWarnings(s);
   EXPECT_EQ(warningsWith(s, "thermistor"), 1u) << allWarnings(s);
+}
+
+// Without cell-to-cell conductances (the default) no heat reaches a thermistor from another
+// cell: every cell but the thermistors' own is unseen. A user's 24s4p pack with ten
+// thermistors was told only 18 of its 86 other cells were, and a 30 W internal short in
+// cell 50, the neighbour of group 13's thermistor cell, reached 110 C with that thermistor
+// at 30.9 C and no trip.
+TEST(ScenarioWarnings, NoCellToCellConductanceLeavesEveryOtherCellUnseen) {
+  const Scenario s = test::scenarioFromYaml(
+      userPack("hardware: {thermistors: {at_groups: [1, 8, 16, 24]}}\nload: {current_A: 10}\nrun: {duration_s: 1}\n"));
+  EXPECT_EQ(thermistorReachLinks(s), 0);
+  EXPECT_EQ(warningsWith(s, ": cells 2-28, 30-60, 62-92, 94-96 (1-based, 4 to a group; each thermistor sits on its "
+                            "group's first cell) carry no thermistor; thermal.cell_to_cell_W_per_K = 0 (default): no heat flows from cell to "
+                            "cell, so a thermistor sees only the cell it sits on: a hot cell there goes unseen"), 1u)
+      << allWarnings(s);
+}
+
+// The reach against the plant's own thermal network: a hot cell in the middle of a 41-cell
+// string at rest, run to steady state (about 10 time constants of the cell's heat capacity
+// over its conductances); the cell `reach` links away rises by at least the seen fraction
+// of the hot cell's rise, the next one by less. Three conductances: weak, middling, and
+// strong enough for the fixed cap of 4.
+TEST(ScenarioWarnings, ThermistorReachIsWhereTheSteadyRiseFallsBelowATenth) {
+  for (const double g : {0.02, 0.2, 1.0}) {
+    const Scenario s = test::scenarioFromYaml(
+        "pack: {series: 41, cell: {preset: ncr18650_3p1Ah, g_ambient_W_per_K: 0.15}}\n"
+        "thermal: {cell_to_cell_W_per_K: " + std::to_string(g) + "}\n"
+        "ambient: {temp_C: 25}\nload: {current_A: 0}\nrun: {duration_s: 6000}\nbms: {tick_ms: 1000}\n"
+        "output: {interval_s: 100}\nfaults: [{kind: hot_cell, cell: 21, heat_W: 5, at_s: 0}]\n");
+    const int reach = thermistorReachLinks(s);
+    const RunResult r = runScenario(s);
+    const size_t cells = 41, last = r.rec.time_s.size() - 1;
+    auto rise = [&](int cell) { return r.rec.cell_temp_C[last * cells + cell - 1] - 25.0; };
+    SCOPED_TRACE("g " + std::to_string(g) + ", reach " + std::to_string(reach));
+    ASSERT_GT(rise(21), 5.0);  // a rise well above the noise of a steady state
+    if (reach < kThermistorReachLinks) {
+      EXPECT_GE(rise(21 + reach), kThermistorSeenFraction * rise(21));
+      EXPECT_LT(rise(21 + reach + 1), kThermistorSeenFraction * rise(21));
+    } else {
+      EXPECT_GE(rise(21 + reach), kThermistorSeenFraction * rise(21));
+    }
+  }
 }
 
 TEST(ScenarioWarnings, ImplausibleMagnitudesForThePack) {
@@ -384,11 +428,13 @@ TEST(ScenarioWarnings, AnEndBetweenTwoTicks) {
 // Every bundled scenario loads without a spurious warning: system B's three replace the
 // NCR18650 preset's R0 curve by a curve of their own ({poly: [0.030], arrhenius_K: 0}),
 // deliberately, and are not warned about (OverrideThatDropsADependence: a plain number is).
-// Two packs with parallel cells have the one true warning of thermistor reach: system B
-// (28 modules of 15 cells, seven thermistors, each on its module's first cell: cells 1,
-// 61, 121, 196, 256, 331, 406) leaves most cells more than four cells from every thermistor; the Formula-Student pack
-// (96s3p, a thermistor on every second group from group 1) leaves its last cell, 288,
-// five cells from the one on group 95.
+// The true warnings of thermistor reach: system B (28 modules of 15 cells, seven
+// thermistors, each on its module's first cell: cells 1, 61, 121, 196, 256, 331, 406; its
+// 0.05 W/K between cells against 0.04 W/K to ambient reaches 2 cells) leaves most cells
+// unseen; the Formula-Student pack (96s3p, a thermistor on every second group from group
+// 1) leaves its last cell, 288, five cells from the one on group 95; the two bench packs
+// without cell-to-cell conductances (the 6s balancing bench and what extends it, the 4s3p
+// active balancer) have no cell but a thermistor's own watched.
 TEST(ScenarioWarnings, BundledScenarios) {
   for (const auto& e : fs::recursive_directory_iterator(test::scenarioDir())) {
     const fs::path p = e.path();
@@ -398,12 +444,14 @@ TEST(ScenarioWarnings, BundledScenarios) {
     const Scenario s = loadScenarioFile(p.string());
     const bool systemB = s.pack.series == 28 && s.pack.parallel == 15;
     const bool fs96 = s.pack.series == 96 && s.pack.parallel == 3;
-    const size_t reach = warningsWith(s, "each thermistor sits on its group's first cell) ");
-    EXPECT_EQ(reach, systemB || fs96 ? 1u : 0u) << rel << "\n" << allWarnings(s);
+    const bool unlinked = s.thermal.cell_to_cell_W_per_K == 0.0;
+    const size_t reach = warningsWith(s, "goes unseen");
+    EXPECT_EQ(reach, systemB || fs96 || unlinked ? 1u : 0u) << rel << "\n" << allWarnings(s);
     if (systemB)
-      EXPECT_EQ(warningsWith(s, ": cells 6-56, 66-116, 126-191, 201-251, 261-326, 336-401, 411-420 (1-based, 15 to a group; "), 1u)
+      EXPECT_EQ(warningsWith(s, ": cells 4-58, 64-118, 124-193, 199-253, 259-328, 334-403, 409-420 (1-based, 15 to a group; "), 1u)
           << rel << "\n" << allWarnings(s);
     if (fs96) EXPECT_EQ(warningsWith(s, ": cell 288 (1-based, 3 to a group; "), 1u) << rel << "\n" << allWarnings(s);
+    if (unlinked) EXPECT_EQ(warningsWith(s, "no heat flows from cell to cell"), 1u) << rel << "\n" << allWarnings(s);
     EXPECT_EQ(s.warnings.size(), reach) << rel << "\n" << allWarnings(s);
   }
 }

@@ -34,9 +34,14 @@ def test_user_pack_sensor_range_is_derived_and_said(tmp_path):
     assert not gain["stated"]
     assert any("overcurrent_discharge.threshold_A = 30 (default)" in w for w in shown["warnings"])
     # The default thermistors sit on groups 1, 7, 13, 19, each on its group's first cell:
-    # cells 1, 25, 49, 73 of 96. Cells more than 4 from all of them go unseen: the last
-    # thermistor (cell 73) reaches to 77, so cells 78-96 (series group 24 among them).
+    # cells 1, 25, 49, 73 of 96. Without cell-to-cell conductances (the default) no other
+    # cell is watched.
     reach = [w for w in shown["warnings"] if w.startswith("hardware.thermistors.at_groups")]
+    assert len(reach) == 1 and "cells 2-24, 26-48, 50-72, 74-96" in reach[0] and "no heat flows" in reach[0]
+    # Linked by 0.5 W/K (against 0.04 W/K to ambient), cells more than 4 from all of them go
+    # unseen: the last thermistor (cell 73) reaches to 77, so cells 78-96.
+    linked = packsim.show(USER_PACK, {"thermal.cell_to_cell_W_per_K": 0.5}, base_dir=str(tmp_path))
+    reach = [w for w in linked["warnings"] if w.startswith("hardware.thermistors.at_groups")]
     assert len(reach) == 1 and "cells 6-20, 30-44, 54-68, 78-96" in reach[0]
 
 
