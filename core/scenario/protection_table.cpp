@@ -121,7 +121,9 @@ std::string protectionDetail(bms::FaultId id, int32_t threshold_fw, uint32_t del
     else if (take("{count}")) os << (threshold_fw + 1);
     else os << *c++;
   }
-  os << " for " << delay_ms << " ms";
+  // A protection without a debounce acts on the reading itself: "for 0 ms" read as if the
+  // condition had lasted no time ("5 consecutive bad monitor replies for 0 ms").
+  if (delay_ms > 0) os << " for " << delay_ms << " ms";
   return os.str();
 }
 

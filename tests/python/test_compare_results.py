@@ -27,7 +27,7 @@ def write(path: Path, edit=None) -> Path:
         t = f.create_dataset("time_s", data=np.arange(2.0))
         t.make_scale("time_s")
         d.dims[0].attach_scale(t)
-        ev = np.array([(1.0, "fault_active", "estop: E-switch pulled for 0 ms")],
+        ev = np.array([(1.0, "fault_active", "estop: E-switch pulled")],
                       dtype=[("time_s", "f8"), ("kind", h5py.string_dtype()), ("detail", h5py.string_dtype())])
         f.create_dataset("events", data=ev)
         f.create_group("summary").attrs["trip_reason"] = "estop"
