@@ -90,6 +90,7 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
   for (const Event& ev : r.events)
     if (ev.kind == "config_warning" || ev.kind == "monitor_unread") o.warnings.push_back(ev.detail);
     else if (ev.kind == "cell_model_range") o.warnings.push_back("beyond the cell model: " + ev.detail);
+    else if (ev.kind == "false_fault") o.warnings.push_back("a false fault: " + ev.detail);
     else if (ev.kind == "load_limited") o.warnings.push_back("load not met: " + ev.detail);
   if (const std::string never = relayNeverClosed(s, r); !never.empty()) o.warnings.push_back("the relay " + never);
   // A trip is judged by what the BMS decided; whether it isolated the pack is the contact's.

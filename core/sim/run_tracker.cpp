@@ -169,8 +169,9 @@ int firstCellAt(const double* values, double v) {
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
     : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
-      modelRange_(s.pack.cell),
-      limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }) {
+      modelRange_(s.pack.cell), falseFaults_(s, plant.pack().parallel),
+      limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }),
+      falseFaultSink_([this](double te, const std::string& d) { event(te, "false_fault", d); }) {
   Recording& rec = r_.rec;
   rec.cells = plant.pack().cellCount();
   rec.groups = plant.pack().series;
@@ -429,6 +430,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   if (outputsMoved) outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
   limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_, &tickExtremes);
+  falseFaults_.tick(t, volts.lo, volts.hi, temps.hi, sig.pack_current_A, sig.cell_voltage_V, cellTemp_C_,
+                    out.faultActive, falseFaultSink_);
   modelRange_.tick(temps.lo, temps.hi, cellTemp_C_, plant_.pack().parallel,
                    [this, t](const std::string& d) { event(t, "cell_model_range", d); });
   takeEnergyIn(x[plant_.stateSize() + kQuadLoadEnergy_J]);

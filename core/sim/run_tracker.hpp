@@ -10,6 +10,7 @@
 #include "core/sim/result.hpp"
 #include "core/sim/bms_bridge.hpp"
 #include "core/sim/cell_model_range.hpp"
+#include "core/sim/false_fault.hpp"
 #include "core/sim/limit_watch.hpp"
 
 namespace packsim {
@@ -77,7 +78,9 @@ class RunTracker {
   std::vector<uint8_t> socOut_;  // per cell: 1 went below SOC 0, 2 went above SOC 1
   LimitWatch limits_;            // cells past a protection limit the BMS has not seen
   CellModelRange modelRange_;    // cells past the temperatures the cell model stands for
+  FalseFaultWatch falseFaults_;  // protections the BMS raised on readings the cells did not have
   LimitWatch::EventSink limitSink_;  // its events: limit_unseen (made once, not per tick)
+  FalseFaultWatch::EventSink falseFaultSink_;  // false_fault, likewise
   // register_misuse: per board, the misuse entries already reported, and each one's
   // event (its count is filled in at the end)
   struct MisuseReported {

@@ -367,6 +367,9 @@ const std::vector<SummaryLine> kLines = {
        for (const std::string& line : r.summary.fet_notes) w.line(line); }},
     {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {
        unseenLimitLines(w, r); }},
+    {"false fault", "", [](LineWriter& w, const S&, const R& r) {  // protections raised on readings, not on the cells
+       for (const Event& e : r.events)
+         if (e.kind == "false_fault") w.line(e.detail); }},
     {"unmonitored", "unmonitored_groups", [](LineWriter& w, const S&, const R& r) {  // inputs the firmware never read
        for (const Event& e : r.events)
          if (e.kind == "monitor_unread") w.line(e.detail); }},

@@ -272,7 +272,7 @@ def verdict(r: Result) -> Verdict:
     """Tripped or not, from the events: the first fault_latched is the trip (the
     protection and when); the contact, fuse and FAULT-line events say what acted; the
     recorded sample at the trip gives the BMS's reading next to the truth.
-    limit_unseen, firmware_fault, fault_not_reached, fault_no_effect, monitor_unread, cell_model_range,
+    limit_unseen, firmware_fault, fault_not_reached, fault_no_effect, monitor_unread, cell_model_range, false_fault,
     load_limited and load_end events, the BMS switching a charger off,
     and a relay that never closed, are listed whether or not it tripped."""
     evs = r.events
@@ -311,7 +311,7 @@ def verdict(r: Result) -> Verdict:
             if i in unseen:
                 lines.append(f"{ev['time_s']:.2f} s: limit unseen: {unseen[i]}")
         elif k in ("firmware_fault", "fault_not_reached", "fault_no_effect", "monitor_unread",
-                   "cell_model_range", "load_limited", "load_end"):
+                   "cell_model_range", "load_limited", "load_end", "false_fault"):
             lines.append(f"{ev['time_s']:.2f} s: {k.replace('_', ' ')}: {ev['detail']}")
         elif k == "charger" and str(ev["detail"]).startswith("disabled by the BMS"):
             # the charge ended by the BMS, with the truth then (the summary's `charge` line)

@@ -86,6 +86,14 @@ def test_a_cell_beyond_the_cell_model_is_in_the_verdict():
     assert not any("cell model range" in line for line in run_facts.verdict(_result()).lines)
 
 
+def test_a_false_fault_is_in_the_verdict():
+    note = ("cell_overvoltage at 121.50 s: no cell's true voltage came within 10.0 mV of the 4.250 V limit in the "
+            "0.80 s before (the highest at the fault 4.036 V, cell 73 (group 19)): the BMS acted on a reading, not on "
+            "the cells")
+    text = "\n".join(run_facts.verdict(_result(events=[(121.5, "false_fault", note)])).lines)
+    assert f"121.50 s: false fault: {note}" in text
+
+
 def test_a_charge_the_bms_ended_is_in_the_verdict_with_the_truth_then():
     note = ("disabled by the BMS: the highest cell, cell 5 (group 3), at 4.149 V under 4.00 A of charge, "
             "mean SOC 0.728 (truth)")
