@@ -137,15 +137,19 @@ double highestVoltage_V(const RunResult& r) {
   return vmax;
 }
 
-// Why a firmware that balanced stopped before the rest voltages came within the target.
-std::string stoppedWhy(const Scenario& s, const RunResult& r) {
+// Why a firmware that balanced stopped before the rest voltages came within the target,
+// from its balancing status since it stopped (`quiet`, from `since_s`).
+std::string stoppedWhy(const Scenario& s, const RunResult& r, bms::BalanceStatus quiet, double since_s) {
   const Policy b = policyOf(s);
   const double vmax = highestVoltage_V(r);
+  const std::string when = fmt(" since %.2f h", since_s / 3600.0);
+  if (quiet == bms::BalanceStatus::Disabled)
+    return "stopped short of the target: balancing disabled by the BMS" + when + " (a fault or its state)";
   if (vmax < b.min_cell_V + b.stop_delta_V)
     return fmt("stopped short of the target: the cells still high are at %.3f V, at the bms.balancing.min_cell_V "
                "floor (%.3f V), and it never declared",
                vmax, b.min_cell_V);
-  return "stopped short of the target (its readings within the stop threshold) and never declared";
+  return "stopped short of the target" + when + " and never declared";
 }
 
 // A charge the BMS ended itself (core/sim/charge_summary.hpp): when, on what, and the
@@ -177,6 +181,12 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
 
   bool started = false;
   double declaredAt = -1.0, trueAt = -1.0, quietSince = -1.0, lastT = 0.0, paused_s = 0.0, pausedToTrue_s = 0.0;
+  // Spells of "not allowed" after it started (its rest broken by a current reading at or
+  // above rest_current_A, e.g. the sensor's noise): a pause while the condition may come
+  // back, within its rest_s and a settling time.
+  int restBreaks = 0;
+  double notAllowed_s = 0.0;
+  auto quietStatus = bms::BalanceStatus::Balancing;
   double lowestSpread_mV = INFINITY, lastOcvSpread_V = NAN, lastCharging_s = 0.0;
   std::vector<double> peak(static_cast<size_t>(plant.boardCount()), -INFINITY);
   double chargeOff_s = -1.0;  // the BMS switched the charger off then and has kept it off
@@ -201,6 +211,10 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
     }
     const auto status = static_cast<bms::BalanceStatus>(out.balanceStatus);
     if (status == bms::BalanceStatus::BoardHot) paused_s += tick_s;
+    if (started && status == bms::BalanceStatus::NotAllowed) {
+      if (quietSince < 0.0) ++restBreaks;
+      notAllowed_s += tick_s;
+    }
     if (status == bms::BalanceStatus::Balancing) {
       started = true;
       declaredAt = -1.0;
@@ -209,6 +223,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       lowestSpread_mV = std::min(lowestSpread_mV, static_cast<double>(spread_mV));
     } else {
       if (quietSince < 0.0) quietSince = t;
+      quietStatus = status;
       if (started && status == bms::BalanceStatus::Balanced && declaredAt < 0.0) declaredAt = t;
     }
     lastOcvSpread_V = spread(groupOcv_V(plant, x));
@@ -227,8 +242,11 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
         return finish("charge_ended_by_bms");
       return false;
     }
-    if (started && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && t - quietSince >= settle_s &&
-        trueAt < 0.0)
+    // At rest "not allowed" is a pause: the rest condition comes back once the current
+    // reading stays below rest_current_A for rest_s (the load is 0 in this experiment).
+    const bool mayResume = status == bms::BalanceStatus::NotAllowed;
+    if (started && quietSince >= 0.0 && status != bms::BalanceStatus::BoardHot && !mayResume &&
+        t - quietSince >= settle_s && trueAt < 0.0)
       return finish("firmware_stopped");
     if (!started && t >= wait_start_s) return finish("not_started");
     // The target is reached but the firmware keeps balancing: give it half as long again.
@@ -272,7 +290,7 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
       row.firmware_note = fmt("never declared: the charge ended at %.2f h ", row.charge_h) +
                           (started ? "while it was still balancing" : "before it started balancing");
     else if (reason == "firmware_stopped")
-      row.firmware_note = stoppedWhy(s, r);
+      row.firmware_note = stoppedWhy(s, r, quietStatus, quietSince);
     else if (reason == "charge_ended_by_bms")
       row.firmware_note = started ? "never declared: it stopped balancing" : "never declared: it never balanced";
     else
@@ -280,6 +298,14 @@ void simulate(const Scenario& s, double target_mV, bool duringCharge, BalanceTim
                               "stop threshold (lowest seen %.0f mV)",
                               lastT / 3600.0, b.stop_delta_V * 1e3, lowestSpread_mV);
   }
+  if (restBreaks > 0 && !duringCharge)
+    row.firmware_note += (row.firmware_note.empty() ? "" : "; ") +
+                         fmt("its rest broke %.0f times after it started, not allowed to balance %.0f %% of the time (",
+                             restBreaks, 100.0 * notAllowed_s / std::max(lastT, tick_s)) +
+                         "bms.balancing.when: " + settingChoice("balancing.when", s.bms.image) +
+                         fmt("): each current reading of %.3f A or more (bms.balancing.rest_current_A) restarts its %.0f s "
+                             "of rest; the current sensor's noise is %.3f A rms",
+                             s.bms.image.balance.restCurrent_mA * 1e-3, b.rest_s, s.hardware.current_sense.noise_A_rms);
   const double span_s = trueAt >= 0.0 ? trueAt : lastT;
   row.paused_fraction = span_s > 0.0 ? (trueAt >= 0.0 ? pausedToTrue_s : paused_s) / span_s : 0.0;
   row.board_peak_C = peak;

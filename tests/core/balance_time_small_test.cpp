@@ -58,6 +58,34 @@ TEST(TimeToBalanceSmallPack, OneHighCellOfSystemCBleedsItsChargeAtVOverR) {
   EXPECT_FALSE(w.within_rating) << "4.2 V across 47 ohm is 0.375 W > the scenario's 0.25 W resistors";
 }
 
+// Balancing at rest with a noisy current sensor: each reading at or above the firmware's
+// rest current (0.2 A) restarts its rest time, and balancing is not allowed until the rest
+// time has passed again. Such a pause is no stop: the experiment used to end at the first
+// one and say "stopped short of the target (its readings within the stop threshold)",
+// with the spread still 60 mV. Now it waits, reaches the target later than without noise
+// (by about the paused share), and says how often the rest broke.
+TEST(TimeToBalanceSmallPack, APauseForABrokenRestIsNoStop) {
+  Scenario s = loadScenarioFile(test::scenarioDir() + "/balance/bench_6s_balancing.yaml");
+  s.hardware.cell_adc.noise_rms = 0.0;
+  BalanceTimeOptions o;
+  o.delta_Ah = 0.2;
+  o.cell_V = 3.9;
+  o.when = "rest";
+  o.max_hours = 8.0;
+  const BalanceTimeRow quiet = balanceTime(s, o).rows.at(0);
+  ASSERT_EQ(quiet.end_reason, "both_known") << quiet.firmware_note;
+  EXPECT_EQ(quiet.firmware_note.find("rest broke"), std::string::npos) << quiet.firmware_note;
+  s.hardware.current_sense.noise_A_rms = 0.06;  // 0.2 A is 3.3 sigma: a reading past it every ~20 min at 1 Hz
+  const BalanceTimeRow noisy = balanceTime(s, o).rows.at(0);
+  EXPECT_EQ(noisy.end_reason, "both_known") << noisy.firmware_note;
+  EXPECT_NE(noisy.firmware_note.find("its rest broke "), std::string::npos) << noisy.firmware_note;
+  EXPECT_NE(noisy.firmware_note.find("(bms.balancing.rest_current_A) restarts its"), std::string::npos)
+      << noisy.firmware_note;
+  EXPECT_GT(noisy.true_h, quiet.true_h);
+  EXPECT_LT(noisy.true_h, 2.0 * quiet.true_h);
+  EXPECT_NEAR(noisy.bled_Ah, quiet.bled_Ah, 0.1 * quiet.bled_Ah);  // the same charge, only later
+}
+
 // With cells in parallel the table's "cell" is a series group: the header says so, and
 // the group's delta takes its resistor twice as long as one cell's (the same V/R bleeds
 // twice the charge).
