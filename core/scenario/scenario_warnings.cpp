@@ -9,6 +9,7 @@
 #include "core/scenario/derived_defaults.hpp"
 #include "core/scenario/number_ranges.hpp"
 #include "core/scenario/provenance.hpp"
+#include "core/scenario/rest_noise_warning.hpp"
 #include "core/scenario/start_voltage_warning.hpp"
 
 namespace packsim {
@@ -296,6 +297,7 @@ const std::vector<WarningCheck>& warningChecks() {
       {"run_end", checkRunEnd},
       {"load_sign", checkLoadSign},
       {"start_voltage", checkStartVoltage},
+      {"rest_noise", checkRestNoise},
   };
   return checks;
 }

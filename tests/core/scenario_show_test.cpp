@@ -3,15 +3,19 @@
 // hardware a user's pack gets when it states none (docs/scenario.md).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "core/scenario/overrides.hpp"
 #include "core/scenario/provenance.hpp"
+#include "core/scenario/rest_noise_warning.hpp"
 #include "core/scenario/scenario_show.hpp"
 #include "core/scenario/scenario_warnings.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
+#include "models/random/random.hpp"
+#include "models/sensors/current_sense.hpp"
 #include "test_support.hpp"
 
 namespace packsim {
@@ -372,6 +376,52 @@ TEST(ScenarioWarnings, ThermistorReachIsWhereTheSteadyRiseFallsBelowATenth) {
   }
 }
 
+// A rest threshold inside the current sensor's noise: 0.2 A against 0.05 A rms is 4 sigma,
+// a reading past it every 0.1 s / erfc(4 / sqrt 2) = 26 min, shorter than ten of the
+// SOC's 30 min rests (and of balancing's 10 min ones when it balances at rest). At
+// 0.03 A rms (6.7 sigma) a reading passes it about once in 2,000 years of ticks: no warning.
+TEST(ScenarioWarnings, ARestThresholdTheCurrentNoiseCrosses) {
+  const std::string pack = userString("hardware: {current_sense: {noise_A_rms: 0.05}}\n"
+                                      "load: {current_A: 10}\nrun: {duration_s: 1}\nbms: {tick_ms: 100");
+  const Scenario soc = test::scenarioFromYaml(pack + "}\n");
+  EXPECT_EQ(warningsWith(soc, "bms.soc.rest_current_A = 0.2 (default) is 4 times the current sensor's 0.05 A rms noise "
+                              "(hardware.current_sense.noise_A_rms, test.yaml:"), 1u) << allWarnings(soc);
+  EXPECT_EQ(warningsWith(soc, "): at the 0.1 s BMS tick a reading at rest passes it about every 26 min on average, and "
+                              "each one restarts the 30 min of rest the firmware waits for before re-anchoring the SOC "
+                              "on the OCV"), 1u) << allWarnings(soc);
+  EXPECT_EQ(warningsWith(soc, "bms.balancing.rest_current_A"), 0u) << allWarnings(soc);  // no balancing at rest
+  std::string bleeding = pack + ", balancing: {when: rest}}\n";
+  bleeding.replace(bleeding.find("hardware: {"), 11, "hardware: {balancing: {resistor_ohm: 33}, ");
+  const Scenario balancing = test::scenarioFromYaml(bleeding);
+  EXPECT_EQ(warningsWith(balancing, "before balancing at rest"), 1u) << allWarnings(balancing);
+  std::string quiet = pack + "}\n";
+  quiet.replace(quiet.find("noise_A_rms: 0.05"), 17, "noise_A_rms: 0.03");
+  EXPECT_EQ(warningsWith(test::scenarioFromYaml(quiet), "rest_current_A"), 0u);
+}
+
+// The warning's rate against the sensor model itself: 400,000 conversions of 0 A on a
+// 16-bit, 0.05 A rms channel (quantised, as the firmware reads it), the share of readings
+// at or above 0.2 A in magnitude against erfc(4 / sqrt 2) = 6.3e-5 (about 25 expected:
+// within 3 sigma of a Poisson count).
+TEST(ScenarioWarnings, TheRestBreakRateIsTheSensorsOwn) {
+  CurrentSense cs;
+  cs.shunt_ohm = 0.0005;
+  cs.amp_gain = 50.0;
+  cs.noise_A_rms = 0.05;
+  const AdcChannel ch = cs.channel();
+  Rng rng(7);
+  const int n = 400000;
+  int past = 0;
+  for (int i = 0; i < n; ++i) {
+    const double amps = (ch.convert(0.0, rng) - cs.zeroCode()) * cs.lsb_A();
+    past += std::fabs(amps) >= 0.2;
+  }
+  const double expected = n * 0.1 / meanTimeBetweenNoiseBreaks_s(0.2, 0.05, 0.1);
+  EXPECT_NEAR(expected, n * std::erfc(4.0 / std::sqrt(2.0)), 1e-9);
+  EXPECT_NEAR(past, expected, 3.0 * std::sqrt(expected) + 1.0) << "lsb " << cs.lsb_A() << " A";
+  EXPECT_TRUE(std::isinf(meanTimeBetweenNoiseBreaks_s(0.2, 0.0, 0.1)));
+}
+
 TEST(ScenarioWarnings, ImplausibleMagnitudesForThePack) {
   // 300 A from one 5 Ah string: 60C, above any plausible rating but below the 100C the
   // loader refuses outright (milliamps read as amps: ScenarioErrors).
@@ -447,12 +497,18 @@ TEST(ScenarioWarnings, BundledScenarios) {
     const bool unlinked = s.thermal.cell_to_cell_W_per_K == 0.0;
     const size_t reach = warningsWith(s, "goes unseen");
     EXPECT_EQ(reach, systemB || fs96 || unlinked ? 1u : 0u) << rel << "\n" << allWarnings(s);
+    // The current sensors of systems B (0.05 A rms at a 0.1 s tick) and D (0.3 A rms), the
+    // Formula-Student pack's (0.1 A rms) and the 4s3p active balancer's (0.05 A rms at
+    // 1 s) cross the SOC's default 0.2 A rest threshold more often than every ten rests.
+    const bool systemD = s.pack.series == 110, activeBalancer = s.pack.series == 4 && s.pack.parallel == 3;
+    const size_t rest = warningsWith(s, "bms.soc.rest_current_A = 0.2 (default) is ");
+    EXPECT_EQ(rest, systemB || systemD || fs96 || activeBalancer ? 1u : 0u) << rel << "\n" << allWarnings(s);
     if (systemB)
       EXPECT_EQ(warningsWith(s, ": cells 4-58, 64-118, 124-193, 199-253, 259-328, 334-403, 409-420 (1-based, 15 to a group; "), 1u)
           << rel << "\n" << allWarnings(s);
     if (fs96) EXPECT_EQ(warningsWith(s, ": cell 288 (1-based, 3 to a group; "), 1u) << rel << "\n" << allWarnings(s);
     if (unlinked) EXPECT_EQ(warningsWith(s, "no heat flows from cell to cell"), 1u) << rel << "\n" << allWarnings(s);
-    EXPECT_EQ(s.warnings.size(), reach) << rel << "\n" << allWarnings(s);
+    EXPECT_EQ(s.warnings.size(), reach + rest) << rel << "\n" << allWarnings(s);
   }
 }
 
