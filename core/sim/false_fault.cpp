@@ -22,7 +22,7 @@ bool everyThermistorOnACell(const Scenario& s) {
 }  // namespace
 
 FalseFaultWatch::FalseFaultWatch(const Scenario& s, int parallel) : parallel_(parallel) {
-  std::fill(near_, near_ + kQuantities, INFINITY);
+  std::fill(near_, near_ + kQuantities + 1, INFINITY);
   std::fill(lastNear_, lastNear_ + kQuantities, -INFINITY);
   if (s.bms.firmware.library) return;
   using F = bms::FaultId;

@@ -18,6 +18,10 @@
 #include <string>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "core/scenario/scenario.hpp"
 
 namespace packsim {
@@ -35,12 +39,16 @@ class FalseFaultWatch {
             const std::vector<double>& cell_V, const std::vector<double>& cell_C, uint32_t faultActive,
             const EventSink& sink) {
     if (rows_.empty()) return;
-    const double value[kQuantities] = {voltsHi, -voltsLo, tempsHi, pack_A, -pack_A};
-#pragma GCC unroll 8
-    for (int q = 0; q < kQuantities; ++q) lastNear_[q] = value[q] >= near_[q] ? t : lastNear_[q];
+    // The quantities near their limits as one mask, stored only when one is (rarely):
+    // two at a time with SSE2, some 30 instructions a tick less than one by one.
+    const unsigned near = nearMask(voltsLo, voltsHi, tempsHi, pack_A);
+    if (near) noteNear(t, near);
     const uint32_t rising = faultActive & ~lastActive_ & watched_;
     lastActive_ = faultActive;
-    if (rising) judge(t, value, cell_V, cell_C, rising, sink);
+    if (rising) {
+      const double value[kQuantities] = {voltsHi, -voltsLo, tempsHi, pack_A, -pack_A};
+      judge(t, value, cell_V, cell_C, rising, sink);
+    }
   }
 
  private:
@@ -51,12 +59,34 @@ class FalseFaultWatch {
     double threshold, tolerance, window_s;
     const char* unit;
   };
+  // Bit q: quantity q's value (voltsHi, -voltsLo, tempsHi, pack_A, -pack_A) at or past
+  // near_[q] (a NaN is not).
+  unsigned nearMask(double voltsLo, double voltsHi, double tempsHi, double pack_A) const {
+#if defined(__SSE2__)
+    const __m128d negateHigh = _mm_set_pd(-0.0, 0.0);
+    const auto atOrPast = [&](double low, double high, int q) {
+      return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpge_pd(_mm_set_pd(high, low), _mm_loadu_pd(near_ + q))));
+    };
+    const __m128d v = _mm_xor_pd(_mm_set_pd(voltsLo, voltsHi), negateHigh);
+    return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpge_pd(v, _mm_loadu_pd(near_)))) |
+           atOrPast(tempsHi, pack_A, kTempHigh) << kTempHigh | atOrPast(-pack_A, 0.0, kPackCharge) << kPackCharge;
+#else
+    const double value[kQuantities] = {voltsHi, -voltsLo, tempsHi, pack_A, -pack_A};
+    unsigned near = 0;
+    for (int q = 0; q < kQuantities; ++q) near |= static_cast<unsigned>(value[q] >= near_[q]) << q;
+    return near;
+#endif
+  }
+  void noteNear(double t, unsigned near) {
+    for (int q = 0; q < kQuantities; ++q)
+      if ((near >> q) & 1u) lastNear_[q] = t;
+  }
   void judge(double t, const double* value, const std::vector<double>& cell_V, const std::vector<double>& cell_C,
              uint32_t rising, const EventSink& sink) const;
   std::vector<Row> rows_;
   // Per quantity: where its value counts as at the limit (threshold less the tolerance,
   // negated for a lower limit; +inf unwatched) and the last tick it was (-inf: never).
-  double near_[kQuantities];
+  double near_[kQuantities + 1];  // one more, +inf: the unused lane of the last pair
   double lastNear_[kQuantities];
   uint32_t watched_ = 0, lastActive_ = 0;
   int parallel_;

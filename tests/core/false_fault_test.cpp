@@ -65,6 +65,34 @@ TEST(FalseFault, ARiseWithTheTruthFarFromTheLimitIsFalseAndNearItIsNot) {
   }
 }
 
+// Every watched quantity, each near its limit and then far from it at the rise: the
+// hottest cell against over-temperature (thermistors on cells only), the charge current
+// against over-current in charge, the lowest cell against under-voltage.
+TEST(FalseFault, EachQuantityIsJudgedOnItsOwnTruth) {
+  const Scenario s = test::scenarioFromYaml(
+      test::simpleCellYaml(2) + "bms: {tick_ms: 100, readout: {period_ms: 100}, protections: {overtemperature: "
+                                "{threshold_C: 60, delay_ms: 0}, overcurrent_charge: {threshold_A: 10, delay_ms: 0}, "
+                                "cell_undervoltage: {threshold_V: 3.0, delay_ms: 0}}}\nload: {current_A: 1}\n"
+                                "run: {duration_s: 20}\n");
+  using F = bms::FaultId;
+  struct Case {
+    F fault;
+    double hot_C, pack_A, low_V;  // the truth at every tick
+    bool falseFault;
+  } cases[] = {{F::OverTemperature, 59.0, 0.0, 3.5, false}, {F::OverTemperature, 50.0, 0.0, 3.5, true},
+               {F::OverCurrentCharge, 25.0, -9.95, 3.5, false}, {F::OverCurrentCharge, 25.0, -5.0, 3.5, true},
+               {F::CellUnderVoltage, 25.0, 0.0, 3.005, false}, {F::CellUnderVoltage, 25.0, 0.0, 3.2, true}};
+  for (const Case& c : cases) {
+    FalseFaultWatch w(s, 1);
+    int events = 0;
+    const FalseFaultWatch::EventSink sink = [&](double, const std::string&) { ++events; };
+    const std::vector<double> v = {c.low_V, 3.6}, temp = {25.0, c.hot_C};
+    for (int k = 0; k <= 20; ++k)
+      w.tick(k * 0.1, c.low_V, 3.6, c.hot_C, c.pack_A, v, temp, k >= 10 ? 1u << static_cast<int>(c.fault) : 0u, sink);
+    EXPECT_EQ(events, c.falseFault ? 1 : 0) << bms::faultName(c.fault) << " " << c.hot_C << " " << c.pack_A << " " << c.low_V;
+  }
+}
+
 std::string runYaml(const std::string& body, const std::string& soc = "0.8") {
   std::string cells = test::simpleCellYaml(3);
   cells.replace(cells.find("initial_soc: 0.8"), 16, "initial_soc: " + soc);
