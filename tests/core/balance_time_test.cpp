@@ -81,6 +81,15 @@ TEST(BalanceTime, SystemDNoiseFreeMatchesTheDroopClosedFormWithin1Percent) {
   EXPECT_LT(w.peak_board_C, 60.0);
 }
 
+// (System D's 0.3 A rms current sensor also draws the rest-noise warning on the SOC's
+// 0.2 A rest threshold: not this test's matter.)
+std::vector<std::string> butRestNoise(const std::vector<std::string>& warnings) {
+  std::vector<std::string> out;
+  for (const std::string& w : warnings)
+    if (w.rfind("bms.soc.rest_current_A", 0) != 0) out.push_back(w);
+  return out;
+}
+
 // The scenario's own 1 mV-rms noise and thresholds, decisions on the mean of 16 readings:
 // within 2 % of the same closed form, and the cells that needed nothing bled less than
 // 1 % of the high cells' charge. With single readings (the stop threshold below the
@@ -90,7 +99,7 @@ TEST(BalanceTime, SystemDWithNoiseStaysWithin2PercentAndWastesUnder1Percent) {
   const BalanceTimeResult averaged = balanceTime(systemD(), systemDBoard(47.0));
   const BalanceTimeRow& w = averaged.rows[0];
   ASSERT_TRUE(w.simulated);
-  EXPECT_TRUE(averaged.warnings.empty());
+  EXPECT_TRUE(butRestNoise(averaged.warnings).empty()) << testing::PrintToString(averaged.warnings);
   EXPECT_EQ(w.end_reason, "both_known") << w.firmware_note;
   EXPECT_NEAR(w.true_h, w.droop_to_target_h, 0.02 * w.droop_to_target_h);
   EXPECT_FALSE(std::isnan(w.firmware_h)) << w.firmware_note;
@@ -100,8 +109,9 @@ TEST(BalanceTime, SystemDWithNoiseStaysWithin2PercentAndWastesUnder1Percent) {
   Scenario s = systemD();
   s.bms.image.balance.averageReadings = 1;
   const BalanceTimeResult single = balanceTime(s, systemDBoard(47.0));
-  ASSERT_EQ(single.warnings.size(), 1u);
-  EXPECT_NE(single.warnings[0].find("d2(110)"), std::string::npos) << single.warnings[0];
+  const std::vector<std::string> spread = butRestNoise(single.warnings);
+  ASSERT_EQ(spread.size(), 1u) << testing::PrintToString(single.warnings);
+  EXPECT_NE(spread[0].find("d2(110)"), std::string::npos) << spread[0];
   EXPECT_GT(single.rows[0].pack_wasted_Ah, 10.0 * w.pack_wasted_Ah + 0.05);
 }
 
