@@ -228,19 +228,6 @@ void tick(const SocConfig& c, const TickTerms& t, bool valid, const uint16_t cel
   if (valid) correct<N>(c, t, cell_mV, s, g0);
 }
 
-// The RC branch's decay over dt_ms, exp(-dt / tau1) (0 without a time constant). The
-// tick length seldom changes: the last one's is kept (an expf a tick saved).
-float rcDecay(const EkfConfig& k, EkfState& s, uint32_t dt_ms) {
-  if (dt_ms == s.decayDt_ms && dt_ms != 0) return s.decay;
-  const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
-  const float a = k.tau1_s > 0.0f ? expf(-dt_s / k.tau1_s) : 0.0f;
-  if (dt_ms <= UINT16_MAX) {
-    s.decayDt_ms = static_cast<uint16_t>(dt_ms);
-    s.decay = a;
-  }
-  return a;
-}
-
 // The share of v1's random walk this tick gets. The walk stands for the RC branch's
 // model error: a flashed R1 or tau1 that is not the cell's, a relaxation pair the 1-RC
 // model lacks. Every one of them is driven by the current (dv1/dt = (R1·I - v1)/tau1)
@@ -269,8 +256,7 @@ void ekfReset(EkfState& s) {
   s.started = false;
   s.r0Held = false;
   s.last_ms = 0;
-  s.decayDt_ms = 0;
-  s.decay = 0.0f;
+  rcDecayReset(s.decay);
   s.v1Walk = 1.0f;  // a start may follow a load the firmware did not see
   for (uint16_t g = 0; g < kMaxCells; ++g) {
     s.soc[g] = s.v1_mV[g] = 0.0f;
@@ -350,7 +336,7 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
   const EkfConfig& k = c.ekf;
   const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
   const float i_mA = static_cast<float>(current_mA);
-  const float a = rcDecay(k, s, dt_ms);
+  const float a = rcDecay(k.tau1_s, s.decay, dt_ms);
   const float dSoc = i_mA * static_cast<float>(dt_ms) / (c.capacity_mAh * 3.6e6f);
   const float v1Drive_mV = k.r1_mOhm * i_mA * 1e-3f * (1.0f - a);
   const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;

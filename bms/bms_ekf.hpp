@@ -26,6 +26,7 @@
 
 #include "bms_config.hpp"
 #include "bms_limits.hpp"
+#include "bms_rc.hpp"
 
 namespace bms {
 
@@ -33,9 +34,8 @@ namespace bms {
 struct EkfState {
   bool started;
   bool r0Held;          // r0Scale holds the factors of the temperatures as they read now
-  uint16_t decayDt_ms;  // the tick length `decay` holds the RC decay of (0: none yet)
   uint32_t last_ms;
-  float decay;          // exp(-dt / tau1) at decayDt_ms: one expf per change of tick length
+  RcDecay decay;        // the RC branch's decay over the last tick length (bms_rc.hpp)
   float v1Walk;         // the share of v1's process noise the tick gets: 1 under load, fading
                         // as exp(-2t / tau1) over a rest (bms_ekf.cpp, v1WalkShare)
   float soc[kMaxCells];
