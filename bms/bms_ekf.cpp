@@ -228,17 +228,26 @@ void tick(const SocConfig& c, const TickTerms& t, bool valid, const uint16_t cel
   if (valid) correct<N>(c, t, cell_mV, s, g0);
 }
 
-// The RC branch's decay over dt_ms, exp(-dt / tau1) (0 without a time constant). The
-// tick length seldom changes: the last one's is kept (an expf a tick saved).
-float rcDecay(const EkfConfig& k, EkfState& s, uint32_t dt_ms) {
-  if (dt_ms == s.decayDt_ms && dt_ms != 0) return s.decay;
-  const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
-  const float a = k.tau1_s > 0.0f ? expf(-dt_s / k.tau1_s) : 0.0f;
-  if (dt_ms <= UINT16_MAX) {
-    s.decayDt_ms = static_cast<uint16_t>(dt_ms);
-    s.decay = a;
-  }
-  return a;
+// The share of v1's random walk this tick gets. The walk stands for the RC branch's
+// model error: a flashed R1 or tau1 that is not the cell's, a relaxation pair the 1-RC
+// model lacks. Every one of them is driven by the current (dv1/dt = (R1·I - v1)/tau1)
+// and, once the current stops, dies away with the branch's relaxation: a cell resting
+// several tau1 has no RC voltage left, and at zero current nothing drives v1. A walk of
+// constant size at rest lets v1 hold any OCV error instead: started at 0.3 on a pack
+// resting at 0.8, v1 took the error the first readings left (~75 mV, 11 % SOC on the
+// LiPo's 700 mV per unit SOC) and the SOC crept back at a percent a minute (3.5 % off
+// after two minutes, 0.7 % after ten). So the walk keeps its full size while the current
+// is at least the rest current (the coulomb counter's rest too), and at rest its
+// variance fades by a² a tick, exp(-2t / tau1): the decay of the variance of a voltage
+// relaxing with tau1. Right after a load it still lets v1 follow a relaxation the model
+// gets wrong; after a few tau1 v1 is held to the model's decay towards 0 and the
+// readings go to the SOC (1 % within 5 tau1: Ekf.AtRestConvergesToTheOcvsSoc).
+// Below 1e-6 the share is 0 (no subnormal floats on a long rest).
+float v1WalkShare(const SocConfig& c, EkfState& s, int32_t current_mA, float a) {
+  const bool rest = current_mA > -c.restCurrent_mA && current_mA < c.restCurrent_mA;
+  const float w = rest ? s.v1Walk * a * a : 1.0f;
+  s.v1Walk = w < 1e-6f ? 0.0f : w;
+  return s.v1Walk;
 }
 
 }  // namespace
@@ -247,8 +256,8 @@ void ekfReset(EkfState& s) {
   s.started = false;
   s.r0Held = false;
   s.last_ms = 0;
-  s.decayDt_ms = 0;
-  s.decay = 0.0f;
+  rcDecayReset(s.decay);
+  s.v1Walk = 1.0f;  // a start may follow a load the firmware did not see
   for (uint16_t g = 0; g < kMaxCells; ++g) {
     s.soc[g] = s.v1_mV[g] = 0.0f;
     s.p00[g] = s.p01[g] = s.p11[g] = 0.0f;
@@ -327,11 +336,11 @@ void ekfUpdate(const SocConfig& c, const ThermistorMap& therm, EkfState& s, uint
   const EkfConfig& k = c.ekf;
   const float dt_s = static_cast<float>(dt_ms) * 1e-3f;
   const float i_mA = static_cast<float>(current_mA);
-  const float a = rcDecay(k, s, dt_ms);
+  const float a = rcDecay(k.tau1_s, s.decay, dt_ms);
   const float dSoc = i_mA * static_cast<float>(dt_ms) / (c.capacity_mAh * 3.6e6f);
   const float v1Drive_mV = k.r1_mOhm * i_mA * 1e-3f * (1.0f - a);
   const float qSoc = k.socSdPerSqrtS * k.socSdPerSqrtS * dt_s;
-  const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s;
+  const float qV1 = k.v1SdPerSqrtS_mV * k.v1SdPerSqrtS_mV * dt_s * v1WalkShare(c, s, current_mA, a);
   const float r = k.voltageSd_mV * k.voltageSd_mV;
   const int lastSegment = c.ocvPoints - 1;  // table segments; segment() keeps i below this
   const float perUnitSoc = static_cast<float>(lastSegment);  // table segments per unit SOC

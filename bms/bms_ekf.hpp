@@ -12,6 +12,10 @@
 //           the mean of the valid cell thermistors, else T_ref (factor 1); T is held
 //           within -55…125 °C. Recomputed on every complete reading.
 //
+//   Q       Q = diag(socWalk², v1Walk² · w)·dt, w = 1 while |I| >= SocConfig::restCurrent_mA,
+//           w → w·a² each tick at rest: nothing drives v1 at rest, so its model error fades
+//           with the branch's own relaxation (bms_ekf.cpp, v1WalkShare).
+//
 // Started at the first complete reading from the OCV of the reading plus its R0·I drop
 // (or from EkfConfig::initialSoc); R0(soc) is linear in the table like the OCV. Fixed arrays, float, no allocation:
 // 24 bytes per series group (6.1 KiB for kMaxCells = 256), one array per quantity so that
@@ -22,6 +26,7 @@
 
 #include "bms_config.hpp"
 #include "bms_limits.hpp"
+#include "bms_rc.hpp"
 
 namespace bms {
 
@@ -29,9 +34,10 @@ namespace bms {
 struct EkfState {
   bool started;
   bool r0Held;          // r0Scale holds the factors of the temperatures as they read now
-  uint16_t decayDt_ms;  // the tick length `decay` holds the RC decay of (0: none yet)
   uint32_t last_ms;
-  float decay;          // exp(-dt / tau1) at decayDt_ms: one expf per change of tick length
+  RcDecay decay;        // the RC branch's decay over the last tick length (bms_rc.hpp)
+  float v1Walk;         // the share of v1's process noise the tick gets: 1 under load, fading
+                        // as exp(-2t / tau1) over a rest (bms_ekf.cpp, v1WalkShare)
   float soc[kMaxCells];
   float v1_mV[kMaxCells];
   float p00[kMaxCells], p01[kMaxCells], p11[kMaxCells];  // covariance [soc², soc·mV, mV²]

@@ -11,6 +11,8 @@ void socReset(SocState& s) {
   s.restAnchored = false;
   s.anchorAtRest = false;
   s.capacityEstimate_mAh = 0.0f;
+  s.v1_mV = 0.0f;
+  rcDecayReset(s.decay);
 }
 
 // Unrolled (a fixed count): a compare and an add a threshold, every tick (41 -> 17
@@ -65,6 +67,13 @@ void anchor(const SocConfig& c, SocState& s, uint16_t meanCell_mV, bool atRest) 
   s.sinceAnchor_mAms = 0;
 }
 
+// The OCV a rested reading stands for: the reading plus the RC voltage the model still
+// holds (rounded to the reading's mV, within a uint16_t).
+uint16_t restedOcv_mV(uint16_t meanCell_mV, float v1_mV) {
+  const float ocv = static_cast<float>(meanCell_mV) + v1_mV + 0.5f;
+  return static_cast<uint16_t>(ocv < 0.0f ? 0.0f : (ocv > 65535.0f ? 65535.0f : ocv));
+}
+
 }  // namespace
 
 void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV, int32_t current_mA, uint32_t now_ms) {
@@ -76,6 +85,8 @@ void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV
   }
   // Rectangle rule with this tick's current over the elapsed interval.
   s.sinceAnchor_mAms += static_cast<int64_t>(current_mA) * static_cast<int64_t>(dt_ms);
+  const float a = rcDecay(c.ekf.tau1_s, s.decay, dt_ms);
+  s.v1_mV = a * s.v1_mV + c.ekf.r1_mOhm * static_cast<float>(current_mA) * 1e-3f * (1.0f - a);
 
   restUpdate(s.rest, current_mA, c.restCurrent_mA, now_ms);
   if (!s.rest.resting) {
@@ -83,7 +94,7 @@ void socUpdate(const SocConfig& c, SocState& s, bool valid, uint16_t meanCell_mV
     return;
   }
   if (valid && !s.restAnchored && restedFor(s.rest, now_ms, c.rest_ms)) {
-    anchor(c, s, meanCell_mV, true);
+    anchor(c, s, restedOcv_mV(meanCell_mV, s.v1_mV), true);
     s.restAnchored = true;
   }
 }

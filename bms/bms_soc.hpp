@@ -11,10 +11,17 @@
 // over the SOC change the OCV table saw is the capacity:
 //   capacity = ∫ I dt / (soc_ocv(first rest) - soc_ocv(second rest))
 // accepted only when the SOC change is at least SocConfig::sohMinDeltaSoc.
+//
+// A rest anchor reads the OCV as the mean cell voltage plus the RC voltage the
+// firmware's 1-RC model (EkfConfig's r1_mOhm, tau1_s) still holds from the current
+// before the rest: v1 = a·v1 + R1·I·(1 - a) each tick, a = exp(-dt / tau1). After a rest
+// of 1.5 tau1 a cell still holds 22 % of its R1·I; read as OCV it moved the anchor (and
+// the capacity between two anchors) by that voltage over the OCV slope.
 #pragma once
 #include <cstdint>
 
 #include "bms_config.hpp"
+#include "bms_rc.hpp"
 #include "bms_rest.hpp"
 
 namespace bms {
@@ -28,6 +35,8 @@ struct SocState {
   bool restAnchored;  // already re-anchored during this rest
   bool anchorAtRest;  // the current anchor was taken with the pack at rest
   float capacityEstimate_mAh;  // 0 until two rested anchors far enough apart
+  float v1_mV;                 // the model's RC voltage of a series group (mV), from the first anchor on
+  RcDecay decay;               // its decay over the last tick length
 };
 
 void socReset(SocState& s);

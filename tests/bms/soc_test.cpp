@@ -3,6 +3,8 @@
 #include <bms/bms_soc.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "soc_fixture.hpp"
 
 namespace {
@@ -54,6 +56,35 @@ TEST(Soc, EstimatesCapacityBetweenTwoRests) {
   for (int k = 0; k < 1100; ++k) bms::socUpdate(c, s, true, 3240, 0, t += 10);  // rest: 0.2 by the table
   EXPECT_NEAR(s.capacityEstimate_mAh, 2000.0f, 1.0f);
   EXPECT_NEAR(bms::socValue(c, s), 0.2f, 1e-3f);
+}
+
+// The same discharge from a cell with an RC branch (20 mOhm, 30 s: 20 mV at 1 A), its
+// readings computed here as OCV - v1 - R0·I, rested 1.5 tau1 before the anchor: the
+// branch still holds 20 mV · e^-1.5 = 4.5 mV, 0.37 % SOC on the table's 1200 mV per unit.
+// Anchored on the reading plus the model's RC voltage, the anchor is the cell's SOC (0.2)
+// within the reading's 1 mV and the capacity 2000 mAh within 0.2 %; on the reading alone
+// the anchor was 0.197 and the capacity 1978 mAh.
+TEST(Soc, RestAnchorAddsTheRcVoltageTheModelStillHolds) {
+  bms::SocConfig c = config();
+  c.sohMinDeltaSoc = 0.2f;
+  c.ekf.r1_mOhm = 20.0f;
+  c.ekf.tau1_s = 30.0f;
+  c.rest_ms = 45000;  // 1.5 tau1
+  bms::SocState s;
+  bms::socReset(s);
+  double soc = 0.5, v1_mV = 0.0;
+  const double r0_mOhm = 30.0, cap_mAs = 2000.0 * 3600.0, tau_s = 30.0, dt_s = 0.1;
+  uint32_t t = 0;
+  for (int k = 0; k <= 21600 + 600; ++k, t += 100) {  // rested, 36 min at 1 A (600 mAh), 60 s at rest
+    const double i_mA = k >= 1 && k <= 21600 ? 1000.0 : 0.0;
+    const uint16_t v = static_cast<uint16_t>(std::lround(3000.0 + soc * 1200.0 - v1_mV - r0_mOhm * i_mA * 1e-3));
+    bms::socUpdate(c, s, true, v, static_cast<int32_t>(i_mA), t);
+    const double a = std::exp(-dt_s / tau_s);  // the plant over the tick that follows
+    v1_mV = a * v1_mV + 20.0 * i_mA * 1e-3 * (1.0 - a);
+    soc -= i_mA * dt_s * 1.0 / cap_mAs;
+  }
+  EXPECT_NEAR(bms::socValue(c, s), 0.2f, 1e-3f);
+  EXPECT_NEAR(s.capacityEstimate_mAh, 2000.0f, 4.0f);
 }
 
 // A change below sohMinDeltaSoc gives no estimate (the OCV error would dominate).

@@ -38,7 +38,7 @@ TEST(Ltc681xPart, CoreReadsTheLtc6813CellsToTheirLsbAndNoise) {
                 "bms: {tick_ms: 100}\nload: {current_A: 6}\nrun: {duration_s: 60}\noutput: {interval_s: 0.1}\n"));
     const RunResult r = runScenario(s);
     ASSERT_FALSE(r.summary.tripped) << r.summary.trip_reason;
-    EXPECT_NE(test::eventTime(r, "firmware_loaded", "'packsim core' (3 tasks, 18448 bytes RAM, 1216 bytes"), -1.0)
+    EXPECT_NE(test::eventTime(r, "firmware_loaded", "'packsim core' (3 tasks, 18464 bytes RAM, 1216 bytes"), -1.0)
         << "the core's RAM and image are the ones of any part with the 18-cell part";
     const Recording& rec = r.rec;
     const size_t n = 36;
