@@ -157,6 +157,22 @@ TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount
   EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
 }
 
+// The events of packsim's core's own state (its RAM, read by the debug probe) belong to
+// a run of the core: a user's firmware keeps its state where packsim cannot see it, so
+// its run has no `bms_state init` or `balancing disabled` at t = 0 (which named states it
+// was never in) -- only what it drives through its pins: the relay command. The same
+// pack with packsim's core still reports its state and balancing status from t = 0.
+TEST(FirmwareRun, AUserFirmwareRunHasNoEventsOfTheCoresState) {
+  const std::string pack = "hardware: {balancing: {resistor_ohm: 47}}\nrun: {duration_s: 2}\n";
+  const RunResult user = runScenario(test::scenarioFromYaml("extends: firmware/c_example_firmware.yaml\n" + pack));
+  for (const char* kind : {"bms_state", "balancing", "fault_active", "fault_latched", "fault_cleared", "precharge", "comm_lost"})
+    EXPECT_TRUE(test::eventsOf(user, kind).empty()) << kind << ": " << test::eventsOf(user, kind).front()->detail;
+  EXPECT_NEAR(test::eventTime(user, "relay", "close"), 0.41, 1e-9);  // its pin: precharge_ms 300 after the 110 ms task
+  const RunResult core = runScenario(test::scenarioFromYaml("extends: bench_6s_ncr18650_2C.yaml\n" + pack));
+  EXPECT_EQ(test::eventTime(core, "bms_state", "init"), 0.0);
+  EXPECT_EQ(test::eventTime(core, "balancing"), 0.0);
+}
+
 }  // namespace
 }  // namespace packsim
 
