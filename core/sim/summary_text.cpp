@@ -231,6 +231,7 @@ void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
     if (e.kind == "fuse") w.line("hardware", fmt("%.2f", e.time_s) + " s  fuse " + e.detail);
     if (e.kind == "config_warning") w.line("warning", e.detail);
     if (e.kind == "register_misuse") w.line("bus misuse", fmt("%.4f", e.time_s) + " s  " + e.detail);
+    if (e.kind == "firmware_misuse") w.line("board misuse", fmt("%.4f", e.time_s) + " s  " + e.detail);
   }
 }
 

@@ -157,6 +157,33 @@ TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount
   EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
 }
 
+// A firmware that reads an ADC channel the board does not have (the probe's WIRING mode
+// reads channels 17 and 18 every 10 ms; system C's bench gives the MCU no thermistors)
+// gets PSFW_NO_CHANNEL, and the run says so: one firmware_misuse event per channel at its
+// first read, a `board misuse` summary line each, and `packsim check` warns.
+TEST(FirmwareRun, AChannelTheBoardDoesNotHaveIsInTheSummaryAndCheck) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW ", config: {mode: 17, at_ms: 0}}}\n"
+      "run: {duration_s: 1}\n");
+  const RunResult r = runScenario(s);
+  const std::vector<const Event*> misuse = test::eventsOf(r, "firmware_misuse");
+  ASSERT_EQ(misuse.size(), 5u);  // ADC 17, 18, input 9, output 7, DAC 3
+  EXPECT_EQ(misuse[0]->detail.rfind("adc_read(channel 17): the board has no such ADC channel (it has 0 current sense, "
+                                    "1 bus voltage); it returned PSFW_NO_CHANNEL (-3)",
+                                    0),
+            0u)
+      << misuse[0]->detail;
+  EXPECT_DOUBLE_EQ(misuse[0]->time_s, 0.010);
+  const std::string summary = formatSummary(s, r);
+  EXPECT_NE(summary.find("board misuse    0.0100 s  adc_read(channel 18)"), std::string::npos) << summary;
+  std::vector<std::string> said;  // check's warnings of them (beside the probe's 15 ms task and unread cells)
+  for (const std::string& w : judge(s, r).warnings)
+    if (w.rfind("the firmware at ", 0) == 0) said.push_back(w);
+  ASSERT_EQ(said.size(), 5u);
+  EXPECT_EQ(said[0].rfind("the firmware at 0.0100 s: adc_read(channel 17)", 0), 0u) << said[0];
+}
+
 // The events of packsim's core's own state (its RAM, read by the debug probe) belong to
 // a run of the core: a user's firmware keeps its state where packsim cannot see it, so
 // its run has no `bms_state init` or `balancing disabled` at t = 0 (which named states it
