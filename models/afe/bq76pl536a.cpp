@@ -318,9 +318,11 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
     case BQ536_CB_CTRL:
     case BQ536_CB_TIME: {
-      if (reg == BQ536_CB_CTRL)
-        dv.reg[reg] = static_cast<uint8_t>(value & ((1u << dv.cells) - 1u));
-      else
+      if (reg == BQ536_CB_CTRL) {
+        const unsigned has = (1u << dv.cells) - 1u;
+        if (value & ~has) misuse_.note(t, device, registerName(reg), balanceBitsPastCells(value & ~has, dv.cells, 2));
+        dv.reg[reg] = static_cast<uint8_t>(value & has);
+      } else
         dv.reg[reg] = static_cast<uint8_t>(value & (BQ536_CBT_MINUTES | BQ536_CBT_TIME_MASK));
       // Either write (re)starts the timer while switches are on; a zero time stops them.
       if (dv.reg[BQ536_CB_CTRL] != 0) dv.balanceUntil_s = t + bq536_cb_time_s(dv.reg[BQ536_CB_TIME]);
