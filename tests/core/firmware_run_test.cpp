@@ -157,6 +157,39 @@ TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount
   EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
 }
 
+// The summary of a user's firmware's run has no line about estimates only packsim's core
+// makes: "capacity (SOH) no estimate (needs two rests ...)" and "SOC display up to 0 bars
+// below and 0 above" judged a core that did not run, and the balancing line said "the
+// firmware never reported balancing" of a firmware that has no way to. The core's run of
+// the same pack still has them.
+TEST(FirmwareRun, AUserFirmwaresSummaryHasNoLinesOfTheCoresEstimates) {
+  const std::string pack = "hardware: {balancing: {resistor_ohm: 47}}\nrun: {duration_s: 2}\n";
+  const Scenario user = test::scenarioFromYaml("extends: firmware/c_example_firmware.yaml\n" + pack);
+  const std::string text = formatSummary(user, runScenario(user));
+  EXPECT_EQ(text.find("capacity (SOH)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("SOC display"), std::string::npos) << text;
+  EXPECT_NE(text.find("balancing       the firmware set no balancing switch; bled 0.000 Ah"), std::string::npos) << text;
+  const Scenario core = test::scenarioFromYaml("extends: bench_6s_ncr18650_2C.yaml\n" + pack);
+  const std::string coreText = formatSummary(core, runScenario(core));
+  EXPECT_NE(coreText.find("capacity (SOH)"), std::string::npos) << coreText;
+  EXPECT_NE(coreText.find("SOC display"), std::string::npos) << coreText;
+}
+
+// packsim's core's protection settings do not bind a user's firmware: its scenario on a
+// sensitive current sensor (5 mOhm x 20: +/-16.5 A) loads, where the core's default 30 A
+// over-current threshold is an error for the core (and "state the threshold" warnings
+// for keys the user's firmware never reads are not given).
+TEST(FirmwareRun, TheCoresProtectionDefaultsDoNotBindAUserFirmware) {
+  const std::string pack = "pack: {series: 4, cell: {preset: ncr18650_3p1Ah}}\n"
+                           "hardware: {afe: {model: bq76pl536a, cells_per_device: 4}, current_sense: {shunt_ohm: 0.005, "
+                           "amp_gain: 20}}\nload: {current_A: 1}\nrun: {duration_s: 1}\n";
+  const std::string core = test::yamlErrorOf(pack);
+  EXPECT_NE(core.find("over-current threshold 30 A is beyond the current sensor's range"), std::string::npos) << core;
+  const Scenario user = test::scenarioFromYaml(pack + "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW
+                                                      ", config: {mode: 0, at_ms: 0}}}\n");
+  for (const std::string& w : user.warnings) EXPECT_EQ(w.find("bms.protections"), std::string::npos) << w;
+}
+
 // A firmware that reads an ADC channel the board does not have (the probe's WIRING mode
 // reads channels 17 and 18 every 10 ms; system C's bench gives the MCU no thermistors)
 // gets PSFW_NO_CHANNEL, and the run says so: one firmware_misuse event per channel at its
