@@ -87,17 +87,17 @@ bool everyEventFlagCompared() {
 // row has one (not for a falling bit); a value at or past `names` (0: no bound) is no
 // event. Rows marked `report` state what the hardware did: they follow the hardware's
 // own events (kHardwareEdges) in a tick; the others are the firmware's decisions and
-// precede them. Only a `pin` row reads an output every firmware drives (an MCU pin);
-// the others read what the debug probe finds in packsim's core's RAM, which a user's
-// firmware never writes: their fields stay at zero, and a `bms_state init` or
-// `balancing disabled` at t = 0 would name a state the user's firmware was never in.
+// precede them. The table is packsim's core's: its fields but the relay pin are what the
+// debug probe finds in the core's RAM, which a user's firmware never writes (they stay
+// at zero: a `bms_state init` or `balancing disabled` at t = 0 named a state it was never
+// in), and its relay events are at the tick of the control step that decided; a user's
+// firmware's `relay` events come from its pin writes, at their instants (pinsWritten).
 struct OutputEdge {
   enum Needs : uint8_t { kAlways, kHardware, kBalancing };
   const char* kind;
   const char* falling;  // mask rows: the kind when a bit clears (nullptr: none)
   uint64_t (*read)(const bms::Outputs&);
   bool mask;            // one event per bit (bits: `names` of them)
-  bool pin;             // an MCU output pin: every firmware's; else packsim's core's RAM only
   Needs needs;          // a run with a hardware simulation / balancing hardware only
   bool report;
   bool on_first;
@@ -131,30 +131,21 @@ std::string prechargeMore(const bms::Config&, const bms::Outputs& out, uint64_t)
 using O = bms::Outputs;
 // clang-format off
 constexpr OutputEdge kOutputEdges[] = {
-  // kind           falling          read                                                       mask   pin    needs                   report on_first before names                 name
-  {"bms_state",     nullptr,         [](const O& o) -> uint64_t { return static_cast<uint64_t>(o.state); },   false, false, OutputEdge::kAlways,    false, true,  true,  0,                     stateText},
-  {"fault_active",  "fault_cleared", [](const O& o) -> uint64_t { return o.faultActive; },                    true,  false, OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText, faultMore},
-  {"fault_latched", nullptr,         [](const O& o) -> uint64_t { return o.faultLatched; },                   true,  false, OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText},
-  {"relay",         nullptr,         [](const O& o) -> uint64_t { return o.relayClose; },                     false, true,  OutputEdge::kAlways,    false, false, false, 0,                     relayText},
-  {"precharge",     nullptr,         [](const O& o) -> uint64_t { return o.telemetry.prechargePhase; },       false, false, OutputEdge::kHardware,  true,  false, false, bms::kPrechargePhaseCount, prechargeText, prechargeMore},
-  {"comm_lost",     nullptr,         [](const O& o) -> uint64_t { return o.telemetry.devicesLost; },          true,  false, OutputEdge::kHardware,  true,  false, false, 64,                    deviceText},
-  {"balancing",     nullptr,         [](const O& o) -> uint64_t { return o.balanceStatus; },                  false, false, OutputEdge::kBalancing, true,  true,  false, bms::kBalanceStatusCount, balancingText},
+  // kind           falling          read                                                       mask   needs                   report on_first before names                 name
+  {"bms_state",     nullptr,         [](const O& o) -> uint64_t { return static_cast<uint64_t>(o.state); },   false, OutputEdge::kAlways,    false, true,  true,  0,                     stateText},
+  {"fault_active",  "fault_cleared", [](const O& o) -> uint64_t { return o.faultActive; },                    true,  OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText, faultMore},
+  {"fault_latched", nullptr,         [](const O& o) -> uint64_t { return o.faultLatched; },                   true,  OutputEdge::kAlways,    false, false, false, bms::kFaultCount,      faultText},
+  {"relay",         nullptr,         [](const O& o) -> uint64_t { return o.relayClose; },                     false, OutputEdge::kAlways,    false, false, false, 0,                     relayText},
+  {"precharge",     nullptr,         [](const O& o) -> uint64_t { return o.telemetry.prechargePhase; },       false, OutputEdge::kHardware,  true,  false, false, bms::kPrechargePhaseCount, prechargeText, prechargeMore},
+  {"comm_lost",     nullptr,         [](const O& o) -> uint64_t { return o.telemetry.devicesLost; },          true,  OutputEdge::kHardware,  true,  false, false, 64,                    deviceText},
+  {"balancing",     nullptr,         [](const O& o) -> uint64_t { return o.balanceStatus; },                  false, OutputEdge::kBalancing, true,  true,  false, bms::kBalanceStatusCount, balancingText},
 };
 // clang-format on
 constexpr size_t kOutputEdgeCount = sizeof kOutputEdges / sizeof kOutputEdges[0];
 
-// What a run has that decides which rows apply to it.
-struct RunKind {
-  bool hardware;   // a hardware simulation
-  bool balancing;  // balancing hardware
-  bool core;       // packsim's core is the firmware (its RAM is probed), not a user's
-};
-
-// Whether a row applies to this run (its needs met: a hardware simulation, balancing
-// hardware; a field of packsim's core's RAM only when the core runs).
-bool rowApplies(const OutputEdge& e, RunKind k) {
-  return (e.pin || k.core) &&
-         !((e.needs == OutputEdge::kHardware && !k.hardware) || (e.needs == OutputEdge::kBalancing && !k.balancing));
+// Whether a row applies to this run (its needs met: a hardware simulation, balancing hardware).
+bool rowApplies(const OutputEdge& e, bool hardware, bool balancing) {
+  return !((e.needs == OutputEdge::kHardware && !hardware) || (e.needs == OutputEdge::kBalancing && !balancing));
 }
 
 // Whether some row that applies reads other than at the last tick. If none does (and it
@@ -163,11 +154,12 @@ bool rowApplies(const OutputEdge& e, RunKind k) {
 // each row's needs and reader are constants (kOutputEdges is constexpr), so the readers
 // are inlined instead of called through their pointers (once per tick, every tick).
 template <size_t... I>
-bool anyRowChanged(const bms::Outputs& out, const uint64_t* last, RunKind k, std::index_sequence<I...>) {
-  return ((rowApplies(kOutputEdges[I], k) && kOutputEdges[I].read(out) != last[I]) || ...);
+bool anyRowChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing,
+                   std::index_sequence<I...>) {
+  return ((rowApplies(kOutputEdges[I], hardware, balancing) && kOutputEdges[I].read(out) != last[I]) || ...);
 }
-bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, RunKind k) {
-  return anyRowChanged(out, last, k, std::make_index_sequence<kOutputEdgeCount>{});
+bool anyOutputChanged(const bms::Outputs& out, const uint64_t* last, bool hardware, bool balancing) {
+  return anyRowChanged(out, last, hardware, balancing, std::make_index_sequence<kOutputEdgeCount>{});
 }
 
 // The index of the first of the values equal to v (v is one of them).
@@ -180,7 +172,7 @@ int firstCellAt(const double* values, double v) {
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
-    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
+    : s_(s), plant_(plant), cfg_(cfg), core_(!s.bms.firmware.library), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
       modelRange_(s.pack.cell),
       limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }) {
   Recording& rec = r_.rec;
@@ -295,7 +287,7 @@ const std::vector<EdgeRun>& edgeRuns() {
       const OutputEdge& e = kOutputEdges[i];
       end = i + 1;
       while (e.mask && end < kOutputEdgeCount && kOutputEdges[end].mask && kOutputEdges[end].names == e.names &&
-             kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs && kOutputEdges[end].pin == e.pin)
+             kOutputEdges[end].report == e.report && kOutputEdges[end].needs == e.needs)
         ++end;
       v.push_back({i, end});
     }
@@ -330,11 +322,10 @@ void RunTracker::noteCharger(double t, const double* x, const PlantSignals& sig,
 void RunTracker::outputEvents(double t, const bms::Outputs& out, bool report) {
   static_assert(kOutputEdgeCount <= sizeof lastOutput_ / sizeof lastOutput_[0], "RunTracker::lastOutput_ holds every row");
   uint64_t now[kOutputEdgeCount];  // each row's field, read once
-  const RunKind kind{hw_ != nullptr, r_.rec.has_balancing, !s_.bms.firmware.library};
   for (const EdgeRun& run : edgeRuns()) {
     const size_t i = run.begin, end = run.end;
     const OutputEdge& e = kOutputEdges[i];
-    if (e.report != report || !rowApplies(e, kind)) continue;
+    if (e.report != report || !rowApplies(e, hw_ != nullptr, r_.rec.has_balancing)) continue;
     if (!e.mask) {
       now[i] = e.read(out);
       const uint64_t before = lastOutput_[i];
@@ -410,7 +401,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   const LimitWatch::CellExtremes tickExtremes{volts, temps};
 
   const bool outputsMoved =
-      first_ || anyOutputChanged(out, lastOutput_, {hw_ != nullptr, r_.rec.has_balancing, !s_.bms.firmware.library});
+      core_ && (first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing));
   if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
   if (out.chargerEnable != chargerOn_ && r_.rec.has_charger) noteCharger(t, x, sig, out.chargerEnable);
   // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
@@ -481,6 +472,15 @@ void RunTracker::hardwareChanged(double t) {
                                 : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
                                                     : "safe state: converters off");
   lastHw_ = h;
+}
+
+void RunTracker::pinsWritten(const std::vector<PinChange>& changes) {
+  if (core_) return;  // the core's relay command is its table row's, at the tick
+  for (const PinChange& c : changes)
+    if (c.pins.relay != relayPin_) {
+      relayPin_ = c.pins.relay;
+      event(c.t_s, "relay", relayText(relayPin_));
+    }
 }
 
 void RunTracker::firmwareTrip(double t, const std::string& reason) {

@@ -73,6 +73,11 @@ TEST(FirmwareRun, OutputsActAtTheInstantTheFirmwareWroteThem) {
   const double transfer_s = 12 * 8 / 250e3;
   EXPECT_NEAR(test::eventTime(r, "relay_contact", "closed"), transfer_s, 1e-9);
   EXPECT_NEAR(test::eventTime(r, "relay_contact", "opened"), 0.050 + 2 * transfer_s, 1e-9);
+  // The relay commands are the firmware's writes, at their instants (they were logged at
+  // the ticks, 0 and 50 ms: a command before the firmware had decided it).
+  EXPECT_NEAR(test::eventTime(r, "relay", "close"), transfer_s, 1e-9);
+  EXPECT_NEAR(test::eventTime(r, "relay", "open"), 0.050 + 2 * transfer_s, 1e-9);
+  EXPECT_EQ(test::eventsOf(r, "relay").size(), 2u);
   EXPECT_NEAR(r.summary.charge_delivered_Ah, 5.9 * (0.050 + transfer_s) / 3600.0, 1e-6 * 5.9 * 0.05 / 3600.0);
 }
 
