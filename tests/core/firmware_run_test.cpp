@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "core/check/check.hpp"
+#include "core/text_fmt.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
 #include "test_support.hpp"
@@ -158,8 +159,11 @@ TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount
   EXPECT_EQ(misuse[0]->detail.rfind("bq76pl536a device 1: GPAI: write with a bad CRC", 0), 0u) << misuse[0]->detail;
   EXPECT_NE(misuse[0]->detail.find("; " + std::to_string(transfers) + " times"), std::string::npos) << misuse[0]->detail;
   EXPECT_NEAR(misuse[0]->time_s, firstTransfer_s, 0.01);
-  // The summary shows it.
+  // The summary shows it, and `packsim check` warns of it (a passing check said nothing).
   EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
+  const std::vector<std::string> warnings = judge(s, r).warnings;
+  EXPECT_NE(std::find(warnings.begin(), warnings.end(), "bus misuse from " + fmt("%.4f s: ", misuse[0]->time_s) + misuse[0]->detail),
+            warnings.end());
 }
 
 // The summary of a user's firmware's run has no line about estimates only packsim's core
