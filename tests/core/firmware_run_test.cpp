@@ -197,6 +197,16 @@ TEST(FirmwareRun, TheCoresProtectionDefaultsDoNotBindAUserFirmware) {
   const Scenario user = test::scenarioFromYaml(pack + "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW
                                                       ", config: {mode: 0, at_ms: 0}}}\n");
   for (const std::string& w : user.warnings) EXPECT_EQ(w.find("bms.protections"), std::string::npos) << w;
+  // Nor bms.balancing's: balancing resistors without a board node leave no board
+  // temperature to any firmware, said without the core's key.
+  std::string balanced = pack;
+  balanced.replace(balanced.find("current_sense"), 0, "balancing: {resistor_ohm: 47}, ");
+  const Scenario board = test::scenarioFromYaml(balanced + "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW
+                                                           ", config: {mode: 0, at_ms: 0}}}\n");
+  ASSERT_FALSE(board.warnings.empty());
+  for (const std::string& w : board.warnings) EXPECT_EQ(w.find("bms.balancing"), std::string::npos) << w;
+  EXPECT_NE(board.warnings.back().find("no board-temperature limit of the firmware can act"), std::string::npos)
+      << board.warnings.back();
 }
 
 // A firmware that reads an ADC channel the board does not have (the probe's WIRING mode
