@@ -92,6 +92,8 @@ CheckOutcome judge(const Scenario& s, const RunResult& r) {
     else if (ev.kind == "cell_model_range") o.warnings.push_back("beyond the cell model: " + ev.detail);
     else if (ev.kind == "false_fault") o.warnings.push_back("a false fault: " + ev.detail);
     else if (ev.kind == "load_limited") o.warnings.push_back("load not met: " + ev.detail);
+    else if (ev.kind == "firmware_misuse") o.warnings.push_back("the firmware " + fmt("at %.4f s: ", ev.time_s) + ev.detail);
+    else if (ev.kind == "register_misuse") o.warnings.push_back("bus misuse " + fmt("from %.4f s: ", ev.time_s) + ev.detail);
   if (const std::string never = relayNeverClosed(s, r); !never.empty()) o.warnings.push_back("the relay " + never);
   // A trip is judged by what the BMS decided; whether it isolated the pack is the contact's.
   if (r.summary.tripped && !contactOpenFrom(r, r.summary.trip_time_s))

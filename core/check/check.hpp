@@ -30,7 +30,7 @@ struct CheckOutcome {
   std::vector<FaultLatency> fault_latencies;  // the same, as numbers
   std::string verdict;                 // short summary of what the BMS did
   bool nothing_to_check = false;       // no expect: block (reported "RAN", not "PASS")
-  std::vector<std::string> warnings;   // the run's config_warning, monitor_unread, cell_model_range and load_limited events
+  std::vector<std::string> warnings;   // the run's config_warning, monitor_unread, cell_model_range, load_limited, firmware_misuse and register_misuse events
   std::vector<std::string> target;     // target mode: the summary's target lines (cycles, CPU load, stack, resets)
   bool skipped = false;                // --target on a scenario that runs a host-mode library: not run (error_message says why)
 };

@@ -615,6 +615,7 @@ int32_t FirmwareHost::adcReadOn(uint8_t channel) const {
     mcuThermistorsRead_ |= uint64_t{1} << n;
     return in_->mcuThermistorCode[n];
   }
+  if (Pins) noteNoChannel(ServiceMisuse::kAdcRead, channel, 0, noChannel());
   return noChannel();
 }
 
@@ -624,7 +625,11 @@ int32_t FirmwareHost::gpioRead(uint8_t pin) const {
 
 template <bool Pins>
 int32_t FirmwareHost::gpioReadOn(uint8_t pin) const {
-  if (!Pins || pin >= std::size(kInputPins)) return noChannel();
+  if (!Pins) return noChannel();
+  if (pin >= std::size(kInputPins)) {
+    noteNoChannel(ServiceMisuse::kGpioRead, pin, 0, noChannel());
+    return noChannel();
+  }
   return in_->*kInputPins[pin];
 }
 
@@ -636,6 +641,7 @@ template <bool Pins>
 void FirmwareHost::gpioWriteOn(uint8_t pin, int32_t level) {
   if (!Pins) return;
   if (pin >= std::size(kOutputPins)) {  // unconnected
+    noteNoChannel(ServiceMisuse::kGpioWrite, pin, level, 0);
     if (!pinsNoted_) notePins();
     return;
   }
@@ -661,10 +667,19 @@ void FirmwareHost::dacWrite(uint8_t channel, int32_t value) {
     const int32_t mA = std::max<int32_t>(0, value);
     if (pinsNoted_ && out_->chargerCurrentRequest_mA == mA) return;
     out_->chargerCurrentRequest_mA = mA;
-  } else if (pinsNoted_) {
-    return;
+  } else {
+    if (board_.pins) noteNoChannel(ServiceMisuse::kDacWrite, channel, value, 0);
+    if (pinsNoted_) return;
   }
   notePins();
+}
+
+void FirmwareHost::noteNoChannel(ServiceMisuse::Service s, uint8_t channel, int32_t value, int32_t returned) const {
+  if (!misuse_.first(s, channel)) return;
+  // The event is host code: a library's watchdog must not cut through it (FaultGuard).
+  if (guard_) FaultGuard::enterService();
+  sink_.event(clock_s(), "firmware_misuse", ServiceMisuse::text(s, channel, value, returned, board_.mcuThermistors));
+  if (guard_) FaultGuard::leaveService();
 }
 
 int32_t FirmwareHost::setTaskPeriod(uint32_t task, uint32_t period_ms, uint32_t budget_us) {

@@ -35,6 +35,7 @@
 #include "core/firmware/firmware_library.hpp"
 #include "core/firmware/monitor_bus.hpp"
 #include "core/firmware/pin_timeline.hpp"
+#include "core/firmware/service_misuse.hpp"
 #include "core/firmware/target_firmware.hpp"
 #include "core/scenario/firmware_config.hpp"
 
@@ -162,6 +163,11 @@ class FirmwareHost {
 
  private:
   mutable uint64_t mcuThermistorsRead_ = 0;  // adcRead notes each thermistor channel read (at most 48)
+  // A service called for a channel or pin this board does not have: its event, once per
+  // service and channel (service_misuse.hpp); out of line, off the per-tick path.
+  mutable ServiceMisuse misuse_;
+  __attribute__((noinline)) void noteNoChannel(ServiceMisuse::Service s, uint8_t channel, int32_t value,
+                                                int32_t returned) const;
   friend class TargetFirmware;  // runs the calls of target mode and serves its supervisor calls
   struct Call;  // one call into the firmware (guarded for a library)
   void watchdogReset();

@@ -50,10 +50,14 @@ void applyDerivedDefaults(const YAML::Node& root, Scenario& s) {
   const CellParams& cell = s.pack.cell;
   const double packAh = cell.capacity_Ah * s.pack.parallel;
   const std::string perPack = " x " + fmt(cell.capacity_Ah) + " Ah x " + std::to_string(s.pack.parallel) + " in parallel";
+  // packsim's core's protection defaults are warned of only when the core runs: a user's
+  // firmware (bms.firmware) judges on its own thresholds, and "state the threshold" sent
+  // its engineer to a key it never reads.
+  const bool coreRuns = !s.bms.firmware.library;
   auto note = [&](const std::string& key, double v, const std::string& why) {
     if (!prov) return;
     prov->recordDefault(key, numberText(v), "default (" + why + ")");
-    prov->warn(key + " = " + fmt(v) + " (default): " + why + "; state it if the pack's hardware differs");
+    if (coreRuns) prov->warn(key + " = " + fmt(v) + " (default): " + why + "; state it if the pack's hardware differs");
   };
 
   // Charge limit: from the cell, never another pack's 5 A.
@@ -77,7 +81,7 @@ void applyDerivedDefaults(const YAML::Node& root, Scenario& s) {
       if (ocd.enabled)
         note("bms.protections.overcurrent_discharge.threshold_A", ocd.threshold,
              "the cell's max_discharge_C " + fmt(cell.max_discharge_C) + perPack);
-    } else if (ocd.enabled && prov) {
+    } else if (ocd.enabled && prov && coreRuns) {
       prov->warn("bms.protections.overcurrent_discharge.threshold_A = " + fmt(ocd.threshold) +
                  " (default): the firmware table's limit, not derived from this pack (its cell states no "
                  "max_discharge_C); state the threshold or pack.cell.max_discharge_C");

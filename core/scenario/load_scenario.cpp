@@ -517,9 +517,11 @@ Scenario loadScenarioTreeChain(const YAML::Node& given, const std::string& text,
     throw m.map("load").errorAt(s.vehicle.params.max_regen_power_W > 0.0 ? "vehicle" : "sun",
                                 "the load sits on the one-way discharge path (hardware.fet_paths: separate): "
                                 "regeneration and a solar array cannot charge the pack");
+  // packsim's core's thresholds against the sensor: a user's firmware (bms.firmware) has
+  // its own, and the core's defaults (30 A) refused its scenario on a sensitive shunt.
   const double senseRange_A = s.hardware.current_sense.zeroCode() * s.hardware.current_sense.lsb_A();
   for (const auto* p : {&s.bms.protection(bms::FaultId::OverCurrentDischarge), &s.bms.protection(bms::FaultId::OverCurrentCharge)}) {
-    if (p->enabled && p->threshold >= senseRange_A) {
+    if (p->enabled && p->threshold >= senseRange_A && !s.bms.firmware.library) {
       std::ostringstream os;
       os << "over-current threshold " << p->threshold << " A is beyond the current sensor's range of +/-"
          << senseRange_A << " A (raise the range with a smaller shunt_ohm or amp_gain)";

@@ -171,9 +171,12 @@ void checkLoadMagnitude(const Scenario& s, const Provenance& p, std::vector<std:
 void checkBalancingBoard(const Scenario& s, const Provenance& p, std::vector<std::string>& out) {
   const PassiveBalancerConfig& b = s.hardware.balancing;
   if (!b.present || !b.board_node.empty()) return;
+  // (bms.balancing is packsim's core's: a user's firmware's own board limit is told instead)
   out.push_back(p.describe("hardware.balancing.resistor_ohm", numberText(b.resistor_ohm)) +
                 ": the balancing resistors have no board_node, so their heat goes straight to ambient: no board "
-                "temperature is simulated and bms.balancing.board_max_C can never act");
+                "temperature is simulated and " +
+                (s.bms.firmware.library ? "no board-temperature limit of the firmware can act"
+                                        : "bms.balancing.board_max_C can never act"));
 }
 
 // Balancing resistors that nothing switches: packsim's core balances only with a

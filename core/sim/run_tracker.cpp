@@ -87,7 +87,11 @@ bool everyEventFlagCompared() {
 // row has one (not for a falling bit); a value at or past `names` (0: no bound) is no
 // event. Rows marked `report` state what the hardware did: they follow the hardware's
 // own events (kHardwareEdges) in a tick; the others are the firmware's decisions and
-// precede them.
+// precede them. The table is packsim's core's: its fields but the relay pin are what the
+// debug probe finds in the core's RAM, which a user's firmware never writes (they stay
+// at zero: a `bms_state init` or `balancing disabled` at t = 0 named a state it was never
+// in), and its relay events are at the tick of the control step that decided; a user's
+// firmware's `relay` events come from its pin writes, at their instants (pinsWritten).
 struct OutputEdge {
   enum Needs : uint8_t { kAlways, kHardware, kBalancing };
   const char* kind;
@@ -168,7 +172,7 @@ int firstCellAt(const double* values, double v) {
 }  // namespace
 
 RunTracker::RunTracker(const Scenario& s, const Plant& plant, const bms::Config& cfg)
-    : s_(s), plant_(plant), cfg_(cfg), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
+    : s_(s), plant_(plant), cfg_(cfg), core_(!s.bms.firmware.library), limits_(s, plant.pack().cellCount(), plant.pack().parallel),
       modelRange_(s.pack.cell), falseFaults_(s, plant.pack().parallel),
       limitSink_([this](double te, const std::string& d) { event(te, "limit_unseen", d); }),
       falseFaultSink_([this](double te, const std::string& d) { event(te, "false_fault", d); }) {
@@ -397,7 +401,8 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   }
   const LimitWatch::CellExtremes tickExtremes{volts, temps};
 
-  const bool outputsMoved = first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing);
+  const bool outputsMoved =
+      core_ && (first_ || anyOutputChanged(out, lastOutput_, hw_ != nullptr, r_.rec.has_balancing));
   if (outputsMoved) outputEvents(t, out, false);  // the firmware's decisions: state, faults, relay command
   if (out.chargerEnable != chargerOn_ && r_.rec.has_charger) noteCharger(t, x, sig, out.chargerEnable);
   // A trip: the first tick the BMS holds the relay open on a latched fault (whether it
@@ -470,6 +475,15 @@ void RunTracker::hardwareChanged(double t) {
                                 : h.active_isolated ? "safe state: the BMS isolated the pack, converters off"
                                                     : "safe state: converters off");
   lastHw_ = h;
+}
+
+void RunTracker::pinsWritten(const std::vector<PinChange>& changes) {
+  if (core_) return;  // the core's relay command is its table row's, at the tick
+  for (const PinChange& c : changes)
+    if (c.pins.relay != relayPin_) {
+      relayPin_ = c.pins.relay;
+      event(c.t_s, "relay", relayText(relayPin_));
+    }
 }
 
 void RunTracker::firmwareTrip(double t, const std::string& reason) {

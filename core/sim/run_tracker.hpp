@@ -12,6 +12,7 @@
 #include "core/sim/cell_model_range.hpp"
 #include "core/sim/false_fault.hpp"
 #include "core/sim/limit_watch.hpp"
+#include "core/firmware/pin_timeline.hpp"
 
 namespace packsim {
 
@@ -32,6 +33,9 @@ class RunTracker {
   // endReason: why the run ended (the `run` event's detail after "end: ").
   RunResult finish(const double* quadratures, const std::string& endReason);
   void event(double t, const std::string& kind, const std::string& detail);
+  // A user's firmware wrote its output pins (each change at its MCU-clock instant): its
+  // `relay` command events, at those instants (packsim's core's come from its outputs).
+  void pinsWritten(const std::vector<PinChange>& changes);
   // A library firmware reported a trip (its event "trip: <reason>"); the first one is
   // the summary's trip (packsim's core trips through its latched faults instead).
   void firmwareTrip(double t, const std::string& reason);
@@ -58,6 +62,8 @@ class RunTracker {
   const Scenario& s_;
   const Plant& plant_;
   const bms::Config& cfg_;
+  const bool core_;          // packsim's core runs (not a user's firmware): kOutputEdges applies
+  bool relayPin_ = false;    // a user's firmware's relay pin as last written
   RunResult r_;
   bool first_ = true;
   uint64_t lastOutput_[8] = {};  // per row of kOutputEdges: its field at the last tick

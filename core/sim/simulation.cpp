@@ -183,7 +183,9 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   //    relay)
   decided = &firmware.decide(t, in, out, faults);
   const bms::Outputs& decision = *decided;
-  for (const PinChange& c : firmware.takePinChanges()) pins.push(c);
+  const std::vector<PinChange> written = firmware.takePinChanges();
+  tracker.pinsWritten(written);  // a user's firmware's relay commands, at their instants
+  for (const PinChange& c : written) pins.push(c);
 
   // 3. actuators: the commands in effect at t_k (those the firmware wrote at or before
   //    it; later ones act inside the tick, step 5) drive the switching hardware

@@ -115,13 +115,17 @@ void balancingLine(LineWriter& w, const S& s, const R& r) {
   const BalanceSummary& b = r.summary.balance;
   if (!b.present) return;
   std::string when;
-  if (b.started_s < 0.0) {
-    // packsim's core's last status; a user's firmware reports none ("disabled" is the
-    // channel's first value there).
+  if (s.bms.firmware.library) {
+    // A user's firmware's balancing status is its own: what packsim sees is the monitor
+    // ICs' switches it set ("never reported balancing, yet" read as a firmware that failed
+    // to report what it could not).
+    when = b.bled_Ah > 0.0 ? "by the switches the firmware set on the monitor ICs (its status is its own)"
+                           : "the firmware set no balancing switch";
+  } else if (b.started_s < 0.0) {
+    // packsim's core's last status.
     const Event* last = nullptr;
-    if (!s.bms.firmware.library)
-      for (const Event& e : r.events)
-        if (e.kind == "balancing") last = &e;
+    for (const Event& e : r.events)
+      if (e.kind == "balancing") last = &e;
     when = "the firmware never reported balancing" + (last ? " (its last status: " + last->detail + ")" : std::string()) +
            (b.bled_Ah > 0.0 ? ", yet" : "");
   } else {
@@ -231,6 +235,7 @@ void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
     if (e.kind == "fuse") w.line("hardware", fmt("%.2f", e.time_s) + " s  fuse " + e.detail);
     if (e.kind == "config_warning") w.line("warning", e.detail);
     if (e.kind == "register_misuse") w.line("bus misuse", fmt("%.4f", e.time_s) + " s  " + e.detail);
+    if (e.kind == "firmware_misuse") w.line("board misuse", fmt("%.4f", e.time_s) + " s  " + e.detail);
   }
 }
 
@@ -341,12 +346,17 @@ const std::vector<SummaryLine> kLines = {
        w.line(fmt("%.3f", r.summary.final_soc_min) + " .. " + fmt("%.3f", r.summary.final_soc_max)); }},
     {"SOC error", "soc_estimator soc_error_coulomb_max soc_error_coulomb_rms soc_error_coulomb_end soc_error_ekf_max "
                   "soc_error_ekf_rms soc_error_ekf_end soc_error_ekf_group_max soc_error_ekf_group", socErrorLines},
-    {"capacity (SOH)", "capacity_estimate_Ah capacity_true_Ah", [](LineWriter& w, const S&, const R& r) {
+    // The capacity and display estimates are packsim's core's: a user's firmware keeps its
+    // own, which packsim does not see ("no estimate (needs two rests ...)" and "0 bars below
+    // and 0 above" judged a core that did not run).
+    {"capacity (SOH)", "capacity_estimate_Ah capacity_true_Ah", [](LineWriter& w, const S& s, const R& r) {
        const Summary& m = r.summary;
+       if (s.bms.firmware.library) return;
        w.line(m.capacity_estimate_Ah > 0.0
                   ? fmt("%.3f", m.capacity_estimate_Ah) + " Ah estimated, " + fmt("%.3f", m.capacity_true_Ah) + " Ah true"
                   : std::string("no estimate (needs two rests far enough apart in SOC)")); }},
-    {"SOC display", "display_bars_hidden_max display_bars_extra_max", [](LineWriter& w, const S&, const R& r) {
+    {"SOC display", "display_bars_hidden_max display_bars_extra_max", [](LineWriter& w, const S& s, const R& r) {
+       if (s.bms.firmware.library) return;
        w.line("up to " + std::to_string(r.summary.display_bars_hidden_max) + " bars below and " +
               std::to_string(r.summary.display_bars_extra_max) + " above what the true OCV would show"); }},
     {"BMS", "tripped trip_time_s trip_reason", [](LineWriter& w, const S&, const R& r) {

@@ -850,8 +850,9 @@ void Bq76952Chain::commitTransfer(double t) {
   }
   if (code == BQ952_SUB_CB_ACTIVE_CELLS) {
     autoMask_ = 0;  // host-controlled balancing takes over
-    const uint16_t all = static_cast<uint16_t>((1u << cells_) - 1u);
-    const uint16_t mask = static_cast<uint16_t>((buffer_[0] | (buffer_[1] << 8)) & all);
+    const unsigned all = (1u << cells_) - 1u, written = buffer_[0] | (buffer_[1] << 8);
+    if (written & ~all) misuse_.note(t, 0, subcommandName(code), balanceBitsPastCells(written & ~all, cells_, 4));
+    const uint16_t mask = static_cast<uint16_t>(written & all);
     if (mask != 0 && balanceMask_ == 0) balanceStarted_s = t;
     balanceMask_ = mask;
     balanceArmed_s = t;

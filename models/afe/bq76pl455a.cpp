@@ -458,7 +458,10 @@ void Bq76pl455aChain::write(Device& dv, int d, const Frame& f, double t, bool ta
   }
   if (touched(PL455_REG_CBENBL, 2)) {
     const uint32_t code = (dv.reg[PL455_REG_CBCONFIG] & PL455_CBCONFIG_TIME_MASK) >> PL455_CBCONFIG_TIME_SHIFT;
-    const uint16_t mask = static_cast<uint16_t>(get16(dv.reg, PL455_REG_CBENBL) & ((1u << cellsOf(d)) - 1u));
+    const unsigned has = (1u << cellsOf(d)) - 1u, written = get16(dv.reg, PL455_REG_CBENBL);
+    if (written & ~has)
+      misuse_.note(t, d, registerName(PL455_REG_CBENBL), balanceBitsPastCells(written & ~has, cellsOf(d), 4));
+    const uint16_t mask = static_cast<uint16_t>(written & has);
     set16(dv.reg, PL455_REG_CBENBL, kBalanceTime_s[code] == 0 ? 0 : mask);
     dv.balanceUntil_s = t + kBalanceTime_s[code];
   }

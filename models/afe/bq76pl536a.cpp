@@ -78,6 +78,14 @@ std::string registerName(uint8_t reg) {
   return "register " + hexByte(reg);
 }
 
+// The words (register pairs from `base`, n of them) both of whose registers are in `regs`.
+uint32_t wordsIn(uint64_t regs, unsigned base, unsigned n) {
+  uint32_t words = 0;
+  for (unsigned i = 0; i < n; ++i)
+    if (((regs >> (base + 2 * i)) & 3u) == 3u) words |= 1u << i;
+  return words;
+}
+
 }  // namespace
 
 Bq76pl536aChain::Bq76pl536aChain(const MonitorConfig& cfg, int cellCount, uint64_t seed)
@@ -116,6 +124,7 @@ void Bq76pl536aChain::reset(Device& dv) {
   for (DebounceTimer& o : dv.ot) o = DebounceTimer{};
   dv.converting = false;
   dv.resultsValid = false;
+  dv.convertedRegs = dv.pendingRegs = 0;
   dv.balanceUntil_s = 0.0;
   readSettings(dv);
   reach_ = reach();  // its address is gone
@@ -157,6 +166,7 @@ void Bq76pl536aChain::settleDue(Device& dv, double t) {
     std::memcpy(&dv.reg[BQ536_GPAI], &dv.pending[BQ536_GPAI], BQ536_RESULTS_LEN - BQ536_GPAI);
     dv.converting = false;
     dv.resultsValid = true;
+    dv.convertedRegs |= dv.pendingRegs;
   }
   // The balancing timer runs on the device: it switches the cells off itself.
   if (dv.reg[BQ536_CB_CTRL] != 0 && t >= dv.balanceUntil_s - 1e-9) dv.reg[BQ536_CB_CTRL] = 0;
@@ -239,6 +249,7 @@ template <class Round>
   std::memcpy(&dv.pending[BQ536_GPAI], &dv.reg[BQ536_GPAI], BQ536_RESULTS_LEN - BQ536_GPAI);
   auto put = [&](uint8_t reg, uint16_t code) { putBe16(&dv.pending[reg], code); };
   int channels = 0;
+  uint64_t converted = 0;  // the result registers this conversion gives a reading (Device::convertedRegs)
   const DeviceAnalog& a = dv.analog;
   // The part converts with its balancing switches as they are; a host that opens them
   // around its conversions (measure_paused) has them read without their I_bal·R drop.
@@ -258,6 +269,7 @@ template <class Round>
     }
     const size_t i = static_cast<size_t>(c), cell = static_cast<size_t>(dv.firstCell + c);
     put(BQ536_VCELL(c), code16(errors_.convert<Round>(cfg_.cell_adc, cell, a, i, cell_V[i], noise_)));
+    converted |= uint64_t{3} << BQ536_VCELL(c);
   }
   const uint8_t tsSel[BQ536_TEMPS_MAX] = {BQ536_AC_TS1, BQ536_AC_TS2};
   const uint8_t tsBias[BQ536_TEMPS_MAX] = {BQ536_IO_TS1, BQ536_IO_TS2};
@@ -266,11 +278,14 @@ template <class Round>
     if (!(sel & tsSel[k])) continue;
     ++channels;
     uint16_t code = 0;  // no divider bias (or no thermistor): the input sits at 0
-    if (k < a.therm_C.size() && (dv.reg[BQ536_IO_CONTROL] & tsBias[k]))
+    if (k < a.therm_C.size() && (dv.reg[BQ536_IO_CONTROL] & tsBias[k])) {
       code = code16(thermistorCode(cfg_.thermistor, a.therm_fault[k], a.therm_C[k], dv.thermCode[k], noise_));
+      converted |= uint64_t{3} << tsReg[k];
+    }
     put(tsReg[k], code);
   }
   dv.converting = true;
+  dv.pendingRegs = converted;
   dv.readyAt_s = t + channels * cfg_.conversion_s_per_channel;
   if (a.host_opens_balancing) dv.pauses.add(t, dv.readyAt_s, (1u << dv.cells) - 1u);
   settle(dv, t);  // a zero conversion time lands at once
@@ -318,9 +333,11 @@ void Bq76pl536aChain::write(Device& dv, double t, uint8_t reg, uint8_t value) {
       break;
     case BQ536_CB_CTRL:
     case BQ536_CB_TIME: {
-      if (reg == BQ536_CB_CTRL)
-        dv.reg[reg] = static_cast<uint8_t>(value & ((1u << dv.cells) - 1u));
-      else
+      if (reg == BQ536_CB_CTRL) {
+        const unsigned has = (1u << dv.cells) - 1u;
+        if (value & ~has) misuse_.note(t, device, registerName(reg), balanceBitsPastCells(value & ~has, dv.cells, 2));
+        dv.reg[reg] = static_cast<uint8_t>(value & has);
+      } else
         dv.reg[reg] = static_cast<uint8_t>(value & (BQ536_CBT_MINUTES | BQ536_CBT_TIME_MASK));
       // Either write (re)starts the timer while switches are on; a zero time stops them.
       if (dv.reg[BQ536_CB_CTRL] != 0) dv.balanceUntil_s = t + bq536_cb_time_s(dv.reg[BQ536_CB_TIME]);
@@ -411,11 +428,12 @@ BusTransfer Bq76pl536aChain::transfer(double t, const uint8_t* tx, size_t txLen,
   }
   if (target == nullptr || target->comm.silent) return r;
   const size_t count = tx[2], first = tx[1];
-  if (const uint64_t span = registerSpan(first, count); (span & ~target->registersRead) != 0) {
-    // registers not read before (the usual read: none, no call): the cells and thermistors they hold
+  if (const uint64_t span = registerSpan(first, count) & target->convertedRegs; (span & ~target->registersRead) != 0) {
+    // registers holding a reading not read before (the usual read: none, no call): the
+    // cells and thermistors whose words this read delivers whole
     target->registersRead |= span;
-    noteRead(static_cast<int>(target - dev_.data()), wordsCovered(first, count, BQ536_VCELL1, BQ536_CELLS_MAX),
-             wordsCovered(first, count, BQ536_TEMPERATURE1, BQ536_TEMPS_MAX));
+    noteRead(static_cast<int>(target - dev_.data()), wordsIn(span, BQ536_VCELL1, BQ536_CELLS_MAX),
+             wordsIn(span, BQ536_TEMPERATURE1, BQ536_TEMPS_MAX));
   }
   uint8_t frame[3 + 256];
   std::copy(tx, tx + 3, frame);

@@ -96,7 +96,12 @@ class Bq76pl536aChain final : public MonitorChain {
     int firstCell = 0, cells = 0;
     std::array<uint8_t, BQ536_REGISTER_COUNT> reg{};
     bool shadowOpen = false;
-    uint64_t registersRead = 0;  // bit r: register r (< 64) read so far (MonitorChain::noteRead on a new one)
+    uint64_t registersRead = 0;  // bit r: register r (< 64) read so far holding a conversion (MonitorChain::noteRead on a new one)
+    // Bit r: result register r holds a conversion of its input (a cell ADC_CONTROL's
+    // CELL_SEL took in, a thermistor converted with its divider biased); pending: those the
+    // conversion in flight adds. A read of another one (a cell CELL_SEL leaves out) reads
+    // no cell: counted as read, it hid cells the firmware never saw (monitor_unread).
+    uint64_t convertedRegs = 0, pendingRegs = 0;
     uint8_t lastLatchWrite[2] = {0, 0};  // host's last value to ALERT_STATUS, FAULT_STATUS
     DebounceTimer cov, cuv, ot[BQ536_TEMPS_MAX];
     bool converting = false;

@@ -4,6 +4,7 @@
 // with how often and when. The part still ignores the write; the note changes nothing
 // it does. The run turns each entry into one `register_misuse` event (core/sim/run_tracker.cpp).
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,25 @@ inline std::string hexByte(unsigned v, int digits = 2) {
   std::string s = "0x";
   for (int i = digits - 1; i >= 0; --i) s += d[(v >> (4 * i)) & 0xF];
   return s;
+}
+
+// The reason a device ignores balancing bits: they name cells it does not have (a device
+// of a stack with fewer cells than its inputs, e.g. the top one of a 14s pack on 6-cell
+// devices, or reserved bits past its inputs). `bits`: those bits alone (bit i: the
+// device's cell i + 1); `cells`: the cells it has; `digits`: the register's hex width.
+inline std::string balanceBitsPastCells(uint32_t bits, int cells, int digits) {
+  std::string named;
+  int count = 0;
+  for (int i = 0; i < 32; ++i) {
+    if (!((bits >> i) & 1u)) continue;
+    int j = i;
+    while (j + 1 < 32 && ((bits >> (j + 1)) & 1u)) ++j;
+    named += (named.empty() ? "" : ", ") + std::to_string(i + 1) + (j > i ? "-" + std::to_string(j + 1) : "");
+    count += j - i + 1;
+    i = j;
+  }
+  return "balancing bits " + hexByte(bits, digits) + " (cell" + (count > 1 ? "s " : " ") + named +
+         ") for cells the device does not have (it has " + std::to_string(cells) + "): ignored, those switches stay off";
 }
 
 }  // namespace packsim

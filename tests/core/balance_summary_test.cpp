@@ -154,7 +154,9 @@ TEST(BalanceSummary, APackWithoutBalancingHasNoLine) {
 
 // A user's firmware on a board with balancing resistors: packsim does not see its
 // balancing decision, and the run's balancing channel (packsim's core's) keeps its first
-// value. The line said "(its last status: disabled)", a status the firmware never gave.
+// value. The line said "(its last status: disabled)", a status the firmware never gave,
+// then "the firmware never reported balancing", which it has no way to: it says what
+// packsim sees, the switches (none here: the example firmware does not balance).
 TEST(BalanceSummary, AUserFirmwareIsNotGivenPacksimsCoresBalancingStatus) {
   const Scenario s = test::scenarioFromYaml(
       "extends: firmware/c_example_firmware.yaml\nrun: {duration_s: 2}\n"
@@ -162,7 +164,7 @@ TEST(BalanceSummary, AUserFirmwareIsNotGivenPacksimsCoresBalancingStatus) {
   const RunResult r = runScenario(s);
   ASSERT_TRUE(r.summary.balance.present);
   const std::string text = formatSummary(s, r);
-  EXPECT_TRUE(has(text, "\nbalancing       the firmware never reported balancing; bled 0.000 Ah")) << text;
+  EXPECT_TRUE(has(text, "\nbalancing       the firmware set no balancing switch; bled 0.000 Ah")) << text;
   EXPECT_FALSE(has(text, "its last status")) << text;
 }
 

@@ -59,7 +59,7 @@ struct Log : FirmwareSink {
   }
 };
 
-enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS, TRIP_TEXTS };
+enum Mode { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS, TRIP_TEXTS, WIRING };
 
 FirmwareSettings probe(int mode, int at_ms = 0, const char* lib = PACKSIM_PROBE_FW) {
   FirmwareSettings s;
@@ -167,6 +167,37 @@ TEST(FirmwareHost, AVersion3FirmwareTellsAMissingChannelFromABusTimeout) {
   v2.run(2);
   EXPECT_EQ(v2.log.of("firmware"), std::vector<std::string>{"codes -1 -1 -1 -1 -1"});
   EXPECT_FALSE(v2.host.dead());
+}
+
+// A channel or pin the board does not have still answers PSFW_NO_CHANNEL (a write: does
+// nothing), and the run says so once per service and channel, at the first call: the
+// probe (WIRING) reads ADC channels 17 (thermistor 1 of the bench's two: wired) and 18,
+// input pin 9, writes output pin 7 and DAC channel 3 at every 10 ms run of task 0. Over
+// five runs: four events at 10 ms, none for channel 17.
+TEST(FirmwareHost, AChannelTheBoardDoesNotHaveIsReportedOncePerChannel) {
+  Bench b(probe(WIRING));
+  b.in.mcuThermistorCode[1] = 2048;
+  b.run(6);
+  EXPECT_EQ(b.log.of("firmware"), std::vector<std::string>{"wiring 2048 -3 -3"});
+  const std::vector<std::string> expected = {
+      "adc_read(channel 18): the board has no such ADC channel (it has 0 current sense, 1 bus voltage, 16-17 the 2 "
+      "thermistors on the MCU's ADC); it returned PSFW_NO_CHANNEL (-3), no reading",
+      "gpio_read(pin 9): the board has no such input pin (0-6: internal and external E-switch, relay aux, monitor "
+      "FAULT, charger present, run request, reset request); it returned PSFW_NO_CHANNEL (-3)",
+      "gpio_write(pin 7, 1): the board has no such output pin (0 relay, 1 precharge, 2 discharge FET, 3 charge FET, 4 "
+      "charger enable); the write drives nothing",
+      "dac_write(channel 3, 500): the board has no such DAC channel (0 charger current, mA); the write drives nothing"};
+  EXPECT_EQ(b.log.of("firmware_misuse"), expected);
+  EXPECT_EQ(b.host.taskRuns(0), 5u);
+  for (const auto& e : b.log.events)
+    if (e.kind == "firmware_misuse") EXPECT_DOUBLE_EQ(e.t, 0.010) << e.detail;
+  // Version 2 got -1 there, which it shares with a bus timeout: said so.
+  Bench v2(probe(WIRING, 0, PACKSIM_PROBE_FW_V2));
+  v2.run(2);
+  ASSERT_FALSE(v2.log.of("firmware_misuse").empty());
+  EXPECT_NE(v2.log.of("firmware_misuse")[0].find("it returned -1 (no such channel in contract versions 1 and 2"),
+            std::string::npos)
+      << v2.log.of("firmware_misuse")[0];
 }
 
 // Contract v3 NVM: erased (0xFF) at the start; a 12-byte write at offset 4 touches the

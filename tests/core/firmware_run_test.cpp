@@ -8,6 +8,7 @@
 #include <cstdlib>
 
 #include "core/check/check.hpp"
+#include "core/text_fmt.hpp"
 #include "core/sim/simulation.hpp"
 #include "core/sim/summary_text.hpp"
 #include "test_support.hpp"
@@ -73,6 +74,11 @@ TEST(FirmwareRun, OutputsActAtTheInstantTheFirmwareWroteThem) {
   const double transfer_s = 12 * 8 / 250e3;
   EXPECT_NEAR(test::eventTime(r, "relay_contact", "closed"), transfer_s, 1e-9);
   EXPECT_NEAR(test::eventTime(r, "relay_contact", "opened"), 0.050 + 2 * transfer_s, 1e-9);
+  // The relay commands are the firmware's writes, at their instants (they were logged at
+  // the ticks, 0 and 50 ms: a command before the firmware had decided it).
+  EXPECT_NEAR(test::eventTime(r, "relay", "close"), transfer_s, 1e-9);
+  EXPECT_NEAR(test::eventTime(r, "relay", "open"), 0.050 + 2 * transfer_s, 1e-9);
+  EXPECT_EQ(test::eventsOf(r, "relay").size(), 2u);
   EXPECT_NEAR(r.summary.charge_delivered_Ah, 5.9 * (0.050 + transfer_s) / 3600.0, 1e-6 * 5.9 * 0.05 / 3600.0);
 }
 
@@ -153,8 +159,97 @@ TEST(FirmwareRun, WritesThePartIgnoresBecomeOneRegisterMisuseEventWithTheirCount
   EXPECT_EQ(misuse[0]->detail.rfind("bq76pl536a device 1: GPAI: write with a bad CRC", 0), 0u) << misuse[0]->detail;
   EXPECT_NE(misuse[0]->detail.find("; " + std::to_string(transfers) + " times"), std::string::npos) << misuse[0]->detail;
   EXPECT_NEAR(misuse[0]->time_s, firstTransfer_s, 0.01);
-  // The summary shows it.
+  // The summary shows it, and `packsim check` warns of it (a passing check said nothing).
   EXPECT_NE(formatSummary(s, r).find("bus misuse"), std::string::npos);
+  const std::vector<std::string> warnings = judge(s, r).warnings;
+  EXPECT_NE(std::find(warnings.begin(), warnings.end(), "bus misuse from " + fmt("%.4f s: ", misuse[0]->time_s) + misuse[0]->detail),
+            warnings.end());
+}
+
+// The summary of a user's firmware's run has no line about estimates only packsim's core
+// makes: "capacity (SOH) no estimate (needs two rests ...)" and "SOC display up to 0 bars
+// below and 0 above" judged a core that did not run, and the balancing line said "the
+// firmware never reported balancing" of a firmware that has no way to. The core's run of
+// the same pack still has them.
+TEST(FirmwareRun, AUserFirmwaresSummaryHasNoLinesOfTheCoresEstimates) {
+  const std::string pack = "hardware: {balancing: {resistor_ohm: 47}}\nrun: {duration_s: 2}\n";
+  const Scenario user = test::scenarioFromYaml("extends: firmware/c_example_firmware.yaml\n" + pack);
+  const std::string text = formatSummary(user, runScenario(user));
+  EXPECT_EQ(text.find("capacity (SOH)"), std::string::npos) << text;
+  EXPECT_EQ(text.find("SOC display"), std::string::npos) << text;
+  EXPECT_NE(text.find("balancing       the firmware set no balancing switch; bled 0.000 Ah"), std::string::npos) << text;
+  const Scenario core = test::scenarioFromYaml("extends: bench_6s_ncr18650_2C.yaml\n" + pack);
+  const std::string coreText = formatSummary(core, runScenario(core));
+  EXPECT_NE(coreText.find("capacity (SOH)"), std::string::npos) << coreText;
+  EXPECT_NE(coreText.find("SOC display"), std::string::npos) << coreText;
+}
+
+// packsim's core's protection settings do not bind a user's firmware: its scenario on a
+// sensitive current sensor (5 mOhm x 20: +/-16.5 A) loads, where the core's default 30 A
+// over-current threshold is an error for the core (and "state the threshold" warnings
+// for keys the user's firmware never reads are not given).
+TEST(FirmwareRun, TheCoresProtectionDefaultsDoNotBindAUserFirmware) {
+  const std::string pack = "pack: {series: 4, cell: {preset: ncr18650_3p1Ah}}\n"
+                           "hardware: {afe: {model: bq76pl536a, cells_per_device: 4}, current_sense: {shunt_ohm: 0.005, "
+                           "amp_gain: 20}}\nload: {current_A: 1}\nrun: {duration_s: 1}\n";
+  const std::string core = test::yamlErrorOf(pack);
+  EXPECT_NE(core.find("over-current threshold 30 A is beyond the current sensor's range"), std::string::npos) << core;
+  const Scenario user = test::scenarioFromYaml(pack + "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW
+                                                      ", config: {mode: 0, at_ms: 0}}}\n");
+  for (const std::string& w : user.warnings) EXPECT_EQ(w.find("bms.protections"), std::string::npos) << w;
+  // Nor bms.balancing's: balancing resistors without a board node leave no board
+  // temperature to any firmware, said without the core's key.
+  std::string balanced = pack;
+  balanced.replace(balanced.find("current_sense"), 0, "balancing: {resistor_ohm: 47}, ");
+  const Scenario board = test::scenarioFromYaml(balanced + "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW
+                                                           ", config: {mode: 0, at_ms: 0}}}\n");
+  ASSERT_FALSE(board.warnings.empty());
+  for (const std::string& w : board.warnings) EXPECT_EQ(w.find("bms.balancing"), std::string::npos) << w;
+  EXPECT_NE(board.warnings.back().find("no board-temperature limit of the firmware can act"), std::string::npos)
+      << board.warnings.back();
+}
+
+// A firmware that reads an ADC channel the board does not have (the probe's WIRING mode
+// reads channels 17 and 18 every 10 ms; system C's bench gives the MCU no thermistors)
+// gets PSFW_NO_CHANNEL, and the run says so: one firmware_misuse event per channel at its
+// first read, a `board misuse` summary line each, and `packsim check` warns.
+TEST(FirmwareRun, AChannelTheBoardDoesNotHaveIsInTheSummaryAndCheck) {
+  const Scenario s = test::scenarioFromYaml(
+      "extends: bench_6s_ncr18650_2C.yaml\n"
+      "bms: {tick_ms: 10, firmware: {library: " PACKSIM_PROBE_FW ", config: {mode: 17, at_ms: 0}}}\n"
+      "run: {duration_s: 1}\n");
+  const RunResult r = runScenario(s);
+  const std::vector<const Event*> misuse = test::eventsOf(r, "firmware_misuse");
+  ASSERT_EQ(misuse.size(), 5u);  // ADC 17, 18, input 9, output 7, DAC 3
+  EXPECT_EQ(misuse[0]->detail.rfind("adc_read(channel 17): the board has no such ADC channel (it has 0 current sense, "
+                                    "1 bus voltage); it returned PSFW_NO_CHANNEL (-3)",
+                                    0),
+            0u)
+      << misuse[0]->detail;
+  EXPECT_DOUBLE_EQ(misuse[0]->time_s, 0.010);
+  const std::string summary = formatSummary(s, r);
+  EXPECT_NE(summary.find("board misuse    0.0100 s  adc_read(channel 18)"), std::string::npos) << summary;
+  std::vector<std::string> said;  // check's warnings of them (beside the probe's 15 ms task and unread cells)
+  for (const std::string& w : judge(s, r).warnings)
+    if (w.rfind("the firmware at ", 0) == 0) said.push_back(w);
+  ASSERT_EQ(said.size(), 5u);
+  EXPECT_EQ(said[0].rfind("the firmware at 0.0100 s: adc_read(channel 17)", 0), 0u) << said[0];
+}
+
+// The events of packsim's core's own state (its RAM, read by the debug probe) belong to
+// a run of the core: a user's firmware keeps its state where packsim cannot see it, so
+// its run has no `bms_state init` or `balancing disabled` at t = 0 (which named states it
+// was never in) -- only what it drives through its pins: the relay command. The same
+// pack with packsim's core still reports its state and balancing status from t = 0.
+TEST(FirmwareRun, AUserFirmwareRunHasNoEventsOfTheCoresState) {
+  const std::string pack = "hardware: {balancing: {resistor_ohm: 47}}\nrun: {duration_s: 2}\n";
+  const RunResult user = runScenario(test::scenarioFromYaml("extends: firmware/c_example_firmware.yaml\n" + pack));
+  for (const char* kind : {"bms_state", "balancing", "fault_active", "fault_latched", "fault_cleared", "precharge", "comm_lost"})
+    EXPECT_TRUE(test::eventsOf(user, kind).empty()) << kind << ": " << test::eventsOf(user, kind).front()->detail;
+  EXPECT_NEAR(test::eventTime(user, "relay", "close"), 0.41, 1e-9);  // its pin: precharge_ms 300 after the 110 ms task
+  const RunResult core = runScenario(test::scenarioFromYaml("extends: bench_6s_ncr18650_2C.yaml\n" + pack));
+  EXPECT_EQ(test::eventTime(core, "bms_state", "init"), 0.0);
+  EXPECT_EQ(test::eventTime(core, "balancing"), 0.0);
 }
 
 }  // namespace

@@ -89,6 +89,22 @@ TEST(ReadCoverage, TheSameFirmwareToldTwelveCellsReadsThemAll) {
   EXPECT_TRUE(judge(test::scenarioFromYaml(examplePack(12)), r).warnings.empty());
 }
 
+// The example firmware told 8 cells on 4-cell devices, on a stack of two 6-cell devices:
+// its ADC_CONTROL (CELL_SEL) converts each device's first 4 cells, and it reads the whole
+// result block, VCELL5-6 included, whose registers never hold a conversion. Reading them
+// counted as reading those cells, and no line said that groups 5-6 and 11-12 were never
+// measured; now a register counts once it holds a conversion of its input.
+TEST(ReadCoverage, CellsTheDeviceNeverConvertedAreUnreadThoughTheirRegistersWereRead) {
+  std::string yaml = examplePack(8);
+  yaml.replace(yaml.find("cells_per_device: 6, capacity"), 19, "cells_per_device: 4");
+  const RunResult r = runScenario(test::scenarioFromYaml(yaml));
+  const std::vector<std::string> notes = unread(r);
+  ASSERT_EQ(notes.size(), 1u) << testing::PrintToString(notes);
+  EXPECT_EQ(notes[0], "series groups 5-6, 11-12 of 12 (on bq76pl536a devices 1-2 of 2): the firmware never read their "
+                      "cell voltage in the run's 3.00 s; the BMS could not see them");
+  EXPECT_EQ(r.summary.unmonitored_groups, 4);
+}
+
 // A fifth thermistor, at group 10, goes to the MCU's own ADC (the two devices take two
 // each). The example firmware reads none of the MCU's thermistor inputs; packsim's core
 // reads each every tick.

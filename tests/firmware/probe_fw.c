@@ -29,6 +29,10 @@
  *   TRIP_TEXTS task 0 reports, once, texts that read as trips but are not "trip: "
  *              ("TRIP cell_overvoltage", "trip:estop"), one that is another word
  *              ("tripped count 0") and the real "trip: comm_loss"
+ *   WIRING     task 0, at every run, reads ADC channels 17 and 18 and input pin 9,
+ *              writes output pin 7 and DAC channel 3, and reports once
+ *              "wiring <adc 17> <adc 18> <gpio_read 9>" (on a board with two MCU
+ *              thermistors, channel 17 is wired and 18 is not)
  * Built as probe_fw (contract version 3) and probe_fw_v2 (PROBE_ABI=2: the same code
  * declaring version 2).
  * Every mode but PROBE closes the relay and the FETs at init, so a dead MCU leaves
@@ -46,7 +50,7 @@
 #endif
 #define PROBE_NO_CHANNEL (PROBE_ABI >= 3u ? PSFW_NO_CHANNEL : PSFW_NO_CHANNEL_V2)
 
-enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS, TRIP_TEXTS };
+enum { PROBE, BUS, CRASH, HANG, ABORT, DIV0, INIT_FAIL, BAD_BUS, BIG_RX, BUS_LOOP, TRIP, RETIME, CODES, PIN_TIMING, NVM, BOOTS, TRIP_TEXTS, WIRING };
 
 typedef struct probe_ram {
   int32_t mode, at_ms;
@@ -102,6 +106,17 @@ static void task0(void* ram, psfw_board* b, const psfw_board_api* api) {
       const long adc = api->adc_read(b, 99), pin = api->gpio_read(b, 99), rcv = api->can_receive(b, 0, &id, rx);
       const long snd = api->can_send(b, 0, 0x100, tx, 4), bus = api->bus_transfer(b, PSFW_BUS_MONITOR(0), tx, 4, rx, 8);
       snprintf(text, sizeof text, "codes %ld %ld %ld %ld %ld", adc, pin, rcv, snd, bus);
+      api->event(b, text);
+      break;
+    }
+    case WIRING: {
+      char text[64];
+      const long a17 = api->adc_read(b, 17), a18 = api->adc_read(b, 18), pin = api->gpio_read(b, 9);
+      api->gpio_write(b, 7, 1);
+      api->dac_write(b, 3, 500);
+      if (r->tripped) break;
+      r->tripped = 1;
+      snprintf(text, sizeof text, "wiring %ld %ld %ld", a17, a18, pin);
       api->event(b, text);
       break;
     }

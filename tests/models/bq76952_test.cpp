@@ -325,6 +325,24 @@ TEST(Bq76952, HostBalancingRunsUntilStoppedOrExpiresOnTheDevice) {
   EXPECT_FALSE(dev.balancing(0, 1));
 }
 
+// CB_ACTIVE_CELLS bits above the cells the part has (4 of its 16 inputs) switch
+// nothing, and the write is noted like any other the part ignores, naming the bits.
+TEST(Bq76952, BalancingBitsForCellsThePartDoesNotHaveAreNoted) {
+  Bq76952Chain dev(config(false), 4, 1);
+  setCells(dev, 3.7);
+  Host h{dev, false};
+  h.subWrite(BQ952_SUB_CB_ACTIVE_CELLS, {0x09, 0x00});  // cells 1 and 4: legal
+  EXPECT_TRUE(dev.misuse().entries().empty());
+  h.subWrite(BQ952_SUB_CB_ACTIVE_CELLS, {0x31, 0x80});  // cell 1, and cells 5, 6, 16
+  EXPECT_TRUE(dev.balancing(0, 0));
+  EXPECT_EQ(h.subRead(BQ952_SUB_CB_ACTIVE_CELLS, 2)[0], 0x01);
+  const std::vector<RegisterMisuse>& m = dev.misuse().entries();
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].what, "CB_ACTIVE_CELLS");
+  EXPECT_EQ(m[0].why, "balancing bits 0x8030 (cells 5-6, 16) for cells the device does not have (it has 4): ignored, "
+                      "those switches stay off");
+}
+
 TEST(Bq76952, ReadingsRefreshOncePerMeasurementLoopWithFullscan) {
   MonitorConfig c = config(false);
   c.measurement_period_s = 0.06;

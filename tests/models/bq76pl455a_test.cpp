@@ -495,6 +495,27 @@ TEST(Bq76pl455a, TheSwitchMaskIsEachCellsSwitch) {
   EXPECT_EQ(r.chain.balancingMask(1), 0x200u);
 }
 
+// CBENBL bits above a device's cells (a 10-cell device: bits 11-16) switch nothing, and
+// the write is noted as any other the part ignores: once per device and bits, naming
+// them and its cell count.
+TEST(Bq76pl455a, BalancingBitsForCellsADeviceDoesNotHaveAreNoted) {
+  Rig r(2, 10);
+  r.autoAddress();
+  r.writeAll(PL455_REG_CBCONFIG, {2u << PL455_CBCONFIG_TIME_SHIFT});
+  r.write(1, PL455_REG_CBENBL, {0x02, 0x01});  // cells 1 and 10: legal
+  EXPECT_TRUE(r.chain.misuse().entries().empty());
+  r.write(0, PL455_REG_CBENBL, {0xFF, 0x21});
+  r.write(0, PL455_REG_CBENBL, {0xFF, 0x21});
+  EXPECT_EQ(r.chain.balancingMask(0), 0x321u);
+  const std::vector<RegisterMisuse>& m = r.chain.misuse().entries();
+  ASSERT_EQ(m.size(), 1u);
+  EXPECT_EQ(m[0].device, 0);
+  EXPECT_EQ(m[0].what, "CBENBL");
+  EXPECT_EQ(m[0].why, "balancing bits 0xFC00 (cells 11-16) for cells the device does not have (it has 10): ignored, "
+                      "those switches stay off");
+  EXPECT_EQ(m[0].count, 2);
+}
+
 // A sample reply carries the selected slots, the highest first, whatever the selection;
 // an MCU that takes fewer bytes than the chain sends gets the first of them, across the
 // replies of several devices (the top one's first).

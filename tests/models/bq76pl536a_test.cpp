@@ -402,6 +402,38 @@ TEST(Bq76pl536a, AComparatorSwitchedOnAfterAStretchWithAllOffSeesThePinsAtOnce) 
   EXPECT_EQ(chain.peek(0, BQ536_ALERT_STATUS) & (BQ536_AS_OT1 | BQ536_AS_OT2), BQ536_AS_OT2);
 }
 
+// A device with fewer cells than its six inputs (the top one of an 11s stack: 5 cells)
+// ignores the balancing bits of the cells it does not have, and the run says so like any
+// other ignored write: one entry per device and bits, naming them and its cell count.
+TEST(Bq76pl536a, BalancingBitsForCellsADeviceDoesNotHaveAreNoted) {
+  Bq76pl536aChain chain(config(2), 11, 1);
+  Bus bus{chain};
+  bus.addressAll(2);
+  bus.write(1, BQ536_CB_TIME, 2);
+  bus.write(2, BQ536_CB_TIME, 2);
+  bus.write(2, BQ536_CB_CTRL, 0x1F);  // its five cells: legal
+  EXPECT_TRUE(chain.misuse().entries().empty());
+  bus.write(2, BQ536_CB_CTRL, 0x3F);
+  bus.write(2, BQ536_CB_CTRL, 0x3F);
+  EXPECT_EQ(bus.reg(2, BQ536_CB_CTRL), 0x1F);  // still ignored
+  EXPECT_FALSE(chain.balancing(1, 5));
+  bus.write(BQ536_ADDR_BROADCAST, BQ536_CB_CTRL, 0xFF);
+  EXPECT_EQ(bus.reg(1, BQ536_CB_CTRL), 0x3F);
+  const std::vector<RegisterMisuse>& m = chain.misuse().entries();
+  ASSERT_EQ(m.size(), 3u);
+  EXPECT_EQ(m[0].device, 1);
+  EXPECT_EQ(m[0].what, "CB_CTRL");
+  EXPECT_EQ(m[0].why, "balancing bits 0x20 (cell 6) for cells the device does not have (it has 5): ignored, those "
+                      "switches stay off");
+  EXPECT_EQ(m[0].count, 2);
+  EXPECT_EQ(m[1].device, 0);  // the broadcast: each device its own bits
+  EXPECT_EQ(m[1].why.rfind("balancing bits 0xC0 (cells 7-8) for cells the device does not have (it has 6)", 0), 0u)
+      << m[1].why;
+  EXPECT_EQ(m[2].device, 1);
+  EXPECT_EQ(m[2].why.rfind("balancing bits 0xE0 (cells 6-8) for cells the device does not have (it has 5)", 0), 0u)
+      << m[2].why;
+}
+
 TEST(Bq76pl536a, BalancingTimerExpiresOnTheDevice) {
   Bq76pl536aChain chain(config(1), 6, 1);
   Bus bus{chain};
