@@ -14,6 +14,8 @@ __all__ = ["flatten_overrides", "yaml_value"]
 def _plain(value: Any, key: str) -> Any:
     """NumPy scalars/arrays and tuples -> JSON-able Python values; rejects the rest."""
     if isinstance(value, np.ndarray):
+        if value.ndim == 0:  # a 0-d array is the number it holds (tolist() gives that number)
+            return _plain(value.item(), key)
         return [_plain(v, key) for v in value.tolist()]
     if isinstance(value, np.generic):
         value = value.item()
