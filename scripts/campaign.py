@@ -32,7 +32,8 @@ an `extends:` child, with part of it given as --set style overrides. Oracles:
   faults        every scripted fault was injected, or reported as not reached
   firmware      a case in eight runs the example C firmware (examples/firmware) on system
                 C's bench pack through a three-file extends chain
-  solvers       fast and CVODE agree on cell voltages to 5 mV while both decided alike
+  solvers       fast and CVODE agree on cell voltages to 5 mV, SOC to 2e-5 and temperature
+                to 0.05 K while both decided alike
                 (up to the first instant either integrator's run changed the relay), over
                 the case's first 30 s (the other integrator runs that prefix)
 
@@ -596,10 +597,15 @@ def check_solvers(path: Path, r_a, solver_a: str) -> list:
     k = int(np.searchsorted(ta[:n], t_end - 1e-9))  # samples before either decided differently
     if k == 0:
         return []
-    va = np.asarray(r_a["truth/cell_voltage_V"])[:k]
-    vb = np.asarray(r_b["truth/cell_voltage_V"])[:k]
-    d = float(np.max(np.abs(va - vb)))
-    return [f"solvers: cell voltages differ by {1000 * d:.2f} mV before t={ta[k - 1]:.3f} s"] if d > 5e-3 else []
+    out = []
+    # Voltage to 5 mV; the SOC each cell holds to 2e-5 (0.002 %) and its temperature to
+    # 0.05 K: the states the integrators carry, not only the terminal voltage they give.
+    for key, tol, unit, scale in (("truth/cell_voltage_V", 5e-3, "mV", 1000.0), ("truth/cell_soc", 2e-5, "%", 100.0),
+                                  ("truth/cell_temp_C", 0.05, "K", 1.0)):
+        d = float(np.max(np.abs(np.asarray(r_a[key])[:k] - np.asarray(r_b[key])[:k])))
+        if d > tol:
+            out.append(f"solvers: {key} differs by {scale * d:.4g} {unit} before t={ta[k - 1]:.3f} s")
+    return out
 
 
 def scripted_changes(scen: dict, case_dir: Path, t_end: float) -> list:

@@ -54,8 +54,8 @@ def test_a_zero_dimensional_array_is_its_value(simple_yaml):
     no argument. It is the number it holds, as a NumPy scalar is."""
     text = packsim.apply_overrides(simple_yaml, {"pack.initial_soc": np.array(0.5)})
     assert text == packsim.apply_overrides(simple_yaml, {"pack.initial_soc": 0.5})
-    with pytest.raises(ValueError, match="'pack.initial_soc'.*not a finite number"):
-        packsim.apply_overrides(simple_yaml, {"pack.initial_soc": np.array(np.nan)})
+    with pytest.raises(packsim.ScenarioError, match=r"pack.initial_soc: expected a finite number, got '.nan'"):
+        packsim.run(simple_yaml, {"pack.initial_soc": np.array(np.nan)})
 
 
 def test_floats_arrive_exactly(simple_yaml):
