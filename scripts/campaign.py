@@ -635,7 +635,8 @@ def check_record(scen: dict, r, inline: Path, case_dir: Path) -> list:
     vals = packsim.show(str(inline))["values"]
     series, parallel = int(vals["pack.series"]["value"]), int(vals["pack.parallel"]["value"])
     library = "bms.firmware.library" in vals and vals["bms.firmware.library"]["value"] not in ("", "''", '""')
-    out = rec.check_groups(r, series, parallel) + rec.check_extremes(r) + rec.check_trip(r, library)
+    out = rec.check_groups(r, series, parallel) + rec.check_extremes(r) + rec.check_trip(r, library) + \
+        rec.check_states(r)
     t = np.asarray(r["time_s"])
     busy = rec.busy_intervals(t, scripted_changes(scen, case_dir, float(t[-1])), r.events,
                               ramps=scen["load"].get("interpolation") == "linear")

@@ -18,6 +18,8 @@ docs/hardening.md "Generated scenarios"). None of them calls packsim's summary c
                 library firmware's is its own `trip:` event
   stranded      energy at the start, left and stranded by imbalance, by hand from each
                 cell's recorded SOC and its OCV table (docs/results.md's definition)
+  states        final SOC range, relay closed, charger on/off and balancing start/balanced
+                times against the recorded flags
 
 A sample k holds the truth at t_k and the BMS's decision at t_k (acting from t_k on).
 Between two samples the record does not resolve the current: a load step, a relay
@@ -296,4 +298,47 @@ def check_stranded(r, cells: Cells) -> list:
     for name, mine in (("energy_start_Wh", start), ("energy_left_Wh", left), ("energy_stranded_Wh", stranded)):
         if abs(s[name] - mine) > tol:
             out.append(f"stranded: summary {name} {s[name]:.6f} Wh, by hand from the recorded SOCs {mine:.6f} Wh")
+    return out
+
+
+def _first(t: np.ndarray, mask: np.ndarray) -> float:
+    k = np.flatnonzero(mask)
+    return float(t[k[0]]) if k.size else -1.0
+
+
+def check_states(r) -> list:
+    """Figures that name a sample, against the recorded flags: the final SOC range (the
+    last row), whether the relay contact ever closed, when the BMS first enabled the
+    charger and when it switched it off for good, when balancing first ran and when the
+    firmware first said balanced after it, and an under-voltage trip that came first."""
+    s = r.summary
+    t = np.asarray(r["time_s"])
+    out = []
+    soc = np.asarray(r["truth/cell_soc"])[-1]
+    if abs(float(soc.min()) - s["final_soc_min"]) > 1e-12 or abs(float(soc.max()) - s["final_soc_max"]) > 1e-12:
+        out.append(f"states: final SOC {s['final_soc_min']}..{s['final_soc_max']}, the last sample holds "
+                   f"{float(soc.min())}..{float(soc.max())}")
+    closed = bool(np.any(np.asarray(r["hardware/relay_closed"]) != 0)) or \
+        any(e["kind"] == "relay_contact" and e["detail"] == "closed" for e in r.events)
+    if bool(s["relay_closed"]) != closed:
+        out.append(f"states: summary relay_closed={s['relay_closed']}, the record's contact closed: {closed}")
+    if "charge_on_s" in s and "bms/charger_enable" in r.keys():
+        en = np.asarray(r["bms/charger_enable"]) != 0
+        on = _first(t, en)
+        ends = np.flatnonzero(en[:-1] & ~en[1:])
+        off = float(t[ends[-1] + 1]) if ends.size and not en[-1] else -1.0
+        if abs(on - s["charge_on_s"]) > 1e-9 or abs(off - s["charge_off_s"]) > 1e-9:
+            out.append(f"states: charger on {s['charge_on_s']} off {s['charge_off_s']} s; the recorded enable: on "
+                       f"{on}, off for good {off}")
+    if "balance_started_s" in s and "bms/balance_status" in r.keys():
+        st = np.asarray(r["bms/balance_status"])
+        started = _first(t, st == 4)  # 4=balancing, 3=balanced (the names attribute)
+        balanced = _first(t, (st == 3) & (t > started)) if started >= 0 else -1.0
+        if abs(started - s["balance_started_s"]) > 1e-9 or abs(balanced - s["balance_balanced_s"]) > 1e-9:
+            out.append(f"states: balancing started {s['balance_started_s']} balanced {s['balance_balanced_s']} s; "
+                       f"the recorded status: {started}, {balanced}")
+    if s["limit_by_bms_trip"] and ("cell_undervoltage" not in s["trip_reason"] or
+                                   abs(s["limit_time_s"] - s["trip_time_s"]) > 1e-9):
+        out.append(f"states: limit by the BMS trip at {s['limit_time_s']} s, the trip: {s['trip_time_s']} s "
+                   f"'{s['trip_reason']}'")
     return out

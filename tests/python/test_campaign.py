@@ -129,3 +129,6 @@ def test_the_record_oracles_can_fail():
     assert rec.check_trip(Tampered(tripped=1, trip_time_s=2.0, trip_reason="cell_undervoltage"), False)
     assert rec.check_stranded(Tampered(energy_stranded_Wh=s["energy_stranded_Wh"] * 1.01), cells)
     assert rec.check_stranded(Tampered(limit_cell=s["limit_cell"] % 6 + 1), cells)
+    assert rec.check_states(r) == []
+    assert rec.check_states(Tampered(final_soc_min=s["final_soc_min"] - 1e-6))
+    assert rec.check_states(Tampered(balance_started_s=s["balance_started_s"] + 0.1))
