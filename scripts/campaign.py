@@ -240,6 +240,10 @@ def make_case(case_seed: int, case_dir: Path, max_s: float = 900.0) -> dict:
                                     "start_delta_mV": rng.randint(2, 20), "stop_delta_mV": 1,
                                     "min_cell_V": round(vmin + 0.1, 2)}
         scen["pack"].setdefault("spread", {})["initial_soc_sd"] = round(rng.uniform(0.01, 0.05), 4)
+    # Self-discharge drawn per cell (a leak of up to 0.1 % of C per hour, sd; drawn last too):
+    # each cell's SOC falls by its own leak, which the cell charge oracle adds.
+    if "spread" in scen["pack"] and rng.random() < 0.3:
+        scen["pack"]["spread"]["self_discharge_A_sd"] = round(rng.uniform(0, 1e-3) * cap, 6)
     # the child overrides some keys of the base; others come as --set overrides
     # The base is a whole scenario of its own (the loader validates it alone); the child
     # replaces some of its keys: the base holds other values there, which must not leak.
@@ -645,7 +649,8 @@ def check_record(scen: dict, r, inline: Path, case_dir: Path) -> list:
     if table is None:
         return out
     spread = scen["pack"].get("spread", {})
-    drawn = drawn_cells(inline, {}, case_dir / "drawn") if spread.get("capacity_rel_sd", 0.0) else None
+    drawn = drawn_cells(inline, {}, case_dir / "drawn") \
+        if spread.get("capacity_rel_sd", 0.0) or spread.get("self_discharge_A_sd", 0.0) else None
     cells = rec.Cells(table, series * parallel, drawn)
     cvode = scen.get("run", {}).get("solver", "cvode") == "cvode"
     out += rec.check_cell_charge(r, cells, series, parallel, busy, cvode)
