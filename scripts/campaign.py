@@ -9,7 +9,8 @@ so any case can be replayed alone with --only I). A case is a pack (1-250 series
 parallel, a bundled or an inline "fitted" cell, spread, the monitor chain of a named TI
 part at one of several bus speeds), a load (constant, segments,
 points or a CSV with breakpoints at arbitrary decimals, step or linear, laps, power or
-current, a CC-CV charger), faults at random times (some after the run's end), either
+current, a CC-CV charger), faults at random times (some after the run's end), passive
+balancing (a case in four), per-cell self-discharge (a spread case in three), either
 integrator, packsim's core or the example C firmware; it is written as a base file and
 an `extends:` child, with part of it given as --set style overrides. Oracles:
 
