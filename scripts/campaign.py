@@ -645,7 +645,8 @@ def check_record(scen: dict, r, inline: Path, case_dir: Path) -> list:
     t = np.asarray(r["time_s"])
     busy = rec.busy_intervals(t, scripted_changes(scen, case_dir, float(t[-1])), r.events,
                               ramps=scen["load"].get("interpolation") == "linear")
-    out += rec.check_energy_out(r, busy) + rec.check_bled(r, busy)
+    cvode = r.attrs[""]["solver"] == "cvode"  # the root attribute: what ran
+    out += rec.check_energy_out(r, busy, cvode) + rec.check_bled(r, busy)
     table = rec.cell_table(scen)
     if table is None:
         return out
@@ -653,7 +654,6 @@ def check_record(scen: dict, r, inline: Path, case_dir: Path) -> list:
     drawn = drawn_cells(inline, {}, case_dir / "drawn") \
         if spread.get("capacity_rel_sd", 0.0) or spread.get("self_discharge_A_sd", 0.0) else None
     cells = rec.Cells(table, series * parallel, drawn)
-    cvode = scen.get("run", {}).get("solver", "cvode") == "cvode"
     out += rec.check_cell_charge(r, cells, series, parallel, busy, cvode)
     out += rec.check_stranded(r, cells)
     return out

@@ -153,8 +153,9 @@ def check_cell_charge(r, cells: Cells, series: int, parallel: int, busy: np.ndar
                       if "truth/balance_current_A" in r.keys() else (np.zeros(series), np.zeros(series)))
     g_taken = taken.reshape(series, parallel).sum(axis=1)
     g_want = counter + bal + (cells.sd_A * span - loss).reshape(series, parallel).sum(axis=1)
+    # The counter is a CVODE state too: 1e-4 of it there (scripts/campaign.py's check_charge).
     g_tol = bal_bound + loss_bound.reshape(series, parallel).sum(axis=1) + \
-        soc_tol.reshape(series, parallel).sum(axis=1) + 1e-6 * abs(counter) + 2e-3
+        soc_tol.reshape(series, parallel).sum(axis=1) + (1e-4 if cvode else 1e-6) * abs(counter) + 2e-3
     g_miss = np.abs(g_taken - g_want) - g_tol
     if np.max(g_miss) > 0.0:
         g = int(np.argmax(g_miss))
@@ -176,14 +177,20 @@ def check_bled(r, busy: np.ndarray) -> list:
     return []
 
 
-def check_energy_out(r, busy: np.ndarray) -> list:
+def check_energy_out(r, busy: np.ndarray, cvode: bool = False) -> list:
     """The summary's energy delivered (net) = the recorded pack V*I integrated; its energy
-    back in is at most the negative part of that, and out = net + in is not negative."""
+    back in is at most the negative part of that, and out = net + in is not negative.
+    CVODE integrates the energy as a state at its relative tolerance, so its error grows
+    with the energy (bundled eco_marathon_12s_charging: 1.3e-5 of 139 Wh after 6,000 s of
+    CC charge, where the fast integrator's trapezoid matches the record): 5e-5 of the
+    energy that flowed either way on that solver."""
     t = np.asarray(r["time_s"])
     if t.size < 2:
         return []
     p = np.asarray(r["truth/pack_voltage_V"]) * np.asarray(r["truth/pack_current_A"])
     e, bound = trapezoid(t, p, busy)
+    solver_J = 5e-5 * float(trapezoid(t, np.abs(p), busy)[0]) if cvode else 0.0
+    bound = bound + solver_J
     s = r.summary
     got = 3600.0 * s["energy_delivered_Wh"]
     out = []
@@ -191,6 +198,7 @@ def check_energy_out(r, busy: np.ndarray) -> list:
         out.append(f"energy out: the summary says {s['energy_delivered_Wh']:.6f} Wh net, the recorded pack V*I "
                    f"integrates to {float(e) / 3600:.6f} Wh (bound {float(bound) / 3600:.6f} Wh)")
     back, back_bound = trapezoid(t, np.minimum(p, 0.0), busy)
+    back_bound = back_bound + solver_J
     if s.get("energy_in_Wh", 0.0) < 0.0 or 3600.0 * s.get("energy_in_Wh", 0.0) > -float(back) + float(back_bound) + \
             1e-6 * abs(got) + 1e-3:
         out.append(f"energy in: the summary says {s.get('energy_in_Wh')} Wh back in, the recorded V*I had "
