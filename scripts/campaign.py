@@ -9,7 +9,8 @@ so any case can be replayed alone with --only I). A case is a pack (1-250 series
 parallel, a bundled or an inline "fitted" cell, spread, the monitor chain of a named TI
 part at one of several bus speeds), a load (constant, segments,
 points or a CSV with breakpoints at arbitrary decimals, step or linear, laps, power or
-current, a CC-CV charger), faults at random times (some after the run's end), either
+current, a CC-CV charger), faults at random times (some after the run's end), passive
+balancing (a case in four), per-cell self-discharge (a spread case in three), either
 integrator, packsim's core or the example C firmware; it is written as a base file and
 an `extends:` child, with part of it given as --set style overrides. Oracles:
 
@@ -22,13 +23,18 @@ an `extends:` child, with part of it given as --set style overrides. Oracles:
   soc           the cells' SOC fell by the charge the counter delivered: sum over cells of
                 (SOC at 0 - SOC at the end) x capacity = series x charge delivered, where
                 that is exact (no capacity spread, no charging current: check_soc)
+  record        the summary's figures against the record alone (scripts/campaign_record.py):
+                per-cell and per-group charge, balancing bled, energy out and in, lowest
+                and hottest cell (which, value, when), trip time and reason, energy
+                stranded by imbalance
   summary       lowest / hottest cell, duration and trip flag follow from truth and events;
                 a cell past 80 C is a cell_model_range event; the last event says why the
                 run ended, and not "the scenario's end time" for a run that ended early
   faults        every scripted fault was injected, or reported as not reached
   firmware      a case in eight runs the example C firmware (examples/firmware) on system
                 C's bench pack through a three-file extends chain
-  solvers       fast and CVODE agree on cell voltages to 5 mV while both decided alike
+  solvers       fast and CVODE agree on cell voltages to 5 mV, SOC to 2e-5 and temperature
+                to 0.05 K while both decided alike
                 (up to the first instant either integrator's run changed the relay), over
                 the case's first 30 s (the other integrator runs that prefix)
 
@@ -54,8 +60,9 @@ import numpy as np
 import yaml
 
 HERE = Path(__file__).resolve().parent
-sys.path[:0] = [str(HERE.parent / "build" / "python"), str(HERE.parent / "python")]
+sys.path[:0] = [str(HERE.parent / "build" / "python"), str(HERE.parent / "python"), str(HERE)]
 import packsim  # noqa: E402
+import campaign_record as rec  # noqa: E402
 
 PRESETS = {  # bundled cell: (capacity_Ah, v_min_V, v_max_V)
     "lipo_5Ah": (5.0, 3.0, 4.2),
@@ -226,6 +233,18 @@ def make_case(case_seed: int, case_dir: Path, max_s: float = 900.0) -> dict:
         if rng.random() < 0.3 and afe["model"] != "bq76952":
             afe["baud"] = rng.choice([125000, 500000, 1000000])
         scen["hardware"]["afe"] = afe
+    # Passive balancing on a pack whose cells start apart (drawn after the monitor chain:
+    # earlier campaigns' draws stay theirs), so the group charge oracle sees a resistor bleed.
+    if rng.random() < 0.25:
+        scen["hardware"]["balancing"] = {"resistor_ohm": round(rng.uniform(5, 100), 1)}
+        scen["bms"]["balancing"] = {"when": rng.choice(["always", "charging_or_rest"]),
+                                    "start_delta_mV": rng.randint(2, 20), "stop_delta_mV": 1,
+                                    "min_cell_V": round(vmin + 0.1, 2)}
+        scen["pack"].setdefault("spread", {})["initial_soc_sd"] = round(rng.uniform(0.01, 0.05), 4)
+    # Self-discharge drawn per cell (a leak of up to 0.1 % of C per hour, sd; drawn last too):
+    # each cell's SOC falls by its own leak, which the cell charge oracle adds.
+    if "spread" in scen["pack"] and rng.random() < 0.3:
+        scen["pack"]["spread"]["self_discharge_A_sd"] = round(rng.uniform(0, 1e-3) * cap, 6)
     # the child overrides some keys of the base; others come as --set overrides
     # The base is a whole scenario of its own (the loader validates it alone); the child
     # replaces some of its keys: the base holds other values there, which must not leak.
@@ -417,8 +436,8 @@ def check_soc(scen: dict, r) -> list:
     if cap is None or "series" not in pack or pack.get("spread", {}).get("capacity_rel_sd", 0.0) != 0.0:
         return []
     current = np.asarray(r["truth/cell_current_A"])
-    if current.size == 0 or float(current.min()) < -1e-6:
-        return []
+    if current.size == 0 or float(current.min()) < -1e-6 or "truth/balance_current_A" in r.keys():
+        return []  # a resistor's bleed: the record oracle's group charge (campaign_record.check_cell_charge)
     soc = np.asarray(r["truth/cell_soc"])
     taken = float(np.sum(soc[0] - soc[-1])) * cap * 3600.0
     q = 3600.0 * r.summary["charge_delivered_Ah"] * pack["series"]
@@ -583,10 +602,61 @@ def check_solvers(path: Path, r_a, solver_a: str) -> list:
     k = int(np.searchsorted(ta[:n], t_end - 1e-9))  # samples before either decided differently
     if k == 0:
         return []
-    va = np.asarray(r_a["truth/cell_voltage_V"])[:k]
-    vb = np.asarray(r_b["truth/cell_voltage_V"])[:k]
-    d = float(np.max(np.abs(va - vb)))
-    return [f"solvers: cell voltages differ by {1000 * d:.2f} mV before t={ta[k - 1]:.3f} s"] if d > 5e-3 else []
+    out = []
+    # Voltage to 5 mV; the SOC each cell holds to 2e-5 (0.002 %) and its temperature to
+    # 0.05 K: the states the integrators carry, not only the terminal voltage they give.
+    for key, tol, unit, scale in (("truth/cell_voltage_V", 5e-3, "mV", 1000.0), ("truth/cell_soc", 2e-5, "%", 100.0),
+                                  ("truth/cell_temp_C", 0.05, "K", 1.0)):
+        d = float(np.max(np.abs(np.asarray(r_a[key])[:k] - np.asarray(r_b[key])[:k])))
+        if d > tol:
+            out.append(f"solvers: {key} differs by {scale * d:.4g} {unit} before t={ta[k - 1]:.3f} s")
+    return out
+
+
+def scripted_changes(scen: dict, case_dir: Path, t_end: float) -> list:
+    """Every instant the scenario changes the load inside the run: load breakpoints (each
+    lap's), fault starts and ends; the record's intervals holding more than one are not
+    resolved by its samples (campaign_record.busy_intervals)."""
+    out = []
+    pieces = load_pieces(scen["load"], case_dir)
+    if pieces is not None and not math.isinf(pieces[0][-1]):
+        lap = pieces[0][-1]
+        out += [n * lap + tp for n in range(pieces[3]) for tp in pieces[0] if 0 < n * lap + tp < t_end]
+    for f in scen.get("faults", []):
+        out += [f["at_s"]] + ([f["at_s"] + f["duration_s"]] if "duration_s" in f else [])
+    return out
+
+
+def drawn_cells(path: Path, overrides: dict, out_dir: Path):
+    """A spread pack's drawn cells: a one-tick batch case records them (/inputs)."""
+    res = packsim.batch({"base": str(path), "grid": {"run.duration_s": [0.1]}}, output_dir=str(out_dir))
+    if res.n_failed:
+        raise RuntimeError(f"the one-tick batch of the drawn cells failed: {res.errors}")
+    return res.load(0)
+
+
+def check_record(scen: dict, r, inline: Path, case_dir: Path) -> list:
+    """The summary's figures against the record (scripts/campaign_record.py)."""
+    vals = packsim.show(str(inline))["values"]
+    series, parallel = int(vals["pack.series"]["value"]), int(vals["pack.parallel"]["value"])
+    library = "bms.firmware.library" in vals and vals["bms.firmware.library"]["value"] not in ("", "''", '""')
+    out = rec.check_groups(r, series, parallel) + rec.check_extremes(r) + rec.check_trip(r, library) + \
+        rec.check_states(r)
+    t = np.asarray(r["time_s"])
+    busy = rec.busy_intervals(t, scripted_changes(scen, case_dir, float(t[-1])), r.events,
+                              ramps=scen["load"].get("interpolation") == "linear")
+    cvode = r.attrs[""]["solver"] == "cvode"  # the root attribute: what ran
+    out += rec.check_energy_out(r, busy, cvode) + rec.check_bled(r, busy)
+    table = rec.cell_table(scen)
+    if table is None:
+        return out
+    spread = scen["pack"].get("spread", {})
+    drawn = drawn_cells(inline, {}, case_dir / "drawn") \
+        if spread.get("capacity_rel_sd", 0.0) or spread.get("self_discharge_A_sd", 0.0) else None
+    cells = rec.Cells(table, series * parallel, drawn)
+    out += rec.check_cell_charge(r, cells, series, parallel, busy, cvode)
+    out += rec.check_stranded(r, cells)
+    return out
 
 
 def run_case(index: int, campaign_seed: int, out_dir: Path, keep: bool, max_s: float = 900.0) -> dict:
@@ -617,6 +687,8 @@ def run_case(index: int, campaign_seed: int, out_dir: Path, keep: bool, max_s: f
         findings += check_soc(case["scenario"], r)
         oracle = "energy"
         findings += check_energy(case["scenario"], r)
+        oracle = "record"
+        findings += check_record(case["scenario"], r, inline, case_dir)
         oracle = "faults"
         findings += check_faults(case["scenario"], r)
         oracle = "solvers"

@@ -264,9 +264,11 @@ double YamlMap::toNumber(const YAML::Node& n, const std::string& field, Range r)
   try {
     if (!plainDecimal(n.Scalar(), v)) v = n.as<double>();
   } catch (const YAML::Exception&) {
-    throw errorAt(n, field, "expected a number, got '" + n.Scalar() + "'");
+    throw errorAt(n, field, "expected a number, got '" + n.Scalar() + "'; allowed " + r.describe());
   }
-  if (!std::isfinite(v)) throw errorAt(n, field, "expected a finite number, got '" + n.Scalar() + "'");
+  // A NaN or infinity (YAML's .nan, .inf; a Python float('nan')): the range says what fits.
+  if (!std::isfinite(v))
+    throw errorAt(n, field, "expected a finite number, got '" + n.Scalar() + "'; allowed " + r.describe());
   if (!r.contains(v)) throw errorAt(n, field, n.Scalar() + " is out of range; allowed " + r.describe());
   return v;
 }

@@ -447,7 +447,9 @@ void Plant::groupCurrentsWith(const double* x, const PlantInputs& in, PlantSigna
     packV += v;
     if (parallel == 1) cellV[gi] = v;  // one cell a group: a store, not the loop's set-up
     else for (size_t ci = gi * parallel; ci < (gi + 1) * parallel; ++ci) cellV[ci] = v;
-    balanceA[gi] = bus ? ix : iBal;
+    // With a bus: the module's converter current plus the bus precharge it shares with
+    // every module (the record then holds every current the group's cells carry).
+    balanceA[gi] = bus ? ix + iPre : iBal;
     if (bus && ix != 0.0) {
       double loss = 0.0;
       sig.bus_current_A += converterBusCurrent_A(active_, v, ix, sig.bus_V, loss);

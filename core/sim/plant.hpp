@@ -79,7 +79,7 @@ struct PlantSignals {
   double ambient_C = 25.0;
   double injected_heat_W = 0.0;  // * heat from scripted faults (hot cell), not Joule heat
   double fet_heat_W = 0.0;       // * FET loss in a FET node: outside the pack terminals (load side)
-  std::vector<double> balance_current_A;  // per group: passive I_bal, or converter module current
+  std::vector<double> balance_current_A;  // per group: passive I_bal, or converter module current + bus precharge
   double balance_heat_W = 0.0;            // passive balancing resistors + FETs
   double charger_A = 0.0;                 // into the pack
   double bus_V = 0.0;                     // active balancer supercap bus

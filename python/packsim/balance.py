@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, fields
 from typing import Any
@@ -118,9 +119,26 @@ def _number(name: str, v: Any, *, positive: bool = False, allow_none: bool = Tru
     return x
 
 
+# The checks of balance-time's options are the CLI's, in its flags' names: said back in
+# the names of this function's arguments (a Python user never wrote "--high-cells").
+_ARG_OF_FLAG = {"--resistor": "resistor", "--delta-Ah": "delta_Ah", "--cell-V": "cell_V",
+                "--high-cells": "high_cells", "--target-mV": "target_mV", "--max-hours": "max_hours",
+                "--when": "when", "--during-charge": "during_charge"}
+_FLAG = re.compile("|".join(re.escape(f) for f in sorted(_ARG_OF_FLAG, key=len, reverse=True)) + r"\b")
+
+
+def _python_names(e: ValueError) -> ValueError:
+    if type(e) is not ValueError:  # a ScenarioError names the scenario's keys, with its fields
+        return e
+    text = _FLAG.sub(lambda m: _ARG_OF_FLAG[m.group(0)], str(e))
+    return e if text == str(e) else type(e)(text)
+
+
 def _resistors(resistor: Any) -> list[float]:
     if resistor is None:
         return []
+    if getattr(resistor, "ndim", None) == 0:  # a 0-d NumPy array: the number it holds
+        resistor = resistor.item()
     if isinstance(resistor, (str, bytes, Mapping)):
         raise TypeError(f"resistor must be a number or a list of numbers (ohm), got {type(resistor).__name__}")
     if isinstance(resistor, Iterable):
@@ -183,8 +201,14 @@ def balance_time(scenario: str | os.PathLike[str] | Mapping[str, Any] | None = N
     if scenario is None:
         scenario = core.preset_path(preset or DEFAULT_PRESET)
     source, is_file, pairs, name, base = _scenario_args(scenario, pairs, base)
-    d = core.balance_time(source, is_file, pairs, res, delta, volts, high_cells, target, hours, simulate, when,
-                          during_charge, name, base)
+    try:
+        d = core.balance_time(source, is_file, pairs, res, delta, volts, high_cells, target, hours, simulate, when,
+                              during_charge, name, base)
+    except ValueError as e:
+        renamed = _python_names(e)
+        if renamed is e:
+            raise
+        raise renamed from None
     rows = tuple(BalanceTimeRow(**r) for r in d.pop("rows"))
     return BalanceTimeResult(rows=rows, **d)
 

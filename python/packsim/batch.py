@@ -18,7 +18,6 @@ tables and the output folder on a filesystem they share with the client.
 """
 from __future__ import annotations
 
-import json
 import os
 import re
 from collections.abc import Mapping, Sequence
@@ -76,8 +75,8 @@ def load_sweep(sweep: SweepLike, *, output_dir: str | os.PathLike[str] | None = 
             raise ValueError("a loaded Sweep is used as it is: output_dir and base_dir do not apply")
         return sweep
     if isinstance(sweep, Mapping):
-        from ._overrides import _plain
-        text = json.dumps(_plain(dict(sweep), "sweep"), allow_nan=False)  # JSON is YAML
+        from ._overrides import yaml_value
+        text = yaml_value(dict(sweep), "sweep")  # JSON is YAML (a NaN as YAML's .nan: the loader names its range)
         return core.load_sweep_text(text, "<dict>", "." if base is None else base, out)
     if _is_path(sweep):
         path = os.fspath(sweep)

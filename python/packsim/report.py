@@ -341,6 +341,10 @@ def report(source: Result | str | os.PathLike, output: str | os.PathLike) -> str
     """Write the HTML page of a result (a Result or a result file) or of a batch folder
     (holding summary.csv) to output; returns its path. Written under a temporary name
     and renamed when complete."""
+    if not isinstance(source, (Result, str, os.PathLike)):
+        raise TypeError(f"source must be a Result, a result file or a batch folder, got {type(source).__name__}")
+    if not isinstance(output, (str, os.PathLike)):
+        raise TypeError(f"output must be a path, got {type(output).__name__}")
     is_batch = not isinstance(source, Result) and os.path.isdir(os.fspath(source))
     output = os.fspath(output)
     refuse_overwriting({"-o": output}, _input_files(source, is_batch))

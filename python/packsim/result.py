@@ -260,6 +260,10 @@ class Result:
         return self.group("bms")
 
     def units(self, path: str) -> str | None:
+        """The dataset's unit (None: it has none, e.g. a flag); a path that is no dataset
+        of this result is the KeyError ``r[path]`` raises, not None (a typo read as
+        "no unit")."""
+        self[path]
         return self._attrs.get(path.strip("/"), {}).get("units")
 
     @property
@@ -340,6 +344,8 @@ class Result:
 
     def faults(self, which: str = "latched") -> dict[str, np.ndarray]:
         """{fault name: bool array over samples} from ``bms/fault_<which>``."""
+        if which not in ("active", "latched"):  # not "no dataset 'bms/fault_latchd'", a name never typed
+            raise ValueError(f"which must be 'active' or 'latched', not {which!r}")
         word = self[f"bms/fault_{which}"].astype(np.uint64)
         return {name: ((word >> np.uint64(i)) & np.uint64(1)).astype(bool)
                 for i, name in enumerate(self.fault_names)}

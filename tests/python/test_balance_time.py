@@ -146,6 +146,21 @@ def test_bad_arguments(simple_yaml):
         packsim.balance_time(preset="bench_6s_balancing", **{"pack.cell.capacity_ah": 3})
 
 
+def test_argument_errors_name_the_python_arguments():
+    """The range errors came from the CLI's checks and named its flags: high_cells=0 was
+    "--high-cells: must be within 1 .. 6", a word a Python user never wrote; a 0-d NumPy
+    array as the resistor was "TypeError: iteration over a 0-d array", naming nothing."""
+    import numpy as np
+    with pytest.raises(ValueError, match=r"^high_cells: must be within 1 \.\. 6 \(the pack's series cells\)$"):
+        packsim.balance_time(resistor=33, delta_Ah=0.2, high_cells=0, simulate=False)
+    with pytest.raises(ValueError, match=r"^resistor: each value must be within 1 \.\. 10000 ohm"):
+        packsim.balance_time(resistor=0.5, simulate=False)
+    with pytest.raises(ValueError, match=r"^target_mV: must be within 0.1 \.\. 500 mV$"):
+        packsim.balance_time(resistor=33, target_mV=900, simulate=False)
+    one = packsim.balance_time(resistor=np.array(33.0), simulate=False)
+    assert one.resistor_ohm == [33.0]
+
+
 def test_cli_plot_writes_the_figure_and_its_table(cli, tmp_path):
     png = tmp_path / "bt.png"
     done = subprocess.run([str(cli), "balance-time", "--resistor", "22,47", "--analytic-only", "--plot", str(png)],

@@ -50,6 +50,9 @@ def test_the_oracles_can_fail(tmp_path):
         def __getitem__(self, key):
             return self._r[key]
 
+        def keys(self):
+            return self._r.keys()
+
     assert any("lowest cell" in f for f in campaign.check_physics({}, Tampered(r)))
     # A hottest cell past 80 C without its cell_model_range event; a run that stopped at
     # 3 s of 5 claiming its scheduled end.
@@ -81,3 +84,51 @@ def test_the_oracles_can_fail(tmp_path):
     assert any(f.startswith("energy:") for f in campaign.check_energy(scen, off))
     other = packsim.run(yaml, seed=99)
     assert campaign.same_bytes(packsim.run(yaml), other) != ""
+
+
+def test_the_record_oracles_can_fail():
+    """Each summary figure the record oracles judge (scripts/campaign_record.py), made
+    plausibly wrong, is caught; the run itself holds every one of them."""
+    rec = _campaign().rec
+    import numpy as np
+    import packsim
+    scen = {"pack": {"series": 3, "parallel": 2, "initial_soc": 0.4, "cell": {"preset": "ncr18650_3p1Ah"},
+                     "spread": {"initial_soc_sd": 0.03}},
+            "load": {"segments": [{"duration_s": 3.05, "current_A": 12.0}, {"duration_s": 2.0, "current_A": -3.0}]},
+            "hardware": {"balancing": {"resistor_ohm": 10.0}},
+            "bms": {"tick_ms": 100, "balancing": {"when": "always", "start_delta_mV": 2, "stop_delta_mV": 1,
+                                                  "min_cell_V": 3.0}},
+            "run": {"duration_s": 8.0}, "output": {"interval_s": 0.1}}
+    r = packsim.run(scen)
+    assert r.summary["balance_bled_Ah"] > 0 and r.summary["energy_stranded_Wh"] > 0  # the terms are exercised
+    cells = rec.Cells(rec.cell_table(scen), 6)
+    t = np.asarray(r["time_s"])
+    busy = rec.busy_intervals(t, [3.05, 5.05])
+    assert rec.check_groups(r, 3, 2) == []
+    assert rec.check_cell_charge(r, cells, 3, 2, busy, cvode=True) == []
+    assert rec.check_bled(r, busy) == [] and rec.check_energy_out(r, busy) == []
+    assert rec.check_extremes(r) == [] and rec.check_trip(r, False) == [] and rec.check_stranded(r, cells) == []
+
+    class Tampered:  # the run with some summary figures changed
+        def __init__(self, **summary):
+            self.events, self.summary = r.events, dict(r.summary, **summary)
+
+        def __getitem__(self, key):
+            return r[key]
+
+        def keys(self):
+            return r.keys()
+
+    s = r.summary
+    assert rec.check_cell_charge(Tampered(charge_delivered_Ah=s["charge_delivered_Ah"] * 1.01), cells, 3, 2,
+                                 busy, cvode=True)
+    assert rec.check_bled(Tampered(balance_bled_Ah=s["balance_bled_Ah"] * 1.1), busy)
+    assert rec.check_energy_out(Tampered(energy_delivered_Wh=s["energy_delivered_Wh"] * 1.1), busy)
+    assert rec.check_extremes(Tampered(min_cell=s["min_cell"] % 6 + 1))
+    assert rec.check_extremes(Tampered(hottest_time_s=0.0))
+    assert rec.check_trip(Tampered(tripped=1, trip_time_s=2.0, trip_reason="cell_undervoltage"), False)
+    assert rec.check_stranded(Tampered(energy_stranded_Wh=s["energy_stranded_Wh"] * 1.01), cells)
+    assert rec.check_stranded(Tampered(limit_cell=s["limit_cell"] % 6 + 1), cells)
+    assert rec.check_states(r) == []
+    assert rec.check_states(Tampered(final_soc_min=s["final_soc_min"] - 1e-6))
+    assert rec.check_states(Tampered(balance_started_s=s["balance_started_s"] + 0.1))

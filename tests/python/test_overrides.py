@@ -48,6 +48,16 @@ def test_list_index_and_numpy_values(simple_yaml):
     assert half["truth/cell_soc"][0, 0] == pytest.approx(0.5, abs=1e-9)
 
 
+def test_a_zero_dimensional_array_is_its_value(simple_yaml):
+    """A notebook's scalar often comes as a 0-d array (``arr.mean(keepdims=False)`` of an
+    xarray, ``np.asarray(x)``): it was "TypeError: 'float' object is not iterable", naming
+    no argument. It is the number it holds, as a NumPy scalar is."""
+    text = packsim.apply_overrides(simple_yaml, {"pack.initial_soc": np.array(0.5)})
+    assert text == packsim.apply_overrides(simple_yaml, {"pack.initial_soc": 0.5})
+    with pytest.raises(packsim.ScenarioError, match=r"pack.initial_soc: expected a finite number, got '.nan'"):
+        packsim.run(simple_yaml, {"pack.initial_soc": np.array(np.nan)})
+
+
 def test_floats_arrive_exactly(simple_yaml):
     v = 0.1 + 0.2  # 0.30000000000000004: repr round-trips, str() would not in older Pythons
     text = packsim.apply_overrides(simple_yaml, {"pack.cell.r0_ohm": v})

@@ -228,3 +228,12 @@ def test_report_errors_are_clear(cli, tmp_path):
     done = subprocess.run([str(cli), "report", str(tmp_path / "notabatch"), "-o", str(tmp_path / "y.html")],
                           capture_output=True, text=True, env=dict(os.environ, PACKSIM_PYTHON=sys.executable))
     assert done.returncode == 2 and "no summary.csv" in done.stderr
+
+
+def test_bad_arguments_name_themselves(tmp_path):
+    """packsim.report(3, "x.html") was "TypeError: expected str, bytes or os.PathLike
+    object, not int" from deep inside os.fspath, naming neither argument."""
+    with pytest.raises(TypeError, match=r"^source must be a Result, a result file or a batch folder, got int$"):
+        packsim.report(3, tmp_path / "x.html")
+    with pytest.raises(TypeError, match=r"^output must be a path, got int$"):
+        packsim.report(str(tmp_path), 5)

@@ -153,3 +153,13 @@ def test_to_xarray_is_the_file_as_xarray_reads_it(race, tmp_path):
     np.testing.assert_array_equal(np.asarray(state.values, dtype=object),
                                   [names[str(c)] for c in race["bms/state"]])
     assert list(dt["events"].values["kind"]) == [e["kind"] for e in race.events]
+
+
+def test_a_mistyped_name_is_an_error_not_none(race):
+    """r.units("truth/cell_voltage") (a typo) returned None, which reads as "no unit";
+    r.faults("latchd") raised KeyError "no dataset 'bms/fault_latchd'", a name never typed."""
+    with pytest.raises(KeyError, match="no dataset 'truth/cell_voltage' in this result"):
+        race.units("truth/cell_voltage")
+    assert race.units("bms/state") is None  # a dataset without a unit is still None
+    with pytest.raises(ValueError, match=r"^which must be 'active' or 'latched', not 'latchd'$"):
+        race.faults("latchd")
