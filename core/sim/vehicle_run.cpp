@@ -114,6 +114,7 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
     const double taken_W = std::clamp(plan_.array_W - std::max(0.0, delivered_W - plan_.net_W), 0.0, plan_.array_W);
     const double a0 = array_J_;
     array_J_ += taken_W * dt_;
+    availJ_ += availPlan_W_ * dt_;
     const double s0 = car_.distance_m();
     const bool wasFinished = car_.finished();
     const DriveLimit lim = wasFinished ? DriveLimit::None : car_.advance(plan_, delivered_W, dt_);
@@ -190,6 +191,7 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
   // The irradiance changes over minutes: the array's power is held for a second at a time
   // (a power load that changed every tick would restart the integrator every tick).
   const double array_W = cfg_.array.power_W(std::floor(t / kArrayHold_s) * kArrayHold_s);
+  availPlan_W_ = started_ ? array_W : 0.0;
   if (started_) {
     plan_ = car_.plan(dt_, pack, array_W, true);
     refPlan_ = ref_.plan(dt_, pack, array_W, false);
@@ -214,8 +216,18 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
   sample_.distance_m = car_.distance_m();
   sample_.speed_m_per_s = car_.speed_m_per_s();
   sample_.pack_request_W = plan_.net_W;
-  sample_.array_W = started_ ? plan_.array_W : 0.0;
+  // The array over the interval since the last sample, not the plan for the next tick:
+  // the pack may refuse the charge inside the tick, and only its energy tells.
+  const double span_s = t - recT_s_;
+  sample_.array_W = span_s > 0.0 ? (array_J_ - recJ_) / span_s : 0.0;
+  sample_.array_available_W = span_s > 0.0 ? (availJ_ - recAvailJ_) / span_s : 0.0;
   return plan_.net_W;
+}
+
+void VehicleRun::recorded(double t) {
+  recT_s_ = t;
+  recJ_ = array_J_;
+  recAvailJ_ = availJ_;
 }
 
 std::string VehicleRun::endReason() const {

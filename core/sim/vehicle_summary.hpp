@@ -12,7 +12,13 @@ struct VehicleSample {
   double distance_m = 0.0;
   double speed_m_per_s = 0.0;
   double pack_request_W = 0.0;  // pack power asked for over the next tick (drive + aux - array)
-  double array_W = 0.0;         // solar array power into the bus
+  // The array's power over the recording interval that ends at the sample (its mean
+  // since the previous sample; 0 at the first): what went into the bus -- less than the
+  // MPPT had when the pack refused the charge (full, tripped, a blocked FET) -- and
+  // what the MPPT had to give. Their sums over the samples × the interval are the
+  // summary's array energy and the energy the array had.
+  double array_W = 0.0;
+  double array_available_W = 0.0;
   uint8_t limit = 0;            // DriveLimit of the last tick (models/vehicle/vehicle.hpp)
 };
 

@@ -165,11 +165,53 @@ TEST(VehicleRace, AShortfallLineGivesWhatThePackWasAskedAndGave) {
       << v.limit_detail;
   const size_t k = test::sampleAt(r.rec, v.limit_time_s);  // the plan for the tick the limit acted in
   EXPECT_NEAR(asked, r.rec.vehicle_pack_request_W[k], 0.01) << v.limit_detail;
-  const double array_W = r.rec.vehicle_array_W[k];
+  // the array over that tick: the interval that ends at the next sample (0.01 s apart)
+  const double array_W = r.rec.vehicle_array_W[k + 1];
   ASSERT_GT(array_W, 100.0);
+  EXPECT_NEAR(array_W, r.rec.vehicle_array_available_W[k + 1], 1e-6);  // the relay open: the drive took it all
   EXPECT_NEAR(asked, wanted + 8.0 - array_W, 0.01) << v.limit_detail;  // drive + aux - array
   EXPECT_LT(gave, asked - 1.0) << v.limit_detail;                      // the relay opened in the tick
   EXPECT_NEAR(got, gave + array_W - 8.0, 0.01) << v.limit_detail;      // pack + array less the aux
+}
+
+TEST(VehicleRace, TheArrayChannelIsThePowerTheBusTookWhenThePackRefusesTheCharge) {
+  // The eco car at the start under a 2 m² array at noon on the equator: 400 W into
+  // a pack whose BMS trips at 5 A of charge. It trips at 0.23 s and the relay opens; from
+  // then on the array feeds only the drive and the auxiliaries. /vehicle/array_W recorded
+  // the MPPT's planned 395 W throughout: its integral was 3.50 Wh against the summary's
+  // 3.03 Wh of array energy taken (a probe saw 13.84 against 12.07 Wh). Now it is the mean
+  // power taken over each recording interval, and /vehicle/array_available_W is what the
+  // MPPT had: the record integrates to the summary and the lap table at any interval.
+  for (const char* interval : {"0.01", "0.5"}) {
+    const Scenario s = loadScenarioFileWithOverrides(
+        race("eco_marathon_12s_circuit"),
+        {{"load.sun", "{array_area_m2: 2, efficiency: 0.2, latitude_deg: 0, day_of_year: 80, start_solar_hour: 12}"},
+         {"bms.charge_full_cell_V", "0"}, {"output.interval_s", interval}, {"run.solver", "fast"},
+         {"run.stop_after_trip_s", "30"}, {"expect", "{}"}});
+    const RunResult r = runScenario(s);
+    const VehicleSummary& v = r.summary.vehicle;
+    const Recording& rec = r.rec;
+    ASSERT_TRUE(r.summary.tripped) << interval;
+    double taken_J = 0.0, avail_J = 0.0;
+    for (size_t i = 1; i < rec.time_s.size(); ++i) {  // each sample: the mean since the one before
+      const double span = rec.time_s[i] - rec.time_s[i - 1];
+      taken_J += rec.vehicle_array_W[i] * span;
+      avail_J += rec.vehicle_array_available_W[i] * span;
+      EXPECT_LE(rec.vehicle_array_W[i], rec.vehicle_array_available_W[i] + 1e-6) << interval << " at " << rec.time_s[i];
+    }
+    EXPECT_NEAR(taken_J / 3600.0, v.array_Wh, 1e-9 * avail_J) << interval;
+    double laps_Wh = 0.0;
+    for (const LapRecord& l : v.laps) laps_Wh += l.array_Wh;
+    EXPECT_NEAR(laps_Wh, v.array_Wh, 1e-9) << interval;
+    // The MPPT had 400 W the whole time; the bus took less once the relay opened.
+    EXPECT_GT(avail_J / 3600.0, v.array_Wh + 0.3) << interval;
+    const double open_s = test::eventTime(r, "relay");
+    ASSERT_GT(open_s, 0.0);
+    // the last interval: the pack isolated, the car cruising on about 200 W of the array's 400
+    const size_t k = rec.time_s.size() - 1;
+    EXPECT_LT(rec.vehicle_array_W[k], rec.vehicle_array_available_W[k] - 10.0) << interval;
+    EXPECT_GT(rec.vehicle_array_available_W[k], 350.0) << interval;
+  }
 }
 
 TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
