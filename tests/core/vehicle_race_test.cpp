@@ -565,8 +565,10 @@ TEST(VehicleRace, ARouteCsvWithElevationAndWindGivesTheHandLapBudget) {
       race("eco_marathon_12s_circuit"),
       {{"run.solver", "fast"}, {"load.route", "{csv: " + csv.string() + ", segments: [], laps: 3}"}, {"expect", "{}"}});
   ASSERT_EQ(s.vehicle.route.segments.size(), 4u);
-  EXPECT_NEAR(s.vehicle.route.segments[1].grade, 0.03, 1e-12);
-  EXPECT_NEAR(s.vehicle.route.segments[2].grade, -0.03, 1e-12);
+  // 7.5 m over 250 m of road: sin θ = 0.03, the grade tan θ
+  const double up = std::tan(std::asin(0.03));
+  EXPECT_NEAR(s.vehicle.route.segments[1].grade, up, 1e-12);
+  EXPECT_NEAR(s.vehicle.route.segments[2].grade, -up, 1e-12);
   const RunResult r = runScenario(s);
   const VehicleSummary& v = r.summary.vehicle;
   ASSERT_TRUE(v.finished);
@@ -575,10 +577,41 @@ TEST(VehicleRace, ARouteCsvWithElevationAndWindGivesTheHandLapBudget) {
     const double c = 1.0 / std::sqrt(1.0 + grade * grade);
     return 220 * kG * (0.006 * c + grade * c) + 0.5 * 1.2 * 0.25 * air * air;
   };
-  ASSERT_LT(f(-0.03), 0.0);  // downhill the car still brakes
-  const double lap_Wh = ((f(0.0) * 1100.0 + f(0.03) * 250.0) / 0.85 + 8.0 * 1600.0 / kEcoV) / 3600.0;
+  ASSERT_LT(f(-up), 0.0);  // downhill the car still brakes
+  const double lap_Wh = ((f(0.0) * 1100.0 + f(up) * 250.0) / 0.85 + 8.0 * 1600.0 / kEcoV) / 3600.0;
   EXPECT_GT(lap_Wh, ecoLapPack_J() / 3600.0 * 1.1);  // the wind costs more than 10 %
   for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.02 * lap_Wh) << "lap " << i + 1;
+}
+
+TEST(VehicleRace, AnElevationTableClimbsItsElevationOverItsRoadDistance) {
+  // A straight ramp, 50 m up over 500 m of road (distance_m is along the road, as the
+  // vehicle drives it). The grade was taken as 50/500 = 10 % rise over run, so the 500 m
+  // of road climbed 500·sin(atan 0.1) = 49.75 m: 0.25 m of m·g·Δh missing, 0.18 Wh of
+  // the climb. Now sin θ = 50/500: the climb costs the hand m·g·Δh (and the rolling
+  // resistance's cos θ) more than the same road flat, the speed profile alike.
+  const auto dir = test::processTempDir("route_csv_ramp");
+  auto table = [&](const std::string& name, double top_m) {
+    const auto csv = dir / name;
+    std::ofstream out(csv);
+    out << "distance_m,elevation_m,speed_kmh\n0,100,10\n500," << 100.0 + top_m << ",10\n";
+    return csv.string();
+  };
+  auto run = [&](double top_m) {
+    const Scenario s = loadScenarioFileWithOverrides(
+        race("eco_marathon_12s_circuit"),
+        {{"run.solver", "fast"}, {"load.route", "{csv: " + table("ramp" + std::to_string(top_m) + ".csv", top_m) + ", segments: [], laps: 1}"},
+         {"expect", "{}"}});
+    EXPECT_NEAR(s.vehicle.route.total_m(), 500.0, 1e-9);  // the route is the road's length
+    return runScenario(s).summary.vehicle;
+  };
+  const VehicleSummary ramp = run(50.0), flat = run(0.0);
+  ASSERT_TRUE(ramp.finished && flat.finished);
+  EXPECT_FALSE(ramp.limited);  // the same speed profile on both: nothing cut the climb's drive
+  EXPECT_NEAR(ramp.distance_m, 500.0, 1e-9);
+  EXPECT_NEAR(ramp.time_s - ramp.start_s, flat.time_s - flat.start_s, 1e-6);
+  const double sinT = 0.1, cosT = std::sqrt(1.0 - sinT * sinT);
+  const double climb_J = 220.0 * kG * (50.0 + 0.006 * 500.0 * (cosT - 1.0)) / 0.85;  // through η = 0.85
+  EXPECT_NEAR(ramp.pack_Wh - flat.pack_Wh, climb_J / 3600.0, 0.01);
 }
 
 TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
@@ -639,13 +672,14 @@ TEST(VehicleRace, LapsOfARouteThatDoesNotCloseAreRefused) {
   EXPECT_NE(e.find("9 m in all"), std::string::npos) << e;
   EXPECT_NO_THROW(load("{csv: " + open + ", segments: [], laps: 1}"));
   const Scenario closed = load("{csv: " + table("closed.csv", 100.0) + ", segments: [], laps: 3}");
-  double rise_m = 0.0;
-  for (const RouteSegment& g : closed.vehicle.route.segments) rise_m += g.length_m * g.grade;
+  double rise_m = 0.0;  // the length is along the road: each segment climbs length · sin θ
+  for (const RouteSegment& g : closed.vehicle.route.segments) rise_m += g.length_m * std::sin(std::atan(g.grade));
   EXPECT_NEAR(rise_m, 0.0, 1e-9);
-  // Segments likewise: a climb with no descent, twice round, descends nowhere.
+  // Segments likewise: a climb with no descent, twice round, descends nowhere (250 m of
+  // road at 2 %: 250·sin(atan 0.02) = 4.999 m).
   const std::string seg = test::scenarioErrorOf(
       [&] { load("{segments: [{length_m: 500, speed_kmh: 27}, {length_m: 250, grade_percent: 2, speed_kmh: 27}], laps: 2}"); });
-  EXPECT_NE(seg.find("climb a net 5 m"), std::string::npos) << seg;
+  EXPECT_NE(seg.find("climb a net 4.999 m"), std::string::npos) << seg;
 }
 
 TEST(VehicleRace, WindByDirectionIsItsComponentAgainstTheHeading) {
