@@ -71,9 +71,10 @@ void timeLimitLine(LineWriter& w, const V& v) {
 
 // The time the limits cost a finished route, or how far an unfinished one got.
 void outcomeLine(LineWriter& w, const V& v) {
+  // The reference's time from setting off, as the vehicle line's (both set off at start_s).
   if (v.finished && v.reference_time_s > 0.0)
     w.line(fmt("%.1f", v.time_s - v.reference_time_s) + " s against the same driver on a pack that never limits it (" +
-           fmt("%.1f", v.reference_time_s) + " s)");
+           fmt("%.1f", v.reference_time_s - v.start_s) + " s)");
   else if (!v.finished)
     w.line(v.stood_still ? "range" : "distance",
            km(v.distance_m) +

@@ -112,6 +112,32 @@ TEST(VehicleRace, ControllerCurrentLimitSlowsTheClimbAndTheLostTimeAddsUp) {
   EXPECT_NE(text.find("pack limit      first at"), std::string::npos);
 }
 
+TEST(VehicleRace, TheTimeLostLineTimesTheReferenceFromSettingOff) {
+  // The solar car (100 ms tick) sets off at 0.30 s, when its BMS is ready. The vehicle line
+  // said "finished ... in 112.3 s" (from setting off) and the time-lost line "0.0 s against
+  // the same driver ... (112.6 s)": the reference's finishing time on the run's clock, so the
+  // two times of one race differed by the 0.3 s before setting off. Now both count from
+  // setting off: the reference's time is the vehicle's less the time lost.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("solar_car_28s15p_stage"),
+      {{"load.route", "{segments: [{length_m: 2000, speed_kmh: 80}], laps: 1}"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_GT(v.start_s, 0.25);
+  const std::string text = formatSummary(s, r);
+  double driven = 0, lost = 0, ref = 0;
+  const size_t a = text.find(" in ", text.find("vehicle         finished"));
+  const size_t b = text.find("time lost       ");
+  ASSERT_NE(a, std::string::npos) << text;
+  ASSERT_NE(b, std::string::npos) << text;
+  ASSERT_EQ(std::sscanf(text.c_str() + a, " in %lf s", &driven), 1) << text;
+  ASSERT_EQ(std::sscanf(text.c_str() + b, "time lost %lf s against the same driver on a pack that never limits it (%lf s)", &lost, &ref), 2)
+      << text;
+  EXPECT_NEAR(driven - lost, ref, 0.11) << text;  // each printed to 0.1 s
+  EXPECT_NEAR(ref, v.reference_time_s - v.start_s, 0.051) << text;
+}
+
 TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   // The E-switch at 30 s opens the pack on the first flat (at ~210 m of 600 m): no
   // power; the car coasts, m·dv/dt = -(F_r + k·v²), F_r = m·g·C_rr, k = ½·ρ·CdA, so
