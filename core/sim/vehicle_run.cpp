@@ -64,6 +64,14 @@ void VehicleRun::stageEvent(StopEvent ev, double t, double e_J, RunTracker& trac
     const RouteStop& st = r.stops[car_.nextStop() - 1];
     full_ = false;  // the array may charge the pack again
     if (st.stage_end < 0) return;
+    if (st.stage_end == 0) {  // stage 1 sets off from the start line: the race, and lap 1, begin now
+      sum_.start_s = t;
+      sum_.prestart_pack_Wh = (e_J - lapStartE_J_) / 3600.0;
+      sum_.prestart_array_Wh = (array_J_ - lapStartA_J_) / 3600.0;
+      lapStart_s_ = t;
+      lapStartE_J_ = e_J;
+      lapStartA_J_ = array_J_;
+    }
     if (parkOpen_ && !sum_.stages.empty()) {
       StageRecord& prev = sum_.stages.back();
       prev.parked_s = t - parkT_s_;
@@ -173,7 +181,7 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
   }
   if (!started_ && ready) {
     started_ = true;
-    sum_.start_s = t;
+    sum_.start_s = sum_.ready_s = t;
     lapStart_s_ = t;
     lapStartE_J_ = e_J;
     lapStartA_J_ = array_J_;

@@ -138,6 +138,47 @@ TEST(VehicleRace, TheTimeLostLineTimesTheReferenceFromSettingOff) {
   EXPECT_NEAR(ref, v.reference_time_s - v.start_s, 0.051) << text;
 }
 
+TEST(VehicleRace, AStageRaceSetsOffAtStageOnesStartNotAtTheReadyLight) {
+  // The solar car ready at 0.30 s, its stage 1 at 13:00 with the sun's clock at 12:54 at
+  // t = 0: it waits 360 s at the start line. The vehicle line said "set off at 0.30 s (BMS
+  // ready)", its time and average speed and lap 1's time (637.0 s, 16.95 km/h for 3 km)
+  // counted that wait, and so would a time limit. Now the race and lap 1 begin when stage 1
+  // sets off; the wait's energy (the array charging the parked pack) is its own line, so
+  // the laps and it still add up to the run's.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("solar_car_28s15p_stage"),
+      {{"pack.initial_soc", "0.6"},
+       {"load.route", "{laps: 2, segments: [{length_m: 1500, speed_kmh: 70}, {length_m: 1500, speed_kmh: 60}], "
+                      "stages: [{end_km: 3.5, start_hour: 13.0, day: 1}, {end_km: 6, start_hour: 13.1, day: 1}]}"},
+       {"load.sun.start_solar_hour", "12.9"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_EQ(v.stages.size(), 2u);
+  const double t1 = (13.0 - 12.9) * 3600.0;  // stage 1's start on the run's clock
+  EXPECT_NEAR(v.ready_s, 0.3, 1e-9);
+  EXPECT_GE(v.start_s, t1 - 1e-9);
+  EXPECT_LT(v.start_s, t1 + 0.1 + 1e-9);  // the first tick at or after it
+  EXPECT_NEAR(v.start_s, v.stages[0].depart_s, 1e-9);
+  ASSERT_FALSE(v.laps.empty());
+  EXPECT_NEAR(v.laps[0].start_s, v.start_s, 1e-9);
+  // lap 1 is 3 km driven at 60-70 km/h: well under 3 minutes, not the 6-minute wait more
+  EXPECT_LT(v.laps[0].time_s, 200.0);
+  double pack_Wh = v.prestart_pack_Wh, array_Wh = v.prestart_array_Wh;
+  for (const LapRecord& l : v.laps) {
+    pack_Wh += l.pack_Wh;
+    array_Wh += l.array_Wh;
+  }
+  // (to the finish line; the run's totals hold the rest of its last tick, 0.1 s)
+  EXPECT_NEAR(pack_Wh, v.pack_Wh, 0.01);
+  EXPECT_NEAR(array_Wh, v.array_Wh, 0.01);
+  EXPECT_LT(v.prestart_pack_Wh, -1.0);  // the array charged the waiting pack
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("s (stage 1's start; the BMS ready at 0.30 s)"), std::string::npos) << text;
+  EXPECT_NE(text.find("before setting off, 359.7 s at the start line"), std::string::npos) << text;
+  EXPECT_NEAR(r.summary.vehicle.time_s - v.start_s, v.time_s - v.stages[0].depart_s, 1e-9);
+}
+
 TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   // The E-switch at 30 s opens the pack on the first flat (at ~210 m of 600 m): no
   // power; the car coasts, m·dv/dt = -(F_r + k·v²), F_r = m·g·C_rr, k = ½·ρ·CdA, so
