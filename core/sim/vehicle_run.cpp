@@ -144,9 +144,14 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
           d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + taken_W)) + " W of the " +
                fmt("%.2f", plan_.drive_W) + " W it asked for (the pack gave " + fmt("%.2f", delivered_W) + " W of the " +
                fmt("%.2f", plan_.net_W) + " W asked of it)";
-        else
-          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted, " +
-               fmt("%.3g", plan_.wanted_W - plan_.drive_W) + " W short (pack " + fmt("%.2f", plan_.controller_V) +
+        else  // short of what the motor and the driver's cap left: the pack's share of the cut
+          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.own_W) + " W " +
+               (plan_.ownLimit == DriveLimit::None ? std::string("the driver wanted")
+                                                   : std::string(plan_.ownLimit == DriveLimit::MotorPower
+                                                                     ? "the motor allowed"
+                                                                     : "the driver's power cap allowed") +
+                                                         " (the driver wanted " + fmt("%.2f", plan_.wanted_W) + " W)") +
+               ", " + fmt("%.3g", plan_.own_W - plan_.drive_W) + " W short (pack " + fmt("%.2f", plan_.controller_V) +
                " V, the controller allowed " + fmt("%.2f", plan_.controller_A) + " A)";
         sum_.limit_detail = d;
         tracker.event(t0, "vehicle_limited", d);

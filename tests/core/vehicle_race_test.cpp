@@ -179,6 +179,42 @@ TEST(VehicleRace, AStageRaceSetsOffAtStageOnesStartNotAtTheReadyLight) {
   EXPECT_NEAR(r.summary.vehicle.time_s - v.start_s, v.time_s - v.stages[0].depart_s, 1e-9);
 }
 
+TEST(VehicleRace, APackLimitLineCountsOnlyThePacksShareOfTheCut) {
+  // The cold scooter from 30 % on a hilly loop with a control stop: setting off again it
+  // wants 980 W, its 720 W motor gives 720 W, and the controller's fold-back at 32.89 V
+  // takes a milliwatt more. The line said "the drive got 720.00 W of the 980.29 W the
+  // driver wanted, 260 W short (pack 32.89 V, ...)": the motor's own 260 W laid on the
+  // pack. Now the shortfall is against what the motor (or the driver's cap) left, and the
+  // driver's wish is said beside it.
+  const auto dir = test::processTempDir("pack_limit_share");
+  const auto csv = dir / "hill.csv";
+  {
+    std::ofstream out(csv);
+    out << "distance_m;elevation_m;speed_kmh\n0;50,0;25\n400;50,0;25\n700;62,5;20\n1000;50,0;30\n1500;50,0;25\n";
+  }
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("scooter_16s_lto_range_cold"),
+      {{"pack.initial_soc", "0.3"},
+       {"load.route", "{csv: " + csv.string() + ", segments: [], laps: 40, stops: [{at_km: 2.2, duration_s: 120}]}"},
+       {"run.duration_s", "800"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.limited);
+  ASSERT_EQ(v.limit_detail.rfind("low_voltage_foldback", 0), 0u) << v.limit_detail;
+  const size_t at = v.limit_detail.find("the drive got ");
+  ASSERT_NE(at, std::string::npos) << v.limit_detail;
+  double got = 0, allowed = 0, wanted = 0, shortW = 0;
+  ASSERT_EQ(std::sscanf(v.limit_detail.c_str() + at,
+                        "the drive got %lf W of the %lf W the motor allowed (the driver wanted %lf W), %lf W short", &got,
+                        &allowed, &wanted, &shortW),
+            4)
+      << v.limit_detail;
+  EXPECT_NEAR(allowed, 720.0, 1e-9);  // vehicle.max_drive_power_W
+  EXPECT_GT(wanted, allowed + 100.0);
+  EXPECT_LE(got, allowed);
+  EXPECT_NEAR(shortW, allowed - got, 0.01) << v.limit_detail;
+}
+
 TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   // The E-switch at 30 s opens the pack on the first flat (at ~210 m of 600 m): no
   // power; the car coasts, m·dv/dt = -(F_r + k·v²), F_r = m·g·C_rr, k = ½·ρ·CdA, so
