@@ -192,15 +192,17 @@ void readStops(YamlMap& m, Route& r, const SolarArray* sun) {
 // lap and never brings it down: m·g·h a lap of work no circuit asks for, silently in
 // every lap's Wh (3 m on a 150 kg eco car: 1.5 Wh of a 9.5 Wh lap).
 void checkLapCloses(YamlMap& m, const Route& r, bool table) {
-  double rise_m = 0.0;  // Σ length · grade: a table's last elevation_m less its first
-  for (const RouteSegment& g : r.segments) rise_m += g.length_m * g.grade;
+  // Σ length · sin θ (the length is along the road, the grade tan θ): a table's last
+  // elevation_m less its first
+  double rise_m = 0.0;
+  for (const RouteSegment& g : r.segments) rise_m += g.length_m * g.grade / std::sqrt(1.0 + g.grade * g.grade);
   constexpr double kClosed_m = 1e-3;  // 1 mm: rounding of the table's numbers, not a hill
   if (std::fabs(rise_m) <= kClosed_m) return;
   std::ostringstream os;
   os.precision(4);
   const char* way = rise_m > 0.0 ? "climb" : "descend";
   os << r.laps << " laps of a route that does not close: each lap would " << way << " a net " << std::fabs(rise_m)
-     << " m (the sum of length x grade over the lap" << (table ? "; by elevation_m, the last row's less the first's" : "")
+     << " m (the sum of length x sin(atan(grade)) over the lap" << (table ? "; by elevation_m, the last row's less the first's" : "")
      << ") and " << way << " it again on the next, " << std::fabs(rise_m) * r.laps
      << " m in all, and every lap's energy would hold that m*g*h. A circuit ends where it starts: "
      << (table ? "end the table at its first row's height (a GPS altitude drifts by metres)"

@@ -82,14 +82,25 @@ std::vector<RouteSegment> readRouteCsv(const std::string& path) {
       r.headwind_m_per_s = w * std::cos((from - head) * kPi / 180.0);
     }
     if (elev && !rows.empty()) {  // the grade of the segment that ends here
+      // The distance is along the road (the vehicle drives it): the road rises Δh over Δd
+      // of road, sin θ = Δh/Δd, and the grade (rise over run) is tan θ -- so the segment
+      // of length Δd climbs exactly Δh (docs/vehicle.md, "A route from a CSV").
       Row& prev = rows.back();
-      prev.grade = (r.elevation_m - prev.elevation_m) / (r.distance_m - prev.distance_m);
-      if (std::fabs(prev.grade) > kMaxGrade_percent / 100.0) {
+      const double rise_m = r.elevation_m - prev.elevation_m, road_m = r.distance_m - prev.distance_m;
+      const double sinTheta = rise_m / road_m;
+      const double maxSin = std::sin(std::atan(kMaxGrade_percent / 100.0));  // 45°
+      if (std::fabs(sinTheta) > maxSin) {
         std::ostringstream os;
-        os << "the elevation from line " << prev.line << " gives a grade of " << prev.grade * 100.0
-           << " %; allowed [-100, 100] %";
+        os << "the elevation from line " << prev.line << " changes by " << rise_m << " m over " << road_m
+           << " m of road, ";
+        if (std::fabs(sinTheta) < 1.0)
+          os << "a grade of " << sinTheta / std::sqrt(1.0 - sinTheta * sinTheta) * 100.0 << " %";
+        else
+          os << "as much as the road's length or more";
+        os << "; allowed [-100, 100] % (the distance is along the road)";
         throw csv.errorAt(*elev, os.str());
       }
+      prev.grade = sinTheta / std::sqrt(1.0 - sinTheta * sinTheta);
     }
     rows.push_back(r);
   }

@@ -1,9 +1,12 @@
 // A route from a CSV table (load.route.csv; docs/vehicle.md, "A route from a CSV"): a
 // header row, then one row per point along the road. Columns, by name:
 //
-//   distance_km or distance_m   where the point is; the first 0, then strictly increasing
-//   grade_percent or elevation_m  the grade from this point to the next (or the grade
-//                               from the elevations of the two points)
+//   distance_km or distance_m   where the point is along the road (what the vehicle
+//                               drives, as segments' length_m); the first 0, then
+//                               strictly increasing
+//   grade_percent or elevation_m  the grade (rise over run) from this point to the next,
+//                               or the elevations: the road between two points rises
+//                               Δh over Δd of road, sin θ = Δh/Δd
 //   speed_kmh                   the target speed from this point to the next
 //   headwind_kmh                optional: the wind against the direction of travel from
 //                               this point on (negative: a tailwind); or instead

@@ -92,7 +92,8 @@ struct Recording {
   std::vector<uint8_t> soc_display_bars_truth; // what it would show from the true OCV
   // a vehicle on its route (docs/vehicle.md): only filled for `load: {vehicle: ...}`
   bool has_vehicle = false;
-  std::vector<double> vehicle_distance_m, vehicle_speed_m_per_s, vehicle_pack_request_W, vehicle_array_W;
+  std::vector<double> vehicle_distance_m, vehicle_speed_m_per_s, vehicle_pack_request_W, vehicle_array_W,
+      vehicle_array_available_W;
   std::vector<uint8_t> vehicle_limit;
 
   size_t samples() const { return time_s.size(); }

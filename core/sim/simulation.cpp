@@ -206,7 +206,10 @@ bool SimulationRun::Impl::tick(const StopCondition& stopWhen) {
   tracker.tick(t, xs, sg, decision);
   const bool stop = k >= lastTick || (!driverEnds && (tracker.stopRequested(t) || hw.chargeComplete())) ||
                     (stopWhen && stopWhen(t, xs, sg, decision)) || (vehicle && vehicle->done());
-  if (recordPhase == 0 || stop) tracker.record(t, xs, sg, decision);
+  if (recordPhase == 0 || stop) {
+    tracker.record(t, xs, sg, decision);
+    if (vehicle) vehicle->recorded(t);  // its array powers are means over the recording interval
+  }
   if (stop) {
     ended = true;
     endReason = k >= lastTick                    ? kRunEndScheduled

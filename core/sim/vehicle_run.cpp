@@ -64,6 +64,14 @@ void VehicleRun::stageEvent(StopEvent ev, double t, double e_J, RunTracker& trac
     const RouteStop& st = r.stops[car_.nextStop() - 1];
     full_ = false;  // the array may charge the pack again
     if (st.stage_end < 0) return;
+    if (st.stage_end == 0) {  // stage 1 sets off from the start line: the race, and lap 1, begin now
+      sum_.start_s = t;
+      sum_.prestart_pack_Wh = (e_J - lapStartE_J_) / 3600.0;
+      sum_.prestart_array_Wh = (array_J_ - lapStartA_J_) / 3600.0;
+      lapStart_s_ = t;
+      lapStartE_J_ = e_J;
+      lapStartA_J_ = array_J_;
+    }
     if (parkOpen_ && !sum_.stages.empty()) {
       StageRecord& prev = sum_.stages.back();
       prev.parked_s = t - parkT_s_;
@@ -114,6 +122,7 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
     const double taken_W = std::clamp(plan_.array_W - std::max(0.0, delivered_W - plan_.net_W), 0.0, plan_.array_W);
     const double a0 = array_J_;
     array_J_ += taken_W * dt_;
+    availJ_ += availPlan_W_ * dt_;
     const double s0 = car_.distance_m();
     const bool wasFinished = car_.finished();
     const DriveLimit lim = wasFinished ? DriveLimit::None : car_.advance(plan_, delivered_W, dt_);
@@ -135,9 +144,14 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
           d += fmt("%.2f", std::max(0.0, delivered_W - cfg_.params.aux_power_W + taken_W)) + " W of the " +
                fmt("%.2f", plan_.drive_W) + " W it asked for (the pack gave " + fmt("%.2f", delivered_W) + " W of the " +
                fmt("%.2f", plan_.net_W) + " W asked of it)";
-        else
-          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.wanted_W) + " W the driver wanted, " +
-               fmt("%.3g", plan_.wanted_W - plan_.drive_W) + " W short (pack " + fmt("%.2f", plan_.controller_V) +
+        else  // short of what the motor and the driver's cap left: the pack's share of the cut
+          d += fmt("%.2f", plan_.drive_W) + " W of the " + fmt("%.2f", plan_.own_W) + " W " +
+               (plan_.ownLimit == DriveLimit::None ? std::string("the driver wanted")
+                                                   : std::string(plan_.ownLimit == DriveLimit::MotorPower
+                                                                     ? "the motor allowed"
+                                                                     : "the driver's power cap allowed") +
+                                                         " (the driver wanted " + fmt("%.2f", plan_.wanted_W) + " W)") +
+               ", " + fmt("%.3g", plan_.own_W - plan_.drive_W) + " W short (pack " + fmt("%.2f", plan_.controller_V) +
                " V, the controller allowed " + fmt("%.2f", plan_.controller_A) + " A)";
         sum_.limit_detail = d;
         tracker.event(t0, "vehicle_limited", d);
@@ -172,7 +186,7 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
   }
   if (!started_ && ready) {
     started_ = true;
-    sum_.start_s = t;
+    sum_.start_s = sum_.ready_s = t;
     lapStart_s_ = t;
     lapStartE_J_ = e_J;
     lapStartA_J_ = array_J_;
@@ -190,6 +204,7 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
   // The irradiance changes over minutes: the array's power is held for a second at a time
   // (a power load that changed every tick would restart the integrator every tick).
   const double array_W = cfg_.array.power_W(std::floor(t / kArrayHold_s) * kArrayHold_s);
+  availPlan_W_ = started_ ? array_W : 0.0;
   if (started_) {
     plan_ = car_.plan(dt_, pack, array_W, true);
     refPlan_ = ref_.plan(dt_, pack, array_W, false);
@@ -214,8 +229,18 @@ double VehicleRun::tick(double t, double e_J, const PackSource& pack, bool ready
   sample_.distance_m = car_.distance_m();
   sample_.speed_m_per_s = car_.speed_m_per_s();
   sample_.pack_request_W = plan_.net_W;
-  sample_.array_W = started_ ? plan_.array_W : 0.0;
+  // The array over the interval since the last sample, not the plan for the next tick:
+  // the pack may refuse the charge inside the tick, and only its energy tells.
+  const double span_s = t - recT_s_;
+  sample_.array_W = span_s > 0.0 ? (array_J_ - recJ_) / span_s : 0.0;
+  sample_.array_available_W = span_s > 0.0 ? (availJ_ - recAvailJ_) / span_s : 0.0;
   return plan_.net_W;
+}
+
+void VehicleRun::recorded(double t) {
+  recT_s_ = t;
+  recJ_ = array_J_;
+  recAvailJ_ = availJ_;
 }
 
 std::string VehicleRun::endReason() const {

@@ -33,6 +33,9 @@ class VehicleRun {
   bool done() const { return car_.finished() || stood_ || sunEnded_; }
   std::string endReason() const;
   const VehicleSample& sample() const { return sample_; }
+  // The loop recorded the sample at t: the next sample's array powers are the means
+  // from here (VehicleSample::array_W).
+  void recorded(double t_s);
   VehicleSummary summary(double end_s) const;
 
  private:
@@ -50,6 +53,9 @@ class VehicleRun {
   bool started_ = false;
   double energy_J_ = 0.0;   // load quadrature at the last tick
   double array_J_ = 0.0;    // array energy taken into the bus so far
+  double availJ_ = 0.0;     // array energy the MPPT had so far (taken or not)
+  double availPlan_W_ = 0.0;  // the MPPT's power over the tick planned last
+  double recT_s_ = 0.0, recJ_ = 0.0, recAvailJ_ = 0.0;  // at the last recorded sample
   double still_s_ = 0.0;
   bool stood_ = false;
   bool sunEnded_ = false;

@@ -12,7 +12,13 @@ struct VehicleSample {
   double distance_m = 0.0;
   double speed_m_per_s = 0.0;
   double pack_request_W = 0.0;  // pack power asked for over the next tick (drive + aux - array)
-  double array_W = 0.0;         // solar array power into the bus
+  // The array's power over the recording interval that ends at the sample (its mean
+  // since the previous sample; 0 at the first): what went into the bus -- less than the
+  // MPPT had when the pack refused the charge (full, tripped, a blocked FET) -- and
+  // what the MPPT had to give. Their sums over the samples × the interval are the
+  // summary's array energy and the energy the array had.
+  double array_W = 0.0;
+  double array_available_W = 0.0;
   uint8_t limit = 0;            // DriveLimit of the last tick (models/vehicle/vehicle.hpp)
 };
 
@@ -51,7 +57,12 @@ struct VehicleSummary {
   double distance_m = 0.0;
   double route_m = 0.0;
   double time_limit_s = 0.0;     // the route's time limit (0: none)
-  double start_s = 0.0;          // the driver set off: the first tick the BMS was ready (normal)
+  double start_s = 0.0;          // the driver set off: the first tick the BMS was ready (normal),
+                                 // or with stages stage 1's start (it waits at the start line till then)
+  double ready_s = 0.0;          // the first tick the BMS was ready (normal)
+  // Before setting off (start_s > ready_s: waiting at the start line for stage 1, the array
+  // charging the pack): the pack's energy out and the array's then -- in no lap or stage.
+  double prestart_pack_Wh = 0.0, prestart_array_Wh = 0.0;
   double time_s = 0.0;           // at the finish line, or the run's end
   bool finished = false;
   bool stood_still = false;      // ended standing although the driver wanted to move

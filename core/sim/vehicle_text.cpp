@@ -21,7 +21,9 @@ void routeLines(LineWriter& w, const V& v) {
   w.line(std::string(v.finished ? "finished " : "did not finish: ") + km(v.distance_m) + " of " + km(v.route_m) + " (" +
          std::to_string(complete) + " lap" + (complete == 1 ? "" : "s") + ") in " + fmt("%.1f", driven_s) + " s, " +
          fmt("%.2f", driven_s > 0.0 ? v.distance_m / driven_s * 3.6 : 0.0) + " km/h on average; set off at " +
-         fmt("%.2f", v.start_s) + " s (BMS ready)");
+         fmt("%.2f", v.start_s) + " s " +
+         (v.start_s > v.ready_s ? "(stage 1's start; the BMS ready at " + fmt("%.2f", v.ready_s) + " s)"
+                                : std::string("(BMS ready)")));
   w.more(" lap     time_s    km/h   pack_Wh   Wh/km  array_Wh  lost_s");
   for (const LapRecord& l : v.laps) {
     char row[160];
@@ -34,6 +36,10 @@ void routeLines(LineWriter& w, const V& v) {
   }
   if (!v.laps.empty() && !v.laps.back().complete)
     w.more(" * the lap the run ended in (" + km(v.laps.back().distance_m) + " of it)");
+  // The wait at the start line is in no lap: said here, so the laps and it add up to the run.
+  if (v.start_s > v.ready_s)
+    w.more(" before setting off, " + fmt("%.1f", v.start_s - v.ready_s) + " s at the start line: " +
+           fmt("%.3f", v.prestart_pack_Wh) + " Wh from the pack, " + fmt("%.3f", v.prestart_array_Wh) + " Wh from the array");
 }
 
 // route.stages: a row per stage, then the stop after it.
@@ -71,9 +77,10 @@ void timeLimitLine(LineWriter& w, const V& v) {
 
 // The time the limits cost a finished route, or how far an unfinished one got.
 void outcomeLine(LineWriter& w, const V& v) {
+  // The reference's time from setting off, as the vehicle line's (both set off at start_s).
   if (v.finished && v.reference_time_s > 0.0)
     w.line(fmt("%.1f", v.time_s - v.reference_time_s) + " s against the same driver on a pack that never limits it (" +
-           fmt("%.1f", v.reference_time_s) + " s)");
+           fmt("%.1f", v.reference_time_s - v.start_s) + " s)");
   else if (!v.finished)
     w.line(v.stood_still ? "range" : "distance",
            km(v.distance_m) +

@@ -75,7 +75,7 @@ VehiclePlan Vehicle::plan(double dt, const PackSource& pack, double array_W, boo
   pl.efficiency = eta;
   if (wheel <= 0.0) {  // coasting or braking: regeneration up to its limit, the rest friction
     pl.drive_W = std::max(wheel * eta, -p_.max_regen_power_W);
-    pl.wanted_W = pl.drive_W;
+    pl.wanted_W = pl.own_W = pl.drive_W;
   } else {
     pl.wanted_W = wheel / eta;
     double cap = pl.wanted_W;
@@ -87,6 +87,8 @@ VehiclePlan Vehicle::plan(double dt, const PackSource& pack, double array_W, boo
     };
     cut(p_.max_drive_power_W, DriveLimit::MotorPower);
     if (driver_.power_cap_W > 0.0) cut(driver_.power_cap_W, DriveLimit::DriverCap);
+    pl.own_W = cap;
+    pl.ownLimit = pl.limit;
     if (limits) {  // the controller's current where its limit meets the pack (not a lagged voltage: that rings)
       const double fullI = allowedCurrent_A(p_, std::numeric_limits<double>::infinity());
       const double i = allowedCurrentOn_A(p_, pack);

@@ -54,6 +54,10 @@ struct VehiclePlan {
   double array_W = 0.0;   // solar array into the bus
   double net_W = 0.0;     // asked of the pack: drive + aux - array
   double wanted_W = 0.0;  // drive power the driver wanted before any limit
+  // what the vehicle's own limits (the motor's power, the driver's cap) left of it, before
+  // the pack's (the controller's current, its fold-back), and which of them cut it
+  double own_W = 0.0;
+  DriveLimit ownLimit = DriveLimit::None;
   double efficiency = 1.0;  // the drivetrain's at the planned speed and wheel force
   DriveLimit limit = DriveLimit::None;
   // With the controller's limit: the pack current it allows over the tick and the pack

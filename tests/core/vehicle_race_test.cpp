@@ -112,6 +112,109 @@ TEST(VehicleRace, ControllerCurrentLimitSlowsTheClimbAndTheLostTimeAddsUp) {
   EXPECT_NE(text.find("pack limit      first at"), std::string::npos);
 }
 
+TEST(VehicleRace, TheTimeLostLineTimesTheReferenceFromSettingOff) {
+  // The solar car (100 ms tick) sets off at 0.30 s, when its BMS is ready. The vehicle line
+  // said "finished ... in 112.3 s" (from setting off) and the time-lost line "0.0 s against
+  // the same driver ... (112.6 s)": the reference's finishing time on the run's clock, so the
+  // two times of one race differed by the 0.3 s before setting off. Now both count from
+  // setting off: the reference's time is the vehicle's less the time lost.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("solar_car_28s15p_stage"),
+      {{"load.route", "{segments: [{length_m: 2000, speed_kmh: 80}], laps: 1}"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_GT(v.start_s, 0.25);
+  const std::string text = formatSummary(s, r);
+  double driven = 0, lost = 0, ref = 0;
+  const size_t a = text.find(" in ", text.find("vehicle         finished"));
+  const size_t b = text.find("time lost       ");
+  ASSERT_NE(a, std::string::npos) << text;
+  ASSERT_NE(b, std::string::npos) << text;
+  ASSERT_EQ(std::sscanf(text.c_str() + a, " in %lf s", &driven), 1) << text;
+  ASSERT_EQ(std::sscanf(text.c_str() + b, "time lost %lf s against the same driver on a pack that never limits it (%lf s)", &lost, &ref), 2)
+      << text;
+  EXPECT_NEAR(driven - lost, ref, 0.11) << text;  // each printed to 0.1 s
+  EXPECT_NEAR(ref, v.reference_time_s - v.start_s, 0.051) << text;
+}
+
+TEST(VehicleRace, AStageRaceSetsOffAtStageOnesStartNotAtTheReadyLight) {
+  // The solar car ready at 0.30 s, its stage 1 at 13:00 with the sun's clock at 12:54 at
+  // t = 0: it waits 360 s at the start line. The vehicle line said "set off at 0.30 s (BMS
+  // ready)", its time and average speed and lap 1's time (637.0 s, 16.95 km/h for 3 km)
+  // counted that wait, and so would a time limit. Now the race and lap 1 begin when stage 1
+  // sets off; the wait's energy (the array charging the parked pack) is its own line, so
+  // the laps and it still add up to the run's.
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("solar_car_28s15p_stage"),
+      {{"pack.initial_soc", "0.6"},
+       {"load.route", "{laps: 2, segments: [{length_m: 1500, speed_kmh: 70}, {length_m: 1500, speed_kmh: 60}], "
+                      "stages: [{end_km: 3.5, start_hour: 13.0, day: 1}, {end_km: 6, start_hour: 13.1, day: 1}]}"},
+       {"load.sun.start_solar_hour", "12.9"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.finished);
+  ASSERT_EQ(v.stages.size(), 2u);
+  const double t1 = (13.0 - 12.9) * 3600.0;  // stage 1's start on the run's clock
+  EXPECT_NEAR(v.ready_s, 0.3, 1e-9);
+  EXPECT_GE(v.start_s, t1 - 1e-9);
+  EXPECT_LT(v.start_s, t1 + 0.1 + 1e-9);  // the first tick at or after it
+  EXPECT_NEAR(v.start_s, v.stages[0].depart_s, 1e-9);
+  ASSERT_FALSE(v.laps.empty());
+  EXPECT_NEAR(v.laps[0].start_s, v.start_s, 1e-9);
+  // lap 1 is 3 km driven at 60-70 km/h: well under 3 minutes, not the 6-minute wait more
+  EXPECT_LT(v.laps[0].time_s, 200.0);
+  double pack_Wh = v.prestart_pack_Wh, array_Wh = v.prestart_array_Wh;
+  for (const LapRecord& l : v.laps) {
+    pack_Wh += l.pack_Wh;
+    array_Wh += l.array_Wh;
+  }
+  // (to the finish line; the run's totals hold the rest of its last tick, 0.1 s)
+  EXPECT_NEAR(pack_Wh, v.pack_Wh, 0.01);
+  EXPECT_NEAR(array_Wh, v.array_Wh, 0.01);
+  EXPECT_LT(v.prestart_pack_Wh, -1.0);  // the array charged the waiting pack
+  const std::string text = formatSummary(s, r);
+  EXPECT_NE(text.find("s (stage 1's start; the BMS ready at 0.30 s)"), std::string::npos) << text;
+  EXPECT_NE(text.find("before setting off, 359.7 s at the start line"), std::string::npos) << text;
+  EXPECT_NEAR(r.summary.vehicle.time_s - v.start_s, v.time_s - v.stages[0].depart_s, 1e-9);
+}
+
+TEST(VehicleRace, APackLimitLineCountsOnlyThePacksShareOfTheCut) {
+  // The cold scooter from 30 % on a hilly loop with a control stop: setting off again it
+  // wants 980 W, its 720 W motor gives 720 W, and the controller's fold-back at 32.89 V
+  // takes a milliwatt more. The line said "the drive got 720.00 W of the 980.29 W the
+  // driver wanted, 260 W short (pack 32.89 V, ...)": the motor's own 260 W laid on the
+  // pack. Now the shortfall is against what the motor (or the driver's cap) left, and the
+  // driver's wish is said beside it.
+  const auto dir = test::processTempDir("pack_limit_share");
+  const auto csv = dir / "hill.csv";
+  {
+    std::ofstream out(csv);
+    out << "distance_m;elevation_m;speed_kmh\n0;50,0;25\n400;50,0;25\n700;62,5;20\n1000;50,0;30\n1500;50,0;25\n";
+  }
+  const Scenario s = loadScenarioFileWithOverrides(
+      race("scooter_16s_lto_range_cold"),
+      {{"pack.initial_soc", "0.3"},
+       {"load.route", "{csv: " + csv.string() + ", segments: [], laps: 40, stops: [{at_km: 2.2, duration_s: 120}]}"},
+       {"run.duration_s", "800"}, {"expect", "{}"}});
+  const RunResult r = runScenario(s);
+  const VehicleSummary& v = r.summary.vehicle;
+  ASSERT_TRUE(v.limited);
+  ASSERT_EQ(v.limit_detail.rfind("low_voltage_foldback", 0), 0u) << v.limit_detail;
+  const size_t at = v.limit_detail.find("the drive got ");
+  ASSERT_NE(at, std::string::npos) << v.limit_detail;
+  double got = 0, allowed = 0, wanted = 0, shortW = 0;
+  ASSERT_EQ(std::sscanf(v.limit_detail.c_str() + at,
+                        "the drive got %lf W of the %lf W the motor allowed (the driver wanted %lf W), %lf W short", &got,
+                        &allowed, &wanted, &shortW),
+            4)
+      << v.limit_detail;
+  EXPECT_NEAR(allowed, 720.0, 1e-9);  // vehicle.max_drive_power_W
+  EXPECT_GT(wanted, allowed + 100.0);
+  EXPECT_LE(got, allowed);
+  EXPECT_NEAR(shortW, allowed - got, 0.01) << v.limit_detail;
+}
+
 TEST(VehicleRace, ATripLeavesTheCarCoastingAsTheRoadLoadSays) {
   // The E-switch at 30 s opens the pack on the first flat (at ~210 m of 600 m): no
   // power; the car coasts, m·dv/dt = -(F_r + k·v²), F_r = m·g·C_rr, k = ½·ρ·CdA, so
@@ -165,11 +268,53 @@ TEST(VehicleRace, AShortfallLineGivesWhatThePackWasAskedAndGave) {
       << v.limit_detail;
   const size_t k = test::sampleAt(r.rec, v.limit_time_s);  // the plan for the tick the limit acted in
   EXPECT_NEAR(asked, r.rec.vehicle_pack_request_W[k], 0.01) << v.limit_detail;
-  const double array_W = r.rec.vehicle_array_W[k];
+  // the array over that tick: the interval that ends at the next sample (0.01 s apart)
+  const double array_W = r.rec.vehicle_array_W[k + 1];
   ASSERT_GT(array_W, 100.0);
+  EXPECT_NEAR(array_W, r.rec.vehicle_array_available_W[k + 1], 1e-6);  // the relay open: the drive took it all
   EXPECT_NEAR(asked, wanted + 8.0 - array_W, 0.01) << v.limit_detail;  // drive + aux - array
   EXPECT_LT(gave, asked - 1.0) << v.limit_detail;                      // the relay opened in the tick
   EXPECT_NEAR(got, gave + array_W - 8.0, 0.01) << v.limit_detail;      // pack + array less the aux
+}
+
+TEST(VehicleRace, TheArrayChannelIsThePowerTheBusTookWhenThePackRefusesTheCharge) {
+  // The eco car at the start under a 2 m² array at noon on the equator: 400 W into
+  // a pack whose BMS trips at 5 A of charge. It trips at 0.23 s and the relay opens; from
+  // then on the array feeds only the drive and the auxiliaries. /vehicle/array_W recorded
+  // the MPPT's planned 395 W throughout: its integral was 3.50 Wh against the summary's
+  // 3.03 Wh of array energy taken (a probe saw 13.84 against 12.07 Wh). Now it is the mean
+  // power taken over each recording interval, and /vehicle/array_available_W is what the
+  // MPPT had: the record integrates to the summary and the lap table at any interval.
+  for (const char* interval : {"0.01", "0.5"}) {
+    const Scenario s = loadScenarioFileWithOverrides(
+        race("eco_marathon_12s_circuit"),
+        {{"load.sun", "{array_area_m2: 2, efficiency: 0.2, latitude_deg: 0, day_of_year: 80, start_solar_hour: 12}"},
+         {"bms.charge_full_cell_V", "0"}, {"output.interval_s", interval}, {"run.solver", "fast"},
+         {"run.stop_after_trip_s", "30"}, {"expect", "{}"}});
+    const RunResult r = runScenario(s);
+    const VehicleSummary& v = r.summary.vehicle;
+    const Recording& rec = r.rec;
+    ASSERT_TRUE(r.summary.tripped) << interval;
+    double taken_J = 0.0, avail_J = 0.0;
+    for (size_t i = 1; i < rec.time_s.size(); ++i) {  // each sample: the mean since the one before
+      const double span = rec.time_s[i] - rec.time_s[i - 1];
+      taken_J += rec.vehicle_array_W[i] * span;
+      avail_J += rec.vehicle_array_available_W[i] * span;
+      EXPECT_LE(rec.vehicle_array_W[i], rec.vehicle_array_available_W[i] + 1e-6) << interval << " at " << rec.time_s[i];
+    }
+    EXPECT_NEAR(taken_J / 3600.0, v.array_Wh, 1e-9 * avail_J) << interval;
+    double laps_Wh = 0.0;
+    for (const LapRecord& l : v.laps) laps_Wh += l.array_Wh;
+    EXPECT_NEAR(laps_Wh, v.array_Wh, 1e-9) << interval;
+    // The MPPT had 400 W the whole time; the bus took less once the relay opened.
+    EXPECT_GT(avail_J / 3600.0, v.array_Wh + 0.3) << interval;
+    const double open_s = test::eventTime(r, "relay");
+    ASSERT_GT(open_s, 0.0);
+    // the last interval: the pack isolated, the car cruising on about 200 W of the array's 400
+    const size_t k = rec.time_s.size() - 1;
+    EXPECT_LT(rec.vehicle_array_W[k], rec.vehicle_array_available_W[k] - 10.0) << interval;
+    EXPECT_GT(rec.vehicle_array_available_W[k], 350.0) << interval;
+  }
 }
 
 TEST(VehicleRace, SolarArrayEnergyIsTheClearSkyIntegral) {
@@ -523,8 +668,10 @@ TEST(VehicleRace, ARouteCsvWithElevationAndWindGivesTheHandLapBudget) {
       race("eco_marathon_12s_circuit"),
       {{"run.solver", "fast"}, {"load.route", "{csv: " + csv.string() + ", segments: [], laps: 3}"}, {"expect", "{}"}});
   ASSERT_EQ(s.vehicle.route.segments.size(), 4u);
-  EXPECT_NEAR(s.vehicle.route.segments[1].grade, 0.03, 1e-12);
-  EXPECT_NEAR(s.vehicle.route.segments[2].grade, -0.03, 1e-12);
+  // 7.5 m over 250 m of road: sin θ = 0.03, the grade tan θ
+  const double up = std::tan(std::asin(0.03));
+  EXPECT_NEAR(s.vehicle.route.segments[1].grade, up, 1e-12);
+  EXPECT_NEAR(s.vehicle.route.segments[2].grade, -up, 1e-12);
   const RunResult r = runScenario(s);
   const VehicleSummary& v = r.summary.vehicle;
   ASSERT_TRUE(v.finished);
@@ -533,10 +680,41 @@ TEST(VehicleRace, ARouteCsvWithElevationAndWindGivesTheHandLapBudget) {
     const double c = 1.0 / std::sqrt(1.0 + grade * grade);
     return 220 * kG * (0.006 * c + grade * c) + 0.5 * 1.2 * 0.25 * air * air;
   };
-  ASSERT_LT(f(-0.03), 0.0);  // downhill the car still brakes
-  const double lap_Wh = ((f(0.0) * 1100.0 + f(0.03) * 250.0) / 0.85 + 8.0 * 1600.0 / kEcoV) / 3600.0;
+  ASSERT_LT(f(-up), 0.0);  // downhill the car still brakes
+  const double lap_Wh = ((f(0.0) * 1100.0 + f(up) * 250.0) / 0.85 + 8.0 * 1600.0 / kEcoV) / 3600.0;
   EXPECT_GT(lap_Wh, ecoLapPack_J() / 3600.0 * 1.1);  // the wind costs more than 10 %
   for (size_t i = 1; i < v.laps.size(); ++i) EXPECT_NEAR(v.laps[i].pack_Wh, lap_Wh, 0.02 * lap_Wh) << "lap " << i + 1;
+}
+
+TEST(VehicleRace, AnElevationTableClimbsItsElevationOverItsRoadDistance) {
+  // A straight ramp, 50 m up over 500 m of road (distance_m is along the road, as the
+  // vehicle drives it). The grade was taken as 50/500 = 10 % rise over run, so the 500 m
+  // of road climbed 500·sin(atan 0.1) = 49.75 m: 0.25 m of m·g·Δh missing, 0.18 Wh of
+  // the climb. Now sin θ = 50/500: the climb costs the hand m·g·Δh (and the rolling
+  // resistance's cos θ) more than the same road flat, the speed profile alike.
+  const auto dir = test::processTempDir("route_csv_ramp");
+  auto table = [&](const std::string& name, double top_m) {
+    const auto csv = dir / name;
+    std::ofstream out(csv);
+    out << "distance_m,elevation_m,speed_kmh\n0,100,10\n500," << 100.0 + top_m << ",10\n";
+    return csv.string();
+  };
+  auto run = [&](double top_m) {
+    const Scenario s = loadScenarioFileWithOverrides(
+        race("eco_marathon_12s_circuit"),
+        {{"run.solver", "fast"}, {"load.route", "{csv: " + table("ramp" + std::to_string(top_m) + ".csv", top_m) + ", segments: [], laps: 1}"},
+         {"expect", "{}"}});
+    EXPECT_NEAR(s.vehicle.route.total_m(), 500.0, 1e-9);  // the route is the road's length
+    return runScenario(s).summary.vehicle;
+  };
+  const VehicleSummary ramp = run(50.0), flat = run(0.0);
+  ASSERT_TRUE(ramp.finished && flat.finished);
+  EXPECT_FALSE(ramp.limited);  // the same speed profile on both: nothing cut the climb's drive
+  EXPECT_NEAR(ramp.distance_m, 500.0, 1e-9);
+  EXPECT_NEAR(ramp.time_s - ramp.start_s, flat.time_s - flat.start_s, 1e-6);
+  const double sinT = 0.1, cosT = std::sqrt(1.0 - sinT * sinT);
+  const double climb_J = 220.0 * kG * (50.0 + 0.006 * 500.0 * (cosT - 1.0)) / 0.85;  // through η = 0.85
+  EXPECT_NEAR(ramp.pack_Wh - flat.pack_Wh, climb_J / 3600.0, 0.01);
 }
 
 TEST(VehicleRace, BadRouteCsvRowsNameFileLineFieldAndRange) {
@@ -597,13 +775,14 @@ TEST(VehicleRace, LapsOfARouteThatDoesNotCloseAreRefused) {
   EXPECT_NE(e.find("9 m in all"), std::string::npos) << e;
   EXPECT_NO_THROW(load("{csv: " + open + ", segments: [], laps: 1}"));
   const Scenario closed = load("{csv: " + table("closed.csv", 100.0) + ", segments: [], laps: 3}");
-  double rise_m = 0.0;
-  for (const RouteSegment& g : closed.vehicle.route.segments) rise_m += g.length_m * g.grade;
+  double rise_m = 0.0;  // the length is along the road: each segment climbs length · sin θ
+  for (const RouteSegment& g : closed.vehicle.route.segments) rise_m += g.length_m * std::sin(std::atan(g.grade));
   EXPECT_NEAR(rise_m, 0.0, 1e-9);
-  // Segments likewise: a climb with no descent, twice round, descends nowhere.
+  // Segments likewise: a climb with no descent, twice round, descends nowhere (250 m of
+  // road at 2 %: 250·sin(atan 0.02) = 4.999 m).
   const std::string seg = test::scenarioErrorOf(
       [&] { load("{segments: [{length_m: 500, speed_kmh: 27}, {length_m: 250, grade_percent: 2, speed_kmh: 27}], laps: 2}"); });
-  EXPECT_NE(seg.find("climb a net 5 m"), std::string::npos) << seg;
+  EXPECT_NE(seg.find("climb a net 4.999 m"), std::string::npos) << seg;
 }
 
 TEST(VehicleRace, WindByDirectionIsItsComponentAgainstTheHeading) {
