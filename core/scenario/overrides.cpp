@@ -136,7 +136,10 @@ void applyOne(YAML::Node& root, const std::string& key, const std::string& value
         // `--set KEY=null` removes the key (yaml_layers.hpp): its default applies, or
         // the other key of a choice can be given.
         if (removesKey(v)) {
-          if (before) cur.remove(s.key);
+          // Over a base (`extends:`) the null stays in this layer, where the merge removes
+          // the base's key too; alone, the key goes (a null left there would be an error).
+          if (root["extends"]) cur[s.key] = v;
+          else if (before) cur.remove(s.key);
           return;
         }
         if (Provenance* p = Provenance::active(); p && before && (before.IsMap() || before.IsSequence()) && v.IsScalar())

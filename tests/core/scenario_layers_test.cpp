@@ -113,6 +113,10 @@ TEST(ScenarioLayers, NullRemovesTheKeyBeneath) {
   EXPECT_DOUBLE_EQ(e.run.stop_after_trip_s, 60.0);  // the default, not the base's 2 s
   EXPECT_TRUE(b.expect.present);
   EXPECT_FALSE(e.expect.present);
+  // `--set KEY=null` on a child whose base gives the key: the default, not the base's
+  // (was the base's 2 s: the null removed the key from the child alone, which had none).
+  const Scenario o = loadScenarioFileWithOverrides((d / "implicit.yaml").string(), {{"run.stop_after_trip_s", "null"}});
+  EXPECT_DOUBLE_EQ(o.run.stop_after_trip_s, 60.0);
   // --set: null removes, and a profile replaces temp_C.
   const std::string base = test::simpleCellYaml() + "load: {current_A: 1}\nrun: {duration_s: 10}\n";
   for (const Overrides& o : {Overrides{{"ambient.temp_C", "null"}, {"ambient.profile", "{time_s: [0, 10], temp_C: [0, 10]}"}},
