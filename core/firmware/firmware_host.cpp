@@ -183,6 +183,7 @@ void FirmwareHost::fault(double t_s, const std::string& cause) {
 
 void FirmwareHost::breakContract(const char* fmt, ...) {
   if (breakCause_[0] != '\0') return;  // the first break of the call is its cause
+  breakAt_ns_ = clock_ns_;  // the simulated instant it broke: a call may run past its start (bus, delays)
   va_list ap;
   va_start(ap, fmt);
   std::vsnprintf(breakCause_, sizeof breakCause_, fmt, ap);
@@ -254,7 +255,9 @@ void FirmwareHost::failed(double start_s, const std::string& where, const GuardR
       fault(start_s, "hang in " + where + ": still running after " + std::to_string(std::lround(watchdog_s_ * 1e3)) +
                          " ms of CPU time (watchdog_ms)");
       break;
-    case GuardOutcome::ContractBreak: fault(start_s, "contract break in " + where + ": " + breakCause_); break;
+    case GuardOutcome::ContractBreak:  // when it broke, not when the call began (an overrun: its budget's end)
+      fault(std::max(start_s, static_cast<double>(breakAt_ns_) * 1e-9), "contract break in " + where + ": " + breakCause_);
+      break;
   }
 }
 

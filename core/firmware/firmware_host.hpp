@@ -222,6 +222,7 @@ class FirmwareHost {
   std::string cause_;
   double faultTime_s_ = 0.0;
   char breakCause_[160] = {0};  // set before a longjmp out of a service
+  uint64_t breakAt_ns_ = 0;      // the simulated clock when it was set
   uint64_t clock_ns_ = 0;
   std::vector<uint64_t> nextDue_ns_;
   std::vector<uint64_t> runs_;
