@@ -1,9 +1,9 @@
 #include "core/scenario/rest_noise_warning.hpp"
 
 #include <cmath>
-#include <cstdio>
 
 #include "core/scenario/provenance.hpp"
+#include "core/text_fmt.hpp"
 
 namespace packsim {
 
@@ -14,18 +14,10 @@ namespace {
 constexpr double kRestsPerBreak = 10.0;
 
 std::string minutes(double s) {
-  char buf[48];
-  if (s < 120.0) std::snprintf(buf, sizeof buf, "%.0f s", s);
-  else if (s < 7200.0) std::snprintf(buf, sizeof buf, "%.0f min", s / 60.0);
-  else std::snprintf(buf, sizeof buf, "%.1f h", s / 3600.0);
-  return buf;
+  return s < 120.0 ? fmt("%.0f s", s) : s < 7200.0 ? fmt("%.0f min", s / 60.0) : fmt("%.1f h", s / 3600.0);
 }
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
+std::string number(double v) { return fmt("%.3g", v); }
 
 }  // namespace
 
