@@ -22,8 +22,8 @@ bool everyThermistorOnACell(const Scenario& s) {
 }  // namespace
 
 FalseFaultWatch::FalseFaultWatch(const Scenario& s, int parallel) : parallel_(parallel) {
-  std::fill(near_, near_ + kQuantities + 1, INFINITY);
-  std::fill(lastNear_, lastNear_ + kQuantities, -INFINITY);
+  std::fill(near_, near_ + Q::kQuantities, INFINITY);
+  std::fill(lastNear_, lastNear_ + Q::kQuantities, -INFINITY);
   if (s.bms.firmware.library) return;
   using F = bms::FaultId;
   const AdcChannel& adc = s.hardware.cell_adc;
@@ -31,20 +31,20 @@ FalseFaultWatch::FalseFaultWatch(const Scenario& s, int parallel) : parallel_(pa
   const CurrentSense& cs = s.hardware.current_sense;
   const struct {
     F id;
-    int quantity;
+    Q quantity;
     const char* unit;
-  } rows[] = {{F::CellOverVoltage, kVoltsHigh, "V"},
-              {F::CellUnderVoltage, kVoltsLow, "V"},
-              {F::OverTemperature, kTempHigh, "C"},
-              {F::OverCurrentDischarge, kPackDischarge, "A"},
-              {F::OverCurrentCharge, kPackCharge, "A"}};
+  } rows[] = {{F::CellOverVoltage, Q::kVoltsHigh, "V"},
+              {F::CellUnderVoltage, Q::kVoltsLow, "V"},
+              {F::OverTemperature, Q::kTempHigh, "C"},
+              {F::OverCurrentDischarge, Q::kPackDischarge, "A"},
+              {F::OverCurrentCharge, Q::kPackCharge, "A"}};
   // The age of a reading at the fault: the BMS's delay, a read-out period and a tick (as
   // LimitWatch allows), and one more read-out period.
   const double readout_s = std::max(s.bms.readout.period_s, s.bms.tick_s);
   for (const auto& r : rows) {
     const ProtectionConfig& p = s.bms.protection(r.id);
     if (!p.enabled) continue;
-    if (r.quantity == kTempHigh && !everyThermistorOnACell(s)) continue;
+    if (r.quantity == Q::kTempHigh && !everyThermistorOnACell(s)) continue;
     double tolerance = 0.0;
     if (r.unit[0] == 'V')
       tolerance = std::max(kFloor_V, 0.5e-3 + 0.5 * adc.lsb +
@@ -53,7 +53,7 @@ FalseFaultWatch::FalseFaultWatch(const Scenario& s, int parallel) : parallel_(pa
       tolerance = kFloor_C;
     else
       tolerance = std::max(kFloorCurrentRel * p.threshold, cs.lsb_A() + 3.0 * cs.noise_A_rms);
-    const bool lower = r.quantity == kVoltsLow;
+    const bool lower = r.quantity == Q::kVoltsLow;
     near_[r.quantity] = lower ? -(p.threshold + tolerance) : p.threshold - tolerance;
     rows_.push_back({static_cast<int>(r.id), r.quantity, p.threshold, tolerance, p.delay_s + 2.0 * readout_s + s.bms.tick_s,
                      r.unit});
@@ -61,15 +61,19 @@ FalseFaultWatch::FalseFaultWatch(const Scenario& s, int parallel) : parallel_(pa
   }
 }
 
-void FalseFaultWatch::judge(double t, const double* value, const std::vector<double>& cell_V,
-                            const std::vector<double>& cell_C, uint32_t rising, const EventSink& sink) const {
+void FalseFaultWatch::judge(double t, const LimitWatch::CellExtremes& cells, double pack_A,
+                            const std::vector<double>& cell_V, const std::vector<double>& cell_C, uint32_t rising,
+                            const EventSink& sink) const {
   for (const Row& r : rows_) {
     if (!((rising >> r.fault) & 1u) || t - lastNear_[r.quantity] <= r.window_s + 1e-9) continue;
-    const bool volts = r.unit[0] == 'V', current = r.unit[0] == 'A', lower = r.quantity == kVoltsLow;
+    const bool volts = r.unit[0] == 'V', current = r.unit[0] == 'A', lower = r.quantity == Q::kVoltsLow;
+    // The quantity's value as LimitWatch orders them; the lowest voltage back to a voltage.
+    const double value[Q::kQuantities] = {cells.volts.hi, -cells.volts.lo, cells.temps.hi,
+                                          -cells.temps.lo, pack_A,         -pack_A};
     const double extreme = lower ? -value[r.quantity] : value[r.quantity];
     std::string what, at;
     if (current) {
-      what = r.quantity == kPackCharge ? "the true charge current" : "the true pack current";
+      what = r.quantity == Q::kPackCharge ? "the true charge current" : "the true pack current";
       at = "it was " + fmt("%.2f", extreme) + " A at the fault";
     } else {
       const std::vector<double>& v = volts ? cell_V : cell_C;

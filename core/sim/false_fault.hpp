@@ -18,11 +18,8 @@
 #include <string>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 #include "core/scenario/scenario.hpp"
+#include "core/sim/limit_watch.hpp"
 
 namespace packsim {
 
@@ -32,62 +29,41 @@ class FalseFaultWatch {
   FalseFaultWatch(const Scenario& s, int parallel);
 
   using EventSink = std::function<void(double t, const std::string& detail)>;
-  // One tick: the tick's extremes of the true cell voltages, its highest temperature, the pack
+  using Q = LimitWatch::Quantity;
+  // One tick: the tick's extremes of the true cell voltages and temperatures, the pack
   // current (A, + discharge), the cells' values (for naming one) and the BMS's active
   // fault bits.
-  void tick(double t, double voltsLo, double voltsHi, double tempsHi, double pack_A,
-            const std::vector<double>& cell_V, const std::vector<double>& cell_C, uint32_t faultActive,
-            const EventSink& sink) {
+  void tick(double t, const LimitWatch::CellExtremes& cells, double pack_A, const std::vector<double>& cell_V,
+            const std::vector<double>& cell_C, uint32_t faultActive, const EventSink& sink) {
     if (rows_.empty()) return;
-    // The quantities near their limits as one mask, stored only when one is (rarely):
-    // two at a time with SSE2, some 30 instructions a tick less than one by one.
-    const unsigned near = nearMask(voltsLo, voltsHi, tempsHi, pack_A);
+    // The quantities near their limits as one mask (LimitWatch's, at or past), stored only
+    // when one is (rarely).
+    const unsigned near = LimitWatch::pastMask<true>(cells, pack_A, near_);
     if (near) noteNear(t, near);
     const uint32_t rising = faultActive & ~lastActive_ & watched_;
     lastActive_ = faultActive;
-    if (rising) {
-      const double value[kQuantities] = {voltsHi, -voltsLo, tempsHi, pack_A, -pack_A};
-      judge(t, value, cell_V, cell_C, rising, sink);
-    }
+    if (rising) judge(t, cells, pack_A, cell_V, cell_C, rising, sink);
   }
 
  private:
-  enum Quantity { kVoltsHigh, kVoltsLow, kTempHigh, kPackDischarge, kPackCharge, kQuantities };
   struct Row {
     int fault;  // bms::FaultId
-    int quantity;
+    Q quantity;
     double threshold, tolerance, window_s;
     const char* unit;
   };
-  // Bit q: quantity q's value (voltsHi, -voltsLo, tempsHi, pack_A, -pack_A) at or past
-  // near_[q] (a NaN is not).
-  unsigned nearMask(double voltsLo, double voltsHi, double tempsHi, double pack_A) const {
-#if defined(__SSE2__)
-    const __m128d negateHigh = _mm_set_pd(-0.0, 0.0);
-    const auto atOrPast = [&](double low, double high, int q) {
-      return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpge_pd(_mm_set_pd(high, low), _mm_loadu_pd(near_ + q))));
-    };
-    const __m128d v = _mm_xor_pd(_mm_set_pd(voltsLo, voltsHi), negateHigh);
-    return static_cast<unsigned>(_mm_movemask_pd(_mm_cmpge_pd(v, _mm_loadu_pd(near_)))) |
-           atOrPast(tempsHi, pack_A, kTempHigh) << kTempHigh | atOrPast(-pack_A, 0.0, kPackCharge) << kPackCharge;
-#else
-    const double value[kQuantities] = {voltsHi, -voltsLo, tempsHi, pack_A, -pack_A};
-    unsigned near = 0;
-    for (int q = 0; q < kQuantities; ++q) near |= static_cast<unsigned>(value[q] >= near_[q]) << q;
-    return near;
-#endif
-  }
   void noteNear(double t, unsigned near) {
-    for (int q = 0; q < kQuantities; ++q)
+    for (int q = 0; q < Q::kQuantities; ++q)
       if ((near >> q) & 1u) lastNear_[q] = t;
   }
-  void judge(double t, const double* value, const std::vector<double>& cell_V, const std::vector<double>& cell_C,
-             uint32_t rising, const EventSink& sink) const;
+  void judge(double t, const LimitWatch::CellExtremes& cells, double pack_A, const std::vector<double>& cell_V,
+             const std::vector<double>& cell_C, uint32_t rising, const EventSink& sink) const;
   std::vector<Row> rows_;
-  // Per quantity: where its value counts as at the limit (threshold less the tolerance,
-  // negated for a lower limit; +inf unwatched) and the last tick it was (-inf: never).
-  double near_[kQuantities + 1];  // one more, +inf: the unused lane of the last pair
-  double lastNear_[kQuantities];
+  // Per quantity (LimitWatch's): where its value counts as at the limit (threshold less
+  // the tolerance, negated for a lower limit; +inf unwatched) and the last tick it was
+  // (-inf: never).
+  double near_[Q::kQuantities];
+  double lastNear_[Q::kQuantities];
   uint32_t watched_ = 0, lastActive_ = 0;
   int parallel_;
 };

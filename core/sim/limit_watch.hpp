@@ -48,6 +48,34 @@ class LimitWatch {
   struct CellExtremes {
     Extremes volts, temps;
   };
+  // The quantities a protection of the table watches, each as "highest > bound": a lower
+  // limit's values negated (negation is exact; a NaN pack current passes neither form).
+  enum Quantity { kVoltsHigh, kVoltsLow, kTempHigh, kTempLow, kPackDischarge, kPackCharge, kQuantities };
+  // Bit q set where quantity q's value this tick -- (volts.hi, -volts.lo, temps.hi,
+  // -temps.lo, pack_A, -pack_A)[q] -- is above bound[q] (at or above it with OrEqual; an
+  // unwatched quantity's bound is +inf). Two quantities per compare with SSE2, the high
+  // lane's sign flipped being the negation.
+  template <bool OrEqual>
+  static unsigned pastMask(const CellExtremes& cells, double pack_A, const double* bound) {
+#if defined(__SSE2__)
+    static_assert(kVoltsLow == kVoltsHigh + 1 && kTempHigh == 2 && kTempLow == 3 && kPackCharge == kPackDischarge + 1,
+                  "LimitWatch: the quantities go in (high, low) pairs");
+    const __m128d negateHigh = _mm_set_pd(-0.0, 0.0);
+    const auto past = [&](double high, double low, int q) {
+      const __m128d v = _mm_xor_pd(_mm_set_pd(low, high), negateHigh);
+      const __m128d b = _mm_loadu_pd(bound + q);
+      return static_cast<unsigned>(_mm_movemask_pd(OrEqual ? _mm_cmpge_pd(v, b) : _mm_cmpgt_pd(v, b))) << q;
+    };
+    return past(cells.volts.hi, cells.volts.lo, kVoltsHigh) | past(cells.temps.hi, cells.temps.lo, kTempHigh) |
+           past(pack_A, pack_A, kPackDischarge);
+#else
+    const double value[kQuantities] = {cells.volts.hi, -cells.volts.lo, cells.temps.hi,
+                                       -cells.temps.lo, pack_A,         -pack_A};
+    unsigned mask = 0;
+    for (int q = 0; q < kQuantities; ++q) mask |= static_cast<unsigned>(OrEqual ? value[q] >= bound[q] : value[q] > bound[q]) << q;
+    return mask;
+#endif
+  }
   // One tick: truth (cell voltages V, temperatures C, pack current A, + discharges) and
   // the BMS's active fault bits; `known`: cell_V's and cell_C's extremes, or null (taken here).
   // (The usual tick -- no episode open, no value past any watched threshold -- returns
@@ -92,30 +120,12 @@ class LimitWatch {
   // their negatives) against the threshold (negated for a lower limit), unless the row's
   // fault bit is active. One protection row per quantity at most; a quantity no row
   // watches has threshold +inf (no value is above it) and no bit.
-  enum Quantity { kVoltsHigh, kVoltsLow, kTempHigh, kTempLow, kPackDischarge, kPackCharge, kQuantities };
   double threshold_[kQuantities] = {INFINITY, INFINITY, INFINITY, INFINITY, INFINITY, INFINITY};
   uint32_t faultBit_[kQuantities] = {};
   bool anyPast(const CellExtremes& cells, double pack_A, uint32_t faultActive) const;
   // No quantity above its threshold at all, whatever the fault bits (anyPast's first
-  // test): then anyPast is false. Two quantities per compare, the high lane's sign
-  // flipped being the negation (without SSE2: false, anyPast decides).
-  bool noneAbove(const CellExtremes& cells, double pack_A) const {
-#if defined(__SSE2__)
-    static_assert(kVoltsLow == kVoltsHigh + 1 && kTempHigh == 2 && kTempLow == 3 && kPackCharge == kPackDischarge + 1,
-                  "LimitWatch: the quantities go in (high, low) pairs");
-    const __m128d negateHigh = _mm_set_pd(-0.0, 0.0);
-    const auto above = [&](double high, double low, int q) {
-      const __m128d v = _mm_xor_pd(_mm_set_pd(low, high), negateHigh);
-      return _mm_movemask_pd(_mm_cmpgt_pd(v, _mm_loadu_pd(threshold_ + q)));
-    };
-    return (above(cells.volts.hi, cells.volts.lo, kVoltsHigh) | above(cells.temps.hi, cells.temps.lo, kTempHigh) |
-            above(pack_A, pack_A, kPackDischarge)) == 0;
-#else
-    (void)cells;
-    (void)pack_A;
-    return false;
-#endif
-  }
+  // test): then anyPast is false.
+  bool noneAbove(const CellExtremes& cells, double pack_A) const { return pastMask<false>(cells, pack_A, threshold_) == 0; }
   void tickRows(double t, const std::vector<double>& cell_V, const std::vector<double>& cell_C, double pack_A,
                 uint32_t faultActive, const EventSink& sink, const CellExtremes* known);
   static CellExtremes extremesOf(const std::vector<double>& cell_V, const std::vector<double>& cell_C);

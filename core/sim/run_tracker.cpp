@@ -435,8 +435,7 @@ void RunTracker::tick(double t, const double* x, const PlantSignals& sig, const 
   if (outputsMoved) outputEvents(t, out, true);  // what it reports of the hardware: precharge, comm loss, balancing
   judgeEstimates(x, sig, out);
   limits_.tick(t, sig.cell_voltage_V, cellTemp_C_, sig.pack_current_A, out.faultActive, limitSink_, &tickExtremes);
-  falseFaults_.tick(t, volts.lo, volts.hi, temps.hi, sig.pack_current_A, sig.cell_voltage_V, cellTemp_C_,
-                    out.faultActive, falseFaultSink_);
+  falseFaults_.tick(t, tickExtremes, sig.pack_current_A, sig.cell_voltage_V, cellTemp_C_, out.faultActive, falseFaultSink_);
   modelRange_.tick(temps.lo, temps.hi, cellTemp_C_, plant_.pack().parallel,
                    [this, t](const std::string& d) { event(t, "cell_model_range", d); });
   takeEnergyIn(x[plant_.stateSize() + kQuadLoadEnergy_J]);

@@ -225,6 +225,12 @@ std::string protectionAt(const R& r, double t) {
 }
 
 // What the switching hardware did on its own, and configuration warnings, in event order.
+// A line per event of `kind`: its detail.
+void detailLines(LineWriter& w, const R& r, const char* kind) {
+  for (const Event& e : r.events)
+    if (e.kind == kind) w.line(e.detail);
+}
+
 void hardwareEventLines(LineWriter& w, const S& s, const R& r) {
   for (const Event& e : r.events) {
     if (e.kind == "monitor_fault_line" && e.detail == "asserted")
@@ -378,11 +384,9 @@ const std::vector<SummaryLine> kLines = {
     {"unseen limit", "limit_unseen_longest_s limit_unseen_longest", [](LineWriter& w, const S&, const R& r) {
        unseenLimitLines(w, r); }},
     {"false fault", "", [](LineWriter& w, const S&, const R& r) {  // protections raised on readings, not on the cells
-       for (const Event& e : r.events)
-         if (e.kind == "false_fault") w.line(e.detail); }},
+       detailLines(w, r, "false_fault"); }},
     {"unmonitored", "unmonitored_groups", [](LineWriter& w, const S&, const R& r) {  // inputs the firmware never read
-       for (const Event& e : r.events)
-         if (e.kind == "monitor_unread") w.line(e.detail); }},
+       detailLines(w, r, "monitor_unread"); }},
     {"compared with", "", [](LineWriter& w, const S&, const R& r) {
        const Comparison& c = r.summary.compare;
        if (!c.present) return;

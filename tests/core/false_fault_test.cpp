@@ -52,8 +52,10 @@ TEST(FalseFault, ARiseWithTheTruthFarFromTheLimitIsFalseAndNearItIsNot) {
       const double t = k * 0.1;
       const std::vector<double> v = {3.9, t <= c.nearUntil_s + 1e-9 ? 4.195 : 4.0, 3.95};
       const std::vector<double> temp = {25.0, 25.0, 25.0};
-      w.tick(t, *std::min_element(v.begin(), v.end()), *std::max_element(v.begin(), v.end()), 25.0, 1.0, v, temp,
-             k >= 30 ? ov : 0u, sink);
+      LimitWatch::CellExtremes cells;
+      cells.volts.take(v);
+      cells.temps.take(temp);
+      w.tick(t, cells, 1.0, v, temp, k >= 30 ? ov : 0u, sink);
     }
     SCOPED_TRACE(c.what);
     ASSERT_EQ(events.size(), c.falseFault ? 1u : 0u);
@@ -87,8 +89,11 @@ TEST(FalseFault, EachQuantityIsJudgedOnItsOwnTruth) {
     int events = 0;
     const FalseFaultWatch::EventSink sink = [&](double, const std::string&) { ++events; };
     const std::vector<double> v = {c.low_V, 3.6}, temp = {25.0, c.hot_C};
+    LimitWatch::CellExtremes cells;
+    cells.volts.take(v);
+    cells.temps.take(temp);
     for (int k = 0; k <= 20; ++k)
-      w.tick(k * 0.1, c.low_V, 3.6, c.hot_C, c.pack_A, v, temp, k >= 10 ? 1u << static_cast<int>(c.fault) : 0u, sink);
+      w.tick(k * 0.1, cells, c.pack_A, v, temp, k >= 10 ? 1u << static_cast<int>(c.fault) : 0u, sink);
     EXPECT_EQ(events, c.falseFault ? 1 : 0) << bms::faultName(c.fault) << " " << c.hot_C << " " << c.pack_A << " " << c.low_V;
   }
 }
